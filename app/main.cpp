@@ -1,0 +1,86 @@
+// The `horizon` command line: run, check, render, --version. It only chains library
+// calls; every stage lives in src/horizon.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <exception>
+
+#include "horizon/core/error.hpp"
+#include "horizon/core/version.hpp"
+#include "horizon/deck/deck.hpp"
+#include "horizon/driver/run.hpp"
+#include "horizon/output/render.hpp"
+#include "horizon/output/resolve_frame.hpp"
+#include "horizon/output/vtu.hpp"
+
+int main(int argc, char** argv) {
+  using namespace horizon;
+  CLI::App app{"Horizon: a peridynamics engine"};
+  app.set_version_flag("--version", std::string("horizon ") + version_string);
+  app.require_subcommand(1);
+
+  RunOptions run_opts;
+  std::string deck_path;
+  std::string out_dir;
+  auto* run = app.add_subcommand("run", "run a deck and write frames, history.csv and summary.json");
+  run->add_option("deck", deck_path, "the deck (YAML)")->required();
+  run->add_option("-o,--output", out_dir, "output directory (overrides output.directory)");
+  run->add_option("--coarsen", run_opts.coarsen, "multiply spacing and horizon by this factor (quick looks, smoke tests)")
+      ->check(CLI::PositiveNumber);
+  double end_time = 0;
+  run->add_option("--end-time", end_time, "override solver.end_time [s]")->check(CLI::PositiveNumber);
+  run->add_option("--threads", run_opts.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_flag("-q,--quiet", run_opts.quiet, "no progress line");
+
+  auto* check = app.add_subcommand("check", "validate a deck; print particles, bonds, memory and time step");
+  check->add_option("deck", deck_path, "the deck (YAML)")->required();
+  check->add_option("--coarsen", run_opts.coarsen, "as for run")->check(CLI::PositiveNumber);
+
+  std::string frame_path, png_path, field = "damage";
+  RenderOptions render_opts;
+  auto* render = app.add_subcommand("render", "draw a frame (or the last frame of a run directory) to PNG");
+  render->add_option("frame", frame_path, "a .vtu frame, a .pvd index, or a run's output directory")->required();
+  render->add_option("--field", render_opts.field, "field to colour by (damage, displacement, displacement_x, ...)");
+  render->add_option("-o,--output", png_path, "PNG file (default: <field>.png beside the frame)");
+  render->add_option("--width", render_opts.width, "image width in pixels")->check(CLI::Range(64, 8192));
+  render->add_option("--scale", render_opts.displacement_scale, "displacement magnification");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (*run) {
+      if (!out_dir.empty()) run_opts.output_dir = out_dir;
+      if (end_time > 0) run_opts.end_time = end_time;
+      Config config = load_deck(deck_path);
+      for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
+      return run_deck(std::move(config), run_opts);
+    }
+    if (*check) {
+      Config config = load_deck(deck_path);
+      for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
+      apply_run_options(config, run_opts);
+      const System s = build_system(config);
+      fmt::print("{}", format_check(config, check_system(config, s)));
+      fmt::print("deck is valid\n");
+      return 0;
+    }
+    if (*render) {
+      const std::string frame = resolve_frame(frame_path);
+      if (png_path.empty()) png_path = (std::filesystem::path(frame).parent_path() / (render_opts.field + ".png")).string();
+      render_png(read_vtu(frame), render_opts, png_path);
+      fmt::print("wrote {}\n", png_path);
+      return 0;
+    }
+  } catch (const Error& e) {
+    fmt::print(stderr, "horizon: {}\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "horizon: internal error: {}\n", e.what());
+    return 3;
+  }
+  return 0;
+}

@@ -1,0 +1,107 @@
+#include "horizon/deck/conditions.hpp"
+
+#include <cmath>
+
+namespace horizon::deck {
+
+PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
+  MapReader m(ctx, item, {"from", "to", "polygon"});
+  PrecrackConfig crack;
+  if (ctx.dimension == 1) ctx.fail(item.mark, item.path + ": precracks need a 2-D or 3-D deck");
+  if (ctx.dimension == 2) {
+    // A segment in the plane, cut through the whole thickness.
+    if (auto p = m.find("polygon")) {
+      ctx.fail(*p->key_mark, p->path + ": in a 2-D deck a precrack is a segment: {from: [x, y], to: [x, y]}");
+    }
+    const Vec3 from = read_vector(ctx, m.get("from", "one end of the crack segment"));
+    const Item to_item = m.get("to", "the other end of the crack segment");
+    const Vec3 to = read_vector(ctx, to_item);
+    if (!(norm(to - from) > 0)) ctx.fail(to_item.mark, to_item.path + ": the crack's ends 'from' and 'to' coincide");
+    crack.points = {from, to};
+    return crack;
+  }
+  for (const char* key : {"from", "to"}) {
+    if (auto p = m.find(key)) {
+      ctx.fail(*p->key_mark, p->path + ": in a 3-D deck a precrack is a planar polygon: "
+                                       "{polygon: [[x, y, z], [x, y, z], [x, y, z], ...]}");
+    }
+  }
+  const Item poly = m.get("polygon", "the crack's corners, at least 3 points in one plane");
+  if (!poly.node.IsSequence()) fail_expected(ctx, poly, "a list of at least 3 points [x, y, z]");
+  const auto corners = read_list(ctx, poly);
+  if (corners.size() < 3) {
+    ctx.fail(poly.mark, poly.path + ": a polygon needs at least 3 points, found " + std::to_string(corners.size()));
+  }
+  for (const auto& c : corners) crack.points.push_back(read_vector(ctx, c));
+  // The polygon must span a plane: the first corner that is not on the line through the
+  // first two fixes it, and every corner must lie in that plane.
+  const auto& p = crack.points;
+  double size = 0;
+  for (const auto& q : p) size = std::max(size, norm(q - p[0]));
+  Vec3 normal;
+  for (std::size_t i = 2; i < p.size() && !(norm(normal) > 1e-9 * size * size); ++i)
+    normal = cross(p[1] - p[0], p[i] - p[0]);
+  if (!(norm(normal) > 1e-9 * size * size)) {
+    ctx.fail(poly.mark, poly.path + ": the polygon's points lie on one line; it encloses no area");
+  }
+  normal = normal / norm(normal);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (std::abs(dot(p[i] - p[0], normal)) > 1e-6 * size) {
+      ctx.fail(corners[i].mark, corners[i].path + ": this point is off the plane of the polygon's first points; "
+                                                  "a precrack polygon must be planar");
+    }
+  }
+  return crack;
+}
+
+std::string read_region_name(const DeckContext& ctx, const Item& item, const std::vector<std::string>& regions) {
+  const std::string name = read_string(ctx, item);
+  if (name == "all") return "";
+  check_reference(ctx, item, name, regions, "region", "'all' means every particle");
+  return name;
+}
+
+InitialConditionConfig read_initial_condition(const DeckContext& ctx, const Item& item,
+                                              const std::vector<std::string>& regions) {
+  MapReader m(ctx, item, {"region", "velocity", "displacement"});
+  InitialConditionConfig ic;
+  if (auto r = m.find("region")) ic.region = read_region_name(ctx, *r, regions);
+  const bool v = m.has("velocity"), u = m.has("displacement");
+  if (!v && !u) {
+    ctx.fail(item.mark, item.path + ": missing required key: give velocity, displacement or both");
+  }
+  if (v) ic.velocity = read_vector_expr(ctx, *m.find("velocity"), true);
+  if (u) ic.displacement = read_vector_expr(ctx, *m.find("displacement"), true);
+  return ic;
+}
+
+LoadConfig read_load(const DeckContext& ctx, const Item& item, const std::vector<std::string>& regions) {
+  MapReader m(ctx, item, {"region", "traction", "displacement", "velocity", "body_force", "normal"});
+  LoadConfig load;
+  const std::string kind = *m.exactly_one({"traction", "displacement", "velocity", "body_force"}, true);
+  if (kind == "traction") load.kind = LoadKind::traction;
+  if (kind == "displacement") load.kind = LoadKind::displacement;
+  if (kind == "velocity") load.kind = LoadKind::velocity;
+  if (kind == "body_force") load.kind = LoadKind::body_force;
+
+  if (auto r = m.find("region"))
+    load.region = read_region_name(ctx, *r, regions);
+  else if (load.kind != LoadKind::body_force)
+    m.fail_missing("region", "where the " + kind + " acts: a name from regions, or all");
+
+  // Prescribed motion may leave components free (null); forces may not.
+  const bool motion = load.kind == LoadKind::displacement || load.kind == LoadKind::velocity;
+  load.value = read_vector_expr(ctx, *m.find(kind), motion);
+
+  if (auto n = m.find("normal")) {
+    if (load.kind != LoadKind::traction) {
+      ctx.fail(*n->key_mark, n->path + ": 'normal' applies to traction only, not to " + kind);
+    }
+    const std::vector<std::string> axes = {"x", "y", "z"};
+    load.normal_axis = static_cast<int>(
+        choose_word(ctx, *n, std::vector<std::string>(axes.begin(), axes.begin() + ctx.dimension)));
+  }
+  return load;
+}
+
+}  // namespace horizon::deck

@@ -1,0 +1,181 @@
+#include "horizon/deck/materials.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace horizon::deck {
+
+double bond_based_poissons_ratio(int dimension, PlaneMode plane) {
+  return dimension == 2 && plane == PlaneMode::stress ? 1.0 / 3.0 : 0.25;
+}
+
+namespace {
+
+// The four isotropic constants, tagged by the key that names them in the deck.
+enum Constant { E, NU, K, G };
+const char* const kConstantKeys[4] = {"youngs_modulus", "poissons_ratio", "bulk_modulus", "shear_modulus"};
+
+struct Given {
+  Constant which;
+  double value;
+  Item item;
+};
+
+Given read_constant(const DeckContext& ctx, Constant which, const Item& item) {
+  const double v = read_number(ctx, item);
+  if (which == NU) {
+    // nu -> 1/2 sends the bulk modulus to infinity; nu <= -1 makes the shear modulus
+    // non-positive. Either way no stable isotropic solid.
+    if (!(v > -1 && v < 0.5)) {
+      ctx.fail(item.mark, item.path + ": expected a Poisson's ratio in (-1, 0.5), found " + text_of(item) +
+                              " (at 0.5 and above the bulk modulus is infinite or negative: the material "
+                              "would be incompressible or unstable)");
+    }
+  } else if (!(v > 0)) {
+    ctx.fail(item.mark, item.path + ": expected a modulus > 0 [Pa], found " + text_of(item));
+  }
+  return {which, v, item};
+}
+
+// Young's modulus and Poisson's ratio from any two constants (the isotropic relations,
+// e.g. Sadd, Elasticity, Table 4.1).
+void to_e_nu(const Given& a, const Given& b, double& e, double& nu) {
+  double c[4] = {0, 0, 0, 0};
+  c[a.which] = a.value;
+  c[b.which] = b.value;
+  const int mask = (1 << a.which) | (1 << b.which);
+  if (mask == ((1 << E) | (1 << NU))) {
+    e = c[E], nu = c[NU];
+  } else if (mask == ((1 << E) | (1 << K))) {
+    e = c[E], nu = (3 * c[K] - c[E]) / (6 * c[K]);
+  } else if (mask == ((1 << E) | (1 << G))) {
+    e = c[E], nu = c[E] / (2 * c[G]) - 1;
+  } else if (mask == ((1 << K) | (1 << NU))) {
+    nu = c[NU], e = 3 * c[K] * (1 - 2 * c[NU]);
+  } else if (mask == ((1 << K) | (1 << G))) {
+    e = 9 * c[K] * c[G] / (3 * c[K] + c[G]);
+    nu = (3 * c[K] - 2 * c[G]) / (2 * (3 * c[K] + c[G]));
+  } else {  // G and nu
+    nu = c[NU], e = 2 * c[G] * (1 + c[NU]);
+  }
+}
+
+std::string plane_words(const DeckContext& ctx) {
+  if (ctx.dimension == 1) return "in 1-D";
+  if (ctx.dimension == 3) return "in 3-D";
+  return ctx.plane == PlaneMode::stress ? "in 2-D plane stress" : "in 2-D plane strain";
+}
+
+void read_elastic_constants(const DeckContext& ctx, const MapReader& m, MaterialConfig& mat) {
+  std::vector<Given> given;
+  for (int c = E; c <= G; ++c)
+    if (auto item = m.find(kConstantKeys[c])) given.push_back(read_constant(ctx, static_cast<Constant>(c), *item));
+  const std::string path = m.self().path;
+  const bool pmb = mat.model == ModelKind::pmb;
+  const std::string all_four = "youngs_modulus, poissons_ratio, bulk_modulus, shear_modulus";
+
+  if (given.empty()) {
+    const Item& self = m.self();
+    ctx.fail(self.key_mark.value_or(self.mark),
+             path + ": missing elastic constants (" +
+                 (pmb ? "model pmb needs one of youngs_modulus, bulk_modulus, shear_modulus)"
+                      : "model lps needs two of " + all_four + ")"));
+  }
+  if (given.size() > 2) {
+    ctx.fail(*given[2].item.key_mark, path + ": give at most two of " + all_four + "; found " +
+                                          std::to_string(given.size()) +
+                                          " (two fix an isotropic material, more over-determine it)");
+  }
+
+  double e = 0, nu = 0;
+  if (pmb) {
+    // A bond-based model has one constant: its Poisson's ratio is fixed by the dimension.
+    const double fixed = bond_based_poissons_ratio(ctx.dimension, ctx.plane);
+    const std::string fixed_text = fixed == 0.25 ? "1/4" : "1/3";
+    const std::string why = "model pmb is bond-based, which fixes Poisson's ratio at " + fixed_text + " " +
+                            plane_words(ctx) + "; give one modulus only, or use model: lps for a free " +
+                            "Poisson's ratio";
+    if (given.size() == 1 && given[0].which == NU) {
+      ctx.fail(*given[0].item.key_mark, path + ": poissons_ratio alone does not set the stiffness; give "
+                                               "youngs_modulus, bulk_modulus or shear_modulus");
+    }
+    const Given nu_given{NU, fixed, m.self()};
+    if (given.size() == 1) {
+      to_e_nu(given[0], nu_given, e, nu);
+    } else {
+      to_e_nu(given[0], given[1], e, nu);
+      if (std::abs(nu - fixed) > 1e-3) {
+        const Given& bad = given[1].which == NU ? given[1] : given[0].which == NU ? given[0] : given[1];
+        const std::string found = bad.which == NU ? "poissons_ratio is " + text_of(bad.item)
+                                                  : std::string(kConstantKeys[given[0].which]) + " and " +
+                                                        kConstantKeys[given[1].which] + " imply poissons_ratio = " +
+                                                        fmt::format("{:.4g}", nu);
+        ctx.fail(bad.item.mark, bad.item.path + ": " + found + ", but " + why);
+      }
+      // Keep the moduli as given: derive the others from the first with the exact ratio.
+      const Given& modulus = given[0].which == NU ? given[1] : given[0];
+      to_e_nu(modulus, nu_given, e, nu);
+    }
+  } else {
+    if (given.size() < 2) {
+      ctx.fail(*given[0].item.key_mark, path + ": model lps needs two elastic constants (any two of " + all_four +
+                                            "); found only " + kConstantKeys[given[0].which]);
+    }
+    to_e_nu(given[0], given[1], e, nu);
+    if (!(nu > -1 && nu < 0.5)) {
+      ctx.fail(given[1].item.mark, given[1].item.path + ": " + kConstantKeys[given[0].which] + " = " +
+                                       text_of(given[0].item) + " and " + kConstantKeys[given[1].which] + " = " +
+                                       text_of(given[1].item) + " imply poissons_ratio = " +
+                                       fmt::format("{:.4g}", nu) +
+                                       ", outside (-1, 0.5): no stable isotropic material has these constants");
+    }
+  }
+  mat.youngs_modulus = e;
+  mat.poissons_ratio = nu;
+  mat.bulk_modulus = e / (3 * (1 - 2 * nu));
+  mat.shear_modulus = e / (2 * (1 + nu));
+  // The constants as written stay exact; only the missing ones are derived.
+  for (const auto& g : given) {
+    if (g.which == E) mat.youngs_modulus = g.value;
+    if (g.which == K) mat.bulk_modulus = g.value;
+    if (g.which == G) mat.shear_modulus = g.value;
+  }
+}
+
+DamageConfig read_damage(const DeckContext& ctx, const Item& item) {
+  MapReader m(ctx, item, {"law", "critical_stretch", "fracture_energy"});
+  if (auto law = m.find("law")) choose_word(ctx, *law, {"critical_stretch"});
+  DamageConfig d;
+  d.enabled = true;
+  const auto which = m.exactly_one({"critical_stretch", "fracture_energy"}, true);
+  if (*which == "critical_stretch")
+    d.critical_stretch = read_positive(ctx, *m.find("critical_stretch"));
+  else
+    d.fracture_energy = read_positive(ctx, *m.find("fracture_energy"));
+  return d;
+}
+
+}  // namespace
+
+MaterialConfig read_material(const DeckContext& ctx, const std::string& name, const Item& item) {
+  MapReader m(ctx, item,
+              {"model", "density", "youngs_modulus", "poissons_ratio", "bulk_modulus", "shear_modulus", "influence",
+               "damage"});
+  MaterialConfig mat;
+  mat.name = name;
+  mat.model = read_enum<ModelKind>(ctx, m.get("model", "pmb or lps"), {{"pmb", ModelKind::pmb}, {"lps", ModelKind::lps}});
+  mat.density = read_positive(ctx, m.get("density", "mass density [kg/m^3], > 0"));
+  read_elastic_constants(ctx, m, mat);
+  if (auto i = m.find("influence")) {
+    mat.influence = read_enum<InfluenceKind>(ctx, *i,
+                                             {{"constant", InfluenceKind::constant},
+                                              {"inverse", InfluenceKind::inverse},
+                                              {"linear", InfluenceKind::linear},
+                                              {"gaussian", InfluenceKind::gaussian}});
+  }
+  if (auto d = m.find("damage")) mat.damage = read_damage(ctx, *d);
+  return mat;
+}
+
+}  // namespace horizon::deck

@@ -1,0 +1,140 @@
+#include "horizon/deck/shapes.hpp"
+
+#include <cmath>
+
+#include "horizon/deck/suggest.hpp"
+
+namespace horizon::deck {
+
+namespace {
+
+const std::vector<std::string> kShapeKinds = {"box", "cylinder", "disk", "sphere", "half_space", "union", "subtract"};
+const char* const kAxisNames[3] = {"x", "y", "z"};
+
+// In 2-D a disk is a cylinder along z through the plane; its ends lie far outside any
+// sensible thickness so that only the in-plane circle matters.
+constexpr double kThroughThickness = 1e3;
+
+Shape read_box(const DeckContext& ctx, const Item& item) {
+  MapReader m(ctx, item, {"min", "max"});
+  const Item min_item = m.get("min", "the lowest corner, one coordinate per axis");
+  const Item max_item = m.get("max", "the highest corner, one coordinate per axis");
+  const Vec3 min = read_vector(ctx, min_item);
+  const Vec3 max = read_vector(ctx, max_item);
+  for (int k = 0; k < ctx.dimension; ++k) {
+    if (!(min[k] < max[k])) {
+      ctx.fail(max_item.mark, max_item.path + ": a box needs min < max along every axis; along " +
+                                  kAxisNames[k] + " min is " + text_of(read_list(ctx, min_item)[k]) +
+                                  " and max is " + text_of(read_list(ctx, max_item)[k]));
+    }
+  }
+  return Shape::box(min, max);
+}
+
+Shape read_sphere(const DeckContext& ctx, const Item& item) {
+  MapReader m(ctx, item, {"center", "radius"});
+  const Vec3 center = read_vector(ctx, m.get("center", "the centre point"));
+  const double radius = read_positive(ctx, m.get("radius", "[m], > 0"));
+  return Shape::sphere(center, radius);
+}
+
+Shape read_disk(const DeckContext& ctx, const Item& item, const YAML::Mark& key_mark) {
+  if (ctx.dimension != 2) {
+    ctx.fail(key_mark, item.path + ": disk is a 2-D shape (a cylinder through the thickness); in a " +
+                           std::to_string(ctx.dimension) + "-D deck use " +
+                           (ctx.dimension == 3 ? "cylinder" : "box"));
+  }
+  MapReader m(ctx, item, {"center", "radius"});
+  const Vec3 center = read_vector(ctx, m.get("center", "the centre point"));
+  const double radius = read_positive(ctx, m.get("radius", "[m], > 0"));
+  return Shape::cylinder(center - Vec3{0, 0, kThroughThickness}, center + Vec3{0, 0, kThroughThickness}, radius);
+}
+
+Shape read_cylinder(const DeckContext& ctx, const Item& item, const YAML::Mark& key_mark) {
+  if (ctx.dimension == 1) ctx.fail(key_mark, item.path + ": cylinder needs a 2-D or 3-D deck; in 1-D use box");
+  MapReader m(ctx, item, {"center", "axis", "length", "from", "to", "radius"});
+  const double radius = read_positive(ctx, m.get("radius", "[m], > 0"));
+  if (m.has("from") || m.has("to")) {
+    for (const char* key : {"center", "axis", "length"}) {
+      if (auto other = m.find(key)) {
+        ctx.fail(*other->key_mark, other->path + ": give the cylinder either as {center, axis, length, radius} "
+                                                 "or as {from, to, radius}, not both");
+      }
+    }
+    const Vec3 from = read_vector(ctx, m.get("from", "one end of the axis"));
+    const Item to_item = m.get("to", "the other end of the axis");
+    const Vec3 to = read_vector(ctx, to_item);
+    if (!(norm(to - from) > 0)) ctx.fail(to_item.mark, to_item.path + ": the cylinder's ends 'from' and 'to' coincide");
+    return Shape::cylinder(from, to, radius);
+  }
+  const Vec3 center = read_vector(ctx, m.get("center", "the centre point; or give 'from' and 'to'"));
+  const Item axis_item = m.get("axis", "x, y or z");
+  const int axis = static_cast<int>(choose_word(ctx, axis_item, {"x", "y", "z"}));
+  const double length = read_positive(ctx, m.get("length", "[m] along the axis, > 0"));
+  Vec3 half;
+  half[axis] = 0.5 * length;
+  return Shape::cylinder(center - half, center + half, radius);
+}
+
+Shape read_half_space(const DeckContext& ctx, const Item& item) {
+  MapReader m(ctx, item, {"point", "normal"});
+  const Vec3 point = read_vector(ctx, m.get("point", "a point on the bounding plane"));
+  const Item normal_item = m.get("normal", "the outward normal of the bounding plane");
+  const Vec3 normal = read_vector(ctx, normal_item);
+  if (!(norm(normal) > 0)) ctx.fail(normal_item.mark, normal_item.path + ": the normal must not be zero");
+  return Shape::half_space(point, normal);
+}
+
+std::vector<Shape> read_parts(const DeckContext& ctx, const Item& item, std::size_t at_least, const char* what) {
+  if (!item.node.IsSequence()) fail_expected(ctx, item, std::string("a list of shapes (") + what + ")");
+  const auto items = read_list(ctx, item);
+  if (items.size() < at_least) {
+    ctx.fail(item.mark, item.path + ": expected at least " + std::to_string(at_least) + " shapes (" + what +
+                            "), found " + std::to_string(items.size()));
+  }
+  std::vector<Shape> parts;
+  for (const auto& i : items) parts.push_back(read_shape(ctx, i));
+  return parts;
+}
+
+}  // namespace
+
+Shape read_shape(const DeckContext& ctx, const Item& item) {
+  const std::string expected = "a shape: a map with one key, one of " + join_words(kShapeKinds) +
+                               " (e.g. {box: {min: [..], max: [..]}})";
+  if (!item.node.IsDefined() || !item.node.IsMap() || item.node.size() == 0) fail_expected(ctx, item, expected);
+  const auto entries = map_entries(ctx, item);
+  if (entries.size() > 1) {
+    ctx.fail(*entries[1].value.key_mark, item.path + ": a shape has exactly one key naming its kind; found '" +
+                                             entries[0].key + "' and '" + entries[1].key +
+                                             "' (to combine shapes use union: [..] or subtract: [..])");
+  }
+  const Entry& e = entries.front();
+  const YAML::Mark key_mark = *e.value.key_mark;
+  if (e.key == "box") return read_box(ctx, e.value);
+  if (e.key == "sphere") return read_sphere(ctx, e.value);
+  if (e.key == "disk") return read_disk(ctx, e.value, key_mark);
+  if (e.key == "cylinder") return read_cylinder(ctx, e.value, key_mark);
+  if (e.key == "half_space") return read_half_space(ctx, e.value);
+  if (e.key == "union") return Shape::union_of(read_parts(ctx, e.value, 1, "the shape is all of them together"));
+  if (e.key == "subtract") {
+    return Shape::difference(read_parts(ctx, e.value, 2, "the first shape minus all later ones"));
+  }
+  std::string message = e.value.path + ": unknown shape '" + e.key + "'";
+  if (const auto guess = closest_word(e.key, kShapeKinds)) message += "; did you mean '" + *guess + "'?";
+  message += "; shapes: " + join_words(kShapeKinds);
+  ctx.fail(key_mark, message);
+}
+
+void check_bounded(const DeckContext& ctx, const Item& item, const Shape& shape) {
+  constexpr double kUnbounded = 1e299;
+  const Box3 b = shape.bounds();
+  for (int k = 0; k < ctx.dimension; ++k) {
+    if (std::abs(b.min[k]) >= kUnbounded || std::abs(b.max[k]) >= kUnbounded) {
+      ctx.fail(item.mark, item.path + ": a body must be bounded, but this shape reaches to infinity along " +
+                              kAxisNames[k] + " (a half_space is unbounded: subtract it from a box instead)");
+    }
+  }
+}
+
+}  // namespace horizon::deck

@@ -1,0 +1,327 @@
+#include "horizon/driver/run.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "horizon/core/interrupt.hpp"
+#include "horizon/core/progress.hpp"
+#include "horizon/core/version.hpp"
+#include "horizon/damage/crack_metrics.hpp"
+#include "horizon/loading/loads.hpp"
+#include "horizon/output/atomic_file.hpp"
+#include "horizon/output/pvd.hpp"
+#include "horizon/output/vtu.hpp"
+#include "horizon/solver/explicit.hpp"
+
+namespace horizon {
+
+namespace fs = std::filesystem;
+
+void apply_run_options(Config& c, const RunOptions& o) {
+  if (o.output_dir) c.output.directory = *o.output_dir;
+  if (o.end_time) c.solver.end_time = *o.end_time;
+  if (o.coarsen != 1) {
+    c.spacing *= o.coarsen;
+    c.horizon *= o.coarsen;
+    if (c.solver.time_step) *c.solver.time_step *= o.coarsen;
+  }
+}
+
+double run_time_step(const Config& c, const System& s) {
+  return c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * stable_time_step(s);
+}
+
+CheckReport check_system(const Config& c, const System& s) {
+  CheckReport r;
+  r.particles = s.particles.size();
+  r.bonds = s.bonds.size();
+  r.precrack_bonds = s.precrack_bonds;
+  r.memory_bytes = memory_estimate(s);
+  r.stable_dt = stable_time_step(s);
+  r.dt = run_time_step(c, s);
+  r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+  return r;
+}
+
+std::string format_check(const Config& c, const CheckReport& r) {
+  std::ostringstream o;
+  o << fmt::format("deck            {}\n", c.deck_file);
+  o << fmt::format("dimension       {}{}\n", c.dimension,
+                   c.dimension == 2 ? (c.plane == PlaneMode::stress ? " (plane stress)" : " (plane strain)") : "");
+  o << fmt::format("particles       {}\n", r.particles);
+  o << fmt::format("bonds           {} directed ({:.1f} per particle), {} cut by precracks\n", r.bonds,
+                   r.particles ? static_cast<double>(r.bonds) / static_cast<double>(r.particles) : 0.0,
+                   r.precrack_bonds);
+  o << fmt::format("memory          {:.1f} MiB (estimate)\n", static_cast<double>(r.memory_bytes) / (1 << 20));
+  o << fmt::format("stable step     {:.4e} s (Silling-Askari bound)\n", r.stable_dt);
+  o << fmt::format("time step       {:.4e} s{}\n", r.dt,
+                   c.solver.time_step ? " (fixed)" : fmt::format(" (safety factor {})", c.solver.safety_factor));
+  o << fmt::format("steps           {} to t = {:.4e} s\n", r.steps, c.solver.end_time);
+  return o.str();
+}
+
+namespace {
+
+Frame make_frame(const System& s, double time, int64_t step) {
+  const auto& P = s.particles;
+  Frame f;
+  f.time = time;
+  f.step = step;
+  f.dimension = s.dimension;
+  f.points = P.X;
+  auto vec = [&](const std::string& name, const std::vector<Vec3>& v) {
+    FrameField ff{name, 3, {}};
+    ff.data.reserve(3 * v.size());
+    for (const auto& x : v) ff.data.insert(ff.data.end(), {x.x, x.y, x.z});
+    f.fields.push_back(std::move(ff));
+  };
+  auto scal = [&](const std::string& name, auto get) {
+    FrameField ff{name, 1, {}};
+    ff.data.resize(P.size());
+    for (std::size_t i = 0; i < P.size(); ++i) ff.data[i] = get(i);
+    f.fields.push_back(std::move(ff));
+  };
+  vec("displacement", P.u);
+  vec("velocity", P.v);
+  vec("force_density", P.f);
+  scal("damage", [&](std::size_t i) { return P.damage[i]; });
+  scal("energy_density", [&](std::size_t i) { return P.energy[i]; });
+  scal("block", [&](std::size_t i) { return static_cast<double>(P.block[i]); });
+  scal("volume", [&](std::size_t i) { return P.volume[i]; });
+  return f;
+}
+
+double peak_memory_bytes() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_maxrss) * 1024.0;
+}
+
+// Crack tracking for decks with precracks: the front of the damage grown from the
+// first precrack's second point, along that precrack.
+struct CrackTracker {
+  bool active = false;
+  Vec3 origin, direction;
+  double band = 0;
+  std::vector<std::pair<double, double>> history;  // (time, length)
+
+  CrackTracker(const Config& c) {
+    bool damage = false;
+    for (const auto& m : c.materials) damage = damage || m.damage.enabled;
+    if (!damage || c.precracks.empty() || c.precracks[0].points.size() < 2) return;
+    const auto& pts = c.precracks[0].points;
+    origin = pts[1];
+    direction = pts[1] - pts[0];
+    direction.z = 0;
+    if (norm(direction) == 0) return;
+    direction = direction / norm(direction);
+    band = 1e300;
+    active = true;
+  }
+  void record(const System& s, double t) {
+    if (!active) return;
+    const CrackFront f = crack_front(s.particles, origin, direction, 0.35, band);
+    history.emplace_back(t, f.found ? f.length : 0.0);
+  }
+};
+
+// Least-squares slope of length against time over samples with t in [t0, t1].
+double fitted_speed(const std::vector<std::pair<double, double>>& h, double l0, double l1) {
+  double n = 0, st = 0, sl = 0, stt = 0, stl = 0;
+  for (const auto& [t, l] : h)
+    if (l >= l0 && l <= l1) {
+      n += 1;
+      st += t;
+      sl += l;
+      stt += t * t;
+      stl += t * l;
+    }
+  if (n < 3) return 0;
+  const double den = n * stt - st * st;
+  return den > 0 ? (n * stl - st * sl) / den : 0;
+}
+
+}  // namespace
+
+int run_deck(Config config, const RunOptions& options) {
+  apply_run_options(config, options);
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const auto wall_start = std::chrono::steady_clock::now();
+
+  System s = build_system(config);
+  Loads loads(config, s);
+  loads.apply_initial_conditions(config, s);
+  const CheckReport check = check_system(config, s);
+  if (!options.quiet) fmt::print(stderr, "{}", format_check(config, check));
+
+  const fs::path dir = config.output.directory;
+  fs::create_directories(dir / "frames");
+  PvdIndex pvd((dir / "frames.pvd").string());
+
+  ExplicitSolver solver(s, loads, check.dt, config.solver.damping);
+  solver.initialize();
+
+  // History columns: the ledger, damage, and the force each load applies.
+  std::ostringstream history;
+  history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
+             "energy_balance_error,broken_bond_fraction,damage_max";
+  for (const auto& L : loads.loads()) history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
+  history << "\n";
+  double max_balance_error = 0;
+  auto record_history = [&]() {
+    const Ledger& g = solver.ledger();
+    double dmax = 0;
+    for (double d : s.particles.damage) dmax = std::max(dmax, d);
+    const double broken_fraction =
+        s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0;
+    max_balance_error = std::max(max_balance_error, std::abs(g.balance_error()));
+    history << fmt::format("{:.9e},{},{:.6e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6f}", solver.time(),
+                           solver.steps(), solver.dt(), g.kinetic, g.strain, g.external_work, g.dissipated, g.damped,
+                           g.balance_error(), broken_fraction, dmax);
+    for (const auto& L : loads.loads())
+      history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
+    history << "\n";
+  };
+  int frame_count = 0;
+  auto write_frame = [&]() {
+    const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
+    write_vtu((dir / name).string(), make_frame(s, solver.time(), solver.steps()));
+    pvd.add(solver.time(), name);
+    pvd.write();
+  };
+  CrackTracker crack(config);
+
+  const int64_t total = check.steps;
+  const int64_t history_every = std::max(1, config.output.history_every);
+  const int frames = std::max(1, config.output.frames);
+  record_history();
+  write_frame();
+  crack.record(s, 0);
+
+  install_interrupt_handler();
+  Progress progress(total, static_cast<double>(s.bonds.size()), config.output.progress_every);
+  std::string status = "completed";
+  int exit_code = 0;
+  std::string message;
+  int next_frame = 1;
+  try {
+    while (solver.steps() < total) {
+      const int64_t step = solver.steps() + 1;
+      const bool frame_due = step * frames >= static_cast<int64_t>(next_frame) * total;
+      const bool history_due = step % history_every == 0 || step == total;
+      solver.step(history_due || frame_due);
+      if (history_due) {
+        record_history();
+        crack.record(s, solver.time());
+      }
+      if (frame_due) {
+        write_frame();
+        ++next_frame;
+      }
+      if (!options.quiet) progress.update(solver.steps(), solver.time());
+      if (interrupt_requested()) {
+        status = "interrupted";
+        exit_code = 130;
+        message = fmt::format("interrupted at step {}, t = {:.4e} s; a final frame was written", solver.steps(),
+                              solver.time());
+        break;
+      }
+    }
+  } catch (const NonFiniteState& e) {
+    status = "non-finite";
+    exit_code = 2;
+    message = e.what();
+  }
+  if (!options.quiet) progress.finish();
+  if (exit_code != 0) {
+    // The last good state (restored by the solver on a non-finite step) as the final frame.
+    solver.update_kinetic();
+    record_history();
+    write_frame();
+  }
+  clear_interrupt();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  const double loop_time = progress.elapsed();
+
+  write_file_atomic((dir / "history.csv").string(), history.str());
+
+  // Summary: final figures and run statistics.
+  const Ledger& g = solver.ledger();
+  double dmean = 0, dmax = 0;
+  for (double d : s.particles.damage) {
+    dmean += d;
+    dmax = std::max(dmax, d);
+  }
+  dmean /= std::max<std::size_t>(1, s.particles.size());
+  nlohmann::ordered_json j;
+  j["horizon_version"] = version_string;
+  j["deck"] = config.deck_file;
+  j["status"] = status;
+  if (!message.empty()) j["message"] = message;
+  j["dimension"] = config.dimension;
+  j["particles"] = s.particles.size();
+  j["bonds"] = s.initial_bonds;
+  j["steps"] = solver.steps();
+  j["time_step"] = solver.dt();
+  j["time"] = solver.time();
+  j["threads"] = omp_get_max_threads();
+  j["wall_time_s"] = wall;
+  j["loop_time_s"] = loop_time;
+  j["bond_updates_per_second"] =
+      loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
+  j["peak_memory_bytes"] = peak_memory_bytes();
+  j["energy"] = {{"initial", g.initial},       {"kinetic", g.kinetic},       {"strain", g.strain},
+                 {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
+                 {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};
+  j["damage"] = {{"mean", dmean},
+                 {"max", dmax},
+                 {"broken_bonds", s.broken},
+                 {"broken_fraction", s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0}};
+  nlohmann::ordered_json reactions = nlohmann::ordered_json::object();
+  for (const auto& L : loads.loads()) reactions[L.name] = {L.reaction.x, L.reaction.y, L.reaction.z};
+  j["loads"] = reactions;
+  if (crack.active) {
+    const CrackFront f = crack_front(s.particles, crack.origin, crack.direction, 0.35, crack.band);
+    const auto branch = branch_distance(s.particles, crack.origin, crack.direction, 0.35, config.spacing,
+                                        2.0 * config.horizon);
+    nlohmann::ordered_json cj;
+    cj["origin"] = {crack.origin.x, crack.origin.y, crack.origin.z};
+    cj["length"] = f.found ? f.length : 0.0;
+    cj["tip"] = {f.tip.x, f.tip.y, f.tip.z};
+    // Speed before branching: fit over the growth from 2 horizons to the branch point.
+    const double l_end = branch ? *branch : (f.found ? f.length : 0.0);
+    cj["speed_before_branching"] = fitted_speed(crack.history, 2 * config.horizon, l_end);
+    if (branch) {
+      cj["branch_distance"] = *branch;
+      const Vec3 at = crack.origin + crack.direction * *branch;
+      cj["branch_point"] = {at.x, at.y, at.z};
+      double t_branch = 0;
+      for (const auto& [t, l] : crack.history)
+        if (l >= *branch) {
+          t_branch = t;
+          break;
+        }
+      cj["branch_time"] = t_branch;
+    } else {
+      cj["branch_distance"] = nullptr;
+    }
+    j["crack"] = cj;
+  }
+  write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+
+  if (!options.quiet) {
+    fmt::print(stderr, "{} in {} ({} steps, {:.3g} bond updates/s); output in {}\n", status, format_duration(wall),
+               solver.steps(), j["bond_updates_per_second"].get<double>(), dir.string());
+  }
+  if (!message.empty()) fmt::print(stderr, "horizon: {}\n", message);
+  return exit_code;
+}
+
+}  // namespace horizon

@@ -1,0 +1,43 @@
+#pragma once
+// `horizon run` and `horizon check` as library calls: deck -> system -> solver -> writers.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "horizon/deck/config.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+struct RunOptions {
+  std::optional<std::string> output_dir;  // overrides output.directory
+  double coarsen = 1;                     // spacing and horizon times this (smoke tests, quick looks)
+  std::optional<double> end_time;         // overrides solver.end_time
+  bool quiet = false;                     // no progress line
+  int threads = 0;                        // 0: OpenMP's default
+};
+
+struct CheckReport {
+  std::size_t particles = 0;
+  std::size_t bonds = 0;             // directed
+  std::size_t precrack_bonds = 0;    // directed bonds removed by precracks
+  std::size_t memory_bytes = 0;
+  double stable_dt = 0;
+  double dt = 0;                     // the step the run will use
+  int64_t steps = 0;
+};
+
+// Applies the command-line overrides to a deck.
+void apply_run_options(Config& config, const RunOptions& options);
+
+// The time step a run uses: solver.time_step, or the stable step times the safety factor.
+double run_time_step(const Config& config, const System& s);
+
+CheckReport check_system(const Config& config, const System& s);
+std::string format_check(const Config& config, const CheckReport& r);
+
+// Runs the deck and writes frames, history.csv and summary.json into the output
+// directory. Returns the process exit code: 0 done, 2 non-finite state, 130 interrupted.
+int run_deck(Config config, const RunOptions& options);
+
+}  // namespace horizon

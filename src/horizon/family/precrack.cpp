@@ -1,0 +1,92 @@
+#include "horizon/family/precrack.hpp"
+
+#include <cmath>
+
+namespace horizon {
+
+namespace {
+
+double orient2d(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+bool crosses_segment(const Vec3& a, const Vec3& b, const Vec3& p, const Vec3& q) {
+  const double o1 = orient2d(p, q, a), o2 = orient2d(p, q, b);
+  if (!(o1 * o2 < 0)) return false;
+  const double o3 = orient2d(a, b, p), o4 = orient2d(a, b, q);
+  return o3 * o4 <= 0;
+}
+
+bool crosses_polygon(const Vec3& a, const Vec3& b, const std::vector<Vec3>& poly) {
+  // Plane normal by Newell's method (robust for any planar polygon).
+  Vec3 n;
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec3& p = poly[k];
+    const Vec3& q = poly[(k + 1) % poly.size()];
+    n.x += (p.y - q.y) * (p.z + q.z);
+    n.y += (p.z - q.z) * (p.x + q.x);
+    n.z += (p.x - q.x) * (p.y + q.y);
+  }
+  const double da = dot(a - poly[0], n), db = dot(b - poly[0], n);
+  if (!(da * db < 0)) return false;
+  const Vec3 x = a + (b - a) * (da / (da - db));
+  // Project on the plane's dominant axes and count crossings (even-odd rule).
+  int drop = 0;
+  if (std::abs(n.y) > std::abs(n[drop])) drop = 1;
+  if (std::abs(n.z) > std::abs(n[drop])) drop = 2;
+  const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+  bool inside = false;
+  for (std::size_t k = 0, m = poly.size() - 1; k < poly.size(); m = k++) {
+    const Vec3& p = poly[k];
+    const Vec3& q = poly[m];
+    if ((p[v] > x[v]) != (q[v] > x[v]) && x[u] < (q[u] - p[u]) * (x[v] - p[v]) / (q[v] - p[v]) + p[u])
+      inside = !inside;
+  }
+  return inside;
+}
+
+}  // namespace
+
+bool crosses(const Vec3& a, const Vec3& b, const Precrack& crack, int dimension) {
+  if (dimension == 3) return crack.points.size() >= 3 && crosses_polygon(a, b, crack.points);
+  return crack.points.size() == 2 && crosses_segment(a, b, crack.points[0], crack.points[1]);
+}
+
+std::size_t cut_bonds(Bonds& bonds, const std::vector<Vec3>& X, const std::vector<Precrack>& cracks, int dimension) {
+  if (cracks.empty()) return 0;
+  const std::size_t n = bonds.particles();
+  uint64_t write = 0;
+  std::size_t removed = 0;
+  uint64_t row_begin = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint64_t row_end = bonds.offset[i + 1];
+    for (uint64_t k = row_begin; k < row_end; ++k) {
+      bool cut = false;
+      for (const auto& c : cracks)
+        if (crosses(X[i], X[bonds.nbr[k]], c, dimension)) {
+          cut = true;
+          break;
+        }
+      if (cut) {
+        ++removed;
+        continue;
+      }
+      bonds.nbr[write] = bonds.nbr[k];
+      bonds.length[write] = bonds.length[k];
+      bonds.volume[write] = bonds.volume[k];
+      bonds.weight[write] = bonds.weight[k];
+      bonds.intact[write] = bonds.intact[k];
+      ++write;
+    }
+    row_begin = row_end;
+    bonds.offset[i + 1] = write;
+  }
+  bonds.nbr.resize(write);
+  bonds.length.resize(write);
+  bonds.volume.resize(write);
+  bonds.weight.resize(write);
+  bonds.intact.resize(write);
+  return removed;
+}
+
+}  // namespace horizon

@@ -1,0 +1,167 @@
+#include "horizon/loading/loads.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "horizon/core/error.hpp"
+
+namespace horizon {
+
+namespace {
+const char* kind_name(LoadKind k) {
+  switch (k) {
+    case LoadKind::traction: return "traction";
+    case LoadKind::body_force: return "body_force";
+    case LoadKind::displacement: return "displacement";
+    case LoadKind::velocity: return "velocity";
+  }
+  return "load";
+}
+bool is_constraint(LoadKind k) { return k == LoadKind::displacement || k == LoadKind::velocity; }
+}  // namespace
+
+std::vector<uint32_t> region_particles(const Config& config, const System& s, const std::string& region) {
+  std::vector<uint32_t> ids;
+  if (region.empty() || region == "all") {
+    for (std::size_t i = 0; i < s.particles.size(); ++i) ids.push_back(static_cast<uint32_t>(i));
+    return ids;
+  }
+  const auto it = config.regions.find(region);
+  if (it == config.regions.end()) throw Error("unknown region '" + region + "'");
+  for (std::size_t i = 0; i < s.particles.size(); ++i)
+    if (it->second.contains(s.particles.X[i])) ids.push_back(static_cast<uint32_t>(i));
+  if (ids.empty())
+    throw Error("region '" + region + "' contains no particle (is it inside a body, at least one spacing thick?)");
+  return ids;
+}
+
+double layer_depth(const System& s, const std::vector<uint32_t>& ids, int axis) {
+  std::set<int64_t> layers;
+  for (uint32_t i : ids) layers.insert(std::llround(s.particles.X[i][axis] / s.spacing));
+  return static_cast<double>(layers.size()) * s.spacing;
+}
+
+Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.size(), 0) {
+  for (const auto& lc : config.loads) {
+    AppliedLoad L;
+    L.kind = lc.kind;
+    L.value = lc.value;
+    L.particles = region_particles(config, s, lc.region);
+    L.name = (lc.region.empty() ? std::string("all") : lc.region) + ":" + kind_name(lc.kind);
+    if (lc.kind == LoadKind::traction) {
+      int axis = lc.normal_axis;
+      if (axis < 0) {
+        // The normal is the axis along which the loaded layer is thinnest.
+        double best = 1e300;
+        for (int k = 0; k < config.dimension; ++k) {
+          double lo = 1e300, hi = -1e300;
+          for (uint32_t i : L.particles) {
+            lo = std::min(lo, s.particles.X[i][k]);
+            hi = std::max(hi, s.particles.X[i][k]);
+          }
+          if (hi - lo < best) {
+            best = hi - lo;
+            axis = k;
+          }
+        }
+      }
+      // Traction T over the boundary becomes a force density T/d over a layer of depth
+      // d, so the total force is T times the loaded area (docs/input.md).
+      L.scale = 1.0 / layer_depth(s, L.particles, axis);
+    }
+    if (is_constraint(lc.kind)) {
+      L.reaction_old.assign(L.particles.size(), Vec3{});
+      for (uint32_t i : L.particles)
+        for (int c = 0; c < 3; ++c)
+          if (lc.value[c]) constrained_[i] |= static_cast<uint8_t>(1u << c);
+    }
+    loads_.push_back(std::move(L));
+  }
+}
+
+bool Loads::is_constrained(std::size_t i, int component) const {
+  return !constrained_.empty() && (constrained_[i] >> component) & 1u;
+}
+
+void Loads::apply_initial_conditions(const Config& config, System& s) const {
+  auto& P = s.particles;
+  for (const auto& ic : config.initial_conditions)
+    for (uint32_t i : region_particles(config, s, ic.region)) {
+      const Vec3& x = P.X[i];
+      for (int c = 0; c < 3; ++c) {
+        if (ic.velocity[c]) P.v[i][c] = (*ic.velocity[c])(0, x.x, x.y, x.z);
+        if (ic.displacement[c]) P.u[i][c] = (*ic.displacement[c])(0, x.x, x.y, x.z);
+      }
+    }
+}
+
+void Loads::apply_constraints(System& s, double t, double dt) const {
+  auto& P = s.particles;
+  for (const auto& L : loads_) {
+    if (!is_constraint(L.kind)) continue;
+    for (uint32_t i : L.particles) {
+      const Vec3& x = P.X[i];
+      for (int c = 0; c < 3; ++c) {
+        if (!L.value[c]) continue;
+        const Expression& g = *L.value[c];
+        if (L.kind == LoadKind::displacement) {
+          const double now = g(t, x.x, x.y, x.z);
+          P.v[i][c] = dt > 0 ? (now - g(t - dt, x.x, x.y, x.z)) / dt : 0.0;
+          P.u[i][c] = now;
+        } else {
+          P.v[i][c] = g(t, x.x, x.y, x.z);  // u was advanced with the mid-step velocity
+        }
+      }
+    }
+  }
+}
+
+void Loads::prescribe_velocity(System& s, double t) const {
+  auto& P = s.particles;
+  for (const auto& L : loads_) {
+    if (L.kind != LoadKind::velocity) continue;
+    for (uint32_t i : L.particles)
+      for (int c = 0; c < 3; ++c)
+        if (L.value[c]) P.v[i][c] = (*L.value[c])(t, P.X[i].x, P.X[i].y, P.X[i].z);
+  }
+}
+
+void Loads::apply_forces(System& s, double t) const {
+  auto& P = s.particles;
+  std::fill(P.b.begin(), P.b.end(), Vec3{});
+  for (const auto& L : loads_) {
+    if (is_constraint(L.kind)) continue;
+    for (uint32_t i : L.particles) {
+      const Vec3& x = P.X[i];
+      for (int c = 0; c < 3; ++c)
+        if (L.value[c]) P.b[i][c] += L.scale * (*L.value[c])(t, x.x, x.y, x.z);
+    }
+  }
+}
+
+double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before) {
+  auto& P = s.particles;
+  double work = 0;
+  for (auto& L : loads_) {
+    L.reaction = Vec3{};
+    if (!is_constraint(L.kind)) {
+      for (uint32_t i : L.particles) L.reaction += P.b[i] * P.volume[i];
+      continue;
+    }
+    for (std::size_t n = 0; n < L.particles.size(); ++n) {
+      const uint32_t i = L.particles[n];
+      // The constraint supplies what the prescribed motion needs beyond the internal
+      // force; for slow loading that is -f V.
+      Vec3 r = -(P.f[i] + P.b[i]) * P.volume[i];
+      for (int c = 0; c < 3; ++c)
+        if (!L.value[c]) r[c] = 0;
+      const Vec3 du = P.u[i] - u_before[i];
+      work += 0.5 * dot(L.reaction_old[n] + r, du);
+      L.reaction_old[n] = r;
+      L.reaction += r;
+    }
+  }
+  return work;
+}
+
+}  // namespace horizon

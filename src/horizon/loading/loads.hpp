@@ -1,0 +1,55 @@
+#pragma once
+// Initial and boundary conditions on particle sets, built once from the deck.
+#include <string>
+#include <vector>
+
+#include "horizon/deck/config.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+struct AppliedLoad {
+  std::string name;                 // "region:kind", the history column prefix
+  LoadKind kind = LoadKind::traction;
+  std::vector<uint32_t> particles;
+  Vec3Expr value;
+  double scale = 1;                 // traction: 1/d, d = depth of the loaded layer
+  std::vector<Vec3> reaction_old;   // constraint force of the last step, per particle
+  Vec3 reaction;                    // total force the load applies to the body [N]
+};
+
+class Loads {
+ public:
+  Loads() = default;
+  Loads(const Config& config, const System& s);
+
+  // Sets initial velocities and displacements.
+  void apply_initial_conditions(const Config& config, System& s) const;
+  // End of a step at time t: prescribed displacements (u = g(t), v = (g(t) - g(t-dt))/dt)
+  // and prescribed velocities (v = h(t)) on the constrained components.
+  void apply_constraints(System& s, double t, double dt) const;
+  // Mid-step: v = h(t) on velocity-constrained components, before u is advanced.
+  void prescribe_velocity(System& s, double t) const;
+  // Zeroes and refills particles.b (body force and traction) at time t.
+  void apply_forces(System& s, double t) const;
+  // After the force pass at time t: reactions of constrained regions (the force the
+  // constraint exerts, rho V a - f V, a from the prescribed motion) and applied force
+  // totals. Returns the work done by the constraints over the step (trapezoidal).
+  double update_reactions(System& s, const std::vector<Vec3>& u_before);
+
+  std::vector<AppliedLoad>& loads() { return loads_; }
+  const std::vector<AppliedLoad>& loads() const { return loads_; }
+  bool is_constrained(std::size_t i, int component) const;
+
+ private:
+  std::vector<AppliedLoad> loads_;
+  std::vector<uint8_t> constrained_;  // bit c set: component c prescribed
+};
+
+// Particles inside a named region ("" or "all": every particle).
+std::vector<uint32_t> region_particles(const Config& config, const System& s, const std::string& region);
+
+// Depth of a loaded layer along `axis`: number of distinct lattice layers x spacing.
+double layer_depth(const System& s, const std::vector<uint32_t>& ids, int axis);
+
+}  // namespace horizon

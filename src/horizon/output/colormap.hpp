@@ -1,0 +1,12 @@
+#pragma once
+// Colour maps for rendered fields.
+#include "horizon/output/image.hpp"
+
+namespace horizon {
+
+// Viridis (van der Walt & Smith, matplotlib 2015): perceptually uniform, readable in
+// grey scale and by colour-blind viewers. t is clamped to [0, 1]; 0 is dark purple,
+// 1 is yellow (#FDE725).
+Rgb viridis(double t);
+
+}  // namespace horizon

@@ -1,0 +1,124 @@
+#include "horizon/solver/explicit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "horizon/solver/forces.hpp"
+
+namespace horizon {
+
+double Ledger::balance_error() const {
+  const double scale = std::max({std::abs(initial), std::abs(external_work), kinetic + strain + dissipated + damped, 1e-300});
+  return (kinetic + strain + dissipated + damped - initial - external_work) / scale;
+}
+
+namespace {
+std::string non_finite_message(std::size_t i, const Vec3& x, int64_t step) {
+  std::ostringstream m;
+  m.precision(6);
+  m << "the state turned non-finite at step " << step << ": particle " << i << " at (" << x.x << ", " << x.y << ", "
+    << x.z << "); try a smaller time step (solver.safety_factor) or check the loads";
+  return m.str();
+}
+}  // namespace
+
+NonFiniteState::NonFiniteState(std::size_t i, const Vec3& position, int64_t step)
+    : Error(non_finite_message(i, position, step)), particle(i) {}
+
+double kinetic_energy(const System& s) {
+  const auto& P = s.particles;
+  double sum = 0;
+  for (std::size_t i = 0; i < P.size(); ++i) sum += 0.5 * P.density[i] * P.volume[i] * norm2(P.v[i]);
+  return sum;
+}
+
+ExplicitSolver::ExplicitSolver(System& s, Loads& loads, double dt, double damping)
+    : s_(s), loads_(loads), dt_(dt), damping_(damping) {
+  for (const auto& L : loads_.loads())
+    if (L.kind == LoadKind::traction || L.kind == LoadKind::body_force) has_forces_ = true;
+}
+
+void ExplicitSolver::update_kinetic() { ledger_.kinetic = kinetic_energy(s_); }
+
+void ExplicitSolver::initialize() {
+  loads_.apply_constraints(s_, 0.0, 0.0);
+  loads_.apply_forces(s_, 0.0);
+  compute_forces(s_, true);
+  u_before_ = s_.particles.u;
+  loads_.update_reactions(s_, u_before_);
+  ledger_.strain = strain_energy(s_);
+  update_kinetic();
+  ledger_.dissipated = s_.dissipated();
+  ledger_.initial = ledger_.kinetic + ledger_.strain;
+}
+
+void ExplicitSolver::step(bool energy) {
+  auto& P = s_.particles;
+  const std::size_t n = P.size();
+  const double dt = dt_, half = 0.5 * dt;
+  u_before_ = P.u;
+  v_before_ = P.v;
+  if (has_forces_) b_before_ = P.b;
+
+  // Half kick and drift. a(n) = (f + b)/rho - gamma v.
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 a = (P.f[i] + P.b[i]) / P.density[i] - P.v[i] * damping_;
+    P.v[i] += a * half;
+  }
+  loads_.prescribe_velocity(s_, time_ + half);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) P.u[i] += P.v[i] * dt;
+
+  time_ += dt;
+  ++steps_;
+  loads_.apply_constraints(s_, time_, dt);  // prescribed displacements (velocities follow below)
+  loads_.apply_forces(s_, time_);
+  compute_forces(s_, energy);
+
+  // Second half kick; damping taken implicitly on the half step so it stays stable.
+  const double damp = 1.0 / (1.0 + damping_ * half);
+  double damped = 0;
+  bool finite = true;
+#pragma omp parallel for schedule(static) reduction(&& : finite) reduction(+ : damped)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 vh = P.v[i];
+    const Vec3 v = (vh + (P.f[i] + P.b[i]) * (half / P.density[i])) * damp;
+    if (damping_ > 0) damped += P.density[i] * P.volume[i] * damping_ * half * (dot(v, v) + dot(v_before_[i], v_before_[i]));
+    P.v[i] = v;
+    finite = finite && std::isfinite(v.x + v.y + v.z + P.u[i].x + P.u[i].y + P.u[i].z);
+  }
+  if (!finite) {
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!std::isfinite(P.v[i].x + P.v[i].y + P.v[i].z + P.u[i].x + P.u[i].y + P.u[i].z)) {
+        bad = i;
+        break;
+      }
+    P.u = u_before_;
+    P.v = v_before_;
+    time_ -= dt;
+    --steps_;
+    throw NonFiniteState(bad, P.X[bad], steps_ + 1);
+  }
+  loads_.apply_constraints(s_, time_, dt);
+
+  // Work of the applied force densities (trapezoidal in b) and of the constraints.
+  double work = loads_.update_reactions(s_, u_before_);
+  if (has_forces_) {
+    double w = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      w += 0.5 * P.volume[i] * dot(P.b[i] + b_before_[i], P.u[i] - u_before_[i]);
+    work += w;
+  }
+  ledger_.external_work += work;
+  ledger_.damped += damped;
+  ledger_.dissipated = s_.dissipated();
+  if (energy) {
+    ledger_.strain = strain_energy(s_);
+    update_kinetic();
+  }
+}
+
+}  // namespace horizon

@@ -1,0 +1,64 @@
+#pragma once
+// Explicit dynamics: velocity Verlet (Silling and Askari 2005; Peridigm's "Verlet"):
+//   v(n+1/2) = v(n) + dt/2 a(n);  u(n+1) = u(n) + dt v(n+1/2);  forces;  v(n+1) = v(n+1/2) + dt/2 a(n+1)
+// with optional mass-proportional damping for runs to rest, and an energy ledger.
+#include <cstdint>
+#include <vector>
+
+#include "horizon/core/error.hpp"
+#include "horizon/loading/loads.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+struct Ledger {
+  double kinetic = 0;        // sum 1/2 rho V |v|^2
+  double strain = 0;         // sum W V
+  double external_work = 0;  // work of body forces, tractions and constraints
+  double dissipated = 0;     // energy of broken bonds
+  double damped = 0;         // energy removed by damping
+  double initial = 0;        // kinetic + strain at t = 0
+
+  // (K + U + D + damped - initial - W_ext) relative to the largest energy in play.
+  double balance_error() const;
+};
+
+// A state turned non-finite: names the particle, its position and the step.
+class NonFiniteState : public Error {
+ public:
+  NonFiniteState(std::size_t particle, const Vec3& position, int64_t step);
+  std::size_t particle;
+};
+
+class ExplicitSolver {
+ public:
+  ExplicitSolver(System& s, Loads& loads, double dt, double damping);
+
+  // Applies the loads at t = 0 and computes the first forces and energies.
+  void initialize();
+  // One step. With `energy`, the ledger's strain energy is brought up to date.
+  // On a non-finite state, u and v are restored to the start of the step and
+  // NonFiniteState is thrown.
+  void step(bool energy);
+
+  double time() const { return time_; }
+  int64_t steps() const { return steps_; }
+  double dt() const { return dt_; }
+  const Ledger& ledger() const { return ledger_; }
+  // Brings the kinetic energy up to date (strain energy is updated by step(true)).
+  void update_kinetic();
+
+ private:
+  System& s_;
+  Loads& loads_;
+  double dt_, damping_;
+  double time_ = 0;
+  int64_t steps_ = 0;
+  Ledger ledger_;
+  std::vector<Vec3> u_before_, v_before_, b_before_;
+  bool has_forces_ = false;
+};
+
+double kinetic_energy(const System& s);
+
+}  // namespace horizon

@@ -1,0 +1,70 @@
+#pragma once
+// The discretised body a solver advances: particles, bonds, and per-particle model
+// coefficients. Built from a Config by build_system(); tests build small ones in code.
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "horizon/deck/config.hpp"
+#include "horizon/family/bonds.hpp"
+#include "horizon/geometry/particles.hpp"
+
+namespace horizon {
+
+// Every model Horizon has so far writes its scalar force state on bond i->j as
+//   t_ij = omega_ij * ( P_i |xi| + Q_i e_ij + R_i e_ij / |xi| ),   e = |Y| - |xi|,
+// and the force density on i is  sum_j (t_ij + t_ji) Y_ij/|Y_ij| V_j  (seed 003 eq. 33
+// with T = t M; digest sec. 9). The bond loop is therefore the same for all of them:
+//   PMB (seed 002 eq. 22): t = c s / 2, i.e. P = Q = 0, R = c/2;
+//   LPS (seed 003 eq. 113 and digest sec. 8): t = (d k' theta/m) omega|xi|
+//        + (alpha mu/m) omega (e - theta|xi|/d), i.e. P = theta (d k'/m - alpha mu/(d m)),
+//        Q = alpha mu/m, R = 0, with theta = (d/m) sum_j omega |xi| e V_j.
+// Materials differ only in these per-particle coefficients, so bonds between bodies
+// of different materials (or models) need no special case.
+struct ModelCoefficients {
+  std::vector<double> weighted_volume;  // m_i = sum omega |xi|^2 V_j (LPS), from the actual family
+  std::vector<double> dilatation_coef;  // d k'/m_i (LPS) else 0
+  std::vector<double> deviatoric_coef;  // alpha mu/m_i (LPS) else 0 -> Q
+  std::vector<double> pair_coef;        // c/2 (PMB) else 0 -> R
+  std::vector<double> theta;            // dilatation
+  std::vector<double> P;                // per-step P_i (depends on theta)
+  std::vector<double> critical_stretch; // +inf: never breaks
+  std::vector<double> spring;           // c_eq/2, bond-based equivalent, for the stable time step
+  bool state_based = false;             // any particle with theta-dependent forces
+  double dim = 3;                       // d in theta = (d/m) sum ...
+};
+
+struct System {
+  int dimension = 3;
+  double horizon = 0;
+  double spacing = 0;
+  Particles particles;
+  Bonds bonds;
+  ModelCoefficients model;
+  std::vector<std::string> block_names;
+  std::size_t initial_bonds = 0;
+  std::size_t precrack_bonds = 0;
+  std::vector<double> dissipated_at;  // energy of the bonds broken at each particle [J]
+  uint64_t broken = 0;                // directed bonds broken so far
+
+  // Sum of dissipated_at in a fixed order: the same figure on any thread count.
+  double dissipated() const;
+};
+
+// Builds particles (lattice), families, precracks, influence weights and model
+// coefficients from a validated deck.
+System build_system(const Config& config);
+
+// Influence weights and model coefficients of every particle from its material
+// (particles.material indexes `materials`). Bonds must exist. build_system calls it;
+// tests call it on small systems built in code.
+void setup_model(System& s, const std::vector<MaterialConfig>& materials, const Config& config);
+
+// The stable time step of Silling and Askari (2005): min_i sqrt(2 rho_i / sum_j V_j C_ij),
+// C_ij = c_ij / |xi| (before the safety factor).
+double stable_time_step(const System& s);
+
+// Estimated memory of the run [bytes]: particles, bonds and model arrays.
+std::size_t memory_estimate(const System& s);
+
+}  // namespace horizon
