@@ -98,8 +98,11 @@ void expect_error(const std::string& deck, int line, int column, std::initialize
     EXPECT_EQ(e.where().file, "test.yaml");
     EXPECT_EQ(e.where().line, line) << e.what();
     EXPECT_EQ(e.where().column, column) << e.what();
-    for (const auto& f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << "'" << f << "' not in: " << e.what();
-    EXPECT_EQ(std::string(e.what()).rfind("test.yaml:" + std::to_string(line) + ":" + std::to_string(column) + ": error: ", 0), 0u)
+    for (const auto& f : fragments)
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << "'" << f << "' not in: " << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind(
+                  "test.yaml:" + std::to_string(line) + ":" + std::to_string(column) + ": error: ", 0),
+              0u)
         << e.what();
   }
 }
@@ -152,7 +155,7 @@ TEST(Deck, DemoDeckParses) {
   ASSERT_EQ(c.regions.size(), 5u);
   EXPECT_TRUE(c.regions.at("top").contains({0.0, 0.0199, 0.0}));
   EXPECT_FALSE(c.regions.at("top").contains({0.0, 0.0, 0.0}));
-  EXPECT_TRUE(c.regions.at("hole").contains({0.011, 0.0, 0.0}));   // a disk at z = 0
+  EXPECT_TRUE(c.regions.at("hole").contains({0.011, 0.0, 0.0}));  // a disk at z = 0
   EXPECT_FALSE(c.regions.at("hole").contains({0.013, 0.0, 0.0}));
   EXPECT_EQ(c.no_fail_regions, (std::vector<std::string>{"top", "bottom"}));
 
@@ -344,14 +347,14 @@ TEST(DeckErrors, WrongType) {
   expect_error(std::string(kSmallDeck) + "loads: {region: top}\n", 15, 8, {"loads: expected a list", "found a map"});
   expect_error(small_deck_with(8, "    density: 2*1220"), 8, 14,
                {"expected a number", "found '2*1220'", "expressions in t, x, y, z are allowed only in loads"});
+  expect_error(small_deck_with(8, "    density: 2440 kg/m^3"), 8, 14, {"found '2440 kg/m^3'", "SI units"});
 }
 
 TEST(DeckErrors, MissingRequiredKeyPointsAtParent) {
   // Without density, the error points at the key of the map that lacks it.
   expect_error(small_deck_with(8, ""), 6, 3, {"materials.glass", "missing required key 'density'", "kg/m^3"});
   expect_error(small_deck_with(3, ""), 1, 1, {"missing required key 'spacing'"});
-  expect_error(small_deck_with(14, "solver: {safety_factor: 0.5}"), 14, 1,
-               {"solver: missing required key 'end_time'"});
+  expect_error(small_deck_with(14, "solver: {safety_factor: 0.5}"), 14, 1, {"solver: missing required key 'end_time'"});
 }
 
 TEST(DeckErrors, NegativeDensity) {
@@ -406,14 +409,16 @@ TEST(DeckErrors, UnknownRegionListsDefinedOnes) {
   std::string deck = std::string(kSmallDeck) + "regions:\n  top: {box: {min: [0, 0.009], max: [0.01, 0.01]}}\n" +
                      "loads:\n  - {region: topp, traction: [0, 1e6]}\n";
   expect_error(deck, 18, 14,
-               {"loads[0].region", "unknown region 'topp'", "did you mean 'top'?", "(defined regions: top; 'all' means every particle)"});
+               {"loads[0].region", "unknown region 'topp'", "did you mean 'top'?",
+                "(defined regions: top; 'all' means every particle)"});
   deck = std::string(kSmallDeck) + "no_fail_regions: [edge]\n";
   expect_error(deck, 15, 19, {"no_fail_regions[0]", "unknown region 'edge'", "no regions are defined"});
+  deck = std::string(kSmallDeck) + "no_fail_regions: [all]\n";
+  expect_error(deck, 15, 19, {"no_fail_regions[0]", "every bond unbreakable", "damage"});
 }
 
 TEST(DeckErrors, YamlSyntaxError) {
-  expect_error(small_deck_with(13, "    shape: {box: {min: [0, 0], max: [0.01, 0.01]}"), 14, 1,
-               {"YAML syntax error"});
+  expect_error(small_deck_with(13, "    shape: {box: {min: [0, 0], max: [0.01, 0.01]}"), 14, 1, {"YAML syntax error"});
   expect_error("dimension: 2\n  plane: stress\n", 2, 8, {"YAML syntax error"});
 }
 

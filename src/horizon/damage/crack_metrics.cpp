@@ -47,20 +47,25 @@ std::optional<double> branch_distance(const Particles& p, const Vec3& origin, co
       if (ys[k] - ys[k - 1] > gap) ++count;
     return count;
   };
-  // Walk back from the front while slices stay split; the last split slice reached
-  // is where the branches start. A front of fewer than 3 split slices is noise.
-  std::optional<double> start;
+  // The branch starts at the first slice from which `kRun` consecutive slices are all
+  // split; shorter split runs are noise (a rough crack face, a stray broken bond).
+  constexpr int kRun = 4;
   int run = 0;
-  for (auto it = slices.rbegin(); it != slices.rend(); ++it) {
-    if (clusters(it->second) >= 2) {
+  int64_t first = 0, previous = 0;
+  for (auto& [index, ys] : slices) {
+    const bool split = clusters(ys) >= 2;
+    if (split && run > 0 && index == previous + 1) {
       ++run;
-      start = static_cast<double>(it->first) * slice;
+    } else if (split) {
+      run = 1;
+      first = index;
     } else {
-      break;
+      run = 0;
     }
+    previous = index;
+    if (run >= kRun) return static_cast<double>(first) * slice;
   }
-  if (run < 3) return std::nullopt;
-  return start;
+  return std::nullopt;
 }
 
 }  // namespace horizon

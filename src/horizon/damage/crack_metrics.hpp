@@ -18,9 +18,11 @@ struct CrackFront {
 // origin and within `band` of the crack line, measured sideways, are considered.
 CrackFront crack_front(const Particles& p, const Vec3& origin, const Vec3& direction, double threshold, double band);
 
-// Where the crack splits: the first distance along the direction from which every
-// slice (of width `slice`) up to the front holds two or more clusters of cracked
-// particles separated sideways by more than `gap`. Empty if it never branches.
+// Where the crack splits: the first distance along the direction from which four
+// consecutive slices (of width `slice`) each hold two or more clusters of cracked
+// particles separated sideways by more than `gap`. Because each crack face carries a
+// damaged band, the branches are seen once they are `gap` apart, a little after they
+// part. Empty if it never branches.
 std::optional<double> branch_distance(const Particles& p, const Vec3& origin, const Vec3& direction, double threshold,
                                       double slice, double gap);
 

@@ -22,8 +22,9 @@ PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
   }
   for (const char* key : {"from", "to"}) {
     if (auto p = m.find(key)) {
-      ctx.fail(*p->key_mark, p->path + ": in a 3-D deck a precrack is a planar polygon: "
-                                       "{polygon: [[x, y, z], [x, y, z], [x, y, z], ...]}");
+      ctx.fail(*p->key_mark, p->path +
+                                 ": in a 3-D deck a precrack is a planar polygon: "
+                                 "{polygon: [[x, y, z], [x, y, z], [x, y, z], ...]}");
     }
   }
   const Item poly = m.get("polygon", "the crack's corners, at least 3 points in one plane");
@@ -47,8 +48,9 @@ PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
   normal = normal / norm(normal);
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (std::abs(dot(p[i] - p[0], normal)) > 1e-6 * size) {
-      ctx.fail(corners[i].mark, corners[i].path + ": this point is off the plane of the polygon's first points; "
-                                                  "a precrack polygon must be planar");
+      ctx.fail(corners[i].mark, corners[i].path +
+                                    ": this point is off the plane of the polygon's first points; "
+                                    "a precrack polygon must be planar");
     }
   }
   return crack;
@@ -98,8 +100,8 @@ LoadConfig read_load(const DeckContext& ctx, const Item& item, const std::vector
       ctx.fail(*n->key_mark, n->path + ": 'normal' applies to traction only, not to " + kind);
     }
     const std::vector<std::string> axes = {"x", "y", "z"};
-    load.normal_axis = static_cast<int>(
-        choose_word(ctx, *n, std::vector<std::string>(axes.begin(), axes.begin() + ctx.dimension)));
+    load.normal_axis =
+        static_cast<int>(choose_word(ctx, *n, std::vector<std::string>(axes.begin(), axes.begin() + ctx.dimension)));
   }
   return load;
 }

@@ -1,13 +1,12 @@
 #include "horizon/deck/deck.hpp"
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
-
-#include <fmt/format.h>
 
 #include "horizon/core/error.hpp"
 #include "horizon/deck/conditions.hpp"
@@ -22,9 +21,9 @@ namespace {
 using namespace deck;
 
 const std::vector<std::string> kTopKeys = {
-    "dimension", "plane",   "thickness", "area",       "spacing",         "horizon",
-    "horizon_factor", "lattice_origin", "partial_volume", "materials", "bodies", "precracks",
-    "regions",   "no_fail_regions", "initial_conditions", "loads", "solver", "output"};
+    "dimension",      "plane",           "thickness",          "area",      "spacing", "horizon",
+    "horizon_factor", "lattice_origin",  "partial_volume",     "materials", "bodies",  "precracks",
+    "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output"};
 
 // A key that only makes sense in one dimension is an error in the others.
 void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* key, int dimension) {
@@ -140,8 +139,8 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   if (auto f = s.find("safety_factor")) {
     const double v = read_number(ctx, *f);
     if (!(v > 0 && v <= 1)) {
-      ctx.fail(f->mark, f->path + ": expected a number in (0, 1] (a fraction of the stable time step), found " +
-                            text_of(*f));
+      ctx.fail(f->mark,
+               f->path + ": expected a number in (0, 1] (a fraction of the stable time step), found " + text_of(*f));
     }
     config.solver.safety_factor = v;
   }
@@ -178,7 +177,14 @@ Config read_config(DeckContext& ctx, const Item& root) {
     for (const auto& i : read_list(ctx, *p)) config.precracks.push_back(read_precrack(ctx, i));
   if (auto n = m.find("no_fail_regions")) {
     if (!n->node.IsSequence()) fail_expected(ctx, *n, "a list of region names, e.g. [top, bottom]");
-    for (const auto& i : read_list(ctx, *n)) config.no_fail_regions.push_back(read_region_name(ctx, i, regions));
+    for (const auto& i : read_list(ctx, *n)) {
+      if (i.node.IsScalar() && i.node.Scalar() == "all") {
+        ctx.fail(i.mark, i.path +
+                             ": 'all' would make every bond unbreakable; to switch fracture off, leave out "
+                             "the materials' damage maps");
+      }
+      config.no_fail_regions.push_back(read_region_name(ctx, i, regions));
+    }
   }
   if (auto ic = m.find("initial_conditions"))
     for (const auto& i : read_list(ctx, *ic))
@@ -202,12 +208,13 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }
   if (!root.IsDefined() || root.IsNull()) {
-    ctx.fail(YAML::Mark(), "the deck is empty; expected a map of keys such as dimension, spacing, horizon, "
-                           "materials, bodies, solver (see docs/input.md)");
+    ctx.fail(YAML::Mark(),
+             "the deck is empty; expected a map of keys such as dimension, spacing, horizon, "
+             "materials, bodies, solver (see docs/input.md)");
   }
   if (!root.IsMap()) {
-    ctx.fail(root.Mark(), "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " +
-                              describe(root));
+    ctx.fail(root.Mark(),
+             "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " + describe(root));
   }
   Config config;
   try {

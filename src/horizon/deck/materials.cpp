@@ -1,8 +1,8 @@
 #include "horizon/deck/materials.hpp"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 namespace horizon::deck {
 
@@ -97,8 +97,9 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
                             plane_words(ctx) + "; give one modulus only, or use model: lps for a free " +
                             "Poisson's ratio";
     if (given.size() == 1 && given[0].which == NU) {
-      ctx.fail(*given[0].item.key_mark, path + ": poissons_ratio alone does not set the stiffness; give "
-                                               "youngs_modulus, bulk_modulus or shear_modulus");
+      ctx.fail(*given[0].item.key_mark, path +
+                                            ": poissons_ratio alone does not set the stiffness; give "
+                                            "youngs_modulus, bulk_modulus or shear_modulus");
     }
     const Given nu_given{NU, fixed, m.self()};
     if (given.size() == 1) {
@@ -109,8 +110,8 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
         const Given& bad = given[1].which == NU ? given[1] : given[0].which == NU ? given[0] : given[1];
         const std::string found = bad.which == NU ? "poissons_ratio is " + text_of(bad.item)
                                                   : std::string(kConstantKeys[given[0].which]) + " and " +
-                                                        kConstantKeys[given[1].which] + " imply poissons_ratio = " +
-                                                        fmt::format("{:.4g}", nu);
+                                                        kConstantKeys[given[1].which] +
+                                                        " imply poissons_ratio = " + fmt::format("{:.4g}", nu);
         ctx.fail(bad.item.mark, bad.item.path + ": " + found + ", but " + why);
       }
       // Keep the moduli as given: derive the others from the first with the exact ratio.
@@ -126,8 +127,7 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
     if (!(nu > -1 && nu < 0.5)) {
       ctx.fail(given[1].item.mark, given[1].item.path + ": " + kConstantKeys[given[0].which] + " = " +
                                        text_of(given[0].item) + " and " + kConstantKeys[given[1].which] + " = " +
-                                       text_of(given[1].item) + " imply poissons_ratio = " +
-                                       fmt::format("{:.4g}", nu) +
+                                       text_of(given[1].item) + " imply poissons_ratio = " + fmt::format("{:.4g}", nu) +
                                        ", outside (-1, 0.5): no stable isotropic material has these constants");
     }
   }
@@ -159,12 +159,13 @@ DamageConfig read_damage(const DeckContext& ctx, const Item& item) {
 }  // namespace
 
 MaterialConfig read_material(const DeckContext& ctx, const std::string& name, const Item& item) {
-  MapReader m(ctx, item,
-              {"model", "density", "youngs_modulus", "poissons_ratio", "bulk_modulus", "shear_modulus", "influence",
-               "damage"});
+  MapReader m(
+      ctx, item,
+      {"model", "density", "youngs_modulus", "poissons_ratio", "bulk_modulus", "shear_modulus", "influence", "damage"});
   MaterialConfig mat;
   mat.name = name;
-  mat.model = read_enum<ModelKind>(ctx, m.get("model", "pmb or lps"), {{"pmb", ModelKind::pmb}, {"lps", ModelKind::lps}});
+  mat.model =
+      read_enum<ModelKind>(ctx, m.get("model", "pmb or lps"), {{"pmb", ModelKind::pmb}, {"lps", ModelKind::lps}});
   mat.density = read_positive(ctx, m.get("density", "mass density [kg/m^3], > 0"));
   read_elastic_constants(ctx, m, mat);
   if (auto i = m.find("influence")) {

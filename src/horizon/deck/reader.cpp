@@ -1,5 +1,7 @@
 #include "horizon/deck/reader.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -48,18 +50,17 @@ void DeckContext::fail(const YAML::Mark& at, const std::string& message) const {
 void DeckContext::warn(const YAML::Mark& at, const std::string& message) const {
   if (!warnings) return;
   const DeckLocation where = location(file, at);
-  std::string s = where.file;
-  if (where.line > 0) s += ":" + std::to_string(where.line) + ":" + std::to_string(where.column);
-  warnings->push_back(s + ": warning: " + message);
+  // The same "file:line:column: " prefix as DeckError's messages.
+  warnings->push_back(where.line > 0
+                          ? fmt::format("{}:{}:{}: warning: {}", where.file, where.line, where.column, message)
+                          : fmt::format("{}: warning: {}", where.file, message));
 }
 
 std::string child_path(const std::string& path, std::string_view key) {
   return path.empty() ? std::string(key) : path + "." + std::string(key);
 }
 
-std::string index_path(const std::string& path, std::size_t index) {
-  return path + "[" + std::to_string(index) + "]";
-}
+std::string index_path(const std::string& path, std::size_t index) { return path + "[" + std::to_string(index) + "]"; }
 
 std::string describe(const YAML::Node& node) {
   if (!node.IsDefined()) return "nothing";
@@ -140,8 +141,8 @@ std::optional<std::string> MapReader::exactly_one(const std::vector<std::string>
   for (const auto& e : entries_) {
     if (std::find(keys.begin(), keys.end(), e.key) == keys.end()) continue;
     if (first) {
-      ctx_.fail(*e.value.key_mark, prefix(item_.path) + "give only one of " + join_words(keys, "'") +
-                                       "; found both '" + first->key + "' and '" + e.key + "'");
+      ctx_.fail(*e.value.key_mark, prefix(item_.path) + "give only one of " + join_words(keys, "'") + "; found both '" +
+                                       first->key + "' and '" + e.key + "'");
     }
     first = e;
   }
@@ -160,7 +161,10 @@ double read_number(const DeckContext& ctx, const Item& item) {
   const std::string& text = item.node.Scalar();
   if (const auto value = parse_number(text)) return *value;
   std::string message = prefix(item.path) + "expected a number, found '" + text + "'";
-  if (text.find_first_of("*/()^") != std::string::npos)
+  const std::size_t space = text.find(' ');
+  if (space != std::string::npos && parse_number(std::string_view(text).substr(0, space)))
+    message += " (write the number alone: every value in a deck is in SI units)";
+  else if (text.find_first_of("*/()^") != std::string::npos)
     message += " (expressions in t, x, y, z are allowed only in loads and initial_conditions)";
   ctx.fail(item.mark, message);
 }
@@ -208,8 +212,8 @@ std::size_t choose_word(const DeckContext& ctx, const Item& item, const std::vec
 
 void fail_choice(const DeckContext& ctx, const Item& item, const std::string& found,
                  const std::vector<std::string>& valid, std::string_view what) {
-  std::string message = prefix(item.path) + "expected " + std::string(what) + " " + join_words(valid) +
-                        "; found '" + found + "'";
+  std::string message =
+      prefix(item.path) + "expected " + std::string(what) + " " + join_words(valid) + "; found '" + found + "'";
   if (const auto guess = closest_word(found, valid)) message += "; did you mean '" + *guess + "'?";
   ctx.fail(item.mark, message);
 }
@@ -249,7 +253,9 @@ std::vector<Item> components(const DeckContext& ctx, const Item& item, std::stri
   if (!item.node.IsDefined() || !item.node.IsSequence()) {
     fail_expected(ctx, item,
                   "a list of " + expected + " (" + std::string(kind) + "), e.g. " +
-                      (n == 1 ? "[0]" : n == 2 ? "[0, 0]" : "[0, 0, 0]"));
+                      (n == 1   ? "[0]"
+                       : n == 2 ? "[0, 0]"
+                                : "[0, 0, 0]"));
   }
   auto items = read_list(ctx, item);
   if (static_cast<int>(items.size()) != n) {
@@ -279,7 +285,9 @@ Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_f
       continue;  // not prescribed
     }
     if (!is_scalar(c.node)) {
-      fail_expected(ctx, c, allow_free ? "a number, an expression in t, x, y, z, or null" : "a number or an expression in t, x, y, z");
+      fail_expected(
+          ctx, c,
+          allow_free ? "a number, an expression in t, x, y, z, or null" : "a number or an expression in t, x, y, z");
     }
     const std::string& text = c.node.Scalar();
     if (const auto value = parse_number(text)) {

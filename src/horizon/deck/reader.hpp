@@ -77,7 +77,7 @@ class MapReader {
 
 // Scalars. Numbers must be finite; a quoted number is accepted.
 double read_number(const DeckContext& ctx, const Item& item);
-double read_positive(const DeckContext& ctx, const Item& item);  // > 0
+double read_positive(const DeckContext& ctx, const Item& item);      // > 0
 double read_non_negative(const DeckContext& ctx, const Item& item);  // >= 0
 int read_int(const DeckContext& ctx, const Item& item);
 bool read_bool(const DeckContext& ctx, const Item& item);

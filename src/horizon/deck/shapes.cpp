@@ -23,9 +23,9 @@ Shape read_box(const DeckContext& ctx, const Item& item) {
   const Vec3 max = read_vector(ctx, max_item);
   for (int k = 0; k < ctx.dimension; ++k) {
     if (!(min[k] < max[k])) {
-      ctx.fail(max_item.mark, max_item.path + ": a box needs min < max along every axis; along " +
-                                  kAxisNames[k] + " min is " + text_of(read_list(ctx, min_item)[k]) +
-                                  " and max is " + text_of(read_list(ctx, max_item)[k]));
+      ctx.fail(max_item.mark, max_item.path + ": a box needs min < max along every axis; along " + kAxisNames[k] +
+                                  " min is " + text_of(read_list(ctx, min_item)[k]) + " and max is " +
+                                  text_of(read_list(ctx, max_item)[k]));
     }
   }
   return Shape::box(min, max);
@@ -41,8 +41,7 @@ Shape read_sphere(const DeckContext& ctx, const Item& item) {
 Shape read_disk(const DeckContext& ctx, const Item& item, const YAML::Mark& key_mark) {
   if (ctx.dimension != 2) {
     ctx.fail(key_mark, item.path + ": disk is a 2-D shape (a cylinder through the thickness); in a " +
-                           std::to_string(ctx.dimension) + "-D deck use " +
-                           (ctx.dimension == 3 ? "cylinder" : "box"));
+                           std::to_string(ctx.dimension) + "-D deck use " + (ctx.dimension == 3 ? "cylinder" : "box"));
   }
   MapReader m(ctx, item, {"center", "radius"});
   const Vec3 center = read_vector(ctx, m.get("center", "the centre point"));
@@ -57,8 +56,9 @@ Shape read_cylinder(const DeckContext& ctx, const Item& item, const YAML::Mark& 
   if (m.has("from") || m.has("to")) {
     for (const char* key : {"center", "axis", "length"}) {
       if (auto other = m.find(key)) {
-        ctx.fail(*other->key_mark, other->path + ": give the cylinder either as {center, axis, length, radius} "
-                                                 "or as {from, to, radius}, not both");
+        ctx.fail(*other->key_mark, other->path +
+                                       ": give the cylinder either as {center, axis, length, radius} "
+                                       "or as {from, to, radius}, not both");
       }
     }
     const Vec3 from = read_vector(ctx, m.get("from", "one end of the axis"));
@@ -100,8 +100,8 @@ std::vector<Shape> read_parts(const DeckContext& ctx, const Item& item, std::siz
 }  // namespace
 
 Shape read_shape(const DeckContext& ctx, const Item& item) {
-  const std::string expected = "a shape: a map with one key, one of " + join_words(kShapeKinds) +
-                               " (e.g. {box: {min: [..], max: [..]}})";
+  const std::string expected =
+      "a shape: a map with one key, one of " + join_words(kShapeKinds) + " (e.g. {box: {min: [..], max: [..]}})";
   if (!item.node.IsDefined() || !item.node.IsMap() || item.node.size() == 0) fail_expected(ctx, item, expected);
   const auto entries = map_entries(ctx, item);
   if (entries.size() > 1) {
