@@ -1,0 +1,141 @@
+// The command line as a user meets it: version, check, errors, Ctrl-C and a run that
+// blows up. Each test runs the real binary.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "horizon/output/pvd.hpp"
+#include "horizon/output/vtu.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string output;
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(HORIZON_BINARY) + " " + args + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p)) r.output += buf;
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("horizon_cli_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+// A small 2-D plate that runs long enough to be interrupted.
+std::string plate_deck(double end_time, const std::string& extra_solver = "") {
+  std::ostringstream d;
+  d << "dimension: 2\nplane: stress\nthickness: 1.0e-3\nspacing: 5.0e-4\nhorizon_factor: 3\n"
+       "materials:\n  glass: {model: pmb, density: 2440, youngs_modulus: 72.0e9}\n"
+       "bodies:\n  - {name: plate, material: glass, shape: {box: {min: [0, 0], max: [0.02, 0.01]}}}\n"
+       "initial_conditions:\n  - {velocity: [\"10*x/0.02\", 0]}\n"
+       "solver: {type: explicit, end_time: "
+    << end_time << extra_solver << "}\noutput: {frames: 5, history_every: 10}\n";
+  return d.str();
+}
+
+}  // namespace
+
+TEST(Cli, VersionPrintsTheVersion) {
+  const Result r = run("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.output.find("horizon 0."), std::string::npos) << r.output;
+}
+
+TEST(Cli, CheckReportsParticlesBondsAndTimeStep) {
+  const fs::path d = scratch("check");
+  write(d / "plate.yaml", plate_deck(1e-6));
+  const Result r = run("check " + (d / "plate.yaml").string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  // 40 x 20 lattice points.
+  EXPECT_NE(r.output.find("particles       800"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("stable step"), std::string::npos);
+  EXPECT_NE(r.output.find("deck is valid"), std::string::npos);
+}
+
+TEST(Cli, DeckErrorNamesFileLineAndColumn) {
+  const fs::path d = scratch("error");
+  std::string deck = plate_deck(1e-6);
+  deck.replace(deck.find("density: 2440"), 13, "densty: 2440");
+  write(d / "bad.yaml", deck);
+  const Result r = run("check " + (d / "bad.yaml").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("bad.yaml:7:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("density"), std::string::npos) << r.output;
+}
+
+TEST(Cli, MissingDeckIsAnErrorNotACrash) {
+  const Result r = run("run /nonexistent/deck.yaml");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("/nonexistent/deck.yaml"), std::string::npos) << r.output;
+}
+
+TEST(Cli, InterruptWritesAFinalFrameAndAValidIndex) {
+  const fs::path d = scratch("interrupt");
+  write(d / "plate.yaml", plate_deck(1.0));  // far more steps than the test waits for
+  const std::string cmd = std::string(HORIZON_BINARY);
+  const std::string deck = (d / "plate.yaml").string();
+  const std::string out = (d / "out").string();
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stderr);
+    execl(cmd.c_str(), cmd.c_str(), "run", deck.c_str(), "-o", out.c_str(), "-q", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until the run has started writing, then interrupt it.
+  for (int k = 0; k < 200 && !fs::exists(d / "out" / "frames.pvd"); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(pid, SIGINT);
+  int st = 0;
+  waitpid(pid, &st, 0);
+  ASSERT_TRUE(WIFEXITED(st));
+  EXPECT_EQ(WEXITSTATUS(st), 130);
+  const auto entries = horizon::read_pvd((d / "out" / "frames.pvd").string());
+  ASSERT_GE(entries.size(), 2u);
+  const horizon::Frame last = horizon::read_vtu(entries.back().second);
+  EXPECT_GT(last.step, 0);
+  EXPECT_EQ(last.points.size(), 800u);
+  std::ifstream js(d / "out" / "summary.json");
+  const auto j = nlohmann::json::parse(js);
+  EXPECT_EQ(j["status"], "interrupted");
+  EXPECT_EQ(j["steps"].get<int64_t>(), last.step);
+}
+
+TEST(Cli, NonFiniteStateStopsWithParticleAndStep) {
+  const fs::path d = scratch("nonfinite");
+  // Fifty times the stable step: the explicit scheme diverges within a few hundred steps.
+  write(d / "plate.yaml", plate_deck(2e-3, ", time_step: 5.0e-6"));
+  const Result r = run("run " + (d / "plate.yaml").string() + " -o " + (d / "out").string() + " -q");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("non-finite at step"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("particle"), std::string::npos) << r.output;
+  const auto entries = horizon::read_pvd((d / "out" / "frames.pvd").string());
+  const horizon::Frame last = horizon::read_vtu(entries.back().second);
+  for (double u : last.field("displacement")->data) ASSERT_TRUE(std::isfinite(u));
+}
