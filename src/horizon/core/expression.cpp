@@ -30,8 +30,7 @@ Expression::Expression(const std::string& text) : parser_(std::make_shared<Parse
     // A text without variables is a constant: drop the parser.
     if (p.GetUsedVar().empty()) parser_.reset();
   } catch (const mu::Parser::exception_type& e) {
-    throw Error("cannot parse expression '" + text + "': " + e.GetMsg() + " at position " +
-                std::to_string(e.GetPos() + 1));
+    throw Error("cannot parse expression '" + text + "': " + e.GetMsg());
   }
 }
 

@@ -4,11 +4,9 @@
 
 #include <cmath>
 
-namespace horizon::deck {
+#include "horizon/material/constants.hpp"
 
-double bond_based_poissons_ratio(int dimension, PlaneMode plane) {
-  return dimension == 2 && plane == PlaneMode::stress ? 1.0 / 3.0 : 0.25;
-}
+namespace horizon::deck {
 
 namespace {
 
@@ -91,7 +89,7 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
   double e = 0, nu = 0;
   if (pmb) {
     // A bond-based model has one constant: its Poisson's ratio is fixed by the dimension.
-    const double fixed = bond_based_poissons_ratio(ctx.dimension, ctx.plane);
+    const double fixed = bond_based_poisson_ratio(ctx.dimension, ctx.plane);
     const std::string fixed_text = fixed == 0.25 ? "1/4" : "1/3";
     const std::string why = "model pmb is bond-based, which fixes Poisson's ratio at " + fixed_text + " " +
                             plane_words(ctx) + "; give one modulus only, or use model: lps for a free " +
