@@ -70,7 +70,8 @@ TEST(Constants, PmbMicromodulusCalibrationForEveryInfluence) {
   const double k = kE / (3 * (1 - 2 * 0.25));
   const double d = kDelta;
   // int_0^delta omega r^p dr / delta^(p+1) for p = 1, 2, 3 (rows: constant, inverse, linear).
-  const double mom[3][4] = {{0, 1.0 / 2, 1.0 / 3, 1.0 / 4}, {0, 1.0, 1.0 / 2, 1.0 / 3}, {0, 1.0 / 6, 1.0 / 12, 1.0 / 20}};
+  const double mom[3][4] = {
+      {0, 1.0 / 2, 1.0 / 3, 1.0 / 4}, {0, 1.0, 1.0 / 2, 1.0 / 3}, {0, 1.0 / 6, 1.0 / 12, 1.0 / 20}};
   const InfluenceKind kinds[3] = {InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear};
   for (int w = 0; w < 3; ++w) {
     const double c3 = pmb_micromodulus(kE, kinds[w], dims3());

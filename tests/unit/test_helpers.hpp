@@ -2,11 +2,14 @@
 // Small bodies built in code for the physics tests: a lattice block of one material
 // (through Config + build_system, the path a deck takes), the classical energy of a
 // homogeneous strain, and a portable deterministic random source.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include <omp.h>
 
 #include "horizon/deck/config.hpp"
 #include "horizon/material/constants.hpp"
@@ -82,6 +85,39 @@ inline std::vector<std::size_t> interior_particles(const System& s, const BlockS
   return ids;
 }
 
+// Lattice offsets n (integer vectors) of a complete family: |n| <= horizon_factor.
+inline std::vector<Vec3> family_offsets(const BlockSpec& b) {
+  std::vector<Vec3> out;
+  // Partial volumes extend the family to horizon + spacing/2 (family_radius).
+  const double reach = b.horizon_factor + (b.partial_volume ? 0.5 : 0.0);
+  const int r = static_cast<int>(std::ceil(reach));
+  const int rz = b.dimension > 2 ? r : 0, ry = b.dimension > 1 ? r : 0;
+  for (int k = -rz; k <= rz; ++k)
+    for (int j = -ry; j <= ry; ++j)
+      for (int i = -r; i <= r; ++i) {
+        const double n2 = i * i + j * j + k * k;
+        if (n2 > 0 && n2 <= reach * reach * (1 + 1e-12))
+          out.push_back(Vec3{1.0 * i, 1.0 * j, 1.0 * k});
+      }
+  return out;
+}
+
+inline double cell_volume(const BlockSpec& b) {
+  const double h = b.spacing;
+  if (b.dimension == 3) return h * h * h;
+  if (b.dimension == 2) return h * h * b.thickness;
+  return h * b.area;
+}
+
+// Volume of a neighbour at distance r, with the partial-volume rule when enabled
+// (written out here, independently of apply_partial_volume).
+inline double neighbour_volume(const BlockSpec& b, double r) {
+  const double d = b.horizon_factor * b.spacing, h = b.spacing;
+  double v = cell_volume(b);
+  if (b.partial_volume && r > d - 0.5 * h) v *= std::clamp((d + 0.5 * h - r) / h, 0.0, 1.0);
+  return v;
+}
+
 // A symmetric small strain, stored as a full 3x3 matrix.
 using Strain = std::array<std::array<double, 3>, 3>;
 
@@ -105,6 +141,21 @@ inline double classical_energy(const Strain& e, int dimension, double bulk, doub
     }
   return 0.5 * bulk * tr * tr + shear * dev2;
 }
+
+// Runs a scope on one OpenMP thread. For tests whose figures do not depend on the thread
+// count (test_threads.cpp checks that they never do) and that open hundreds of tiny
+// parallel regions: on a shared, oversubscribed machine each two-thread barrier can cost
+// a scheduler time slice, seconds in all.
+class SingleThread {
+ public:
+  SingleThread() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~SingleThread() { omp_set_num_threads(saved_); }
+  SingleThread(const SingleThread&) = delete;
+  SingleThread& operator=(const SingleThread&) = delete;
+
+ private:
+  int saved_;
+};
 
 // splitmix64: the same numbers on every platform and standard library.
 class Rng {

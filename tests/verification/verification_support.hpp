@@ -4,9 +4,11 @@
 // checks make on it (arrival of a pulse at a station, a least-squares displacement
 // gradient, the output directory under the build tree).
 #include <Eigen/Dense>
+#include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -42,6 +44,14 @@ inline std::filesystem::path output_dir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// Prints a measured figure so that it shows in the test log (ctest -V, or the test
+// binary run directly), and records it in the XML report.
+inline void report(const std::string& key, double value, const std::string& text) {
+  std::printf("[ figure ] %s\n", text.c_str());
+  std::fflush(stdout);
+  ::testing::Test::RecordProperty(key, std::to_string(value));
 }
 
 inline nlohmann::json read_json(const std::filesystem::path& path) {
@@ -87,10 +97,12 @@ struct Simulation {
   }
 };
 
-// A sampled signal s(t) at a station, and the time its leading edge first reaches half
-// of the signal's maximum, interpolated linearly between samples. The half-maximum of
-// the leading edge is insensitive to the slow, short-wavelength tail that dispersion
-// leaves behind the pulse.
+// A sampled signal s(t) at a station, and when the first pulse passes it. The first
+// pulse is the first stretch where the signal stays above a quarter of its overall
+// maximum (later pulses, such as reflections, may follow). Its arrival is the time its
+// leading edge reaches half of the pulse's own maximum, interpolated linearly between
+// samples: the half-maximum of the leading edge is insensitive to the slow,
+// short-wavelength tail that dispersion leaves behind a pulse.
 struct StationRecord {
   std::vector<double> t, s;
 
@@ -98,22 +110,39 @@ struct StationRecord {
     t.push_back(time);
     s.push_back(value);
   }
+  // [first, last] samples of the first pulse; empty when the signal never rises.
+  std::optional<std::pair<std::size_t, std::size_t>> first_pulse() const {
+    double top = 0;
+    for (double x : s) top = std::max(top, x);
+    if (!(top > 0)) return std::nullopt;
+    std::size_t a = 0;
+    while (a < s.size() && s[a] < 0.25 * top) ++a;
+    std::size_t b = a;
+    while (b + 1 < s.size() && s[b + 1] >= 0.25 * top) ++b;
+    return std::make_pair(a, b);
+  }
   double peak() const {
+    const auto p = first_pulse();
     double m = 0;
-    for (double x : s) m = std::max(m, x);
+    if (p)
+      for (std::size_t k = p->first; k <= p->second; ++k) m = std::max(m, s[k]);
     return m;
   }
   std::optional<double> half_max_arrival() const {
+    const auto p = first_pulse();
+    if (!p || p->first == 0) return std::nullopt;
     const double half = 0.5 * peak();
-    if (!(half > 0)) return std::nullopt;
-    for (std::size_t k = 1; k < s.size(); ++k)
+    for (std::size_t k = 1; k <= p->second; ++k)
       if (s[k - 1] < half && s[k] >= half) return t[k - 1] + (t[k] - t[k - 1]) * (half - s[k - 1]) / (s[k] - s[k - 1]);
     return std::nullopt;
   }
-  // Time of the maximum, from the parabola through the largest sample and its neighbours.
+  // Time of the first pulse's maximum, from the parabola through the largest sample and
+  // its neighbours.
   std::optional<double> peak_time() const {
-    std::size_t k = 0;
-    for (std::size_t i = 1; i < s.size(); ++i)
+    const auto p = first_pulse();
+    if (!p) return std::nullopt;
+    std::size_t k = p->first;
+    for (std::size_t i = p->first; i <= p->second; ++i)
       if (s[i] > s[k]) k = i;
     if (k == 0 || k + 1 >= s.size()) return std::nullopt;
     const double a = s[k - 1], b = s[k], c = s[k + 1];
@@ -138,6 +167,53 @@ inline Eigen::Matrix3d displacement_gradient(const Particles& P, const std::vect
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) G(r, c) = coef(c + 1, r);
   return G;
+}
+
+// Force that particle j exerts on particle i through bond k of i's row [N], from the
+// unified form of solver/system.hpp: (t_ij + t_ji) Y/|Y| V_i V_j with
+// t_ij = omega (P_i |xi| + Q_i e + R_i e/|xi|). Needs the P_i of the last force pass.
+inline Vec3 pair_force(const System& s, std::size_t i, uint64_t k) {
+  const auto& P = s.particles;
+  const auto& B = s.bonds;
+  const auto& M = s.model;
+  if (!B.intact[k]) return {};
+  const uint32_t j = B.nbr[k];
+  const Vec3 Y = P.X[j] + P.u[j] - P.X[i] - P.u[i];
+  const double y = norm(Y), L = B.length[k], e = y - L;
+  const double ti = M.P[i] * L + M.deviatoric_coef[i] * e + M.pair_coef[i] / L * e;
+  const double tj = M.P[j] * L + M.deviatoric_coef[j] * e + M.pair_coef[j] / L * e;
+  return Y * (B.weight[k] * (ti + tj) / y * B.volume[k] * P.volume[i]);
+}
+
+// The force transmitted across the plane X[axis] = at through the patch lo <= X[a] <= hi
+// of the two other axes a: the sum of the pair forces of the bonds that cross the plane
+// there (the Lehoucq-Silling force flux), the force the material on the high side
+// exerts on the low side. A bond is counted where its segment meets the plane; one that
+// meets it exactly on the patch's edge counts half (a quarter at a corner), so that
+// patches that tile the plane share the bonds between them.
+inline Vec3 force_through_patch(const System& s, int axis, double at, double lo, double hi) {
+  const auto& P = s.particles;
+  const auto& B = s.bonds;
+  const double tol = 1e-9 * s.spacing;
+  auto weight = [&](double c) {
+    if (std::abs(c - lo) < tol || std::abs(c - hi) < tol) return 0.5;
+    return c > lo && c < hi ? 1.0 : 0.0;
+  };
+  Vec3 F;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    if (P.X[i][axis] > at) continue;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const Vec3& xj = P.X[B.nbr[k]];
+      if (xj[axis] < at) continue;
+      const double f = (at - P.X[i][axis]) / (xj[axis] - P.X[i][axis]);
+      const Vec3 cross_at = P.X[i] + (xj - P.X[i]) * f;
+      double w = 1;
+      for (int a = 0; a < 3; ++a)
+        if (a != axis) w *= weight(cross_at[a]);
+      if (w > 0) F += pair_force(s, i, k) * w;
+    }
+  }
+  return F;
 }
 
 }  // namespace horizon::verification

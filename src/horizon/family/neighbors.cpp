@@ -35,7 +35,11 @@ CellGrid make_grid(const std::vector<Vec3>& points, double radius) {
       hi[k] = std::max(hi[k], p[k]);
     }
   g.lo = lo;
-  g.edge = radius;
+  // A little wider than the accepted radius (radius * (1 + kRadiusTolerance)): a
+  // neighbour accepted through the tolerance must never land two cells away through
+  // round-off in the cell coordinates (a lattice with horizon = m spacings and a
+  // non-zero origin lost its on-sphere neighbours that way).
+  g.edge = radius * (1 + 100 * kRadiusTolerance);
   // Keep the cell count proportional to N even for a sparse cloud in a big box.
   const double max_cells = 8.0 * static_cast<double>(points.size()) + 64;
   for (;;) {

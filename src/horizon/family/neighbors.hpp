@@ -15,9 +15,18 @@ Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>&
 Bonds find_neighbors_brute_force(const std::vector<Vec3>& points, const std::vector<double>& volume,
                                  double radius);
 
-// Partial-volume rule: a neighbour whose distance lies within half a spacing of the
-// horizon contributes the fraction (horizon + spacing/2 - |xi|)/spacing of its volume
-// (the linear rule of Parks et al., LAMMPS PERI). Volumes of other bonds are unchanged.
+// Partial-volume rule: the cell of a neighbour at distance r, of width `spacing`, is
+// taken to lie inside the horizon sphere for the fraction
+//   clamp((horizon + spacing/2 - r)/spacing, 0, 1)
+// of its volume (the linear rule of Seleson 2014, "Improved one-point quadrature
+// algorithms for two-dimensional peridynamic models", and of LAMMPS PERI). Families
+// must reach horizon + spacing/2 for the rule to add the cells the sphere cuts; see
+// partial_volume_radius.
 void apply_partial_volume(Bonds& bonds, double horizon, double spacing);
+
+// Search radius of the families: the horizon, or horizon + spacing/2 with partial volumes.
+inline double family_radius(double horizon, double spacing, bool partial_volume) {
+  return partial_volume ? horizon + 0.5 * spacing : horizon;
+}
 
 }  // namespace horizon

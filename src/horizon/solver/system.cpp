@@ -55,7 +55,8 @@ System build_system(const Config& config) {
       if (region.contains(s.particles.X[i])) s.particles.no_fail[i] = 1;
   }
 
-  s.bonds = find_neighbors(s.particles.X, s.particles.volume, config.horizon);
+  s.bonds = find_neighbors(s.particles.X, s.particles.volume,
+                           family_radius(config.horizon, config.spacing, config.partial_volume));
   if (config.partial_volume) apply_partial_volume(s.bonds, config.horizon, config.spacing);
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
   s.initial_bonds = s.bonds.size();
