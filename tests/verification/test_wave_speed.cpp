@@ -26,7 +26,8 @@ namespace {
 // Partial volumes are on: with full volumes for the neighbours at exactly 3 spacings, the
 // 1-D lattice sum is 4/3 of the integral that calibrates c (docs/models.md section 8), and
 // the bar is 4/3 too stiff: the pulse runs at 5760 m/s, +15 % (measured).
-std::string bar_1d_deck(double half_width) {
+// `initial_condition` is one entry of initial_conditions, e.g. {velocity: ["..."]}.
+std::string bar_1d_deck(const std::string& initial_condition) {
   return fmt::format(R"(dimension: 1
 area: 1.0e-4
 spacing: 1.0e-3
@@ -37,10 +38,15 @@ materials:
 bodies:
   - {{name: bar, material: steel, shape: {{box: {{min: [0], max: [1.0]}}}}}}
 initial_conditions:
-  - velocity: ["abs(x-0.2) < {0} ? 0.5*(1+cos(pi*(x-0.2)/{0})) : 0"]
+  - {}
 solver: {{end_time: 1.4e-4}}
 )",
-                     half_width);
+                     initial_condition);
+}
+
+// The cosine bump of initial velocity around x = 0.2 m, of full width 2H.
+std::string pulse(double half_width) {
+  return fmt::format(R"ic({{velocity: ["abs(x-0.2) < {0} ? 0.5*(1+cos(pi*(x-0.2)/{0})) : 0"]}})ic", half_width);
 }
 
 constexpr double kBarSpeed = 5000.0;  // sqrt(E/rho) of both bars
@@ -78,7 +84,7 @@ double measured_speed(Simulation& sim, double xa, double xb, double end_time) {
 }
 
 double speed_1d(double wavelength) {
-  Simulation sim(parse_deck(bar_1d_deck(wavelength / 2), "1-D bar"));
+  Simulation sim(parse_deck(bar_1d_deck(pulse(wavelength / 2)), "1-D bar"));
   // Stations at 0.4 and 0.8 m: the right-running half passes both before the left-running
   // one, reflected at x = 0, or its own reflection from x = 1 m come back.
   return measured_speed(sim, 0.4, 0.8, 1.4e-4);
@@ -109,9 +115,7 @@ TEST(WaveSpeed, PeridynamicDispersionMatchesTheLatticeAndVanishesAtLongWavelengt
   for (double ratio : {5.0, 10.0, 20.0, 40.0}) {
     const int n = static_cast<int>(std::lround(2 * length / (ratio * delta)));
     const double k = n * std::numbers::pi / length;
-    std::string deck = bar_1d_deck(0.03);
-    const std::string ic = deck.substr(deck.find("  - velocity"), deck.find("solver") - deck.find("  - velocity"));
-    deck.replace(deck.find(ic), ic.size(), fmt::format("  - displacement: [\"1e-6*cos({:.17g}*x)\"]\n", k));
+    const std::string deck = bar_1d_deck(fmt::format(R"ic({{displacement: ["1e-6*cos({:.17g}*x)"]}})ic", k));
     Simulation sim(parse_deck(deck, "1-D standing wave"));
     const auto& P = sim.system.particles;
 
@@ -135,7 +139,8 @@ TEST(WaveSpeed, PeridynamicDispersionMatchesTheLatticeAndVanishesAtLongWavelengt
       a_prev = a;
     });
     ASSERT_GE(crossings.size(), 6u);
-    const double measured = std::numbers::pi * static_cast<double>(crossings.size() - 1) / (crossings.back() - crossings.front());
+    const double measured =
+        std::numbers::pi * static_cast<double>(crossings.size() - 1) / (crossings.back() - crossings.front());
     const double speed = measured / k;
     report(fmt::format("phase_speed_lambda_{:.0f}", ratio), speed,
            fmt::format("1-D PMB standing wave, wavelength {:>4.1f} horizons: phase speed {:.1f} m/s ({:+.2f} % from "
@@ -150,23 +155,64 @@ TEST(WaveSpeed, PeridynamicDispersionMatchesTheLatticeAndVanishesAtLongWavelengt
 }
 
 // The 3-D bar of examples/wave_in_bar.yaml: LPS, nu = 0.25, 240 x 10 x 10 spacings,
-// horizon 3 spacings, a pulse 20 horizons (6 bar widths) wide. The lateral inertia
-// correction (Rayleigh: c/c0 ~ 1 - nu^2 (k r)^2/4, r the radius of gyration) is 0.1 %;
-// what remains is the surface effect of a cross-section only 3.3 horizons wide
-// (the speed rises to +1.2 % with 8 x 8 spacings; docs/verification.md).
-TEST(WaveSpeed, PulseInASlender3DLpsBarRunsAtTheBarSpeed) {
-  Config config = load_deck(source_path("examples/wave_in_bar.yaml"));
-  Simulation sim(std::move(config));
-  const double c = measured_speed(sim, 0.09, 0.19, 4.0e-5);
+// horizon 3 spacings, partial volumes, a pulse 20 horizons (6 bar widths) wide. The
+// lateral-inertia correction (Rayleigh: c/c0 ~ 1 - nu^2 (k r)^2/4, r the radius of
+// gyration of the section) is -0.1 %. What limits the comparison with sqrt(E/rho) is the
+// surface effect: every particle of a section only 3.3 horizons wide is within a horizon
+// of a free surface, and the LPS layers near a free surface are stiffer (check 2), so the
+// section as a whole is about 17 % stiffer than the material and the pulse runs about 7 %
+// fast. The speed is therefore checked twice:
+// - against sqrt(E_section/rho), where E_section is measured statically on a piece of
+//   the same bar (traction over the mean axial strain of the section, at rest): within 2 %,
+//   the wave runs at the speed the bar's own stiffness gives (this is what the dynamics
+//   can get right or wrong);
+// - against sqrt(E/rho), within 10 %: the surface effect at this section (the real figure
+//   is printed and written in docs/verification.md).
+TEST(WaveSpeed, PulseInASlender3DLpsBarRunsAtTheBarSpeedOfItsSection) {
+  const Config config = load_deck(source_path("examples/wave_in_bar.yaml"));
+  const double E = config.materials.at(0).youngs_modulus, rho = config.materials.at(0).density;
+  const double c0 = std::sqrt(E / rho);
+  ASSERT_NEAR(c0, kBarSpeed, 1e-9);
+
+  // A 20-spacing piece of the bar, pulled by 1 MPa at its end layers and damped to rest.
+  Config piece = config;
+  const Box3 bar = config.bodies.at(0).shape.bounds();
+  const double h = config.spacing, length = 20 * h;
+  const Vec3 lo = bar.min, hi{bar.min.x + length, bar.max.y, bar.max.z};
+  piece.bodies.at(0).shape = Shape::box(lo, hi);
+  piece.initial_conditions.clear();
+  piece.regions = {{"left", Shape::box(lo, {lo.x + 1.2 * h, hi.y, hi.z})},
+                   {"right", Shape::box({hi.x - 1.2 * h, lo.y, lo.z}, hi)}};
+  piece.loads.clear();
+  for (const auto& [region, sign] : {std::pair{"left", -1.0}, std::pair{"right", 1.0}}) {
+    LoadConfig load;
+    load.kind = LoadKind::traction;
+    load.region = region;
+    load.value = {Expression(sign * 1.0e6), Expression(0.0), Expression(0.0)};
+    piece.loads.push_back(load);
+  }
+  piece.solver.damping = 2 * std::numbers::pi * c0 / length;  // twice the lowest axial frequency
+  piece.solver.end_time = 60 / piece.solver.damping;
+  const TensionResult section = measure_tension(piece);
+  const double c_section = std::sqrt(section.youngs_section / rho);
+
+  Simulation sim{Config(config)};
+  const double c = measured_speed(sim, 0.09, 0.19, 3.4e-5);
   report("speed_3d", c,
-         fmt::format("3-D LPS bar (nu 0.25, 10 x 10 section): c = {:.1f} m/s, sqrt(E/rho) = {:.0f} m/s ({:+.2f} %)", c,
-                     kBarSpeed, 100 * (c / kBarSpeed - 1)));
-  EXPECT_NEAR(c / kBarSpeed, 1.0, 0.02);
+         fmt::format("3-D LPS bar (nu 0.25, 10 x 10 section): c = {:.1f} m/s; sqrt(E/rho) = {:.0f} m/s ({:+.2f} %); "
+                     "sqrt(E_section/rho) = {:.1f} m/s ({:+.2f} %), E_section = {:.1f} GPa",
+                     c, c0, 100 * (c / c0 - 1), c_section, 100 * (c / c_section - 1), section.youngs_section / 1e9));
+  EXPECT_NEAR(c / c_section, 1.0, 0.02);
+  EXPECT_NEAR(c / c0, 1.0, 0.10);
   // An elastic pulse without damping keeps its energy (the ledger, check 3).
-  sim.solver->update_kinetic();
   sim.solver->step(true);
   EXPECT_LT(std::abs(sim.solver->ledger().balance_error()), 5e-3);
 }
+
+// Without partial volumes the same bar runs at sqrt(E/rho) within 2 %, but only because
+// two errors cancel: the interior of that lattice is 14 % too soft along the bar (check 2,
+// BlockWithoutPartialVolumesMatchesItsAnisotropicLattice) and the surface layers are stiffer.
+// Kept as a figure for docs/verification.md, not as a check of the code.
 
 }  // namespace
 }  // namespace horizon::verification

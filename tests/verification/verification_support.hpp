@@ -216,4 +216,76 @@ inline Vec3 force_through_patch(const System& s, int axis, double at, double lo,
   return F;
 }
 
+// A block pulled along x by equal and opposite tractions on its end layers, run with
+// damping to rest (config.solver.end_time), and what it shows at rest.
+struct TensionResult {
+  double youngs_interior = 0;  // interior stress / interior axial strain
+  double youngs_apparent = 0;  // traction / interior axial strain
+  double youngs_section = 0;   // traction / mean axial strain of the whole section (middle half)
+  double poisson = 0;          // -lateral / axial strain, interior
+  double poisson_section = 0;  // the same over the whole section (middle half)
+  double interior_stress = 0;  // [Pa]
+  double end_force = 0;        // total force of the traction on the "right" region [N]
+  double traction = 0;         // [Pa]
+  std::size_t interior_particles = 0;
+};
+
+// The block is config.bodies[0], a box with a square section; the traction is the x
+// component of the load on region "right". At rest:
+// - interior strains: the least-squares displacement gradient over the particles more
+//   than one horizon from every surface;
+// - interior stress: the force through the interior square of the mid-plane (the bonds
+//   that cross it there, force_through_patch) over its area;
+// - section strains: the gradient over every particle of the middle half of the block.
+inline TensionResult measure_tension(Config config) {
+  TensionResult r;
+  for (const auto& L : config.loads)
+    if (L.region == "right") r.traction = (*L.value[0])(0, 0, 0, 0);
+  const Box3 box = config.bodies.at(0).shape.bounds();
+  Simulation sim(std::move(config));
+  const System& s = sim.system;
+  const auto& P = s.particles;
+
+  sim.run_to(sim.config.solver.end_time);
+  sim.solver->step(true);  // brings the ledger's energies up to date
+  const Ledger& g = sim.solver->ledger();
+  EXPECT_LT(g.kinetic, 1e-9 * g.strain) << "the block is not at rest: run longer or damp more";
+
+  const double d = s.horizon;
+  std::vector<std::size_t> interior, middle;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) inside = inside && P.X[i][k] > box.min[k] + d && P.X[i][k] < box.max[k] - d;
+    if (inside) interior.push_back(i);
+    const double xi = (P.X[i].x - box.min.x) / (box.max.x - box.min.x);
+    if (xi > 0.25 && xi < 0.75) middle.push_back(i);
+  }
+  r.interior_particles = interior.size();
+  const Eigen::Matrix3d G = displacement_gradient(P, interior);
+  const Eigen::Matrix3d Gs = displacement_gradient(P, middle);
+  // Uniaxial stress along x: no shear, equal lateral strains (the square section).
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      if (a != b) {
+        EXPECT_LT(std::abs(G(a, b)), 1e-3 * G(0, 0)) << "G(" << a << "," << b << ")";
+      }
+    }
+  EXPECT_NEAR(G(1, 1) / G(2, 2), 1.0, 1e-6);
+
+  // The interior square of the mid-plane (between two lattice layers when the block has
+  // an even number of layers).
+  EXPECT_NEAR(box.max.y - box.min.y, box.max.z - box.min.z, 1e-12) << "a square section";
+  const double lo = box.min.y + d, hi = box.max.y - d;
+  const Vec3 F = force_through_patch(s, 0, 0.5 * (box.min.x + box.max.x), lo, hi);
+  for (const auto& L : sim.loads.loads())
+    if (L.name.rfind("right:", 0) == 0) r.end_force = L.reaction.x;
+  r.interior_stress = F.x / ((hi - lo) * (hi - lo));
+  r.youngs_interior = r.interior_stress / G(0, 0);
+  r.youngs_apparent = r.traction / G(0, 0);
+  r.youngs_section = r.traction / Gs(0, 0);
+  r.poisson = -0.5 * (G(1, 1) + G(2, 2)) / G(0, 0);
+  r.poisson_section = -0.5 * (Gs(1, 1) + Gs(2, 2)) / Gs(0, 0);
+  return r;
+}
+
 }  // namespace horizon::verification

@@ -9,6 +9,7 @@
 
 #include "horizon/core/expression.hpp"
 #include "horizon/core/vec3.hpp"
+#include "horizon/family/bonds.hpp"
 #include "horizon/family/precrack.hpp"
 #include "horizon/geometry/shape.hpp"
 
@@ -24,6 +25,14 @@ struct DamageConfig {
   // critical stretch per model and dimension (docs/models.md).
   std::optional<double> critical_stretch;
   std::optional<double> fracture_energy;
+  // Compression raises the critical stretch: s0_i = s00 - alpha * (the smallest stretch
+  // among i's bonds at the previous force pass), s00 the value above (Silling and Askari
+  // 2005, eq. 25; LAMMPS peri/pmb and peri/lps). 0: the plain critical-stretch law.
+  double alpha = 0;
+  // When a bond whose stretch exceeds s0 stops carrying force: before the forces of
+  // that step (false, the default, as Peridigm) or after them (true, as LAMMPS PERI:
+  // the bond still acts in the step it breaks). All materials with damage must agree.
+  bool break_after_force = false;
 };
 
 struct MaterialConfig {
@@ -37,6 +46,7 @@ struct MaterialConfig {
   double shear_modulus = 0;
   InfluenceKind influence = InfluenceKind::constant;
   DamageConfig damage;
+  std::optional<double> micromodulus;  // PMB: c given directly [N/m^6]; the moduli above follow from it
 };
 
 struct BodyConfig {
@@ -65,18 +75,78 @@ struct LoadConfig {
   int normal_axis = -1;  // traction only: 0,1,2 for x,y,z; -1 = detect from the region
 };
 
+// explicit: velocity Verlet; static: equilibrium at each load step (Newton or ADR);
+// implicit_dynamic: Newmark average acceleration (docs/input.md, solver).
+enum class SolverType { explicit_dynamic, static_equilibrium, implicit_dynamic };
+enum class StaticMethod { newton, adr };
+enum class LinearSolverKind { cg, cholesky, matrix_free };
+enum class TangentKind { analytic, finite_difference };
+
 struct SolverConfig {
-  double end_time = 0;
+  double end_time = 0;              // static: the pseudo-time of the last load step (default 1)
   std::optional<double> time_step;  // fixed step; else the stable step times safety_factor
   double safety_factor = 0.8;
   double damping = 0;               // mass-proportional damping rate [1/s], for runs to rest
+  // Static and implicit solvers (solver/static_driver.hpp).
+  SolverType type = SolverType::explicit_dynamic;
+  StaticMethod method = StaticMethod::newton;
+  LinearSolverKind linear_solver = LinearSolverKind::cg;
+  TangentKind tangent = TangentKind::analytic;
+  double tolerance = 1e-6;              // residual norm / applied-load norm at convergence
+  std::optional<int> max_iterations;    // per solve; default 30 (Newton) or 100000 (ADR)
+  int load_steps = 1;                   // static: equal increments of the pseudo-time
+  int max_step_cuts = 6;                // halvings of one increment before giving up
+  int max_break_rounds = 100;           // break-and-re-equilibrate rounds per load step
+  bool condition_number = false;        // estimate the tangent's condition number
 };
 
+// How the damage field weighs the bonds: phi_i = 1 - sum(intact) w / sum(all) w with
+// w = omega V_j (partial-volume scaled; the default) or w = V_j (whole volumes, as
+// LAMMPS's compute damage/atom).
+enum class DamageMeasure { weighted, volume };
+
 struct OutputConfig {
+  DamageMeasure damage_measure = DamageMeasure::weighted;
   std::string directory = "out";
   int frames = 10;
   int history_every = 10;
   int progress_every = 0;  // plain progress line every N steps when not a terminal; 0 = auto
+};
+
+// The partial-volume rule, readable as a boolean (true: any rule but none) so that
+// `partial_volume = true` keeps meaning the linear rule.
+struct PartialVolume {
+  PartialVolumeRule rule = PartialVolumeRule::none;
+  PartialVolume() = default;
+  PartialVolume(bool on) : rule(on ? PartialVolumeRule::linear : PartialVolumeRule::none) {}  // NOLINT
+  PartialVolume(PartialVolumeRule r) : rule(r) {}                                               // NOLINT
+  explicit operator bool() const { return rule != PartialVolumeRule::none; }
+  bool operator==(const PartialVolume&) const = default;
+};
+
+// Short-range repulsion between any two particles closer than
+// d_ij = min(reference_fraction |X_j - X_i|, max_distance * spacing): force density on i
+// stiffness_factor * c_ij V_j (d_ij - |Y|)/horizon along Y_ji (Silling's EMU manual via
+// LAMMPS PERI; c_ij the mean of the two ends' bond-based micromoduli). contact/short_range.hpp.
+struct ShortRangeContactConfig {
+  bool enabled = false;
+  double stiffness_factor = 15;
+  double reference_fraction = 0.9;
+  double max_distance = 1.35;  // in lattice spacings
+};
+
+// A rigid sphere whose centre moves as given: every particle inside it feels the force
+// density stiffness (R - r)^2 pointing away from the centre (LAMMPS fix indent).
+struct IndenterConfig {
+  std::string name;
+  Vec3Expr center;  // expressions in t (all three set)
+  double radius = 0;
+  double stiffness = 0;  // [N/m^5]: force density per m^2 of penetration
+};
+
+struct ContactConfig {
+  ShortRangeContactConfig short_range;
+  std::vector<IndenterConfig> indenters;
 };
 
 struct Config {
@@ -88,7 +158,8 @@ struct Config {
   double spacing = 0;
   double horizon = 0;
   std::optional<Vec3> lattice_origin;  // a lattice point; default: cell centres from each body's box
-  bool partial_volume = false;
+  PartialVolume partial_volume;  // none, linear (true) or lammps; docs/models.md sec. 4
+  ContactConfig contact;
   std::vector<MaterialConfig> materials;
   std::vector<BodyConfig> bodies;
   std::vector<PrecrackConfig> precracks;

@@ -10,6 +10,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/deck/conditions.hpp"
+#include "horizon/deck/contact.hpp"
 #include "horizon/deck/materials.hpp"
 #include "horizon/deck/reader.hpp"
 #include "horizon/deck/shapes.hpp"
@@ -23,7 +24,8 @@ using namespace deck;
 const std::vector<std::string> kTopKeys = {
     "dimension",      "plane",           "thickness",          "area",      "spacing", "horizon",
     "horizon_factor", "lattice_origin",  "partial_volume",     "materials", "bodies",  "precracks",
-    "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output"};
+    "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output",
+    "contact"};
 
 // A key that only makes sense in one dimension is an error in the others.
 void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* key, int dimension) {
@@ -77,7 +79,7 @@ void read_lattice(DeckContext& ctx, const MapReader& m, Config& config) {
   }
 
   if (auto o = m.find("lattice_origin")) config.lattice_origin = read_vector(ctx, *o);
-  if (auto p = m.find("partial_volume")) config.partial_volume = read_bool(ctx, *p);
+  if (auto p = m.find("partial_volume")) config.partial_volume = read_partial_volume(ctx, *p);
 }
 
 void read_materials(const DeckContext& ctx, const MapReader& m, Config& config) {
@@ -87,6 +89,20 @@ void read_materials(const DeckContext& ctx, const MapReader& m, Config& config) 
     ctx.fail(item.mark, "materials: expected at least one material, e.g. materials: {glass: {model: pmb, ...}}");
   }
   for (const auto& e : entries) config.materials.push_back(read_material(ctx, e.key, e.value));
+  for (auto& mat : config.materials) derive_from_micromodulus(mat, config);
+  // One breaking order for the whole run: the force pass applies it to every bond.
+  const MaterialConfig* first_damaged = nullptr;
+  for (std::size_t q = 0; q < entries.size(); ++q) {
+    const MaterialConfig& mat = config.materials[q];
+    if (!mat.damage.enabled) continue;
+    if (!first_damaged) {
+      first_damaged = &mat;
+    } else if (mat.damage.break_after_force != first_damaged->damage.break_after_force) {
+      ctx.fail(entries[q].value.mark, entries[q].value.path + ": damage.breaks differs from material '" +
+                                          first_damaged->name +
+                                          "'; the breaking order (before_force or after_force) is one for the whole run");
+    }
+  }
 }
 
 std::vector<std::string> read_regions(const DeckContext& ctx, const MapReader& m, Config& config) {
@@ -130,27 +146,112 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
   }
 }
 
+// A solver key that applies to some solver types only is an error in the others.
+void only_for(const DeckContext& ctx, const MapReader& m, const char* key, bool applies, const char* which,
+              const std::string& type) {
+  if (applies) return;
+  if (auto item = m.find(key)) {
+    ctx.fail(*item->key_mark, item->path + ": applies to " + which + " only; this deck has type: " + type);
+  }
+}
+
 void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   MapReader s(ctx, m.get("solver", "at least {end_time: ...}"),
-              {"type", "end_time", "time_step", "safety_factor", "damping"});
-  if (auto t = s.find("type")) choose_word(ctx, *t, {"explicit"});
-  config.solver.end_time = read_positive(ctx, s.get("end_time", "the simulated time [s], > 0"));
-  if (auto dt = s.find("time_step")) config.solver.time_step = read_positive(ctx, *dt);
+              {"type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
+               "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds",
+               "condition_number"});
+  SolverConfig& sc = config.solver;
+  std::string type = "explicit";
+  if (auto t = s.find("type")) {
+    sc.type = read_enum<SolverType>(ctx, *t,
+                                    {{"explicit", SolverType::explicit_dynamic},
+                                     {"static", SolverType::static_equilibrium},
+                                     {"implicit_dynamic", SolverType::implicit_dynamic}});
+    type = t->node.Scalar();
+  }
+  const bool is_explicit = sc.type == SolverType::explicit_dynamic;
+  const bool is_static = sc.type == SolverType::static_equilibrium;
+  const char* kStatic = "type: static";
+  const char* kImplicit = "type: static and implicit_dynamic";
+  only_for(ctx, s, "safety_factor", is_explicit, "type: explicit", type);
+  only_for(ctx, s, "time_step", !is_static, "type: explicit and implicit_dynamic", type);
+  only_for(ctx, s, "damping", !is_static, "type: explicit and implicit_dynamic", type);
+  only_for(ctx, s, "method", is_static, kStatic, type);
+  only_for(ctx, s, "load_steps", is_static, kStatic, type);
+  only_for(ctx, s, "max_step_cuts", is_static, kStatic, type);
+  for (const char* key : {"linear_solver", "tangent", "tolerance", "max_iterations", "max_break_rounds",
+                          "condition_number"})
+    only_for(ctx, s, key, !is_explicit, kImplicit, type);
+
+  if (is_static) {
+    // The pseudo-time of a static run: loads are evaluated at t = end_time * k / load_steps.
+    sc.end_time = 1.0;
+    if (auto e = s.find("end_time")) sc.end_time = read_positive(ctx, *e);
+  } else {
+    sc.end_time = read_positive(ctx, s.get("end_time", "the simulated time [s], > 0"));
+  }
+  if (sc.type == SolverType::implicit_dynamic) {
+    sc.time_step = read_positive(ctx, s.get("time_step", "the fixed time step of the implicit solver [s], > 0"));
+  } else if (auto dt = s.find("time_step")) {
+    sc.time_step = read_positive(ctx, *dt);
+  }
   if (auto f = s.find("safety_factor")) {
     const double v = read_number(ctx, *f);
     if (!(v > 0 && v <= 1)) {
       ctx.fail(f->mark,
                f->path + ": expected a number in (0, 1] (a fraction of the stable time step), found " + text_of(*f));
     }
-    config.solver.safety_factor = v;
+    sc.safety_factor = v;
   }
-  if (auto d = s.find("damping")) config.solver.damping = read_non_negative(ctx, *d);
+  if (auto d = s.find("damping")) sc.damping = read_non_negative(ctx, *d);
+
+  if (auto me = s.find("method"))
+    sc.method = read_enum<StaticMethod>(ctx, *me, {{"newton", StaticMethod::newton}, {"adr", StaticMethod::adr}});
+  const bool newton = !is_static || sc.method == StaticMethod::newton;
+  only_for(ctx, s, "linear_solver", newton, "method: newton", "static with method: adr");
+  only_for(ctx, s, "tangent", newton, "method: newton", "static with method: adr");
+  if (auto l = s.find("linear_solver")) {
+    sc.linear_solver = read_enum<LinearSolverKind>(ctx, *l,
+                                                   {{"cg", LinearSolverKind::cg},
+                                                    {"cholesky", LinearSolverKind::cholesky},
+                                                    {"matrix_free", LinearSolverKind::matrix_free}});
+  }
+  if (auto tg = s.find("tangent")) {
+    sc.tangent = read_enum<TangentKind>(
+        ctx, *tg, {{"analytic", TangentKind::analytic}, {"finite_difference", TangentKind::finite_difference}});
+    if (sc.tangent == TangentKind::finite_difference && sc.linear_solver == LinearSolverKind::matrix_free) {
+      ctx.fail(tg->mark, tg->path + ": the finite-difference tangent is assembled; use linear_solver: cg or "
+                                    "cholesky with it (matrix_free uses the analytic tangent)");
+    }
+  }
+  if (auto tol = s.find("tolerance")) {
+    const double v = read_number(ctx, *tol);
+    if (!(v > 0 && v < 1)) {
+      ctx.fail(tol->mark, tol->path + ": expected a number in (0, 1) (the residual norm relative to the applied "
+                                      "load at convergence), found " + text_of(*tol));
+    }
+    sc.tolerance = v;
+  }
+  auto at_least = [&](const Item& i, int low) {
+    const int v = read_int(ctx, i);
+    if (v < low) fail_expected(ctx, i, "a whole number >= " + std::to_string(low));
+    return v;
+  };
+  if (auto it = s.find("max_iterations")) sc.max_iterations = at_least(*it, 1);
+  if (auto ls = s.find("load_steps")) sc.load_steps = at_least(*ls, 1);
+  if (auto mc = s.find("max_step_cuts")) sc.max_step_cuts = at_least(*mc, 0);
+  if (auto mb = s.find("max_break_rounds")) sc.max_break_rounds = at_least(*mb, 1);
+  if (auto cn = s.find("condition_number")) sc.condition_number = read_bool(ctx, *cn);
 }
 
 void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   const auto item = m.find("output");
   if (!item) return;
-  MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every"});
+  MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every", "damage_measure"});
+  if (auto d = o.find("damage_measure")) {
+    config.output.damage_measure =
+        read_enum<DamageMeasure>(ctx, *d, {{"weighted", DamageMeasure::weighted}, {"volume", DamageMeasure::volume}});
+  }
   auto at_least = [&](const Item& i, int low) {
     const int v = read_int(ctx, i);
     if (v < low) fail_expected(ctx, i, "a whole number >= " + std::to_string(low));
@@ -191,6 +292,7 @@ Config read_config(DeckContext& ctx, const Item& root) {
       config.initial_conditions.push_back(read_initial_condition(ctx, i, regions));
   if (auto l = m.find("loads"))
     for (const auto& i : read_list(ctx, *l)) config.loads.push_back(read_load(ctx, i, regions));
+  if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c);
   read_solver(ctx, m, config);
   read_output(ctx, m, config);
   return config;

@@ -142,7 +142,7 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
 }
 
 DamageConfig read_damage(const DeckContext& ctx, const Item& item) {
-  MapReader m(ctx, item, {"law", "critical_stretch", "fracture_energy"});
+  MapReader m(ctx, item, {"law", "critical_stretch", "fracture_energy", "alpha", "breaks"});
   if (auto law = m.find("law")) choose_word(ctx, *law, {"critical_stretch"});
   DamageConfig d;
   d.enabled = true;
@@ -151,21 +151,51 @@ DamageConfig read_damage(const DeckContext& ctx, const Item& item) {
     d.critical_stretch = read_positive(ctx, *m.find("critical_stretch"));
   else
     d.fracture_energy = read_positive(ctx, *m.find("fracture_energy"));
+  if (auto a = m.find("alpha")) d.alpha = read_non_negative(ctx, *a);
+  if (auto b = m.find("breaks")) {
+    d.break_after_force = choose_word(ctx, *b, {"before_force", "after_force"}) == 1;
+  }
   return d;
 }
 
 }  // namespace
 
+void derive_from_micromodulus(MaterialConfig& mat, const Config& config) {
+  if (!mat.micromodulus) return;
+  // c is linear in E (docs/models.md sec. 2): E = c / c(E = 1).
+  const Dimensioning dims{config.dimension, config.plane, config.thickness, config.area, config.horizon};
+  const double nu = bond_based_poisson_ratio(config.dimension, config.plane);
+  mat.youngs_modulus = *mat.micromodulus / pmb_micromodulus(1.0, mat.influence, dims);
+  mat.poissons_ratio = nu;
+  mat.bulk_modulus = mat.youngs_modulus / (3 * (1 - 2 * nu));
+  mat.shear_modulus = mat.youngs_modulus / (2 * (1 + nu));
+}
+
 MaterialConfig read_material(const DeckContext& ctx, const std::string& name, const Item& item) {
   MapReader m(
       ctx, item,
-      {"model", "density", "youngs_modulus", "poissons_ratio", "bulk_modulus", "shear_modulus", "influence", "damage"});
+      {"model", "density", "youngs_modulus", "poissons_ratio", "bulk_modulus", "shear_modulus", "influence", "damage",
+       "micromodulus"});
   MaterialConfig mat;
   mat.name = name;
   mat.model =
       read_enum<ModelKind>(ctx, m.get("model", "pmb or lps"), {{"pmb", ModelKind::pmb}, {"lps", ModelKind::lps}});
   mat.density = read_positive(ctx, m.get("density", "mass density [kg/m^3], > 0"));
-  read_elastic_constants(ctx, m, mat);
+  if (auto c = m.find("micromodulus")) {
+    // The PMB's one constant given directly (as LAMMPS's pair_coeff for peri/pmb).
+    if (mat.model != ModelKind::pmb) {
+      ctx.fail(*c->key_mark, c->path + ": micromodulus applies to model pmb only; model lps takes two of "
+                                       "youngs_modulus, poissons_ratio, bulk_modulus, shear_modulus");
+    }
+    for (const char* key : kConstantKeys) {
+      if (auto other = m.find(key)) {
+        ctx.fail(*other->key_mark, other->path + ": give either micromodulus or one modulus for model pmb, not both");
+      }
+    }
+    mat.micromodulus = read_positive(ctx, *c);
+  } else {
+    read_elastic_constants(ctx, m, mat);
+  }
   if (auto i = m.find("influence")) {
     mat.influence = read_enum<InfluenceKind>(ctx, *i,
                                              {{"constant", InfluenceKind::constant},

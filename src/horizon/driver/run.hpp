@@ -5,6 +5,7 @@
 #include <string>
 
 #include "horizon/deck/config.hpp"
+#include "horizon/output/frame.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -37,7 +38,16 @@ CheckReport check_system(const Config& config, const System& s);
 std::string format_check(const Config& config, const CheckReport& r);
 
 // Runs the deck and writes frames, history.csv and summary.json into the output
-// directory. Returns the process exit code: 0 done, 2 non-finite state, 130 interrupted.
+// directory. Returns the process exit code: 0 done, 2 non-finite state, 4 a static or
+// implicit solve did not converge, 130 interrupted.
 int run_deck(Config config, const RunOptions& options);
+
+// The same for solver.type static and implicit_dynamic (driver/run_implicit.cpp).
+int run_implicit_deck(Config config, const RunOptions& options);
+
+// Shared by the drivers: the output frame of the current state, and the peak resident
+// memory of the process [bytes].
+Frame make_frame(const System& s, double time, int64_t step);
+double peak_memory_bytes();
 
 }  // namespace horizon

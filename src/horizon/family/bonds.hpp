@@ -2,24 +2,120 @@
 // Bonds in compressed rows: particle i's bonds are [offset[i], offset[i+1]). Every
 // bond is stored at both ends (directed), so that each particle's force is a sum
 // over its own row, done by one thread in a fixed order (results independent of the
-// thread count, no atomics). Reference data are computed once.
+// thread count, no atomics). docs/benchmarks.md has the measurement that settled it.
+//
+// Reference data are stored once per bond *kind*, not per bond: all bonds with the
+// same reference length (bit for bit), the same neighbour volume and the same pair of
+// materials share one BondKind. On a lattice a few dozen kinds cover every bond (36
+// for the LAMMPS cylinder), so a bond costs 4 (neighbour) + 4 (kind) + 1 (intact)
+// bytes instead of 29, and the reference data stay exact: nothing is rounded, the
+// length of a kind is the length every one of its bonds computed. An irregular cloud
+// simply gets many kinds.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace horizon {
 
+// How the volume of a neighbour near the horizon is counted (docs/models.md, sec. 4):
+//   none:   whole volumes, family |xi| <= horizon;
+//   linear: family |xi| <= horizon + spacing/2, fraction clamp((horizon + spacing/2 - |xi|)/spacing, 0, 1)
+//           (Seleson 2014, "Improved one-point quadrature algorithms for two-dimensional
+//           peridynamic models"): cells the sphere cuts count by the part inside it;
+//   lammps: the same fraction on the family |xi| <= horizon (LAMMPS PERI, Parks et al.
+//           2008): the cells whose centre lies just outside the sphere are left out.
+enum class PartialVolumeRule { none, linear, lammps };
+
+struct BondKind {
+  double length = 0;    // |xi| [m], exactly as computed from the reference positions
+  double volume = 0;    // V_j, the neighbour's full volume [m^3]
+  double fraction = 1;  // partial-volume factor: the bond uses fraction * volume
+  double weight = 1;    // influence function omega_ij
+  int32_t material_i = 0, material_j = 0;  // materials of the two ends (for weight and coefficients)
+};
+
+struct Bonds;
+
+// Read-only per-bond view of one BondKind field: bonds.length[k] is the length of bond k.
+template <double (*Get)(const BondKind&)>
+class BondField {
+ public:
+  class iterator {
+   public:
+    using value_type = double;
+    using difference_type = std::ptrdiff_t;
+    iterator(const BondField* f, std::size_t k) : f_(f), k_(k) {}
+    double operator*() const { return (*f_)[k_]; }
+    iterator& operator++() { ++k_; return *this; }
+    bool operator==(const iterator& o) const { return k_ == o.k_; }
+   private:
+    const BondField* f_;
+    std::size_t k_;
+  };
+  explicit BondField(const Bonds* b) : b_(b) {}
+  double operator[](std::size_t k) const;
+  std::size_t size() const;
+  iterator begin() const { return {this, 0}; }
+  iterator end() const { return {this, size()}; }
+  // Element by element (what the bonds compare as, kinds aside).
+  bool operator==(const BondField& o) const {
+    if (size() != o.size()) return false;
+    for (std::size_t k = 0; k < size(); ++k)
+      if ((*this)[k] != o[k]) return false;
+    return true;
+  }
+
+ private:
+  const Bonds* b_;
+};
+
+namespace bond_fields {
+inline double length(const BondKind& c) { return c.length; }
+inline double volume(const BondKind& c) { return c.volume * c.fraction; }
+inline double weight(const BondKind& c) { return c.weight; }
+}  // namespace bond_fields
+
 struct Bonds {
   std::vector<uint64_t> offset;   // size n + 1
   std::vector<uint32_t> nbr;      // neighbour index j
-  std::vector<double> length;     // |xi| [m]
-  std::vector<double> volume;     // V_j, scaled by the partial-volume factor when enabled
-  std::vector<double> weight;     // influence function omega(|xi|)
+  std::vector<uint32_t> kind;     // index into kinds
+  std::vector<BondKind> kinds;    // reference data, shared by the bonds of one kind
   std::vector<uint8_t> intact;    // 1 intact, 0 broken (irreversible)
+
+  // Per-bond views: |xi|, V_j scaled by the partial-volume factor, omega_ij.
+  BondField<bond_fields::length> length{this};
+  BondField<bond_fields::volume> volume{this};
+  BondField<bond_fields::weight> weight{this};
+
+  Bonds() = default;
+  Bonds(const Bonds& o) : offset(o.offset), nbr(o.nbr), kind(o.kind), kinds(o.kinds), intact(o.intact) {}
+  Bonds(Bonds&& o) noexcept
+      : offset(std::move(o.offset)), nbr(std::move(o.nbr)), kind(std::move(o.kind)), kinds(std::move(o.kinds)),
+        intact(std::move(o.intact)) {}
+  Bonds& operator=(const Bonds& o) {
+    offset = o.offset, nbr = o.nbr, kind = o.kind, kinds = o.kinds, intact = o.intact;
+    return *this;
+  }
+  Bonds& operator=(Bonds&& o) noexcept {
+    offset = std::move(o.offset), nbr = std::move(o.nbr), kind = std::move(o.kind), kinds = std::move(o.kinds);
+    intact = std::move(o.intact);
+    return *this;
+  }
 
   std::size_t size() const { return nbr.size(); }
   std::size_t particles() const { return offset.empty() ? 0 : offset.size() - 1; }
   uint64_t begin(std::size_t i) const { return offset[i]; }
   uint64_t end(std::size_t i) const { return offset[i + 1]; }
+  const BondKind& kind_of(std::size_t k) const { return kinds[kind[k]]; }
 };
+
+template <double (*Get)(const BondKind&)>
+inline double BondField<Get>::operator[](std::size_t k) const {
+  return Get(b_->kinds[b_->kind[k]]);
+}
+template <double (*Get)(const BondKind&)>
+inline std::size_t BondField<Get>::size() const {
+  return b_->nbr.size();
+}
 
 }  // namespace horizon

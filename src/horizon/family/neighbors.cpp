@@ -1,9 +1,15 @@
 #include "horizon/family/neighbors.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
+#include <tuple>
 
 #include "horizon/core/error.hpp"
+#include "horizon/family/cell_grid.hpp"
 
 namespace horizon {
 
@@ -11,93 +17,146 @@ namespace {
 
 constexpr double kRadiusTolerance = 1e-10;
 
-// Grid of cubic cells of edge >= radius covering the points: each point's neighbours
-// lie in its own cell or the adjacent ones.
-struct CellGrid {
-  Vec3 lo;
-  double edge = 1;
-  int64_t n[3] = {1, 1, 1};
-  std::vector<uint64_t> start;   // per cell, into order (counting sort)
-  std::vector<uint32_t> order;   // point indices sorted by cell
-
-  int64_t coord(double x, int k) const {
-    return std::clamp<int64_t>(static_cast<int64_t>((x - lo[k]) / edge), 0, n[k] - 1);
-  }
-  int64_t cell(const Vec3& p) const { return (coord(p.z, 2) * n[1] + coord(p.y, 1)) * n[0] + coord(p.x, 0); }
-};
-
-CellGrid make_grid(const std::vector<Vec3>& points, double radius) {
-  CellGrid g;
-  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (const auto& p : points)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], p[k]);
-      hi[k] = std::max(hi[k], p[k]);
-    }
-  g.lo = lo;
-  // A little wider than the accepted radius (radius * (1 + kRadiusTolerance)): a
-  // neighbour accepted through the tolerance must never land two cells away through
-  // round-off in the cell coordinates (a lattice with horizon = m spacings and a
-  // non-zero origin lost its on-sphere neighbours that way).
-  g.edge = radius * (1 + 100 * kRadiusTolerance);
-  // Keep the cell count proportional to N even for a sparse cloud in a big box.
-  const double max_cells = 8.0 * static_cast<double>(points.size()) + 64;
-  for (;;) {
-    double cells = 1;
-    for (int k = 0; k < 3; ++k) {
-      g.n[k] = std::max<int64_t>(1, static_cast<int64_t>((hi[k] - lo[k]) / g.edge) + 1);
-      cells *= static_cast<double>(g.n[k]);
-    }
-    if (cells <= max_cells) break;
-    g.edge *= 1.5;
-  }
-  const std::size_t ncell = static_cast<std::size_t>(g.n[0] * g.n[1] * g.n[2]);
-  g.start.assign(ncell + 1, 0);
-  std::vector<uint32_t> cell_of(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    cell_of[i] = static_cast<uint32_t>(g.cell(points[i]));
-    ++g.start[cell_of[i] + 1];
-  }
-  for (std::size_t c = 0; c < ncell; ++c) g.start[c + 1] += g.start[c];
-  g.order.resize(points.size());
-  std::vector<uint64_t> fill(g.start.begin(), g.start.end() - 1);
-  for (std::size_t i = 0; i < points.size(); ++i) g.order[fill[cell_of[i]]++] = static_cast<uint32_t>(i);
-  return g;
-}
-
-// Calls visit(j) for every j != i within radius of points[i].
+// Calls visit(j) for every j != i within sqrt(r2) of points[i].
 template <class Visit>
 void for_each_neighbor(const CellGrid& g, const std::vector<Vec3>& points, std::size_t i, double r2, Visit visit) {
   const Vec3& p = points[i];
-  const int64_t c[3] = {g.coord(p.x, 0), g.coord(p.y, 1), g.coord(p.z, 2)};
-  for (int64_t z = std::max<int64_t>(0, c[2] - 1); z <= std::min(g.n[2] - 1, c[2] + 1); ++z)
-    for (int64_t y = std::max<int64_t>(0, c[1] - 1); y <= std::min(g.n[1] - 1, c[1] + 1); ++y)
-      for (int64_t x = std::max<int64_t>(0, c[0] - 1); x <= std::min(g.n[0] - 1, c[0] + 1); ++x) {
-        const int64_t cell = (z * g.n[1] + y) * g.n[0] + x;
-        for (uint64_t s = g.start[cell]; s < g.start[cell + 1]; ++s) {
-          const uint32_t j = g.order[s];
-          if (j != i && norm2(points[j] - p) <= r2) visit(j);
-        }
-      }
+  g.for_each_candidate(p, [&](uint32_t j) {
+    if (j != i && norm2(points[j] - p) <= r2) visit(j);
+  });
 }
 
-void fill_reference_data(Bonds& b, const std::vector<Vec3>& points, const std::vector<double>& volume) {
+// A grid a little wider than the accepted radius (radius * (1 + kRadiusTolerance)): a
+// neighbour accepted through the tolerance must never land two cells away through
+// round-off in the cell coordinates (a lattice with horizon = m spacings and a
+// non-zero origin lost its on-sphere neighbours that way).
+CellGrid make_grid(const std::vector<Vec3>& points, double radius) {
+  return CellGrid::build(points.size(), [&](std::size_t i) { return points[i]; }, radius * (1 + 100 * kRadiusTolerance));
+}
+
+// The data that make a kind, compared bit for bit.
+struct KindKey {
+  uint64_t length, volume, fraction, weight;
+  int32_t mi, mj;
+  bool operator==(const KindKey&) const = default;
+  auto tie() const { return std::tie(length, volume, fraction, weight, mi, mj); }
+  bool operator<(const KindKey& o) const { return tie() < o.tie(); }
+};
+
+KindKey key_of(const BondKind& c) {
+  return {std::bit_cast<uint64_t>(c.length), std::bit_cast<uint64_t>(c.volume), std::bit_cast<uint64_t>(c.fraction),
+          std::bit_cast<uint64_t>(c.weight), c.material_i, c.material_j};
+}
+
+uint64_t hash_of(const KindKey& k) {
+  uint64_t h = 0x9e3779b97f4a7c15ull;
+  for (uint64_t v : {k.length, k.volume, k.fraction, k.weight,
+                     (static_cast<uint64_t>(static_cast<uint32_t>(k.mi)) << 32) | static_cast<uint32_t>(k.mj)}) {
+    h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    h *= 0xff51afd7ed558ccdull;
+  }
+  return h ^ (h >> 33);
+}
+
+// Open-addressing set/map of kind keys (linear probing): a lattice has a few dozen
+// kinds, so lookups hit the first probe and stay in L1.
+class KindTable {
+ public:
+  explicit KindTable(std::size_t expected = 16) {
+    std::size_t cap = 32;
+    while (cap < 2 * expected) cap *= 2;
+    slots_.assign(cap, Slot{});
+  }
+  // Returns (index, inserted).
+  std::pair<uint32_t, bool> insert(const KindKey& k, uint32_t value) {
+    if (2 * (count_ + 1) > slots_.size()) grow();
+    std::size_t s = hash_of(k) & (slots_.size() - 1);
+    for (;; s = (s + 1) & (slots_.size() - 1)) {
+      Slot& slot = slots_[s];
+      if (!slot.used) {
+        slot = {k, value, true};
+        ++count_;
+        return {value, true};
+      }
+      if (slot.key == k) return {slot.value, false};
+    }
+  }
+  uint32_t find(const KindKey& k) const {
+    for (std::size_t s = hash_of(k) & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
+      const Slot& slot = slots_[s];
+      if (slot.used && slot.key == k) return slot.value;
+      if (!slot.used) throw Error("internal error: a bond kind is missing from its table");
+    }
+  }
+
+ private:
+  struct Slot {
+    KindKey key{};
+    uint32_t value = 0;
+    bool used = false;
+  };
+  void grow() {
+    std::vector<Slot> old(slots_.size() * 2);
+    old.swap(slots_);
+    count_ = 0;
+    for (const Slot& s : old)
+      if (s.used) insert(s.key, s.value);
+  }
+  std::vector<Slot> slots_;
+  std::size_t count_ = 0;
+};
+
+// Gives every bond the kind of the data key(i, k) returns. Kinds are numbered in
+// sorted order of their keys, so the numbering does not depend on the thread count.
+template <class KeyFn>
+void regroup(Bonds& b, KeyFn key) {
   const std::size_t n = b.particles();
-  b.length.resize(b.size());
-  b.volume.resize(b.size());
-  b.weight.assign(b.size(), 1.0);
-  b.intact.assign(b.size(), 1);
+  const int threads = omp_get_max_threads();
+  std::vector<std::vector<BondKind>> found(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+  {
+    KindTable seen;
+    auto& mine = found[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+      for (uint64_t k = b.begin(i); k < b.end(i); ++k) {
+        const BondKind c = key(i, k);
+        if (seen.insert(key_of(c), 0).second) mine.push_back(c);
+      }
+  }
+  std::vector<BondKind> all;
+  for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
+  std::sort(all.begin(), all.end(), [](const BondKind& a, const BondKind& c) { return key_of(a) < key_of(c); });
+  all.erase(std::unique(all.begin(), all.end(),
+                        [](const BondKind& a, const BondKind& c) { return key_of(a) == key_of(c); }),
+            all.end());
+  if (all.size() >= (1ull << 32)) throw Error("more than 2^32 bond kinds");
+  KindTable index(all.size());
+  for (std::size_t q = 0; q < all.size(); ++q) index.insert(key_of(all[q]), static_cast<uint32_t>(q));
+  b.kind.resize(b.size());
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i)
-    for (uint64_t k = b.begin(i); k < b.end(i); ++k) {
-      b.length[k] = norm(points[b.nbr[k]] - points[i]);
-      b.volume[k] = volume[b.nbr[k]];
-    }
+    for (uint64_t k = b.begin(i); k < b.end(i); ++k) b.kind[k] = index.find(key_of(key(i, k)));
+  b.kinds = std::move(all);
+}
+
+void fill_reference_data(Bonds& b, const std::vector<Vec3>& points, const std::vector<double>& volume,
+                         const std::vector<int32_t>* material) {
+  b.intact.assign(b.size(), 1);
+  regroup(b, [&](std::size_t i, uint64_t k) {
+    const uint32_t j = b.nbr[k];
+    BondKind c;
+    c.length = norm(points[j] - points[i]);
+    c.volume = volume[j];
+    if (material) c.material_i = (*material)[i], c.material_j = (*material)[j];
+    return c;
+  });
 }
 
 }  // namespace
 
-Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>& volume, double radius) {
+Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>& volume, double radius,
+                     const std::vector<int32_t>* material) {
   if (points.size() >= (1ull << 32)) throw Error("more than 2^32 particles on one process");
   const double r2 = radius * radius * (1 + 2 * kRadiusTolerance);
   const CellGrid g = make_grid(points, radius);
@@ -119,7 +178,7 @@ Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>&
     for_each_neighbor(g, points, i, r2, [&](uint32_t j) { b.nbr[k++] = j; });
     std::sort(b.nbr.begin() + static_cast<int64_t>(b.offset[i]), b.nbr.begin() + static_cast<int64_t>(k));
   }
-  fill_reference_data(b, points, volume);
+  fill_reference_data(b, points, volume, material);
   return b;
 }
 
@@ -133,15 +192,34 @@ Bonds find_neighbors_brute_force(const std::vector<Vec3>& points, const std::vec
       if (j != i && norm2(points[j] - points[i]) <= r2) b.nbr.push_back(static_cast<uint32_t>(j));
     b.offset.push_back(b.nbr.size());
   }
-  fill_reference_data(b, points, volume);
+  fill_reference_data(b, points, volume, nullptr);
   return b;
 }
 
 void apply_partial_volume(Bonds& bonds, double horizon, double spacing) {
-  for (std::size_t k = 0; k < bonds.size(); ++k) {
-    const double r = bonds.length[k];
-    if (r > horizon - 0.5 * spacing) bonds.volume[k] *= std::clamp((horizon + 0.5 * spacing - r) / spacing, 0.0, 1.0);
+  for (auto& c : bonds.kinds) {
+    const double r = c.length;
+    c.fraction = r > horizon - 0.5 * spacing ? std::clamp((horizon + 0.5 * spacing - r) / spacing, 0.0, 1.0) : 1.0;
   }
+}
+
+void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material) {
+  const std::size_t n = bonds.particles();
+  bool consistent = true;
+#pragma omp parallel for schedule(static) reduction(&& : consistent)
+  for (std::size_t i = 0; i < n; ++i)
+    for (uint64_t k = bonds.begin(i); k < bonds.end(i); ++k) {
+      const BondKind& c = bonds.kinds[bonds.kind[k]];
+      consistent = consistent && c.material_i == material[i] && c.material_j == material[bonds.nbr[k]];
+    }
+  if (consistent) return;
+  const std::vector<BondKind> old = bonds.kinds;
+  regroup(bonds, [&](std::size_t i, uint64_t k) {
+    BondKind c = old[bonds.kind[k]];
+    c.material_i = material[i];
+    c.material_j = material[bonds.nbr[k]];
+    return c;
+  });
 }
 
 }  // namespace horizon

@@ -1,6 +1,6 @@
 #pragma once
 // Families by cell-list search: O(N) time and memory. The family of i is every other
-// particle j with |X_j - X_i| <= horizon (a relative tolerance of 1e-10 keeps lattice
+// particle j with |X_j - X_i| <= radius (a relative tolerance of 1e-10 keeps lattice
 // points that sit exactly on the horizon sphere). See docs/models.md.
 #include "horizon/family/bonds.hpp"
 #include "horizon/geometry/particles.hpp"
@@ -8,25 +8,36 @@
 namespace horizon {
 
 // Neighbour pairs within `radius`, in compressed rows, each row sorted by j.
-// Reference data filled: length and volume = V_j; weight = 1; intact = 1.
-Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>& volume, double radius);
+// Reference data: one BondKind per distinct (length, V_j, material_i, material_j), with
+// weight = 1 and fraction = 1; intact = 1. `material` (optional, one per point) splits
+// the kinds by the materials of the two ends; without it every point is material 0.
+// The kinds are numbered in sorted order, so the result does not depend on the
+// number of threads.
+Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>& volume, double radius,
+                     const std::vector<int32_t>* material = nullptr);
 
 // The same by brute force, O(N^2): the reference the cell list is tested against.
 Bonds find_neighbors_brute_force(const std::vector<Vec3>& points, const std::vector<double>& volume,
                                  double radius);
 
-// Partial-volume rule: the cell of a neighbour at distance r, of width `spacing`, is
-// taken to lie inside the horizon sphere for the fraction
-//   clamp((horizon + spacing/2 - r)/spacing, 0, 1)
-// of its volume (the linear rule of Seleson 2014, "Improved one-point quadrature
-// algorithms for two-dimensional peridynamic models", and of LAMMPS PERI). Families
-// must reach horizon + spacing/2 for the rule to add the cells the sphere cuts; see
-// partial_volume_radius.
+
+// The rules (PartialVolumeRule, family/bonds.hpp) differ in the family radius only.
+// Sets each kind's partial-volume fraction: clamp((horizon + spacing/2 - |xi|)/spacing, 0, 1)
+// for |xi| > horizon - spacing/2, else 1. The family radius decides which bonds exist.
 void apply_partial_volume(Bonds& bonds, double horizon, double spacing);
 
-// Search radius of the families: the horizon, or horizon + spacing/2 with partial volumes.
-inline double family_radius(double horizon, double spacing, bool partial_volume) {
-  return partial_volume ? horizon + 0.5 * spacing : horizon;
+// Search radius of the families under a rule: horizon + spacing/2 for `linear`, else
+// the horizon.
+inline double family_radius(double horizon, double spacing, PartialVolumeRule rule) {
+  return rule == PartialVolumeRule::linear ? horizon + 0.5 * spacing : horizon;
 }
+inline double family_radius(double horizon, double spacing, bool partial_volume) {
+  return family_radius(horizon, spacing, partial_volume ? PartialVolumeRule::linear : PartialVolumeRule::none);
+}
+
+// Makes every kind's material_i and material_j those of its bond's ends (particles i
+// and nbr[k]), splitting kinds where bonds of one kind join different materials. A
+// no-op when find_neighbors was given the materials.
+void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material);
 
 }  // namespace horizon

@@ -72,9 +72,7 @@ std::size_t cut_bonds(Bonds& bonds, const std::vector<Vec3>& X, const std::vecto
         continue;
       }
       bonds.nbr[write] = bonds.nbr[k];
-      bonds.length[write] = bonds.length[k];
-      bonds.volume[write] = bonds.volume[k];
-      bonds.weight[write] = bonds.weight[k];
+      bonds.kind[write] = bonds.kind[k];
       bonds.intact[write] = bonds.intact[k];
       ++write;
     }
@@ -82,9 +80,7 @@ std::size_t cut_bonds(Bonds& bonds, const std::vector<Vec3>& X, const std::vecto
     bonds.offset[i + 1] = write;
   }
   bonds.nbr.resize(write);
-  bonds.length.resize(write);
-  bonds.volume.resize(write);
-  bonds.weight.resize(write);
+  bonds.kind.resize(write);
   bonds.intact.resize(write);
   return removed;
 }

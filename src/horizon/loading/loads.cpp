@@ -77,6 +77,14 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
     }
     loads_.push_back(std::move(L));
   }
+  for (const auto& ic : config.contact.indenters) {
+    // A body force whose density the sphere computes from the current positions.
+    AppliedLoad L;
+    L.kind = LoadKind::body_force;
+    L.name = ic.name;
+    L.indenter = Indenter(ic);
+    loads_.push_back(std::move(L));
+  }
 }
 
 bool Loads::is_constrained(std::size_t i, int component) const {
@@ -131,6 +139,10 @@ void Loads::apply_forces(System& s, double t) const {
   std::fill(P.b.begin(), P.b.end(), Vec3{});
   for (const auto& L : loads_) {
     if (is_constraint(L.kind)) continue;
+    if (L.indenter) {
+      L.applied = L.indenter->apply(s, t);
+      continue;
+    }
     for (uint32_t i : L.particles) {
       const Vec3& x = P.X[i];
       for (int c = 0; c < 3; ++c)
@@ -144,6 +156,10 @@ double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before) {
   double work = 0;
   for (auto& L : loads_) {
     L.reaction = Vec3{};
+    if (L.indenter) {
+      L.reaction = L.applied;
+      continue;
+    }
     if (!is_constraint(L.kind)) {
       for (uint32_t i : L.particles) L.reaction += P.b[i] * P.volume[i];
       continue;

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "horizon/contact/indenter.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -16,6 +17,8 @@ struct AppliedLoad {
   double scale = 1;                 // traction: 1/d, d = depth of the loaded layer
   std::vector<Vec3> reaction_old;   // constraint force of the last step, per particle
   Vec3 reaction;                    // total force the load applies to the body [N]
+  std::optional<Indenter> indenter;  // a rigid indenter (kind body_force, no particles, no value)
+  mutable Vec3 applied;             // indenter: the force it applied at the last apply_forces
 };
 
 class Loads {

@@ -1,6 +1,7 @@
 #pragma once
 // Influence functions omega(|xi|) (Silling et al. 2007, seed 003 eq. 82 and sec. 15;
 // the forms are those of Seleson and Parks 2011 / Peridigm's influence functions).
+#include <algorithm>
 #include <cmath>
 
 #include "horizon/deck/config.hpp"
@@ -11,7 +12,9 @@ inline double influence(InfluenceKind kind, double r, double horizon) {
   switch (kind) {
     case InfluenceKind::constant: return 1.0;
     case InfluenceKind::inverse: return horizon / r;                 // delta/|xi|
-    case InfluenceKind::linear: return 1.0 - r / horizon;            // 1 - |xi|/delta
+    // Clamped at 0: with partial volumes, families reach horizon + spacing/2 and a
+    // negative weight would subtract those bonds from m and from the force.
+    case InfluenceKind::linear: return std::max(0.0, 1.0 - r / horizon);  // 1 - |xi|/delta
     case InfluenceKind::gaussian: return std::exp(-(r * r) / (horizon * horizon));
   }
   return 1.0;

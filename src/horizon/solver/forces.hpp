@@ -17,6 +17,11 @@ struct ForceStats {
 // on the number of threads.
 ForceStats compute_forces(System& s, bool energy);
 
+// Per-kind coefficients (ModelCoefficients::kind) and the damage totals from the
+// bonds' reference data and the per-particle coefficients. setup_model calls it; call
+// it again after changing either by hand.
+void build_kind_coefficients(System& s, DamageMeasure measure);
+
 // Total strain energy sum_i W_i V_i [J] (after compute_forces(s, true)).
 double strain_energy(const System& s);
 

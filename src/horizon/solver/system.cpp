@@ -10,6 +10,7 @@
 #include "horizon/geometry/lattice.hpp"
 #include "horizon/material/constants.hpp"
 #include "horizon/material/influence.hpp"
+#include "horizon/solver/forces.hpp"
 
 namespace horizon {
 
@@ -56,7 +57,8 @@ System build_system(const Config& config) {
   }
 
   s.bonds = find_neighbors(s.particles.X, s.particles.volume,
-                           family_radius(config.horizon, config.spacing, config.partial_volume));
+                           family_radius(config.horizon, config.spacing, config.partial_volume.rule),
+                           &s.particles.material);
   if (config.partial_volume) apply_partial_volume(s.bonds, config.horizon, config.spacing);
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
   s.initial_bonds = s.bonds.size();
@@ -72,14 +74,13 @@ void setup_model(System& s, const std::vector<MaterialConfig>& materials, const 
   auto& M = s.model;
   M.dim = config.dimension;
 
-  // Influence weights: the average of the two ends' functions keeps omega_ij = omega_ji.
-  for (std::size_t i = 0; i < n; ++i)
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const auto& mi = materials[P.material[i]];
-      const auto& mj = materials[P.material[B.nbr[k]]];
-      B.weight[k] = 0.5 * (influence(mi.influence, B.length[k], config.horizon) +
-                           influence(mj.influence, B.length[k], config.horizon));
-    }
+  // Influence weights, per bond kind (kinds carry the materials of both ends): the
+  // average of the two ends' functions keeps omega_ij = omega_ji.
+  split_kinds_by_material(B, P.material);
+  for (auto& c : B.kinds) {
+    c.weight = 0.5 * (influence(materials[c.material_i].influence, c.length, config.horizon) +
+                      influence(materials[c.material_j].influence, c.length, config.horizon));
+  }
 
   M.weighted_volume.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i)
@@ -93,19 +94,24 @@ void setup_model(System& s, const std::vector<MaterialConfig>& materials, const 
   M.P.assign(n, 0);
   M.spring.assign(n, 0);
   M.critical_stretch.assign(n, std::numeric_limits<double>::infinity());
+  M.alpha.assign(n, 0);
+  M.min_stretch.assign(n, 0);
+  M.contact_micromodulus.assign(n, 0);
   M.state_based = false;
   s.dissipated_at.assign(n, 0);
 
   // Constants per material, then copied to its particles.
   struct Constants {
     double pair = 0, kk = 0, alpha_mu = 0, spring = 0, s0 = std::numeric_limits<double>::infinity();
+    double alpha = 0, contact_c = 0;
   };
   std::vector<Constants> constants(materials.size());
   for (std::size_t m = 0; m < materials.size(); ++m) {
     const auto& mat = materials[m];
     Constants& c = constants[m];
     if (mat.model == ModelKind::pmb) {
-      const double cc = pmb_micromodulus(mat.youngs_modulus, mat.influence, dims);
+      const double cc = mat.micromodulus ? *mat.micromodulus : pmb_micromodulus(mat.youngs_modulus, mat.influence, dims);
+      c.contact_c = cc;
       c.pair = 0.5 * cc;
       c.spring = 0.5 * cc;
       if (mat.damage.enabled)
@@ -116,6 +122,9 @@ void setup_model(System& s, const std::vector<MaterialConfig>& materials, const 
       c.kk = lps_bulk_modulus(mat.bulk_modulus, mat.shear_modulus, dims);
       c.alpha_mu = lps_deviatoric_factor(config.dimension) * mat.shear_modulus;
       c.spring = 0.5 * equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, mat.influence, dims);
+      // Contact stiffness from the bond-based micromodulus of the same bulk modulus with
+      // omega = 1 (18k/(pi delta^4) in 3-D), as LAMMPS peri/lps.
+      c.contact_c = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, dims);
       if (mat.damage.enabled)
         c.s0 = mat.damage.critical_stretch
                    ? *mat.damage.critical_stretch
@@ -123,8 +132,16 @@ void setup_model(System& s, const std::vector<MaterialConfig>& materials, const 
       M.state_based = true;
     }
   }
+  M.break_after_force = false;
+  for (std::size_t m = 0; m < materials.size(); ++m)
+    if (materials[m].damage.enabled) {
+      constants[m].alpha = materials[m].damage.alpha;
+      M.break_after_force = M.break_after_force || materials[m].damage.break_after_force;
+    }
   for (std::size_t i = 0; i < n; ++i) {
     const Constants& c = constants[P.material[i]];
+    M.alpha[i] = c.alpha;
+    M.contact_micromodulus[i] = c.contact_c;
     M.pair_coef[i] = c.pair;
     M.spring[i] = c.spring;
     M.critical_stretch[i] = c.s0;
@@ -136,6 +153,8 @@ void setup_model(System& s, const std::vector<MaterialConfig>& materials, const 
       M.deviatoric_coef[i] = c.alpha_mu / m;
     }
   }
+  s.contact.setup(config.contact.short_range, config.spacing, config.horizon);
+  build_kind_coefficients(s, config.output.damage_measure);
 }
 
 double System::dissipated() const {
@@ -162,10 +181,13 @@ double stable_time_step(const System& s) {
 
 std::size_t memory_estimate(const System& s) {
   const std::size_t n = s.particles.size(), nb = s.bonds.size();
+  // Particles, model arrays (12 doubles), the force pass's scratch (4 + 1 doubles).
   const std::size_t per_particle = 5 * sizeof(Vec3) + 4 * sizeof(double) + 2 * sizeof(int32_t) + sizeof(int64_t) + 1 +
-                                   8 * sizeof(double) + sizeof(uint64_t);
-  const std::size_t per_bond = sizeof(uint32_t) + 3 * sizeof(double) + sizeof(uint8_t);
-  return n * per_particle + nb * per_bond;
+                                   17 * sizeof(double) + sizeof(uint64_t);
+  // Neighbour, kind, intact flag; reference data per kind (family/bonds.hpp).
+  const std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t);
+  const std::size_t kinds = s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
+  return n * per_particle + nb * per_bond + kinds;
 }
 
 }  // namespace horizon

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "horizon/contact/short_range.hpp"
+#include "horizon/core/point4.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/family/bonds.hpp"
 #include "horizon/geometry/particles.hpp"
@@ -21,6 +23,19 @@ namespace horizon {
 //        Q = alpha mu/m, R = 0, with theta = (d/m) sum_j omega |xi| e V_j.
 // Materials differ only in these per-particle coefficients, so bonds between bodies
 // of different materials (or models) need no special case.
+// Per bond kind (Bonds::kinds): what the force loops need, computed once by setup_model
+// (build_kind_coefficients) so that a bond costs one table look-up.
+struct KindCoefficients {
+  double length = 0;      // L = |xi|
+  double inv_length = 0;  // 1/L: stretch = e * (1/L), the same bits from either end
+  double wv = 0;          // omega V_j (V_j partial-volume scaled)
+  double pair = 0;        // omega V_j (R_i + R_j) / L: the bond-based part of (t_ij + t_ji) V_j per unit e
+  double damage = 0;      // weight of the bond in the damage field (output.damage_measure)
+  double contact_d = 0;   // short-range contact distance d_ij (0: no contact)
+  double contact_d2 = 0;  // d_ij^2
+  double contact_k = 0;   // k_ij V_j / delta: contact force density per unit overlap
+};
+
 struct ModelCoefficients {
   std::vector<double> weighted_volume;  // m_i = sum omega |xi|^2 V_j (LPS), from the actual family
   std::vector<double> dilatation_coef;  // d k'/m_i (LPS) else 0
@@ -30,6 +45,19 @@ struct ModelCoefficients {
   std::vector<double> P;                // per-step P_i (depends on theta)
   std::vector<double> critical_stretch; // +inf: never breaks
   std::vector<double> spring;           // c_eq/2, bond-based equivalent, for the stable time step
+  // The critical stretch law with compression (DamageConfig::alpha): bond i-j breaks
+  // when its stretch exceeds min(s0_i, s0_j), s0_i = critical_stretch_i - alpha_i *
+  // min_stretch_i, min_stretch_i the smallest stretch of i's bonds at the previous pass.
+  std::vector<double> alpha;
+  std::vector<double> min_stretch;      // 0 before the first pass
+  bool break_after_force = false;       // DamageConfig::break_after_force
+  std::vector<double> damage_total;     // sum of the damage weights over i's family (after precracks)
+  std::vector<double> contact_micromodulus;  // c_i of the short-range contact
+  std::vector<KindCoefficients> kind;   // per bond kind
+  // Scratch of the force pass: current positions packed with a per-particle value
+  // (the critical stretch, then P), and the next min_stretch.
+  std::vector<Point4> packed;
+  std::vector<double> min_stretch_next;
   bool state_based = false;             // any particle with theta-dependent forces
   double dim = 3;                       // d in theta = (d/m) sum ...
 };
@@ -41,6 +69,7 @@ struct System {
   Particles particles;
   Bonds bonds;
   ModelCoefficients model;
+  ShortRangeContact contact;          // pairs that start outside each other's family
   std::vector<std::string> block_names;
   std::size_t initial_bonds = 0;
   std::size_t precrack_bonds = 0;

@@ -1,0 +1,68 @@
+#pragma once
+// Short-range contact: any two particles closer than d_ij = min(f |X_j - X_i|, m h)
+// repel with the force density (on i)
+//     k_ij V_j (d_ij - |Y|) / delta  along  -Y/|Y|,   Y = y_j - y_i,
+// k_ij = K (c_i + c_j)/2, c the bond-based micromodulus of each end (the PMB's own, or
+// for a state-based model the PMB micromodulus with its bulk modulus and omega = 1),
+// K = stiffness_factor (15), f = reference_fraction (0.9), m = max_distance (1.35).
+// This is the rule of LAMMPS PERI (after Silling's EMU manual), with V_j the whole
+// volume of the neighbour. docs/models.md sec. 9.
+//
+// Pairs inside one family (bonded at the start, intact or broken) are handled in the
+// bond loops (solver/forces.cpp), which visit them anyway. This class finds the others
+// (pairs that start more than a family apart, or across a precrack) with a Verlet list
+// kept per particle: the list holds every such pair within cut-off + skin of each
+// other's positions at their last update; a particle that has moved more than skin/2
+// since its last update is updated alone (its pairs found again through a hash grid).
+// Only the particles that move fast cost anything, so a body at rest or in slow
+// motion pays almost nothing for contact.
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "horizon/core/point4.hpp"
+#include "horizon/core/vec3.hpp"
+#include "horizon/deck/config.hpp"
+
+namespace horizon {
+
+struct System;
+
+class ShortRangeContact {
+ public:
+  bool enabled() const { return enabled_; }
+  const ShortRangeContactConfig& config() const { return config_; }
+
+  // Remembers the rule; the list is built at the first call of add_forces.
+  void setup(const ShortRangeContactConfig& config, double spacing, double horizon);
+
+  // Adds the contact force densities of non-family pairs to f (and, with `energy`,
+  // each particle's half of the pair energy to W), from the current positions y.
+  // Each particle's sum runs over its own list in a fixed order.
+  // y: current positions (the w component unused). W may be null.
+  void add_forces(const System& s, const Point4* y, Vec3* f, double* W);
+
+  // The contact distance of a pair from its reference distance.
+  double distance(double reference_length) const;
+
+  // Particle updates so far (each particle counts once per update), and pairs listed now.
+  std::size_t rebuilds() const { return rebuilds_; }
+  std::size_t candidates() const { return candidates_; }
+
+ private:
+  void update(const System& s, const Point4* y);
+  uint64_t cell_key(const Vec3& p) const;
+
+  bool enabled_ = false;
+  ShortRangeContactConfig config_;
+  double cutoff_ = 0, skin_ = 0, horizon_ = 0;
+  std::vector<Vec3> y_built_;                  // position at each particle's last update
+  std::vector<std::vector<uint32_t>> rows_;    // candidates of each particle, sorted
+  std::vector<uint64_t> cell_of_;              // hash-grid cell of y_built_
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+  std::vector<uint32_t> movers_;
+  std::vector<uint8_t> is_mover_;
+  std::size_t rebuilds_ = 0, candidates_ = 0;
+};
+
+}  // namespace horizon

@@ -1,0 +1,288 @@
+// `horizon run` for solver.type static and implicit_dynamic: the same outputs as the
+// explicit driver (frames, history.csv, summary.json), from the static load stepping
+// (solver/static_driver.hpp) or the Newmark solver (solver/newmark.hpp).
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "horizon/core/interrupt.hpp"
+#include "horizon/core/progress.hpp"
+#include "horizon/core/version.hpp"
+#include "horizon/driver/run.hpp"
+#include "horizon/loading/loads.hpp"
+#include "horizon/output/atomic_file.hpp"
+#include "horizon/output/pvd.hpp"
+#include "horizon/output/vtu.hpp"
+#include "horizon/solver/conditioning.hpp"
+#include "horizon/solver/forces.hpp"
+#include "horizon/solver/newmark.hpp"
+#include "horizon/solver/static_driver.hpp"
+
+namespace horizon {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* linear_name(LinearSolverKind k) {
+  switch (k) {
+    case LinearSolverKind::cg: return "cg";
+    case LinearSolverKind::cholesky: return "cholesky";
+    case LinearSolverKind::matrix_free: return "matrix_free";
+  }
+  return "";
+}
+
+// What one row of history.csv needs beyond the ledger.
+struct Row {
+  double time = 0, dt = 0, lambda = 0, residual = 0;
+  int64_t step = 0, iterations = 0, linear_iterations = 0;
+  int break_rounds = 0;
+};
+
+}  // namespace
+
+int run_implicit_deck(Config config, const RunOptions& options) {
+  apply_run_options(config, options);
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const auto wall_start = std::chrono::steady_clock::now();
+  const SolverConfig& sc = config.solver;
+  const bool is_static = sc.type == SolverType::static_equilibrium;
+
+  System s = build_system(config);
+  Loads loads(config, s);
+  loads.apply_initial_conditions(config, s);
+  if (!options.quiet) {
+    fmt::print(stderr, "deck            {}\n", config.deck_file);
+    fmt::print(stderr, "particles       {}\n", s.particles.size());
+    fmt::print(stderr, "bonds           {} directed\n", s.bonds.size());
+    if (is_static) {
+      fmt::print(stderr, "solver          static, {}{}, {} load steps, tolerance {:.1e}\n",
+                 sc.method == StaticMethod::newton ? "newton" : "adr",
+                 sc.method == StaticMethod::newton ? std::string(", ") + linear_name(sc.linear_solver) : "",
+                 sc.load_steps, sc.tolerance);
+    } else {
+      fmt::print(stderr, "solver          implicit_dynamic (Newmark, average acceleration), {}, dt {:.4e} s "
+                         "({:.1f} x the stable explicit step)\n",
+                 linear_name(sc.linear_solver), *sc.time_step, *sc.time_step / stable_time_step(s));
+    }
+  }
+
+  const fs::path dir = config.output.directory;
+  fs::create_directories(dir / "frames");
+  PvdIndex pvd((dir / "frames.pvd").string());
+
+  NewtonOptions newton;
+  newton.linear_solver = sc.linear_solver;
+  newton.tangent = sc.tangent;
+  newton.tolerance = sc.tolerance;
+  newton.max_iterations = sc.max_iterations.value_or(30);
+  std::unique_ptr<StaticSolver> statics;
+  std::unique_ptr<NewmarkSolver> dynamics;
+  if (is_static) {
+    statics = std::make_unique<StaticSolver>(s, loads, sc);
+    statics->initialize();
+  } else {
+    dynamics = std::make_unique<NewmarkSolver>(s, loads, *sc.time_step, sc.damping, newton, sc.max_break_rounds);
+    dynamics->initialize();
+  }
+  const DofMap& dofs = is_static ? statics->dofs() : dynamics->dofs();
+  auto ledger = [&]() -> const Ledger& { return is_static ? statics->ledger() : dynamics->ledger(); };
+
+  // Condition number of the tangent at the initial state (solver.condition_number).
+  nlohmann::ordered_json condition;
+  if (sc.condition_number) {
+    const auto t0 = std::chrono::steady_clock::now();
+    SparseMatrix K;
+    {
+      FixedBonds fixed(s);
+      compute_forces(s, false);
+      K = assemble_tangent(s, dofs);
+    }
+    if (!is_static) {
+      Eigen::VectorXd shift = (4.0 / (*sc.time_step * *sc.time_step)) * nodal_mass(s, dofs);
+      add_to_diagonal(K, shift);
+    }
+    const ConditionEstimate c = estimate_condition(K);
+    condition["of"] = is_static ? "K" : "K + 4 M / dt^2";
+    condition["lambda_min"] = c.lambda_min;
+    condition["lambda_max"] = c.lambda_max;
+    condition["condition_number"] = c.condition;
+    condition["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!c.message.empty()) condition["message"] = c.message;
+    if (!options.quiet) {
+      if (c.converged)
+        fmt::print(stderr, "condition       {:.4e} (lambda {:.4e} .. {:.4e})\n", c.condition, c.lambda_min,
+                   c.lambda_max);
+      else
+        fmt::print(stderr, "condition       not estimated: {}\n", c.message);
+    }
+  }
+
+  std::ostringstream history;
+  history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
+             "energy_balance_error,broken_bond_fraction,damage_max";
+  for (const auto& L : loads.loads()) history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
+  history << ",load_factor,iterations,linear_iterations,residual,break_rounds\n";
+  double max_balance_error = 0;
+  auto record_history = [&](const Row& r) {
+    const Ledger& g = ledger();
+    double dmax = 0;
+    for (double d : s.particles.damage) dmax = std::max(dmax, d);
+    const double broken_fraction =
+        s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0;
+    max_balance_error = std::max(max_balance_error, std::abs(g.balance_error()));
+    history << fmt::format("{:.9e},{},{:.6e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6f}", r.time, r.step,
+                           r.dt, g.kinetic, g.strain, g.external_work, g.dissipated, g.damped, g.balance_error(),
+                           broken_fraction, dmax);
+    for (const auto& L : loads.loads())
+      history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
+    history << fmt::format(",{:.9e},{},{},{:.3e},{}\n", r.lambda, r.iterations, r.linear_iterations, r.residual,
+                           r.break_rounds);
+  };
+  int frame_count = 0;
+  auto write_frame = [&](double time, int64_t step) {
+    const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
+    write_vtu((dir / name).string(), make_frame(s, time, step));
+    pvd.add(time, name);
+    pvd.write();
+  };
+
+  record_history(Row{});
+  write_frame(0, 0);
+  install_interrupt_handler();
+  const int frames = std::max(1, config.output.frames);
+  const int64_t total = is_static ? sc.load_steps
+                                  : static_cast<int64_t>(std::ceil(sc.end_time / *sc.time_step - 1e-9));
+  Progress progress(total, static_cast<double>(s.bonds.size()), config.output.progress_every);
+  std::string status = "completed", message;
+  int exit_code = 0;
+  int next_frame = 1;
+  int64_t steps = 0;
+  double time = 0;
+  while (true) {
+    Row row;
+    if (is_static) {
+      if (statics->done()) break;
+      if (!statics->advance()) {
+        status = "not converged";
+        exit_code = 4;
+        message = statics->failure();
+        break;
+      }
+      steps = statics->steps();
+      time = statics->time();
+      row = {time, statics->increment() * sc.end_time, statics->lambda(), statics->last_report().residual, steps,
+             statics->last_iterations(), statics->last_linear_iterations(), statics->last_break_rounds()};
+      record_history(row);
+      if (statics->lambda() * frames >= next_frame - 1e-9) {
+        write_frame(time, steps);
+        while (statics->lambda() * frames >= next_frame - 1e-9) ++next_frame;
+      }
+      if (!options.quiet) progress.update(static_cast<int64_t>(std::lround(statics->lambda() * sc.load_steps)), time);
+    } else {
+      if (dynamics->steps() >= total) break;
+      const SolveReport rep = dynamics->step();
+      if (!rep.converged) {
+        status = "not converged";
+        exit_code = 4;
+        message = fmt::format("step {}, t = {:.4e} s: {}", dynamics->steps() + 1, dynamics->time() + dynamics->dt(),
+                              rep.failure);
+        break;
+      }
+      steps = dynamics->steps();
+      time = dynamics->time();
+      row = {time, dynamics->dt(), 0, rep.residual, steps, rep.iterations, rep.linear_iterations, 0};
+      const int64_t every = std::max(1, config.output.history_every);
+      if (steps % every == 0 || steps == total) record_history(row);
+      if (steps * frames >= static_cast<int64_t>(next_frame) * total) {
+        write_frame(time, steps);
+        ++next_frame;
+      }
+      if (!options.quiet) progress.update(steps, time);
+    }
+    if (interrupt_requested()) {
+      status = "interrupted";
+      exit_code = 130;
+      message = fmt::format("interrupted at step {}; a final frame was written", steps);
+      break;
+    }
+  }
+  if (!options.quiet) progress.finish();
+  if (exit_code != 0) write_frame(time, steps);
+  clear_interrupt();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  write_file_atomic((dir / "history.csv").string(), history.str());
+
+  const Ledger& g = ledger();
+  double dmean = 0, dmax = 0;
+  for (double d : s.particles.damage) {
+    dmean += d;
+    dmax = std::max(dmax, d);
+  }
+  dmean /= std::max<std::size_t>(1, s.particles.size());
+  nlohmann::ordered_json j;
+  j["horizon_version"] = version_string;
+  j["deck"] = config.deck_file;
+  j["status"] = status;
+  if (!message.empty()) j["message"] = message;
+  j["dimension"] = config.dimension;
+  j["particles"] = s.particles.size();
+  j["bonds"] = s.initial_bonds;
+  j["steps"] = steps;
+  j["time_step"] = is_static ? sc.end_time / sc.load_steps : *sc.time_step;
+  j["time"] = time;
+  j["threads"] = omp_get_max_threads();
+  j["wall_time_s"] = wall;
+  j["loop_time_s"] = progress.elapsed();
+  j["peak_memory_bytes"] = peak_memory_bytes();
+  j["energy"] = {{"initial", g.initial},       {"kinetic", g.kinetic},       {"strain", g.strain},
+                 {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
+                 {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};
+  j["damage"] = {{"mean", dmean},
+                 {"max", dmax},
+                 {"broken_bonds", s.broken},
+                 {"broken_fraction", s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0}};
+  nlohmann::ordered_json reactions = nlohmann::ordered_json::object();
+  for (const auto& L : loads.loads()) reactions[L.name] = {L.reaction.x, L.reaction.y, L.reaction.z};
+  j["loads"] = reactions;
+  nlohmann::ordered_json sj;
+  sj["type"] = is_static ? "static" : "implicit_dynamic";
+  sj["dofs"] = dofs.size();
+  if (is_static) {
+    sj["method"] = sc.method == StaticMethod::newton ? "newton" : "adr";
+    if (sc.method == StaticMethod::newton) sj["linear_solver"] = linear_name(sc.linear_solver);
+    sj["load_factor"] = statics->lambda();
+    sj["iterations"] = statics->total_iterations();
+    sj["linear_iterations"] = statics->total_linear_iterations();
+    sj["step_cuts"] = statics->total_cuts();
+    sj["tangent_seconds"] = statics->tangent_seconds();
+    sj["solve_seconds"] = statics->solve_seconds();
+    sj["tangent_bytes"] = statics->tangent_bytes();
+    sj["tangent_nonzeros"] = statics->tangent_nonzeros();
+    sj["tangent_bytes_per_bond"] =
+        s.bonds.size() ? static_cast<double>(statics->tangent_bytes()) / static_cast<double>(s.bonds.size()) : 0.0;
+    if (statics->factor_fill() > 0) sj["cholesky_factor_nonzeros"] = statics->factor_fill();
+  } else {
+    sj["linear_solver"] = linear_name(sc.linear_solver);
+    sj["iterations"] = dynamics->newton_iterations();
+    sj["linear_iterations"] = dynamics->linear_iterations();
+  }
+  if (!condition.empty()) sj["condition"] = condition;
+  j["solver"] = sj;
+  write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+
+  if (!options.quiet) {
+    fmt::print(stderr, "{} in {} ({} {}); output in {}\n", status, format_duration(wall), steps,
+               is_static ? "load increments" : "steps", dir.string());
+  }
+  if (!message.empty()) fmt::print(stderr, "horizon: {}\n", message);
+  return exit_code;
+}
+
+}  // namespace horizon

@@ -1,0 +1,72 @@
+#include "horizon/solver/adr.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "horizon/solver/forces.hpp"
+#include "horizon/solver/tangent.hpp"
+
+namespace horizon {
+
+SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
+  SolveReport rep;
+  FixedBonds fixed(s);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Eigen::Index n = static_cast<Eigen::Index>(d.size());
+  Eigen::VectorXd volume(n);
+  for (Eigen::Index k = 0; k < n; ++k) volume[k] = s.particles.volume[d.particle[static_cast<std::size_t>(k)]];
+
+  compute_forces(s, false);
+  // Fictitious mass (eq. 21) from the tangent's row sums at the starting state.
+  Eigen::VectorXd lambda = 0.25 * stiffness_row_bound(s, d, linearize(s));
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (!(lambda[k] > 0)) lambda[k] = 1;  // a dof without bonds: no stiffness, no force
+  rep.tangent_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  auto relative = [&](const Eigen::VectorXd& R) {
+    const double ref = load_norms(s, d).reference();
+    const double r = R.norm();
+    return ref > 0 ? r / ref : (r > 0 ? 1.0 : 0.0);
+  };
+  Eigen::VectorXd R = gather_residual(s, d);
+  Eigen::VectorXd F = R.cwiseQuotient(volume);  // force density
+  Eigen::VectorXd u = gather_displacement(s, d);
+  Eigen::VectorXd v = 0.5 * F.cwiseQuotient(lambda);  // eq. 18
+  Eigen::VectorXd F_old(n);
+  rep.residual = relative(R);
+  rep.residuals.push_back(rep.residual);
+  const int record_every = 100;
+  for (int it = 1; it <= o.max_iterations; ++it) {
+    if (rep.residual <= o.tolerance) break;
+    u += v;
+    scatter_displacement(s, d, u);
+    compute_forces(s, false);
+    F_old = F;
+    R = gather_residual(s, d);
+    F = R.cwiseQuotient(volume);
+    rep.iterations = it;
+    rep.residual = relative(R);
+    if (it % record_every == 0) rep.residuals.push_back(rep.residual);
+    if (!std::isfinite(rep.residual)) {
+      rep.failure = "the residual turned non-finite";
+      return rep;
+    }
+    if (rep.residual <= o.tolerance) break;
+    // Damping from the Rayleigh quotient of the local diagonal stiffness (eq. 19-20).
+    double num = 0, den = 0;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      den += u[k] * u[k];
+      if (v[k] != 0) num += u[k] * u[k] * (-(F[k] - F_old[k]) / (lambda[k] * v[k]));
+    }
+    const double c = (den > 0 && num > 0) ? std::min(2.0 * std::sqrt(num / den), 1.99) : 0.0;
+    v = ((2 - c) * v + 2 * F.cwiseQuotient(lambda)) / (2 + c);  // eq. 16
+  }
+  rep.residuals.push_back(rep.residual);
+  rep.converged = rep.residual <= o.tolerance;
+  if (!rep.converged) rep.failure = "no convergence in " + std::to_string(o.max_iterations) + " iterations";
+  rep.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep;
+}
+
+}  // namespace horizon

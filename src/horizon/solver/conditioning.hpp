@@ -1,0 +1,24 @@
+#pragma once
+// Condition number of the tangent, kappa = lambda_max / lambda_min (2-norm, K symmetric
+// positive definite), from its extreme eigenvalues by implicitly restarted Lanczos
+// (Spectra's SymEigsSolver): lambda_max directly, lambda_min as the largest eigenvalue
+// of K^-1 (shift-invert at 0, K^-1 applied by a CHOLMOD Cholesky factorisation).
+// For the PD operators kappa ~ delta^-2 with weak dependence on the spacing (Parks,
+// digest 004 sec. 10.2-10.5): CG iterations grow like sqrt(kappa).
+#include "horizon/solver/tangent.hpp"
+
+namespace horizon {
+
+struct ConditionEstimate {
+  double lambda_min = 0;
+  double lambda_max = 0;
+  double condition = 0;  // lambda_max / lambda_min; +inf when K is singular
+  bool converged = false;
+  std::string message;   // why the estimate failed, when it did
+};
+
+// K symmetric (the lower triangle is used for the factorisation). tol: relative accuracy
+// of the Ritz values.
+ConditionEstimate estimate_condition(const SparseMatrix& K, double tol = 1e-8);
+
+}  // namespace horizon

@@ -1,0 +1,90 @@
+#include "horizon/solver/equilibrium.hpp"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace horizon {
+
+namespace {
+DofMap build_map(const System& s, const Loads* loads) {
+  DofMap d;
+  d.dimension = s.dimension;
+  const std::size_t n = s.particles.size();
+  d.index.assign(3 * n, -1);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < s.dimension; ++c) {
+      if (loads && loads->is_constrained(i, c)) continue;
+      d.index[3 * i + c] = static_cast<int32_t>(d.particle.size());
+      d.particle.push_back(static_cast<uint32_t>(i));
+      d.component.push_back(static_cast<uint8_t>(c));
+    }
+  return d;
+}
+}  // namespace
+
+DofMap make_dof_map(const System& s, const Loads& loads) { return build_map(s, &loads); }
+DofMap make_free_dof_map(const System& s) { return build_map(s, nullptr); }
+
+FixedBonds::FixedBonds(System& s) : s_(s), saved_(s.particles.size(), std::numeric_limits<double>::infinity()) {
+  std::swap(s_.model.critical_stretch, saved_);
+}
+FixedBonds::~FixedBonds() { std::swap(s_.model.critical_stretch, saved_); }
+
+Eigen::VectorXd gather_displacement(const System& s, const DofMap& d) {
+  Eigen::VectorXd u(static_cast<Eigen::Index>(d.size()));
+  for (std::size_t k = 0; k < d.size(); ++k) u[static_cast<Eigen::Index>(k)] = s.particles.u[d.particle[k]][d.component[k]];
+  return u;
+}
+
+void scatter_displacement(System& s, const DofMap& d, const Eigen::VectorXd& u) {
+  for (std::size_t k = 0; k < d.size(); ++k) s.particles.u[d.particle[k]][d.component[k]] = u[static_cast<Eigen::Index>(k)];
+}
+
+void add_displacement(System& s, const DofMap& d, const Eigen::VectorXd& du, double alpha) {
+  for (std::size_t k = 0; k < d.size(); ++k)
+    s.particles.u[d.particle[k]][d.component[k]] += alpha * du[static_cast<Eigen::Index>(k)];
+}
+
+Eigen::VectorXd gather_residual(const System& s, const DofMap& d) {
+  const auto& P = s.particles;
+  Eigen::VectorXd r(static_cast<Eigen::Index>(d.size()));
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    const uint32_t i = d.particle[k];
+    const int c = d.component[k];
+    r[static_cast<Eigen::Index>(k)] = (P.f[i][c] + P.b[i][c]) * P.volume[i];
+  }
+  return r;
+}
+
+LoadNorms load_norms(const System& s, const DofMap& d) {
+  const auto& P = s.particles;
+  double ext = 0, react = 0;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    for (int c = 0; c < s.dimension; ++c) {
+      const double b = P.b[i][c] * P.volume[i];
+      ext += b * b;
+      if (d.dof(i, c) < 0) {
+        const double r = (P.f[i][c] + P.b[i][c]) * P.volume[i];
+        react += r * r;
+      }
+    }
+  return {std::sqrt(ext), std::sqrt(react)};
+}
+
+Eigen::VectorXd nodal_mass(const System& s, const DofMap& d) {
+  Eigen::VectorXd m(static_cast<Eigen::Index>(d.size()));
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    const uint32_t i = d.particle[k];
+    m[static_cast<Eigen::Index>(k)] = s.particles.density[i] * s.particles.volume[i];
+  }
+  return m;
+}
+
+bool finite_state(const System& s) {
+  for (const auto& u : s.particles.u)
+    if (!std::isfinite(u.x + u.y + u.z)) return false;
+  return true;
+}
+
+}  // namespace horizon

@@ -1,0 +1,75 @@
+#pragma once
+// What every implicit solver (Newton, ADR, Newmark) shares: the unknowns (free displacement
+// components), the residual built from compute_forces, and a switch that holds the bond
+// set fixed while a solver iterates.
+//
+// Nodal forces: F_i = f_i V_i [N] (f = force density of compute_forces). The residual on
+// the free components is R = (f + b) V (internal plus external); equilibrium is R = 0.
+// On a constrained component the same expression is minus the reaction: the constraint
+// supplies -R there (docs/input.md, loads).
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "horizon/loading/loads.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+// The unknowns of an implicit solve: every displacement component within the deck's
+// dimension that no constraint prescribes, numbered particle by particle.
+struct DofMap {
+  int dimension = 3;
+  std::vector<int32_t> index;      // 3 per particle: the dof, or -1 (prescribed or out of plane)
+  std::vector<uint32_t> particle;  // per dof
+  std::vector<uint8_t> component;  // per dof
+
+  std::size_t size() const { return particle.size(); }
+  int32_t dof(std::size_t i, int c) const { return index[3 * i + c]; }
+};
+
+DofMap make_dof_map(const System& s, const Loads& loads);
+// Every component within the dimension is free (tests, and bodies without constraints).
+DofMap make_free_dof_map(const System& s);
+
+// Holds the bond set fixed: while it lives, compute_forces breaks no bond (the critical
+// stretches are swapped for +inf and restored on destruction). Solvers iterate on a
+// fixed bond set; bonds break between solves (static_driver.hpp).
+class FixedBonds {
+ public:
+  explicit FixedBonds(System& s);
+  ~FixedBonds();
+  FixedBonds(const FixedBonds&) = delete;
+  FixedBonds& operator=(const FixedBonds&) = delete;
+
+ private:
+  System& s_;
+  std::vector<double> saved_;
+};
+
+// Displacements of the free dofs, and back.
+Eigen::VectorXd gather_displacement(const System& s, const DofMap& d);
+void scatter_displacement(System& s, const DofMap& d, const Eigen::VectorXd& u);
+// u += alpha * du on the free dofs.
+void add_displacement(System& s, const DofMap& d, const Eigen::VectorXd& du, double alpha = 1.0);
+
+// Residual (f + b) V on the free dofs, from the forces of the last compute_forces.
+Eigen::VectorXd gather_residual(const System& s, const DofMap& d);
+
+// Norms of the applied load: the external forces |b V| over every dof of the dimension,
+// and the reactions |(f + b) V| over the prescribed components. The convergence test of
+// every solver is |R| <= tolerance * max(external, reactions) (docs/input.md).
+struct LoadNorms {
+  double external = 0;
+  double reactions = 0;
+  double reference() const { return external > reactions ? external : reactions; }
+};
+LoadNorms load_norms(const System& s, const DofMap& d);
+
+// Nodal mass rho V per dof.
+Eigen::VectorXd nodal_mass(const System& s, const DofMap& d);
+
+// True when every component of u is finite.
+bool finite_state(const System& s);
+
+}  // namespace horizon

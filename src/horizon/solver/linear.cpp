@@ -1,0 +1,119 @@
+#include "horizon/solver/linear.hpp"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
+#include <cmath>
+#include <functional>
+
+namespace horizon {
+
+struct LinearSolver::Direct {
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+  uint64_t pattern = 0;  // checksum of the analysed sparsity pattern
+  bool analysed = false;
+};
+
+LinearSolver::LinearSolver(LinearSolverKind kind) : kind_(kind) {}
+LinearSolver::~LinearSolver() = default;
+
+void add_to_diagonal(SparseMatrix& K, const Eigen::VectorXd& shift) {
+  if (shift.size() == 0) return;
+  for (int c = 0; c < K.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(K, c); it; ++it)
+      if (it.row() == c) it.valueRef() += shift[c];
+}
+
+namespace {
+
+uint64_t pattern_checksum(const SparseMatrix& K) {
+  uint64_t h = 1469598103934665603ull ^ static_cast<uint64_t>(K.rows());
+  auto mix = [&h](uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+  for (Eigen::Index c = 0; c <= K.outerSize(); ++c) mix(static_cast<uint64_t>(K.outerIndexPtr()[c]));
+  for (Eigen::Index k = 0; k < K.nonZeros(); ++k) mix(static_cast<uint64_t>(K.innerIndexPtr()[k]));
+  return h;
+}
+
+// Preconditioned conjugate gradient (Hestenes-Stiefel) with a Jacobi preconditioner.
+LinearStats pcg(const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& apply,
+                const Eigen::VectorXd& diag, const Eigen::VectorXd& r, Eigen::VectorXd& x, double tol,
+                int max_iterations) {
+  LinearStats st;
+  const Eigen::Index n = r.size();
+  x = Eigen::VectorXd::Zero(n);
+  const double rnorm = r.norm();
+  if (rnorm == 0) {
+    st.ok = true;
+    return st;
+  }
+  Eigen::VectorXd inv = diag.unaryExpr([](double v) { return v > 0 ? 1.0 / v : 1.0; });
+  Eigen::VectorXd res = r, z = inv.cwiseProduct(res), p = z, q(n);
+  double rz = res.dot(z);
+  for (int it = 1; it <= max_iterations; ++it) {
+    apply(p, q);
+    const double pq = p.dot(q);
+    if (!(pq > 0)) break;  // not positive definite along p
+    const double alpha = rz / pq;
+    x += alpha * p;
+    res -= alpha * q;
+    st.iterations = it;
+    st.residual = res.norm() / rnorm;
+    if (st.residual <= tol) {
+      st.ok = true;
+      return st;
+    }
+    z = inv.cwiseProduct(res);
+    const double rz_new = res.dot(z);
+    p = z + (rz_new / rz) * p;
+    rz = rz_new;
+  }
+  st.ok = std::isfinite(st.residual) && st.residual <= tol;
+  return st;
+}
+
+}  // namespace
+
+LinearStats LinearSolver::solve(SparseMatrix& K, const Eigen::VectorXd& shift, const Eigen::VectorXd& r,
+                                Eigen::VectorXd& x, double tol, int max_iterations) {
+  add_to_diagonal(K, shift);
+  LinearStats st;
+  if (kind_ == LinearSolverKind::cholesky) {
+    if (!direct_) direct_ = std::make_unique<Direct>();
+    const uint64_t pattern = pattern_checksum(K);
+    if (!direct_->analysed || pattern != direct_->pattern) {
+      direct_->llt.analyzePattern(K);
+      direct_->pattern = pattern;
+      direct_->analysed = true;
+    }
+    direct_->llt.factorize(K);
+    st.factor_fill = direct_->llt.cholmod().lnz;
+    if (direct_->llt.info() != Eigen::Success) return st;  // not positive definite
+    x = direct_->llt.solve(r);
+    st.iterations = 1;
+    st.ok = x.allFinite();
+    return st;
+  }
+  // The matrix holds K^T (tangent.hpp), so the parallel row-major product of the
+  // transposed view gives K x; Eigen's CG does the same for Lower|Upper.
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg;
+  cg.setTolerance(tol);
+  cg.setMaxIterations(max_iterations);
+  cg.compute(K);
+  x = cg.solve(r);
+  st.iterations = static_cast<int>(cg.iterations());
+  st.residual = cg.error();
+  st.ok = cg.info() == Eigen::Success && x.allFinite();
+  return st;
+}
+
+LinearStats LinearSolver::solve(const TangentOperator& K, const Eigen::VectorXd& shift, const Eigen::VectorXd& r,
+                                Eigen::VectorXd& x, double tol, int max_iterations) {
+  Eigen::VectorXd diag = K.diagonal();
+  if (shift.size()) diag += shift;
+  auto apply = [&](const Eigen::VectorXd& p, Eigen::VectorXd& q) {
+    K.apply(p, q);
+    if (shift.size()) q += shift.cwiseProduct(p);
+  };
+  return pcg(apply, diag, r, x, tol, max_iterations);
+}
+
+}  // namespace horizon

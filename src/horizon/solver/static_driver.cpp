@@ -1,0 +1,160 @@
+#include "horizon/solver/static_driver.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "horizon/solver/forces.hpp"
+
+namespace horizon {
+
+bool uses_time(const Expression& e) {
+  if (e.is_constant()) return false;
+  const std::string& s = e.text();
+  auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s[i] == 't' && (i == 0 || !word(s[i - 1])) && (i + 1 == s.size() || !word(s[i + 1]))) return true;
+  return false;
+}
+
+void apply_static_loads(const Loads& loads, System& s, double t_previous, double t, double lambda) {
+  auto& P = s.particles;
+  std::fill(P.b.begin(), P.b.end(), Vec3{});
+  const double mid = 0.5 * (t_previous + t);
+  for (const auto& L : loads.loads()) {
+    for (int c = 0; c < 3; ++c) {
+      if (!L.value[c]) continue;
+      const Expression& g = *L.value[c];
+      const double factor = uses_time(g) ? 1.0 : lambda;
+      for (uint32_t i : L.particles) {
+        const Vec3& x = P.X[i];
+        switch (L.kind) {
+          case LoadKind::displacement:
+            P.u[i][c] = factor * g(t, x.x, x.y, x.z);
+            P.v[i][c] = 0;
+            break;
+          case LoadKind::velocity:
+            P.u[i][c] += g(mid, x.x, x.y, x.z) * (t - t_previous);
+            P.v[i][c] = 0;
+            break;
+          case LoadKind::traction:
+          case LoadKind::body_force:
+            P.b[i][c] += L.scale * factor * g(t, x.x, x.y, x.z);
+            break;
+        }
+      }
+    }
+  }
+}
+
+StaticSolver::StaticSolver(System& s, Loads& loads, const SolverConfig& config)
+    : s_(s),
+      loads_(loads),
+      config_(config),
+      dofs_(make_dof_map(s, loads)),
+      linear_(config.linear_solver),
+      end_time_(config.end_time > 0 ? config.end_time : 1.0),
+      step_(1.0 / std::max(1, config.load_steps)) {}
+
+void StaticSolver::initialize() {
+  auto& P = s_.particles;
+  std::fill(P.v.begin(), P.v.end(), Vec3{});
+  apply_static_loads(loads_, s_, 0, 0, 0);
+  {
+    FixedBonds fixed(s_);
+    compute_forces(s_, true);
+  }
+  loads_.update_reactions(s_, P.u);
+  ledger_.strain = strain_energy(s_);
+  ledger_.dissipated = s_.dissipated();
+  ledger_.initial = ledger_.strain;
+}
+
+bool StaticSolver::solve_increment(double lambda) {
+  last_break_rounds_ = 0;
+  last_iterations_ = 0;
+  last_linear_iterations_ = 0;
+  for (int round = 0;; ++round) {
+    if (config_.method == StaticMethod::newton) {
+      NewtonOptions o;
+      o.linear_solver = config_.linear_solver;
+      o.tangent = config_.tangent;
+      o.tolerance = config_.tolerance;
+      o.max_iterations = config_.max_iterations.value_or(30);
+      last_ = newton_solve(s_, dofs_, o, linear_);
+    } else {
+      AdrOptions o;
+      o.tolerance = config_.tolerance;
+      o.max_iterations = config_.max_iterations.value_or(100000);
+      last_ = adr_solve(s_, dofs_, o);
+    }
+    last_iterations_ += last_.iterations;
+    last_linear_iterations_ += last_.linear_iterations;
+    total_iterations_ += last_.iterations;
+    total_linear_iterations_ += last_.linear_iterations;
+    tangent_seconds_ += last_.tangent_seconds;
+    solve_seconds_ += last_.solve_seconds;
+    tangent_bytes_ = std::max(tangent_bytes_, last_.tangent_bytes);
+    tangent_nonzeros_ = std::max(tangent_nonzeros_, last_.tangent_nonzeros);
+    factor_fill_ = std::max(factor_fill_, last_.factor_fill);
+    if (!last_.converged) {
+      failure_ = "load factor " + std::to_string(lambda) + ": " + last_.failure;
+      return false;
+    }
+    // Quasi-static bond breaking: break what the equilibrium overstretches, re-solve.
+    if (compute_forces(s_, false).broken == 0) return true;
+    last_break_rounds_ = round + 1;
+    if (round + 1 >= config_.max_break_rounds) return true;  // bonds still breaking: continue at the next load
+  }
+}
+
+bool StaticSolver::advance() {
+  auto& P = s_.particles;
+  if (done()) return false;
+  const double target = std::min(1.0, (std::floor(lambda_ / step_ + 1e-9) + 1) * step_);
+  double increment = std::min(last_increment_ > 0 ? 2 * last_increment_ : step_, step_);
+  int cuts = 0;
+  const std::vector<Vec3> u_before = P.u, b_before = P.b;
+  const std::vector<uint8_t> intact_before = s_.bonds.intact;
+  const std::vector<double> dissipated_before = s_.dissipated_at;
+  const uint64_t broken_before = s_.broken;
+  while (true) {
+    const double lambda = std::min(target, lambda_ + increment);
+    apply_static_loads(loads_, s_, time(), lambda * end_time_, lambda);
+    if (solve_increment(lambda) && finite_state(s_)) {
+      last_increment_ = lambda - lambda_;
+      lambda_ = std::abs(lambda - 1.0) < 1e-12 ? 1.0 : lambda;
+      break;
+    }
+    // Restore the last converged state and halve the increment.
+    P.u = u_before;
+    P.b = b_before;
+    s_.bonds.intact = intact_before;
+    s_.dissipated_at = dissipated_before;
+    s_.broken = broken_before;
+    if (cuts == config_.max_step_cuts) {
+      FixedBonds fixed(s_);
+      compute_forces(s_, true);
+      failure_ += " (after " + std::to_string(cuts) + " step cuts)";
+      return false;
+    }
+    ++cuts;
+    ++total_cuts_;
+    increment *= 0.5;
+  }
+  ++steps_;
+  failure_.clear();
+  {
+    FixedBonds fixed(s_);
+    compute_forces(s_, true);
+  }
+  // Ledger: work of the constraints and of the applied force densities (trapezoidal).
+  double work = loads_.update_reactions(s_, u_before);
+  for (std::size_t i = 0; i < P.size(); ++i) work += 0.5 * P.volume[i] * dot(P.b[i] + b_before[i], P.u[i] - u_before[i]);
+  ledger_.external_work += work;
+  ledger_.strain = strain_energy(s_);
+  ledger_.dissipated = s_.dissipated();
+  return true;
+}
+
+}  // namespace horizon

@@ -1,0 +1,81 @@
+#pragma once
+// The tangent stiffness K = -dF/du of the internal nodal forces F_i = f_i V_i, on the free
+// dofs, for the unified bond force form of solver/system.hpp:
+//   F_i = V_i sum_k omega v (tau_i + tau_j) n,  tau_i = P_i L + Q_i e + R_i e/L,  n = Y/|Y|.
+// Differentiating (product rule on g n with g = omega v (tau_i + tau_j)):
+//   dF_i = V_i sum_k [ T_k (I - n n^T) dY + A_k n (n . dY) + w_k n (dP_i + dP_j) ],
+//   T_k = omega v (tau_i + tau_j)/|Y|        (the geometric, transverse stiffness),
+//   A_k = omega v (Q_i + Q_j + (R_i + R_j)/L) (the axial stiffness),
+//   w_k = omega v L,                          (the bond's weight in theta and in dF/dP)
+//   dP_i = c_i sum_k w_k n . dY,  c_i = a_i d/m_i,  a_i = d k'/m_i - alpha mu/(d m_i),
+// since P_i = a_i theta_i and theta_i = (d/m_i) sum_k omega v L e (seed 003 eq. 113,
+// digest sec. 8-9; docs/models.md sec. 1). dY = du_j - du_i. The dP_j term couples i
+// to the family of each neighbour j: the LPS tangent reaches two horizons (Parks,
+// digest 004 sec. 10.7). Bond-based particles have c_i = 0 and couple within one
+// horizon. The form derives from the energy sum_i W_i V_i, so K is symmetric.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <vector>
+
+#include "horizon/solver/equilibrium.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+// The linearisation of the internal forces at the current displacements, bond by bond
+// (broken bonds have zero coefficients). Built in O(bonds); from it come the assembled
+// tangent, the matrix-free product and the ADR stiffness bound.
+struct Linearization {
+  std::vector<Vec3> n;              // per bond: deformed direction Y/|Y|
+  std::vector<double> transverse;   // per bond: T_k
+  std::vector<double> axial;        // per bond: A_k
+  std::vector<double> weight;       // per bond: w_k
+  std::vector<Vec3> b;              // per particle: sum_k w_k n_k  (= dP_i/d(-u_i) / c_i)
+  std::vector<double> coupling;     // per particle: c_i
+  bool state_based = false;
+  std::size_t bytes() const;
+};
+Linearization linearize(const System& s);
+
+// Index of bond j->i for every bond i->j (rows are sorted by neighbour).
+std::vector<uint64_t> reverse_bonds(const Bonds& B);
+
+// The assembled tangent on the free dofs. Row-block i is computed from i's bonds (and,
+// for state-based particles, their neighbours' bonds) and stored as column i of a
+// column-major matrix, i.e. the matrix holds K^T, equal to K (symmetric) to round-off.
+SparseMatrix assemble_tangent(const System& s, const DofMap& d, const Linearization& lin);
+SparseMatrix assemble_tangent(const System& s, const DofMap& d);
+
+// The tangent by central finite differences of compute_forces (any material): columns
+// whose rows cannot overlap are probed together (particles more than twice the reach of
+// a perturbation apart share a probe). Bonds do not break while probing; u and the
+// forces are restored. probe: the displacement step [m] (default 1e-6 spacing).
+SparseMatrix finite_difference_tangent(System& s, const DofMap& d, double probe = 0);
+
+// y = K x without assembling K: two passes over the bonds, like compute_forces.
+class TangentOperator {
+ public:
+  TangentOperator(const System& s, const DofMap& d);
+  Eigen::Index rows() const { return static_cast<Eigen::Index>(d_.size()); }
+  void apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // Diagonal of K (for a Jacobi preconditioner).
+  Eigen::VectorXd diagonal() const;
+  std::size_t bytes() const { return lin_.bytes(); }
+
+ private:
+  const System& s_;
+  const DofMap& d_;
+  Linearization lin_;
+  mutable std::vector<Vec3> x3_;   // x scattered to particles
+  mutable std::vector<double> dP_;
+};
+
+// Gerschgorin bound sum_j |K_ij| / V_i of every dof row (force-density units), from
+// the triangle inequality on the terms above: an upper bound of the row sums of the
+// tangent at the current state, computed in O(bonds). ADR's fictitious mass uses it.
+Eigen::VectorXd stiffness_row_bound(const System& s, const DofMap& d, const Linearization& lin);
+
+}  // namespace horizon
