@@ -1,4 +1,4 @@
-// The `horizon` command line: run, check, render, --version. It only chains library
+// The `horizon` command line: run, check, render, plot, --version. It only chains library
 // calls; every stage lives in src/horizon.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -9,6 +9,7 @@
 #include "horizon/core/version.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
+#include "horizon/output/plot.hpp"
 #include "horizon/output/render.hpp"
 #include "horizon/output/resolve_frame.hpp"
 #include "horizon/output/vtu.hpp"
@@ -45,6 +46,16 @@ int main(int argc, char** argv) {
   render->add_option("--width", render_opts.width, "image width in pixels")->check(CLI::Range(64, 8192));
   render->add_option("--scale", render_opts.displacement_scale, "displacement magnification");
 
+  std::string history_path, plot_x, plot_y, plot_png;
+  double x_scale = 1, y_scale = 1;
+  auto* plot = app.add_subcommand("plot", "plot two columns of a run's history.csv to PNG and print the peak");
+  plot->add_option("history", history_path, "a history.csv, or a run's output directory")->required();
+  plot->add_option("--x", plot_x, "column for the horizontal axis (e.g. load:displacement_uy)")->required();
+  plot->add_option("--y", plot_y, "column for the vertical axis (e.g. load:displacement_fy)")->required();
+  plot->add_option("--x-scale", x_scale, "multiply x by this (units, sign)");
+  plot->add_option("--y-scale", y_scale, "multiply y by this (units, sign)");
+  plot->add_option("-o,--output", plot_png, "PNG file (default: <y>.png beside the history)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -66,6 +77,12 @@ int main(int argc, char** argv) {
       const System s = build_system(config);
       fmt::print("{}", format_check(config, check_system(config, s)));
       fmt::print("deck is valid\n");
+      return 0;
+    }
+    if (*plot) {
+      const PlotCommandResult r = plot_history(history_path, plot_x, plot_y, x_scale, y_scale, plot_png);
+      fmt::print("peak {} = {:.6g} at {} = {:.6g} (row {}); wrote {}\n", plot_y, r.peak.y, plot_x, r.peak.x,
+                 r.peak.index, r.png);
       return 0;
     }
     if (*render) {

@@ -1,8 +1,18 @@
-// Kernel benchmarks: the force pass (PMB, LPS) and the neighbour search on a 3-D
-// block, horizon = 3 spacings. Throughput is reported as directed bonds per second.
+// Kernel benchmarks (Google Benchmark): the force pass of the PMB (breaking, damage,
+// force in one pass), the two passes of the LPS (dilatation; force), the neighbour
+// search, and a memory-bandwidth probe (STREAM triad), on 3-D blocks of n^3 particles
+// with horizon = 3 spacings. Throughput is in directed bonds per second.
 //   build/bench/bench_kernels --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+// bench/scaling.py runs these and fits the growth exponent, the thread speed-up and the
+// fraction of the bandwidth bound (docs/benchmarks.md).
 #include <benchmark/benchmark.h>
 #include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <vector>
 
 #include "horizon/family/neighbors.hpp"
 #include "horizon/geometry/lattice.hpp"
@@ -34,26 +44,131 @@ Config block_config(int n, ModelKind model, bool damage) {
   return c;
 }
 
-System make_block(int n, ModelKind model) {
-  System s = build_system(block_config(n, model, true));
-  for (std::size_t i = 0; i < s.particles.size(); ++i) s.particles.u[i] = s.particles.X[i] * 1e-4;
-  return s;
+// One block per (n, model), built once and kept: the 1e6-particle block takes seconds.
+System& block(int n, ModelKind model) {
+  static std::map<std::pair<int, int>, std::unique_ptr<System>> cache;
+  auto& slot = cache[{n, static_cast<int>(model)}];
+  if (!slot) {
+    cache.clear();  // one block in memory at a time
+    auto& fresh = cache[{n, static_cast<int>(model)}];
+    fresh = std::make_unique<System>(build_system(block_config(n, model, true)));
+    for (std::size_t i = 0; i < fresh->particles.size(); ++i) fresh->particles.u[i] = fresh->particles.X[i] * 1e-4;
+    return *fresh;
+  }
+  return *slot;
 }
 
-void force_pass(benchmark::State& state, ModelKind model) {
+void report(benchmark::State& state, const System& s) {
+  state.counters["particles"] = static_cast<double>(s.particles.size());
+  state.counters["bonds"] = static_cast<double>(s.bonds.size());
+  state.counters["bonds_per_s"] = benchmark::Counter(static_cast<double>(s.bonds.size()) *
+                                                         static_cast<double>(state.iterations()),
+                                                     benchmark::Counter::kIsRate);
+  state.SetLabel(kernel_path_name());
+}
+
+void BM_PmbForce(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
-  System s = make_block(static_cast<int>(state.range(0)), model);
+  System& s = block(static_cast<int>(state.range(0)), ModelKind::pmb);
   for (auto _ : state) {
     compute_forces(s, false);
     benchmark::DoNotOptimize(s.particles.f.data());
   }
-  state.counters["bonds"] = static_cast<double>(s.bonds.size());
-  state.counters["bonds_per_s"] = benchmark::Counter(static_cast<double>(s.bonds.size()) * state.iterations(),
-                                                     benchmark::Counter::kIsRate);
+  report(state, s);
 }
 
-void BM_PmbForce(benchmark::State& state) { force_pass(state, ModelKind::pmb); }
-void BM_LpsForce(benchmark::State& state) { force_pass(state, ModelKind::lps); }
+// The same force pass with each bond stored once (j > i only), its force added to
+// both ends: half the square roots and divisions, but the force on j is scattered to
+// another particle's row, so threads need atomics and the sum order depends on the
+// thread count. Measured here to decide the storage (docs/benchmarks.md); scalar, like
+// the portable path of compute_forces, which it should be compared with.
+void BM_PmbHalfBonds(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(1));
+  omp_set_num_threads(threads);
+  System& s = block(static_cast<int>(state.range(0)), ModelKind::pmb);
+  compute_forces(s, false);
+  const auto& B = s.bonds;
+  const auto& M = s.model;
+  const std::size_t n = s.particles.size();
+  std::vector<double> f(3 * n);
+  for (auto _ : state) {
+    std::fill(f.begin(), f.end(), 0.0);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point4 pi = M.packed[i];
+      double fx = 0, fy = 0, fz = 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        const uint32_t j = B.nbr[k];
+        if (j < i || !B.intact[k]) continue;
+        const KindCoefficients& c = M.kind[B.kind[k]];
+        const Point4 pj = M.packed[j];
+        const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
+        const double r = std::sqrt(Yx * Yx + Yy * Yy + Yz * Yz), e = r - c.length;
+        const double stretch = e * c.inv_length;
+        if (stretch > std::min(pi.w, pj.w)) continue;
+        const double a = c.pair * e / r;
+        fx += a * Yx, fy += a * Yy, fz += a * Yz;
+        if (threads == 1) {
+          f[3 * j] -= a * Yx, f[3 * j + 1] -= a * Yy, f[3 * j + 2] -= a * Yz;
+        } else {
+#pragma omp atomic
+          f[3 * j] -= a * Yx;
+#pragma omp atomic
+          f[3 * j + 1] -= a * Yy;
+#pragma omp atomic
+          f[3 * j + 2] -= a * Yz;
+        }
+      }
+#pragma omp atomic
+      f[3 * i] += fx;
+#pragma omp atomic
+      f[3 * i + 1] += fy;
+#pragma omp atomic
+      f[3 * i + 2] += fz;
+    }
+    benchmark::DoNotOptimize(f.data());
+  }
+  report(state, s);
+  state.SetLabel("scalar, bonds once");
+}
+
+void BM_PmbForceScalar(benchmark::State& state) {
+  set_kernel_path(KernelPath::scalar);
+  BM_PmbForce(state);
+  set_kernel_path(KernelPath::automatic);
+}
+
+void BM_LpsDilatation(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  System& s = block(static_cast<int>(state.range(0)), ModelKind::lps);
+  compute_forces(s, false);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(state_based_dilatation_pass(s));
+  }
+  report(state, s);
+}
+
+void BM_LpsForce(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  System& s = block(static_cast<int>(state.range(0)), ModelKind::lps);
+  compute_forces(s, false);
+  for (auto _ : state) {
+    state_based_force_pass(s, false);
+    benchmark::DoNotOptimize(s.particles.f.data());
+  }
+  report(state, s);
+}
+
+// Both LPS passes, as compute_forces runs them.
+void BM_LpsStep(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  System& s = block(static_cast<int>(state.range(0)), ModelKind::lps);
+  for (auto _ : state) {
+    compute_forces(s, false);
+    benchmark::DoNotOptimize(s.particles.f.data());
+  }
+  report(state, s);
+}
 
 void BM_NeighborSearch(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
@@ -67,14 +182,45 @@ void BM_NeighborSearch(benchmark::State& state) {
     benchmark::DoNotOptimize(b.nbr.data());
   }
   state.counters["bonds_per_s"] =
-      benchmark::Counter(static_cast<double>(bonds) * state.iterations(), benchmark::Counter::kIsRate);
+      benchmark::Counter(static_cast<double>(bonds) * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate);
+}
+
+// Memory bandwidth: the STREAM triad a = b + s c on arrays far larger than the caches.
+// Bytes counted: 24 per element (read b, c; write a), as STREAM does.
+void BM_Triad(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  omp_set_num_threads(threads);
+  const std::size_t n = std::size_t{1} << 25;  // 256 MiB per array
+  std::vector<double> a(n), b(n, 1.0), c(n, 2.0);
+  const double s = 3.0;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) a[i] = 0;  // first touch by the threads that use it
+  for (auto _ : state) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
+    benchmark::DoNotOptimize(a.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["bytes_per_s"] = benchmark::Counter(24.0 * static_cast<double>(n) * static_cast<double>(state.iterations()),
+                                                     benchmark::Counter::kIsRate);
 }
 
 }  // namespace
 
-// Block of n^3 particles (n = 40: 64,000 particles, ~7e6 directed bonds), 1 and 2 threads.
-BENCHMARK(BM_PmbForce)->Args({40, 1})->Args({40, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_LpsForce)->Args({40, 1})->Args({40, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_NeighborSearch)->Args({40, 1})->Args({40, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+// Blocks of n^3 particles: n = 22 (1.06e4 particles), 47 (1.04e5), 100 (1e6; about
+// 1.2e8 directed bonds); 1 and 2 threads. The LPS passes on the middle size only.
+BENCHMARK(BM_PmbForce)
+    ->ArgsProduct({{22, 47, 100}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
+BENCHMARK(BM_PmbForceScalar)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PmbHalfBonds)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LpsDilatation)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LpsForce)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LpsStep)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_NeighborSearch)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Triad)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

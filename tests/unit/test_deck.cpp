@@ -477,5 +477,145 @@ TEST(DeckErrors, PrecrackMustSuitTheDimension) {
                {"precracks[0].polygon", "2-D deck a precrack is a segment"});
 }
 
+// --- Static and implicit solvers (solver section) ---------------------------------
+
+TEST(Deck, StaticSolverKeys) {
+  const Config c = parse_deck(
+      small_deck_with(14, "solver: {type: static, method: adr, tolerance: 1.0e-8, max_iterations: 5000, "
+                          "load_steps: 20, max_step_cuts: 3, max_break_rounds: 50, condition_number: true}"),
+      "static.yaml");
+  EXPECT_EQ(c.solver.type, SolverType::static_equilibrium);
+  EXPECT_EQ(c.solver.method, StaticMethod::adr);
+  EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-8);
+  ASSERT_TRUE(c.solver.max_iterations.has_value());
+  EXPECT_EQ(*c.solver.max_iterations, 5000);
+  EXPECT_EQ(c.solver.load_steps, 20);
+  EXPECT_EQ(c.solver.max_step_cuts, 3);
+  EXPECT_EQ(c.solver.max_break_rounds, 50);
+  EXPECT_TRUE(c.solver.condition_number);
+  EXPECT_DOUBLE_EQ(c.solver.end_time, 1.0) << "a static solve's pseudo-time defaults to 1";
+
+  const Config n = parse_deck(
+      small_deck_with(14, "solver: {type: static, linear_solver: cholesky, tangent: finite_difference, end_time: 5}"),
+      "newton.yaml");
+  EXPECT_EQ(n.solver.method, StaticMethod::newton);
+  EXPECT_EQ(n.solver.linear_solver, LinearSolverKind::cholesky);
+  EXPECT_EQ(n.solver.tangent, TangentKind::finite_difference);
+  EXPECT_DOUBLE_EQ(n.solver.end_time, 5);
+  EXPECT_FALSE(n.solver.max_iterations.has_value());
+  EXPECT_EQ(n.solver.load_steps, 1);
+  EXPECT_FALSE(n.solver.condition_number);
+}
+
+TEST(Deck, ImplicitDynamicSolverKeys) {
+  const Config c = parse_deck(
+      small_deck_with(14, "solver: {type: implicit_dynamic, end_time: 1.0e-5, time_step: 1.0e-7, damping: 10, "
+                          "linear_solver: matrix_free}"),
+      "implicit.yaml");
+  EXPECT_EQ(c.solver.type, SolverType::implicit_dynamic);
+  ASSERT_TRUE(c.solver.time_step.has_value());
+  EXPECT_DOUBLE_EQ(*c.solver.time_step, 1e-7);
+  EXPECT_DOUBLE_EQ(c.solver.damping, 10);
+  EXPECT_EQ(c.solver.linear_solver, LinearSolverKind::matrix_free);
+  // The explicit default is unchanged.
+  EXPECT_EQ(parse_deck(kSmallDeck, "small.yaml").solver.type, SolverType::explicit_dynamic);
+}
+
+TEST(DeckErrors, StaticSolverMistakes) {
+  // Misspelt keys and values suggest the closest.
+  expect_error(small_deck_with(14, "solver: {type: static, metod: newton}"), 14, 24,
+               {"solver.metod", "unknown key 'metod'", "did you mean 'method'?"});
+  expect_error(small_deck_with(14, "solver: {type: static, method: newtn}"), 14, 32,
+               {"solver.method", "expected one of newton, adr", "did you mean 'newton'?"});
+  expect_error(small_deck_with(14, "solver: {type: static, linear_solver: cholesky_}"), 14, 39,
+               {"solver.linear_solver", "expected one of cg, cholesky, matrix_free", "did you mean 'cholesky'?"});
+  expect_error(small_deck_with(14, "solver: {type: statik}"), 14, 16,
+               {"solver.type", "expected one of explicit, static, implicit_dynamic", "did you mean 'static'?"});
+  // Keys of one solver type are errors in the others.
+  expect_error(small_deck_with(14, "solver: {end_time: 1.0e-6, method: newton}"), 14, 28,
+               {"solver.method", "applies to type: static only", "this deck has type: explicit"});
+  expect_error(small_deck_with(14, "solver: {type: static, safety_factor: 0.5}"), 14, 24,
+               {"solver.safety_factor", "applies to type: explicit only", "this deck has type: static"});
+  expect_error(small_deck_with(14, "solver: {type: static, method: adr, linear_solver: cg}"), 14, 37,
+               {"solver.linear_solver", "applies to method: newton only"});
+  expect_error(small_deck_with(14, "solver: {type: implicit_dynamic, end_time: 1.0e-6}"), 14, 1,
+               {"solver: missing required key 'time_step'"});
+  // Impossible values.
+  expect_error(small_deck_with(14, "solver: {type: static, tolerance: 2}"), 14, 35,
+               {"solver.tolerance", "expected a number in (0, 1)", "found 2"});
+  expect_error(small_deck_with(14, "solver: {type: static, load_steps: 0}"), 14, 36,
+               {"solver.load_steps", "a whole number >= 1"});
+  expect_error(small_deck_with(14, "solver: {type: static, linear_solver: matrix_free, tangent: finite_difference}"),
+               14, 61, {"solver.tangent", "finite-difference tangent is assembled"});
+}
+
 }  // namespace
+
+// Tupek's nonlinear solid (docs/input.md, model nonlinear_solid).
+namespace {
+const char* const kTupekDeck = R"deck(dimension: 2
+plane: stress
+spacing: 1.0e-3
+horizon: 3.0e-3
+materials:
+  pmma:
+    model: nonlinear_solid
+    seth_hill_m: -0.25
+    density: 1180
+    youngs_modulus: 3.5e9
+    poissons_ratio: 0.35
+    damage: {law: energy, fracture_energy: 400, broken_bonds: off}
+  al: {model: tupek, fracture: false, density: 2700, youngs_modulus: 70e9, poissons_ratio: 0.33}
+bodies:
+  - {name: plate, material: pmma, shape: {box: {min: [0, 0], max: [0.01, 0.01]}}}
+  - {name: ball, material: al, shape: {box: {min: [0.012, 0], max: [0.014, 0.002]}}}
+solver: {end_time: 1.0e-6, adaptive_time_step: true, adaptive_every: 3}
+)deck";
+}  // namespace
+
+TEST(Deck, NonlinearSolidDeck) {
+  const Config c = parse_deck(kTupekDeck, "tupek.yaml");
+  ASSERT_EQ(c.materials.size(), 2u);
+  EXPECT_EQ(c.materials[0].model, ModelKind::nonlinear_solid);
+  EXPECT_EQ(c.materials[0].influence, InfluenceKind::tupek);
+  EXPECT_EQ(c.materials[0].seth_hill_m, -0.25);
+  EXPECT_TRUE(c.materials[0].damage.energy_law);
+  EXPECT_FALSE(c.materials[0].damage.broken_bonds_compression);
+  EXPECT_EQ(*c.materials[0].damage.fracture_energy, 400);
+  EXPECT_EQ(c.materials[1].model, ModelKind::nonlinear_solid);  // "tupek" is an alias
+  EXPECT_FALSE(c.materials[1].fracture);
+  EXPECT_EQ(c.materials[1].seth_hill_m, 0);  // default: the log strain
+  EXPECT_TRUE(c.solver.adaptive_time_step);
+  EXPECT_EQ(c.solver.adaptive_every, 3);
+}
+
+TEST(DeckErrors, NonlinearSolidMistakes) {
+  auto with = [](const std::string& from, const std::string& to) {
+    std::string d = kTupekDeck;
+    d.replace(d.find(from), from.size(), to);
+    return d;
+  };
+  // Mixing with pmb/lps is an error at the second material's model.
+  expect_error(with("model: tupek, fracture: false,", "model: lps,"), 13, 15,
+               {"materials.al.model", "cannot share a run", "nonlinear_solid"});
+  // Critical stretch is not the nonlinear solid's law.
+  expect_error(with("law: energy", "law: critical_stretch"), 12, 19, {"law: energy", "thesis eq. 6.10"});
+  // A typo in broken_bonds suggests the closest word.
+  expect_error(with("broken_bonds: off", "broken_bonds: compresion_only"), 12, 63, {"compression_only"});
+  // Model-specific keys on other models.
+  expect_error(with("  al: {model: tupek, fracture: false,", "  al: {model: lps, fracture: false,"), 13, 20,
+               {"materials.al.fracture", "applies to model nonlinear_solid only"});
+  // Other influence functions are refused.
+  expect_error(with("    seth_hill_m: -0.25", "    influence: linear"), 8, 16, {"influence: tupek"});
+  // fracture: false with a damage map.
+  expect_error(with("    seth_hill_m: -0.25", "    fracture: false"), 8, 5, {"fracture: false suppresses"});
+  // adaptive_every without adaptive_time_step.
+  expect_error(with("adaptive_time_step: true, ", ""), 17, 28, {"adaptive_every", "adaptive_time_step: true"});
+}
+
+TEST(DeckErrors, AdaptiveStepNeedsNonlinearSolid) {
+  expect_error(small_deck_with(14, "solver: {end_time: 1.0e-6, adaptive_time_step: true}"), 14, 48,
+               {"solver.adaptive_time_step", "nonlinear_solid"});
+}
+
 }  // namespace horizon

@@ -16,8 +16,10 @@
 namespace horizon {
 
 enum class PlaneMode { none, stress, strain };
-enum class ModelKind { pmb, lps };
-enum class InfluenceKind { constant, inverse, linear, gaussian };
+// nonlinear_solid: Tupek's nonlinear ordinary solid (thesis eq. 5.1), material/nonlinear_solid.hpp.
+enum class ModelKind { pmb, lps, nonlinear_solid };
+// tupek: the normalised (6.6)/(6.7) functions (nonlinear_solid only).
+enum class InfluenceKind { constant, inverse, linear, gaussian, tupek };
 
 struct DamageConfig {
   bool enabled = false;
@@ -33,6 +35,12 @@ struct DamageConfig {
   // that step (false, the default, as Peridigm) or after them (true, as LAMMPS PERI:
   // the bond still acts in the step it breaks). All materials with damage must agree.
   bool break_after_force = false;
+  // law: energy (nonlinear_solid only): a pair of bonds breaks when its instantaneous
+  // bond energies reach 2 s_c = 2 beta omega/|xi|^2 (thesis eqs. 6.5-6.11), beta from
+  // fracture_energy. Broken bonds still push in compression (6.9) unless
+  // broken_bonds_compression is false (the Kalthoff variant: off for good).
+  bool energy_law = false;
+  bool broken_bonds_compression = true;
 };
 
 struct MaterialConfig {
@@ -47,6 +55,8 @@ struct MaterialConfig {
   InfluenceKind influence = InfluenceKind::constant;
   DamageConfig damage;
   std::optional<double> micromodulus;  // PMB: c given directly [N/m^6]; the moduli above follow from it
+  double seth_hill_m = 0;              // nonlinear_solid: Seth-Hill parameter m (thesis eq. 4.2)
+  bool fracture = true;                // nonlinear_solid: false suppresses bond failure (a projectile)
 };
 
 struct BodyConfig {
@@ -98,6 +108,10 @@ struct SolverConfig {
   int max_step_cuts = 6;                // halvings of one increment before giving up
   int max_break_rounds = 100;           // break-and-re-equilibrate rounds per load step
   bool condition_number = false;        // estimate the tangent's condition number
+  // Explicit, nonlinear_solid: recompute the stable step from the current bond tangent
+  // stiffness every adaptive_every steps (solver/forces_nonlinear.hpp).
+  bool adaptive_time_step = false;
+  int adaptive_every = 5;
 };
 
 // How the damage field weighs the bonds: phi_i = 1 - sum(intact) w / sum(all) w with

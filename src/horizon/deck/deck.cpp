@@ -90,6 +90,22 @@ void read_materials(const DeckContext& ctx, const MapReader& m, Config& config) 
   }
   for (const auto& e : entries) config.materials.push_back(read_material(ctx, e.key, e.value));
   for (auto& mat : config.materials) derive_from_micromodulus(mat, config);
+  // Tupek's nonlinear solid has its own bond loops: it shares a run only with itself.
+  for (std::size_t q = 1; q < entries.size(); ++q) {
+    const bool a = config.materials[0].model == ModelKind::nonlinear_solid;
+    const bool b = config.materials[q].model == ModelKind::nonlinear_solid;
+    if (a != b) {
+      const Item model = *MapReader(ctx, entries[q].value, {"model", "density", "youngs_modulus", "poissons_ratio",
+                                                             "bulk_modulus", "shear_modulus", "influence", "damage",
+                                                             "micromodulus", "seth_hill_m", "fracture"})
+                              .find("model");
+      ctx.fail(model.mark, model.path + ": model " + model.node.Scalar() + " cannot share a run with material '" +
+                               config.materials[0].name + "' (model " + (a ? "nonlinear_solid" : "pmb or lps") +
+                               "): bodies of model nonlinear_solid interact only with nonlinear_solid bodies; "
+                               "use model nonlinear_solid for every material (e.g. with fracture: false for a "
+                               "projectile)");
+    }
+  }
   // One breaking order for the whole run: the force pass applies it to every bond.
   const MaterialConfig* first_damaged = nullptr;
   for (std::size_t q = 0; q < entries.size(); ++q) {
@@ -159,7 +175,7 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   MapReader s(ctx, m.get("solver", "at least {end_time: ...}"),
               {"type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
                "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds",
-               "condition_number"});
+               "condition_number", "adaptive_time_step", "adaptive_every"});
   SolverConfig& sc = config.solver;
   std::string type = "explicit";
   if (auto t = s.find("type")) {
@@ -242,6 +258,26 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   if (auto mc = s.find("max_step_cuts")) sc.max_step_cuts = at_least(*mc, 0);
   if (auto mb = s.find("max_break_rounds")) sc.max_break_rounds = at_least(*mb, 1);
   if (auto cn = s.find("condition_number")) sc.condition_number = read_bool(ctx, *cn);
+  only_for(ctx, s, "adaptive_time_step", is_explicit, "type: explicit", type);
+  only_for(ctx, s, "adaptive_every", is_explicit, "type: explicit", type);
+  if (auto a = s.find("adaptive_time_step")) {
+    sc.adaptive_time_step = read_bool(ctx, *a);
+    bool nonlinear = !config.materials.empty();
+    for (const auto& mat : config.materials) nonlinear = nonlinear && mat.model == ModelKind::nonlinear_solid;
+    if (sc.adaptive_time_step && !nonlinear) {
+      ctx.fail(a->mark, a->path + ": the adaptive time step follows the bond stiffness of model nonlinear_solid; "
+                                  "the other models keep the step fixed at the start");
+    }
+    if (sc.adaptive_time_step && sc.time_step) {
+      ctx.fail(a->mark, a->path + ": give either time_step (fixed) or adaptive_time_step: true, not both");
+    }
+  }
+  if (auto a = s.find("adaptive_every")) {
+    sc.adaptive_every = at_least(*a, 1);
+    if (!sc.adaptive_time_step) {
+      ctx.fail(*a->key_mark, a->path + ": applies with adaptive_time_step: true only");
+    }
+  }
 }
 
 void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {

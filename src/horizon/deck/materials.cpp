@@ -71,6 +71,7 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
     if (auto item = m.find(kConstantKeys[c])) given.push_back(read_constant(ctx, static_cast<Constant>(c), *item));
   const std::string path = m.self().path;
   const bool pmb = mat.model == ModelKind::pmb;
+  const std::string model_name = mat.model == ModelKind::lps ? "lps" : "nonlinear_solid";
   const std::string all_four = "youngs_modulus, poissons_ratio, bulk_modulus, shear_modulus";
 
   if (given.empty()) {
@@ -78,7 +79,7 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
     ctx.fail(self.key_mark.value_or(self.mark),
              path + ": missing elastic constants (" +
                  (pmb ? "model pmb needs one of youngs_modulus, bulk_modulus, shear_modulus)"
-                      : "model lps needs two of " + all_four + ")"));
+                      : "model " + model_name + " needs two of " + all_four + ")"));
   }
   if (given.size() > 2) {
     ctx.fail(*given[2].item.key_mark, path + ": give at most two of " + all_four + "; found " +
@@ -118,7 +119,7 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
     }
   } else {
     if (given.size() < 2) {
-      ctx.fail(*given[0].item.key_mark, path + ": model lps needs two elastic constants (any two of " + all_four +
+      ctx.fail(*given[0].item.key_mark, path + ": model " + model_name + " needs two elastic constants (any two of " + all_four +
                                             "); found only " + kConstantKeys[given[0].which]);
     }
     to_e_nu(given[0], given[1], e, nu);
@@ -141,11 +142,36 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
   }
 }
 
-DamageConfig read_damage(const DeckContext& ctx, const Item& item) {
-  MapReader m(ctx, item, {"law", "critical_stretch", "fracture_energy", "alpha", "breaks"});
-  if (auto law = m.find("law")) choose_word(ctx, *law, {"critical_stretch"});
+DamageConfig read_damage(const DeckContext& ctx, const Item& item, ModelKind model) {
+  MapReader m(ctx, item, {"law", "critical_stretch", "fracture_energy", "alpha", "breaks", "broken_bonds"});
   DamageConfig d;
   d.enabled = true;
+  const bool nonlinear = model == ModelKind::nonlinear_solid;
+  if (auto law = m.find("law")) d.energy_law = choose_word(ctx, *law, {"critical_stretch", "energy"}) == 1;
+  if (nonlinear) {
+    // Tupek's brittle failure (thesis sec. 6.1.3): the energy law with G_c only.
+    if (auto law = m.find("law"); law && !d.energy_law) {
+      ctx.fail(law->mark, law->path + ": model nonlinear_solid breaks bonds by energy (law: energy, thesis eq. 6.10), "
+                                      "not by critical stretch");
+    }
+    for (const char* key : {"critical_stretch", "alpha", "breaks"})
+      if (auto k = m.find(key))
+        ctx.fail(*k->key_mark, k->path + ": does not apply to law: energy of model nonlinear_solid; give "
+                                         "fracture_energy (and broken_bonds)");
+    d.energy_law = true;
+    d.fracture_energy = read_positive(ctx, m.get("fracture_energy", "G_c [J/m^2], > 0"));
+    if (auto b = m.find("broken_bonds"))
+      d.broken_bonds_compression = choose_word(ctx, *b, {"compression_only", "off"}) == 0;
+    return d;
+  }
+  if (d.energy_law) {
+    const Item law = *m.find("law");
+    ctx.fail(law.mark, law.path + ": law: energy belongs to model nonlinear_solid; models pmb and lps use "
+                                  "law: critical_stretch");
+  }
+  if (auto b = m.find("broken_bonds")) {
+    ctx.fail(*b->key_mark, b->path + ": applies to model nonlinear_solid only (broken pmb/lps bonds never act)");
+  }
   const auto which = m.exactly_one({"critical_stretch", "fracture_energy"}, true);
   if (*which == "critical_stretch")
     d.critical_stretch = read_positive(ctx, *m.find("critical_stretch"));
@@ -175,11 +201,28 @@ MaterialConfig read_material(const DeckContext& ctx, const std::string& name, co
   MapReader m(
       ctx, item,
       {"model", "density", "youngs_modulus", "poissons_ratio", "bulk_modulus", "shear_modulus", "influence", "damage",
-       "micromodulus"});
+       "micromodulus", "seth_hill_m", "fracture"});
   MaterialConfig mat;
   mat.name = name;
-  mat.model =
-      read_enum<ModelKind>(ctx, m.get("model", "pmb or lps"), {{"pmb", ModelKind::pmb}, {"lps", ModelKind::lps}});
+  mat.model = read_enum<ModelKind>(ctx, m.get("model", "pmb, lps or nonlinear_solid"),
+                                   {{"pmb", ModelKind::pmb},
+                                    {"lps", ModelKind::lps},
+                                    {"nonlinear_solid", ModelKind::nonlinear_solid},
+                                    {"tupek", ModelKind::nonlinear_solid}});
+  const bool nonlinear = mat.model == ModelKind::nonlinear_solid;
+  for (const char* key : {"seth_hill_m", "fracture"})
+    if (auto k = m.find(key); k && !nonlinear)
+      ctx.fail(*k->key_mark, k->path + ": applies to model nonlinear_solid only");
+  if (nonlinear) {
+    if (ctx.dimension == 1) {
+      const Item model = *m.find("model");
+      ctx.fail(model.mark, model.path + ": model nonlinear_solid needs dimension 2 or 3 (its influence functions "
+                                        "(6.6)/(6.7) are 2-D and 3-D)");
+    }
+    mat.influence = InfluenceKind::tupek;
+    if (auto k = m.find("seth_hill_m")) mat.seth_hill_m = read_number(ctx, *k);  // any real m (m < 0 allowed)
+    if (auto k = m.find("fracture")) mat.fracture = read_bool(ctx, *k);
+  }
   mat.density = read_positive(ctx, m.get("density", "mass density [kg/m^3], > 0"));
   if (auto c = m.find("micromodulus")) {
     // The PMB's one constant given directly (as LAMMPS's pair_coeff for peri/pmb).
@@ -201,9 +244,19 @@ MaterialConfig read_material(const DeckContext& ctx, const std::string& name, co
                                              {{"constant", InfluenceKind::constant},
                                               {"inverse", InfluenceKind::inverse},
                                               {"linear", InfluenceKind::linear},
-                                              {"gaussian", InfluenceKind::gaussian}});
+                                              {"gaussian", InfluenceKind::gaussian},
+                                              {"tupek", InfluenceKind::tupek}});
+    if ((mat.influence == InfluenceKind::tupek) != nonlinear) {
+      ctx.fail(i->mark, i->path + (nonlinear ? ": model nonlinear_solid uses influence: tupek (the normalised "
+                                               "functions (6.6)/(6.7) its calibration assumes)"
+                                             : ": influence: tupek belongs to model nonlinear_solid"));
+    }
   }
-  if (auto d = m.find("damage")) mat.damage = read_damage(ctx, *d);
+  if (auto d = m.find("damage")) mat.damage = read_damage(ctx, *d, mat.model);
+  if (nonlinear && mat.damage.enabled && !mat.fracture) {
+    const Item f = *m.find("fracture");
+    ctx.fail(*f.key_mark, f.path + ": fracture: false suppresses bond failure; leave out the damage map too");
+  }
   return mat;
 }
 

@@ -13,6 +13,7 @@
 #include "horizon/core/interrupt.hpp"
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
+#include "horizon/damage/crack_angle.hpp"
 #include "horizon/damage/crack_metrics.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/output/atomic_file.hpp"
@@ -93,7 +94,18 @@ Frame make_frame(const System& s, double time, int64_t step) {
   scal("energy_density", [&](std::size_t i) { return P.energy[i]; });
   scal("block", [&](std::size_t i) { return static_cast<double>(P.block[i]); });
   scal("volume", [&](std::size_t i) { return P.volume[i]; });
+  if (s.nonlinear.enabled)  // Tupek's nonlocal damage D (thesis eq. 6.12), > 0 at free surfaces
+    scal("nonlocal_damage", [&](std::size_t i) { return s.nonlinear.nonlocal_damage[i]; });
   return f;
+}
+
+// CPU time of the process so far (all threads) [s]: with the wall time, it tells how
+// much of the machine a run had (benchmarks on shared machines).
+double cpu_seconds() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
 }
 
 double peak_memory_bytes() {
@@ -203,7 +215,12 @@ int run_deck(Config config, const RunOptions& options) {
   };
   CrackTracker crack(config);
 
-  const int64_t total = check.steps;
+  int64_t total = check.steps;
+  // The adaptive step (model nonlinear_solid): recomputed from the current bond stiffness
+  // every adaptive_every steps; the run ends at end_time, frames fall due by time.
+  const bool adaptive = s.nonlinear.enabled && s.nonlinear.adaptive_every > 0;
+  const double end_time = config.solver.end_time;
+  double dt_nominal = check.dt, dt_min = check.dt, dt_max = check.dt;
   const int64_t history_every = std::max(1, config.output.history_every);
   const int frames = std::max(1, config.output.frames);
   record_history();
@@ -216,11 +233,24 @@ int run_deck(Config config, const RunOptions& options) {
   int exit_code = 0;
   std::string message;
   int next_frame = 1;
+  const double cpu_start = cpu_seconds();
   try {
-    while (solver.steps() < total) {
+    while (adaptive ? solver.time() < end_time * (1 - 1e-12) : solver.steps() < total) {
       const int64_t step = solver.steps() + 1;
-      const bool frame_due = step * frames >= static_cast<int64_t>(next_frame) * total;
-      const bool history_due = step % history_every == 0 || step == total;
+      bool last = step == total;
+      if (adaptive) {
+        if (solver.steps() % s.nonlinear.adaptive_every == 0)
+          dt_nominal = config.solver.safety_factor * stable_time_step(s);
+        double dt = dt_nominal;
+        if (solver.time() + dt >= end_time * (1 - 1e-12)) dt = end_time - solver.time(), last = true;
+        solver.set_dt(dt);
+        dt_min = std::min(dt_min, dt_nominal);
+        dt_max = std::max(dt_max, dt_nominal);
+        total = std::max(total, step + 1);
+      }
+      const bool frame_due = adaptive ? last || (solver.time() + solver.dt()) * frames >= next_frame * end_time
+                                      : step * frames >= static_cast<int64_t>(next_frame) * total;
+      const bool history_due = step % history_every == 0 || last;
       solver.step(history_due || frame_due);
       if (history_due) {
         record_history();
@@ -254,6 +284,7 @@ int run_deck(Config config, const RunOptions& options) {
   clear_interrupt();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   const double loop_time = progress.elapsed();
+  const double loop_cpu_time = cpu_seconds() - cpu_start;
 
   write_file_atomic((dir / "history.csv").string(), history.str());
 
@@ -275,10 +306,12 @@ int run_deck(Config config, const RunOptions& options) {
   j["bonds"] = s.initial_bonds;
   j["steps"] = solver.steps();
   j["time_step"] = solver.dt();
+  if (adaptive) j["time_step_range"] = {dt_min, dt_max};
   j["time"] = solver.time();
   j["threads"] = omp_get_max_threads();
   j["wall_time_s"] = wall;
   j["loop_time_s"] = loop_time;
+  j["loop_cpu_time_s"] = loop_cpu_time;
   j["bond_updates_per_second"] =
       loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
@@ -318,6 +351,33 @@ int run_deck(Config config, const RunOptions& options) {
       cj["branch_distance"] = nullptr;
     }
     j["crack"] = cj;
+  }
+  if (s.nonlinear.enabled) {
+    // Tupek's fracture figures (thesis Table 6.1 and 6.2): dissipated energy per unit
+    // thickness (2-D), the crack length from the first precrack's tip, their ratio, and
+    // the angle each precrack's crack leaves its tip at (a fit through the damaged particles).
+    nlohmann::ordered_json fj;
+    const double per = config.dimension == 2 ? 1.0 / config.thickness : 1.0;
+    fj["dissipated_energy"] = g.dissipated;
+    fj["dissipated_energy_per_thickness"] = g.dissipated * per;
+    if (crack.active) {
+      const CrackFront f = crack_front(s.particles, crack.origin, crack.direction, 0.35, crack.band);
+      const double len = f.found ? f.length : 0.0;
+      fj["crack_length"] = len;
+      fj["energy_per_crack_length"] = len > 0 ? g.dissipated * per / len : 0.0;
+    }
+    nlohmann::ordered_json angles = nlohmann::ordered_json::array();
+    for (const auto& pc : config.precracks) {
+      if (pc.points.size() < 2) continue;
+      Vec3 d = pc.points[1] - pc.points[0];
+      d.z = 0;
+      if (norm(d) == 0) continue;
+      const CrackAngle a = crack_angle(s.particles, pc.points[1], d / norm(d), 0.35, 2 * config.horizon,
+                                       8 * config.horizon);
+      angles.push_back(a.found ? nlohmann::ordered_json(a.degrees) : nlohmann::ordered_json(nullptr));
+    }
+    fj["crack_angles_deg"] = angles;
+    j["fracture"] = fj;
   }
   write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
 

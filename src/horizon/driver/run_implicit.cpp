@@ -10,11 +10,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "horizon/core/error.hpp"
 #include "horizon/core/interrupt.hpp"
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/loading/loads.hpp"
+#include "horizon/material/stress_field.hpp"
 #include "horizon/output/atomic_file.hpp"
 #include "horizon/output/pvd.hpp"
 #include "horizon/output/vtu.hpp"
@@ -54,6 +56,10 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   const SolverConfig& sc = config.solver;
   const bool is_static = sc.type == SolverType::static_equilibrium;
 
+  // Contact forces depend on the positions outside the bond list: neither the tangent nor
+  // the static load path has them yet.
+  if (config.contact.short_range.enabled || !config.contact.indenters.empty())
+    throw Error("contact (short-range or rigid indenters) is available with solver type explicit only");
   System s = build_system(config);
   Loads loads(config, s);
   loads.apply_initial_conditions(config, s);
@@ -102,7 +108,8 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     {
       FixedBonds fixed(s);
       compute_forces(s, false);
-      K = assemble_tangent(s, dofs);
+      K = unified_form(s) && sc.tangent == TangentKind::analytic ? assemble_tangent(s, dofs)
+                                                                  : finite_difference_tangent(s, dofs);
     }
     if (!is_static) {
       Eigen::VectorXd shift = (4.0 / (*sc.time_step * *sc.time_step)) * nodal_mass(s, dofs);
@@ -128,6 +135,12 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
              "energy_balance_error,broken_bond_fraction,damage_max";
   for (const auto& L : loads.loads()) history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
+  // The mean displacement of each constrained region (load-displacement curves).
+  auto is_constraint = [](const AppliedLoad& L) {
+    return L.kind == LoadKind::displacement || L.kind == LoadKind::velocity;
+  };
+  for (const auto& L : loads.loads())
+    if (is_constraint(L)) history << "," << L.name << "_ux," << L.name << "_uy," << L.name << "_uz";
   history << ",load_factor,iterations,linear_iterations,residual,break_rounds\n";
   double max_balance_error = 0;
   auto record_history = [&](const Row& r) {
@@ -142,13 +155,34 @@ int run_implicit_deck(Config config, const RunOptions& options) {
                            broken_fraction, dmax);
     for (const auto& L : loads.loads())
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
+    for (const auto& L : loads.loads()) {
+      if (!is_constraint(L)) continue;
+      Vec3 mean;
+      for (uint32_t i : L.particles) mean += s.particles.u[i];
+      mean = mean / static_cast<double>(std::max<std::size_t>(1, L.particles.size()));
+      history << fmt::format(",{:.9e},{:.9e},{:.9e}", mean.x, mean.y, mean.z);
+    }
     history << fmt::format(",{:.9e},{},{},{:.3e},{}\n", r.lambda, r.iterations, r.linear_iterations, r.residual,
                            r.break_rounds);
   };
   int frame_count = 0;
   auto write_frame = [&](double time, int64_t step) {
     const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
-    write_vtu((dir / name).string(), make_frame(s, time, step));
+    Frame f = make_frame(s, time, step);
+    // Stress from the nonlocal deformation gradient and Hooke's law (material/stress_field.hpp).
+    const std::vector<SymTensor> sigma = stress_field(s, config.materials, config.plane);
+    const char* names[6] = {"stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_xz"};
+    const int shown[3][6] = {{0, -1, -1, -1, -1, -1}, {0, 1, 3, -1, -1, -1}, {0, 1, 2, 3, 4, 5}};
+    for (int c : shown[config.dimension - 1]) {
+      if (c < 0) continue;
+      FrameField ff{names[c], 1, std::vector<double>(sigma.size())};
+      for (std::size_t i = 0; i < sigma.size(); ++i) ff.data[i] = sigma[i][static_cast<std::size_t>(c)];
+      f.fields.push_back(std::move(ff));
+    }
+    FrameField vm{"von_mises", 1, std::vector<double>(sigma.size())};
+    for (std::size_t i = 0; i < sigma.size(); ++i) vm.data[i] = von_mises(sigma[i]);
+    f.fields.push_back(std::move(vm));
+    write_vtu((dir / name).string(), f);
     pvd.add(time, name);
     pvd.write();
   };

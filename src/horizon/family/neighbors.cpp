@@ -172,13 +172,55 @@ Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>&
   }
   for (std::size_t i = 0; i < n; ++i) b.offset[i + 1] += b.offset[i];
   b.nbr.resize(b.offset[n]);
-#pragma omp parallel for schedule(dynamic, 1024)
-  for (std::size_t i = 0; i < n; ++i) {
-    uint64_t k = b.offset[i];
-    for_each_neighbor(g, points, i, r2, [&](uint32_t j) { b.nbr[k++] = j; });
-    std::sort(b.nbr.begin() + static_cast<int64_t>(b.offset[i]), b.nbr.begin() + static_cast<int64_t>(k));
+  b.kind.resize(b.offset[n]);
+  b.intact.assign(b.offset[n], 1);
+  // Fill, sort each row, and give each bond a kind numbered per thread (thread t owns
+  // the particles [n t / T, n (t + 1) / T)); then renumber the kinds in sorted order,
+  // so that the result does not depend on the thread count.
+  const int threads = omp_get_max_threads();
+  std::vector<std::vector<BondKind>> found(static_cast<std::size_t>(threads));
+  auto range = [&](int t) { return std::pair<std::size_t, std::size_t>{n * t / threads, n * (t + 1) / threads}; };
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    auto& mine = found[static_cast<std::size_t>(t)];
+    KindTable table;
+    const auto [first, last] = range(t);
+    for (std::size_t i = first; i < last; ++i) {
+      uint64_t k = b.offset[i];
+      for_each_neighbor(g, points, i, r2, [&](uint32_t j) { b.nbr[k++] = j; });
+      std::sort(b.nbr.begin() + static_cast<int64_t>(b.offset[i]), b.nbr.begin() + static_cast<int64_t>(k));
+      for (k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+        const uint32_t j = b.nbr[k];
+        BondKind c;
+        c.length = norm(points[j] - points[i]);
+        c.volume = volume[j];
+        if (material) c.material_i = (*material)[i], c.material_j = (*material)[j];
+        const auto [id, inserted] = table.insert(key_of(c), static_cast<uint32_t>(mine.size()));
+        if (inserted) mine.push_back(c);
+        b.kind[k] = id;
+      }
+    }
   }
-  fill_reference_data(b, points, volume, material);
+  std::vector<BondKind> all;
+  for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
+  std::sort(all.begin(), all.end(), [](const BondKind& x, const BondKind& y) { return key_of(x) < key_of(y); });
+  all.erase(std::unique(all.begin(), all.end(),
+                        [](const BondKind& x, const BondKind& y) { return key_of(x) == key_of(y); }),
+            all.end());
+  if (all.size() >= (1ull << 32)) throw Error("more than 2^32 bond kinds");
+  KindTable index(all.size());
+  for (std::size_t q = 0; q < all.size(); ++q) index.insert(key_of(all[q]), static_cast<uint32_t>(q));
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    const auto& mine = found[static_cast<std::size_t>(t)];
+    std::vector<uint32_t> remap(mine.size());
+    for (std::size_t q = 0; q < mine.size(); ++q) remap[q] = index.find(key_of(mine[q]));
+    const auto [first, last] = range(t);
+    for (uint64_t k = b.offset[first]; k < b.offset[last]; ++k) b.kind[k] = remap[b.kind[k]];
+  }
+  b.kinds = std::move(all);
   return b;
 }
 

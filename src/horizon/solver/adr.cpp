@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/tangent.hpp"
@@ -19,7 +20,22 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
 
   compute_forces(s, false);
   // Fictitious mass (eq. 21) from the tangent's row sums at the starting state.
-  Eigen::VectorXd lambda = 0.25 * stiffness_row_bound(s, d, linearize(s));
+  // Models outside the unified bond form (the nonlinear solid): the row sums of the
+  // finite-difference tangent instead of the analytic bound.
+  Eigen::VectorXd bound;
+  if (unified_form(s)) {
+    bound = stiffness_row_bound(s, d, linearize(s));
+  } else {
+    bound = row_abs_sums(s, d, finite_difference_tangent(s, d));
+  }
+  Eigen::VectorXd lambda = 0.25 * bound;
+  double floor = 0;
+  {
+    double xmax = 0, sum = 0;
+    for (const auto& x : s.particles.X) xmax = std::max({xmax, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
+    for (Eigen::Index k = 0; k < n; ++k) sum += std::pow(bound[k] * volume[k], 2);
+    floor = std::numeric_limits<double>::epsilon() * xmax * std::sqrt(sum);  // as round_off_residual
+  }
   for (Eigen::Index k = 0; k < n; ++k)
     if (!(lambda[k] > 0)) lambda[k] = 1;  // a dof without bonds: no stiffness, no force
   rep.tangent_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -29,6 +45,11 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
     const double r = R.norm();
     return ref > 0 ? r / ref : (r > 0 ? 1.0 : 0.0);
   };
+  // Stagnation below the round-off bound of the forces (tangent.hpp) is convergence: the
+  // smallest residual has not improved for `patience` iterations and is below the bound.
+  const int patience = 500;
+  double best_abs = std::numeric_limits<double>::infinity();
+  int best_at = 0;
   Eigen::VectorXd R = gather_residual(s, d);
   Eigen::VectorXd F = R.cwiseQuotient(volume);  // force density
   Eigen::VectorXd u = gather_displacement(s, d);
@@ -53,6 +74,14 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
       return rep;
     }
     if (rep.residual <= o.tolerance) break;
+    const double r_abs = R.norm();
+    if (r_abs < best_abs) {
+      best_abs = r_abs;
+      best_at = it;
+    } else if (it - best_at > patience && best_abs <= floor) {
+      rep.converged = true;  // at round-off
+      break;
+    }
     // Damping from the Rayleigh quotient of the local diagonal stiffness (eq. 19-20).
     double num = 0, den = 0;
     for (Eigen::Index k = 0; k < n; ++k) {
@@ -63,7 +92,7 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
     v = ((2 - c) * v + 2 * F.cwiseQuotient(lambda)) / (2 + c);  // eq. 16
   }
   rep.residuals.push_back(rep.residual);
-  rep.converged = rep.residual <= o.tolerance;
+  rep.converged = rep.converged || rep.residual <= o.tolerance;
   if (!rep.converged) rep.failure = "no convergence in " + std::to_string(o.max_iterations) + " iterations";
   rep.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;

@@ -5,6 +5,8 @@
 // of K^-1 (shift-invert at 0, K^-1 applied by a CHOLMOD Cholesky factorisation).
 // For the PD operators kappa ~ delta^-2 with weak dependence on the spacing (Parks,
 // digest 004 sec. 10.2-10.5): CG iterations grow like sqrt(kappa).
+#include <string>
+
 #include "horizon/solver/tangent.hpp"
 
 namespace horizon {
@@ -14,11 +16,13 @@ struct ConditionEstimate {
   double lambda_max = 0;
   double condition = 0;  // lambda_max / lambda_min; +inf when K is singular
   bool converged = false;
+  int products = 0;      // products K x of the Lanczos iterations for lambda_max
+  int solves = 0;        // solves K^-1 x for lambda_min
   std::string message;   // why the estimate failed, when it did
 };
 
 // K symmetric (the lower triangle is used for the factorisation). tol: relative accuracy
 // of the Ritz values.
-ConditionEstimate estimate_condition(const SparseMatrix& K, double tol = 1e-8);
+ConditionEstimate estimate_condition(const SparseMatrix& K, double tol = 1e-6);
 
 }  // namespace horizon

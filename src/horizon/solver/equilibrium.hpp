@@ -33,8 +33,9 @@ DofMap make_dof_map(const System& s, const Loads& loads);
 DofMap make_free_dof_map(const System& s);
 
 // Holds the bond set fixed: while it lives, compute_forces breaks no bond (the critical
-// stretches are swapped for +inf and restored on destruction). Solvers iterate on a
-// fixed bond set; bonds break between solves (static_driver.hpp).
+// stretches, and the nonlinear solid's failure coefficients, are swapped for +inf and
+// restored on destruction). Solvers iterate on a fixed bond set; bonds break between
+// solves (static_driver.hpp).
 class FixedBonds {
  public:
   explicit FixedBonds(System& s);
@@ -44,8 +45,13 @@ class FixedBonds {
 
  private:
   System& s_;
-  std::vector<double> saved_;
+  std::vector<double> saved_, saved_beta_;
 };
+
+// True when every particle's forces follow the unified bond form of solver/system.hpp
+// (PMB, LPS), for which the analytic tangent exists; false with Tupek's nonlinear solid,
+// whose tangent is taken by finite differences.
+bool unified_form(const System& s);
 
 // Displacements of the free dofs, and back.
 Eigen::VectorXd gather_displacement(const System& s, const DofMap& d);

@@ -44,6 +44,8 @@ class ExplicitSolver {
   double time() const { return time_; }
   int64_t steps() const { return steps_; }
   double dt() const { return dt_; }
+  // Changes the step from the next step on (the adaptive step of the nonlinear solid).
+  void set_dt(double dt) { dt_ = dt; }
   const Ledger& ledger() const { return ledger_; }
   // Brings the kinetic energy up to date (strain energy is updated by step(true)).
   void update_kinetic();

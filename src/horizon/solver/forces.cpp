@@ -1,24 +1,48 @@
 #include "horizon/solver/forces.hpp"
 
+#include "horizon/solver/forces_nonlinear.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <type_traits>
 
-// The bond loops below walk each particle's row in blocks of kLanes bonds: the
-// neighbours' data are gathered into small arrays, and the arithmetic of a block is a
-// loop over lanes that the compiler turns into SIMD instructions (SSE with the
-// default -march=x86-64-v2, AVX with wider targets; check with -fopt-info-vec). Each
-// lane keeps its own partial sums, added in a fixed order at the end of the row, so
-// the result does not depend on the SIMD width or the thread count. Rare events
-// (a bond breaks, two particles touch) leave the SIMD path and are handled one by one.
-// docs/benchmarks.md has the measurements behind these choices.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define HORIZON_AVX2_KERNELS 1
+#define HORIZON_AVX2 __attribute__((target("avx2")))
+#endif
+
+// The bond loops. Each particle's row is walked in blocks of four bonds; bond k of a
+// row goes to lane (k - row start) mod 4, each lane keeps its own partial sums, and the
+// lanes are added as (l0 + l1) + (l2 + l3) at the end of the row. Two implementations
+// of every loop follow this rule: an AVX2 one (four lanes in one 256-bit register,
+// chosen at run time where the CPU has AVX2) and a portable scalar one (four scalar
+// accumulators; it skips broken bonds, which adds nothing since a lane's sum starts at
+// +0 and never becomes -0). They perform the same IEEE operations in the same order,
+// so they give the same bits (tests/unit/test_kernels.cpp), on any thread count, and
+// the compiler may not contract a*b+c into an FMA in this file (CMakeLists.txt).
+// Rare events (a bond breaks, two particles touch) leave the vector path and are
+// handled lane by lane in bond order. docs/benchmarks.md has the measurements behind
+// these choices.
 
 namespace horizon {
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kLanes = 4;
+
+KernelPath g_path = KernelPath::automatic;
+
+bool use_avx2() {
+#if defined(HORIZON_AVX2_KERNELS)
+  static const bool available = __builtin_cpu_supports("avx2");
+  return g_path != KernelPath::scalar && available;
+#else
+  return false;
+#endif
+}
 
 // Current positions packed with each particle's critical stretch for this pass:
 // s0_i = critical_stretch_i - alpha_i min_stretch_i (DamageConfig::alpha), +inf where
@@ -42,202 +66,491 @@ void pack_positions(System& s) {
   }
 }
 
-// One block of a row: the bonds k0 .. k0 + count - 1, padded to kLanes with lanes
-// that carry nothing (live = 0, Y = 0).
-struct Block {
-  alignas(32) double Yx[kLanes], Yy[kLanes], Yz[kLanes];
-  alignas(32) double L[kLanes], iL[kLanes], wv[kLanes], pair[kLanes], dmg[kLanes], d2[kLanes];
-  alignas(32) double wj[kLanes];    // the neighbour's packed value: s0_j, or P_j in the force pass
-  alignas(32) double qj[kLanes];    // Q_j (force pass of state-based models)
-  alignas(32) double live[kLanes];  // 1: intact (carries force), 0: broken or padding
-  alignas(32) double once[kLanes];  // 1: intact and not breaking in this step (intact == 1)
-};
-
-struct RowData {
-  const Point4* pt;
-  const KindCoefficients* kc;
+// What a row loop reads and writes, taken from the System once per pass.
+struct Ctx {
+  const Point4* pt;            // y and the packed value (s0, or P in the force pass)
+  const KindCoefficients* kc;  // per bond kind
   const uint32_t* nbr;
   const uint32_t* kind;
-  const uint8_t* intact;
-  const double* Q;  // may be null
+  const uint64_t* offset;
+  uint8_t* intact;
+  const double* R;  // pair_coef
+  const double* Q;  // deviatoric_coef
+  double* intact_weight;
 };
 
-template <bool kWithQ>
-inline void load_block(Block& b, const RowData& d, const Point4& pi, uint64_t k0, int count) {
-  for (int l = 0; l < kLanes; ++l) {
-    if (l < count) {
-      const uint64_t k = k0 + static_cast<uint64_t>(l);
-      const uint32_t j = d.nbr[k];
-      const KindCoefficients& c = d.kc[d.kind[k]];
-      const Point4 pj = d.pt[j];
-      b.Yx[l] = pj.x - pi.x;
-      b.Yy[l] = pj.y - pi.y;
-      b.Yz[l] = pj.z - pi.z;
-      b.L[l] = c.length;
-      b.iL[l] = c.inv_length;
-      b.wv[l] = c.wv;
-      b.pair[l] = c.pair;
-      b.dmg[l] = c.damage;
-      b.d2[l] = c.contact_d2;
-      b.wj[l] = pj.w;
-      if constexpr (kWithQ) b.qj[l] = d.Q[j];
-      const uint8_t s = d.intact[k];
-      b.live[l] = s != 0 ? 1.0 : 0.0;
-      b.once[l] = s == 1 ? 1.0 : 0.0;
-    } else {
-      b.Yx[l] = b.Yy[l] = b.Yz[l] = 0;
-      b.L[l] = b.iL[l] = 1;
-      b.wv[l] = b.pair[l] = b.dmg[l] = b.d2[l] = 0;
-      b.wj[l] = kInf;
-      if constexpr (kWithQ) b.qj[l] = 0;
-      b.live[l] = b.once[l] = 0;
+Ctx context(System& s) {
+  auto& B = s.bonds;
+  auto& M = s.model;
+  return {M.packed.data(),  M.kind.data(),         B.nbr.data(),          B.kind.data(),
+          B.offset.data(),  B.intact.data(),       M.pair_coef.data(),    M.deviatoric_coef.data(),
+          M.intact_weight.data()};
+}
+
+// What one row gives back besides the force.
+struct RowOut {
+  double fx = 0, fy = 0, fz = 0, energy = 0, theta = 0, smin = kInf, lost = 0;
+  uint64_t broken = 0;
+};
+
+inline double total4(const double* v) { return (v[0] + v[1]) + (v[2] + v[3]); }
+inline double min4(const double* v) { return std::min(std::min(v[0], v[1]), std::min(v[2], v[3])); }
+
+// Short-range contact of one bond's ends (intact or broken): the force density on i
+// when they are closer than the kind's contact distance. Returns false when apart.
+inline bool bond_contact(const KindCoefficients& c, double Yx, double Yy, double Yz, double r2, double& fx,
+                         double& fy, double& fz, double& w) {
+  if (!(r2 < c.contact_d2) || r2 == 0) return false;
+  const double r = std::sqrt(r2), overlap = c.contact_d - r;
+  const double a = -c.contact_k * overlap / r;  // pushes i away from j
+  fx = a * Yx;
+  fy = a * Yy;
+  fz = a * Yz;
+  w = 0.25 * c.contact_k * overlap * overlap;
+  return true;
+}
+
+// ------------------------------------------------------------------------------------
+// Portable scalar rows: four lanes of scalar accumulators.
+
+// Calls f(k, lane) for the bonds [begin, end) of a row, bond k in lane (k - begin) mod 4
+// with the lane a compile-time constant, so that the four lanes' sums stay in registers.
+template <int L>
+using LaneTag = std::integral_constant<int, L>;
+template <class F>
+inline void for_each_lane(uint64_t begin, uint64_t end, F&& f) {
+  uint64_t k = begin;
+  for (; k + 4 <= end; k += 4) {
+    f(k, LaneTag<0>{});
+    f(k + 1, LaneTag<1>{});
+    f(k + 2, LaneTag<2>{});
+    f(k + 3, LaneTag<3>{});
+  }
+  if (k < end) f(k, LaneTag<0>{});
+  if (k + 1 < end) f(k + 1, LaneTag<1>{});
+  if (k + 2 < end) f(k + 2, LaneTag<2>{});
+}
+
+// Bond-based models: breaking, the smallest stretch, contact and force in one pass.
+// kAfter: a breaking bond still carries its force in this step.
+template <bool kEnergy, bool kAfter>
+RowOut pmb_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i];
+  double fx[4] = {}, fy[4] = {}, fz[4] = {}, en[4] = {}, sm[4] = {kInf, kInf, kInf, kInf};
+  RowOut out;
+  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
+  for_each_lane(begin, end, [&](uint64_t k, auto lane) {
+    constexpr int l = decltype(lane)::value;
+    const KindCoefficients& kc = c.kc[c.kind[k]];
+    const Point4 pj = c.pt[c.nbr[k]];
+    const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
+    const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
+    if (c.intact[k]) {
+      const double r = std::sqrt(r2), e = r - kc.length, stretch = e * kc.inv_length;
+      const double s0 = pi.w < pj.w ? pi.w : pj.w;
+      const bool breaks = stretch > s0;
+      if (kAfter || !breaks) {
+        const double a = kc.pair * e / r;
+        fx[l] += a * Yx;
+        fy[l] += a * Yy;
+        fz[l] += a * Yz;
+      }
+      sm[l] = stretch < sm[l] ? stretch : sm[l];
+      if constexpr (kEnergy)
+        if (!breaks) en[l] += 0.5 * Ri * kc.wv * kc.inv_length * e * e;
+      if (breaks) {
+        c.intact[k] = 0;
+        ++out.broken;
+        out.lost += 0.5 * kc.wv * Ri * kc.inv_length * e * e;  // (1/2) t_ij e V_j, as in break_and_dilate
+        c.intact_weight[i] -= kc.damage;
+      }
     }
+    double cx, cy, cz, cw;
+    if (bond_contact(kc, Yx, Yy, Yz, r2, cx, cy, cz, cw)) {
+      fx[l] += cx;
+      fy[l] += cy;
+      fz[l] += cz;
+      if constexpr (kEnergy) en[l] += cw;
+    }
+  });
+  out.fx = total4(fx), out.fy = total4(fy), out.fz = total4(fz), out.energy = total4(en), out.smin = min4(sm);
+  return out;
+}
+
+// State-based pass 1: breaking, the smallest stretch and the dilatation sum. Without
+// kAfter a breaking bond is gone at once (intact = 0) and leaves the dilatation; with
+// kAfter it is marked (intact = 2), still counts in the dilatation and carries force
+// in pass 2, which then clears it. Pi: last pass's P_i, for the energy of a breaking bond.
+template <bool kAfter>
+RowOut dilate_row_scalar(const Ctx& c, std::size_t i, double Pi, uint64_t /*total*/) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i], Qi = c.Q[i];
+  double th[4] = {}, sm[4] = {kInf, kInf, kInf, kInf};
+  RowOut out;
+  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
+  for_each_lane(begin, end, [&](uint64_t k, auto lane) {
+    constexpr int l = decltype(lane)::value;
+    if (!c.intact[k]) return;
+    const KindCoefficients& kc = c.kc[c.kind[k]];
+    const Point4 pj = c.pt[c.nbr[k]];
+    const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
+    const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
+    const double e = std::sqrt(r2) - kc.length, stretch = e * kc.inv_length;
+    const double s0 = pi.w < pj.w ? pi.w : pj.w;
+    const bool breaks = stretch > s0;
+    if (kAfter || !breaks) th[l] += kc.wv * kc.length * e;
+    sm[l] = stretch < sm[l] ? stretch : sm[l];
+    if (breaks) {
+      c.intact[k] = kAfter ? 2 : 0;
+      ++out.broken;
+      // Energy held by this directed bond: (1/2) t_ij e V_j (seed 003 digest sec. 9,
+      // W_i = (1/2) sum_j t_ij e_ij V_j for both models), with last pass's P_i.
+      out.lost += 0.5 * kc.wv * (Pi * kc.length + (Qi + Ri * kc.inv_length) * e) * e;
+      c.intact_weight[i] -= kc.damage;
+    }
+  });
+  out.theta = total4(th), out.smin = min4(sm);
+  return out;
+}
+
+// State-based pass 2: f_i = sum_j (t_ij + t_ji) Y/|Y| V_j over the bonds that carry
+// force (intact != 0), the contact of every family pair; clears intact = 2. pt[j].w = P_j.
+template <bool kEnergy>
+RowOut force_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i], Pi = pi.w, Qi = c.Q[i];
+  double fx[4] = {}, fy[4] = {}, fz[4] = {}, en[4] = {};
+  RowOut out;
+  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
+  for_each_lane(begin, end, [&](uint64_t k, auto lane) {
+    constexpr int l = decltype(lane)::value;
+    const uint32_t j = c.nbr[k];
+    const KindCoefficients& kc = c.kc[c.kind[k]];
+    const Point4 pj = c.pt[j];
+    const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
+    const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
+    if (c.intact[k]) {
+      const double r = std::sqrt(r2), L = kc.length, e = r - L;
+      const double t = (Pi + pj.w) * L + (Qi + c.Q[j]) * e;
+      const double a = (kc.wv * t + kc.pair * e) / r;
+      fx[l] += a * Yx;
+      fy[l] += a * Yy;
+      fz[l] += a * Yz;
+      if constexpr (kEnergy)
+        if (c.intact[k] == 1) en[l] += 0.5 * kc.wv * (Pi * L + (Qi + Ri * kc.inv_length) * e) * e;
+      if (c.intact[k] == 2) c.intact[k] = 0;
+    }
+    double cx, cy, cz, cw;
+    if (bond_contact(kc, Yx, Yy, Yz, r2, cx, cy, cz, cw)) {
+      fx[l] += cx;
+      fy[l] += cy;
+      fz[l] += cz;
+      if constexpr (kEnergy) en[l] += cw;
+    }
+  });
+  out.fx = total4(fx), out.fy = total4(fy), out.fz = total4(fz), out.energy = total4(en);
+  return out;
+}
+
+// ------------------------------------------------------------------------------------
+// AVX2 rows: the same arithmetic, four lanes in one register.
+#if defined(HORIZON_AVX2_KERNELS)
+
+using d4 = double __attribute__((vector_size(32)));
+using m4 = int64_t __attribute__((vector_size(32)));
+
+HORIZON_AVX2 inline d4 splat(double x) { return d4{x, x, x, x}; }
+HORIZON_AVX2 inline d4 sqrt4(d4 v) { return reinterpret_cast<d4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(v))); }
+HORIZON_AVX2 inline d4 select(m4 mask, d4 v) { return reinterpret_cast<d4>(mask & reinterpret_cast<m4>(v)); }
+HORIZON_AVX2 inline bool any(m4 mask) { return _mm256_movemask_pd(reinterpret_cast<__m256d>(mask)) != 0; }
+HORIZON_AVX2 inline double sum4(d4 v) { return (v[0] + v[1]) + (v[2] + v[3]); }
+HORIZON_AVX2 inline double min4(d4 v) { return std::min(std::min(v[0], v[1]), std::min(v[2], v[3])); }
+// Two 16-byte halves in one register: {a0, a1, b0, b1}.
+HORIZON_AVX2 inline __m256d halves(const double* a, const double* b) {
+  return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(a)), _mm_loadu_pd(b), 1);
+}
+
+// Four bonds k .. k + count - 1 of row i in lanes 0..3; lanes past the row's end are
+// padding (the particle itself, the first bond's kind, not live). Each 32-byte record
+// (a neighbour's Point4, a kind's first four coefficients) is loaded as two halves, so
+// that one unpack per column puts the lanes in order.
+struct Quad {
+  d4 Yx, Yy, Yz, wj;    // Y = y_j - y_i; the neighbour's packed value
+  d4 L, iL, pair, d2c;  // kind: length, 1/length, bond-based coefficient, contact distance^2
+  d4 wv;                // kind: omega V_j (loaded when asked)
+  m4 live, once;        // intact != 0, intact == 1
+};
+
+template <bool kWv, bool kFull>
+HORIZON_AVX2 inline void load_quad(Quad& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
+                                   uint64_t total) {
+  uint32_t j[4], kd[4];
+  for (int l = 0; l < 4; ++l) {
+    const bool in = kFull || l < count;
+    j[l] = in ? c.nbr[k + static_cast<uint64_t>(l)] : static_cast<uint32_t>(i);
+    kd[l] = c.kind[in ? k + static_cast<uint64_t>(l) : k];
+  }
+  const Point4* pt = c.pt;
+  const __m256d A = halves(&pt[j[0]].x, &pt[j[2]].x), B = halves(&pt[j[1]].x, &pt[j[3]].x);
+  const __m256d C = halves(&pt[j[0]].z, &pt[j[2]].z), D = halves(&pt[j[1]].z, &pt[j[3]].z);
+  q.Yx = reinterpret_cast<d4>(_mm256_unpacklo_pd(A, B)) - splat(pi.x);
+  q.Yy = reinterpret_cast<d4>(_mm256_unpackhi_pd(A, B)) - splat(pi.y);
+  q.Yz = reinterpret_cast<d4>(_mm256_unpacklo_pd(C, D)) - splat(pi.z);
+  q.wj = reinterpret_cast<d4>(_mm256_unpackhi_pd(C, D));
+  const KindCoefficients* kc = c.kc;
+  const __m256d E = halves(&kc[kd[0]].length, &kc[kd[2]].length), F = halves(&kc[kd[1]].length, &kc[kd[3]].length);
+  const __m256d G = halves(&kc[kd[0]].pair, &kc[kd[2]].pair), H = halves(&kc[kd[1]].pair, &kc[kd[3]].pair);
+  q.L = reinterpret_cast<d4>(_mm256_unpacklo_pd(E, F));
+  q.iL = reinterpret_cast<d4>(_mm256_unpackhi_pd(E, F));
+  q.pair = reinterpret_cast<d4>(_mm256_unpacklo_pd(G, H));
+  q.d2c = reinterpret_cast<d4>(_mm256_unpackhi_pd(G, H));
+  if constexpr (kWv) {
+    const __m256d U = halves(&kc[kd[0]].damage, &kc[kd[2]].damage), V = halves(&kc[kd[1]].damage, &kc[kd[3]].damage);
+    q.wv = reinterpret_cast<d4>(_mm256_unpackhi_pd(U, V));
+  }
+  // The four intact flags as masks: one 4-byte load where the array allows it.
+  uint32_t flags = 0;
+  if (kFull || k + 4 <= total) {
+    std::memcpy(&flags, c.intact + k, 4);
+  } else {
+    for (int l = 0; l < 4 && k + static_cast<uint64_t>(l) < total; ++l)
+      flags |= static_cast<uint32_t>(c.intact[k + static_cast<uint64_t>(l)]) << (8 * l);
+  }
+  if (!kFull && count < 4) flags &= (1u << (8 * count)) - 1;
+  const __m256i s = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(flags)));
+  q.live = reinterpret_cast<m4>(_mm256_cmpgt_epi64(s, _mm256_setzero_si256()));
+  q.once = reinterpret_cast<m4>(_mm256_cmpeq_epi64(s, _mm256_set1_epi64x(1)));
+}
+
+// The lane's bond recomputed from the arrays, exactly as the vector does it (rare paths).
+struct Lane {
+  const KindCoefficients* kc;
+  double Yx, Yy, Yz, r2, e;
+};
+inline Lane lane(const Ctx& c, const Point4& pi, uint64_t k) {
+  const KindCoefficients& kc = c.kc[c.kind[k]];
+  const Point4 pj = c.pt[c.nbr[k]];
+  Lane b{&kc, pj.x - pi.x, pj.y - pi.y, pj.z - pi.z, 0, 0};
+  b.r2 = b.Yx * b.Yx + b.Yy * b.Yy + b.Yz * b.Yz;
+  b.e = std::sqrt(b.r2) - kc.length;
+  return b;
+}
+
+// Contact of lanes where r2 < d2c (rare), returned as vectors in lane order (zero in the
+// other lanes). Out of line and by value, so that the row's sums stay in registers.
+struct Contact4 {
+  d4 fx, fy, fz, w;
+};
+HORIZON_AVX2 __attribute__((noinline)) Contact4 quad_contact(const Ctx& c, const Point4& pi, uint64_t k, int mask) {
+  Contact4 out{};
+  for (int l = 0; l < 4; ++l) {
+    if (!((mask >> l) & 1)) continue;
+    const Lane b = lane(c, pi, k + static_cast<uint64_t>(l));
+    double x, y, z, w;
+    if (bond_contact(*b.kc, b.Yx, b.Yy, b.Yz, b.r2, x, y, z, w)) out.fx[l] = x, out.fy[l] = y, out.fz[l] = z, out.w[l] = w;
+  }
+  return out;
+}
+
+// The rare path of a block: its breaking lanes (mask), in bond order. Out of line.
+HORIZON_AVX2 __attribute__((noinline)) void quad_breaks(const Ctx& c, const Point4& pi, std::size_t i, uint64_t k,
+                                                        int mask, uint8_t state, bool bond_based, double Ri,
+                                                        double Pi, double Qi, RowOut& out) {
+  for (int l = 0; l < 4; ++l) {
+    if (!((mask >> l) & 1)) continue;
+    const uint64_t kk = k + static_cast<uint64_t>(l);
+    const Lane b = lane(c, pi, kk);
+    const KindCoefficients& kc = *b.kc;
+    c.intact[kk] = state;
+    ++out.broken;
+    // (1/2) t_ij e V_j with t_ij = P_i L + (Q_i + R_i/L) e: the bond's energy, written
+    // as in the scalar rows of each pass so that the bits agree.
+    if (bond_based)
+      out.lost += 0.5 * kc.wv * Ri * kc.inv_length * b.e * b.e;
+    else
+      out.lost += 0.5 * kc.wv * (Pi * kc.length + (Qi + Ri * kc.inv_length) * b.e) * b.e;
+    c.intact_weight[i] -= kc.damage;
   }
 }
 
-// Per-lane partial sums of one row.
-struct Sums {
-  alignas(32) double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {};
-  alignas(32) double damage[kLanes] = {}, energy[kLanes] = {}, theta[kLanes] = {};
-  alignas(32) double smin[kLanes] = {kInf, kInf, kInf, kInf};
-
-  static double total(const double* v) { return (v[0] + v[1]) + (v[2] + v[3]); }
-  double min_stretch() const { return std::min(std::min(smin[0], smin[1]), std::min(smin[2], smin[3])); }
-};
-
-// Short-range contact of one lane (rare): the push away from the neighbour when the
-// two are closer than the kind's contact distance.
-template <bool kEnergy>
-inline void lane_contact(const KindCoefficients& c, const Block& b, int l, Sums& sums) {
-  const double r2 = b.Yx[l] * b.Yx[l] + b.Yy[l] * b.Yy[l] + b.Yz[l] * b.Yz[l];
-  if (!(r2 < c.contact_d2) || r2 == 0) return;
-  const double r = std::sqrt(r2), overlap = c.contact_d - r;
-  const double a = -c.contact_k * overlap / r;
-  sums.fx[l] += a * b.Yx[l];
-  sums.fy[l] += a * b.Yy[l];
-  sums.fz[l] += a * b.Yz[l];
-  if constexpr (kEnergy) sums.energy[l] += 0.25 * c.contact_k * overlap * overlap;
+// Calls f(k, count, full) for the blocks of four bonds of a row; full (a compile-time
+// constant) tells the block has four bonds, so that its loads need no padding.
+template <class F>
+HORIZON_AVX2 inline void for_each_quad(uint64_t begin, uint64_t end, F&& f) {
+  uint64_t k = begin;
+  for (; k + 4 <= end; k += 4) f(k, 4, std::true_type{});
+  if (k < end) f(k, static_cast<int>(end - k), std::false_type{});
 }
 
-// Bond-based models need no dilatation, so breaking, damage, the smallest stretch,
-// contact and force fuse into one pass over the bonds. kAfter: a breaking bond still
-// carries its force in this step (DamageConfig::break_after_force).
+template <bool kEnergy, bool kAfter>
+HORIZON_AVX2 RowOut pmb_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i];
+  const d4 s0i = splat(pi.w);
+  d4 fx = {}, fy = {}, fz = {}, en = {}, sm = splat(kInf);
+  RowOut out;
+  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full) HORIZON_AVX2 {
+    Quad q;
+    load_quad<kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
+    const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
+    const m4 contact = (r2 < q.d2c) & (r2 > splat(0));  // padding lanes have r2 = 0
+    if (!any(q.live)) {  // four broken bonds: only their contact can act
+      if (any(contact)) {
+        const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
+        fx += cc.fx, fy += cc.fy, fz += cc.fz;
+        if constexpr (kEnergy) en += cc.w;
+      }
+      return;
+    }
+    const d4 r = sqrt4(r2), e = r - q.L, stretch = e * q.iL;
+    const d4 s0 = s0i < q.wj ? s0i : q.wj;
+    const m4 breaks = q.live & (stretch > s0);
+    const m4 carries = kAfter ? q.live : q.live & ~breaks;
+    // Padding and broken lanes may hold inf or NaN; the masks never select them.
+    const d4 a = select(carries, q.pair * e / r);
+    fx += a * q.Yx;
+    fy += a * q.Yy;
+    fz += a * q.Yz;
+    sm = (q.live & (stretch < sm)) ? stretch : sm;
+    if constexpr (kEnergy) en += select(q.live & ~breaks, splat(0.5 * Ri) * q.wv * q.iL * e * e);
+    if (!any(breaks | contact)) return;
+    const int broken_lanes = _mm256_movemask_pd(reinterpret_cast<__m256d>(breaks));
+    if (broken_lanes) quad_breaks(c, pi, i, k, broken_lanes, 0, true, Ri, 0.0, 0.0, out);
+    if (any(contact)) {
+        const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
+        fx += cc.fx, fy += cc.fy, fz += cc.fz;
+        if constexpr (kEnergy) en += cc.w;
+      }
+  });
+  out.fx = sum4(fx), out.fy = sum4(fy), out.fz = sum4(fz), out.energy = sum4(en), out.smin = min4(sm);
+  return out;
+}
+
+template <bool kAfter>
+HORIZON_AVX2 RowOut dilate_row_avx2(const Ctx& c, std::size_t i, double Pi, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i], Qi = c.Q[i];
+  const d4 s0i = splat(pi.w);
+  d4 th = {}, sm = splat(kInf);
+  RowOut out;
+  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full) HORIZON_AVX2 {
+    Quad q;
+    load_quad<true, decltype(full)::value>(q, c, pi, i, k, count, total);
+    if (!any(q.live)) return;
+    const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
+    const d4 e = sqrt4(r2) - q.L, stretch = e * q.iL;
+    const d4 s0 = s0i < q.wj ? s0i : q.wj;
+    const m4 breaks = q.live & (stretch > s0);
+    th += select(kAfter ? q.live : q.live & ~breaks, q.wv * q.L * e);
+    sm = (q.live & (stretch < sm)) ? stretch : sm;
+    if (!any(breaks)) return;
+    quad_breaks(c, pi, i, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(breaks)), kAfter ? 2 : 0, false, Ri, Pi,
+                Qi, out);
+  });
+  out.theta = sum4(th), out.smin = min4(sm);
+  return out;
+}
+
+template <bool kEnergy>
+HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i];
+  const d4 Pi = splat(pi.w), Qi = splat(c.Q[i]);
+  d4 fx = {}, fy = {}, fz = {}, en = {};
+  RowOut out;
+  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full) HORIZON_AVX2 {
+    Quad q;
+    load_quad<true, decltype(full)::value>(q, c, pi, i, k, count, total);
+    const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
+    const m4 contact = (r2 < q.d2c) & (r2 > splat(0));  // padding lanes have r2 = 0
+    if (!any(q.live)) {  // four broken bonds: only their contact can act
+      if (any(contact)) {
+        const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
+        fx += cc.fx, fy += cc.fy, fz += cc.fz;
+        if constexpr (kEnergy) en += cc.w;
+      }
+      return;
+    }
+    d4 Qj = {};
+    for (int l = 0; l < count; ++l) Qj[l] = c.Q[c.nbr[k + static_cast<uint64_t>(l)]];
+    const d4 wv = q.wv;
+    const d4 r = sqrt4(r2), e = r - q.L;
+    const d4 t = (Pi + q.wj) * q.L + (Qi + Qj) * e;
+    const d4 a = select(q.live, (wv * t + q.pair * e) / r);
+    fx += a * q.Yx;
+    fy += a * q.Yy;
+    fz += a * q.Yz;
+    if constexpr (kEnergy) en += select(q.once, splat(0.5) * wv * (Pi * q.L + (Qi + splat(Ri) * q.iL) * e) * e);
+    const m4 clear = q.live ^ q.once;
+    if (!any(clear | contact)) return;
+    const int cleared = _mm256_movemask_pd(reinterpret_cast<__m256d>(clear));
+    for (int l = 0; l < count; ++l)
+      if ((cleared >> l) & 1) c.intact[k + static_cast<uint64_t>(l)] = 0;
+    if (any(contact)) {
+        const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
+        fx += cc.fx, fy += cc.fy, fz += cc.fz;
+        if constexpr (kEnergy) en += cc.w;
+      }
+  });
+  out.fx = sum4(fx), out.fy = sum4(fy), out.fz = sum4(fz), out.energy = sum4(en);
+  return out;
+}
+
+#endif  // HORIZON_AVX2_KERNELS
+
+// ------------------------------------------------------------------------------------
+// The passes: one row per particle, static schedule, each row written by one thread.
+
 template <bool kEnergy, bool kAfter>
 uint64_t bond_based_pass(System& s) {
   auto& P = s.particles;
-  auto& B = s.bonds;
   auto& M = s.model;
+  const Ctx c = context(s);
   const std::size_t n = P.size();
-  const RowData d{M.packed.data(), M.kind.data(), B.nbr.data(), B.kind.data(), B.intact.data(), nullptr};
-  uint8_t* intact = B.intact.data();
+  const uint64_t total = s.bonds.size();
+  RowOut (*row)(const Ctx&, std::size_t, uint64_t) = pmb_row_scalar<kEnergy, kAfter>;
+#if defined(HORIZON_AVX2_KERNELS)
+  if (use_avx2()) row = pmb_row_avx2<kEnergy, kAfter>;
+#endif
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::size_t i = 0; i < n; ++i) {
-    const Point4 pi = d.pt[i];
-    const double s0i = pi.w, Ri = M.pair_coef[i];
-    Sums sums;
-    double lost = 0;
-    for (uint64_t k0 = B.begin(i), end = B.end(i); k0 < end; k0 += kLanes) {
-      const int count = static_cast<int>(std::min<uint64_t>(kLanes, end - k0));
-      Block b;
-      load_block<false>(b, d, pi, k0, count);
-      int events = 0;
-      for (int l = 0; l < kLanes; ++l) {
-        const double r2 = b.Yx[l] * b.Yx[l] + b.Yy[l] * b.Yy[l] + b.Yz[l] * b.Yz[l];
-        const double r = std::sqrt(r2), e = r - b.L[l], stretch = e * b.iL[l];
-        const bool live = b.live[l] != 0;
-        const bool breaks = live && stretch > std::min(s0i, b.wj[l]);
-        const bool carries = kAfter ? live : live && !breaks;
-        const bool stays = live && !breaks;
-        const double a = carries ? b.pair[l] * e / r : 0.0;
-        sums.fx[l] += a * b.Yx[l];
-        sums.fy[l] += a * b.Yy[l];
-        sums.fz[l] += a * b.Yz[l];
-        sums.smin[l] = live && stretch < sums.smin[l] ? stretch : sums.smin[l];
-        sums.damage[l] += stays ? b.dmg[l] : 0.0;
-        if constexpr (kEnergy) sums.energy[l] += stays ? 0.5 * b.wv[l] * Ri * b.iL[l] * e * e : 0.0;
-        events |= (breaks || r2 < b.d2[l]) ? 1 : 0;
-      }
-      if (events == 0) continue;
-      for (int l = 0; l < count; ++l) {
-        const uint64_t k = k0 + static_cast<uint64_t>(l);
-        const KindCoefficients& c = d.kc[d.kind[k]];
-        if (intact[k]) {
-          const double r2 = b.Yx[l] * b.Yx[l] + b.Yy[l] * b.Yy[l] + b.Yz[l] * b.Yz[l];
-          const double e = std::sqrt(r2) - b.L[l];
-          if (e * b.iL[l] > std::min(s0i, b.wj[l])) {
-            intact[k] = 0;
-            ++broken;
-            lost += 0.5 * c.wv * Ri * c.inv_length * e * e;  // (1/2) t_ij e V_j, as in break_and_dilate
-          }
-        }
-        lane_contact<kEnergy>(c, b, l, sums);
-      }
-    }
-    if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
-    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - Sums::total(sums.damage) / M.damage_total[i] : 0.0;
-    M.min_stretch_next[i] = sums.min_stretch();
-    P.f[i] = {Sums::total(sums.fx), Sums::total(sums.fy), Sums::total(sums.fz)};
-    if constexpr (kEnergy) P.energy[i] = Sums::total(sums.energy);
+    const RowOut o = row(c, i, total);
+    broken += o.broken;
+    if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
+    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    M.min_stretch_next[i] = o.smin;
+    P.f[i] = {o.fx, o.fy, o.fz};
+    if constexpr (kEnergy) P.energy[i] = o.energy;
   }
   return broken;
 }
 
-// Pass 1 of state-based models: breaking, damage, the smallest stretch and the
-// dilatation. Without kAfter a breaking bond is gone at once (intact = 0) and leaves
-// the dilatation; with kAfter it is marked (intact = 2), still counts in the dilatation
-// and carries force in pass 2, which then clears it. Only row i is written.
 template <bool kAfter>
 uint64_t break_and_dilate(System& s) {
   auto& P = s.particles;
-  auto& B = s.bonds;
   auto& M = s.model;
+  const Ctx c = context(s);
   const std::size_t n = P.size();
-  const RowData d{M.packed.data(), M.kind.data(), B.nbr.data(), B.kind.data(), B.intact.data(), nullptr};
-  uint8_t* intact = B.intact.data();
+  const uint64_t total = s.bonds.size();
+  RowOut (*row)(const Ctx&, std::size_t, double, uint64_t) = dilate_row_scalar<kAfter>;
+#if defined(HORIZON_AVX2_KERNELS)
+  if (use_avx2()) row = dilate_row_avx2<kAfter>;
+#endif
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::size_t i = 0; i < n; ++i) {
-    const Point4 pi = d.pt[i];
-    const double s0i = pi.w, Ri = M.pair_coef[i], Pi = M.P[i], Qi = M.deviatoric_coef[i];
-    Sums sums;
-    double lost = 0;
-    for (uint64_t k0 = B.begin(i), end = B.end(i); k0 < end; k0 += kLanes) {
-      const int count = static_cast<int>(std::min<uint64_t>(kLanes, end - k0));
-      Block b;
-      load_block<false>(b, d, pi, k0, count);
-      int events = 0;
-      for (int l = 0; l < kLanes; ++l) {
-        const double r2 = b.Yx[l] * b.Yx[l] + b.Yy[l] * b.Yy[l] + b.Yz[l] * b.Yz[l];
-        const double e = std::sqrt(r2) - b.L[l], stretch = e * b.iL[l];
-        const bool live = b.live[l] != 0;
-        const bool breaks = live && stretch > std::min(s0i, b.wj[l]);
-        const bool stays = live && !breaks;
-        const bool counts = kAfter ? live : stays;
-        sums.theta[l] += counts ? b.wv[l] * b.L[l] * e : 0.0;
-        sums.smin[l] = live && stretch < sums.smin[l] ? stretch : sums.smin[l];
-        sums.damage[l] += stays ? b.dmg[l] : 0.0;
-        events |= breaks ? 1 : 0;
-      }
-      if (events == 0) continue;
-      for (int l = 0; l < count; ++l) {
-        const uint64_t k = k0 + static_cast<uint64_t>(l);
-        if (!intact[k]) continue;
-        const double r2 = b.Yx[l] * b.Yx[l] + b.Yy[l] * b.Yy[l] + b.Yz[l] * b.Yz[l];
-        const double e = std::sqrt(r2) - b.L[l];
-        if (!(e * b.iL[l] > std::min(s0i, b.wj[l]))) continue;
-        intact[k] = kAfter ? 2 : 0;
-        ++broken;
-        // Energy held by this directed bond: (1/2) t_ij e V_j (seed 003 digest sec. 9,
-        // W_i = (1/2) sum_j t_ij e_ij V_j for both models), with last pass's P_i.
-        lost += 0.5 * b.wv[l] * (Pi * b.L[l] + (Qi + Ri * b.iL[l]) * e) * e;
-      }
-    }
-    if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
-    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - Sums::total(sums.damage) / M.damage_total[i] : 0.0;
-    M.min_stretch_next[i] = sums.min_stretch();
+    const RowOut o = row(c, i, M.P[i], total);
+    broken += o.broken;
+    if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
+    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    M.min_stretch_next[i] = o.smin;
     if (M.dilatation_coef[i] != 0) {
-      const double theta = M.dim * Sums::total(sums.theta) / M.weighted_volume[i];
+      const double theta = M.dim * o.theta / M.weighted_volume[i];
       M.theta[i] = theta;
       M.P[i] = theta * (M.dilatation_coef[i] - M.deviatoric_coef[i] / M.dim);
     }
@@ -245,53 +558,39 @@ uint64_t break_and_dilate(System& s) {
   return broken;
 }
 
-// Pass 2 of state-based models: f_i = sum_j (t_ij + t_ji) Y/|Y| V_j over the bonds that
-// carry force, plus the short-range contact of every family pair; bonds marked as
-// breaking in pass 1 (intact = 2) are cleared. pt[j].w holds P_j.
 template <bool kEnergy>
 void internal_force(System& s) {
   auto& P = s.particles;
-  auto& B = s.bonds;
-  const auto& M = s.model;
+  const Ctx c = context(s);
   const std::size_t n = P.size();
-  const RowData d{M.packed.data(), M.kind.data(), B.nbr.data(), B.kind.data(), B.intact.data(),
-                  M.deviatoric_coef.data()};
-  uint8_t* intact = B.intact.data();
+  const uint64_t total = s.bonds.size();
+  RowOut (*row)(const Ctx&, std::size_t, uint64_t) = force_row_scalar<kEnergy>;
+#if defined(HORIZON_AVX2_KERNELS)
+  if (use_avx2()) row = force_row_avx2<kEnergy>;
+#endif
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
-    const Point4 pi = d.pt[i];
-    const double Ri = M.pair_coef[i], Pi = pi.w, Qi = d.Q[i];
-    Sums sums;
-    for (uint64_t k0 = B.begin(i), end = B.end(i); k0 < end; k0 += kLanes) {
-      const int count = static_cast<int>(std::min<uint64_t>(kLanes, end - k0));
-      Block b;
-      load_block<true>(b, d, pi, k0, count);
-      int events = 0;
-      for (int l = 0; l < kLanes; ++l) {
-        const double r2 = b.Yx[l] * b.Yx[l] + b.Yy[l] * b.Yy[l] + b.Yz[l] * b.Yz[l];
-        const double r = std::sqrt(r2), L = b.L[l], e = r - L;
-        const double t = (Pi + b.wj[l]) * L + (Qi + b.qj[l]) * e;
-        const double a = b.live[l] != 0 ? (b.wv[l] * t + b.pair[l] * e) / r : 0.0;
-        sums.fx[l] += a * b.Yx[l];
-        sums.fy[l] += a * b.Yy[l];
-        sums.fz[l] += a * b.Yz[l];
-        if constexpr (kEnergy)
-          sums.energy[l] += b.once[l] != 0 ? 0.5 * b.wv[l] * (Pi * L + (Qi + Ri * b.iL[l]) * e) * e : 0.0;
-        events |= (b.live[l] != b.once[l] || r2 < b.d2[l]) ? 1 : 0;
-      }
-      if (events == 0) continue;
-      for (int l = 0; l < count; ++l) {
-        const uint64_t k = k0 + static_cast<uint64_t>(l);
-        if (intact[k] == 2) intact[k] = 0;
-        lane_contact<kEnergy>(d.kc[d.kind[k]], b, l, sums);
-      }
-    }
-    P.f[i] = {Sums::total(sums.fx), Sums::total(sums.fy), Sums::total(sums.fz)};
-    if constexpr (kEnergy) P.energy[i] = Sums::total(sums.energy);
+    const RowOut o = row(c, i, total);
+    P.f[i] = {o.fx, o.fy, o.fz};
+    if constexpr (kEnergy) P.energy[i] = o.energy;
   }
 }
 
+// Sum of the damage weights of i's bonds with the given state, in the lanes of the
+// bond loops: an undamaged particle then has damage 0 exactly.
+double lane_sum_damage(const System& s, std::size_t i, bool intact_only) {
+  const auto& B = s.bonds;
+  double lanes[4] = {};
+  for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+    if (!intact_only || B.intact[k]) lanes[(k - B.begin(i)) & 3] += s.model.kind[B.kind[k]].damage;
+  return total4(lanes);
+}
+
 }  // namespace
+
+void set_kernel_path(KernelPath path) { g_path = path; }
+
+const char* kernel_path_name() { return use_avx2() ? "avx2" : "scalar"; }
 
 void build_kind_coefficients(System& s, DamageMeasure measure) {
   const auto& B = s.bonds;
@@ -323,25 +622,45 @@ void build_kind_coefficients(System& s, DamageMeasure measure) {
       c.contact_k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * b.volume;
     }
   }
+  refresh_damage(s);
+}
+
+void refresh_damage(System& s) {
+  auto& M = s.model;
+  const std::size_t n = s.particles.size();
   M.damage_total.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) M.damage_total[i] += M.kind[B.kind[k]].damage;
+  M.intact_weight.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    M.damage_total[i] = lane_sum_damage(s, i, false);
+    M.intact_weight[i] = lane_sum_damage(s, i, true);
+    s.particles.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+  }
+}
+
+uint64_t state_based_dilatation_pass(System& s) {
+  pack_positions(s);
+  return s.model.break_after_force ? break_and_dilate<true>(s) : break_and_dilate<false>(s);
+}
+
+void state_based_force_pass(System& s, bool energy) {
+  auto& M = s.model;
+  const std::size_t n = s.particles.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) M.packed[i].w = M.P[i];
+  energy ? internal_force<true>(s) : internal_force<false>(s);
 }
 
 ForceStats compute_forces(System& s, bool energy) {
+  if (s.nonlinear.enabled) return compute_nonlinear_forces(s, energy);  // solver/forces_nonlinear.cpp
   ForceStats stats;
   auto& M = s.model;
-  if (M.kind.size() != s.bonds.kinds.size() || M.damage_total.size() != s.particles.size())
+  if (M.kind.size() != s.bonds.kinds.size() || M.intact_weight.size() != s.particles.size())
     build_kind_coefficients(s, DamageMeasure::weighted);
   pack_positions(s);
   const bool after = M.break_after_force;
   if (M.state_based) {
     stats.broken = after ? break_and_dilate<true>(s) : break_and_dilate<false>(s);
-    // Pass 2 gathers P_j with the position.
-    const std::size_t n = s.particles.size();
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) M.packed[i].w = M.P[i];
-    energy ? internal_force<true>(s) : internal_force<false>(s);
+    state_based_force_pass(s, energy);  // gathers P_j with the position
   } else if (after) {
     stats.broken = energy ? bond_based_pass<true, true>(s) : bond_based_pass<false, true>(s);
   } else {

@@ -22,6 +22,23 @@ ForceStats compute_forces(System& s, bool energy);
 // it again after changing either by hand.
 void build_kind_coefficients(System& s, DamageMeasure measure);
 
+// Recomputes the damage field's bookkeeping (per-particle totals and intact sums) from
+// the bonds' intact flags. The force pass keeps it up to date as bonds break; call this
+// after changing intact flags by hand.
+void refresh_damage(System& s);
+
+// Which implementation of the bond loops runs: AVX2 where the CPU has it (automatic)
+// or the portable scalar one. Both give the same bits; tests compare them.
+enum class KernelPath { automatic, scalar };
+void set_kernel_path(KernelPath path);
+const char* kernel_path_name();  // "avx2" or "scalar": what runs now
+
+// The two passes of compute_forces for state-based models, exposed for the kernel
+// benchmarks (bench/bench_kernels.cpp): pass 1 breaks bonds and sums the dilatation,
+// pass 2 sums the force. compute_forces is what solvers call.
+uint64_t state_based_dilatation_pass(System& s);
+void state_based_force_pass(System& s, bool energy);
+
 // Total strain energy sum_i W_i V_i [J] (after compute_forces(s, true)).
 double strain_energy(const System& s);
 

@@ -5,8 +5,14 @@
 // R = (f + b) V the residual (equilibrium.hpp). alpha = 1, halved while the Armijo
 // condition |R(u + alpha du)| <= (1 - 1e-4 alpha) |R(u)| fails (Dennis and Schnabel 1983,
 // sec. 6.3, with the residual norm as merit function), at most 8 times.
-// CG solves are inexact with the forcing term eta_k = min(1e-2, 0.1 |R_k|/|R_ref|)
-// (Eisenstat and Walker 1996), which keeps the convergence quadratic.
+// CG solves are inexact (Dembo, Eisenstat and Steihaug 1982): the relative residual of
+// the linear solve is eta_k = 0.1 tolerance / (|R_k|/|R_ref|), in [1e-12, 0.1], i.e. the
+// linear solve leaves 0.1 tolerance |R_ref|, so |R_{k+1}| ~ 0.1 tolerance |R_ref| + C |R_k|^2:
+// one iteration on a linear problem, quadratic convergence down to the tolerance on a
+// nonlinear one.
+// Converged when |R| <= tolerance |R_ref| (equilibrium.hpp), or when no step lowers |R|
+// any more and |R| is below the round-off bound of the forces (round_off_residual,
+// tangent.hpp): a tiny load, or a tolerance tighter than the forces' digits.
 // Bonds do not break during the iterations (FixedBonds); the caller breaks them between solves.
 #include <Eigen/Core>
 #include <string>

@@ -16,6 +16,12 @@
 // converge is restored and halved, up to max_step_cuts times; after a converged half the
 // increment doubles back towards the nominal one. Reactions per constraint are minus the
 // residual on its components (Loads::update_reactions).
+//
+// Ledger: the external work is that of the loading path (trapezoidal over the increment,
+// up to the first equilibrium) plus the work of the force densities while the body
+// re-equilibrates after bonds break; the strain energy such a re-equilibration releases
+// beyond the broken bonds' own energy is lost to the quasi-static idealisation (kinetic
+// energy, then heat, in the experiment) and is booked as damped energy.
 #include <string>
 #include <vector>
 
@@ -67,7 +73,7 @@ class StaticSolver {
   double factor_fill() const { return factor_fill_; }
 
  private:
-  bool solve_increment(double lambda);
+  bool solve_increment(double lambda, const std::vector<Vec3>& u_before, const std::vector<Vec3>& b_before);
 
   System& s_;
   Loads& loads_;
@@ -86,6 +92,7 @@ class StaticSolver {
   std::size_t tangent_bytes_ = 0, tangent_nonzeros_ = 0;
   std::string failure_;
   Ledger ledger_;
+  double pending_work_ = 0, pending_released_ = 0;  // of the increment being solved
 };
 
 }  // namespace horizon

@@ -11,6 +11,7 @@
 #include "horizon/material/constants.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/solver/forces_nonlinear.hpp"
 
 namespace horizon {
 
@@ -67,6 +68,9 @@ System build_system(const Config& config) {
 }
 
 void setup_model(System& s, const std::vector<MaterialConfig>& materials, const Config& config) {
+  for (const auto& mat : materials)
+    if (mat.model == ModelKind::nonlinear_solid) return setup_nonlinear(s, materials, config);
+  s.nonlinear = NonlinearState{};
   const Dimensioning dims = dimensioning(config);
   const std::size_t n = s.particles.size();
   auto& P = s.particles;
@@ -164,6 +168,7 @@ double System::dissipated() const {
 }
 
 double stable_time_step(const System& s) {
+  if (s.nonlinear.enabled) return nonlinear_stable_time_step(s);
   const auto& P = s.particles;
   const auto& B = s.bonds;
   double dt = std::numeric_limits<double>::infinity();

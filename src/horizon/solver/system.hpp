@@ -10,6 +10,7 @@
 #include "horizon/deck/config.hpp"
 #include "horizon/family/bonds.hpp"
 #include "horizon/geometry/particles.hpp"
+#include "horizon/material/nonlinear_solid.hpp"
 
 namespace horizon {
 
@@ -25,14 +26,15 @@ namespace horizon {
 // of different materials (or models) need no special case.
 // Per bond kind (Bonds::kinds): what the force loops need, computed once by setup_model
 // (build_kind_coefficients) so that a bond costs one table look-up.
-struct KindCoefficients {
+struct alignas(64) KindCoefficients {
+  // In pairs, as the SIMD bond loops load them (solver/forces.cpp).
   double length = 0;      // L = |xi|
   double inv_length = 0;  // 1/L: stretch = e * (1/L), the same bits from either end
-  double wv = 0;          // omega V_j (V_j partial-volume scaled)
   double pair = 0;        // omega V_j (R_i + R_j) / L: the bond-based part of (t_ij + t_ji) V_j per unit e
+  double contact_d2 = 0;  // d_ij^2 of the short-range contact (0: no contact)
   double damage = 0;      // weight of the bond in the damage field (output.damage_measure)
-  double contact_d = 0;   // short-range contact distance d_ij (0: no contact)
-  double contact_d2 = 0;  // d_ij^2
+  double wv = 0;          // omega V_j (V_j partial-volume scaled)
+  double contact_d = 0;   // d_ij
   double contact_k = 0;   // k_ij V_j / delta: contact force density per unit overlap
 };
 
@@ -52,6 +54,7 @@ struct ModelCoefficients {
   std::vector<double> min_stretch;      // 0 before the first pass
   bool break_after_force = false;       // DamageConfig::break_after_force
   std::vector<double> damage_total;     // sum of the damage weights over i's family (after precracks)
+  std::vector<double> intact_weight;    // the same over i's intact bonds (updated as bonds break)
   std::vector<double> contact_micromodulus;  // c_i of the short-range contact
   std::vector<KindCoefficients> kind;   // per bond kind
   // Scratch of the force pass: current positions packed with a per-particle value
@@ -70,6 +73,7 @@ struct System {
   Bonds bonds;
   ModelCoefficients model;
   ShortRangeContact contact;          // pairs that start outside each other's family
+  NonlinearState nonlinear;           // Tupek's nonlinear solid (solver/forces_nonlinear.hpp); unused otherwise
   std::vector<std::string> block_names;
   std::size_t initial_bonds = 0;
   std::size_t precrack_bonds = 0;

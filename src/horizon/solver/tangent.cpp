@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "horizon/core/error.hpp"
@@ -175,14 +176,18 @@ void row_blocks(const System& s, const Linearization& lin, std::size_t i, RowAcc
 
 }  // namespace
 
-SparseMatrix assemble_tangent(const System& s, const DofMap& d, const Linearization& lin) {
-  const std::size_t n = s.particles.size();
-  const auto N = static_cast<int>(d.size());
-  std::vector<int> free_count(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) free_count[i] += d.dof(i, c) >= 0;
+namespace {
 
-  // Pass 1: the number of entries of each dof row.
+std::vector<int> free_counts(const System& s, const DofMap& d) {
+  std::vector<int> free_count(s.particles.size(), 0);
+  for (std::size_t i = 0; i < free_count.size(); ++i)
+    for (int c = 0; c < 3; ++c) free_count[i] += d.dof(i, c) >= 0;
+  return free_count;
+}
+
+// Pass 1 of the assembly: the number of entries of each dof row of particle i.
+std::vector<int64_t> row_counts(const System& s, const Linearization& lin, const std::vector<int>& free_count) {
+  const std::size_t n = s.particles.size();
   std::vector<int64_t> row_nnz(n, 0);
 #pragma omp parallel
   {
@@ -197,6 +202,24 @@ SparseMatrix assemble_tangent(const System& s, const DofMap& d, const Linearizat
       acc.clear();
     }
   }
+  return row_nnz;
+}
+
+}  // namespace
+
+int64_t tangent_nonzeros(const System& s, const DofMap& d, const Linearization& lin) {
+  const std::vector<int> free_count = free_counts(s, d);
+  const std::vector<int64_t> row_nnz = row_counts(s, lin, free_count);
+  int64_t nnz = 0;
+  for (std::size_t i = 0; i < row_nnz.size(); ++i) nnz += row_nnz[i] * free_count[i];
+  return nnz;
+}
+
+SparseMatrix assemble_tangent(const System& s, const DofMap& d, const Linearization& lin) {
+  const std::size_t n = s.particles.size();
+  const auto N = static_cast<int>(d.size());
+  const std::vector<int> free_count = free_counts(s, d);
+  const std::vector<int64_t> row_nnz = row_counts(s, lin, free_count);
   SparseMatrix K(N, N);
   std::vector<int64_t> start(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) start[i + 1] = start[i] + row_nnz[i] * free_count[i];
@@ -268,8 +291,8 @@ SparseMatrix finite_difference_tangent(System& s, const DofMap& d, double probe)
     for (int h = 0; h < hops; ++h) {
       const std::size_t end = out.size();
       for (std::size_t a = begin; a < end; ++a)
-        for (uint64_t k = B.begin(out[a]); k < B.end(out[a]); ++k)
-          if (B.intact[k] && !seen[B.nbr[k]]) {
+        for (uint64_t k = B.begin(out[a]); k < B.end(out[a]); ++k)  // broken bonds too: some models keep them in compression
+          if (!seen[B.nbr[k]]) {
             seen[B.nbr[k]] = 1;
             out.push_back(B.nbr[k]);
           }
@@ -457,6 +480,35 @@ Eigen::VectorXd stiffness_row_bound(const System& s, const DofMap& d, const Line
     }
   }
   return bound;
+}
+
+Eigen::VectorXd row_abs_sums(const System& s, const DofMap& d, const SparseMatrix& K) {
+  Eigen::VectorXd rows = Eigen::VectorXd::Zero(K.rows());
+  for (int c = 0; c < K.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(K, c); it; ++it) rows[it.row()] += std::abs(it.value());
+  for (std::size_t k = 0; k < d.size(); ++k) rows[static_cast<Eigen::Index>(k)] /= s.particles.volume[d.particle[k]];
+  return rows;
+}
+
+namespace {
+double round_off_from_bound(const System& s, const DofMap& d, const Eigen::VectorXd& bound) {
+  double xmax = 0;
+  for (const auto& x : s.particles.X) xmax = std::max({xmax, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
+  double sum = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    const double r = bound[static_cast<Eigen::Index>(k)] * s.particles.volume[d.particle[k]];
+    sum += r * r;
+  }
+  return std::numeric_limits<double>::epsilon() * xmax * std::sqrt(sum);
+}
+}  // namespace
+
+double round_off_residual(const System& s, const DofMap& d, const Linearization& lin) {
+  return round_off_from_bound(s, d, stiffness_row_bound(s, d, lin));
+}
+
+double round_off_residual(const System& s, const DofMap& d, const SparseMatrix& K) {
+  return round_off_from_bound(s, d, row_abs_sums(s, d, K));
 }
 
 }  // namespace horizon

@@ -48,6 +48,8 @@ std::vector<uint64_t> reverse_bonds(const Bonds& B);
 // column-major matrix, i.e. the matrix holds K^T, equal to K (symmetric) to round-off.
 SparseMatrix assemble_tangent(const System& s, const DofMap& d, const Linearization& lin);
 SparseMatrix assemble_tangent(const System& s, const DofMap& d);
+// The number of entries the assembled tangent would hold (its first pass only).
+int64_t tangent_nonzeros(const System& s, const DofMap& d, const Linearization& lin);
 
 // The tangent by central finite differences of compute_forces (any material): columns
 // whose rows cannot overlap are probed together (particles more than twice the reach of
@@ -77,5 +79,16 @@ class TangentOperator {
 // the triangle inequality on the terms above: an upper bound of the row sums of the
 // tangent at the current state, computed in O(bonds). ADR's fictitious mass uses it.
 Eigen::VectorXd stiffness_row_bound(const System& s, const DofMap& d, const Linearization& lin);
+
+// The residual norm that round-off alone leaves: positions are known to eps |X|, so a
+// force carries an error of about eps |X|_max sum_j |K_ij| (in nodal units); the norm
+// of those over the free dofs. Solvers accept a residual below it as converged, so that
+// a tolerance relative to a tiny load (or a tight tolerance) cannot ask for more digits
+// than the forces have.
+double round_off_residual(const System& s, const DofMap& d, const Linearization& lin);
+// The same from an assembled tangent's row sums (any model).
+double round_off_residual(const System& s, const DofMap& d, const SparseMatrix& K);
+// Row sums sum_j |K_ij| / V_i of an assembled tangent (force-density units), per dof.
+Eigen::VectorXd row_abs_sums(const System& s, const DofMap& d, const SparseMatrix& K);
 
 }  // namespace horizon

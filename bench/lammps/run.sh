@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Horizon against LAMMPS PERI on LAMMPS's own examples (examples/peri/in.peri.pmb and
+# in.peri.lps), one thread each, both measured in this one run: time per step, bond
+# evaluations per second, peak memory, mean damage and kinetic energy at steps 250,
+# 500, 750, 1000, and the speed ratio. The last line reads `pmb_speedup=X lps_speedup=Y`.
+#
+#   bench/lammps/run.sh [build-dir]        (default: build; REPEAT=3 runs of each code)
+#
+# Installs LAMMPS (Debian packages lammps and lammps-examples) when it is missing.
+# docs/benchmarks.md records the results and how to read them.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${1:-$root/build}
+mkdir -p "$build" && build=$(cd "$build" && pwd)
+
+find_examples() {
+  local f
+  f=$(dpkg -L lammps-examples 2>/dev/null | grep '/peri/in\.peri\.pmb$' | head -n 1 || true)
+  [ -z "$f" ] && f=$(find /usr/share -path '*examples/peri/in.peri.pmb' 2>/dev/null | head -n 1 || true)
+  [ -n "$f" ] && dirname "$f"
+}
+
+if ! command -v lmp >/dev/null 2>&1 || [ -z "$(find_examples)" ]; then
+  echo "installing LAMMPS (Debian packages lammps, lammps-examples)"
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq lammps lammps-examples >/dev/null
+fi
+examples=$(find_examples)
+[ -n "$examples" ] || { echo "LAMMPS's examples/peri not found" >&2; exit 1; }
+
+if [ ! -x "$build/horizon" ]; then
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release
+  cmake --build "$build" --target horizon
+fi
+
+echo "date:    $(date -u +%Y-%m-%dT%H:%MZ)"
+echo "cpu:     $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), $(nproc) cores"
+echo "load:    $(cut -d' ' -f1-3 /proc/loadavg) (1, 5, 15 min)"
+echo "lammps:  $(lmp -h | grep -m1 'Large-scale' | sed 's/^ *//'), $(command -v lmp)"
+echo "horizon: $("$build/horizon" --version), $build/horizon"
+echo "decks:   $examples/in.peri.{pmb,lps} and $here/{pmb,lps}.yaml"
+python3 "$here/compare.py" --horizon "$build/horizon" --examples "$examples" --repeat "${REPEAT:-3}"

@@ -1,0 +1,93 @@
+#pragma once
+// Tupek's nonlinear ordinary elastic solid with brittle bond failure (seed
+// 000_7a6865da82fe3c94, M. R. Tupek, PhD thesis MIT 2014; digest
+// reference/notes/000_tupek.md). Pure per-bond kernels and constants; the bond loops are
+// in solver/forces_nonlinear.cpp.
+//
+// Notation (digest sec. 0): m is the Seth-Hill parameter, NOT the weighted volume. The
+// influence functions are the normalised ones of (6.6)/(6.7): int_H omega = 2 (2-D) or
+// 3 (3-D) in the bulk, not renormalised near surfaces (thesis sec. 6.1.3).
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace horizon {
+
+// Seth-Hill bond strain (thesis eq. 4.2): eps_(m) = (c^m - 1)/(2m), eps_(0) = ln(c)/2,
+// c = |Y|^2/|xi|^2. m = 1/2 is the engineering bond strain e/|xi| of the LPS. Written
+// with expm1 so that small strains keep their digits.
+inline double seth_hill_strain(double c, double m) {
+  if (m == 0) return 0.5 * std::log(c);
+  if (m == 0.5) return std::sqrt(c) - 1.0;
+  return std::expm1(m * std::log(c)) / (2.0 * m);
+}
+
+// d eps / d|Y| = c^m / |Y| = (1 + 2 m eps)/|Y| (digest sec. 13.1: lambda^(2m-1)/|xi|).
+inline double seth_hill_slope(double eps, double m, double r) { return (1.0 + 2.0 * m * eps) / r; }
+
+// d^2 eps / d|Y|^2 = (2m - 1) c^m / |Y|^2 (digest sec. 13.1).
+inline double seth_hill_curvature(double eps, double m, double r) {
+  return (2.0 * m - 1.0) * (1.0 + 2.0 * m * eps) / (r * r);
+}
+
+// Normalised influence functions: (6.6) omega_2D = 10/(pi delta^6) (3r + delta)(delta - r)^3,
+// int omega dA = 2; (6.7) omega_3D = 315/(16 pi delta^7) (3r + delta)(delta - r)^3,
+// int omega dV = 3. Zero at and beyond the horizon.
+inline double tupek_influence(double r, double delta, int dimension) {
+  if (!(r < delta)) return 0.0;
+  const double shape = (3.0 * r + delta) * (delta - r) * (delta - r) * (delta - r);
+  if (dimension == 2) return 10.0 / (std::numbers::pi * std::pow(delta, 6)) * shape;
+  return 315.0 / (16.0 * std::numbers::pi * std::pow(delta, 7)) * shape;
+}
+
+// Peridynamic Lame constants from the classical ones.
+// 3-D (thesis sec. 5.1): kappa_bar = kappa, mu_bar = 5/2 mu, lambda_bar = lambda - mu.
+// 2-D (digest sec. 4.1, derived with int omega = 2 and <n_i n_j n_k n_l> = (sym)/8):
+// mu_bar = 2 mu, lambda_bar = lambda_2D - mu, lambda_2D = E nu/(1 - nu^2) (plane stress)
+// or E nu/((1 + nu)(1 - 2 nu)) (plane strain).
+struct TupekLame {
+  double lambda_bar = 0, mu_bar = 0;
+};
+inline TupekLame tupek_lame(double E, double nu, int dimension, bool plane_stress) {
+  const double mu = E / (2 * (1 + nu));
+  if (dimension == 3) return {E * nu / ((1 + nu) * (1 - 2 * nu)) - mu, 2.5 * mu};
+  const double lambda2 = plane_stress ? E * nu / (1 - nu * nu) : E * nu / ((1 + nu) * (1 - 2 * nu));
+  return {lambda2 - mu, 2.0 * mu};
+}
+
+// Critical bond-energy coefficient beta of s_c = beta omega / |xi|^2 (thesis eq. 6.3),
+// such that cutting every bond across a plane dissipates G_c (eqs. 6.1/6.2):
+//   2-D: beta = pi delta G_c / 16 (thesis sec. 6.1.3);
+//   3-D: beta = 16 delta G_c / 63. The thesis prints 16 pi delta G_c/63, but its own
+//   integral (6.1) with (6.7) is beta 63/(32 delta) = G_c/2, i.e. no pi (digest sec. 0.3;
+//   tests/unit/test_nonlinear_solid.cpp integrates it and recovers G_c only without pi).
+inline double tupek_beta(double fracture_energy, double delta, int dimension) {
+  if (dimension == 2) return std::numbers::pi * delta * fracture_energy / 16.0;
+  return 16.0 * delta * fracture_energy / 63.0;
+}
+
+// The instantaneous bond energy (thesis eq. 6.5) per unit omega: s_inst / omega =
+// lambda_bar eps theta_phi + mu_bar eps^2: the energy density dropped by cutting this one
+// bond, per unit (omega V_j).
+inline double instantaneous_bond_energy(double lambda_bar, double mu_bar, double eps, double theta) {
+  return lambda_bar * eps * theta + mu_bar * eps * eps;
+}
+
+// Per-particle state of the model, owned by System (System::nonlinear). Sized by
+// setup_nonlinear (solver/forces_nonlinear.hpp).
+struct NonlinearState {
+  bool enabled = false;
+  std::vector<double> lambda_bar, mu_bar, m;  // per particle (from its material)
+  std::vector<double> beta;                   // per particle; +inf: bonds never break
+  std::vector<uint8_t> compression_only;      // 1: broken bonds push in compression (6.9); 0: off for good
+  std::vector<double> theta;                  // theta_phi (eq. 6.8), from the last force pass
+  std::vector<double> nonlocal_damage;        // D = 1 - (1/d) int omega phi (eq. 6.12), phi from the broken flags
+  std::vector<double> bond_strain;            // per bond: eps of the last pass
+  std::vector<double> contact_stiffness;      // per particle: family contact springs, for the time step
+  double dimension = 3;
+  int adaptive_every = 0;                     // >0: the stable step is recomputed every N steps
+  double last_stable_dt = 0;
+};
+
+}  // namespace horizon

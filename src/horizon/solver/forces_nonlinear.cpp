@@ -1,0 +1,296 @@
+#include "horizon/solver/forces_nonlinear.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "horizon/core/error.hpp"
+#include "horizon/family/neighbors.hpp"
+#include "horizon/material/constants.hpp"
+#include "horizon/material/nonlinear_solid.hpp"
+
+namespace horizon {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Removes the bonds whose ends lie in different bodies: separate bodies (a projectile
+// and its target) meet through contact, never through bonds.
+std::size_t drop_bonds_between_bodies(Bonds& b, const std::vector<int32_t>& block) {
+  const std::size_t n = b.particles();
+  uint64_t write = 0, row_begin = 0;
+  std::size_t removed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint64_t row_end = b.offset[i + 1];
+    for (uint64_t k = row_begin; k < row_end; ++k) {
+      if (block[b.nbr[k]] != block[i]) {
+        ++removed;
+        continue;
+      }
+      b.nbr[write] = b.nbr[k];
+      b.kind[write] = b.kind[k];
+      b.intact[write] = b.intact[k];
+      ++write;
+    }
+    row_begin = row_end;
+    b.offset[i + 1] = write;
+  }
+  b.nbr.resize(write);
+  b.kind.resize(write);
+  b.intact.resize(write);
+  return removed;
+}
+
+// phi of eq. 6.9: an intact bond acts; a broken one acts in compression only, or never
+// (the Kalthoff variant).
+inline bool acts(uint8_t intact, bool compression_only, double eps) { return intact || (compression_only && eps < 0); }
+
+}  // namespace
+
+void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, const Config& config) {
+  for (const auto& m : materials)
+    if (m.model != ModelKind::nonlinear_solid)
+      throw Error("material '" + m.name + "' (model " + (m.model == ModelKind::pmb ? "pmb" : "lps") +
+                  ") cannot share a run with model nonlinear_solid: bodies of the nonlinear solid interact only "
+                  "with nonlinear_solid bodies");
+  if (config.dimension == 1) throw Error("model nonlinear_solid needs dimension 2 or 3");
+  auto& P = s.particles;
+  auto& B = s.bonds;
+  auto& M = s.model;
+  auto& N = s.nonlinear;
+  const std::size_t n = P.size();
+  const int dim = config.dimension;
+
+  drop_bonds_between_bodies(B, P.block);
+  s.initial_bonds = B.size();
+  split_kinds_by_material(B, P.material);
+  // omega V_j must integrate over the area in 2-D: V_j = A_j t, so the weight is omega/t.
+  const double per = dim == 2 ? 1.0 / config.thickness : 1.0;
+  for (auto& c : B.kinds) c.weight = tupek_influence(c.length, config.horizon, dim) * per;
+
+  // The generic model arrays, neutral (other code reads their sizes).
+  M.dim = dim;
+  M.weighted_volume.assign(n, 0);
+  M.dilatation_coef.assign(n, 0);
+  M.deviatoric_coef.assign(n, 0);
+  M.pair_coef.assign(n, 0);
+  M.theta.assign(n, 0);
+  M.P.assign(n, 0);
+  M.spring.assign(n, 0);
+  M.critical_stretch.assign(n, kInf);
+  M.alpha.assign(n, 0);
+  M.min_stretch.assign(n, 0);
+  M.contact_micromodulus.assign(n, 0);
+  M.state_based = false;
+  M.break_after_force = false;
+  s.dissipated_at.assign(n, 0);
+
+  N = NonlinearState{};
+  N.enabled = true;
+  N.dimension = dim;
+  N.lambda_bar.assign(n, 0);
+  N.mu_bar.assign(n, 0);
+  N.m.assign(n, 0);
+  N.beta.assign(n, kInf);
+  N.compression_only.assign(n, 1);
+  N.theta.assign(n, 0);
+  N.nonlocal_damage.assign(n, 0);
+  N.bond_strain.assign(B.size(), 0);
+  N.contact_stiffness.assign(n, 0);
+  N.adaptive_every = config.solver.adaptive_time_step ? std::max(1, config.solver.adaptive_every) : 0;
+
+  const Dimensioning dims{config.dimension, config.plane, config.thickness, config.area, config.horizon};
+  for (std::size_t i = 0; i < n; ++i) {
+    const MaterialConfig& mat = materials[P.material[i]];
+    const TupekLame l = tupek_lame(mat.youngs_modulus, mat.poissons_ratio, dim, config.plane == PlaneMode::stress);
+    N.lambda_bar[i] = l.lambda_bar;
+    N.mu_bar[i] = l.mu_bar;
+    N.m[i] = mat.seth_hill_m;
+    if (mat.fracture && mat.damage.enabled && mat.damage.fracture_energy && !P.no_fail[i])
+      N.beta[i] = tupek_beta(*mat.damage.fracture_energy, config.horizon, dim);
+    N.compression_only[i] = mat.damage.broken_bonds_compression ? 1 : 0;
+    // Contact stiffness of the LAMMPS rule from the bond-based micromodulus of the same
+    // bulk modulus (as the LPS does, solver/system.cpp).
+    M.contact_micromodulus[i] = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, dims);
+  }
+  s.contact.setup(config.contact.short_range, config.spacing, config.horizon);
+  build_kind_coefficients(s, config.output.damage_measure);
+  // The contact springs a particle may feel, for the time step: those of its family
+  // pairs within the contact reach (a body it touches has a similar neighbourhood).
+  if (s.contact.enabled()) {
+    const double reach = s.contact.config().max_distance * config.spacing;
+    for (std::size_t i = 0; i < n; ++i)
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        const KindCoefficients& kc = M.kind[B.kind[k]];
+        if (kc.length <= reach * (1 + 1e-9)) N.contact_stiffness[i] += kc.contact_k;
+      }
+  }
+  // theta at rest is 0; the first force pass fills the strains.
+}
+
+ForceStats compute_nonlinear_forces(System& s, bool energy) {
+  auto& P = s.particles;
+  auto& B = s.bonds;
+  auto& M = s.model;
+  auto& N = s.nonlinear;
+  const std::size_t n = P.size();
+  if (N.bond_strain.size() != B.size()) N.bond_strain.assign(B.size(), 0);
+  M.packed.resize(n);
+  Point4* pt = M.packed.data();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 y = P.X[i] + P.u[i];
+    pt[i] = {y.x, y.y, y.z, 0.0};
+  }
+  const KindCoefficients* kc = M.kind.data();
+  const uint32_t* nbr = B.nbr.data();
+  const uint32_t* kind = B.kind.data();
+  uint8_t* intact = B.intact.data();
+  double* eps_of = N.bond_strain.data();
+  const bool contact = s.contact.enabled();
+
+  // Sweep 1: strains and theta_phi (eq. 6.8).
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point4 pi = pt[i];
+    const double m = N.m[i];
+    const bool comp = N.compression_only[i];
+    double theta = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const Point4 pj = pt[nbr[k]];
+      const KindCoefficients& c = kc[kind[k]];
+      // (y_j - y_i)^2 and (y_i - y_j)^2 are the same bits: eps_ij == eps_ji exactly.
+      const double dx = pj.x - pi.x, dy = pj.y - pi.y, dz = pj.z - pi.z;
+      const double r2 = dx * dx + dy * dy + dz * dz;
+      const double eps = seth_hill_strain(r2 * (c.inv_length * c.inv_length), m);
+      eps_of[k] = eps;
+      if (acts(intact[k], comp, eps)) theta += c.wv * eps;
+    }
+    N.theta[i] = theta;
+  }
+
+  // Sweep 2: the pair criterion, then the force with the flags at the start of the pass.
+  uint64_t broken = 0;
+  const double dim = N.dimension;
+#pragma omp parallel for schedule(static) reduction(+ : broken)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point4 pi = pt[i];
+    const double m = N.m[i], li = N.lambda_bar[i], mi = N.mu_bar[i], ti = N.theta[i], bi = N.beta[i];
+    const bool comp = N.compression_only[i];
+    const double gi = li * ti;
+    double fx = 0, fy = 0, fz = 0, mu_sum = 0, theta_cut = 0, lost = 0, intact_w = 0, total_w = 0, contact_w = 0;
+    uint64_t row_broken = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const uint32_t j = nbr[k];
+      const Point4 pj = pt[j];
+      const KindCoefficients& c = kc[kind[k]];
+      const double eps = eps_of[k];
+      const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
+      const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
+      total_w += c.wv;
+      if (acts(intact[k], comp, eps)) {
+        const double r = std::sqrt(r2);
+        const double lj = N.lambda_bar[j], mj = N.mu_bar[j], tj = N.theta[j];
+        // (t_ij + t_ji) / (omega d eps/d|Y|), eq. 6.8.
+        const double sum = (gi + 2 * mi * eps) + (lj * tj + 2 * mj * eps);
+        const double a = c.wv * sum * seth_hill_slope(eps, m, r) / r;
+        fx += a * Yx;
+        fy += a * Yy;
+        fz += a * Yz;
+        bool cut = false;
+        if (intact[k] && eps > 0) {
+          const double sij = instantaneous_bond_energy(li, mi, eps, ti);
+          const double sji = instantaneous_bond_energy(lj, mj, eps, tj);
+          const double bij = 0.5 * (bi + N.beta[j]);  // +inf when either end may not break
+          if (sij + sji >= 2 * bij * c.inv_length * c.inv_length) {
+            cut = true;
+            intact[k] = 0;
+            ++row_broken;
+            lost += c.wv * sij;  // eq. 6.5: omega V_j s_ij, per unit V_i
+            theta_cut += c.wv * eps;
+          }
+        }
+        if (!cut) mu_sum += c.wv * eps * eps;
+      } else if (contact) {
+        // A broken bond that no longer acts: its ends repel like non-family pairs
+        // (contact/short_range.hpp), so the crack faces do not interpenetrate.
+        if (r2 < c.contact_d2 && r2 > 0) {
+          const double r = std::sqrt(r2), overlap = c.contact_d - r;
+          const double a = -c.contact_k * overlap / r;
+          fx += a * Yx;
+          fy += a * Yy;
+          fz += a * Yz;
+          contact_w += 0.25 * c.contact_k * overlap * overlap;
+        }
+      }
+      if (intact[k]) intact_w += c.wv;
+    }
+    P.f[i] = {fx, fy, fz};
+    broken += row_broken;
+    if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
+    if (energy) {
+      const double th = ti - theta_cut;
+      P.energy[i] = 0.5 * li * th * th + mi * mu_sum + contact_w;  // eq. 5.1 with phi (6.4)
+    }
+    P.damage[i] = total_w > 0 ? 1.0 - intact_w / total_w : 0.0;
+    N.nonlocal_damage[i] = 1.0 - intact_w / dim;  // eq. 6.12
+    M.intact_weight[i] = intact_w;
+  }
+  s.contact.add_forces(s, pt, P.f.data(), energy ? P.energy.data() : nullptr);
+  s.broken += broken;
+  ForceStats st;
+  st.broken = broken;
+  return st;
+}
+
+double nonlinear_stable_time_step(const System& s) {
+  const auto& P = s.particles;
+  const auto& B = s.bonds;
+  const auto& M = s.model;
+  const auto& N = s.nonlinear;
+  const std::size_t n = P.size();
+  const bool have_strain = N.bond_strain.size() == B.size();
+  // S_i = sum_k omega V_k |d eps_ik/d|Y||: the dilatation coupling of row i (Gershgorin).
+  std::vector<double> S(n, 0);
+  auto strain = [&](uint64_t k) { return have_strain ? N.bond_strain[k] : 0.0; };
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = N.m[i];
+    double sum = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const KindCoefficients& c = M.kind[B.kind[k]];
+      const double eps = strain(k);
+      if (!acts(B.intact[k], N.compression_only[i], eps)) continue;
+      // |Y| from eps: c^m = 1 + 2 m eps, |Y| = L c^(1/2).
+      const double cm = 1 + 2 * m * eps;
+      const double Y = m == 0 ? c.length * std::exp(eps) : c.length * std::pow(std::max(cm, 1e-300), 0.5 / m);
+      sum += c.wv * std::abs(seth_hill_slope(eps, m, Y));
+    }
+    S[i] = sum;
+  }
+  double dt = kInf;
+#pragma omp parallel for schedule(static) reduction(min : dt)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = N.m[i], li = N.lambda_bar[i], mi = N.mu_bar[i], ti = N.theta[i];
+    double K = N.contact_stiffness[i];
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const uint32_t j = B.nbr[k];
+      const KindCoefficients& c = M.kind[B.kind[k]];
+      const double eps = strain(k);
+      if (!acts(B.intact[k], N.compression_only[i], eps)) continue;
+      const double cm = 1 + 2 * m * eps;
+      const double Y = m == 0 ? c.length * std::exp(eps) : c.length * std::pow(std::max(cm, 1e-300), 0.5 / m);
+      const double d1 = seth_hill_slope(eps, m, Y), d2 = seth_hill_curvature(eps, m, Y);
+      const double lj = N.lambda_bar[j], mj = N.mu_bar[j], tj = N.theta[j];
+      // d/d|Y| of (lambda theta + 2 mu eps) d eps/d|Y|, both ends, plus the coupling
+      // through theta_i and theta_j bounded by |lambda| |d eps/d|Y|| S.
+      K += c.wv * (std::abs((li * ti + 2 * mi * eps) * d2) + 2 * mi * d1 * d1 + std::abs((lj * tj + 2 * mj * eps) * d2) +
+                   2 * mj * d1 * d1 + std::abs(li) * std::abs(d1) * S[i] + std::abs(lj) * std::abs(d1) * S[j]);
+    }
+    if (K > 0) dt = std::min(dt, std::sqrt(2 * P.density[i] / K));
+  }
+  return dt;
+}
+
+}  // namespace horizon
