@@ -13,6 +13,7 @@
 #include "horizon/core/interrupt.hpp"
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
+#include "horizon/driver/summary.hpp"
 #include "horizon/damage/crack_angle.hpp"
 #include "horizon/damage/crack_metrics.hpp"
 #include "horizon/loading/loads.hpp"
@@ -290,21 +291,9 @@ int run_deck(Config config, const RunOptions& options) {
 
   // Summary: final figures and run statistics.
   const Ledger& g = solver.ledger();
-  double dmean = 0, dmax = 0;
-  for (double d : s.particles.damage) {
-    dmean += d;
-    dmax = std::max(dmax, d);
-  }
-  dmean /= std::max<std::size_t>(1, s.particles.size());
-  nlohmann::ordered_json j;
-  j["horizon_version"] = version_string;
-  j["deck"] = config.deck_file;
-  j["status"] = status;
-  if (!message.empty()) j["message"] = message;
-  j["dimension"] = config.dimension;
-  j["particles"] = s.particles.size();
-  j["bonds"] = s.initial_bonds;
-  j["steps"] = solver.steps();
+  const DamageStats dstat = damage_stats(s.particles);
+  const double dmean = dstat.mean, dmax = dstat.max;
+  nlohmann::ordered_json j = summary_header(config, s, status, message, solver.steps());
   j["time_step"] = solver.dt();
   if (adaptive) j["time_step_range"] = {dt_min, dt_max};
   j["time"] = solver.time();

@@ -14,6 +14,7 @@
 #include "horizon/core/interrupt.hpp"
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
+#include "horizon/driver/summary.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/material/stress_field.hpp"
@@ -254,21 +255,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   write_file_atomic((dir / "history.csv").string(), history.str());
 
   const Ledger& g = ledger();
-  double dmean = 0, dmax = 0;
-  for (double d : s.particles.damage) {
-    dmean += d;
-    dmax = std::max(dmax, d);
-  }
-  dmean /= std::max<std::size_t>(1, s.particles.size());
-  nlohmann::ordered_json j;
-  j["horizon_version"] = version_string;
-  j["deck"] = config.deck_file;
-  j["status"] = status;
-  if (!message.empty()) j["message"] = message;
-  j["dimension"] = config.dimension;
-  j["particles"] = s.particles.size();
-  j["bonds"] = s.initial_bonds;
-  j["steps"] = steps;
+  const DamageStats dstat = damage_stats(s.particles);
+  const double dmean = dstat.mean, dmax = dstat.max;
+  nlohmann::ordered_json j = summary_header(config, s, status, message, steps);
   j["time_step"] = is_static ? sc.end_time / sc.load_steps : *sc.time_step;
   j["time"] = time;
   j["threads"] = omp_get_max_threads();
