@@ -2,8 +2,9 @@
 // Linear solves K x = r of the Newton and Newmark iterations (K symmetric positive
 // definite on the free dofs once rigid motions are constrained):
 //   cg          Eigen's conjugate gradient on the assembled tangent, Jacobi preconditioner;
-//   cholesky    SuiteSparse CHOLMOD's supernodal Cholesky through Eigen (the symbolic
-//               analysis is kept while the sparsity pattern stays the same);
+//   cholesky    SuiteSparse CHOLMOD's Cholesky through Eigen, supernodal or simplicial as
+//               CHOLMOD judges (the symbolic analysis is kept while the sparsity pattern
+//               stays the same);
 //   matrix_free preconditioned CG on the TangentOperator product (no assembled matrix).
 // CG iterations grow like sqrt(cond K), and cond K ~ delta^-2 (Parks, digest 004
 // sec. 10.2, 10.6): direct solves pay on small and medium problems.

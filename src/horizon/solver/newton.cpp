@@ -111,6 +111,17 @@ SolveReport newton_solve(System& s, const DofMap& d, const NewtonOptions& o, Lin
     double alpha = 1;
     add_displacement(s, d, du, alpha);
     Evaluation trial = evaluate(s, d, o.inertia);
+    // A full step that does not lower a residual already at round-off: converged, no
+    // need to search (a tiny load reaches round-off in one iteration).
+    if (!(trial.norm < ev.norm)) {
+      if (floor < 0) floor = round_off_residual(s, d, linearize(s));
+      if (ev.norm <= floor) {
+        add_displacement(s, d, du, -alpha);
+        compute_forces(s, false);
+        rep.converged = true;
+        return rep;
+      }
+    }
     if (o.line_search) {
       double best_alpha = alpha, best = trial.norm;
       for (int h = 0; h < 8 && !(trial.norm <= (1 - 1e-4 * alpha) * ev.norm); ++h) {
