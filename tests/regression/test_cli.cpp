@@ -77,6 +77,20 @@ TEST(Cli, CheckReportsParticlesBondsAndTimeStep) {
   EXPECT_NE(r.output.find("deck is valid"), std::string::npos);
 }
 
+TEST(Cli, CheckOfAStaticDeckReportsLoadStepsNotATimeStep) {
+  const fs::path d = scratch("check_static");
+  std::string deck = plate_deck(1e-6);
+  const std::string expl = "solver: {type: explicit, end_time: 1e-06}";
+  ASSERT_NE(deck.find(expl), std::string::npos) << deck;
+  deck.replace(deck.find(expl), expl.size(), "solver: {type: static, method: adr, load_steps: 7}");
+  write(d / "plate.yaml", deck);
+  const Result r = run("check " + (d / "plate.yaml").string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("adaptive dynamic relaxation"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("load steps      7"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("stable step"), std::string::npos) << r.output;
+}
+
 TEST(Cli, DeckErrorNamesFileLineAndColumn) {
   const fs::path d = scratch("error");
   std::string deck = plate_deck(1e-6);

@@ -47,8 +47,13 @@ CheckReport check_system(const Config& c, const System& s) {
   r.precrack_bonds = s.precrack_bonds;
   r.memory_bytes = memory_estimate(s);
   r.stable_dt = stable_time_step(s);
-  r.dt = run_time_step(c, s);
-  r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+  if (c.solver.type == SolverType::static_equilibrium) {
+    r.dt = c.solver.end_time / c.solver.load_steps;  // pseudo-time per load step
+    r.steps = c.solver.load_steps;
+  } else {
+    r.dt = run_time_step(c, s);  // implicit dynamics requires solver.time_step (deck check)
+    r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+  }
   return r;
 }
 
@@ -62,9 +67,20 @@ std::string format_check(const Config& c, const CheckReport& r) {
                    r.particles ? static_cast<double>(r.bonds) / static_cast<double>(r.particles) : 0.0,
                    r.precrack_bonds);
   o << fmt::format("memory          {:.1f} MiB (estimate)\n", static_cast<double>(r.memory_bytes) / (1 << 20));
+  if (c.solver.type == SolverType::static_equilibrium) {
+    o << fmt::format("solver          static, {}\n",
+                     c.solver.method == StaticMethod::adr ? "adaptive dynamic relaxation" : "Newton-Raphson");
+    o << fmt::format("load steps      {} to pseudo-time {:.4g} (tolerance {:.1e})\n", r.steps, c.solver.end_time,
+                     c.solver.tolerance);
+    return o.str();
+  }
   o << fmt::format("stable step     {:.4e} s (Silling-Askari bound)\n", r.stable_dt);
-  o << fmt::format("time step       {:.4e} s{}\n", r.dt,
-                   c.solver.time_step ? " (fixed)" : fmt::format(" (safety factor {})", c.solver.safety_factor));
+  if (c.solver.type == SolverType::implicit_dynamic)
+    o << fmt::format("time step       {:.4e} s (implicit Newmark, {:.1f} x the stable step)\n", r.dt,
+                     r.dt / r.stable_dt);
+  else
+    o << fmt::format("time step       {:.4e} s{}\n", r.dt,
+                     c.solver.time_step ? " (fixed)" : fmt::format(" (safety factor {})", c.solver.safety_factor));
   o << fmt::format("steps           {} to t = {:.4e} s\n", r.steps, c.solver.end_time);
   return o.str();
 }
