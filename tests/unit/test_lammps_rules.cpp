@@ -362,7 +362,7 @@ TEST(LammpsRules, IndenterForce) {
 }
 
 // ---------------------------------------------------------------------------------
-// The AVX2 and the scalar bond loops give the same bits, on the LAMMPS problem shrunk
+// The AVX-512, AVX2 and scalar bond loops give the same bits, on the LAMMPS problem shrunk
 // to fit a unit test (PMB and LPS, breaking after the force, contact, indenter).
 
 struct Snapshot {
@@ -405,10 +405,11 @@ TEST(LammpsRules, ScalarAndVectorLoopsGiveTheSameBits) {
     const Snapshot a = run_small(model, KernelPath::scalar, 1);
     const Snapshot b = run_small(model, KernelPath::automatic, 1);
     const Snapshot c = run_small(model, KernelPath::automatic, 2);
+    const Snapshot d = run_small(model, KernelPath::avx2, 1);  // AVX2 even where AVX-512 runs
     std::printf("[ kernels ] %s: %llu directed bonds broken\n", model.c_str(),
                 static_cast<unsigned long long>(a.broken));
     EXPECT_GT(a.broken, 0u) << model;
-    for (const Snapshot* o : {&b, &c}) {
+    for (const Snapshot* o : {&b, &c, &d}) {
       EXPECT_EQ(a.broken, o->broken) << model;
       EXPECT_TRUE(same_bits(a.u, o->u)) << model;
       EXPECT_TRUE(same_bits(a.v, o->v)) << model;

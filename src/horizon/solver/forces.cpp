@@ -12,17 +12,19 @@
 #include <immintrin.h>
 #define HORIZON_AVX2_KERNELS 1
 #define HORIZON_AVX2 __attribute__((target("avx2")))
+#define HORIZON_AVX512 __attribute__((target("avx2,avx512f,avx512vl,avx512bw,avx512dq")))
 #endif
 
-// The bond loops. Each particle's row is walked in blocks of four bonds; bond k of a
-// row goes to lane (k - row start) mod 4, each lane keeps its own partial sums, and the
-// lanes are added as (l0 + l1) + (l2 + l3) at the end of the row. Two implementations
-// of every loop follow this rule: an AVX2 one (four lanes in one 256-bit register,
-// chosen at run time where the CPU has AVX2) and a portable scalar one (four scalar
-// accumulators; it skips broken bonds, which adds nothing since a lane's sum starts at
-// +0 and never becomes -0). They perform the same IEEE operations in the same order,
-// so they give the same bits (tests/unit/test_kernels.cpp), on any thread count, and
-// the compiler may not contract a*b+c into an FMA in this file (CMakeLists.txt).
+// The bond loops. Each particle's row is walked in blocks of eight bonds; bond k of a
+// row goes to lane (k - row start) mod 8, each lane keeps its own partial sums, and the
+// lanes are added as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)) at the end of
+// the row. Three implementations of every loop follow this rule, chosen at run time:
+// AVX-512 (eight lanes in one 512-bit register), AVX2 (two 256-bit registers of four)
+// and a portable scalar one (eight scalar accumulators; it skips broken bonds, which
+// adds nothing since a lane's sum starts at +0 and never becomes -0). They perform the
+// same IEEE operations in the same order, so they give the same bits
+// (tests/unit/test_lammps_rules.cpp), on any thread count, and the compiler may not
+// contract a*b+c into an FMA in this file (CMakeLists.txt).
 // Rare events (a bond breaks, two particles touch) leave the vector path and are
 // handled lane by lane in bond order. docs/benchmarks.md has the measurements behind
 // these choices.
@@ -39,6 +41,16 @@ bool use_avx2() {
 #if defined(HORIZON_AVX2_KERNELS)
   static const bool available = __builtin_cpu_supports("avx2");
   return g_path != KernelPath::scalar && available;
+#else
+  return false;
+#endif
+}
+
+bool use_avx512() {
+#if defined(HORIZON_AVX2_KERNELS)
+  static const bool available = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                                __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
+  return g_path == KernelPath::automatic && available;
 #else
   return false;
 #endif
@@ -93,8 +105,12 @@ struct RowOut {
   uint64_t broken = 0;
 };
 
-inline double total4(const double* v) { return (v[0] + v[1]) + (v[2] + v[3]); }
-inline double min4(const double* v) { return std::min(std::min(v[0], v[1]), std::min(v[2], v[3])); }
+inline double total8(const double* v) { return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7])); }
+inline double min8(const double* v) {
+  double m = v[0];
+  for (int l = 1; l < 8; ++l) m = std::min(m, v[l]);
+  return m;
+}
 
 // Short-range contact of one bond's ends (intact or broken): the force density on i
 // when they are closer than the kind's contact distance. Returns false when apart.
@@ -111,24 +127,21 @@ inline bool bond_contact(const KindCoefficients& c, double Yx, double Yy, double
 }
 
 // ------------------------------------------------------------------------------------
-// Portable scalar rows: four lanes of scalar accumulators.
+// Portable scalar rows: eight lanes of scalar accumulators.
 
-// Calls f(k, lane) for the bonds [begin, end) of a row, bond k in lane (k - begin) mod 4
-// with the lane a compile-time constant, so that the four lanes' sums stay in registers.
+// Calls f(k, lane) for the bonds [begin, end) of a row, bond k in lane (k - begin) mod 8
+// with the lane a compile-time constant, so that the lanes' sums stay in registers.
 template <int L>
 using LaneTag = std::integral_constant<int, L>;
+template <class F, int... L>
+inline void lanes_of_block(uint64_t k, uint64_t end, F& f, std::integer_sequence<int, L...>) {
+  ((k + L < end ? f(k + L, LaneTag<L>{}) : void()), ...);
+}
 template <class F>
 inline void for_each_lane(uint64_t begin, uint64_t end, F&& f) {
   uint64_t k = begin;
-  for (; k + 4 <= end; k += 4) {
-    f(k, LaneTag<0>{});
-    f(k + 1, LaneTag<1>{});
-    f(k + 2, LaneTag<2>{});
-    f(k + 3, LaneTag<3>{});
-  }
-  if (k < end) f(k, LaneTag<0>{});
-  if (k + 1 < end) f(k + 1, LaneTag<1>{});
-  if (k + 2 < end) f(k + 2, LaneTag<2>{});
+  for (; k + 8 <= end; k += 8) lanes_of_block(k, k + 8, f, std::make_integer_sequence<int, 8>{});
+  if (k < end) lanes_of_block(k, end, f, std::make_integer_sequence<int, 8>{});
 }
 
 // Bond-based models: breaking, the smallest stretch, contact and force in one pass.
@@ -137,7 +150,8 @@ template <bool kEnergy, bool kAfter>
 RowOut pmb_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i];
-  double fx[4] = {}, fy[4] = {}, fz[4] = {}, en[4] = {}, sm[4] = {kInf, kInf, kInf, kInf};
+  double fx[8] = {}, fy[8] = {}, fz[8] = {}, en[8] = {}, sm[8];
+  std::fill(sm, sm + 8, kInf);
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
   for_each_lane(begin, end, [&](uint64_t k, auto lane) {
@@ -174,7 +188,7 @@ RowOut pmb_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
       if constexpr (kEnergy) en[l] += cw;
     }
   });
-  out.fx = total4(fx), out.fy = total4(fy), out.fz = total4(fz), out.energy = total4(en), out.smin = min4(sm);
+  out.fx = total8(fx), out.fy = total8(fy), out.fz = total8(fz), out.energy = total8(en), out.smin = min8(sm);
   return out;
 }
 
@@ -186,7 +200,8 @@ template <bool kAfter>
 RowOut dilate_row_scalar(const Ctx& c, std::size_t i, double Pi, uint64_t /*total*/) {
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i], Qi = c.Q[i];
-  double th[4] = {}, sm[4] = {kInf, kInf, kInf, kInf};
+  double th[8] = {}, sm[8];
+  std::fill(sm, sm + 8, kInf);
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
   for_each_lane(begin, end, [&](uint64_t k, auto lane) {
@@ -210,7 +225,7 @@ RowOut dilate_row_scalar(const Ctx& c, std::size_t i, double Pi, uint64_t /*tota
       c.intact_weight[i] -= kc.damage;
     }
   });
-  out.theta = total4(th), out.smin = min4(sm);
+  out.theta = total8(th), out.smin = min8(sm);
   return out;
 }
 
@@ -220,7 +235,7 @@ template <bool kEnergy>
 RowOut force_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i], Pi = pi.w, Qi = c.Q[i];
-  double fx[4] = {}, fy[4] = {}, fz[4] = {}, en[4] = {};
+  double fx[8] = {}, fy[8] = {}, fz[8] = {}, en[8] = {};
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
   for_each_lane(begin, end, [&](uint64_t k, auto lane) {
@@ -249,7 +264,7 @@ RowOut force_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
       if constexpr (kEnergy) en[l] += cw;
     }
   });
-  out.fx = total4(fx), out.fy = total4(fy), out.fz = total4(fz), out.energy = total4(en);
+  out.fx = total8(fx), out.fy = total8(fy), out.fz = total8(fz), out.energy = total8(en);
   return out;
 }
 
@@ -374,24 +389,42 @@ HORIZON_AVX2 __attribute__((noinline)) void quad_breaks(const Ctx& c, const Poin
   }
 }
 
-// Calls f(k, count, full) for the blocks of four bonds of a row; full (a compile-time
-// constant) tells the block has four bonds, so that its loads need no padding.
+// Calls f(k, count, full, half) for the blocks of four bonds of a row: half (0 or 1, a
+// compile-time constant) is the block's place in its block of eight, so lanes 0-3 and
+// 4-7 keep separate sums; full (a compile-time constant) tells the block has four
+// bonds, so that its loads need no padding.
 template <class F>
 HORIZON_AVX2 inline void for_each_quad(uint64_t begin, uint64_t end, F&& f) {
   uint64_t k = begin;
-  for (; k + 4 <= end; k += 4) f(k, 4, std::true_type{});
-  if (k < end) f(k, static_cast<int>(end - k), std::false_type{});
+  for (; k + 8 <= end; k += 8) {
+    f(k, 4, std::true_type{}, LaneTag<0>{});
+    f(k + 4, 4, std::true_type{}, LaneTag<1>{});
+  }
+  if (k + 4 <= end) {
+    f(k, 4, std::true_type{}, LaneTag<0>{});
+    if (k + 4 < end) f(k + 4, static_cast<int>(end - k - 4), std::false_type{}, LaneTag<1>{});
+  } else if (k < end) {
+    f(k, static_cast<int>(end - k), std::false_type{}, LaneTag<0>{});
+  }
 }
+
+// Eight lanes as two registers of four; sum8 adds them in the order of total8.
+struct D8 {
+  d4 v[2];
+};
+HORIZON_AVX2 inline double sum8(const D8& a) { return sum4(a.v[0]) + sum4(a.v[1]); }
+HORIZON_AVX2 inline double min8(const D8& a) { return std::min(min4(a.v[0]), min4(a.v[1])); }
 
 template <bool kEnergy, bool kAfter>
 HORIZON_AVX2 RowOut pmb_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i];
   const d4 s0i = splat(pi.w);
-  d4 fx = {}, fy = {}, fz = {}, en = {}, sm = splat(kInf);
+  D8 fx{}, fy{}, fz{}, en{}, sm{{splat(kInf), splat(kInf)}};
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full) HORIZON_AVX2 {
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
+    constexpr int h = decltype(half)::value;
     Quad q;
     load_quad<kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
@@ -399,8 +432,8 @@ HORIZON_AVX2 RowOut pmb_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
     if (!any(q.live)) {  // four broken bonds: only their contact can act
       if (any(contact)) {
         const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-        fx += cc.fx, fy += cc.fy, fz += cc.fz;
-        if constexpr (kEnergy) en += cc.w;
+        fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
+        if constexpr (kEnergy) en.v[h] += cc.w;
       }
       return;
     }
@@ -410,21 +443,21 @@ HORIZON_AVX2 RowOut pmb_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
     const m4 carries = kAfter ? q.live : q.live & ~breaks;
     // Padding and broken lanes may hold inf or NaN; the masks never select them.
     const d4 a = select(carries, q.pair * e / r);
-    fx += a * q.Yx;
-    fy += a * q.Yy;
-    fz += a * q.Yz;
-    sm = (q.live & (stretch < sm)) ? stretch : sm;
-    if constexpr (kEnergy) en += select(q.live & ~breaks, splat(0.5 * Ri) * q.wv * q.iL * e * e);
+    fx.v[h] += a * q.Yx;
+    fy.v[h] += a * q.Yy;
+    fz.v[h] += a * q.Yz;
+    sm.v[h] = (q.live & (stretch < sm.v[h])) ? stretch : sm.v[h];
+    if constexpr (kEnergy) en.v[h] += select(q.live & ~breaks, splat(0.5 * Ri) * q.wv * q.iL * e * e);
     if (!any(breaks | contact)) return;
     const int broken_lanes = _mm256_movemask_pd(reinterpret_cast<__m256d>(breaks));
     if (broken_lanes) quad_breaks(c, pi, i, k, broken_lanes, 0, true, Ri, 0.0, 0.0, out);
     if (any(contact)) {
-        const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-        fx += cc.fx, fy += cc.fy, fz += cc.fz;
-        if constexpr (kEnergy) en += cc.w;
-      }
+      const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
+      fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
+      if constexpr (kEnergy) en.v[h] += cc.w;
+    }
   });
-  out.fx = sum4(fx), out.fy = sum4(fy), out.fz = sum4(fz), out.energy = sum4(en), out.smin = min4(sm);
+  out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en), out.smin = min8(sm);
   return out;
 }
 
@@ -433,10 +466,11 @@ HORIZON_AVX2 RowOut dilate_row_avx2(const Ctx& c, std::size_t i, double Pi, uint
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i], Qi = c.Q[i];
   const d4 s0i = splat(pi.w);
-  d4 th = {}, sm = splat(kInf);
+  D8 th{}, sm{{splat(kInf), splat(kInf)}};
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full) HORIZON_AVX2 {
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
+    constexpr int h = decltype(half)::value;
     Quad q;
     load_quad<true, decltype(full)::value>(q, c, pi, i, k, count, total);
     if (!any(q.live)) return;
@@ -444,13 +478,13 @@ HORIZON_AVX2 RowOut dilate_row_avx2(const Ctx& c, std::size_t i, double Pi, uint
     const d4 e = sqrt4(r2) - q.L, stretch = e * q.iL;
     const d4 s0 = s0i < q.wj ? s0i : q.wj;
     const m4 breaks = q.live & (stretch > s0);
-    th += select(kAfter ? q.live : q.live & ~breaks, q.wv * q.L * e);
-    sm = (q.live & (stretch < sm)) ? stretch : sm;
+    th.v[h] += select(kAfter ? q.live : q.live & ~breaks, q.wv * q.L * e);
+    sm.v[h] = (q.live & (stretch < sm.v[h])) ? stretch : sm.v[h];
     if (!any(breaks)) return;
     quad_breaks(c, pi, i, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(breaks)), kAfter ? 2 : 0, false, Ri, Pi,
                 Qi, out);
   });
-  out.theta = sum4(th), out.smin = min4(sm);
+  out.theta = sum8(th), out.smin = min8(sm);
   return out;
 }
 
@@ -459,10 +493,11 @@ HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) 
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i];
   const d4 Pi = splat(pi.w), Qi = splat(c.Q[i]);
-  d4 fx = {}, fy = {}, fz = {}, en = {};
+  D8 fx{}, fy{}, fz{}, en{};
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full) HORIZON_AVX2 {
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
+    constexpr int h = decltype(half)::value;
     Quad q;
     load_quad<true, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
@@ -470,8 +505,8 @@ HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) 
     if (!any(q.live)) {  // four broken bonds: only their contact can act
       if (any(contact)) {
         const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-        fx += cc.fx, fy += cc.fy, fz += cc.fz;
-        if constexpr (kEnergy) en += cc.w;
+        fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
+        if constexpr (kEnergy) en.v[h] += cc.w;
       }
       return;
     }
@@ -481,25 +516,251 @@ HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) 
     const d4 r = sqrt4(r2), e = r - q.L;
     const d4 t = (Pi + q.wj) * q.L + (Qi + Qj) * e;
     const d4 a = select(q.live, (wv * t + q.pair * e) / r);
-    fx += a * q.Yx;
-    fy += a * q.Yy;
-    fz += a * q.Yz;
-    if constexpr (kEnergy) en += select(q.once, splat(0.5) * wv * (Pi * q.L + (Qi + splat(Ri) * q.iL) * e) * e);
+    fx.v[h] += a * q.Yx;
+    fy.v[h] += a * q.Yy;
+    fz.v[h] += a * q.Yz;
+    if constexpr (kEnergy) en.v[h] += select(q.once, splat(0.5) * wv * (Pi * q.L + (Qi + splat(Ri) * q.iL) * e) * e);
     const m4 clear = q.live ^ q.once;
     if (!any(clear | contact)) return;
     const int cleared = _mm256_movemask_pd(reinterpret_cast<__m256d>(clear));
     for (int l = 0; l < count; ++l)
       if ((cleared >> l) & 1) c.intact[k + static_cast<uint64_t>(l)] = 0;
     if (any(contact)) {
-        const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-        fx += cc.fx, fy += cc.fy, fz += cc.fz;
-        if constexpr (kEnergy) en += cc.w;
-      }
+      const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
+      fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
+      if constexpr (kEnergy) en.v[h] += cc.w;
+    }
   });
-  out.fx = sum4(fx), out.fy = sum4(fy), out.fz = sum4(fz), out.energy = sum4(en);
+  out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en);
   return out;
 }
 
+// ------------------------------------------------------------------------------------
+// AVX-512 rows: the same arithmetic, eight lanes in one 512-bit register.
+
+using d8 = __m512d;
+
+// {a, b} in one register: a broadcast, then b into the upper four lanes (no undefined
+// upper half, which GCC 12 warns about).
+HORIZON_AVX512 inline d8 join8(__m256d a, __m256d b) {
+  return _mm512_mask_broadcast_f64x4(_mm512_broadcast_f64x4(a), 0xF0, b);
+}
+
+// Eight 32-byte records (four doubles each) into four registers of eight lanes: lane l
+// of a, b, c, d holds doubles 0, 1, 2, 3 of record l.
+HORIZON_AVX512 inline void transpose8(const double* const* rec, d8& a, d8& b, d8& c, d8& d) {
+  const d8 z0 = join8(_mm256_load_pd(rec[0]), _mm256_load_pd(rec[1]));
+  const d8 z1 = join8(_mm256_load_pd(rec[2]), _mm256_load_pd(rec[3]));
+  const d8 z2 = join8(_mm256_load_pd(rec[4]), _mm256_load_pd(rec[5]));
+  const d8 z3 = join8(_mm256_load_pd(rec[6]), _mm256_load_pd(rec[7]));
+  // t0 = {a0 a2 c0 c2 a1 a3 c1 c3}, t1 = {b0 b2 d0 d2 b1 b3 d1 d3}; t2, t3 for 4..7.
+  const d8 t0 = _mm512_unpacklo_pd(z0, z1), t1 = _mm512_unpackhi_pd(z0, z1);
+  const d8 t2 = _mm512_unpacklo_pd(z2, z3), t3 = _mm512_unpackhi_pd(z2, z3);
+  const __m512i first = _mm512_setr_epi64(0, 4, 1, 5, 8, 12, 9, 13);
+  const __m512i second = _mm512_setr_epi64(2, 6, 3, 7, 10, 14, 11, 15);
+  a = _mm512_permutex2var_pd(t0, first, t2);
+  b = _mm512_permutex2var_pd(t1, first, t3);
+  c = _mm512_permutex2var_pd(t0, second, t2);
+  d = _mm512_permutex2var_pd(t1, second, t3);
+}
+
+// Eight bonds k .. k + count - 1 of row i in lanes 0..7, padded as load_quad pads.
+struct Oct {
+  d8 Yx, Yy, Yz, wj;    // Y = y_j - y_i; the neighbour's packed value
+  d8 L, iL, pair, d2c;  // kind: length, 1/length, bond-based coefficient, contact distance^2
+  d8 wv;                // kind: omega V_j (loaded when asked)
+  __mmask8 live, once;  // intact != 0, intact == 1
+};
+
+template <bool kWv, bool kFull>
+HORIZON_AVX512 inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
+                                    uint64_t total) {
+  const double* rp[8];
+  const double* rk[8];
+  const double* rw[8];
+  for (int l = 0; l < 8; ++l) {
+    const bool in = kFull || l < count;
+    const uint64_t kk = in ? k + static_cast<uint64_t>(l) : k;
+    rp[l] = &c.pt[in ? c.nbr[kk] : static_cast<uint32_t>(i)].x;
+    rk[l] = &c.kc[c.kind[kk]].length;
+    rw[l] = &c.kc[c.kind[kk]].damage;
+  }
+  transpose8(rp, q.Yx, q.Yy, q.Yz, q.wj);
+  q.Yx = _mm512_sub_pd(q.Yx, _mm512_set1_pd(pi.x));
+  q.Yy = _mm512_sub_pd(q.Yy, _mm512_set1_pd(pi.y));
+  q.Yz = _mm512_sub_pd(q.Yz, _mm512_set1_pd(pi.z));
+  transpose8(rk, q.L, q.iL, q.pair, q.d2c);
+  if constexpr (kWv) {
+    d8 unused0, unused1, unused2;
+    transpose8(rw, unused0, q.wv, unused1, unused2);
+  }
+  uint64_t flags = 0;
+  if (kFull || k + 8 <= total) {
+    std::memcpy(&flags, c.intact + k, 8);
+  } else {
+    for (int l = 0; l < 8 && k + static_cast<uint64_t>(l) < total; ++l)
+      flags |= static_cast<uint64_t>(c.intact[k + static_cast<uint64_t>(l)]) << (8 * l);
+  }
+  if (!kFull && count < 8) flags &= (uint64_t{1} << (8 * count)) - 1;
+  const __m128i f = _mm_cvtsi64_si128(static_cast<long long>(flags));
+  q.live = static_cast<__mmask8>(_mm_test_epi8_mask(f, f));
+  q.once = static_cast<__mmask8>(_mm_cmpeq_epi8_mask(f, _mm_set1_epi8(1)));
+}
+
+// The lanes' contact (rare) as eight-lane vectors, from the four-lane helper.
+struct Contact8 {
+  d8 fx, fy, fz, w;
+};
+HORIZON_AVX512 inline Contact8 oct_contact(const Ctx& c, const Point4& pi, uint64_t k, unsigned mask) {
+  Contact4 lo{}, hi{};
+  if (mask & 15u) lo = quad_contact(c, pi, k, static_cast<int>(mask & 15u));
+  if (mask >> 4) hi = quad_contact(c, pi, k + 4, static_cast<int>(mask >> 4));
+  Contact8 out;
+  out.fx = join8(lo.fx, hi.fx), out.fy = join8(lo.fy, hi.fy), out.fz = join8(lo.fz, hi.fz), out.w = join8(lo.w, hi.w);
+  return out;
+}
+
+// Breaking lanes of a block of eight, in bond order (two calls of the four-lane helper).
+HORIZON_AVX512 inline void oct_breaks(const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, unsigned mask,
+                                      uint8_t state, bool bond_based, double Ri, double Pi, double Qi, RowOut& out) {
+  if (mask & 15u) quad_breaks(c, pi, i, k, static_cast<int>(mask & 15u), state, bond_based, Ri, Pi, Qi, out);
+  if (mask >> 4) quad_breaks(c, pi, i, k + 4, static_cast<int>(mask >> 4), state, bond_based, Ri, Pi, Qi, out);
+}
+
+// The sum of eight lanes in the order of total8; the smallest lane.
+HORIZON_AVX512 inline double sum8(d8 v) {
+  alignas(64) double lane[8];
+  _mm512_store_pd(lane, v);
+  return total8(lane);
+}
+HORIZON_AVX512 inline double min8(d8 v) {
+  alignas(64) double lane[8];
+  _mm512_store_pd(lane, v);
+  return min8(static_cast<const double*>(lane));
+}
+
+template <class F>
+HORIZON_AVX512 inline void for_each_oct(uint64_t begin, uint64_t end, F&& f) {
+  uint64_t k = begin;
+  for (; k + 8 <= end; k += 8) f(k, 8, std::true_type{});
+  if (k < end) f(k, static_cast<int>(end - k), std::false_type{});
+}
+
+template <bool kEnergy, bool kAfter>
+HORIZON_AVX512 RowOut pmb_row_avx512(const Ctx& c, std::size_t i, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i];
+  const d8 s0i = _mm512_set1_pd(pi.w), zero = _mm512_setzero_pd();
+  d8 fx = zero, fy = zero, fz = zero, en = zero, sm = _mm512_set1_pd(kInf);
+  RowOut out;
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+    Oct q;
+    load_oct<kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
+    const d8 r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(q.Yx, q.Yx), _mm512_mul_pd(q.Yy, q.Yy)),
+                                _mm512_mul_pd(q.Yz, q.Yz));
+    // Padding lanes have r2 = 0.
+    const __mmask8 contact = _mm512_cmp_pd_mask(r2, q.d2c, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
+    if (q.live) {
+      const d8 r = _mm512_sqrt_pd(r2), e = _mm512_sub_pd(r, q.L), stretch = _mm512_mul_pd(e, q.iL);
+      const d8 s0 = _mm512_min_pd(s0i, q.wj);  // s0i < wj ? s0i : wj, as the other paths
+      const __mmask8 breaks = q.live & _mm512_cmp_pd_mask(stretch, s0, _CMP_GT_OQ);
+      const __mmask8 carries = kAfter ? q.live : static_cast<__mmask8>(q.live & ~breaks);
+      const d8 a = _mm512_maskz_div_pd(carries, _mm512_mul_pd(q.pair, e), r);
+      fx = _mm512_add_pd(fx, _mm512_mul_pd(a, q.Yx));
+      fy = _mm512_add_pd(fy, _mm512_mul_pd(a, q.Yy));
+      fz = _mm512_add_pd(fz, _mm512_mul_pd(a, q.Yz));
+      sm = _mm512_mask_min_pd(sm, q.live, stretch, sm);  // stretch < sm ? stretch : sm
+      if constexpr (kEnergy) {
+        const d8 w = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(0.5 * Ri), q.wv), q.iL), e), e);
+        en = _mm512_add_pd(en, _mm512_maskz_mov_pd(static_cast<__mmask8>(q.live & ~breaks), w));
+      }
+      if (breaks) oct_breaks(c, pi, i, k, breaks, 0, true, Ri, 0.0, 0.0, out);
+    }
+    if (contact) {
+      const Contact8 cc = oct_contact(c, pi, k, contact);
+      fx = _mm512_add_pd(fx, cc.fx), fy = _mm512_add_pd(fy, cc.fy), fz = _mm512_add_pd(fz, cc.fz);
+      if constexpr (kEnergy) en = _mm512_add_pd(en, cc.w);
+    }
+  });
+  out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en), out.smin = min8(sm);
+  return out;
+}
+
+template <bool kAfter>
+HORIZON_AVX512 RowOut dilate_row_avx512(const Ctx& c, std::size_t i, double Pi, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i], Qi = c.Q[i];
+  const d8 s0i = _mm512_set1_pd(pi.w);
+  d8 th = _mm512_setzero_pd(), sm = _mm512_set1_pd(kInf);
+  RowOut out;
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+    Oct q;
+    load_oct<true, decltype(full)::value>(q, c, pi, i, k, count, total);
+    if (!q.live) return;
+    const d8 r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(q.Yx, q.Yx), _mm512_mul_pd(q.Yy, q.Yy)),
+                                _mm512_mul_pd(q.Yz, q.Yz));
+    const d8 e = _mm512_sub_pd(_mm512_sqrt_pd(r2), q.L), stretch = _mm512_mul_pd(e, q.iL);
+    const d8 s0 = _mm512_min_pd(s0i, q.wj);
+    const __mmask8 breaks = q.live & _mm512_cmp_pd_mask(stretch, s0, _CMP_GT_OQ);
+    const __mmask8 counts = kAfter ? q.live : static_cast<__mmask8>(q.live & ~breaks);
+    th = _mm512_add_pd(th, _mm512_maskz_mov_pd(counts, _mm512_mul_pd(_mm512_mul_pd(q.wv, q.L), e)));
+    sm = _mm512_mask_min_pd(sm, q.live, stretch, sm);
+    if (breaks) oct_breaks(c, pi, i, k, breaks, kAfter ? 2 : 0, false, Ri, Pi, Qi, out);
+  });
+  out.theta = sum8(th), out.smin = min8(sm);
+  return out;
+}
+
+template <bool kEnergy>
+HORIZON_AVX512 RowOut force_row_avx512(const Ctx& c, std::size_t i, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i];
+  const d8 Pi = _mm512_set1_pd(pi.w), Qi = _mm512_set1_pd(c.Q[i]), zero = _mm512_setzero_pd();
+  d8 fx = zero, fy = zero, fz = zero, en = zero;
+  RowOut out;
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+    Oct q;
+    load_oct<true, decltype(full)::value>(q, c, pi, i, k, count, total);
+    const d8 r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(q.Yx, q.Yx), _mm512_mul_pd(q.Yy, q.Yy)),
+                                _mm512_mul_pd(q.Yz, q.Yz));
+    const __mmask8 contact = _mm512_cmp_pd_mask(r2, q.d2c, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
+    if (q.live) {
+      // Q_j of the neighbours; padding lanes read Q_i.
+      __m256i idx;
+      if constexpr (decltype(full)::value) {
+        idx = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c.nbr + k));
+      } else {
+        alignas(32) uint32_t j[8];
+        for (int l = 0; l < 8; ++l) j[l] = l < count ? c.nbr[k + static_cast<uint64_t>(l)] : static_cast<uint32_t>(i);
+        idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(j));
+      }
+      const d8 Qj = _mm512_i32gather_pd(idx, c.Q, 8);
+      const d8 r = _mm512_sqrt_pd(r2), e = _mm512_sub_pd(r, q.L);
+      const d8 t = _mm512_add_pd(_mm512_mul_pd(_mm512_add_pd(Pi, q.wj), q.L), _mm512_mul_pd(_mm512_add_pd(Qi, Qj), e));
+      const d8 a = _mm512_maskz_div_pd(q.live, _mm512_add_pd(_mm512_mul_pd(q.wv, t), _mm512_mul_pd(q.pair, e)), r);
+      fx = _mm512_add_pd(fx, _mm512_mul_pd(a, q.Yx));
+      fy = _mm512_add_pd(fy, _mm512_mul_pd(a, q.Yy));
+      fz = _mm512_add_pd(fz, _mm512_mul_pd(a, q.Yz));
+      if constexpr (kEnergy) {
+        const d8 inner = _mm512_add_pd(_mm512_mul_pd(Pi, q.L),
+                                       _mm512_mul_pd(_mm512_add_pd(Qi, _mm512_mul_pd(_mm512_set1_pd(Ri), q.iL)), e));
+        const d8 w = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(0.5), q.wv), inner), e);
+        en = _mm512_add_pd(en, _mm512_maskz_mov_pd(q.once, w));
+      }
+      const unsigned clear = q.live ^ q.once;
+      if (clear)
+        for (int l = 0; l < count; ++l)
+          if ((clear >> l) & 1u) c.intact[k + static_cast<uint64_t>(l)] = 0;
+    }
+    if (contact) {
+      const Contact8 cc = oct_contact(c, pi, k, contact);
+      fx = _mm512_add_pd(fx, cc.fx), fy = _mm512_add_pd(fy, cc.fy), fz = _mm512_add_pd(fz, cc.fz);
+      if constexpr (kEnergy) en = _mm512_add_pd(en, cc.w);
+    }
+  });
+  out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en);
+  return out;
+}
 #endif  // HORIZON_AVX2_KERNELS
 
 // ------------------------------------------------------------------------------------
@@ -515,6 +776,7 @@ uint64_t bond_based_pass(System& s) {
   RowOut (*row)(const Ctx&, std::size_t, uint64_t) = pmb_row_scalar<kEnergy, kAfter>;
 #if defined(HORIZON_AVX2_KERNELS)
   if (use_avx2()) row = pmb_row_avx2<kEnergy, kAfter>;
+  if (use_avx512()) row = pmb_row_avx512<kEnergy, kAfter>;
 #endif
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
@@ -540,6 +802,7 @@ uint64_t break_and_dilate(System& s) {
   RowOut (*row)(const Ctx&, std::size_t, double, uint64_t) = dilate_row_scalar<kAfter>;
 #if defined(HORIZON_AVX2_KERNELS)
   if (use_avx2()) row = dilate_row_avx2<kAfter>;
+  if (use_avx512()) row = dilate_row_avx512<kAfter>;
 #endif
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
@@ -567,6 +830,7 @@ void internal_force(System& s) {
   RowOut (*row)(const Ctx&, std::size_t, uint64_t) = force_row_scalar<kEnergy>;
 #if defined(HORIZON_AVX2_KERNELS)
   if (use_avx2()) row = force_row_avx2<kEnergy>;
+  if (use_avx512()) row = force_row_avx512<kEnergy>;
 #endif
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -580,17 +844,17 @@ void internal_force(System& s) {
 // bond loops: an undamaged particle then has damage 0 exactly.
 double lane_sum_damage(const System& s, std::size_t i, bool intact_only) {
   const auto& B = s.bonds;
-  double lanes[4] = {};
+  double lanes[8] = {};
   for (uint64_t k = B.begin(i); k < B.end(i); ++k)
-    if (!intact_only || B.intact[k]) lanes[(k - B.begin(i)) & 3] += s.model.kind[B.kind[k]].damage;
-  return total4(lanes);
+    if (!intact_only || B.intact[k]) lanes[(k - B.begin(i)) & 7] += s.model.kind[B.kind[k]].damage;
+  return total8(lanes);
 }
 
 }  // namespace
 
 void set_kernel_path(KernelPath path) { g_path = path; }
 
-const char* kernel_path_name() { return use_avx2() ? "avx2" : "scalar"; }
+const char* kernel_path_name() { return use_avx512() ? "avx512" : use_avx2() ? "avx2" : "scalar"; }
 
 void build_kind_coefficients(System& s, DamageMeasure measure) {
   const auto& B = s.bonds;

@@ -27,11 +27,12 @@ void build_kind_coefficients(System& s, DamageMeasure measure);
 // after changing intact flags by hand.
 void refresh_damage(System& s);
 
-// Which implementation of the bond loops runs: AVX2 where the CPU has it (automatic)
-// or the portable scalar one. Both give the same bits; tests compare them.
-enum class KernelPath { automatic, scalar };
+// Which implementation of the bond loops runs: the widest the CPU has (automatic:
+// AVX-512, else AVX2, else scalar), at most AVX2, or the portable scalar one. All give
+// the same bits; tests compare them.
+enum class KernelPath { automatic, avx2, scalar };
 void set_kernel_path(KernelPath path);
-const char* kernel_path_name();  // "avx2" or "scalar": what runs now
+const char* kernel_path_name();  // "avx512", "avx2" or "scalar": what runs now
 
 // The two passes of compute_forces for state-based models, exposed for the kernel
 // benchmarks (bench/bench_kernels.cpp): pass 1 breaks bonds and sums the dilatation,
