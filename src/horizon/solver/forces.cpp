@@ -89,6 +89,7 @@ struct Ctx {
   const double* R;  // pair_coef
   const double* Q;  // deviatoric_coef
   double* intact_weight;
+  double* r_of;     // |Y| per bond (state-based: dilatation pass writes, force pass reads)
 };
 
 Ctx context(System& s) {
@@ -96,7 +97,7 @@ Ctx context(System& s) {
   auto& M = s.model;
   return {M.packed.data(),  M.kind.data(),         B.nbr.data(),          B.kind.data(),
           B.offset.data(),  B.intact.data(),       M.pair_coef.data(),    M.deviatoric_coef.data(),
-          M.intact_weight.data()};
+          M.intact_weight.data(), M.deformed_length.data()};
 }
 
 // What one row gives back besides the force.
@@ -134,14 +135,18 @@ inline bool bond_contact(const KindCoefficients& c, double Yx, double Yy, double
 template <int L>
 using LaneTag = std::integral_constant<int, L>;
 template <class F, int... L>
-inline void lanes_of_block(uint64_t k, uint64_t end, F& f, std::integer_sequence<int, L...>) {
+inline void full_block(uint64_t k, F& f, std::integer_sequence<int, L...>) {
+  (f(k + L, LaneTag<L>{}), ...);
+}
+template <class F, int... L>
+inline void partial_block(uint64_t k, uint64_t end, F& f, std::integer_sequence<int, L...>) {
   ((k + L < end ? f(k + L, LaneTag<L>{}) : void()), ...);
 }
 template <class F>
 inline void for_each_lane(uint64_t begin, uint64_t end, F&& f) {
   uint64_t k = begin;
-  for (; k + 8 <= end; k += 8) lanes_of_block(k, k + 8, f, std::make_integer_sequence<int, 8>{});
-  if (k < end) lanes_of_block(k, end, f, std::make_integer_sequence<int, 8>{});
+  for (; k + 8 <= end; k += 8) full_block(k, f, std::make_integer_sequence<int, 8>{});
+  if (k < end) partial_block(k, end, f, std::make_integer_sequence<int, 7>{});
 }
 
 // Bond-based models: breaking, the smallest stretch, contact and force in one pass.
@@ -211,7 +216,8 @@ RowOut dilate_row_scalar(const Ctx& c, std::size_t i, double Pi, uint64_t /*tota
     const Point4 pj = c.pt[c.nbr[k]];
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
-    const double e = std::sqrt(r2) - kc.length, stretch = e * kc.inv_length;
+    const double r = std::sqrt(r2), e = r - kc.length, stretch = e * kc.inv_length;
+    c.r_of[k] = r;
     const double s0 = pi.w < pj.w ? pi.w : pj.w;
     const bool breaks = stretch > s0;
     if (kAfter || !breaks) th[l] += kc.wv * kc.length * e;
@@ -246,7 +252,7 @@ RowOut force_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
     if (c.intact[k]) {
-      const double r = std::sqrt(r2), L = kc.length, e = r - L;
+      const double r = c.r_of[k], L = kc.length, e = r - L;  // |Y| from the dilatation pass
       const double t = (Pi + pj.w) * L + (Qi + c.Q[j]) * e;
       const double a = (kc.wv * t + kc.pair * e) / r;
       fx[l] += a * Yx;
@@ -475,7 +481,11 @@ HORIZON_AVX2 RowOut dilate_row_avx2(const Ctx& c, std::size_t i, double Pi, uint
     load_quad<true, decltype(full)::value>(q, c, pi, i, k, count, total);
     if (!any(q.live)) return;
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
-    const d4 e = sqrt4(r2) - q.L, stretch = e * q.iL;
+    const d4 r = sqrt4(r2), e = r - q.L, stretch = e * q.iL;
+    if constexpr (decltype(full)::value)
+      _mm256_storeu_pd(c.r_of + k, reinterpret_cast<__m256d>(r));
+    else
+      for (int l = 0; l < count; ++l) c.r_of[k + static_cast<uint64_t>(l)] = r[l];
     const d4 s0 = s0i < q.wj ? s0i : q.wj;
     const m4 breaks = q.live & (stretch > s0);
     th.v[h] += select(kAfter ? q.live : q.live & ~breaks, q.wv * q.L * e);
@@ -510,10 +520,14 @@ HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) 
       }
       return;
     }
-    d4 Qj = {};
-    for (int l = 0; l < count; ++l) Qj[l] = c.Q[c.nbr[k + static_cast<uint64_t>(l)]];
+    d4 Qj = {}, r = splat(1.0);  // |Y| from the dilatation pass; padding lanes 1
+    if constexpr (decltype(full)::value) r = reinterpret_cast<d4>(_mm256_loadu_pd(c.r_of + k));
+    for (int l = 0; l < count; ++l) {
+      Qj[l] = c.Q[c.nbr[k + static_cast<uint64_t>(l)]];
+      if constexpr (!decltype(full)::value) r[l] = c.r_of[k + static_cast<uint64_t>(l)];
+    }
     const d4 wv = q.wv;
-    const d4 r = sqrt4(r2), e = r - q.L;
+    const d4 e = r - q.L;
     const d4 t = (Pi + q.wj) * q.L + (Qi + Qj) * e;
     const d4 a = select(q.live, (wv * t + q.pair * e) / r);
     fx.v[h] += a * q.Yx;
@@ -639,6 +653,8 @@ HORIZON_AVX512 inline double min8(d8 v) {
   return min8(static_cast<const double*>(lane));
 }
 
+HORIZON_AVX512 inline __mmask8 lanes_of(int count) { return static_cast<__mmask8>((1u << count) - 1u); }
+
 template <class F>
 HORIZON_AVX512 inline void for_each_oct(uint64_t begin, uint64_t end, F&& f) {
   uint64_t k = begin;
@@ -699,7 +715,8 @@ HORIZON_AVX512 RowOut dilate_row_avx512(const Ctx& c, std::size_t i, double Pi, 
     if (!q.live) return;
     const d8 r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(q.Yx, q.Yx), _mm512_mul_pd(q.Yy, q.Yy)),
                                 _mm512_mul_pd(q.Yz, q.Yz));
-    const d8 e = _mm512_sub_pd(_mm512_sqrt_pd(r2), q.L), stretch = _mm512_mul_pd(e, q.iL);
+    const d8 r = _mm512_sqrt_pd(r2), e = _mm512_sub_pd(r, q.L), stretch = _mm512_mul_pd(e, q.iL);
+    _mm512_mask_storeu_pd(c.r_of + k, lanes_of(count), r);
     const d8 s0 = _mm512_min_pd(s0i, q.wj);
     const __mmask8 breaks = q.live & _mm512_cmp_pd_mask(stretch, s0, _CMP_GT_OQ);
     const __mmask8 counts = kAfter ? q.live : static_cast<__mmask8>(q.live & ~breaks);
@@ -735,7 +752,8 @@ HORIZON_AVX512 RowOut force_row_avx512(const Ctx& c, std::size_t i, uint64_t tot
         idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(j));
       }
       const d8 Qj = _mm512_i32gather_pd(idx, c.Q, 8);
-      const d8 r = _mm512_sqrt_pd(r2), e = _mm512_sub_pd(r, q.L);
+      // |Y| from the dilatation pass; padding lanes 1.
+      const d8 r = _mm512_mask_loadu_pd(_mm512_set1_pd(1.0), lanes_of(count), c.r_of + k), e = _mm512_sub_pd(r, q.L);
       const d8 t = _mm512_add_pd(_mm512_mul_pd(_mm512_add_pd(Pi, q.wj), q.L), _mm512_mul_pd(_mm512_add_pd(Qi, Qj), e));
       const d8 a = _mm512_maskz_div_pd(q.live, _mm512_add_pd(_mm512_mul_pd(q.wv, t), _mm512_mul_pd(q.pair, e)), r);
       fx = _mm512_add_pd(fx, _mm512_mul_pd(a, q.Yx));
@@ -796,6 +814,7 @@ template <bool kAfter>
 uint64_t break_and_dilate(System& s) {
   auto& P = s.particles;
   auto& M = s.model;
+  if (M.deformed_length.size() != s.bonds.size()) M.deformed_length.assign(s.bonds.size(), 1.0);
   const Ctx c = context(s);
   const std::size_t n = P.size();
   const uint64_t total = s.bonds.size();

@@ -190,7 +190,8 @@ std::size_t memory_estimate(const System& s) {
   const std::size_t per_particle = 5 * sizeof(Vec3) + 4 * sizeof(double) + 2 * sizeof(int32_t) + sizeof(int64_t) + 1 +
                                    17 * sizeof(double) + sizeof(uint64_t);
   // Neighbour, kind, intact flag; reference data per kind (family/bonds.hpp).
-  const std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t);
+  // State-based models keep each bond's |Y| between their two passes (8 bytes more).
+  const std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t) + (s.model.state_based ? sizeof(double) : 0);
   const std::size_t kinds = s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
   return n * per_particle + nb * per_bond + kinds;
 }

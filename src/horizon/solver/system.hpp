@@ -61,6 +61,9 @@ struct ModelCoefficients {
   // (the critical stretch, then P), and the next min_stretch.
   std::vector<Point4> packed;
   std::vector<double> min_stretch_next;
+  // State-based models: |Y| of each bond, written by the dilatation pass and read by the
+  // force pass of the same step (one square root per bond and step instead of two).
+  std::vector<double> deformed_length;
   bool state_based = false;             // any particle with theta-dependent forces
   double dim = 3;                       // d in theta = (d/m) sum ...
 };
