@@ -557,7 +557,7 @@ using d8 = __m512d;
 // {a, b} in one register: a broadcast, then b into the upper four lanes (no undefined
 // upper half, which GCC 12 warns about).
 HORIZON_AVX512 inline d8 join8(__m256d a, __m256d b) {
-  return _mm512_mask_broadcast_f64x4(_mm512_broadcast_f64x4(a), 0xF0, b);
+  return _mm512_mask_broadcast_f64x4(_mm512_mask_broadcast_f64x4(_mm512_setzero_pd(), 0x0F, a), 0xF0, b);
 }
 
 // Eight 32-byte records (four doubles each) into four registers of eight lanes: lane l
@@ -578,12 +578,13 @@ HORIZON_AVX512 inline void transpose8(const double* const* rec, d8& a, d8& b, d8
   d = _mm512_permutex2var_pd(t1, second, t3);
 }
 
-// Eight bonds k .. k + count - 1 of row i in lanes 0..7, padded as load_quad pads.
+// Eight bonds k .. k + count - 1 of row i in lanes 0..7, padded as load_quad pads
+// (the members of Quad, eight lanes wide).
 struct Oct {
-  d8 Yx, Yy, Yz, wj;    // Y = y_j - y_i; the neighbour's packed value
-  d8 L, iL, pair, d2c;  // kind: length, 1/length, bond-based coefficient, contact distance^2
-  d8 wv;                // kind: omega V_j (loaded when asked)
-  __mmask8 live, once;  // intact != 0, intact == 1
+  d8 Yx, Yy, Yz, wj;
+  d8 L, iL, pair, d2c;
+  d8 wv;
+  __mmask8 live, once;
 };
 
 template <bool kWv, bool kFull>
@@ -653,6 +654,15 @@ HORIZON_AVX512 inline double min8(d8 v) {
   return min8(static_cast<const double*>(lane));
 }
 
+// |Y|^2 per lane, and the lanes closer than their contact distance (padding lanes have
+// |Y| = 0 and never touch).
+HORIZON_AVX512 inline d8 norm2(const Oct& q) {
+  return _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(q.Yx, q.Yx), _mm512_mul_pd(q.Yy, q.Yy)), _mm512_mul_pd(q.Yz, q.Yz));
+}
+HORIZON_AVX512 inline __mmask8 touching(const Oct& q, d8 r2) {
+  return _mm512_cmp_pd_mask(r2, q.d2c, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, _mm512_setzero_pd(), _CMP_GT_OQ);
+}
+
 HORIZON_AVX512 inline __mmask8 lanes_of(int count) { return static_cast<__mmask8>((1u << count) - 1u); }
 
 template <class F>
@@ -672,10 +682,8 @@ HORIZON_AVX512 RowOut pmb_row_avx512(const Ctx& c, std::size_t i, uint64_t total
   for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
     Oct q;
     load_oct<kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
-    const d8 r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(q.Yx, q.Yx), _mm512_mul_pd(q.Yy, q.Yy)),
-                                _mm512_mul_pd(q.Yz, q.Yz));
-    // Padding lanes have r2 = 0.
-    const __mmask8 contact = _mm512_cmp_pd_mask(r2, q.d2c, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
+    const d8 r2 = norm2(q);
+    const __mmask8 contact = touching(q, r2);
     if (q.live) {
       const d8 r = _mm512_sqrt_pd(r2), e = _mm512_sub_pd(r, q.L), stretch = _mm512_mul_pd(e, q.iL);
       const d8 s0 = _mm512_min_pd(s0i, q.wj);  // s0i < wj ? s0i : wj, as the other paths
@@ -713,8 +721,7 @@ HORIZON_AVX512 RowOut dilate_row_avx512(const Ctx& c, std::size_t i, double Pi, 
     Oct q;
     load_oct<true, decltype(full)::value>(q, c, pi, i, k, count, total);
     if (!q.live) return;
-    const d8 r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(q.Yx, q.Yx), _mm512_mul_pd(q.Yy, q.Yy)),
-                                _mm512_mul_pd(q.Yz, q.Yz));
+    const d8 r2 = norm2(q);
     const d8 r = _mm512_sqrt_pd(r2), e = _mm512_sub_pd(r, q.L), stretch = _mm512_mul_pd(e, q.iL);
     _mm512_mask_storeu_pd(c.r_of + k, lanes_of(count), r);
     const d8 s0 = _mm512_min_pd(s0i, q.wj);
@@ -738,9 +745,8 @@ HORIZON_AVX512 RowOut force_row_avx512(const Ctx& c, std::size_t i, uint64_t tot
   for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
     Oct q;
     load_oct<true, decltype(full)::value>(q, c, pi, i, k, count, total);
-    const d8 r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(q.Yx, q.Yx), _mm512_mul_pd(q.Yy, q.Yy)),
-                                _mm512_mul_pd(q.Yz, q.Yz));
-    const __mmask8 contact = _mm512_cmp_pd_mask(r2, q.d2c, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, zero, _CMP_GT_OQ);
+    const d8 r2 = norm2(q);
+    const __mmask8 contact = touching(q, r2);
     if (q.live) {
       // Q_j of the neighbours; padding lanes read Q_i.
       __m256i idx;
@@ -751,7 +757,7 @@ HORIZON_AVX512 RowOut force_row_avx512(const Ctx& c, std::size_t i, uint64_t tot
         for (int l = 0; l < 8; ++l) j[l] = l < count ? c.nbr[k + static_cast<uint64_t>(l)] : static_cast<uint32_t>(i);
         idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(j));
       }
-      const d8 Qj = _mm512_i32gather_pd(idx, c.Q, 8);
+      const d8 Qj = _mm512_mask_i32gather_pd(_mm512_setzero_pd(), 0xFF, idx, c.Q, 8);
       // |Y| from the dilatation pass; padding lanes 1.
       const d8 r = _mm512_mask_loadu_pd(_mm512_set1_pd(1.0), lanes_of(count), c.r_of + k), e = _mm512_sub_pd(r, q.L);
       const d8 t = _mm512_add_pd(_mm512_mul_pd(_mm512_add_pd(Pi, q.wj), q.L), _mm512_mul_pd(_mm512_add_pd(Qi, Qj), e));
