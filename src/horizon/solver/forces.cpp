@@ -419,6 +419,15 @@ struct D8 {
   d4 v[2];
 };
 HORIZON_AVX2 inline double sum8(const D8& a) { return sum4(a.v[0]) + sum4(a.v[1]); }
+
+// The contact of a block's touching lanes added to the lane sums of half h.
+template <bool kEnergy, int h>
+HORIZON_AVX2 inline void add_contact(const Ctx& c, const Point4& pi, uint64_t k, m4 contact, D8& fx, D8& fy, D8& fz,
+                                     D8& en) {
+  const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
+  fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
+  if constexpr (kEnergy) en.v[h] += cc.w;
+}
 HORIZON_AVX2 inline double min8(const D8& a) { return std::min(min4(a.v[0]), min4(a.v[1])); }
 
 template <bool kEnergy, bool kAfter>
@@ -436,11 +445,7 @@ HORIZON_AVX2 RowOut pmb_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
     const m4 contact = (r2 < q.d2c) & (r2 > splat(0));  // padding lanes have r2 = 0
     if (!any(q.live)) {  // four broken bonds: only their contact can act
-      if (any(contact)) {
-        const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-        fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
-        if constexpr (kEnergy) en.v[h] += cc.w;
-      }
+      if (any(contact)) add_contact<kEnergy, h>(c, pi, k, contact, fx, fy, fz, en);
       return;
     }
     const d4 r = sqrt4(r2), e = r - q.L, stretch = e * q.iL;
@@ -457,11 +462,7 @@ HORIZON_AVX2 RowOut pmb_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
     if (!any(breaks | contact)) return;
     const int broken_lanes = _mm256_movemask_pd(reinterpret_cast<__m256d>(breaks));
     if (broken_lanes) quad_breaks(c, pi, i, k, broken_lanes, 0, true, Ri, 0.0, 0.0, out);
-    if (any(contact)) {
-      const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-      fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
-      if constexpr (kEnergy) en.v[h] += cc.w;
-    }
+    if (any(contact)) add_contact<kEnergy, h>(c, pi, k, contact, fx, fy, fz, en);
   });
   out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en), out.smin = min8(sm);
   return out;
@@ -513,11 +514,7 @@ HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) 
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
     const m4 contact = (r2 < q.d2c) & (r2 > splat(0));  // padding lanes have r2 = 0
     if (!any(q.live)) {  // four broken bonds: only their contact can act
-      if (any(contact)) {
-        const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-        fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
-        if constexpr (kEnergy) en.v[h] += cc.w;
-      }
+      if (any(contact)) add_contact<kEnergy, h>(c, pi, k, contact, fx, fy, fz, en);
       return;
     }
     d4 Qj = {}, r = splat(1.0);  // |Y| from the dilatation pass; padding lanes 1
@@ -539,11 +536,7 @@ HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) 
     const int cleared = _mm256_movemask_pd(reinterpret_cast<__m256d>(clear));
     for (int l = 0; l < count; ++l)
       if ((cleared >> l) & 1) c.intact[k + static_cast<uint64_t>(l)] = 0;
-    if (any(contact)) {
-      const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-      fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
-      if constexpr (kEnergy) en.v[h] += cc.w;
-    }
+    if (any(contact)) add_contact<kEnergy, h>(c, pi, k, contact, fx, fy, fz, en);
   });
   out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en);
   return out;
@@ -643,6 +636,15 @@ HORIZON_AVX512 inline void oct_breaks(const Ctx& c, const Point4& pi, std::size_
 }
 
 // The sum of eight lanes in the order of total8; the smallest lane.
+// The contact of a block's touching lanes added to the lane sums.
+template <bool kEnergy>
+HORIZON_AVX512 inline void add_contact(const Ctx& c, const Point4& pi, uint64_t k, __mmask8 contact, d8& fx, d8& fy,
+                                       d8& fz, d8& en) {
+  const Contact8 cc = oct_contact(c, pi, k, contact);
+  fx = _mm512_add_pd(fx, cc.fx), fy = _mm512_add_pd(fy, cc.fy), fz = _mm512_add_pd(fz, cc.fz);
+  if constexpr (kEnergy) en = _mm512_add_pd(en, cc.w);
+}
+
 HORIZON_AVX512 inline double sum8(d8 v) {
   alignas(64) double lane[8];
   _mm512_store_pd(lane, v);
@@ -700,11 +702,7 @@ HORIZON_AVX512 RowOut pmb_row_avx512(const Ctx& c, std::size_t i, uint64_t total
       }
       if (breaks) oct_breaks(c, pi, i, k, breaks, 0, true, Ri, 0.0, 0.0, out);
     }
-    if (contact) {
-      const Contact8 cc = oct_contact(c, pi, k, contact);
-      fx = _mm512_add_pd(fx, cc.fx), fy = _mm512_add_pd(fy, cc.fy), fz = _mm512_add_pd(fz, cc.fz);
-      if constexpr (kEnergy) en = _mm512_add_pd(en, cc.w);
-    }
+    if (contact) add_contact<kEnergy>(c, pi, k, contact, fx, fy, fz, en);
   });
   out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en), out.smin = min8(sm);
   return out;
@@ -776,11 +774,7 @@ HORIZON_AVX512 RowOut force_row_avx512(const Ctx& c, std::size_t i, uint64_t tot
         for (int l = 0; l < count; ++l)
           if ((clear >> l) & 1u) c.intact[k + static_cast<uint64_t>(l)] = 0;
     }
-    if (contact) {
-      const Contact8 cc = oct_contact(c, pi, k, contact);
-      fx = _mm512_add_pd(fx, cc.fx), fy = _mm512_add_pd(fy, cc.fy), fz = _mm512_add_pd(fz, cc.fz);
-      if constexpr (kEnergy) en = _mm512_add_pd(en, cc.w);
-    }
+    if (contact) add_contact<kEnergy>(c, pi, k, contact, fx, fy, fz, en);
   });
   out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en);
   return out;
