@@ -14,6 +14,7 @@
 #include "horizon/deck/config.hpp"
 #include "horizon/material/constants.hpp"
 #include "horizon/solver/system.hpp"
+#include "../single_thread.hpp"
 
 namespace horizon::test {
 
@@ -141,21 +142,6 @@ inline double classical_energy(const Strain& e, int dimension, double bulk, doub
     }
   return 0.5 * bulk * tr * tr + shear * dev2;
 }
-
-// Runs a scope on one OpenMP thread. For tests whose figures do not depend on the thread
-// count (test_threads.cpp checks that they never do) and that open hundreds of tiny
-// parallel regions: on a shared, oversubscribed machine each two-thread barrier can cost
-// a scheduler time slice, seconds in all.
-class SingleThread {
- public:
-  SingleThread() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~SingleThread() { omp_set_num_threads(saved_); }
-  SingleThread(const SingleThread&) = delete;
-  SingleThread& operator=(const SingleThread&) = delete;
-
- private:
-  int saved_;
-};
 
 // splitmix64: the same numbers on every platform and standard library.
 class Rng {

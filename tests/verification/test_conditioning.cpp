@@ -22,22 +22,14 @@
 
 #include "horizon/solver/conditioning.hpp"
 #include "horizon/solver/tangent.hpp"
+#include "../single_thread.hpp"
 #include "verification_support.hpp"
 
 namespace horizon::verification {
 namespace {
 
-// One OpenMP thread for these small problems (see test_static_solvers.cpp, OneThread).
-class OneThread {
- public:
-  OneThread() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~OneThread() { omp_set_num_threads(saved_); }
-  OneThread(const OneThread&) = delete;
-  OneThread& operator=(const OneThread&) = delete;
-
- private:
-  int saved_;
-};
+// One OpenMP thread for these small problems (tests/single_thread.hpp).
+using OneThread = test::SingleThread;
 
 struct BarCase {
   int inv_h;      // 1/h

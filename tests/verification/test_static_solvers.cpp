@@ -15,6 +15,7 @@
 
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/static_driver.hpp"
+#include "../single_thread.hpp"
 #include "verification_support.hpp"
 
 namespace horizon::verification {
@@ -45,19 +46,8 @@ struct StaticRun {
   }
 };
 
-// One OpenMP thread for the small problems here: on a shared machine each barrier of
-// a two-thread region costs a scheduler slice, seconds in all (as test_helpers.hpp's
-// SingleThread); results do not depend on the thread count.
-class OneThread {
- public:
-  OneThread() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~OneThread() { omp_set_num_threads(saved_); }
-  OneThread(const OneThread&) = delete;
-  OneThread& operator=(const OneThread&) = delete;
-
- private:
-  int saved_;
-};
+// One OpenMP thread for these small problems (tests/single_thread.hpp).
+using OneThread = test::SingleThread;
 
 double max_abs_u(const System& s) {
   double m = 0;
