@@ -360,7 +360,8 @@ int run_deck(Config config, const RunOptions& options) {
   if (s.nonlinear.enabled) {
     // Tupek's fracture figures (thesis Table 6.1 and 6.2): dissipated energy per unit
     // thickness (2-D), the crack length from the first precrack's tip, their ratio, and
-    // the angle each precrack's crack leaves its tip at (a fit through the damaged particles).
+    // the angle each precrack's crack leaves its tip at (damage/crack_angle.hpp: a line
+    // fitted to the damage ridge 2 to 8 horizons from the tip).
     nlohmann::ordered_json fj;
     const double per = config.dimension == 2 ? 1.0 / config.thickness : 1.0;
     fj["dissipated_energy"] = g.dissipated;
@@ -371,17 +372,22 @@ int run_deck(Config config, const RunOptions& options) {
       fj["crack_length"] = len;
       fj["energy_per_crack_length"] = len > 0 ? g.dissipated * per / len : 0.0;
     }
-    nlohmann::ordered_json angles = nlohmann::ordered_json::array();
+    // crack_angles_deg: |angle| from the notch direction (Tupek's Table 6.2 figure);
+    // crack_angles_signed_deg: counter-clockwise positive, so that the side the crack
+    // turns to can be checked (Kalthoff: + for a notch along +x above the struck strip).
+    nlohmann::ordered_json angles = nlohmann::ordered_json::array(), signed_angles = angles;
     for (const auto& pc : config.precracks) {
       if (pc.points.size() < 2) continue;
       Vec3 d = pc.points[1] - pc.points[0];
       d.z = 0;
       if (norm(d) == 0) continue;
       const CrackAngle a = crack_angle(s.particles, pc.points[1], d / norm(d), 0.35, 2 * config.horizon,
-                                       8 * config.horizon);
-      angles.push_back(a.found ? nlohmann::ordered_json(a.degrees) : nlohmann::ordered_json(nullptr));
+                                       8 * config.horizon, config.spacing, config.horizon);
+      angles.push_back(a.found ? nlohmann::ordered_json(std::abs(a.degrees)) : nlohmann::ordered_json(nullptr));
+      signed_angles.push_back(a.found ? nlohmann::ordered_json(a.degrees) : nlohmann::ordered_json(nullptr));
     }
     fj["crack_angles_deg"] = angles;
+    fj["crack_angles_signed_deg"] = signed_angles;
     j["fracture"] = fj;
   }
   write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
