@@ -339,5 +339,54 @@ solver: {end_time: 1.0e-6}
   EXPECT_EQ(s.initial_bonds, s.bonds.size());
 }
 
+// bonds: broken keeps the crossing bonds in the families, marked broken (intact = 0),
+// so that the nonlinear solid can push through them in compression (Tupek eq. 6.9);
+// the same bonds are found as with the default removal.
+TEST(Precrack, BrokenBondsStayInTheFamilies) {
+  std::vector<Vec3> X;
+  for (int j = 0; j < 14; ++j)
+    for (int i = 0; i < 18; ++i) X.push_back({1.0 * i, 1.0 * j, 0});
+  const std::vector<double> V(X.size(), 1.0);
+  const Precrack removed{{{-1.0, 5.5, 0}, {7.3, 5.5, 0}}};
+  Precrack kept = removed;
+  kept.keep_broken = true;
+  const Bonds before = find_neighbors(X, V, 3.0);
+  Bonds a = before, b = before;
+  const std::size_t n_removed = cut_bonds(a, X, {removed}, 2);
+  const std::size_t n_broken = cut_bonds(b, X, {kept}, 2);
+  EXPECT_GT(n_removed, 100u);
+  EXPECT_EQ(n_broken, n_removed);
+  ASSERT_EQ(b.size(), before.size());
+  std::size_t zero = 0;
+  for (std::size_t i = 0; i < b.particles(); ++i)
+    for (uint64_t k = b.begin(i); k < b.end(i); ++k) {
+      const bool cut = segment_cut(X[i], X[b.nbr[k]], removed.points[0], removed.points[1]);
+      EXPECT_EQ(b.intact[k], cut ? 0 : 1);
+      zero += b.intact[k] == 0;
+    }
+  EXPECT_EQ(zero, n_broken);
+  // A bond crossing both a removing and a keeping crack is removed.
+  Bonds c = before;
+  cut_bonds(c, X, {kept, removed}, 2);
+  EXPECT_EQ(c.size(), a.size());
+  // The deck key.
+  const Config config = parse_deck(R"deck(dimension: 2
+plane: strain
+thickness: 1.0
+spacing: 0.1
+horizon: 0.3
+materials:
+  m: {model: nonlinear_solid, density: 1000, youngs_modulus: 1.0e9, poissons_ratio: 0.3}
+bodies:
+  - {name: bar, material: m, shape: {box: {min: [0, 0], max: [2, 1]}}}
+precracks:
+  - {from: [1.0, -0.01], to: [1.0, 1.01], bonds: broken}
+solver: {end_time: 1.0e-6}
+)deck",
+                                   "broken.yaml");
+  ASSERT_EQ(config.precracks.size(), 1u);
+  EXPECT_TRUE(config.precracks[0].keep_broken);
+}
+
 }  // namespace
 }  // namespace horizon

@@ -1,8 +1,10 @@
 #include "horizon/damage/crack_metrics.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 #include <vector>
 
 namespace horizon {
@@ -12,11 +14,60 @@ namespace {
 Vec3 sideways(const Vec3& d) { return {-d.y, d.x, 0}; }
 }  // namespace
 
-CrackFront crack_front(const Particles& p, const Vec3& origin, const Vec3& direction, double threshold, double band) {
+std::vector<uint8_t> connected_crack(const Particles& p, const Vec3& origin, double threshold, double seed,
+                                     double link) {
+  std::vector<uint8_t> on(p.size(), 0);
+  // Cell lists of the cracked particles, cells of edge `link` (a neighbour within `link`
+  // lies in the same or an adjacent cell).
+  auto cell_of = [&](const Vec3& x) {
+    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(x.x / link)),
+                                  static_cast<int64_t>(std::floor(x.y / link)),
+                                  static_cast<int64_t>(std::floor(x.z / link))};
+  };
+  auto key = [](int64_t a, int64_t b, int64_t c) {
+    return (static_cast<uint64_t>(a) * 73856093u) ^ (static_cast<uint64_t>(b) * 19349663u) ^
+           (static_cast<uint64_t>(c) * 83492791u);
+  };
+  std::unordered_map<uint64_t, std::vector<std::size_t>> cells;
+  std::vector<std::size_t> stack;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.damage[i] < threshold) continue;
+    const auto c = cell_of(p.X[i]);
+    cells[key(c[0], c[1], c[2])].push_back(i);
+    if (norm(p.X[i] - origin) <= seed) {
+      on[i] = 1;
+      stack.push_back(i);
+    }
+  }
+  const double link2 = link * link;
+  while (!stack.empty()) {
+    const std::size_t i = stack.back();
+    stack.pop_back();
+    const auto c = cell_of(p.X[i]);
+    for (int64_t a = -1; a <= 1; ++a)
+      for (int64_t b = -1; b <= 1; ++b)
+        for (int64_t d = -1; d <= 1; ++d) {
+          const auto it = cells.find(key(c[0] + a, c[1] + b, c[2] + d));
+          if (it == cells.end()) continue;
+          for (const std::size_t j : it->second) {
+            if (on[j]) continue;
+            const Vec3 r = p.X[j] - p.X[i];
+            if (dot(r, r) > link2) continue;
+            on[j] = 1;
+            stack.push_back(j);
+          }
+        }
+  }
+  return on;
+}
+
+CrackFront crack_front(const Particles& p, const Vec3& origin, const Vec3& direction, double threshold, double band,
+                       const std::vector<uint8_t>* mask) {
   CrackFront front;
   const Vec3 side = sideways(direction);
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.damage[i] < threshold) continue;
+    if (mask && !(*mask)[i]) continue;
     const Vec3 r = p.X[i] - origin;
     const double along = dot(r, direction);
     if (along < 0 || std::abs(dot(r, side)) > band) continue;
@@ -30,11 +81,12 @@ CrackFront crack_front(const Particles& p, const Vec3& origin, const Vec3& direc
 }
 
 std::optional<double> branch_distance(const Particles& p, const Vec3& origin, const Vec3& direction, double threshold,
-                                      double slice, double gap) {
+                                      double slice, double gap, const std::vector<uint8_t>* mask) {
   const Vec3 side = sideways(direction);
   std::map<int64_t, std::vector<double>> slices;  // slice index -> sideways offsets
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.damage[i] < threshold) continue;
+    if (mask && !(*mask)[i]) continue;
     const Vec3 r = p.X[i] - origin;
     const double along = dot(r, direction);
     if (along < 0) continue;

@@ -5,9 +5,12 @@
 namespace horizon::deck {
 
 PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
-  MapReader m(ctx, item, {"from", "to", "polygon"});
+  MapReader m(ctx, item, {"from", "to", "polygon", "bonds"});
   PrecrackConfig crack;
   if (ctx.dimension == 1) ctx.fail(item.mark, item.path + ": precracks need a 2-D or 3-D deck");
+  // bonds: removed (default) drops the crossing bonds; broken keeps them as broken bonds,
+  // which model nonlinear_solid lets push in compression (Tupek eq. 6.9).
+  if (auto b = m.find("bonds")) crack.keep_broken = choose_word(ctx, *b, {"removed", "broken"}) == 1;
   if (ctx.dimension == 2) {
     // A segment in the plane, cut through the whole thickness.
     if (auto p = m.find("polygon")) {

@@ -134,12 +134,25 @@ double peak_memory_bytes() {
 namespace {
 
 // Crack tracking for decks with precracks: the front of the damage grown from the
-// first precrack's second point, along that precrack.
+// first precrack's second point, along that precrack. A particle is cracked at damage
+// >= kCrackDamage; the crack is the cracked particles joined to the precrack's tip
+// (within one horizon of it) through hops of at most 1.5 spacings (connected_crack), so
+// damage elsewhere (under an impactor) does not count. Its length is the furthest such
+// particle's distance from the tip, measured along the precrack's direction.
+constexpr double kCrackDamage = 0.35;
+
 struct CrackTracker {
   bool active = false;
   Vec3 origin, direction;
-  double band = 0;
+  double band = 0, seed = 0, link = 0;
   std::vector<std::pair<double, double>> history;  // (time, length)
+
+  std::vector<uint8_t> path(const System& s) const {
+    return connected_crack(s.particles, origin, kCrackDamage, seed, link);
+  }
+  CrackFront front(const System& s, const std::vector<uint8_t>& on) const {
+    return crack_front(s.particles, origin, direction, kCrackDamage, band, &on);
+  }
 
   CrackTracker(const Config& c) {
     bool damage = false;
@@ -152,11 +165,13 @@ struct CrackTracker {
     if (norm(direction) == 0) return;
     direction = direction / norm(direction);
     band = 1e300;
+    seed = c.horizon;
+    link = 1.5 * c.spacing;
     active = true;
   }
   void record(const System& s, double t) {
     if (!active) return;
-    const CrackFront f = crack_front(s.particles, origin, direction, 0.35, band);
+    const CrackFront f = front(s, path(s));
     history.emplace_back(t, f.found ? f.length : 0.0);
   }
 };
@@ -331,12 +346,14 @@ int run_deck(Config config, const RunOptions& options) {
   for (const auto& L : loads.loads()) reactions[L.name] = {L.reaction.x, L.reaction.y, L.reaction.z};
   j["loads"] = reactions;
   if (crack.active) {
-    const CrackFront f = crack_front(s.particles, crack.origin, crack.direction, 0.35, crack.band);
-    const auto branch = branch_distance(s.particles, crack.origin, crack.direction, 0.35, config.spacing,
-                                        2.0 * config.horizon);
+    const std::vector<uint8_t> on = crack.path(s);
+    const CrackFront f = crack.front(s, on);
+    const auto branch = branch_distance(s.particles, crack.origin, crack.direction, kCrackDamage, config.spacing,
+                                        2.0 * config.horizon, &on);
     nlohmann::ordered_json cj;
     cj["origin"] = {crack.origin.x, crack.origin.y, crack.origin.z};
     cj["length"] = f.found ? f.length : 0.0;
+    cj["damage_threshold"] = kCrackDamage;
     cj["tip"] = {f.tip.x, f.tip.y, f.tip.z};
     // Speed before branching: fit over the growth from 2 horizons to the branch point.
     const double l_end = branch ? *branch : (f.found ? f.length : 0.0);
@@ -367,7 +384,7 @@ int run_deck(Config config, const RunOptions& options) {
     fj["dissipated_energy"] = g.dissipated;
     fj["dissipated_energy_per_thickness"] = g.dissipated * per;
     if (crack.active) {
-      const CrackFront f = crack_front(s.particles, crack.origin, crack.direction, 0.35, crack.band);
+      const CrackFront f = crack.front(s, crack.path(s));
       const double len = f.found ? f.length : 0.0;
       fj["crack_length"] = len;
       fj["energy_per_crack_length"] = len > 0 ? g.dissipated * per / len : 0.0;

@@ -61,19 +61,18 @@ std::size_t cut_bonds(Bonds& bonds, const std::vector<Vec3>& X, const std::vecto
   for (std::size_t i = 0; i < n; ++i) {
     const uint64_t row_end = bonds.offset[i + 1];
     for (uint64_t k = row_begin; k < row_end; ++k) {
-      bool cut = false;
+      bool cut = false, keep = true;
       for (const auto& c : cracks)
         if (crosses(X[i], X[bonds.nbr[k]], c, dimension)) {
           cut = true;
-          break;
+          keep = keep && c.keep_broken;
+          if (!keep) break;
         }
-      if (cut) {
-        ++removed;
-        continue;
-      }
+      if (cut) ++removed;
+      if (cut && !keep) continue;
       bonds.nbr[write] = bonds.nbr[k];
       bonds.kind[write] = bonds.kind[k];
-      bonds.intact[write] = bonds.intact[k];
+      bonds.intact[write] = cut ? 0 : bonds.intact[k];
       ++write;
     }
     row_begin = row_end;

@@ -11,6 +11,11 @@ namespace horizon {
 
 struct Precrack {
   std::vector<Vec3> points;  // 2-D: a segment (2 points, in x-y); 3-D: a planar polygon
+  // false: crossing bonds are removed (the default). true: they stay in the families as
+  // broken bonds (intact = 0), which the nonlinear solid lets push in compression
+  // (Tupek eq. 6.9): a pre-fractured interface that still resists interpenetration
+  // (the Riemann problem, thesis sec. 5.3). Other models never load broken bonds.
+  bool keep_broken = false;
 };
 
 // True when the open segment a-b crosses the crack. In 2-D the two segments must
@@ -19,7 +24,8 @@ struct Precrack {
 // on opposite sides of the polygon's plane and the crossing point is inside the polygon.
 bool crosses(const Vec3& a, const Vec3& b, const Precrack& crack, int dimension);
 
-// Removes every bond that crosses any crack; returns the number of directed bonds removed.
+// Removes every bond that crosses a crack (or marks it broken when every crack it
+// crosses has keep_broken); returns the number of directed bonds cut either way.
 std::size_t cut_bonds(Bonds& bonds, const std::vector<Vec3>& X, const std::vector<Precrack>& cracks, int dimension);
 
 }  // namespace horizon
