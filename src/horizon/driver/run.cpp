@@ -222,12 +222,8 @@ int run_deck(Config config, const RunOptions& options) {
   double max_balance_error = 0;
   auto record_history = [&]() {
     const Ledger& g = solver.ledger();
-    double dmax = 0, dmean = 0;
-    for (double d : s.particles.damage) {
-      dmax = std::max(dmax, d);
-      dmean += d;
-    }
-    dmean /= static_cast<double>(std::max<std::size_t>(1, s.particles.size()));
+    const DamageStats dstat = damage_stats(s.particles);
+    const double dmax = dstat.max, dmean = dstat.mean;
     const double broken_fraction =
         s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0;
     max_balance_error = std::max(max_balance_error, std::abs(g.balance_error()));
@@ -322,8 +318,6 @@ int run_deck(Config config, const RunOptions& options) {
 
   // Summary: final figures and run statistics.
   const Ledger& g = solver.ledger();
-  const DamageStats dstat = damage_stats(s.particles);
-  const double dmean = dstat.mean, dmax = dstat.max;
   nlohmann::ordered_json j = summary_header(config, s, status, message, solver.steps());
   j["time_step"] = solver.dt();
   if (adaptive) j["time_step_range"] = {dt_min, dt_max};
@@ -335,16 +329,7 @@ int run_deck(Config config, const RunOptions& options) {
   j["bond_updates_per_second"] =
       loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
-  j["energy"] = {{"initial", g.initial},       {"kinetic", g.kinetic},       {"strain", g.strain},
-                 {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
-                 {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};
-  j["damage"] = {{"mean", dmean},
-                 {"max", dmax},
-                 {"broken_bonds", s.broken},
-                 {"broken_fraction", s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0}};
-  nlohmann::ordered_json reactions = nlohmann::ordered_json::object();
-  for (const auto& L : loads.loads()) reactions[L.name] = {L.reaction.x, L.reaction.y, L.reaction.z};
-  j["loads"] = reactions;
+  summary_state(j, s, g, loads, max_balance_error);
   if (crack.active) {
     const std::vector<uint8_t> on = crack.path(s);
     const CrackFront f = crack.front(s, on);

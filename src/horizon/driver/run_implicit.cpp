@@ -255,8 +255,6 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   write_file_atomic((dir / "history.csv").string(), history.str());
 
   const Ledger& g = ledger();
-  const DamageStats dstat = damage_stats(s.particles);
-  const double dmean = dstat.mean, dmax = dstat.max;
   nlohmann::ordered_json j = summary_header(config, s, status, message, steps);
   j["time_step"] = is_static ? sc.end_time / sc.load_steps : *sc.time_step;
   j["time"] = time;
@@ -264,16 +262,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   j["wall_time_s"] = wall;
   j["loop_time_s"] = progress.elapsed();
   j["peak_memory_bytes"] = peak_memory_bytes();
-  j["energy"] = {{"initial", g.initial},       {"kinetic", g.kinetic},       {"strain", g.strain},
-                 {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
-                 {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};
-  j["damage"] = {{"mean", dmean},
-                 {"max", dmax},
-                 {"broken_bonds", s.broken},
-                 {"broken_fraction", s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0}};
-  nlohmann::ordered_json reactions = nlohmann::ordered_json::object();
-  for (const auto& L : loads.loads()) reactions[L.name] = {L.reaction.x, L.reaction.y, L.reaction.z};
-  j["loads"] = reactions;
+  summary_state(j, s, g, loads, max_balance_error);
   nlohmann::ordered_json sj;
   sj["type"] = is_static ? "static" : "implicit_dynamic";
   sj["dofs"] = dofs.size();

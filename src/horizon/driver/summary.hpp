@@ -6,6 +6,8 @@
 
 #include "horizon/core/version.hpp"
 #include "horizon/deck/config.hpp"
+#include "horizon/loading/loads.hpp"
+#include "horizon/solver/explicit.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -36,6 +38,22 @@ inline nlohmann::ordered_json summary_header(const Config& config, const System&
   j["bonds"] = s.initial_bonds;
   j["steps"] = steps;
   return j;
+}
+
+// The state at the end of a run: the energy ledger, damage and the reaction of each load.
+inline void summary_state(nlohmann::ordered_json& j, const System& s, const Ledger& g, const Loads& loads,
+                          double max_balance_error) {
+  const DamageStats d = damage_stats(s.particles);
+  j["energy"] = {{"initial", g.initial},       {"kinetic", g.kinetic},       {"strain", g.strain},
+                 {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
+                 {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};
+  j["damage"] = {{"mean", d.mean},
+                 {"max", d.max},
+                 {"broken_bonds", s.broken},
+                 {"broken_fraction", s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0}};
+  nlohmann::ordered_json reactions = nlohmann::ordered_json::object();
+  for (const auto& L : loads.loads()) reactions[L.name] = {L.reaction.x, L.reaction.y, L.reaction.z};
+  j["loads"] = reactions;
 }
 
 }  // namespace horizon
