@@ -109,6 +109,36 @@ struct Bonds {
   const BondKind& kind_of(std::size_t k) const { return kinds[kind[k]]; }
 };
 
+// What rewrite_bonds does with one bond.
+enum class BondAction { keep, drop, keep_broken };
+
+// Rewrites every row in place, in order, applying action(i, k) to bond k of particle i:
+// keep it, drop it, or keep it with intact = 0. Returns the bonds dropped or broken.
+template <class F>
+std::size_t rewrite_bonds(Bonds& b, F&& action) {
+  const std::size_t n = b.particles();
+  uint64_t write = 0, row_begin = 0;
+  std::size_t touched = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint64_t row_end = b.offset[i + 1];
+    for (uint64_t k = row_begin; k < row_end; ++k) {
+      const BondAction a = action(i, k);
+      if (a != BondAction::keep) ++touched;
+      if (a == BondAction::drop) continue;
+      b.nbr[write] = b.nbr[k];
+      b.kind[write] = b.kind[k];
+      b.intact[write] = a == BondAction::keep_broken ? 0 : b.intact[k];
+      ++write;
+    }
+    row_begin = row_end;
+    b.offset[i + 1] = write;
+  }
+  b.nbr.resize(write);
+  b.kind.resize(write);
+  b.intact.resize(write);
+  return touched;
+}
+
 template <double (*Get)(const BondKind&)>
 inline double BondField<Get>::operator[](std::size_t k) const {
   return Get(b_->kinds[b_->kind[k]]);

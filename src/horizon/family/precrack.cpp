@@ -54,34 +54,16 @@ bool crosses(const Vec3& a, const Vec3& b, const Precrack& crack, int dimension)
 
 std::size_t cut_bonds(Bonds& bonds, const std::vector<Vec3>& X, const std::vector<Precrack>& cracks, int dimension) {
   if (cracks.empty()) return 0;
-  const std::size_t n = bonds.particles();
-  uint64_t write = 0;
-  std::size_t removed = 0;
-  uint64_t row_begin = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const uint64_t row_end = bonds.offset[i + 1];
-    for (uint64_t k = row_begin; k < row_end; ++k) {
-      bool cut = false, keep = true;
-      for (const auto& c : cracks)
-        if (crosses(X[i], X[bonds.nbr[k]], c, dimension)) {
-          cut = true;
-          keep = keep && c.keep_broken;
-          if (!keep) break;
-        }
-      if (cut) ++removed;
-      if (cut && !keep) continue;
-      bonds.nbr[write] = bonds.nbr[k];
-      bonds.kind[write] = bonds.kind[k];
-      bonds.intact[write] = cut ? 0 : bonds.intact[k];
-      ++write;
-    }
-    row_begin = row_end;
-    bonds.offset[i + 1] = write;
-  }
-  bonds.nbr.resize(write);
-  bonds.kind.resize(write);
-  bonds.intact.resize(write);
-  return removed;
+  return rewrite_bonds(bonds, [&](std::size_t i, uint64_t k) {
+    bool cut = false, keep = true;
+    for (const auto& c : cracks)
+      if (crosses(X[i], X[bonds.nbr[k]], c, dimension)) {
+        cut = true;
+        keep = keep && c.keep_broken;
+        if (!keep) break;
+      }
+    return !cut ? BondAction::keep : keep ? BondAction::keep_broken : BondAction::drop;
+  });
 }
 
 }  // namespace horizon

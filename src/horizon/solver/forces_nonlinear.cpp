@@ -18,28 +18,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Removes the bonds whose ends lie in different bodies: separate bodies (a projectile
 // and its target) meet through contact, never through bonds.
 std::size_t drop_bonds_between_bodies(Bonds& b, const std::vector<int32_t>& block) {
-  const std::size_t n = b.particles();
-  uint64_t write = 0, row_begin = 0;
-  std::size_t removed = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const uint64_t row_end = b.offset[i + 1];
-    for (uint64_t k = row_begin; k < row_end; ++k) {
-      if (block[b.nbr[k]] != block[i]) {
-        ++removed;
-        continue;
-      }
-      b.nbr[write] = b.nbr[k];
-      b.kind[write] = b.kind[k];
-      b.intact[write] = b.intact[k];
-      ++write;
-    }
-    row_begin = row_end;
-    b.offset[i + 1] = write;
-  }
-  b.nbr.resize(write);
-  b.kind.resize(write);
-  b.intact.resize(write);
-  return removed;
+  return rewrite_bonds(b, [&](std::size_t i, uint64_t k) {
+    return block[b.nbr[k]] != block[i] ? BondAction::drop : BondAction::keep;
+  });
 }
 
 // phi of eq. 6.9: an intact bond acts; a broken one acts in compression only, or never
@@ -72,18 +53,7 @@ void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, co
   // The generic model arrays, neutral (other code reads their sizes).
   M.dim = dim;
   M.weighted_volume.assign(n, 0);
-  M.dilatation_coef.assign(n, 0);
-  M.deviatoric_coef.assign(n, 0);
-  M.pair_coef.assign(n, 0);
-  M.theta.assign(n, 0);
-  M.P.assign(n, 0);
-  M.spring.assign(n, 0);
-  M.critical_stretch.assign(n, kInf);
-  M.alpha.assign(n, 0);
-  M.min_stretch.assign(n, 0);
-  M.contact_micromodulus.assign(n, 0);
-  M.state_based = false;
-  M.break_after_force = false;
+  reset_model_arrays(M, n);
   s.dissipated_at.assign(n, 0);
 
   N = NonlinearState{};

@@ -15,6 +15,21 @@
 
 namespace horizon {
 
+void reset_model_arrays(ModelCoefficients& M, std::size_t n) {
+  M.dilatation_coef.assign(n, 0);
+  M.deviatoric_coef.assign(n, 0);
+  M.pair_coef.assign(n, 0);
+  M.theta.assign(n, 0);
+  M.P.assign(n, 0);
+  M.spring.assign(n, 0);
+  M.critical_stretch.assign(n, std::numeric_limits<double>::infinity());
+  M.alpha.assign(n, 0);
+  M.min_stretch.assign(n, 0);
+  M.contact_micromodulus.assign(n, 0);
+  M.state_based = false;
+  M.break_after_force = false;
+}
+
 namespace {
 
 Dimensioning dimensioning(const Config& c) {
@@ -91,17 +106,7 @@ void setup_model(System& s, const std::vector<MaterialConfig>& materials, const 
     for (uint64_t k = B.begin(i); k < B.end(i); ++k)
       M.weighted_volume[i] += B.weight[k] * B.length[k] * B.length[k] * B.volume[k];
 
-  M.dilatation_coef.assign(n, 0);
-  M.deviatoric_coef.assign(n, 0);
-  M.pair_coef.assign(n, 0);
-  M.theta.assign(n, 0);
-  M.P.assign(n, 0);
-  M.spring.assign(n, 0);
-  M.critical_stretch.assign(n, std::numeric_limits<double>::infinity());
-  M.alpha.assign(n, 0);
-  M.min_stretch.assign(n, 0);
-  M.contact_micromodulus.assign(n, 0);
-  M.state_based = false;
+  reset_model_arrays(M, n);
   s.dissipated_at.assign(n, 0);
 
   // Constants per material, then copied to its particles.

@@ -68,6 +68,11 @@ struct ModelCoefficients {
   double dim = 3;                       // d in theta = (d/m) sum ...
 };
 
+// Sizes every per-particle model array to n, neutral: no bond-based or state-based
+// coefficients, bonds that never break, no contact (setup_model and setup_nonlinear
+// then fill in their models).
+void reset_model_arrays(ModelCoefficients& M, std::size_t n);
+
 struct System {
   int dimension = 3;
   double horizon = 0;
