@@ -90,6 +90,8 @@ struct Ctx {
   const double* Q;  // deviatoric_coef
   double* intact_weight;
   double* r_of;     // |Y| per bond (state-based: dilatation pass writes, force pass reads)
+  const Point4* kind_dilatation;  // per kind {L, 1/L, omega V_j, 0}
+  const Point4* kind_force;       // per kind {L, omega V_j, pair, d^2}
 };
 
 Ctx context(System& s) {
@@ -97,7 +99,7 @@ Ctx context(System& s) {
   auto& M = s.model;
   return {M.packed.data(),  M.kind.data(),         B.nbr.data(),          B.kind.data(),
           B.offset.data(),  B.intact.data(),       M.pair_coef.data(),    M.deviatoric_coef.data(),
-          M.intact_weight.data(), M.deformed_length.data()};
+          M.intact_weight.data(), M.deformed_length.data(), M.kind_dilatation.data(), M.kind_force.data()};
 }
 
 // What one row gives back besides the force.
@@ -580,27 +582,47 @@ struct Oct {
   __mmask8 live, once;
 };
 
-template <bool kWv, bool kFull>
+// Which 32-byte record of a bond's kind a loop reads whole (the other fields it needs
+// come by a gather): the bond-based row reads {L, 1/L, pair, d^2} (+ omega V_j for the
+// energy), the dilatation pass {L, 1/L, omega V_j, -}, the force pass {L, omega V_j, pair,
+// d^2} (+ 1/L for the energy).
+enum class KindView { bond_based, dilatation, force };
+
+// One double of each lane's kind, from the 64-byte KindCoefficients records.
+HORIZON_AVX512 inline d8 gather_kind_field(const Ctx& c, const uint32_t* kd, const double* field) {
+  const __m256i idx = _mm256_slli_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(kd)), 3);
+  (void)c;
+  return _mm512_mask_i32gather_pd(_mm512_setzero_pd(), 0xFF, idx, field, 8);
+}
+
+template <KindView kView, bool kExtra, bool kFull>
 HORIZON_AVX512 inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
                                     uint64_t total) {
   const double* rp[8];
   const double* rk[8];
-  const double* rw[8];
+  alignas(32) uint32_t kd[8];
   for (int l = 0; l < 8; ++l) {
     const bool in = kFull || l < count;
     const uint64_t kk = in ? k + static_cast<uint64_t>(l) : k;
     rp[l] = &c.pt[in ? c.nbr[kk] : static_cast<uint32_t>(i)].x;
-    rk[l] = &c.kc[c.kind[kk]].length;
-    rw[l] = &c.kc[c.kind[kk]].damage;
+    kd[l] = c.kind[kk];
+    if constexpr (kView == KindView::bond_based) rk[l] = &c.kc[kd[l]].length;
+    if constexpr (kView == KindView::dilatation) rk[l] = &c.kind_dilatation[kd[l]].x;
+    if constexpr (kView == KindView::force) rk[l] = &c.kind_force[kd[l]].x;
   }
   transpose8(rp, q.Yx, q.Yy, q.Yz, q.wj);
   q.Yx = _mm512_sub_pd(q.Yx, _mm512_set1_pd(pi.x));
   q.Yy = _mm512_sub_pd(q.Yy, _mm512_set1_pd(pi.y));
   q.Yz = _mm512_sub_pd(q.Yz, _mm512_set1_pd(pi.z));
-  transpose8(rk, q.L, q.iL, q.pair, q.d2c);
-  if constexpr (kWv) {
-    d8 unused0, unused1, unused2;
-    transpose8(rw, unused0, q.wv, unused1, unused2);
+  if constexpr (kView == KindView::bond_based) {
+    transpose8(rk, q.L, q.iL, q.pair, q.d2c);
+    if constexpr (kExtra) q.wv = gather_kind_field(c, kd, &c.kc->wv);
+  } else if constexpr (kView == KindView::dilatation) {
+    d8 unused;
+    transpose8(rk, q.L, q.iL, q.wv, unused);
+  } else {
+    transpose8(rk, q.L, q.wv, q.pair, q.d2c);
+    if constexpr (kExtra) q.iL = gather_kind_field(c, kd, &c.kc->inv_length);
   }
   uint64_t flags = 0;
   if (kFull || k + 8 <= total) {
@@ -683,7 +705,7 @@ HORIZON_AVX512 RowOut pmb_row_avx512(const Ctx& c, std::size_t i, uint64_t total
   RowOut out;
   for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
     Oct q;
-    load_oct<kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
+    load_oct<KindView::bond_based, kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d8 r2 = norm2(q);
     const __mmask8 contact = touching(q, r2);
     if (q.live) {
@@ -717,7 +739,7 @@ HORIZON_AVX512 RowOut dilate_row_avx512(const Ctx& c, std::size_t i, double Pi, 
   RowOut out;
   for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
     Oct q;
-    load_oct<true, decltype(full)::value>(q, c, pi, i, k, count, total);
+    load_oct<KindView::dilatation, false, decltype(full)::value>(q, c, pi, i, k, count, total);
     if (!q.live) return;
     const d8 r2 = norm2(q);
     const d8 r = _mm512_sqrt_pd(r2), e = _mm512_sub_pd(r, q.L), stretch = _mm512_mul_pd(e, q.iL);
@@ -742,7 +764,7 @@ HORIZON_AVX512 RowOut force_row_avx512(const Ctx& c, std::size_t i, uint64_t tot
   RowOut out;
   for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
     Oct q;
-    load_oct<true, decltype(full)::value>(q, c, pi, i, k, count, total);
+    load_oct<KindView::force, kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d8 r2 = norm2(q);
     const __mmask8 contact = touching(q, r2);
     if (q.live) {
@@ -904,6 +926,14 @@ void build_kind_coefficients(System& s, DamageMeasure measure) {
       // LAMMPS PERI uses the neighbour's whole volume here, not the partial one.
       c.contact_k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * b.volume;
     }
+  }
+  // The kind records of the state-based passes, as their SIMD loops read them whole.
+  M.kind_dilatation.resize(nk);
+  M.kind_force.resize(nk);
+  for (std::size_t q = 0; q < nk; ++q) {
+    const KindCoefficients& c = M.kind[q];
+    M.kind_dilatation[q] = {c.length, c.inv_length, c.wv, 0.0};
+    M.kind_force[q] = {c.length, c.wv, c.pair, c.contact_d2};
   }
   refresh_damage(s);
 }

@@ -57,6 +57,8 @@ struct ModelCoefficients {
   std::vector<double> intact_weight;    // the same over i's intact bonds (updated as bonds break)
   std::vector<double> contact_micromodulus;  // c_i of the short-range contact
   std::vector<KindCoefficients> kind;   // per bond kind
+  std::vector<Point4> kind_dilatation;  // per kind {L, 1/L, omega V_j, 0} (state-based pass 1)
+  std::vector<Point4> kind_force;       // per kind {L, omega V_j, pair, d^2} (state-based pass 2)
   // Scratch of the force pass: current positions packed with a per-particle value
   // (the critical stretch, then P), and the next min_stretch.
   std::vector<Point4> packed;
