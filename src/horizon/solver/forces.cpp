@@ -557,7 +557,8 @@ HORIZON_AVX512 inline d8 join8(__m256d a, __m256d b) {
 
 // Eight 32-byte records (four doubles each) into four registers of eight lanes: lane l
 // of a, b, c, d holds doubles 0, 1, 2, 3 of record l.
-HORIZON_AVX512 inline void transpose8(const double* const* rec, d8& a, d8& b, d8& c, d8& d) {
+HORIZON_AVX512 __attribute__((always_inline)) inline void transpose8(const double* const* rec, d8& a, d8& b, d8& c,
+                                                                  d8& d) {
   const d8 z0 = join8(_mm256_load_pd(rec[0]), _mm256_load_pd(rec[1]));
   const d8 z1 = join8(_mm256_load_pd(rec[2]), _mm256_load_pd(rec[3]));
   const d8 z2 = join8(_mm256_load_pd(rec[4]), _mm256_load_pd(rec[5]));
