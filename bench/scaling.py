@@ -77,7 +77,7 @@ def main():
         print(f"threads: {name}: 1 -> 2 threads x{t(name + '/1/real_time') / t(name + '/2/real_time'):.2f}")
 
     print(f"storage: PMB pass on the 1e5 block, 1 thread: rows at both ends {1e3 * t('BM_PmbForce/47/1/min_time:1.000/real_time'):.1f} ms "
-          f"(avx2), {1e3 * t('BM_PmbForceScalar/47/1/real_time'):.1f} ms (scalar); bonds once {1e3 * t('BM_PmbHalfBonds/47/1/real_time'):.1f} ms "
+          f"({r['BM_PmbForce/47/1/min_time:1.000/real_time'].get('label', 'vector')}), {1e3 * t('BM_PmbForceScalar/47/1/real_time'):.1f} ms (scalar); bonds once {1e3 * t('BM_PmbHalfBonds/47/1/real_time'):.1f} ms "
           f"(scalar), on 2 threads {1e3 * t('BM_PmbHalfBonds/47/2/real_time'):.1f} ms (atomics)")
     big = r["BM_PmbForce/100/1/min_time:1.000/real_time"]
     bw = r["BM_Triad/1/real_time"]["bytes_per_s"]
