@@ -3,21 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "horizon/core/cell_key.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
 
-namespace {
-constexpr int64_t kBias = int64_t{1} << 20;  // cell coordinates within +-2^20 of the origin
-
-int64_t cell_coord(double x, double edge) {
-  return std::clamp<int64_t>(static_cast<int64_t>(std::floor(x / edge)), -kBias + 2, kBias - 2);
-}
-uint64_t pack(int64_t a, int64_t b, int64_t c) {
-  return (static_cast<uint64_t>(a + kBias) << 42) | (static_cast<uint64_t>(b + kBias) << 21) |
-         static_cast<uint64_t>(c + kBias);
-}
-}  // namespace
 
 void ShortRangeContact::setup(const ShortRangeContactConfig& config, double spacing, double horizon) {
   enabled_ = config.enabled;
@@ -39,7 +29,7 @@ double ShortRangeContact::distance(double reference_length) const {
 
 uint64_t ShortRangeContact::cell_key(const Vec3& p) const {
   const double edge = cutoff_ + skin_;
-  return pack(cell_coord(p.x, edge), cell_coord(p.y, edge), cell_coord(p.z, edge));
+  return pack_cell(cell_coord(p.x, edge), cell_coord(p.y, edge), cell_coord(p.z, edge));
 }
 
 void ShortRangeContact::update(const System& s, const Point4* y) {
@@ -84,7 +74,7 @@ void ShortRangeContact::update(const System& s, const Point4* y) {
     for (int64_t a = c[0] - 1; a <= c[0] + 1; ++a)
       for (int64_t b = c[1] - 1; b <= c[1] + 1; ++b)
         for (int64_t d = c[2] - 1; d <= c[2] + 1; ++d) {
-          const auto it = cells_.find(pack(a, b, d));
+          const auto it = cells_.find(pack_cell(a, b, d));
           if (it == cells_.end()) continue;
           for (uint32_t j : it->second) {
             if (j == m || norm2(y_built_[j] - p) > reach2) continue;

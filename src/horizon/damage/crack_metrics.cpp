@@ -1,5 +1,7 @@
 #include "horizon/damage/crack_metrics.hpp"
 
+#include "horizon/core/cell_key.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -20,20 +22,14 @@ std::vector<uint8_t> connected_crack(const Particles& p, const Vec3& origin, dou
   // Cell lists of the cracked particles, cells of edge `link` (a neighbour within `link`
   // lies in the same or an adjacent cell).
   auto cell_of = [&](const Vec3& x) {
-    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(x.x / link)),
-                                  static_cast<int64_t>(std::floor(x.y / link)),
-                                  static_cast<int64_t>(std::floor(x.z / link))};
-  };
-  auto key = [](int64_t a, int64_t b, int64_t c) {
-    return (static_cast<uint64_t>(a) * 73856093u) ^ (static_cast<uint64_t>(b) * 19349663u) ^
-           (static_cast<uint64_t>(c) * 83492791u);
+    return std::array<int64_t, 3>{cell_coord(x.x, link), cell_coord(x.y, link), cell_coord(x.z, link)};
   };
   std::unordered_map<uint64_t, std::vector<std::size_t>> cells;
   std::vector<std::size_t> stack;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (p.damage[i] < threshold) continue;
     const auto c = cell_of(p.X[i]);
-    cells[key(c[0], c[1], c[2])].push_back(i);
+    cells[pack_cell(c[0], c[1], c[2])].push_back(i);
     if (norm(p.X[i] - origin) <= seed) {
       on[i] = 1;
       stack.push_back(i);
@@ -47,7 +43,7 @@ std::vector<uint8_t> connected_crack(const Particles& p, const Vec3& origin, dou
     for (int64_t a = -1; a <= 1; ++a)
       for (int64_t b = -1; b <= 1; ++b)
         for (int64_t d = -1; d <= 1; ++d) {
-          const auto it = cells.find(key(c[0] + a, c[1] + b, c[2] + d));
+          const auto it = cells.find(pack_cell(c[0] + a, c[1] + b, c[2] + d));
           if (it == cells.end()) continue;
           for (const std::size_t j : it->second) {
             if (on[j]) continue;

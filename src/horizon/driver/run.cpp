@@ -330,9 +330,10 @@ int run_deck(Config config, const RunOptions& options) {
       loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
   summary_state(j, s, g, loads, max_balance_error);
+  // The crack path and front at the end, for the crack and fracture figures below.
+  const std::vector<uint8_t> on = crack.active ? crack.path(s) : std::vector<uint8_t>{};
+  const CrackFront f = crack.active ? crack.front(s, on) : CrackFront{};
   if (crack.active) {
-    const std::vector<uint8_t> on = crack.path(s);
-    const CrackFront f = crack.front(s, on);
     const auto branch = branch_distance(s.particles, crack.origin, crack.direction, kCrackDamage, config.spacing,
                                         2.0 * config.horizon, &on);
     nlohmann::ordered_json cj;
@@ -369,7 +370,6 @@ int run_deck(Config config, const RunOptions& options) {
     fj["dissipated_energy"] = g.dissipated;
     fj["dissipated_energy_per_thickness"] = g.dissipated * per;
     if (crack.active) {
-      const CrackFront f = crack.front(s, crack.path(s));
       const double len = f.found ? f.length : 0.0;
       fj["crack_length"] = len;
       fj["energy_per_crack_length"] = len > 0 ? g.dissipated * per / len : 0.0;
@@ -383,7 +383,7 @@ int run_deck(Config config, const RunOptions& options) {
       Vec3 d = pc.points[1] - pc.points[0];
       d.z = 0;
       if (norm(d) == 0) continue;
-      const CrackAngle a = crack_angle(s.particles, pc.points[1], d / norm(d), 0.35, 2 * config.horizon,
+      const CrackAngle a = crack_angle(s.particles, pc.points[1], d / norm(d), kCrackDamage, 2 * config.horizon,
                                        8 * config.horizon, config.spacing, config.horizon);
       angles.push_back(a.found ? nlohmann::ordered_json(std::abs(a.degrees)) : nlohmann::ordered_json(nullptr));
       signed_angles.push_back(a.found ? nlohmann::ordered_json(a.degrees) : nlohmann::ordered_json(nullptr));
