@@ -590,9 +590,8 @@ struct Oct {
 enum class KindView { bond_based, dilatation, force };
 
 // One double of each lane's kind, from the 64-byte KindCoefficients records.
-HORIZON_AVX512 inline d8 gather_kind_field(const Ctx& c, const uint32_t* kd, const double* field) {
+HORIZON_AVX512 inline d8 gather_kind_field(const uint32_t* kd, const double* field) {
   const __m256i idx = _mm256_slli_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(kd)), 3);
-  (void)c;
   return _mm512_mask_i32gather_pd(_mm512_setzero_pd(), 0xFF, idx, field, 8);
 }
 
@@ -617,13 +616,13 @@ HORIZON_AVX512 inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std:
   q.Yz = _mm512_sub_pd(q.Yz, _mm512_set1_pd(pi.z));
   if constexpr (kView == KindView::bond_based) {
     transpose8(rk, q.L, q.iL, q.pair, q.d2c);
-    if constexpr (kExtra) q.wv = gather_kind_field(c, kd, &c.kc->wv);
+    if constexpr (kExtra) q.wv = gather_kind_field(kd, &c.kc->wv);
   } else if constexpr (kView == KindView::dilatation) {
     d8 unused;
     transpose8(rk, q.L, q.iL, q.wv, unused);
   } else {
     transpose8(rk, q.L, q.wv, q.pair, q.d2c);
-    if constexpr (kExtra) q.iL = gather_kind_field(c, kd, &c.kc->inv_length);
+    if constexpr (kExtra) q.iL = gather_kind_field(kd, &c.kc->inv_length);
   }
   uint64_t flags = 0;
   if (kFull || k + 8 <= total) {
