@@ -324,6 +324,43 @@ TEST(LammpsRules, ContactActsOnBondedAndBrokenPairs) {
   EXPECT_EQ(s.particles.damage[0], 1.0);
 }
 
+// Two rows of particles on either side of a precrack slide one spacing past each other
+// (a rigid shift of the upper row: no bond is strained). A pair that started diagonally
+// across the crack (|xi| = sqrt(2) h) is now face to face at the lattice distance h.
+// With LAMMPS's max_distance 1.35 its contact distance is min(0.9 sqrt(2) h, 1.35 h) =
+// 1.27 h, so the sliding faces repel (they grind); with max_distance 0.9 every pair's
+// distance is 0.9 h and faces at the lattice distance slide freely (docs/input.md).
+Vec3 sliding_row_force(double max_distance) {
+  const double h = 1e-3;
+  test::BlockSpec b;
+  b.dimension = 2;
+  b.plane = PlaneMode::stress;
+  b.n = {9, 2, 1};
+  b.horizon_factor = 2.0;
+  MaterialConfig mat = test::make_material(ModelKind::pmb, 1e9, 1.0 / 3.0);
+  Config cfg = test::block_config(b, mat);
+  Precrack crack;
+  crack.points = {Vec3{-h, 0.5 * h, 0}, Vec3{9 * h, 0.5 * h, 0}};
+  cfg.precracks = {crack};
+  cfg.contact.short_range.enabled = true;
+  cfg.contact.short_range.max_distance = max_distance;
+  System s = build_system(cfg);
+  for (std::size_t i = 0; i < s.particles.size(); ++i)
+    if (s.particles.X[i].y > 0.5 * h) s.particles.u[i] = {h, 0, 0};
+  compute_forces(s, false);
+  // The middle particle of the lower row: its upper neighbours are at (x, h) and (x +- h, h)
+  // in the current positions, as before the shift, but now they are other particles.
+  return s.particles.f[s.particles.size() / 4];
+}
+
+TEST(LammpsRules, SlidingCrackFacesGrindOnlyWithContactBeyondOneSpacing) {
+  const Vec3 grind = sliding_row_force(1.35);
+  EXPECT_LT(grind.y, 0.0) << "the shifted upper row pushes the lower row down";
+  const Vec3 free = sliding_row_force(0.9);
+  EXPECT_EQ(free.x, 0.0);
+  EXPECT_EQ(free.y, 0.0);
+}
+
 // ---------------------------------------------------------------------------------
 // Rigid indenter: force density K (R - r)^2 along (y - c)/r inside the sphere.
 

@@ -360,11 +360,12 @@ int run_deck(Config config, const RunOptions& options) {
     }
     j["crack"] = cj;
   }
-  if (s.nonlinear.enabled) {
-    // Tupek's fracture figures (thesis Table 6.1 and 6.2): dissipated energy per unit
-    // thickness (2-D), the crack length from the first precrack's tip, their ratio, and
-    // the angle each precrack's crack leaves its tip at (damage/crack_angle.hpp: a line
-    // fitted to the damage ridge 2 to 8 horizons from the tip).
+  if (s.nonlinear.enabled || crack.active) {
+    // Tupek's fracture figures (thesis Table 6.1 and 6.2), for any model that breaks bonds
+    // from a precrack: dissipated energy per unit thickness (2-D), the crack length from
+    // the first precrack's tip, their ratio, and the angle each precrack's crack leaves its
+    // tip at (damage/crack_angle.hpp: a line fitted to the damage ridge 2 to 8 horizons
+    // from the tip).
     nlohmann::ordered_json fj;
     const double per = config.dimension == 2 ? 1.0 / config.thickness : 1.0;
     fj["dissipated_energy"] = g.dissipated;
