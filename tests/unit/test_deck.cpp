@@ -602,6 +602,13 @@ TEST(DeckErrors, NonlinearSolidMistakes) {
   expect_error(with("law: energy", "law: critical_stretch"), 12, 19, {"law: energy", "thesis eq. 6.10"});
   // A typo in broken_bonds suggests the closest word.
   expect_error(with("broken_bonds: off", "broken_bonds: compresion_only"), 12, 63, {"compression_only"});
+  // The bond-failure-energy exponent: read, and refused outside [0, 2].
+  EXPECT_EQ(parse_deck(with("broken_bonds: off", "broken_bonds: off, failure_length_exponent: 0"), "t.yaml")
+                .materials[0]
+                .damage.failure_length_exponent,
+            0.0);
+  expect_error(with("broken_bonds: off", "broken_bonds: off, failure_length_exponent: 3"), 12, 93,
+               {"failure_length_exponent", "[0, 2]", "found 3"});
   // Model-specific keys on other models.
   expect_error(with("  al: {model: tupek, fracture: false,", "  al: {model: lps, fracture: false,"), 13, 20,
                {"materials.al.fracture", "applies to model nonlinear_solid only"});

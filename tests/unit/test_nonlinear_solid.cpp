@@ -96,6 +96,34 @@ TEST(NonlinearSolid, BetaConstantsRecoverFractureEnergy) {
   EXPECT_NEAR(half3(16 * kPi * delta * Gc / 63) / (Gc / 2), kPi, 1e-5);
 }
 
+TEST(NonlinearSolid, BetaOfAnyFailureLengthExponentRecoversFractureEnergy) {
+  // s_c = beta omega |xi|^-p (thesis sec. 6.1.1: the form of s_c is a constitutive
+  // choice; eq. 6.3 is p = 2). The integrals (6.2)/(6.1) with that s_c give G_c/2.
+  const double delta = 0.004, Gc = 400;
+  for (double p : {0.0, 0.5, 1.0, 1.5, 2.0}) {
+    const double b2 = tupek_beta(Gc, delta, 2, p), b3 = tupek_beta(Gc, delta, 3, p);
+    const double half2 = integrate(
+        [&](double z) {
+          return integrate([&](double xi) {
+            return 2 * std::acos(z / xi) * b2 * tupek_influence(xi, delta, 2) * std::pow(xi, -p) * xi;
+          }, z, delta, 60);
+        },
+        0, delta, 60);
+    const double half3 = integrate(
+        [&](double z) {
+          return integrate([&](double xi) {
+            return 2 * kPi * b3 * tupek_influence(xi, delta, 3) * std::pow(xi, -p) * xi * xi * (1 - z / xi);
+          }, z, delta, 60);
+        },
+        0, delta, 60);
+    EXPECT_NEAR(half2 / (Gc / 2), 1.0, 2e-3) << "p = " << p;  // the acos cusp limits the quadrature
+    EXPECT_NEAR(half3 / (Gc / 2), 1.0, 1e-6) << "p = " << p;
+  }
+  // The general formula meets the closed forms at p = 2 (to round-off).
+  EXPECT_NEAR(tupek_beta(Gc, delta, 2, 2.0 - 1e-12) / tupek_beta(Gc, delta, 2), 1.0, 1e-9);
+  EXPECT_NEAR(tupek_beta(Gc, delta, 3, 2.0 - 1e-12) / tupek_beta(Gc, delta, 3), 1.0, 1e-9);
+}
+
 TEST(NonlinearSolid, BondEnergiesAcrossALatticePlaneConvergeToGc) {
   // Discrete check (digest sec. 10.8): 2 sum_{i below, j above} A_i A_j s_c per unit
   // length (both one-sided bonds of each pair) on a square lattice cut half-way between

@@ -41,6 +41,11 @@ struct DamageConfig {
   // broken_bonds_compression is false (the Kalthoff variant: off for good).
   bool energy_law = false;
   bool broken_bonds_compression = true;
+  // The bond-failure-energy function s_c = beta omega |xi|^-p of the energy law (thesis
+  // sec. 6.1.1 calls its form a constitutive choice; eq. 6.3 takes p = 2, a critical bond
+  // elongation the same for every bond). p = 0: one critical strain for every bond, as
+  // the PMB. beta keeps G_c for any p in [0, 2] (material/nonlinear_solid.hpp).
+  double failure_length_exponent = 2;
 };
 
 struct MaterialConfig {

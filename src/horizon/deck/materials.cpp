@@ -143,7 +143,8 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
 }
 
 DamageConfig read_damage(const DeckContext& ctx, const Item& item, ModelKind model) {
-  MapReader m(ctx, item, {"law", "critical_stretch", "fracture_energy", "alpha", "breaks", "broken_bonds"});
+  MapReader m(ctx, item,
+              {"law", "critical_stretch", "fracture_energy", "alpha", "breaks", "broken_bonds", "failure_length_exponent"});
   DamageConfig d;
   d.enabled = true;
   const bool nonlinear = model == ModelKind::nonlinear_solid;
@@ -162,6 +163,12 @@ DamageConfig read_damage(const DeckContext& ctx, const Item& item, ModelKind mod
     d.fracture_energy = read_positive(ctx, m.get("fracture_energy", "G_c [J/m^2], > 0"));
     if (auto b = m.find("broken_bonds"))
       d.broken_bonds_compression = choose_word(ctx, *b, {"compression_only", "off"}) == 0;
+    if (auto p = m.find("failure_length_exponent")) {
+      d.failure_length_exponent = read_number(ctx, *p);
+      if (!(d.failure_length_exponent >= 0 && d.failure_length_exponent <= 2))
+        ctx.fail(p->mark, p->path + ": expected a number in [0, 2] (p of s_c = beta omega |xi|^-p; 2 is the thesis's "
+                                    "eq. 6.3), found " + text_of(*p));
+    }
     return d;
   }
   if (d.energy_law) {
@@ -171,6 +178,9 @@ DamageConfig read_damage(const DeckContext& ctx, const Item& item, ModelKind mod
   }
   if (auto b = m.find("broken_bonds")) {
     ctx.fail(*b->key_mark, b->path + ": applies to model nonlinear_solid only (broken pmb/lps bonds never act)");
+  }
+  if (auto p = m.find("failure_length_exponent")) {
+    ctx.fail(*p->key_mark, p->path + ": applies to model nonlinear_solid only (law: energy)");
   }
   const auto which = m.exactly_one({"critical_stretch", "fracture_energy"}, true);
   if (*which == "critical_stretch")

@@ -62,9 +62,28 @@ inline TupekLame tupek_lame(double E, double nu, int dimension, bool plane_stres
 //   3-D: beta = 16 delta G_c / 63. The thesis prints 16 pi delta G_c/63, but its own
 //   integral (6.1) with (6.7) is beta 63/(32 delta) = G_c/2, i.e. no pi (digest sec. 0.3;
 //   tests/unit/test_nonlinear_solid.cpp integrates it and recovers G_c only without pi).
-inline double tupek_beta(double fracture_energy, double delta, int dimension) {
-  if (dimension == 2) return std::numbers::pi * delta * fracture_energy / 16.0;
-  return 16.0 * delta * fracture_energy / 63.0;
+//
+// With the bond-failure-energy function s_c = beta omega |xi|^-p (p = exponent; the thesis
+// calls its form a constitutive choice, sec. 6.1.1), the same integrals (6.2)/(6.1) give
+//   2-D: int_0^delta 2 beta omega(r) r^(2-p) dr = G_c/2,
+//   3-D: pi int_0^delta beta omega(r) r^(3-p) dr = G_c/2,
+// and with omega = C (3r + delta)(delta - r)^3:
+//   int_0^delta r^q (3r + delta)(delta - r)^3 dr = delta^(q+5) (3 B(q+2, 4) + B(q+1, 4)),
+// B the beta function. p = 2 gives the two closed forms above, which are kept exactly.
+inline double tupek_beta(double fracture_energy, double delta, int dimension, double exponent = 2) {
+  if (exponent == 2) {
+    if (dimension == 2) return std::numbers::pi * delta * fracture_energy / 16.0;
+    return 16.0 * delta * fracture_energy / 63.0;
+  }
+  auto beta_fn = [](double a, double b) { return std::exp(std::lgamma(a) + std::lgamma(b) - std::lgamma(a + b)); };
+  const double q = (dimension == 2 ? 2.0 : 3.0) - exponent;
+  const double moment = std::pow(delta, q + 5) * (3 * beta_fn(q + 2, 4) + beta_fn(q + 1, 4));  // / C
+  if (dimension == 2) {
+    const double C = 10.0 / (std::numbers::pi * std::pow(delta, 6));
+    return fracture_energy / (4.0 * C * moment);
+  }
+  const double C = 315.0 / (16.0 * std::numbers::pi * std::pow(delta, 7));
+  return fracture_energy / (2.0 * std::numbers::pi * C * moment);
 }
 
 // The instantaneous bond energy (thesis eq. 6.5) per unit omega: s_inst / omega =
@@ -80,6 +99,8 @@ struct NonlinearState {
   bool enabled = false;
   std::vector<double> lambda_bar, mu_bar, m;  // per particle (from its material)
   std::vector<double> beta;                   // per particle; +inf: bonds never break
+  std::vector<double> failure_scale;          // per bond kind: |xi|^-p of s_c (used when p != 2)
+  bool failure_exponent_two = true;           // p = 2 everywhere: the criterion uses 1/|xi|^2 as written
   std::vector<uint8_t> compression_only;      // 1: broken bonds push in compression (6.9); 0: off for good
   std::vector<double> theta;                  // theta_phi (eq. 6.8), from the last force pass
   std::vector<double> nonlocal_damage;        // D = 1 - (1/d) int omega phi (eq. 6.12), phi from the broken flags

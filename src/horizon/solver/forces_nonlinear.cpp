@@ -70,6 +70,22 @@ void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, co
   N.contact_stiffness.assign(n, 0);
   N.adaptive_every = config.solver.adaptive_time_step ? std::max(1, config.solver.adaptive_every) : 0;
 
+  // One bond-failure-energy exponent p for the run (s_c = beta omega |xi|^-p): bonds join
+  // materials, and the pair criterion compares both ends against one s_c.
+  double exponent = 2;
+  const MaterialConfig* first = nullptr;
+  for (const auto& m : materials) {
+    if (!(m.fracture && m.damage.enabled)) continue;
+    if (first && m.damage.failure_length_exponent != first->damage.failure_length_exponent)
+      throw Error("materials '" + first->name + "' and '" + m.name +
+                  "' give different damage.failure_length_exponent: one run uses one bond-failure-energy function");
+    if (!first) first = &m;
+    exponent = m.damage.failure_length_exponent;
+  }
+  N.failure_exponent_two = exponent == 2;
+  N.failure_scale.assign(B.kinds.size(), 0);
+  for (std::size_t q = 0; q < B.kinds.size(); ++q) N.failure_scale[q] = std::pow(B.kinds[q].length, -exponent);
+
   const Dimensioning dims{config.dimension, config.plane, config.thickness, config.area, config.horizon};
   for (std::size_t i = 0; i < n; ++i) {
     const MaterialConfig& mat = materials[P.material[i]];
@@ -78,7 +94,7 @@ void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, co
     N.mu_bar[i] = l.mu_bar;
     N.m[i] = mat.seth_hill_m;
     if (mat.fracture && mat.damage.enabled && mat.damage.fracture_energy && !P.no_fail[i])
-      N.beta[i] = tupek_beta(*mat.damage.fracture_energy, config.horizon, dim);
+      N.beta[i] = tupek_beta(*mat.damage.fracture_energy, config.horizon, dim, exponent);
     N.compression_only[i] = mat.damage.broken_bonds_compression ? 1 : 0;
     // Contact stiffness of the LAMMPS rule from the bond-based micromodulus of the same
     // bulk modulus (as the LPS does, solver/system.cpp).
@@ -143,6 +159,8 @@ ForceStats compute_nonlinear_forces(System& s, bool energy) {
   // Sweep 2: the pair criterion, then the force with the flags at the start of the pass.
   uint64_t broken = 0;
   const double dim = N.dimension;
+  const bool exponent_two = N.failure_exponent_two;
+  const double* failure_scale = N.failure_scale.data();
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::size_t i = 0; i < n; ++i) {
     const Point4 pi = pt[i];
@@ -173,7 +191,10 @@ ForceStats compute_nonlinear_forces(System& s, bool energy) {
           const double sij = instantaneous_bond_energy(li, mi, eps, ti);
           const double sji = instantaneous_bond_energy(lj, mj, eps, tj);
           const double bij = 0.5 * (bi + N.beta[j]);  // +inf when either end may not break
-          if (sij + sji >= 2 * bij * c.inv_length * c.inv_length) {
+          // 2 s_c / omega = 2 beta |xi|^-p (eq. 6.3 and its generalisation, p = 2 as printed).
+          const double threshold =
+              exponent_two ? 2 * bij * c.inv_length * c.inv_length : 2 * bij * failure_scale[kind[k]];
+          if (sij + sji >= threshold) {
             cut = true;
             intact[k] = 0;
             ++row_broken;
