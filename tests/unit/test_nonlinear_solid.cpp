@@ -311,6 +311,51 @@ TEST(NonlinearSolid, BrokenBondResistsCompressionNotTension) {
   }
 }
 
+// The bond-failure-energy exponent p decides which bonds fail first under a uniform
+// stretch e along x. With lambda_bar = 0 (plane strain, nu = 1/4) the pair criterion is
+// 2 mu_bar eps^2 >= 2 beta |xi|^-p, so an x-aligned bond (eps = ln(1 + e), m = 0) fails
+// at eps_c(L) = sqrt(beta/mu_bar) L^(-p/2): p = 0 one strain for every length, p = 2
+// (eq. 6.3) a strain falling as 1/L. Checked on the centre particle's bonds along +x
+// (lengths h, 2h, 3h).
+TEST(NonlinearSolid, FailureLengthExponentSetsWhichBondsFailFirst) {
+  BlockSpec b;
+  b.dimension = 2;
+  b.plane = PlaneMode::strain;
+  b.n = {11, 11, 1};
+  b.horizon_factor = 3.5;
+  auto broken_along_x = [&](double p, double eps) {
+    MaterialConfig mat = tupek_material(100e9, 0.25, 0.0);
+    mat.damage.enabled = true;
+    mat.damage.energy_law = true;
+    mat.damage.fracture_energy = 1000;
+    mat.damage.failure_length_exponent = p;
+    System s = test::make_block(b, mat);
+    EXPECT_NEAR(s.nonlinear.lambda_bar[0], 0.0, 1e-6 * s.nonlinear.mu_bar[0]);
+    const double e = std::expm1(eps);
+    deform(s, {{{e, 0, 0}, {0, 0, 0}, {0, 0, 0}}});
+    compute_forces(s, false);
+    const std::size_t c = s.particles.size() / 2;  // the centre of the 11 x 11 block
+    std::vector<int> broken(4, -1);                 // by length in spacings: 1, 2, 3
+    for (uint64_t k = s.bonds.begin(c); k < s.bonds.end(c); ++k) {
+      const Vec3 d = s.particles.X[s.bonds.nbr[k]] - s.particles.X[c];
+      if (std::abs(d.y) > 1e-12 || d.x <= 0) continue;
+      broken[static_cast<int>(std::lround(d.x / b.spacing))] = s.bonds.intact[k] ? 0 : 1;
+    }
+    return broken;
+  };
+  const double delta = b.horizon_factor * b.spacing, mu_bar = 2 * 100e9 / 2.5;
+  // p = 0: eps_c the same for h, 2h and 3h.
+  const double c0 = std::sqrt(tupek_beta(1000, delta, 2, 0.0) / mu_bar);
+  EXPECT_EQ(broken_along_x(0.0, 0.99 * c0), (std::vector<int>{-1, 0, 0, 0}));
+  EXPECT_EQ(broken_along_x(0.0, 1.01 * c0), (std::vector<int>{-1, 1, 1, 1}));
+  // p = 2: eps_c = u_c / L, u_c = sqrt(beta/mu_bar): just above eps_c(3h) only the 3h bond
+  // fails; just above eps_c(2h) the 2h bond too; the h bond holds to eps_c(h).
+  const double uc = std::sqrt(tupek_beta(1000, delta, 2) / mu_bar), h = b.spacing;
+  EXPECT_EQ(broken_along_x(2.0, 1.01 * uc / (3 * h)), (std::vector<int>{-1, 0, 0, 1}));
+  EXPECT_EQ(broken_along_x(2.0, 1.01 * uc / (2 * h)), (std::vector<int>{-1, 0, 1, 1}));
+  EXPECT_EQ(broken_along_x(2.0, 0.99 * uc / h), (std::vector<int>{-1, 0, 1, 1}));
+}
+
 System notched_plate(bool fracture) {
   BlockSpec b;
   b.dimension = 2;
