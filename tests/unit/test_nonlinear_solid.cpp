@@ -38,6 +38,15 @@ MaterialConfig tupek_material(double E, double nu, double m, double density = 11
   return mat;
 }
 
+// The same with the energy failure law (thesis eqs. 6.5-6.10) calibrated to G_c.
+MaterialConfig breakable_tupek_material(double E, double nu, double Gc) {
+  MaterialConfig mat = tupek_material(E, nu, 0.0);
+  mat.damage.enabled = true;
+  mat.damage.energy_law = true;
+  mat.damage.fracture_energy = Gc;
+  return mat;
+}
+
 void deform(System& s, const std::array<std::array<double, 3>, 3>& H) {
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     const Vec3 X = s.particles.X[i];
@@ -291,10 +300,7 @@ TEST(NonlinearSolid, BrokenBondResistsCompressionNotTension) {
   b.n = {2, 1, 1};  // two particles, one bond pair
   b.horizon_factor = 1.5;
   for (bool compression_only : {true, false}) {
-    MaterialConfig mat = tupek_material(3.5e9, 0.35, 0.0);
-    mat.damage.enabled = true;
-    mat.damage.energy_law = true;
-    mat.damage.fracture_energy = 400;
+    MaterialConfig mat = breakable_tupek_material(3.5e9, 0.35, 400);
     mat.damage.broken_bonds_compression = compression_only;
     System s = test::make_block(b, mat);
     ASSERT_EQ(s.bonds.size(), 2u);
@@ -324,10 +330,7 @@ TEST(NonlinearSolid, FailureLengthExponentSetsWhichBondsFailFirst) {
   b.n = {11, 11, 1};
   b.horizon_factor = 3.5;
   auto broken_along_x = [&](double p, double eps) {
-    MaterialConfig mat = tupek_material(100e9, 0.25, 0.0);
-    mat.damage.enabled = true;
-    mat.damage.energy_law = true;
-    mat.damage.fracture_energy = 1000;
+    MaterialConfig mat = breakable_tupek_material(100e9, 0.25, 1000);
     mat.damage.failure_length_exponent = p;
     System s = test::make_block(b, mat);
     EXPECT_NEAR(s.nonlinear.lambda_bar[0], 0.0, 1e-6 * s.nonlinear.mu_bar[0]);
@@ -362,12 +365,7 @@ System notched_plate(bool fracture) {
   b.plane = PlaneMode::stress;
   b.horizon_factor = 3.0;
   b.n = {30, 20, 1};
-  MaterialConfig mat = tupek_material(3.5e9, 0.35, 0.0);
-  if (fracture) {
-    mat.damage.enabled = true;
-    mat.damage.energy_law = true;
-    mat.damage.fracture_energy = 40;
-  }
+  const MaterialConfig mat = fracture ? breakable_tupek_material(3.5e9, 0.35, 40) : tupek_material(3.5e9, 0.35, 0.0);
   Config c = test::block_config(b, mat);
   c.precracks.push_back(Precrack{{Vec3{-1e-3, 9.5e-3, 0}, Vec3{10e-3, 9.5e-3, 0}}});
   System s = build_system(c);
