@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "horizon/core/error.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/material/nonlinear_solid.hpp"
 #include "horizon/solver/explicit.hpp"
@@ -357,6 +358,33 @@ TEST(NonlinearSolid, FailureLengthExponentSetsWhichBondsFailFirst) {
   EXPECT_EQ(broken_along_x(2.0, 1.01 * uc / (3 * h)), (std::vector<int>{-1, 0, 0, 1}));
   EXPECT_EQ(broken_along_x(2.0, 1.01 * uc / (2 * h)), (std::vector<int>{-1, 0, 1, 1}));
   EXPECT_EQ(broken_along_x(2.0, 0.99 * uc / h), (std::vector<int>{-1, 0, 1, 1}));
+}
+
+TEST(NonlinearSolid, OneFailureLengthExponentPerRun) {
+  // Two breakable materials with different p: the pair criterion needs one s_c.
+  BlockSpec b;
+  b.dimension = 2;
+  b.plane = PlaneMode::strain;
+  b.n = {6, 3, 1};
+  MaterialConfig soft = breakable_tupek_material(3.5e9, 0.35, 400);
+  MaterialConfig hard = breakable_tupek_material(70e9, 0.33, 4000);
+  hard.name = "hard";
+  hard.damage.failure_length_exponent = 0;
+  Config c = test::block_config(b, soft);
+  c.materials.push_back(hard);
+  c.bodies.push_back(BodyConfig{"other", "hard", Shape::box({10e-3, 0, -0.5e-3}, {13e-3, 2e-3, 0.5e-3})});
+  try {
+    build_system(c);
+    ADD_FAILURE() << "no error for two failure_length_exponent values";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("failure_length_exponent"), std::string::npos) << e.what();
+  }
+  // The same p, or a material that cannot break, is fine.
+  c.materials[1].damage.failure_length_exponent = 2;
+  EXPECT_NO_THROW(build_system(c));
+  c.materials[1].damage.failure_length_exponent = 0;
+  c.materials[1].fracture = false;
+  EXPECT_NO_THROW(build_system(c));
 }
 
 System notched_plate(bool fracture) {
