@@ -72,16 +72,15 @@ void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, co
 
   // One bond-failure-energy exponent p for the run (s_c = beta omega |xi|^-p): bonds join
   // materials, and the pair criterion compares both ends against one s_c.
-  double exponent = 2;
   const MaterialConfig* first = nullptr;
   for (const auto& m : materials) {
     if (!(m.fracture && m.damage.enabled)) continue;
-    if (first && m.damage.failure_length_exponent != first->damage.failure_length_exponent)
+    if (!first) first = &m;
+    if (m.damage.failure_length_exponent != first->damage.failure_length_exponent)
       throw Error("materials '" + first->name + "' and '" + m.name +
                   "' give different damage.failure_length_exponent: one run uses one bond-failure-energy function");
-    if (!first) first = &m;
-    exponent = m.damage.failure_length_exponent;
   }
+  const double exponent = first ? first->damage.failure_length_exponent : 2.0;
   N.failure_exponent_two = exponent == 2;
   N.failure_scale.assign(B.kinds.size(), 0);
   for (std::size_t q = 0; q < B.kinds.size(); ++q) N.failure_scale[q] = std::pow(B.kinds[q].length, -exponent);
