@@ -1,0 +1,168 @@
+#pragma once
+// A material model as one unit (docs/design.md, "Adding a material model").
+//
+// A model is a header and a source file under material/models/, and one line of
+// material/registry.cpp. It declares what the deck may say about it (ModelTraits: its
+// parameters with their ranges and defaults, the damage laws and influence functions it
+// accepts), and it computes, for the particles of its material:
+//   - setup: per-particle constants into the shared arrays of ModelCoefficients (the
+//     bond-based spring of the stable time step, the contact micromodulus, the critical
+//     stretch of the damage law) and its own state, sized;
+//   - force_state: the force state T[x_i]<xi_ij> of every bond of its particles (and the
+//     strain energy density W_i when asked), from the current positions and its
+//     *committed* history; the trial history goes to its own scratch;
+//   - commit: the trial history becomes the history (explicit dynamics: every step;
+//     static and implicit solvers: every converged step; never while a tangent is
+//     probed), and the energy it dissipated goes to the ledger;
+//   - fields: what it adds to the output frames (plastic strain, damage of its own...).
+// The general force pass (solver/forces_general.cpp) breaks bonds by the critical-stretch
+// law, calls force_state of every model, and sums f_i = sum_j (T_ij - T_ji) V_j
+// (seed 003 eq. 33 in its discrete form, digest sec. 9) with the contact: it never names
+// a model.
+//
+// Two capabilities keep the old fast paths behind the same interface:
+//   - unified(): the model writes its forces in the form t = omega (P_i |xi| + Q_i e +
+//     R_i e/|xi|) of solver/system.hpp (PMB, LPS). When every material of a run is
+//     unified, compute_forces runs the vectorised loops of solver/forces.cpp and the
+//     static solvers have an analytic tangent.
+//   - owns_force_pass(): the model computes the whole force pass itself and shares a run
+//     only with materials of its own model (Tupek's nonlinear solid, whose energy failure
+//     law couples the two ends of a bond).
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "horizon/core/point4.hpp"
+#include "horizon/core/vec3.hpp"
+#include "horizon/deck/config.hpp"
+#include "horizon/material/constants.hpp"
+
+namespace horizon {
+
+struct System;
+
+// One number (or yes/no) a model reads from its material's map in the deck.
+struct ParameterSpec {
+  enum class Range { any, positive, non_negative, fraction, boolean };  // fraction: [0, 1]
+  std::string key;
+  std::string meaning;  // "yield stress [Pa]": for messages and docs/models.md
+  Range range = Range::positive;
+  std::optional<double> default_value;  // none: the key is required
+};
+
+// One word a model reads (e.g. the classical stress law of the correspondence model).
+struct ChoiceSpec {
+  std::string key;
+  std::string meaning;
+  std::vector<std::string> choices;  // the first is the default
+};
+
+enum class ElasticInput {
+  one_modulus,   // bond-based: one modulus (or micromodulus); Poisson's ratio fixed by the dimension
+  two_constants  // any two of E, nu, K, G
+};
+
+struct ModelTraits {
+  std::string name;                  // the word after `model:` in the deck
+  std::vector<std::string> aliases;  // other words accepted for it
+  std::string summary;               // one line: what it is and its source
+  ElasticInput elastic = ElasticInput::two_constants;
+  int min_dimension = 1;             // 2: 2-D and 3-D only
+  bool critical_stretch_law = true;  // damage: {law: critical_stretch, ...} (critical_stretch or fracture_energy)
+  bool energy_law = false;           // damage: {law: energy, ...} (Tupek's nonlinear solid)
+  bool exclusive = false;            // shares a run only with materials of the same model
+  bool adaptive_time_step = false;   // solver.adaptive_time_step applies (stable_time_step from the current state)
+  std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
+                                        InfluenceKind::gaussian};
+  InfluenceKind default_influence = InfluenceKind::constant;
+  std::vector<ParameterSpec> parameters;
+  std::vector<ChoiceSpec> choices;
+};
+
+// What a model's setup is given.
+struct ModelSetup {
+  System& system;
+  const Config& config;
+  const MaterialConfig& material;
+  int material_index = 0;
+  std::vector<uint32_t> particles;  // the particles of this material, in index order
+  Dimensioning dims;
+};
+
+// One evaluation of the general force pass, as a model sees it.
+struct ForcePass {
+  const System& system;
+  const Point4* y = nullptr;   // current positions (w: scratch of the pass, not for models)
+  Vec3* T = nullptr;           // per bond k (i -> j): the force state T[x_i]<xi_ij> [N/m^6]; write
+                               // it for every bond of your particles (zero for broken bonds)
+  double* energy = nullptr;    // per particle: W_i [J/m^3]; null when not asked
+  double time = 0;             // the time of this deformation
+  double dt = 0;               // time since the committed state (viscous and rate laws)
+};
+
+// A per-particle output field (a model's history variable in the frames).
+struct ModelField {
+  std::string name;
+  std::vector<double> values;  // one per particle; models fill their own, others stay 0
+};
+
+class Model {
+ public:
+  virtual ~Model() = default;
+  virtual std::unique_ptr<Model> clone() const = 0;
+  virtual const ModelTraits& traits() const = 0;
+
+  // Once, after the bonds, the influence weights and the weighted volumes exist.
+  virtual void setup(const ModelSetup& setup) = 0;
+
+  // The fast path (see above). A unified model's setup fills pair_coef,
+  // dilatation_coef, deviatoric_coef (and sets state_based when it uses the dilatation).
+  virtual bool unified() const { return false; }
+
+  // General path: T of every bond of this model's particles; W_i when pass.energy is set.
+  virtual void force_state(ForcePass& pass) { (void)pass; }
+
+  // The trial history of the last force pass becomes the history. Energy the model
+  // dissipated since the last commit (plastic work, viscous loss) is added to
+  // system.dissipated_at [J] of its particles.
+  virtual void commit(System& system) { (void)system; }
+
+  // Hold (true) or release the model's own bond breaking while a solver iterates
+  // (the critical-stretch law is held by the solvers themselves).
+  virtual void hold_bonds(bool hold) { (void)hold; }
+
+  // Models that own the force pass (see above).
+  virtual bool owns_force_pass() const { return false; }
+  virtual uint64_t force_pass(System& system, bool energy) {
+    (void)system, (void)energy;
+    return 0;
+  }
+  // A stable time step from the current state, or 0 to use the Silling-Askari bound of
+  // the shared spring coefficients.
+  virtual double stable_time_step(const System& system) const {
+    (void)system;
+    return 0;
+  }
+
+  // Output fields (names stable: users post-process them).
+  virtual void fields(const System& system, std::vector<ModelField>& out) const { (void)system, (void)out; }
+
+  // Values of the deck (MaterialConfig::parameters, with defaults filled in by the deck).
+  static double parameter(const MaterialConfig& m, const std::string& key);
+  static const std::string& choice(const MaterialConfig& m, const std::string& key);
+};
+
+// The registry: one entry per model (material/registry.cpp).
+struct ModelEntry {
+  ModelTraits traits;
+  std::unique_ptr<Model> (*make)();
+};
+const std::vector<ModelEntry>& model_registry();
+// The entry whose name or alias is `name`, or null.
+const ModelEntry* find_model(const std::string& name);
+// The registered names, in registry order (for messages).
+std::vector<std::string> model_names();
+
+}  // namespace horizon
