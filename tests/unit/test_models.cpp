@@ -284,7 +284,7 @@ double force_scale(System& s) {
 }
 
 TEST(Models, RigidTranslationAndRotationGiveNoForce) {
-  for (const std::string& model : {"pmb", "lps"})
+  for (const std::string model : {"pmb", "lps"})
     for (int dimension : {2, 3}) {
       const BlockSpec b = block(dimension, PlaneMode::stress, dimension == 3 ? 7 : 12, 3.0, true);
       const double nu = model == "pmb" ? bond_based_poisson_ratio(dimension, b.plane) : 0.3;
@@ -326,7 +326,7 @@ TEST(Models, RigidTranslationAndRotationGiveNoForce) {
 
 TEST(Models, ForceIsMinusGradientOfStrainEnergy) {
   const test::SingleThread single;
-  for (const std::string& model : {"pmb", "lps"})
+  for (const std::string model : {"pmb", "lps"})
     for (int dimension : {2, 3}) {
       const BlockSpec b = block(dimension, PlaneMode::strain, dimension == 3 ? 6 : 9, 3.0, true);
       const double nu = model == "pmb" ? 0.25 : 0.3;

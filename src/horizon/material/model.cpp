@@ -1,5 +1,7 @@
 #include "horizon/material/model.hpp"
 
+#include <cstdio>
+
 #include "horizon/core/error.hpp"
 
 namespace horizon {
@@ -33,6 +35,42 @@ std::vector<std::string> model_names() {
   std::vector<std::string> names;
   for (const auto& e : model_registry()) names.push_back(e.traits.name);
   return names;
+}
+
+std::string describe_models() {
+  std::string out;
+  auto number = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  for (const auto& e : model_registry()) {
+    const ModelTraits& t = e.traits;
+    out += t.name;
+    for (const auto& a : t.aliases) out += " (alias " + a + ")";
+    out += ": " + t.summary + "\n";
+    out += std::string("  elastic constants: ") +
+           (t.elastic == ElasticInput::one_modulus ? "one modulus (or micromodulus)" : "any two of E, nu, K, G") +
+           "; dimension " + (t.min_dimension > 1 ? std::to_string(t.min_dimension) + " or 3" : "1, 2 or 3") +
+           "; damage law " +
+           (t.critical_stretch_law && t.energy_law ? "critical_stretch or energy"
+                                                   : t.energy_law ? "energy" : "critical_stretch") +
+           (t.exclusive ? "; shares a run only with its own model" : "") + "\n";
+    for (const auto& p : t.parameters)
+      out += "  " + p.key + ": " + p.meaning +
+             (p.default_value ? " (default " +
+                                    (p.range == ParameterSpec::Range::boolean ? std::string(*p.default_value != 0 ? "true" : "false")
+                                                                              : number(*p.default_value)) +
+                                    ")"
+                              : " (required)") +
+             "\n";
+    for (const auto& c : t.choices) {
+      out += "  " + c.key + ": " + c.meaning + " (";
+      for (std::size_t q = 0; q < c.choices.size(); ++q) out += (q ? " | " : "") + c.choices[q];
+      out += "; default " + c.choices.front() + ")\n";
+    }
+  }
+  return out;
 }
 
 void fill_model_defaults(MaterialConfig& m) {

@@ -120,6 +120,7 @@ void NonlinearSolid::setup(const ModelSetup& in) {
   M.dim = dim;
   M.weighted_volume.assign(n, 0);
   reset_model_arrays(M, n);
+  M.state_based = true;  // forces reach two horizons (through theta_j): the tangent probes that far
   s.dissipated_at.assign(n, 0);
 
   N = NonlinearState{};
