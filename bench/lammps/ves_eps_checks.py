@@ -155,8 +155,8 @@ def momentum(ex, work):
 
 
 # Horizon's deck keys of the two models (docs/models/*.md on branch models-eps).
-VES_FRACTION_KEY = "relaxed_fraction"
-VES_TIME_KEY = "relaxation_time"
+VES_FRACTION_KEY = "lambda_1"
+VES_TIME_KEY = "tau_1"
 EPS_YIELD_KEY = "yield_stress"
 
 
