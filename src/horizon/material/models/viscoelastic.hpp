@@ -52,10 +52,24 @@ inline SlsStep sls_step(double dt, double tau) {
   SlsStep c;
   if (!(dt > 0)) return c;  // no time has passed: the back extension holds
   const double h = dt / tau;
-  const double one_minus = -std::expm1(-h);  // 1 - exp(-h), accurate for small h
-  // (1 - exp(-h))/h: for h below 1e-8 its series 1 - h/2 is exact to round-off.
-  const double ratio = h < 1e-8 ? 1.0 - 0.5 * h : one_minus / h;
-  c.decay = 1.0 - one_minus;
+  c.decay = std::exp(-h);
+  if (h < 0.05) {
+    // Both other coefficients are differences of nearly equal numbers for small h; their
+    // series (from those of exp(-h) and (1 - exp(-h))/h) keep every digit:
+    //   from_new = sum_k>=1 (-1)^(k+1) h^k/(k+1)!,  from_old = sum_k>=1 (-1)^(k+1) k h^k/(k+1)!
+    // (the terms beyond k = 8 are below 1e-16 relative for h < 0.05).
+    double term = 1, fact = 1, sign = 1;
+    c.from_new = c.from_old = 0;
+    for (int k = 1; k <= 8; ++k) {
+      term *= h;
+      fact *= (k + 1);
+      c.from_new += sign * term / fact;
+      c.from_old += sign * k * term / fact;
+      sign = -sign;
+    }
+    return c;
+  }
+  const double ratio = -std::expm1(-h) / h;  // (1 - exp(-h))/h
   c.from_old = ratio - c.decay;
   c.from_new = 1.0 - ratio;
   return c;
