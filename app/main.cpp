@@ -1,4 +1,4 @@
-// The `horizon` command line: run, check, render, plot, --version. It only chains library
+// The `horizon` command line: run, check, render, plot, models, --version. It only chains library
 // calls; every stage lives in src/horizon.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -9,6 +9,7 @@
 #include "horizon/core/version.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
+#include "horizon/material/model.hpp"
 #include "horizon/output/plot.hpp"
 #include "horizon/output/render.hpp"
 #include "horizon/output/resolve_frame.hpp"
@@ -56,6 +57,8 @@ int main(int argc, char** argv) {
   plot->add_option("--y-scale", y_scale, "multiply y by this (units, sign)");
   plot->add_option("-o,--output", plot_png, "PNG file (default: <y>.png beside the history)");
 
+  auto* models = app.add_subcommand("models", "list the material models with their deck parameters");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -77,6 +80,10 @@ int main(int argc, char** argv) {
       const System s = build_system(config);
       fmt::print("{}", format_check(config, check_system(config, s)));
       fmt::print("deck is valid\n");
+      return 0;
+    }
+    if (*models) {
+      fmt::print("{}", describe_models());
       return 0;
     }
     if (*plot) {

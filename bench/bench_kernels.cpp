@@ -23,7 +23,7 @@ namespace {
 
 using namespace horizon;
 
-Config block_config(int n, ModelKind model, bool damage) {
+Config block_config(int n, const std::string& model, bool damage) {
   Config c;
   c.dimension = 3;
   c.spacing = 1e-3;
@@ -45,12 +45,12 @@ Config block_config(int n, ModelKind model, bool damage) {
 }
 
 // One block per (n, model), built once and kept: the 1e6-particle block takes seconds.
-System& block(int n, ModelKind model) {
-  static std::map<std::pair<int, int>, std::unique_ptr<System>> cache;
-  auto& slot = cache[{n, static_cast<int>(model)}];
+System& block(int n, const std::string& model) {
+  static std::map<std::pair<int, std::string>, std::unique_ptr<System>> cache;
+  auto& slot = cache[{n, model}];
   if (!slot) {
     cache.clear();  // one block in memory at a time
-    auto& fresh = cache[{n, static_cast<int>(model)}];
+    auto& fresh = cache[{n, model}];
     fresh = std::make_unique<System>(build_system(block_config(n, model, true)));
     for (std::size_t i = 0; i < fresh->particles.size(); ++i) fresh->particles.u[i] = fresh->particles.X[i] * 1e-4;
     return *fresh;
@@ -69,7 +69,7 @@ void report(benchmark::State& state, const System& s) {
 
 void BM_PmbForce(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
-  System& s = block(static_cast<int>(state.range(0)), ModelKind::pmb);
+  System& s = block(static_cast<int>(state.range(0)), "pmb");
   for (auto _ : state) {
     compute_forces(s, false);
     benchmark::DoNotOptimize(s.particles.f.data());
@@ -85,7 +85,7 @@ void BM_PmbForce(benchmark::State& state) {
 void BM_PmbHalfBonds(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(1));
   omp_set_num_threads(threads);
-  System& s = block(static_cast<int>(state.range(0)), ModelKind::pmb);
+  System& s = block(static_cast<int>(state.range(0)), "pmb");
   compute_forces(s, false);
   const auto& B = s.bonds;
   const auto& M = s.model;
@@ -140,7 +140,7 @@ void BM_PmbForceScalar(benchmark::State& state) {
 
 void BM_LpsDilatation(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
-  System& s = block(static_cast<int>(state.range(0)), ModelKind::lps);
+  System& s = block(static_cast<int>(state.range(0)), "lps");
   compute_forces(s, false);
   for (auto _ : state) {
     benchmark::DoNotOptimize(state_based_dilatation_pass(s));
@@ -150,7 +150,7 @@ void BM_LpsDilatation(benchmark::State& state) {
 
 void BM_LpsForce(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
-  System& s = block(static_cast<int>(state.range(0)), ModelKind::lps);
+  System& s = block(static_cast<int>(state.range(0)), "lps");
   compute_forces(s, false);
   for (auto _ : state) {
     state_based_force_pass(s, false);
@@ -162,7 +162,7 @@ void BM_LpsForce(benchmark::State& state) {
 // Both LPS passes, as compute_forces runs them.
 void BM_LpsStep(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
-  System& s = block(static_cast<int>(state.range(0)), ModelKind::lps);
+  System& s = block(static_cast<int>(state.range(0)), "lps");
   for (auto _ : state) {
     compute_forces(s, false);
     benchmark::DoNotOptimize(s.particles.f.data());
@@ -172,7 +172,7 @@ void BM_LpsStep(benchmark::State& state) {
 
 void BM_NeighborSearch(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
-  const Config c = block_config(static_cast<int>(state.range(0)), ModelKind::pmb, false);
+  const Config c = block_config(static_cast<int>(state.range(0)), "pmb", false);
   Particles p;
   fill_shape(p, c.bodies[0].shape, {3, c.spacing, 1e-9, std::nullopt}, 1000, 0, 0);
   std::size_t bonds = 0;

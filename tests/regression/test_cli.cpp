@@ -66,6 +66,14 @@ TEST(Cli, VersionPrintsTheVersion) {
   EXPECT_NE(r.output.find("horizon 0."), std::string::npos) << r.output;
 }
 
+// `horizon models` prints the registry: every model with its own deck parameters.
+TEST(Cli, ModelsListsTheRegistryWithParameters) {
+  const Result r = run("models");
+  EXPECT_EQ(r.status, 0);
+  for (const char* word : {"pmb:", "lps:", "nonlinear_solid (alias tupek):", "seth_hill_m: ", "(default 0)"})
+    EXPECT_NE(r.output.find(word), std::string::npos) << word << " not in:\n" << r.output;
+}
+
 TEST(Cli, CheckReportsParticlesBondsAndTimeStep) {
   const fs::path d = scratch("check");
   write(d / "plate.yaml", plate_deck(1e-6));

@@ -174,7 +174,7 @@ TEST(FractureEnergy, LatticeSumOverBondsCrossingAPlane) {
     b.n = {lateral, lateral, normal};
     b.n[lc.dimension - 1] = normal;
     for (int l = lc.dimension; l < 3; ++l) b.n[l] = 1;
-    MaterialConfig mat = test::make_material(ModelKind::pmb, kE, 0.25, 2440);
+    MaterialConfig mat = test::make_material("pmb", kE, 0.25, 2440);
     mat.damage.enabled = true;
     mat.damage.fracture_energy = kG0;
     const double ratio = lattice_crossing_energy(b, mat) / kG0;
@@ -211,7 +211,7 @@ TEST(FractureEnergy, BrokenBondEnergyGoesToTheLedgerAndDamageField) {
   b.n = {12, 10, 1};
   b.horizon_factor = 3;
   b.partial_volume = true;
-  MaterialConfig mat = test::make_material(ModelKind::pmb, kE, 1.0 / 3.0, 2440, InfluenceKind::linear);
+  MaterialConfig mat = test::make_material("pmb", kE, 1.0 / 3.0, 2440, InfluenceKind::linear);
   const double zp = 4.5 * b.spacing, delta = b.horizon_factor * b.spacing;
 
   System elastic = test::make_block(b, mat);  // no damage: stores the energy

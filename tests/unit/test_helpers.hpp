@@ -19,7 +19,7 @@
 namespace horizon::test {
 
 // A material with all four isotropic constants filled in from E and nu (as the deck does).
-inline MaterialConfig make_material(ModelKind model, double E, double nu, double density = 2000.0,
+inline MaterialConfig make_material(const std::string& model, double E, double nu, double density = 2000.0,
                                     InfluenceKind omega = InfluenceKind::constant) {
   MaterialConfig m;
   m.name = "solid";

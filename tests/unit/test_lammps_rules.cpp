@@ -90,7 +90,7 @@ TEST(LammpsRules, DeckReadsTheNewOptions) {
     parse_deck(lps, "lps.yaml");
     ADD_FAILURE() << "micromodulus accepted for model lps";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("micromodulus applies to model pmb only"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("micromodulus applies to bond-based models only"), std::string::npos) << e.what();
   }
 }
 
@@ -104,7 +104,7 @@ TEST(LammpsRules, LammpsVolumeFractions) {
   b.n = {9, 9, 9};
   b.spacing = h;
   b.horizon_factor = delta / h;
-  MaterialConfig mat = test::make_material(ModelKind::pmb, 1e9, 0.25);
+  MaterialConfig mat = test::make_material("pmb", 1e9, 0.25);
   Config c = test::block_config(b, mat);
   c.partial_volume = PartialVolumeRule::lammps;
   const System s = build_system(c);
@@ -145,7 +145,7 @@ Chain chain(double alpha, bool after_force = false) {
   b.dimension = 1;
   b.n = {4, 1, 1};
   b.horizon_factor = 1.1;
-  MaterialConfig mat = test::make_material(ModelKind::pmb, 1e9, 0.25);
+  MaterialConfig mat = test::make_material("pmb", 1e9, 0.25);
   mat.damage.enabled = true;
   mat.damage.critical_stretch = 1e-3;
   mat.damage.alpha = alpha;
@@ -248,7 +248,7 @@ System two_bodies(const Vec3& dir, double gap, double* c_out) {
   c.spacing = h;
   c.horizon = 3.0001 * h;
   c.lattice_origin = Vec3{};
-  MaterialConfig m = test::make_material(ModelKind::pmb, 1e9, 0.25);
+  MaterialConfig m = test::make_material("pmb", 1e9, 0.25);
   c.materials = {m};
   c.bodies = {BodyConfig{"a", "solid", Shape::box({-0.5 * h, -0.5 * h, -0.5 * h}, {0.5 * h, 0.5 * h, 0.5 * h})},
               BodyConfig{"b", "solid", Shape::box({4.5 * h, -0.5 * h, -0.5 * h}, {5.5 * h, 0.5 * h, 0.5 * h})}};
@@ -306,7 +306,7 @@ TEST(LammpsRules, ContactActsOnBondedAndBrokenPairs) {
   test::BlockSpec b;
   b.n = {2, 1, 1};
   b.horizon_factor = 1.5;
-  MaterialConfig mat = test::make_material(ModelKind::pmb, 1e9, 0.25);
+  MaterialConfig mat = test::make_material("pmb", 1e9, 0.25);
   Config cfg = test::block_config(b, mat);
   cfg.contact.short_range.enabled = true;
   System s = build_system(cfg);
@@ -337,7 +337,7 @@ Vec3 sliding_row_force(double max_distance) {
   b.plane = PlaneMode::stress;
   b.n = {9, 2, 1};
   b.horizon_factor = 2.0;
-  MaterialConfig mat = test::make_material(ModelKind::pmb, 1e9, 1.0 / 3.0);
+  MaterialConfig mat = test::make_material("pmb", 1e9, 1.0 / 3.0);
   Config cfg = test::block_config(b, mat);
   Precrack crack;
   crack.points = {Vec3{-h, 0.5 * h, 0}, Vec3{9 * h, 0.5 * h, 0}};
@@ -369,7 +369,7 @@ TEST(LammpsRules, IndenterForce) {
   test::BlockSpec b;
   b.n = {3, 1, 1};
   b.horizon_factor = 1.5;
-  Config cfg = test::block_config(b, test::make_material(ModelKind::pmb, 1e9, 0.25));
+  Config cfg = test::block_config(b, test::make_material("pmb", 1e9, 0.25));
   IndenterConfig ic;
   ic.name = "ball";
   ic.center = {Expression("0"), Expression("0.0025 - 100*t"), Expression("0")};
@@ -454,6 +454,39 @@ TEST(LammpsRules, ScalarAndVectorLoopsGiveTheSameBits) {
       EXPECT_TRUE(same_bits(a.damage, o->damage)) << model;
       EXPECT_TRUE(same_bits(a.dissipated, o->dissipated)) << model;
     }
+  }
+  omp_set_num_threads(saved);
+}
+
+// The general force pass (solver/forces_general.hpp, which every non-unified model takes)
+// run on the unified models: the same physics as the fast loops, summed in another order,
+// so the same answer to round-off; and the same bits on 1 and 2 threads.
+TEST(LammpsRules, GeneralPassMatchesTheFastLoops) {
+  const int saved = omp_get_max_threads();
+  for (const std::string model : {"pmb", "lps"}) {
+    const Snapshot fast = run_small(model, KernelPath::scalar, 1);
+    const Snapshot g1 = run_small(model, KernelPath::general, 1);
+    const Snapshot g2 = run_small(model, KernelPath::general, 2);
+    EXPECT_EQ(g1.broken, g2.broken) << model;
+    EXPECT_TRUE(same_bits(g1.u, g2.u)) << model;
+    EXPECT_TRUE(same_bits(g1.f, g2.f)) << model;
+    EXPECT_TRUE(same_bits(g1.damage, g2.damage)) << model;
+    double umax = 0, du = 0, vmax = 0, dv = 0, dmg = 0;
+    for (std::size_t i = 0; i < fast.u.size(); ++i) {
+      umax = std::max(umax, norm(fast.u[i]));
+      du = std::max(du, norm(fast.u[i] - g1.u[i]));
+      vmax = std::max(vmax, norm(fast.v[i]));
+      dv = std::max(dv, norm(fast.v[i] - g1.v[i]));
+      dmg = std::max(dmg, std::abs(fast.damage[i] - g1.damage[i]));
+    }
+    std::printf("[ general ] %s: %llu vs %llu bonds broken, |du|/|u| %.2e, |dv|/|v| %.2e\n", model.c_str(),
+                static_cast<unsigned long long>(fast.broken), static_cast<unsigned long long>(g1.broken), du / umax,
+                dv / vmax);
+    EXPECT_GT(fast.broken, 0u);
+    EXPECT_NEAR(static_cast<double>(g1.broken), static_cast<double>(fast.broken), 0.02 * static_cast<double>(fast.broken))
+        << model;
+    EXPECT_LT(du, 1e-10 * umax) << model;
+    EXPECT_LT(dv, 1e-9 * vmax) << model;
   }
   omp_set_num_threads(saved);
 }

@@ -86,7 +86,7 @@ TEST(Models, LpsDilatationIsExactUnderIsotropicExpansion) {
   };
   for (const auto& c : cases) {
     const BlockSpec b = block(c.dimension, c.plane, c.dimension == 3 ? 6 : 10, 3.0, c.partial_volume);
-    Config cfg = test::block_config(b, test::make_material(ModelKind::lps, 7e10, 0.22, 2700, c.omega));
+    Config cfg = test::block_config(b, test::make_material("lps", 7e10, 0.22, 2700, c.omega));
     if (c.precrack) {
       const double y = 2.5 * b.spacing, x1 = 3.3 * b.spacing;
       if (c.dimension == 2) cfg.precracks.push_back(Precrack{{{-1.0, y, 0}, {x1, y, 0}}});
@@ -137,7 +137,7 @@ double discrete_linear_energy(const BlockSpec& b, const MaterialConfig& mat, con
     const double r = norm(xi);
     bonds.push_back({r, dot(xi, test::apply(eps, xi)) / r, test::neighbour_volume(b, r)});
   }
-  if (mat.model == ModelKind::pmb) {
+  if (mat.model == "pmb") {
     const double c = pmb_micromodulus(mat.youngs_modulus, mat.influence, dims);
     double w = 0;
     for (const auto& q : bonds) w += 0.25 * c * q.e * q.e / q.r * q.v;
@@ -181,7 +181,7 @@ struct EnergyCase {
   const char* name;
   int dimension;
   PlaneMode plane;
-  ModelKind model;
+  const std::string& model;
   double m;
   bool partial_volume;
   // Measured W_PD / W_classical (docs/models.md, "Lattice error"): isotropic, shear, general.
@@ -191,32 +191,32 @@ struct EnergyCase {
 // PMB: E with nu fixed by the model (1/4 in 3-D and plane strain, 1/3 in plane
 // stress); LPS: nu = 0.3 (also 0.25 / 1/3 would do; the LPS is exact in any nu).
 MaterialConfig case_material(const EnergyCase& c) {
-  if (c.model == ModelKind::lps) return test::make_material(ModelKind::lps, 7.0e10, 0.3);
-  return test::make_material(ModelKind::pmb, 7.0e10, bond_based_poisson_ratio(c.dimension, c.plane));
+  if (c.model == "lps") return test::make_material("lps", 7.0e10, 0.3);
+  return test::make_material("pmb", 7.0e10, bond_based_poisson_ratio(c.dimension, c.plane));
 }
 
 const EnergyCase kEnergyCases[] = {
     // name                     d  plane               model           m    PV     iso       shear     general
-    {"PMB 3-D",                 3, PlaneMode::none,   ModelKind::pmb, 3.0, false, 1.120850, 1.217506, 1.073039},
-    {"PMB 3-D",                 3, PlaneMode::none,   ModelKind::pmb, 4.0, false, 0.943193, 0.956569, 0.936590},
-    {"PMB 3-D, partial volume", 3, PlaneMode::none,   ModelKind::pmb, 3.0, true,  1.062200, 1.050039, 1.068235},
-    {"PMB 3-D, partial volume", 3, PlaneMode::none,   ModelKind::pmb, 4.0, true,  1.026644, 1.025555, 1.027199},
-    {"PMB plane stress",        2, PlaneMode::stress, ModelKind::pmb, 3.0, false, 1.040858, 1.005125, 1.062825},
-    {"PMB plane stress",        2, PlaneMode::stress, ModelKind::pmb, 4.0, false, 0.962403, 0.926641, 0.984387},
-    {"PMB plane stress, PV",    2, PlaneMode::stress, ModelKind::pmb, 3.0, true,  1.020133, 0.982490, 1.043272},
-    {"PMB plane stress, PV",    2, PlaneMode::stress, ModelKind::pmb, 4.0, true,  1.012773, 1.003698, 1.018365},
-    {"PMB 1-D",                 1, PlaneMode::none,   ModelKind::pmb, 3.0, false, 1.333333, 0,        0},
-    {"PMB 1-D, partial volume", 1, PlaneMode::none,   ModelKind::pmb, 3.0, true,  1.000000, 0,        0},
-    {"LPS 3-D",                 3, PlaneMode::none,   ModelKind::lps, 3.0, false, 1.000000, 1.110169, 0.948130},
-    {"LPS 3-D",                 3, PlaneMode::none,   ModelKind::lps, 4.0, false, 1.000000, 1.019087, 0.991033},
-    {"LPS 3-D, partial volume", 3, PlaneMode::none,   ModelKind::lps, 3.0, true,  1.000000, 0.988780, 1.005309},
-    {"LPS 3-D, partial volume", 3, PlaneMode::none,   ModelKind::lps, 4.0, true,  1.000000, 1.000194, 0.999933},
-    {"LPS plane stress",        2, PlaneMode::stress, ModelKind::lps, 3.0, false, 1.000000, 0.964706, 1.021844},
-    {"LPS plane stress",        2, PlaneMode::stress, ModelKind::lps, 4.0, false, 1.000000, 0.953205, 1.028956},
-    {"LPS plane strain",        2, PlaneMode::strain, ModelKind::lps, 3.0, false, 1.000000, 0.964706, 1.021198},
-    {"LPS plane strain",        2, PlaneMode::strain, ModelKind::lps, 4.0, false, 1.000000, 0.953205, 1.028098},
-    {"LPS plane stress, PV",    2, PlaneMode::stress, ModelKind::lps, 3.0, true,  1.000000, 0.963759, 1.022429},
-    {"LPS plane stress, PV",    2, PlaneMode::stress, ModelKind::lps, 4.0, true,  1.000000, 0.994038, 1.003704},
+    {"PMB 3-D",                 3, PlaneMode::none,   "pmb", 3.0, false, 1.120850, 1.217506, 1.073039},
+    {"PMB 3-D",                 3, PlaneMode::none,   "pmb", 4.0, false, 0.943193, 0.956569, 0.936590},
+    {"PMB 3-D, partial volume", 3, PlaneMode::none,   "pmb", 3.0, true,  1.062200, 1.050039, 1.068235},
+    {"PMB 3-D, partial volume", 3, PlaneMode::none,   "pmb", 4.0, true,  1.026644, 1.025555, 1.027199},
+    {"PMB plane stress",        2, PlaneMode::stress, "pmb", 3.0, false, 1.040858, 1.005125, 1.062825},
+    {"PMB plane stress",        2, PlaneMode::stress, "pmb", 4.0, false, 0.962403, 0.926641, 0.984387},
+    {"PMB plane stress, PV",    2, PlaneMode::stress, "pmb", 3.0, true,  1.020133, 0.982490, 1.043272},
+    {"PMB plane stress, PV",    2, PlaneMode::stress, "pmb", 4.0, true,  1.012773, 1.003698, 1.018365},
+    {"PMB 1-D",                 1, PlaneMode::none,   "pmb", 3.0, false, 1.333333, 0,        0},
+    {"PMB 1-D, partial volume", 1, PlaneMode::none,   "pmb", 3.0, true,  1.000000, 0,        0},
+    {"LPS 3-D",                 3, PlaneMode::none,   "lps", 3.0, false, 1.000000, 1.110169, 0.948130},
+    {"LPS 3-D",                 3, PlaneMode::none,   "lps", 4.0, false, 1.000000, 1.019087, 0.991033},
+    {"LPS 3-D, partial volume", 3, PlaneMode::none,   "lps", 3.0, true,  1.000000, 0.988780, 1.005309},
+    {"LPS 3-D, partial volume", 3, PlaneMode::none,   "lps", 4.0, true,  1.000000, 1.000194, 0.999933},
+    {"LPS plane stress",        2, PlaneMode::stress, "lps", 3.0, false, 1.000000, 0.964706, 1.021844},
+    {"LPS plane stress",        2, PlaneMode::stress, "lps", 4.0, false, 1.000000, 0.953205, 1.028956},
+    {"LPS plane strain",        2, PlaneMode::strain, "lps", 3.0, false, 1.000000, 0.964706, 1.021198},
+    {"LPS plane strain",        2, PlaneMode::strain, "lps", 4.0, false, 1.000000, 0.953205, 1.028098},
+    {"LPS plane stress, PV",    2, PlaneMode::stress, "lps", 3.0, true,  1.000000, 0.963759, 1.022429},
+    {"LPS plane stress, PV",    2, PlaneMode::stress, "lps", 4.0, true,  1.000000, 0.994038, 1.003704},
 };
 
 // The measured ratios are pinned to +-kPinned so that the table in docs/models.md
@@ -237,7 +237,7 @@ TEST(Models, StrainEnergyDensityAgainstClassicalAtInteriorParticles) {
     // sum omega |xi| V_j to int_H omega |xi| dV, computed here from the offsets.
     const EnergyResult iso = measure_energy(s, b, mat, isotropic(1e-4, c.dimension));
     EXPECT_NEAR(iso.ratio_max / iso.ratio_min, 1.0, 1e-9) << "interior particles disagree";
-    if (c.model == ModelKind::lps) {
+    if (c.model == "lps") {
       EXPECT_NEAR(iso.ratio_min, 1.0, 1e-9);
     } else {
       double sum = 0;
@@ -284,10 +284,10 @@ double force_scale(System& s) {
 }
 
 TEST(Models, RigidTranslationAndRotationGiveNoForce) {
-  for (ModelKind model : {ModelKind::pmb, ModelKind::lps})
+  for (const std::string model : {"pmb", "lps"})
     for (int dimension : {2, 3}) {
       const BlockSpec b = block(dimension, PlaneMode::stress, dimension == 3 ? 7 : 12, 3.0, true);
-      const double nu = model == ModelKind::pmb ? bond_based_poisson_ratio(dimension, b.plane) : 0.3;
+      const double nu = model == "pmb" ? bond_based_poisson_ratio(dimension, b.plane) : 0.3;
       System s = test::make_block(b, test::make_material(model, 7e10, nu, 2500, InfluenceKind::inverse));
       const double scale = force_scale(s);
       ASSERT_GT(scale, 0);
@@ -312,7 +312,7 @@ TEST(Models, RigidTranslationAndRotationGiveNoForce) {
           fmax = std::max(fmax, norm(s.particles.f[i]));
           wmax = std::max(wmax, std::abs(s.particles.energy[i]));
         }
-        EXPECT_LT(fmax, 1e-9 * scale) << (model == ModelKind::pmb ? "PMB " : "LPS ") << dimension << "-D "
+        EXPECT_LT(fmax, 1e-9 * scale) << (model == "pmb" ? "PMB " : "LPS ") << dimension << "-D "
                                       << mo.name;
         // Energy scale: E eps^2 at eps = 1e-9.
         EXPECT_LT(wmax, 7e10 * 1e-18) << mo.name;
@@ -326,10 +326,10 @@ TEST(Models, RigidTranslationAndRotationGiveNoForce) {
 
 TEST(Models, ForceIsMinusGradientOfStrainEnergy) {
   const test::SingleThread single;
-  for (ModelKind model : {ModelKind::pmb, ModelKind::lps})
+  for (const std::string model : {"pmb", "lps"})
     for (int dimension : {2, 3}) {
       const BlockSpec b = block(dimension, PlaneMode::strain, dimension == 3 ? 6 : 9, 3.0, true);
-      const double nu = model == ModelKind::pmb ? 0.25 : 0.3;
+      const double nu = model == "pmb" ? 0.25 : 0.3;
       System s = test::make_block(b, test::make_material(model, 7e10, nu, 2500, InfluenceKind::linear));
       test::Rng rng(42 + dimension);
       const double amp = 1e-4 * b.spacing;
@@ -352,7 +352,7 @@ TEST(Models, ForceIsMinusGradientOfStrainEnergy) {
           s.particles.u[i] = u0;
           const double grad = (up - um) / (2 * eta);
           EXPECT_NEAR(-grad, f[i][a] * s.particles.volume[i], 1e-6 * fscale)
-              << (model == ModelKind::pmb ? "PMB " : "LPS ") << dimension << "-D, particle " << i << " axis " << a;
+              << (model == "pmb" ? "PMB " : "LPS ") << dimension << "-D, particle " << i << " axis " << a;
         }
     }
 }
@@ -380,13 +380,13 @@ TEST(Models, ExplicitSolverConservesLinearAndAngularMomentum) {
   const test::SingleThread single;
   struct Case {
     const char* name;
-    ModelKind model;
+    const std::string& model;
     double nu;
     std::optional<double> critical_stretch;
   };
-  for (const Case& c : {Case{"LPS", ModelKind::lps, 0.3, std::nullopt}, Case{"PMB", ModelKind::pmb, 0.25, std::nullopt},
-                        Case{"PMB with bond breaking", ModelKind::pmb, 0.25, 1e-3},
-                        Case{"LPS with bond breaking", ModelKind::lps, 0.3, 1e-3}}) {
+  for (const Case& c : {Case{"LPS", "lps", 0.3, std::nullopt}, Case{"PMB", "pmb", 0.25, std::nullopt},
+                        Case{"PMB with bond breaking", "pmb", 0.25, 1e-3},
+                        Case{"LPS with bond breaking", "lps", 0.3, 1e-3}}) {
     const BlockSpec b = block(3, PlaneMode::none, 7, 3.0, true);
     MaterialConfig mat = test::make_material(c.model, 1e9, c.nu, 1000);
     if (c.critical_stretch) {
@@ -426,7 +426,7 @@ TEST(Models, ExplicitSolverConservesLinearAndAngularMomentum) {
 
 TEST(Models, StableTimeStepOfABar) {
   const BlockSpec b = block(1, PlaneMode::none, 20, 3.0);
-  const MaterialConfig mat = test::make_material(ModelKind::pmb, 2e11, 0.25, 7800);
+  const MaterialConfig mat = test::make_material("pmb", 2e11, 0.25, 7800);
   System s = test::make_block(b, mat);
   const Config cfg = test::block_config(b, mat);
   const double c = pmb_micromodulus(mat.youngs_modulus, mat.influence, test::dimensioning_of(cfg));

@@ -1,5 +1,5 @@
-// Tupek's nonlinear ordinary solid and brittle bond failure (material/nonlinear_solid.hpp,
-// solver/forces_nonlinear.cpp): the pitfall tests of digest sec. 10 that apply.
+// Tupek's nonlinear ordinary solid and brittle bond failure (material/models/nonlinear_solid.hpp
+// and .cpp): the pitfall tests of digest sec. 10 that apply.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -8,10 +8,9 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/loading/loads.hpp"
-#include "horizon/material/nonlinear_solid.hpp"
+#include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/forces.hpp"
-#include "horizon/solver/forces_nonlinear.hpp"
 #include "test_helpers.hpp"
 
 namespace horizon {
@@ -34,8 +33,8 @@ double integrate(F f, double a, double b, int panels = 200) {
 }
 
 MaterialConfig tupek_material(double E, double nu, double m, double density = 1180) {
-  MaterialConfig mat = test::make_material(ModelKind::nonlinear_solid, E, nu, density, InfluenceKind::tupek);
-  mat.seth_hill_m = m;
+  MaterialConfig mat = test::make_material("nonlinear_solid", E, nu, density, InfluenceKind::tupek);
+  mat.parameters["seth_hill_m"] = m;
   return mat;
 }
 
@@ -165,13 +164,13 @@ TEST(NonlinearSolid, HalfGivesTheLpsForcesToRoundOff) {
   b.n = {7, 7, 7};
   const MaterialConfig mat = tupek_material(70e9, 0.3, 0.5, 2700);
   System s = test::make_block(b, mat);
-  ASSERT_TRUE(s.nonlinear.enabled);
-  ASSERT_EQ(s.nonlinear.lambda_bar.size(), s.particles.size());
+  ASSERT_TRUE(nonlinear_state(s) && nonlinear_state(s)->enabled);
+  ASSERT_EQ(nonlinear_state(s)->lambda_bar.size(), s.particles.size());
   perturb(s, 0.01);
   compute_forces(s, false);
   const auto& P = s.particles;
   const auto& B = s.bonds;
-  const double lb = s.nonlinear.lambda_bar[0], mb = s.nonlinear.mu_bar[0];
+  const double lb = nonlinear_state(s)->lambda_bar[0], mb = nonlinear_state(s)->mu_bar[0];
   const double cc = 1.7, gamma = 3 * cc, k = lb + 2 * mb / 3, alpha = 6 * mb / gamma;
   std::vector<double> theta(P.size(), 0);
   for (std::size_t i = 0; i < P.size(); ++i)
@@ -203,12 +202,12 @@ TEST(NonlinearSolid, ZeroLambdaBarIsBondBased) {
   b.n = {6, 6, 6};
   const MaterialConfig mat = tupek_material(200e9, 0.25, 0.0, 7800);
   System s = test::make_block(b, mat);
-  ASSERT_NEAR(s.nonlinear.lambda_bar[0], 0.0, 1e-6 * s.nonlinear.mu_bar[0]);
+  ASSERT_NEAR(nonlinear_state(s)->lambda_bar[0], 0.0, 1e-6 * nonlinear_state(s)->mu_bar[0]);
   perturb(s, 0.02);
   compute_forces(s, false);
   const auto& P = s.particles;
   const auto& B = s.bonds;
-  const double mb = s.nonlinear.mu_bar[0];
+  const double mb = nonlinear_state(s)->mu_bar[0];
   double worst = 0, scale = 0;
   for (std::size_t i = 0; i < P.size(); ++i) {
     Vec3 f;
@@ -279,7 +278,7 @@ TEST(NonlinearSolid, InstantaneousBondEnergyIsTheEnergyDropOfCuttingOneBond) {
   const std::size_t j = s.bonds.nbr[q];
   uint64_t qj = s.bonds.begin(j);
   while (s.bonds.nbr[qj] != i) ++qj;
-  const auto& N = s.nonlinear;
+  const auto& N = *nonlinear_state(s);
   const double eps = N.bond_strain[q], wv = s.model.kind[s.bonds.kind[q]].wv, wvj = s.model.kind[s.bonds.kind[qj]].wv;
   ASSERT_GT(eps, 0);
   const double Vi = s.particles.volume[i], Vj = s.particles.volume[j];
@@ -334,7 +333,7 @@ TEST(NonlinearSolid, FailureLengthExponentSetsWhichBondsFailFirst) {
     MaterialConfig mat = breakable_tupek_material(100e9, 0.25, 1000);
     mat.damage.failure_length_exponent = p;
     System s = test::make_block(b, mat);
-    EXPECT_NEAR(s.nonlinear.lambda_bar[0], 0.0, 1e-6 * s.nonlinear.mu_bar[0]);
+    EXPECT_NEAR(nonlinear_state(s)->lambda_bar[0], 0.0, 1e-6 * nonlinear_state(s)->mu_bar[0]);
     const double e = std::expm1(eps);
     deform(s, {{{e, 0, 0}, {0, 0, 0}, {0, 0, 0}}});
     compute_forces(s, false);
@@ -383,7 +382,7 @@ TEST(NonlinearSolid, OneFailureLengthExponentPerRun) {
   c.materials[1].damage.failure_length_exponent = 2;
   EXPECT_NO_THROW(build_system(c));
   c.materials[1].damage.failure_length_exponent = 0;
-  c.materials[1].fracture = false;
+  c.materials[1].parameters["fracture"] = 0;
   EXPECT_NO_THROW(build_system(c));
 }
 

@@ -131,25 +131,25 @@ BlockSpec spec(int dimension, int n, double m, bool pv) {
 
 TEST(Tangent, PmbMatchesFiniteDifferences3D) {
   test::SingleThread one;
-  System s = test::make_block(spec(3, 5, 2.0, true), test::make_material(ModelKind::pmb, 70e9, 0.25));
+  System s = test::make_block(spec(3, 5, 2.0, true), test::make_material("pmb", 70e9, 0.25));
   check(s, "PMB 3-D");
 }
 
 TEST(Tangent, LpsMatchesFiniteDifferences3D) {
   test::SingleThread one;
-  System s = test::make_block(spec(3, 5, 2.0, true), test::make_material(ModelKind::lps, 70e9, 0.3));
+  System s = test::make_block(spec(3, 5, 2.0, true), test::make_material("lps", 70e9, 0.3));
   check(s, "LPS 3-D");
 }
 
 TEST(Tangent, PmbMatchesFiniteDifferences2D) {
   test::SingleThread one;
-  System s = test::make_block(spec(2, 8, 3.0, false), test::make_material(ModelKind::pmb, 70e9, 1.0 / 3));
+  System s = test::make_block(spec(2, 8, 3.0, false), test::make_material("pmb", 70e9, 1.0 / 3));
   check(s, "PMB 2-D");
 }
 
 TEST(Tangent, LpsMatchesFiniteDifferences2D) {
   test::SingleThread one;
-  System s = test::make_block(spec(2, 8, 3.0, true), test::make_material(ModelKind::lps, 70e9, 0.3,
+  System s = test::make_block(spec(2, 8, 3.0, true), test::make_material("lps", 70e9, 0.3,
                                                                          2000.0, InfluenceKind::linear));
   check(s, "LPS 2-D");
 }
@@ -158,8 +158,8 @@ TEST(Tangent, LpsMatchesFiniteDifferences2D) {
 TEST(Tangent, MixedPmbLpsBodyMatchesFiniteDifferences) {
   test::SingleThread one;
   const BlockSpec b = spec(2, 8, 3.0, false);
-  MaterialConfig lps = test::make_material(ModelKind::lps, 70e9, 0.3);
-  MaterialConfig pmb = test::make_material(ModelKind::pmb, 50e9, 1.0 / 3);
+  MaterialConfig lps = test::make_material("lps", 70e9, 0.3);
+  MaterialConfig pmb = test::make_material("pmb", 50e9, 1.0 / 3);
   pmb.name = "soft";
   Config c = test::block_config(b, lps);
   c.materials.push_back(pmb);

@@ -72,7 +72,7 @@ RunResult run_lps(int threads) {
   b.n = {7, 7, 7};
   b.horizon_factor = 3;
   b.partial_volume = true;
-  MaterialConfig mat = test::make_material(ModelKind::lps, 1e9, 0.3, 1000, InfluenceKind::inverse);
+  MaterialConfig mat = test::make_material("lps", 1e9, 0.3, 1000, InfluenceKind::inverse);
   mat.damage.enabled = true;
   mat.damage.critical_stretch = 1e-3;
   System s = test::make_block(b, mat);

@@ -48,7 +48,7 @@ ConditionEstimate bar_condition(const BarCase& bc, bool canonical_kernel) {
   c.partial_volume = true;
   MaterialConfig mat;
   mat.name = "bar";
-  mat.model = ModelKind::pmb;
+  mat.model = "pmb";
   mat.density = 1000;
   mat.youngs_modulus = 1e9;
   c.materials = {mat};

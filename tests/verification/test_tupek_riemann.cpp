@@ -27,8 +27,8 @@ RiemannResult riemann(double m, double end_time) {
   b.spacing = 1.0 / 60;  // 120 x 60 = 7,200 particles (the thesis: 20,000 and ~35,000)
   b.horizon_factor = 3.0;
   b.n = {120, 60, 1};
-  MaterialConfig mat = test::make_material(ModelKind::nonlinear_solid, 13.75e9, 0.375, 1180, InfluenceKind::tupek);
-  mat.seth_hill_m = m;
+  MaterialConfig mat = test::make_material("nonlinear_solid", 13.75e9, 0.375, 1180, InfluenceKind::tupek);
+  mat.parameters["seth_hill_m"] = m;
   Config c = test::block_config(b, mat);
   c.horizon = 0.05;
   System s = build_system(c);

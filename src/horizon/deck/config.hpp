@@ -16,8 +16,6 @@
 namespace horizon {
 
 enum class PlaneMode { none, stress, strain };
-// nonlinear_solid: Tupek's nonlinear ordinary solid (thesis eq. 5.1), material/nonlinear_solid.hpp.
-enum class ModelKind { pmb, lps, nonlinear_solid };
 // tupek: the normalised (6.6)/(6.7) functions (nonlinear_solid only).
 enum class InfluenceKind { constant, inverse, linear, gaussian, tupek };
 
@@ -44,13 +42,14 @@ struct DamageConfig {
   // The bond-failure-energy function s_c = beta omega |xi|^-p of the energy law (thesis
   // sec. 6.1.1 calls its form a constitutive choice; eq. 6.3 takes p = 2, a critical bond
   // elongation the same for every bond). p = 0: one critical strain for every bond, as
-  // the PMB. beta keeps G_c for any p in [0, 2] (material/nonlinear_solid.hpp).
+  // the PMB. beta keeps G_c for any p in [0, 2] (material/models/nonlinear_solid.hpp).
   double failure_length_exponent = 2;
 };
 
 struct MaterialConfig {
   std::string name;
-  ModelKind model = ModelKind::pmb;
+  // The registry name of its model (material/registry.cpp; docs/models.md lists them).
+  std::string model = "pmb";
   double density = 0;
   // Elastic constants, all filled in from any two given (PMB needs only one).
   double youngs_modulus = 0;
@@ -59,9 +58,11 @@ struct MaterialConfig {
   double shear_modulus = 0;
   InfluenceKind influence = InfluenceKind::constant;
   DamageConfig damage;
-  std::optional<double> micromodulus;  // PMB: c given directly [N/m^6]; the moduli above follow from it
-  double seth_hill_m = 0;              // nonlinear_solid: Seth-Hill parameter m (thesis eq. 4.2)
-  bool fracture = true;                // nonlinear_solid: false suppresses bond failure (a projectile)
+  std::optional<double> micromodulus;  // bond-based models: c given directly [N/m^6]; the moduli follow from it
+  // The model's own parameters (ModelTraits::parameters and ::choices, material/model.hpp),
+  // every one present: the deck fills in the defaults.
+  std::map<std::string, double> parameters;
+  std::map<std::string, std::string> choices;
 };
 
 struct BodyConfig {
@@ -113,8 +114,8 @@ struct SolverConfig {
   int max_step_cuts = 6;                // halvings of one increment before giving up
   int max_break_rounds = 100;           // break-and-re-equilibrate rounds per load step
   bool condition_number = false;        // estimate the tangent's condition number
-  // Explicit, nonlinear_solid: recompute the stable step from the current bond tangent
-  // stiffness every adaptive_every steps (solver/forces_nonlinear.hpp).
+  // Explicit, models with ModelTraits::adaptive_time_step (nonlinear_solid): recompute the
+  // stable step from the current bond tangent stiffness every adaptive_every steps.
   bool adaptive_time_step = false;
   int adaptive_every = 5;
 };

@@ -1,5 +1,7 @@
 #include "horizon/deck/deck.hpp"
 
+#include "horizon/material/model.hpp"
+
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
@@ -90,20 +92,21 @@ void read_materials(const DeckContext& ctx, const MapReader& m, Config& config) 
   }
   for (const auto& e : entries) config.materials.push_back(read_material(ctx, e.key, e.value));
   for (auto& mat : config.materials) derive_from_micromodulus(mat, config);
-  // Tupek's nonlinear solid has its own bond loops: it shares a run only with itself.
+  // A model that owns the force pass (ModelTraits::exclusive, material/model.hpp) shares a
+  // run only with materials of its own model.
   for (std::size_t q = 1; q < entries.size(); ++q) {
-    const bool a = config.materials[0].model == ModelKind::nonlinear_solid;
-    const bool b = config.materials[q].model == ModelKind::nonlinear_solid;
-    if (a != b) {
-      const Item model = *MapReader(ctx, entries[q].value, {"model", "density", "youngs_modulus", "poissons_ratio",
-                                                             "bulk_modulus", "shear_modulus", "influence", "damage",
-                                                             "micromodulus", "seth_hill_m", "fracture"})
-                              .find("model");
-      ctx.fail(model.mark, model.path + ": model " + model.node.Scalar() + " cannot share a run with material '" +
-                               config.materials[0].name + "' (model " + (a ? "nonlinear_solid" : "pmb or lps") +
-                               "): bodies of model nonlinear_solid interact only with nonlinear_solid bodies; "
-                               "use model nonlinear_solid for every material (e.g. with fracture: false for a "
-                               "projectile)");
+    const ModelTraits& a = find_model(config.materials[0].model)->traits;
+    const ModelTraits& b = find_model(config.materials[q].model)->traits;
+    if ((a.exclusive || b.exclusive) && a.name != b.name) {
+      const ModelTraits& excl = a.exclusive ? a : b;
+      const Item model = entries[q].value.node["model"] ? Item{entries[q].value.node["model"],
+                                                               child_path(entries[q].value.path, "model"),
+                                                               entries[q].value.node["model"].Mark(), std::nullopt}
+                                                        : entries[q].value;
+      ctx.fail(model.mark, model.path + ": model " + b.name + " cannot share a run with material '" +
+                               config.materials[0].name + "' (model " + a.name + "): bodies of model " + excl.name +
+                               " interact only with " + excl.name + " bodies; use model " + excl.name +
+                               " for every material (e.g. with fracture: false for a projectile)");
     }
   }
   // One breaking order for the whole run: the force pass applies it to every bond.
@@ -263,7 +266,7 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   if (auto a = s.find("adaptive_time_step")) {
     sc.adaptive_time_step = read_bool(ctx, *a);
     bool nonlinear = !config.materials.empty();
-    for (const auto& mat : config.materials) nonlinear = nonlinear && mat.model == ModelKind::nonlinear_solid;
+    for (const auto& mat : config.materials) nonlinear = nonlinear && find_model(mat.model)->traits.adaptive_time_step;
     if (sc.adaptive_time_step && !nonlinear) {
       ctx.fail(a->mark, a->path + ": the adaptive time step follows the bond stiffness of model nonlinear_solid; "
                                   "the other models keep the step fixed at the start");

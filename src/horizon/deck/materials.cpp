@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+
+#include "horizon/material/model.hpp"
 
 #include "horizon/material/constants.hpp"
 
@@ -65,20 +68,20 @@ std::string plane_words(const DeckContext& ctx) {
   return ctx.plane == PlaneMode::stress ? "in 2-D plane stress" : "in 2-D plane strain";
 }
 
-void read_elastic_constants(const DeckContext& ctx, const MapReader& m, MaterialConfig& mat) {
+void read_elastic_constants(const DeckContext& ctx, const MapReader& m, MaterialConfig& mat, const ModelTraits& traits) {
   std::vector<Given> given;
   for (int c = E; c <= G; ++c)
     if (auto item = m.find(kConstantKeys[c])) given.push_back(read_constant(ctx, static_cast<Constant>(c), *item));
   const std::string path = m.self().path;
-  const bool pmb = mat.model == ModelKind::pmb;
-  const std::string model_name = mat.model == ModelKind::lps ? "lps" : "nonlinear_solid";
+  const bool pmb = traits.elastic == ElasticInput::one_modulus;
+  const std::string& model_name = traits.name;
   const std::string all_four = "youngs_modulus, poissons_ratio, bulk_modulus, shear_modulus";
 
   if (given.empty()) {
     const Item& self = m.self();
     ctx.fail(self.key_mark.value_or(self.mark),
              path + ": missing elastic constants (" +
-                 (pmb ? "model pmb needs one of youngs_modulus, bulk_modulus, shear_modulus)"
+                 (pmb ? "model " + model_name + " needs one of youngs_modulus, bulk_modulus, shear_modulus)"
                       : "model " + model_name + " needs two of " + all_four + ")"));
   }
   if (given.size() > 2) {
@@ -92,7 +95,7 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
     // A bond-based model has one constant: its Poisson's ratio is fixed by the dimension.
     const double fixed = bond_based_poisson_ratio(ctx.dimension, ctx.plane);
     const std::string fixed_text = fixed == 0.25 ? "1/4" : "1/3";
-    const std::string why = "model pmb is bond-based, which fixes Poisson's ratio at " + fixed_text + " " +
+    const std::string why = "model " + model_name + " is bond-based, which fixes Poisson's ratio at " + fixed_text + " " +
                             plane_words(ctx) + "; give one modulus only, or use model: lps for a free " +
                             "Poisson's ratio";
     if (given.size() == 1 && given[0].which == NU) {
@@ -142,22 +145,29 @@ void read_elastic_constants(const DeckContext& ctx, const MapReader& m, Material
   }
 }
 
-DamageConfig read_damage(const DeckContext& ctx, const Item& item, ModelKind model) {
+std::string law_owners(bool energy) {
+  std::string names;
+  for (const auto& e : model_registry())
+    if (energy ? e.traits.energy_law : e.traits.critical_stretch_law) names += (names.empty() ? "" : ", ") + e.traits.name;
+  return names;
+}
+
+DamageConfig read_damage(const DeckContext& ctx, const Item& item, const ModelTraits& traits) {
   MapReader m(ctx, item,
               {"law", "critical_stretch", "fracture_energy", "alpha", "breaks", "broken_bonds", "failure_length_exponent"});
   DamageConfig d;
   d.enabled = true;
-  const bool nonlinear = model == ModelKind::nonlinear_solid;
+  const std::string& name = traits.name;
   if (auto law = m.find("law")) d.energy_law = choose_word(ctx, *law, {"critical_stretch", "energy"}) == 1;
-  if (nonlinear) {
+  if (traits.energy_law && !traits.critical_stretch_law) {
     // Tupek's brittle failure (thesis sec. 6.1.3): the energy law with G_c only.
     if (auto law = m.find("law"); law && !d.energy_law) {
-      ctx.fail(law->mark, law->path + ": model nonlinear_solid breaks bonds by energy (law: energy, thesis eq. 6.10), "
+      ctx.fail(law->mark, law->path + ": model " + name + " breaks bonds by energy (law: energy, thesis eq. 6.10), "
                                       "not by critical stretch");
     }
     for (const char* key : {"critical_stretch", "alpha", "breaks"})
       if (auto k = m.find(key))
-        ctx.fail(*k->key_mark, k->path + ": does not apply to law: energy of model nonlinear_solid; give "
+        ctx.fail(*k->key_mark, k->path + ": does not apply to law: energy of model " + name + "; give "
                                          "fracture_energy (and broken_bonds)");
     d.energy_law = true;
     d.fracture_energy = read_positive(ctx, m.get("fracture_energy", "G_c [J/m^2], > 0"));
@@ -173,14 +183,15 @@ DamageConfig read_damage(const DeckContext& ctx, const Item& item, ModelKind mod
   }
   if (d.energy_law) {
     const Item law = *m.find("law");
-    ctx.fail(law.mark, law.path + ": law: energy belongs to model nonlinear_solid; models pmb and lps use "
-                                  "law: critical_stretch");
+    ctx.fail(law.mark, law.path + ": law: energy belongs to model " + law_owners(true) + "; model " + name +
+                           " uses law: critical_stretch");
   }
   if (auto b = m.find("broken_bonds")) {
-    ctx.fail(*b->key_mark, b->path + ": applies to model nonlinear_solid only (broken pmb/lps bonds never act)");
+    ctx.fail(*b->key_mark, b->path + ": applies to model " + law_owners(true) + " only (broken " + name +
+                               " bonds never act)");
   }
   if (auto p = m.find("failure_length_exponent")) {
-    ctx.fail(*p->key_mark, p->path + ": applies to model nonlinear_solid only (law: energy)");
+    ctx.fail(*p->key_mark, p->path + ": applies to model " + law_owners(true) + " only (law: energy)");
   }
   const auto which = m.exactly_one({"critical_stretch", "fracture_energy"}, true);
   if (*which == "critical_stretch")
@@ -192,6 +203,35 @@ DamageConfig read_damage(const DeckContext& ctx, const Item& item, ModelKind mod
     d.break_after_force = choose_word(ctx, *b, {"before_force", "after_force"}) == 1;
   }
   return d;
+}
+
+// A model's own parameter, checked against its declared range.
+double read_parameter(const DeckContext& ctx, const Item& item, const ParameterSpec& p) {
+  using R = ParameterSpec::Range;
+  switch (p.range) {
+    case R::boolean: return read_bool(ctx, item) ? 1.0 : 0.0;
+    case R::positive: return read_positive(ctx, item);
+    case R::non_negative: return read_non_negative(ctx, item);
+    case R::fraction: {
+      const double v = read_number(ctx, item);
+      if (!(v >= 0 && v <= 1))
+        ctx.fail(item.mark, item.path + ": expected a number in [0, 1] (" + p.meaning + "), found " + text_of(item));
+      return v;
+    }
+    case R::any: break;
+  }
+  return read_number(ctx, item);
+}
+
+const char* influence_name(InfluenceKind k) {
+  switch (k) {
+    case InfluenceKind::constant: return "constant";
+    case InfluenceKind::inverse: return "inverse";
+    case InfluenceKind::linear: return "linear";
+    case InfluenceKind::gaussian: return "gaussian";
+    case InfluenceKind::tupek: return "tupek";
+  }
+  return "constant";
 }
 
 }  // namespace
@@ -207,66 +247,117 @@ void derive_from_micromodulus(MaterialConfig& mat, const Config& config) {
   mat.shear_modulus = mat.youngs_modulus / (2 * (1 + nu));
 }
 
+namespace {
+const std::vector<std::string> kCommonKeys = {"model",         "density",      "youngs_modulus", "poissons_ratio",
+                                               "bulk_modulus",  "shear_modulus", "influence",      "damage",
+                                               "micromodulus"};
+}  // namespace
+
 MaterialConfig read_material(const DeckContext& ctx, const std::string& name, const Item& item) {
-  MapReader m(
-      ctx, item,
-      {"model", "density", "youngs_modulus", "poissons_ratio", "bulk_modulus", "shear_modulus", "influence", "damage",
-       "micromodulus", "seth_hill_m", "fracture"});
+  // The keys every material may have, and those its model declares: known only once the
+  // model is read, so the map is first read for `model` alone.
+  std::vector<std::string> every = kCommonKeys;
+  for (const auto& e : model_registry()) {
+    for (const auto& p : e.traits.parameters) every.push_back(p.key);
+    for (const auto& c : e.traits.choices) every.push_back(c.key);
+  }
+  const MapReader any(ctx, item, every);
   MaterialConfig mat;
   mat.name = name;
-  mat.model = read_enum<ModelKind>(ctx, m.get("model", "pmb, lps or nonlinear_solid"),
-                                   {{"pmb", ModelKind::pmb},
-                                    {"lps", ModelKind::lps},
-                                    {"nonlinear_solid", ModelKind::nonlinear_solid},
-                                    {"tupek", ModelKind::nonlinear_solid}});
-  const bool nonlinear = mat.model == ModelKind::nonlinear_solid;
-  for (const char* key : {"seth_hill_m", "fracture"})
-    if (auto k = m.find(key); k && !nonlinear)
-      ctx.fail(*k->key_mark, k->path + ": applies to model nonlinear_solid only");
-  if (nonlinear) {
-    if (ctx.dimension == 1) {
-      const Item model = *m.find("model");
-      ctx.fail(model.mark, model.path + ": model nonlinear_solid needs dimension 2 or 3 (its influence functions "
-                                        "(6.6)/(6.7) are 2-D and 3-D)");
-    }
-    mat.influence = InfluenceKind::tupek;
-    if (auto k = m.find("seth_hill_m")) mat.seth_hill_m = read_number(ctx, *k);  // any real m (m < 0 allowed)
-    if (auto k = m.find("fracture")) mat.fracture = read_bool(ctx, *k);
+  const Item model_item = any.get("model", "the material model: " + [] {
+    std::string s;
+    for (const auto& n : model_names()) s += (s.empty() ? "" : ", ") + n;
+    return s;
+  }());
+  std::vector<std::string> words;
+  for (const auto& e : model_registry()) {
+    words.push_back(e.traits.name);
+    for (const auto& a : e.traits.aliases) words.push_back(a);
   }
+  const ModelTraits& traits = find_model(words[choose_word(ctx, model_item, words)])->traits;
+  mat.model = traits.name;
+
+  std::vector<std::string> allowed = kCommonKeys;
+  for (const auto& p : traits.parameters) allowed.push_back(p.key);
+  for (const auto& c : traits.choices) allowed.push_back(c.key);
+  for (const auto& key : every)
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
+      if (auto k = any.find(key)) {
+        std::string owners;
+        for (const auto& e : model_registry()) {
+          bool has = false;
+          for (const auto& p : e.traits.parameters) has = has || p.key == key;
+          for (const auto& c : e.traits.choices) has = has || c.key == key;
+          if (has) owners += (owners.empty() ? "" : ", ") + e.traits.name;
+        }
+        ctx.fail(*k->key_mark, k->path + ": applies to model " + owners + " only");
+      }
+  const MapReader m(ctx, item, allowed);
+
+  if (ctx.dimension < traits.min_dimension) {
+    ctx.fail(model_item.mark, model_item.path + ": model " + traits.name + " needs dimension " +
+                                  std::to_string(traits.min_dimension) + " or 3" +
+                                  (traits.energy_law ? " (its influence functions (6.6)/(6.7) are 2-D and 3-D)" : ""));
+  }
+  for (const auto& p : traits.parameters) {
+    if (auto k = m.find(p.key))
+      mat.parameters[p.key] = read_parameter(ctx, *k, p);
+    else if (p.default_value)
+      mat.parameters[p.key] = *p.default_value;
+    else
+      m.fail_missing(p.key, p.meaning);
+  }
+  for (const auto& c : traits.choices)
+    mat.choices[c.key] = c.choices[m.find(c.key) ? choose_word(ctx, *m.find(c.key), c.choices) : 0];
+
+  mat.influence = traits.default_influence;
   mat.density = read_positive(ctx, m.get("density", "mass density [kg/m^3], > 0"));
   if (auto c = m.find("micromodulus")) {
-    // The PMB's one constant given directly (as LAMMPS's pair_coeff for peri/pmb).
-    if (mat.model != ModelKind::pmb) {
-      ctx.fail(*c->key_mark, c->path + ": micromodulus applies to model pmb only; model lps takes two of "
-                                       "youngs_modulus, poissons_ratio, bulk_modulus, shear_modulus");
+    // The bond-based models' one constant given directly (as LAMMPS's pair_coeff for peri/pmb).
+    if (traits.elastic != ElasticInput::one_modulus) {
+      ctx.fail(*c->key_mark, c->path + ": micromodulus applies to bond-based models only; model " + traits.name +
+                                       " takes two of youngs_modulus, poissons_ratio, bulk_modulus, shear_modulus");
     }
     for (const char* key : kConstantKeys) {
       if (auto other = m.find(key)) {
-        ctx.fail(*other->key_mark, other->path + ": give either micromodulus or one modulus for model pmb, not both");
+        ctx.fail(*other->key_mark,
+                 other->path + ": give either micromodulus or one modulus for model " + traits.name + ", not both");
       }
     }
     mat.micromodulus = read_positive(ctx, *c);
   } else {
-    read_elastic_constants(ctx, m, mat);
+    read_elastic_constants(ctx, m, mat, traits);
   }
   if (auto i = m.find("influence")) {
-    mat.influence = read_enum<InfluenceKind>(ctx, *i,
-                                             {{"constant", InfluenceKind::constant},
-                                              {"inverse", InfluenceKind::inverse},
-                                              {"linear", InfluenceKind::linear},
-                                              {"gaussian", InfluenceKind::gaussian},
-                                              {"tupek", InfluenceKind::tupek}});
-    if ((mat.influence == InfluenceKind::tupek) != nonlinear) {
-      ctx.fail(i->mark, i->path + (nonlinear ? ": model nonlinear_solid uses influence: tupek (the normalised "
-                                               "functions (6.6)/(6.7) its calibration assumes)"
-                                             : ": influence: tupek belongs to model nonlinear_solid"));
+    std::vector<std::pair<std::string, InfluenceKind>> all;
+    for (InfluenceKind k : {InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
+                            InfluenceKind::gaussian, InfluenceKind::tupek})
+      all.emplace_back(influence_name(k), k);
+    mat.influence = read_enum<InfluenceKind>(ctx, *i, all);
+    const auto& ok = traits.influences;
+    if (std::find(ok.begin(), ok.end(), mat.influence) == ok.end()) {
+      std::string list;
+      for (InfluenceKind k : ok) list += (list.empty() ? "" : ", ") + std::string(influence_name(k));
+      std::string owners;
+      for (const auto& e : model_registry()) {
+        const auto& o = e.traits.influences;
+        if (std::find(o.begin(), o.end(), mat.influence) != o.end()) owners += (owners.empty() ? "" : ", ") + e.traits.name;
+      }
+      ctx.fail(i->mark, i->path + ": model " + traits.name + " takes influence " + list +
+                            (ok.size() == 1 && ok[0] == InfluenceKind::tupek
+                                 ? " (the normalised functions (6.6)/(6.7) its calibration assumes)"
+                                 : "") +
+                            "; influence: " + influence_name(mat.influence) + " belongs to model " + owners);
     }
   }
-  if (auto d = m.find("damage")) mat.damage = read_damage(ctx, *d, mat.model);
-  if (nonlinear && mat.damage.enabled && !mat.fracture) {
-    const Item f = *m.find("fracture");
-    ctx.fail(*f.key_mark, f.path + ": fracture: false suppresses bond failure; leave out the damage map too");
-  }
+  if (auto d = m.find("damage")) mat.damage = read_damage(ctx, *d, traits);
+  // A boolean `fracture: false` (bonds of this material never break) contradicts a damage map.
+  for (const auto& p : traits.parameters)
+    if (p.key == "fracture" && p.range == ParameterSpec::Range::boolean && mat.damage.enabled &&
+        mat.parameters[p.key] == 0) {
+      const Item f = *m.find("fracture");
+      ctx.fail(*f.key_mark, f.path + ": fracture: false suppresses bond failure; leave out the damage map too");
+    }
   return mat;
 }
 

@@ -111,8 +111,16 @@ Frame make_frame(const System& s, double time, int64_t step) {
   scal("energy_density", [&](std::size_t i) { return P.energy[i]; });
   scal("block", [&](std::size_t i) { return static_cast<double>(P.block[i]); });
   scal("volume", [&](std::size_t i) { return P.volume[i]; });
-  if (s.nonlinear.enabled)  // Tupek's nonlocal damage D (thesis eq. 6.12), > 0 at free surfaces
-    scal("nonlocal_damage", [&](std::size_t i) { return s.nonlinear.nonlocal_damage[i]; });
+  // The models' own fields (material/model.hpp), once per name: a run with two materials
+  // of one model writes its fields once.
+  std::vector<ModelField> extra;
+  for (const auto& m : s.models) m->fields(s, extra);
+  for (auto& mf : extra) {
+    bool seen = false;
+    for (const auto& ff : f.fields) seen = seen || ff.name == mf.name;
+    if (seen || mf.values.size() != P.size()) continue;
+    f.fields.push_back(FrameField{mf.name, 1, std::move(mf.values)});
+  }
   return f;
 }
 
@@ -244,9 +252,11 @@ int run_deck(Config config, const RunOptions& options) {
   CrackTracker crack(config);
 
   int64_t total = check.steps;
-  // The adaptive step (model nonlinear_solid): recomputed from the current bond stiffness
-  // every adaptive_every steps; the run ends at end_time, frames fall due by time.
-  const bool adaptive = s.nonlinear.enabled && s.nonlinear.adaptive_every > 0;
+  // The adaptive step (models with ModelTraits::adaptive_time_step; the deck allows it for
+  // no other): recomputed from the current bond stiffness every adaptive_every steps; the
+  // run ends at end_time, frames fall due by time.
+  const bool adaptive = config.solver.adaptive_time_step;
+  const int adaptive_every = std::max(1, config.solver.adaptive_every);
   const double end_time = config.solver.end_time;
   double dt_nominal = check.dt, dt_min = check.dt, dt_max = check.dt;
   const int64_t history_every = std::max(1, config.output.history_every);
@@ -267,7 +277,7 @@ int run_deck(Config config, const RunOptions& options) {
       const int64_t step = solver.steps() + 1;
       bool last = step == total;
       if (adaptive) {
-        if (solver.steps() % s.nonlinear.adaptive_every == 0)
+        if (solver.steps() % adaptive_every == 0)
           dt_nominal = config.solver.safety_factor * stable_time_step(s);
         double dt = dt_nominal;
         if (solver.time() + dt >= end_time * (1 - 1e-12)) dt = end_time - solver.time(), last = true;
@@ -360,7 +370,7 @@ int run_deck(Config config, const RunOptions& options) {
     }
     j["crack"] = cj;
   }
-  if (s.nonlinear.enabled || crack.active) {
+  if (s.models.owner() || crack.active) {
     // Tupek's fracture figures (thesis Table 6.1 and 6.2), for any model that breaks bonds
     // from a precrack: dissipated energy per unit thickness (2-D), the crack length from
     // the first precrack's tip, their ratio, and the angle each precrack's crack leaves its

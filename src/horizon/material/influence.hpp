@@ -17,7 +17,7 @@ inline double influence(InfluenceKind kind, double r, double horizon) {
     case InfluenceKind::linear: return std::max(0.0, 1.0 - r / horizon);  // 1 - |xi|/delta
     case InfluenceKind::gaussian: return std::exp(-(r * r) / (horizon * horizon));
     // The shape of (6.6)/(6.7), (3r + delta)(delta - r)^3/delta^4; the nonlinear solid
-    // multiplies in the normalisation of its dimension (material/nonlinear_solid.hpp).
+    // multiplies in the normalisation of its dimension (material/models/nonlinear_solid.hpp).
     case InfluenceKind::tupek: {
       const double d = std::max(0.0, horizon - r);
       return (3 * r + horizon) * d * d * d / (horizon * horizon * horizon * horizon);

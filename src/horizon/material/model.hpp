@@ -164,5 +164,11 @@ const std::vector<ModelEntry>& model_registry();
 const ModelEntry* find_model(const std::string& name);
 // The registered names, in registry order (for messages).
 std::vector<std::string> model_names();
+// The registry as text for `horizon models`: each model, its summary, what it accepts
+// and its own deck parameters with their meaning and default.
+std::string describe_models();
+// Fills in the defaults of every declared parameter and choice the material lacks (a
+// material built in code, as the tests do; the deck does it while reading).
+void fill_model_defaults(MaterialConfig& m);
 
 }  // namespace horizon

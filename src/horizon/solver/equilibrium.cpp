@@ -28,18 +28,15 @@ DofMap make_free_dof_map(const System& s) { return build_map(s, nullptr); }
 
 FixedBonds::FixedBonds(System& s) : s_(s), saved_(s.particles.size(), std::numeric_limits<double>::infinity()) {
   std::swap(s_.model.critical_stretch, saved_);
-  // Tupek's nonlinear solid breaks bonds by its own energy law: beta = +inf holds them.
-  if (s_.nonlinear.enabled) {
-    saved_beta_.assign(s_.nonlinear.beta.size(), std::numeric_limits<double>::infinity());
-    std::swap(s_.nonlinear.beta, saved_beta_);
-  }
+  // Models with a failure law of their own (the nonlinear solid's energy law) hold it too.
+  for (std::size_t m = 0; m < s_.models.size(); ++m) s_.models[m].hold_bonds(true);
 }
 FixedBonds::~FixedBonds() {
   std::swap(s_.model.critical_stretch, saved_);
-  if (s_.nonlinear.enabled) std::swap(s_.nonlinear.beta, saved_beta_);
+  for (std::size_t m = 0; m < s_.models.size(); ++m) s_.models[m].hold_bonds(false);
 }
 
-bool unified_form(const System& s) { return !s.nonlinear.enabled; }
+bool unified_form(const System& s) { return s.models.all_unified(); }
 
 Eigen::VectorXd gather_displacement(const System& s, const DofMap& d) {
   Eigen::VectorXd u(static_cast<Eigen::Index>(d.size()));

@@ -33,8 +33,8 @@ DofMap make_dof_map(const System& s, const Loads& loads);
 DofMap make_free_dof_map(const System& s);
 
 // Holds the bond set fixed: while it lives, compute_forces breaks no bond (the critical
-// stretches, and the nonlinear solid's failure coefficients, are swapped for +inf and
-// restored on destruction). Solvers iterate on a fixed bond set; bonds break between
+// stretches are swapped for +inf, and every model holds its own failure law
+// (Model::hold_bonds), until destruction). Solvers iterate on a fixed bond set; bonds break between
 // solves (static_driver.hpp).
 class FixedBonds {
  public:
@@ -45,12 +45,12 @@ class FixedBonds {
 
  private:
   System& s_;
-  std::vector<double> saved_, saved_beta_;
+  std::vector<double> saved_;
 };
 
 // True when every particle's forces follow the unified bond form of solver/system.hpp
-// (PMB, LPS), for which the analytic tangent exists; false with Tupek's nonlinear solid,
-// whose tangent is taken by finite differences.
+// (Model::unified: PMB, LPS), for which the analytic tangent exists; false with any other
+// model, whose tangent is taken by finite differences.
 bool unified_form(const System& s);
 
 // Displacements of the free dofs, and back.

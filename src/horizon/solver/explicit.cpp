@@ -44,7 +44,10 @@ void ExplicitSolver::update_kinetic() { ledger_.kinetic = kinetic_energy(s_); }
 void ExplicitSolver::initialize() {
   loads_.apply_constraints(s_, 0.0, 0.0);
   loads_.apply_forces(s_, 0.0);
+  s_.time = 0;
+  s_.dt = 0;
   compute_forces(s_, true);
+  commit_history(s_);
   u_before_ = s_.particles.u;
   loads_.update_reactions(s_, u_before_);
   ledger_.strain = strain_energy(s_);
@@ -75,7 +78,10 @@ void ExplicitSolver::step(bool energy) {
   ++steps_;
   loads_.apply_constraints(s_, time_, dt);  // prescribed displacements (velocities follow below)
   loads_.apply_forces(s_, time_);
+  s_.time = time_;
+  s_.dt = dt;
   compute_forces(s_, energy);
+  commit_history(s_);  // history models (plasticity, viscosity) accept this step
 
   // Second half kick; damping taken implicitly on the half step so it stays stable.
   const double damp = 1.0 / (1.0 + damping_ * half);

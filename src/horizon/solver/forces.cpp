@@ -1,6 +1,6 @@
 #include "horizon/solver/forces.hpp"
 
-#include "horizon/solver/forces_nonlinear.hpp"
+#include "horizon/solver/forces_general.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -56,9 +56,8 @@ bool use_avx512() {
 #endif
 }
 
-// Current positions packed with each particle's critical stretch for this pass:
-// s0_i = critical_stretch_i - alpha_i min_stretch_i (DamageConfig::alpha), +inf where
-// bonds may not break (no_fail regions, no damage law).
+}  // namespace
+
 void pack_positions(System& s) {
   auto& P = s.particles;
   auto& M = s.model;
@@ -77,6 +76,8 @@ void pack_positions(System& s) {
     out[i] = {y.x, y.y, y.z, s0};
   }
 }
+
+namespace {
 
 // What a row loop reads and writes, taken from the System once per pass.
 struct Ctx {
@@ -895,7 +896,10 @@ double lane_sum_damage(const System& s, std::size_t i, bool intact_only) {
 
 void set_kernel_path(KernelPath path) { g_path = path; }
 
-const char* kernel_path_name() { return use_avx512() ? "avx512" : use_avx2() ? "avx2" : "scalar"; }
+const char* kernel_path_name() {
+  if (g_path == KernelPath::general) return "general";
+  return use_avx512() ? "avx512" : use_avx2() ? "avx2" : "scalar";
+}
 
 void build_kind_coefficients(System& s, DamageMeasure measure) {
   const auto& B = s.bonds;
@@ -964,11 +968,22 @@ void state_based_force_pass(System& s, bool energy) {
 }
 
 ForceStats compute_forces(System& s, bool energy) {
-  if (s.nonlinear.enabled) return compute_nonlinear_forces(s, energy);  // solver/forces_nonlinear.cpp
   ForceStats stats;
+  if (Model* owner = s.models.owner()) {  // a model that computes the whole pass (material/model.hpp)
+    stats.broken = owner->force_pass(s, energy);
+    s.broken += stats.broken;
+    return stats;
+  }
   auto& M = s.model;
   if (M.kind.size() != s.bonds.kinds.size() || M.intact_weight.size() != s.particles.size())
     build_kind_coefficients(s, DamageMeasure::weighted);
+  if (!s.models.all_unified() || g_path == KernelPath::general) {
+    stats.broken = general_forces(s, energy);  // solver/forces_general.cpp
+    M.min_stretch.swap(M.min_stretch_next);
+    s.contact.add_forces(s, M.packed.data(), s.particles.f.data(), energy ? s.particles.energy.data() : nullptr);
+    s.broken += stats.broken;
+    return stats;
+  }
   pack_positions(s);
   const bool after = M.break_after_force;
   if (M.state_based) {

@@ -29,8 +29,10 @@ void refresh_damage(System& s);
 
 // Which implementation of the bond loops runs: the widest the CPU has (automatic:
 // AVX-512, else AVX2, else scalar), at most AVX2, or the portable scalar one. All give
-// the same bits; tests compare them.
-enum class KernelPath { automatic, avx2, scalar };
+// the same bits; tests compare them. general: the general force pass of
+// solver/forces_general.hpp even when every model is unified (tests compare it with the
+// fast loops: the same forces to round-off, summed in another order).
+enum class KernelPath { automatic, avx2, scalar, general };
 void set_kernel_path(KernelPath path);
 const char* kernel_path_name();  // "avx512", "avx2" or "scalar": what runs now
 
@@ -39,6 +41,14 @@ const char* kernel_path_name();  // "avx512", "avx2" or "scalar": what runs now
 // pass 2 sums the force. compute_forces is what solvers call.
 uint64_t state_based_dilatation_pass(System& s);
 void state_based_force_pass(System& s, bool energy);
+
+// Packs the current positions with each particle's critical stretch for this pass into
+// model.packed (s0_i = critical_stretch_i - alpha_i min_stretch_i; +inf in no-fail
+// regions), and sizes the force pass's scratch.
+void pack_positions(System& s);
+
+// The models' trial history becomes their history (material/model.hpp). Solvers call it
+// through commit_history (solver/system.hpp).
 
 // Total strain energy sum_i W_i V_i [J] (after compute_forces(s, true)).
 double strain_energy(const System& s);

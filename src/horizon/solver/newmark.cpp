@@ -33,7 +33,10 @@ void NewmarkSolver::initialize() {
   auto& P = s_.particles;
   loads_.apply_constraints(s_, 0.0, 0.0);
   loads_.apply_forces(s_, 0.0);
+  s_.time = 0;
+  s_.dt = 0;
   compute_forces(s_, true);
+  commit_history(s_);
   loads_.update_reactions(s_, P.u);
   a_.resize(static_cast<Eigen::Index>(dofs_.size()));
   for (std::size_t k = 0; k < dofs_.size(); ++k) {
@@ -57,6 +60,8 @@ SolveReport NewmarkSolver::step() {
 
   advance_constraints(loads_, s_, time_, t1);
   loads_.apply_forces(s_, t1);
+  s_.time = t1;
+  s_.dt = dt;
   const Eigen::VectorXd u_n = gather_displacement(s_, dofs_);
   Eigen::VectorXd v_n(u_n.size());
   for (std::size_t k = 0; k < dofs_.size(); ++k)
@@ -108,6 +113,7 @@ SolveReport NewmarkSolver::step() {
     FixedBonds fixed(s_);
     compute_forces(s_, true);
   }
+  commit_history(s_);
   time_ = t1;
   ++steps_;
 

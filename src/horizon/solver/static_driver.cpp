@@ -62,8 +62,11 @@ void StaticSolver::initialize() {
   apply_static_loads(loads_, s_, 0, 0, 0);
   {
     FixedBonds fixed(s_);
+    s_.time = 0;
+    s_.dt = 0;
     compute_forces(s_, true);
   }
+  commit_history(s_);
   loads_.update_reactions(s_, P.u);
   ledger_.strain = strain_energy(s_);
   ledger_.dissipated = s_.dissipated();
@@ -160,6 +163,8 @@ bool StaticSolver::advance() {
   while (true) {
     const double lambda = std::min(target, lambda_ + increment);
     apply_static_loads(loads_, s_, time(), lambda * end_time_, lambda);
+    s_.time = lambda * end_time_;  // history models integrate over the pseudo-time step
+    s_.dt = (lambda - lambda_) * end_time_;
     if (solve_increment(lambda, u_before, b_before) && finite_state(s_)) {
       last_increment_ = lambda - lambda_;
       lambda_ = std::abs(lambda - 1.0) < 1e-12 ? 1.0 : lambda;
@@ -183,6 +188,8 @@ bool StaticSolver::advance() {
   }
   ++steps_;
   failure_.clear();
+  current_strain_energy(s_);  // the trial history of the converged state ...
+  commit_history(s_);         // ... becomes the history (material/model.hpp)
   ledger_.external_work += pending_work_;
   ledger_.damped += pending_released_;
   ledger_.strain = strain_energy(s_);

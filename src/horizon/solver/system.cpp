@@ -11,7 +11,6 @@
 #include "horizon/material/constants.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/solver/forces.hpp"
-#include "horizon/solver/forces_nonlinear.hpp"
 
 namespace horizon {
 
@@ -82,23 +81,43 @@ System build_system(const Config& config) {
   return s;
 }
 
-void setup_model(System& s, const std::vector<MaterialConfig>& materials, const Config& config) {
-  for (const auto& mat : materials)
-    if (mat.model == ModelKind::nonlinear_solid) return setup_nonlinear(s, materials, config);
-  s.nonlinear = NonlinearState{};
-  const Dimensioning dims = dimensioning(config);
+void setup_model(System& s, const std::vector<MaterialConfig>& given, const Config& config) {
+  // The materials with every declared parameter present (a material built in code may
+  // leave the defaults out; the deck fills them in).
+  Config cfg = config;
+  cfg.materials = given;
+  for (auto& mat : cfg.materials) fill_model_defaults(mat);
+  const std::vector<MaterialConfig>& materials = cfg.materials;
+  s.models.clear();
+  for (const auto& mat : materials) {
+    const ModelEntry* entry = find_model(mat.model);
+    if (!entry) {
+      std::string known;
+      for (const auto& name : model_names()) known += (known.empty() ? "" : ", ") + name;
+      throw Error("material '" + mat.name + "': unknown model '" + mat.model + "' (known: " + known + ")");
+    }
+    s.models.add(entry->make());
+  }
+  const Dimensioning dims = dimensioning(cfg);
   const std::size_t n = s.particles.size();
+  std::vector<uint32_t> all(n);
+  for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<uint32_t>(i);
+  // A model that owns the force pass sets up the whole run (it is exclusive).
+  if (Model* owner = s.models.owner()) {
+    owner->setup(ModelSetup{s, cfg, materials[0], 0, all, dims});
+    return;
+  }
   auto& P = s.particles;
   auto& B = s.bonds;
   auto& M = s.model;
-  M.dim = config.dimension;
+  M.dim = cfg.dimension;
 
   // Influence weights, per bond kind (kinds carry the materials of both ends): the
   // average of the two ends' functions keeps omega_ij = omega_ji.
   split_kinds_by_material(B, P.material);
   for (auto& c : B.kinds) {
-    c.weight = 0.5 * (influence(materials[c.material_i].influence, c.length, config.horizon) +
-                      influence(materials[c.material_j].influence, c.length, config.horizon));
+    c.weight = 0.5 * (influence(materials[c.material_i].influence, c.length, cfg.horizon) +
+                      influence(materials[c.material_j].influence, c.length, cfg.horizon));
   }
 
   M.weighted_volume.assign(n, 0);
@@ -108,62 +127,22 @@ void setup_model(System& s, const std::vector<MaterialConfig>& materials, const 
 
   reset_model_arrays(M, n);
   s.dissipated_at.assign(n, 0);
+  s.time = 0;
+  s.dt = 0;
 
-  // Constants per material, then copied to its particles.
-  struct Constants {
-    double pair = 0, kk = 0, alpha_mu = 0, spring = 0, s0 = std::numeric_limits<double>::infinity();
-    double alpha = 0, contact_c = 0;
-  };
-  std::vector<Constants> constants(materials.size());
-  for (std::size_t m = 0; m < materials.size(); ++m) {
-    const auto& mat = materials[m];
-    Constants& c = constants[m];
-    if (mat.model == ModelKind::pmb) {
-      const double cc = mat.micromodulus ? *mat.micromodulus : pmb_micromodulus(mat.youngs_modulus, mat.influence, dims);
-      c.contact_c = cc;
-      c.pair = 0.5 * cc;
-      c.spring = 0.5 * cc;
-      if (mat.damage.enabled)
-        c.s0 = mat.damage.critical_stretch ? *mat.damage.critical_stretch
-                                           : pmb_critical_stretch(*mat.damage.fracture_energy, cc, mat.influence, dims);
-    } else {
-      if (config.dimension == 1) throw Error("material '" + mat.name + "': the LPS model needs dimension 2 or 3");
-      c.kk = lps_bulk_modulus(mat.bulk_modulus, mat.shear_modulus, dims);
-      c.alpha_mu = lps_deviatoric_factor(config.dimension) * mat.shear_modulus;
-      c.spring = 0.5 * equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, mat.influence, dims);
-      // Contact stiffness from the bond-based micromodulus of the same bulk modulus with
-      // omega = 1 (18k/(pi delta^4) in 3-D), as LAMMPS peri/lps.
-      c.contact_c = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, dims);
-      if (mat.damage.enabled)
-        c.s0 = mat.damage.critical_stretch
-                   ? *mat.damage.critical_stretch
-                   : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, dims);
-      M.state_based = true;
-    }
-  }
-  M.break_after_force = false;
+  std::vector<std::vector<uint32_t>> members(materials.size());
+  for (std::size_t i = 0; i < n; ++i) members[P.material[i]].push_back(static_cast<uint32_t>(i));
   for (std::size_t m = 0; m < materials.size(); ++m)
-    if (materials[m].damage.enabled) {
-      constants[m].alpha = materials[m].damage.alpha;
-      M.break_after_force = M.break_after_force || materials[m].damage.break_after_force;
-    }
-  for (std::size_t i = 0; i < n; ++i) {
-    const Constants& c = constants[P.material[i]];
-    M.alpha[i] = c.alpha;
-    M.contact_micromodulus[i] = c.contact_c;
-    M.pair_coef[i] = c.pair;
-    M.spring[i] = c.spring;
-    M.critical_stretch[i] = c.s0;
-    if (c.kk > 0) {
-      const double m = M.weighted_volume[i];
-      if (m <= 0)
-        throw Error("particle " + std::to_string(i) + " has no neighbours: the horizon is smaller than the spacing");
-      M.dilatation_coef[i] = config.dimension * c.kk / m;
-      M.deviatoric_coef[i] = c.alpha_mu / m;
-    }
-  }
-  s.contact.setup(config.contact.short_range, config.spacing, config.horizon);
-  build_kind_coefficients(s, config.output.damage_measure);
+    s.models[m].setup(ModelSetup{s, cfg, materials[m], static_cast<int>(m), std::move(members[m]), dims});
+  M.break_after_force = false;
+  for (const auto& mat : materials)
+    if (mat.damage.enabled) M.break_after_force = M.break_after_force || mat.damage.break_after_force;
+  s.contact.setup(cfg.contact.short_range, cfg.spacing, cfg.horizon);
+  build_kind_coefficients(s, cfg.output.damage_measure);
+}
+
+void commit_history(System& s) {
+  for (std::size_t m = 0; m < s.models.size(); ++m) s.models[m].commit(s);
 }
 
 double System::dissipated() const {
@@ -173,7 +152,7 @@ double System::dissipated() const {
 }
 
 double stable_time_step(const System& s) {
-  if (s.nonlinear.enabled) return nonlinear_stable_time_step(s);
+  if (const Model* owner = s.models.owner()) return owner->stable_time_step(s);
   const auto& P = s.particles;
   const auto& B = s.bonds;
   double dt = std::numeric_limits<double>::infinity();
@@ -196,7 +175,10 @@ std::size_t memory_estimate(const System& s) {
                                    17 * sizeof(double) + sizeof(uint64_t);
   // Neighbour, kind, intact flag; reference data per kind (family/bonds.hpp).
   // State-based models keep each bond's |Y| between their two passes (8 bytes more).
-  const std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t) + (s.model.state_based ? sizeof(double) : 0);
+  std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t) + (s.model.state_based ? sizeof(double) : 0);
+  // The general force pass keeps each bond's force state and its reverse bond
+  // (solver/forces_general.hpp); models keep their own history on top.
+  if (!s.models.all_unified() && !s.models.owner()) per_bond += sizeof(Vec3) + sizeof(uint64_t);
   const std::size_t kinds = s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
   return n * per_particle + nb * per_bond + kinds;
 }

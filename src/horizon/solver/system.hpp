@@ -1,6 +1,7 @@
 #pragma once
 // The discretised body a solver advances: particles, bonds, and per-particle model
 // coefficients. Built from a Config by build_system(); tests build small ones in code.
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -10,11 +11,11 @@
 #include "horizon/deck/config.hpp"
 #include "horizon/family/bonds.hpp"
 #include "horizon/geometry/particles.hpp"
-#include "horizon/material/nonlinear_solid.hpp"
+#include "horizon/material/model_set.hpp"
 
 namespace horizon {
 
-// Every model Horizon has so far writes its scalar force state on bond i->j as
+// The unified models (Model::unified(): PMB, LPS) write their scalar force state on bond i->j as
 //   t_ij = omega_ij * ( P_i |xi| + Q_i e_ij + R_i e_ij / |xi| ),   e = |Y| - |xi|,
 // and the force density on i is  sum_j (t_ij + t_ji) Y_ij/|Y_ij| V_j  (seed 003 eq. 33
 // with T = t M; digest sec. 9). The bond loop is therefore the same for all of them:
@@ -23,7 +24,10 @@ namespace horizon {
 //        + (alpha mu/m) omega (e - theta|xi|/d), i.e. P = theta (d k'/m - alpha mu/(d m)),
 //        Q = alpha mu/m, R = 0, with theta = (d/m) sum_j omega |xi| e V_j.
 // Materials differ only in these per-particle coefficients, so bonds between bodies
-// of different materials (or models) need no special case.
+// of different materials (or models) need no special case. Runs with other models take
+// the general force pass (solver/forces_general.hpp); the shared arrays below that are
+// not P/Q/R (spring, critical stretch, alpha, contact micromodulus, weighted volume)
+// serve every model.
 // Per bond kind (Bonds::kinds): what the force loops need, computed once by setup_model
 // (build_kind_coefficients) so that a bond costs one table look-up.
 struct alignas(64) KindCoefficients {
@@ -37,6 +41,18 @@ struct alignas(64) KindCoefficients {
   double contact_d = 0;   // d_ij
   double contact_k = 0;   // k_ij V_j / delta: contact force density per unit overlap
 };
+
+// Short-range contact of a family pair (intact or broken), Y = y_j - y_i: the force
+// density on i when the two are closer than the kind's contact distance d_ij, and its
+// energy share (contact/short_range.hpp). Returns false when they are apart.
+inline bool family_contact(const KindCoefficients& c, const Vec3& Y, Vec3& f, double& w) {
+  const double r2 = dot(Y, Y);
+  if (!(r2 < c.contact_d2) || r2 == 0) return false;
+  const double r = std::sqrt(r2), overlap = c.contact_d - r;
+  f = (-c.contact_k * overlap / r) * Y;  // pushes i away from j
+  w = 0.25 * c.contact_k * overlap * overlap;
+  return true;
+}
 
 struct ModelCoefficients {
   std::vector<double> weighted_volume;  // m_i = sum omega |xi|^2 V_j (LPS), from the actual family
@@ -66,7 +82,11 @@ struct ModelCoefficients {
   // State-based models: |Y| of each bond, written by the dilatation pass and read by the
   // force pass of the same step (one square root per bond and step instead of two).
   std::vector<double> deformed_length;
-  bool state_based = false;             // any particle with theta-dependent forces
+  // The general force pass (solver/forces_general.hpp): the force state T of every bond
+  // (written by the models) and the index of bond j->i for bond i->j.
+  std::vector<Vec3> force_state;
+  std::vector<uint64_t> reverse;
+  bool state_based = false;             // any particle whose forces reach two horizons (tangent probing)
   double dim = 3;                       // d in theta = (d/m) sum ...
 };
 
@@ -83,7 +103,11 @@ struct System {
   Bonds bonds;
   ModelCoefficients model;
   ShortRangeContact contact;          // pairs that start outside each other's family
-  NonlinearState nonlinear;           // Tupek's nonlinear solid (solver/forces_nonlinear.hpp); unused otherwise
+  ModelSet models;                    // one model object per material (material/model.hpp)
+  // The time of the deformation the next force pass evaluates, and the time since the
+  // committed model history (set by the solvers; history models read them).
+  double time = 0;
+  double dt = 0;
   std::vector<std::string> block_names;
   std::size_t initial_bonds = 0;
   std::size_t precrack_bonds = 0;
@@ -98,13 +122,19 @@ struct System {
 // coefficients from a validated deck.
 System build_system(const Config& config);
 
-// Influence weights and model coefficients of every particle from its material
-// (particles.material indexes `materials`). Bonds must exist. build_system calls it;
-// tests call it on small systems built in code.
+// Influence weights, model objects and model coefficients of every particle from its
+// material (particles.material indexes `materials`, which are config.materials for
+// build_system). Bonds must exist. build_system calls it; tests call it on small systems
+// built in code.
 void setup_model(System& s, const std::vector<MaterialConfig>& materials, const Config& config);
 
+// The models' trial history of the last force pass becomes their history (material/
+// model.hpp: explicit solvers after every step, static ones after each converged step).
+void commit_history(System& s);
+
 // The stable time step of Silling and Askari (2005): min_i sqrt(2 rho_i / sum_j V_j C_ij),
-// C_ij = c_ij / |xi| (before the safety factor).
+// C_ij = c_ij / |xi| (before the safety factor), or the model's own when it owns the
+// force pass.
 double stable_time_step(const System& s);
 
 // Estimated memory of the run [bytes]: particles, bonds and model arrays.

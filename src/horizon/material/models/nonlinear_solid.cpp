@@ -1,4 +1,4 @@
-#include "horizon/solver/forces_nonlinear.hpp"
+#include "horizon/material/models/nonlinear_solid.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,9 @@
 #include "horizon/core/error.hpp"
 #include "horizon/family/neighbors.hpp"
 #include "horizon/material/constants.hpp"
-#include "horizon/material/nonlinear_solid.hpp"
+#include "horizon/material/model.hpp"
+#include "horizon/solver/forces.hpp"
+#include "horizon/solver/system.hpp"
 
 namespace horizon {
 
@@ -27,19 +29,83 @@ std::size_t drop_bonds_between_bodies(Bonds& b, const std::vector<int32_t>& bloc
 // (the Kalthoff variant).
 inline bool acts(uint8_t intact, bool compression_only, double eps) { return intact || (compression_only && eps < 0); }
 
+const ModelTraits& traits() {
+  static const ModelTraits t = [] {
+    ModelTraits m;
+    m.name = "nonlinear_solid";
+    m.aliases = {"tupek"};
+    m.summary = "Tupek's nonlinear ordinary solid with brittle energy failure (seed 000, thesis ch. 5-6)";
+    m.min_dimension = 2;
+    m.critical_stretch_law = false;
+    m.energy_law = true;
+    m.exclusive = true;
+    m.adaptive_time_step = true;
+    m.influences = {InfluenceKind::tupek};
+    m.default_influence = InfluenceKind::tupek;
+    m.parameters = {
+        {"seth_hill_m", "Seth-Hill parameter m of the bond strain (thesis eq. 4.2); 0: the log strain",
+         ParameterSpec::Range::any, 0.0},
+        {"fracture", "false: bonds of this material never break (a projectile)", ParameterSpec::Range::boolean, 1.0},
+    };
+    return m;
+  }();
+  return t;
+}
+
+class NonlinearSolid final : public Model {
+ public:
+  std::unique_ptr<Model> clone() const override { return std::make_unique<NonlinearSolid>(*this); }
+  const ModelTraits& traits() const override { return horizon::traits(); }
+  bool owns_force_pass() const override { return true; }
+  void setup(const ModelSetup& in) override;
+  uint64_t force_pass(System& s, bool energy) override;
+  double stable_time_step(const System& s) const override;
+  void hold_bonds(bool hold) override {
+    if (hold) {
+      saved_beta_.assign(N.beta.size(), kInf);
+      std::swap(N.beta, saved_beta_);
+    } else {
+      std::swap(N.beta, saved_beta_);
+    }
+  }
+  void fields(const System& s, std::vector<ModelField>& out) const override {
+    // Tupek's nonlocal damage D (thesis eq. 6.12), > 0 at free surfaces.
+    (void)s;
+    out.push_back({"nonlocal_damage", N.nonlocal_damage});
+  }
+  NonlinearState N;
+
+ private:
+  std::vector<double> saved_beta_;
+};
+
 }  // namespace
 
-void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, const Config& config) {
+ModelEntry nonlinear_solid_model() {
+  return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<NonlinearSolid>()); }};
+}
+
+const NonlinearState* nonlinear_state(const System& s) {
+  const auto* m = dynamic_cast<const NonlinearSolid*>(s.models.owner());
+  return m ? &m->N : nullptr;
+}
+
+// Removes the bonds between bodies, sets the normalised influence weights, the Lame
+// constants, beta and the contact data for every particle of the run (the model is
+// exclusive: every material is a nonlinear solid).
+void NonlinearSolid::setup(const ModelSetup& in) {
+  System& s = in.system;
+  const Config& config = in.config;
+  const std::vector<MaterialConfig>& materials = config.materials;
   for (const auto& m : materials)
-    if (m.model != ModelKind::nonlinear_solid)
-      throw Error("material '" + m.name + "' (model " + (m.model == ModelKind::pmb ? "pmb" : "lps") +
+    if (!find_model(m.model) || find_model(m.model)->traits.name != "nonlinear_solid")
+      throw Error("material '" + m.name + "' (model " + m.model +
                   ") cannot share a run with model nonlinear_solid: bodies of the nonlinear solid interact only "
                   "with nonlinear_solid bodies");
   if (config.dimension == 1) throw Error("model nonlinear_solid needs dimension 2 or 3");
   auto& P = s.particles;
   auto& B = s.bonds;
   auto& M = s.model;
-  auto& N = s.nonlinear;
   const std::size_t n = P.size();
   const int dim = config.dimension;
 
@@ -54,6 +120,7 @@ void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, co
   M.dim = dim;
   M.weighted_volume.assign(n, 0);
   reset_model_arrays(M, n);
+  M.state_based = true;  // forces reach two horizons (through theta_j): the tangent probes that far
   s.dissipated_at.assign(n, 0);
 
   N = NonlinearState{};
@@ -72,9 +139,10 @@ void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, co
 
   // One bond-failure-energy exponent p for the run (s_c = beta omega |xi|^-p): bonds join
   // materials, and the pair criterion compares both ends against one s_c.
+  auto fracture = [](const MaterialConfig& m) { return Model::parameter(m, "fracture") != 0; };
   const MaterialConfig* first = nullptr;
   for (const auto& m : materials) {
-    if (!(m.fracture && m.damage.enabled)) continue;
+    if (!(fracture(m) && m.damage.enabled)) continue;
     if (!first) first = &m;
     if (m.damage.failure_length_exponent != first->damage.failure_length_exponent)
       throw Error("materials '" + first->name + "' and '" + m.name +
@@ -91,8 +159,8 @@ void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, co
     const TupekLame l = tupek_lame(mat.youngs_modulus, mat.poissons_ratio, dim, config.plane == PlaneMode::stress);
     N.lambda_bar[i] = l.lambda_bar;
     N.mu_bar[i] = l.mu_bar;
-    N.m[i] = mat.seth_hill_m;
-    if (mat.fracture && mat.damage.enabled && mat.damage.fracture_energy && !P.no_fail[i])
+    N.m[i] = Model::parameter(mat, "seth_hill_m");
+    if (fracture(mat) && mat.damage.enabled && mat.damage.fracture_energy && !P.no_fail[i])
       N.beta[i] = tupek_beta(*mat.damage.fracture_energy, config.horizon, dim, exponent);
     N.compression_only[i] = mat.damage.broken_bonds_compression ? 1 : 0;
     // Contact stiffness of the LAMMPS rule from the bond-based micromodulus of the same
@@ -114,11 +182,10 @@ void setup_nonlinear(System& s, const std::vector<MaterialConfig>& materials, co
   // theta at rest is 0; the first force pass fills the strains.
 }
 
-ForceStats compute_nonlinear_forces(System& s, bool energy) {
+uint64_t NonlinearSolid::force_pass(System& s, bool energy) {
   auto& P = s.particles;
   auto& B = s.bonds;
   auto& M = s.model;
-  auto& N = s.nonlinear;
   const std::size_t n = P.size();
   if (N.bond_strain.size() != B.size()) N.bond_strain.assign(B.size(), 0);
   M.packed.resize(n);
@@ -228,17 +295,13 @@ ForceStats compute_nonlinear_forces(System& s, bool energy) {
     M.intact_weight[i] = intact_w;
   }
   s.contact.add_forces(s, pt, P.f.data(), energy ? P.energy.data() : nullptr);
-  s.broken += broken;
-  ForceStats st;
-  st.broken = broken;
-  return st;
+  return broken;
 }
 
-double nonlinear_stable_time_step(const System& s) {
+double NonlinearSolid::stable_time_step(const System& s) const {
   const auto& P = s.particles;
   const auto& B = s.bonds;
   const auto& M = s.model;
-  const auto& N = s.nonlinear;
   const std::size_t n = P.size();
   const bool have_strain = N.bond_strain.size() == B.size();
   // S_i = sum_k omega V_k |d eps_ik/d|Y||: the dilatation coupling of row i (Gershgorin).

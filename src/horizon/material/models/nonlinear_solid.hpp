@@ -1,13 +1,34 @@
 #pragma once
 // Tupek's nonlinear ordinary elastic solid with brittle bond failure (seed
 // 000_7a6865da82fe3c94, M. R. Tupek, PhD thesis MIT 2014; digest
-// reference/notes/000_tupek.md). Pure per-bond kernels and constants; the bond loops are
-// in solver/forces_nonlinear.cpp.
+// reference/notes/000_tupek.md). Pure per-bond kernels and constants here; the model
+// (nonlinear_solid.cpp) owns its force pass, because its energy failure law couples the
+// two ends of a bond, and shares a run only with materials of its own model.
+//
+// One force pass is two sweeps over the rows, each particle summing its own row in bond
+// order (bit-identical on any number of threads):
+//   1. bond strains eps_ij (stored per bond) and theta_i = sum_j phi omega eps V_j (eq. 6.8);
+//   2. for each intact bond in tension, the symmetric pair criterion
+//      s_ij + s_ji >= 2 beta/|xi|^2, s_ij = lambda_bar_i eps theta_i + mu_bar_i eps^2
+//      (eqs. 6.5, 6.10/6.11 and the symmetrised form of sec. 6.1.3), computed from both
+//      ends' theta of sweep 1, so both copies of a bond decide identically; then the force
+//      f_i = sum_j (t_ij + t_ji) Y/|Y| V_j, t_ij = (lambda_bar_i theta_i + 2 mu_bar_i eps)
+//      phi omega d eps/d|Y| (eq. 6.8).
+// A bond that breaks in sweep 2 still carries its force in that pass (the force is then
+// the exact gradient of the energy with the flags at the start of the pass) and is off
+// from the next pass on; its instantaneous energy omega V_j s_ij (per unit V_i, eq. 6.5)
+// goes to dissipated_at, and the strain energy reported for the pass is the one with
+// the bond cut, so that elastic + kinetic + dissipated balances.
+//
+// The stable time step follows the current bond tangent stiffness (digest sec. 13.1):
+// min_i sqrt(2 rho_i / sum_j K_ij), K_ij = d(t_ij + t_ji)/d|Y| V_j with the dilatation
+// coupling bounded Gershgorin-wise, plus the contact springs.
 //
 // Notation (digest sec. 0): m is the Seth-Hill parameter, NOT the weighted volume. The
 // influence functions are the normalised ones of (6.6)/(6.7): int_H omega = 2 (2-D) or
 // 3 (3-D) in the bulk, not renormalised near surfaces (thesis sec. 6.1.3).
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <vector>
@@ -93,8 +114,7 @@ inline double instantaneous_bond_energy(double lambda_bar, double mu_bar, double
   return lambda_bar * eps * theta + mu_bar * eps * eps;
 }
 
-// Per-particle state of the model, owned by System (System::nonlinear). Sized by
-// setup_nonlinear (solver/forces_nonlinear.hpp).
+// Per-particle state of the model, owned by the model object of the run.
 struct NonlinearState {
   bool enabled = false;
   std::vector<double> lambda_bar, mu_bar, m;  // per particle (from its material)
@@ -110,5 +130,12 @@ struct NonlinearState {
   int adaptive_every = 0;                     // >0: the stable step is recomputed every N steps
   double last_stable_dt = 0;
 };
+
+struct ModelEntry;
+struct System;
+ModelEntry nonlinear_solid_model();
+
+// The state of the run's nonlinear solid, or null when the run has none (tests, output).
+const NonlinearState* nonlinear_state(const System& s);
 
 }  // namespace horizon

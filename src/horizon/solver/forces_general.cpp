@@ -1,0 +1,148 @@
+#include "horizon/solver/forces_general.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "horizon/solver/forces.hpp"
+#include "horizon/solver/tangent.hpp"
+
+namespace horizon {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+inline Vec3 delta(const Point4& a, const Point4& b) { return {b.x - a.x, b.y - a.y, b.z - a.z}; }
+
+// Pass 1 of one row: breaking, the smallest stretch, the damage bookkeeping.
+struct BreakOut {
+  double smin = kInf, lost = 0;
+  uint64_t broken = 0;
+};
+
+BreakOut break_row(System& s, std::size_t i, bool after) {
+  auto& B = s.bonds;
+  auto& M = s.model;
+  const Point4* pt = M.packed.data();
+  const Point4 pi = pt[i];
+  BreakOut out;
+  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    if (!B.intact[k]) continue;
+    const KindCoefficients& kc = M.kind[B.kind[k]];
+    const Point4 pj = pt[B.nbr[k]];
+    const Vec3 Y = delta(pi, pj);
+    const double r = std::sqrt(dot(Y, Y)), e = r - kc.length, stretch = e * kc.inv_length;
+    out.smin = stretch < out.smin ? stretch : out.smin;
+    const double s0 = pi.w < pj.w ? pi.w : pj.w;
+    if (!(stretch > s0)) continue;
+    B.intact[k] = after ? 2 : 0;
+    ++out.broken;
+    if (r > 0) out.lost += 0.5 * dot(M.force_state[k], Y) / r * e * B.volume[k];
+    M.intact_weight[i] -= kc.damage;
+  }
+  return out;
+}
+
+// The force states of the particles whose model is unified (solver/system.hpp).
+void unified_force_states(System& s, bool energy) {
+  auto& P = s.particles;
+  auto& B = s.bonds;
+  auto& M = s.model;
+  const Point4* pt = M.packed.data();
+  const std::size_t n = P.size();
+  std::vector<uint8_t> mine(s.models.size());
+  for (std::size_t m = 0; m < s.models.size(); ++m) mine[m] = s.models[m].unified() ? 1 : 0;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!mine[P.material[i]]) continue;
+    const Point4 pi = pt[i];
+    double Pi = 0;
+    if (M.dilatation_coef[i] != 0) {
+      // theta_i = (d/m_i) sum_j omega |xi| e V_j over the acting bonds (seed 003 eq. 113).
+      double sum = 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!B.intact[k]) continue;
+        const KindCoefficients& kc = M.kind[B.kind[k]];
+        const Vec3 Y = delta(pi, pt[B.nbr[k]]);
+        sum += kc.wv * kc.length * (std::sqrt(dot(Y, Y)) - kc.length);
+      }
+      const double theta = M.dim * sum / M.weighted_volume[i];
+      M.theta[i] = theta;
+      Pi = theta * (M.dilatation_coef[i] - M.deviatoric_coef[i] / M.dim);
+      M.P[i] = Pi;
+    }
+    double W = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) {
+        M.force_state[k] = {};
+        continue;
+      }
+      const KindCoefficients& kc = M.kind[B.kind[k]];
+      const Vec3 Y = delta(pi, pt[B.nbr[k]]);
+      const double r = std::sqrt(dot(Y, Y)), e = r - kc.length;
+      const double omega = B.kinds[B.kind[k]].weight;
+      const double t = omega * (Pi * kc.length + M.deviatoric_coef[i] * e + M.pair_coef[i] * e * kc.inv_length);
+      M.force_state[k] = (t / r) * Y;
+      W += 0.5 * t * e * B.volume[k];  // W_i = (1/2) sum_j t_ij e_ij V_j (exact for PMB and LPS)
+    }
+    if (energy) P.energy[i] = W;
+  }
+}
+
+}  // namespace
+
+uint64_t general_forces(System& s, bool energy) {
+  auto& P = s.particles;
+  auto& B = s.bonds;
+  auto& M = s.model;
+  const std::size_t n = P.size(), nb = B.size();
+  if (M.reverse.size() != nb) M.reverse = reverse_bonds(B);
+  if (M.force_state.size() != nb) M.force_state.assign(nb, Vec3{});
+  pack_positions(s);
+  const bool after = M.break_after_force;
+
+  uint64_t broken = 0;
+#pragma omp parallel for schedule(static) reduction(+ : broken)
+  for (std::size_t i = 0; i < n; ++i) {
+    const BreakOut o = break_row(s, i, after);
+    broken += o.broken;
+    if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
+    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    M.min_stretch_next[i] = o.smin;
+  }
+
+  if (energy)
+    for (std::size_t i = 0; i < n; ++i) P.energy[i] = 0;
+  unified_force_states(s, energy);
+  ForcePass pass{s, M.packed.data(), M.force_state.data(), energy ? P.energy.data() : nullptr, s.time, s.dt};
+  for (std::size_t m = 0; m < s.models.size(); ++m)
+    if (!s.models[m].unified()) s.models[m].force_state(pass);
+
+  const Point4* pt = M.packed.data();
+  const Vec3* T = M.force_state.data();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point4 pi = pt[i];
+    Vec3 f;
+    double w = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (B.intact[k]) f += B.volume[k] * (T[k] - T[M.reverse[k]]);
+      const KindCoefficients& kc = M.kind[B.kind[k]];
+      const Vec3 Y = delta(pi, pt[B.nbr[k]]);
+      Vec3 fc;
+      double wc = 0;
+      if (family_contact(kc, Y, fc, wc)) {
+        f += fc;
+        w += wc;
+      }
+    }
+    P.f[i] = f;
+    if (energy) P.energy[i] += w;
+  }
+  if (after)
+    for (std::size_t k = 0; k < nb; ++k)
+      if (B.intact[k] == 2) B.intact[k] = 0;
+  return broken;
+}
+
+}  // namespace horizon
