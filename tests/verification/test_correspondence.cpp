@@ -203,34 +203,47 @@ WaveRun wave_in_bar(double stabilization, int transits) {
   return r;
 }
 
-// Zero-energy modes in a wave run. The stabilised model (G_s = 0.1) keeps the roughness
-// within 1.6 times its value after the first transit for 20 transits (measured: 1.41).
-// Without stabilisation the roughness climbs: the largest of the last five transits is
-// at least 1.6 times the first (measured: 1.98) and at least twice the stabilised run's
-// (measured: 2.3). The growth is slow, not explosive: with an elastic law the discrete
-// energy sum_i Omega(F_i) V_i is positive semi-definite, so the near-zero-energy patterns
-// are neutrally stable; the wave feeds them where it reflects and nothing takes it back.
+// Zero-energy modes in a wave run (default stabilisation G_s = 1 against none); r(t) the
+// roughness after each transit, m5(r) the mean over the first or the last five transits.
+// Measured (deterministic, any thread count):
+//   stabilised:   r = 1.2e-8 m after one transit; m5 last / m5 first = 1.36 (the pulses
+//                 disperse: the short waves they shed add roughness), max / first = 1.92;
+//   unstabilised: r = 3.7e-8 m after one transit, 7.3e-8 m after twenty, 3.6 times the
+//                 stabilised run; its excess over the stabilised run grows by 1.33 from the
+//                 first five transits to the last five.
+// Asserted: stabilised m5 last / m5 first < 1.6 and max / first < 2.5 (bounded);
+// unstabilised r(20) > 2.5 r_stabilised(20), and the excess grows (ratio > 1.2). The
+// growth is slow, not explosive: with an elastic law the discrete energy
+// sum_i Omega(F_i) V_i is positive semi-definite, so the near-zero-energy patterns are
+// neutrally stable; the step-free smooth pulses excite them at the free ends and surfaces
+// and nothing takes the energy back.
 TEST(Correspondence, WaveInBarRoughnessBoundedOnlyWithStabilisation) {
   test::SingleThread one;
   const int transits = 20;
-  const WaveRun on = wave_in_bar(0.1, transits), off = wave_in_bar(0.0, transits);
-  auto max_of = [](const std::vector<double>& v, std::size_t from) {
-    return *std::max_element(v.begin() + static_cast<std::ptrdiff_t>(from), v.end());
+  const WaveRun on = wave_in_bar(1.0, transits), off = wave_in_bar(0.0, transits);
+  auto mean5 = [](const std::vector<double>& v, std::size_t from) {
+    double m = 0;
+    for (std::size_t k = from; k < from + 5; ++k) m += v[k];
+    return m / 5;
   };
-  const double on_growth = max_of(on.roughness, 0) / on.roughness[0];
-  const double off_growth = max_of(off.roughness, transits - 5) / off.roughness[0];
-  const double off_over_on = max_of(off.roughness, transits - 5) / max_of(on.roughness, transits - 5);
-  report("wave_roughness_growth_stabilised", on_growth,
-         fmt::format("wave in bar, 20 transits: roughness growth with stabilisation 0.1: {:.2f} (max/first; "
-                     "{:.2e} m after one transit, {} steps)",
-                     on_growth, on.roughness[0], on.steps));
-  report("wave_roughness_growth_unstabilised", off_growth,
-         fmt::format("wave in bar, 20 transits: without stabilisation: last-five max / first = {:.2f}; "
-                     "{:.2f} times the stabilised run",
-                     off_growth, off_over_on));
-  EXPECT_LT(on_growth, 1.6);
-  EXPECT_GT(off_growth, 1.6);
-  EXPECT_GT(off_over_on, 2.0);
+  std::vector<double> excess(transits);
+  for (int t = 0; t < transits; ++t) excess[t] = off.roughness[t] - on.roughness[t];
+  const double on_mean_growth = mean5(on.roughness, transits - 5) / mean5(on.roughness, 0);
+  const double on_max_growth = *std::max_element(on.roughness.begin(), on.roughness.end()) / on.roughness[0];
+  const double off_over_on = off.roughness.back() / on.roughness.back();
+  const double excess_growth = mean5(excess, transits - 5) / mean5(excess, 0);
+  report("wave_roughness_stabilised", on_mean_growth,
+         fmt::format("wave in bar, 20 transits, G_s = 1: roughness {:.2e} m after one transit, last/first five "
+                     "{:.2f}, max/first {:.2f} ({} steps)",
+                     on.roughness[0], on_mean_growth, on_max_growth, on.steps));
+  report("wave_roughness_unstabilised", off_over_on,
+         fmt::format("wave in bar, 20 transits, G_s = 0: roughness {:.2e} m after one transit, {:.2e} after 20 "
+                     "({:.2f} times the stabilised run); its excess grows {:.2f} times ({} steps)",
+                     off.roughness[0], off.roughness.back(), off_over_on, excess_growth, off.steps));
+  EXPECT_LT(on_mean_growth, 1.6);
+  EXPECT_LT(on_max_growth, 2.5);
+  EXPECT_GT(off_over_on, 2.5);
+  EXPECT_GT(excess_growth, 1.2);
 }
 
 // --- the zero-energy witness through the model ------------------------------------
@@ -473,6 +486,202 @@ TEST(Correspondence, J2UniaxialStressPlasticHardening) {
                      "{} Newton iterations in {} steps",
                      r.nominal, P11, r.nominal / P11 - 1, alpha, r.iterations, r.steps));
   EXPECT_NEAR(r.nominal / P11, 1.0, 0.01);
+}
+
+// --- plate with a hole -------------------------------------------------------------
+
+// examples/plate_with_hole.yaml at a coarser spacing, with the linear elastic
+// correspondence model (default stabilisation G_s = 1): a plane-stress plate 91 x 91
+// spacings (h = R/4.5, R = 2.5 mm; d/W = 5 mm / 50.6 mm = 0.099 on the lattice)
+// under 10 MPa, static Newton (finite-difference tangent, Cholesky). E eps_yy / sigma is
+// read as tests/verification/test_static_solvers.cpp does, from the bonds (x, +-h) on the
+// ligament at x = R + h/2, 3h/2, 5h/2; K_t from them as below; reference 3.03 (Howland
+// 1930; Peterson's chart 4.1), within 5 %. (G_s = 0.1 leaves an hourglass zig-zag along
+// the hole: 3.28, 2.08, 1.38 at R = 5.5 h; G_s = 1 follows Kirsch.)
+TEST(Correspondence, PlateWithHoleStressConcentration) {
+  const double R = 0.0025, h = R / 4.5, sigma = 1e7, E = 70e9;
+  const std::string deck = fmt::format(R"(dimension: 2
+plane: stress
+thickness: 1.0e-3
+spacing: {h}
+horizon_factor: 3
+partial_volume: true
+lattice_origin: [0, 0]
+materials:
+  aluminium: {{model: correspondence, stress_law: linear_elastic, density: 2700, youngs_modulus: {E}, poissons_ratio: 0.33}}
+bodies:
+  - name: plate
+    material: aluminium
+    shape:
+      subtract:
+        - {{box: {{min: [-0.0251, -0.0251], max: [0.0251, 0.0251]}}}}
+        - {{disk: {{center: [0, 0], radius: {R}}}}}
+regions:
+  top:    {{box: {{min: [-0.0251, {ytop}], max: [0.0251, 0.0251]}}}}
+  bottom: {{box: {{min: [-0.0251, -0.0251], max: [0.0251, {ybot}]}}}}
+  x_mirror: {{box: {{min: [-0.00005, -0.0251], max: [0.00005, 0.0251]}}}}
+  y_mirror: {{box: {{min: [-0.0251, -0.00005], max: [0.0251, 0.00005]}}}}
+loads:
+  - {{region: top,      traction: [0, {sigma}]}}
+  - {{region: bottom,   traction: [0, -{sigma}]}}
+  - {{region: x_mirror, displacement: [0, null]}}
+  - {{region: y_mirror, displacement: [null, 0]}}
+solver: {{type: static, method: newton, linear_solver: cholesky, tolerance: 1.0e-6}}
+)",
+                                       fmt::arg("h", h), fmt::arg("E", E), fmt::arg("R", R),
+                                       fmt::arg("ytop", 45 * h - 1.5 * h), fmt::arg("ybot", -45 * h + 1.5 * h),
+                                       fmt::arg("sigma", sigma));
+  const Config config = parse_deck(deck, "plate_with_hole_correspondence.yaml");
+  System s = build_system(config);
+  Loads loads(config, s);
+  StaticSolver solver(s, loads, config.solver);
+  loads.apply_initial_conditions(config, s);
+  solver.initialize();
+  while (!solver.done()) ASSERT_TRUE(solver.advance()) << solver.failure();
+  auto find = [&](double x, double y) {
+    for (std::size_t i = 0; i < s.particles.size(); ++i)
+      if (std::abs(s.particles.X[i].x - x) < 1e-3 * h && std::abs(s.particles.X[i].y - y) < 1e-3 * h) return i;
+    ADD_FAILURE() << "no particle at " << x << ", " << y;
+    return std::size_t{0};
+  };
+  double k[3] = {0, 0, 0};
+  for (const double side : {-1.0, 1.0})
+    for (int c = 0; c < 3; ++c) {
+      const double x = side * (R + (c + 0.5) * h);
+      const double eps = (s.particles.u[find(x, h)].y - s.particles.u[find(x, -h)].y) / (2 * h);
+      k[c] += 0.5 * E * eps / sigma;
+    }
+  // K_t = 3a, a the least-squares scale of the classical ligament profile of a hole in an
+  // infinite plate, sigma_yy/sigma = (2 + (R/r)^2 + 3 (R/r)^4)/2 (Kirsch 1898), through
+  // the three points; a carries the finite-width factor (3.03/3 at d/W = 0.1).
+  double num = 0, den = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double q = R / (R + (c + 0.5) * h), f = 0.5 * (2 + q * q + 3 * q * q * q * q);
+    num += k[c] * f;
+    den += f * f;
+  }
+  const double kt = 3 * num / den;
+  // The three-point extrapolation of test_static_solvers.cpp, for comparison (at R = 4.5 h it
+  // is biased low: on the exact Kirsch field it gives `bias` times 3).
+  auto extrapolate = [](const double* v) { return v[0] - 0.5 * (v[1] - v[0]) + 0.375 * (v[0] - 2 * v[1] + v[2]); };
+  double kirsch[3];
+  for (int c = 0; c < 3; ++c) {
+    const double q = R / (R + (c + 0.5) * h);
+    kirsch[c] = 0.5 * (2 + q * q + 3 * q * q * q * q);
+  }
+  const double extrapolated = extrapolate(k), bias = extrapolate(kirsch) / 3;
+  const double reference = 3.03;
+  report("correspondence_plate_hole_kt", kt,
+         fmt::format("correspondence plate with hole ({} particles, R = 4.5 h, G_s = 1): Kt = {:.3f} ({:+.2f} % from "
+                     "{}) by the Kirsch-profile fit; E eps_yy / sigma at R + h/2, 3h/2, 5h/2: {:.3f}, {:.3f}, {:.3f} "
+                     "(Kirsch: {:.3f}, {:.3f}, {:.3f}); three-point extrapolation {:.3f} (its bias on the Kirsch field "
+                     "{:+.1f} %); {} Newton iterations",
+                     s.particles.size(), kt, 100 * (kt / reference - 1), reference, k[0], k[1], k[2], kirsch[0],
+                     kirsch[1], kirsch[2], extrapolated, 100 * (bias - 1), solver.total_iterations()));
+  EXPECT_NEAR(kt / reference, 1.0, 0.05);
+}
+
+// --- energy ledger -----------------------------------------------------------------
+
+// examples/elastic_impact.yaml with both bodies correspondence (h = 1 mm, horizon 3h): a
+// 10 x 6 x 6 mm striker at `speed` against a 20 x 6 x 6 mm bar of the same material,
+// bonded where they touch; explicit, safety factor 0.5, the ledger at every step.
+nlohmann::json impact(const std::string& law_keys, double speed, const std::string& name) {
+  const std::string deck = fmt::format(R"(dimension: 3
+spacing: 1.0e-3
+horizon: 3.0e-3
+materials:
+  metal: {{model: correspondence, {}, density: 2700, youngs_modulus: 70.0e9, poissons_ratio: 0.3}}
+bodies:
+  - {{name: striker, material: metal, shape: {{box: {{min: [0, 0, 0], max: [0.01, 0.006, 0.006]}}}}}}
+  - {{name: target, material: metal, shape: {{box: {{min: [0.01, 0, 0], max: [0.03, 0.006, 0.006]}}}}}}
+regions:
+  striker: {{box: {{min: [0, 0, 0], max: [0.01, 0.006, 0.006]}}}}
+initial_conditions:
+  - {{region: striker, velocity: [{}, 0, 0]}}
+solver: {{type: explicit, end_time: 3.0e-5, safety_factor: 0.5}}
+output: {{directory: out/correspondence_impact, frames: 1, history_every: 1}}
+)",
+                                       law_keys, speed);
+  Config config = parse_deck(deck, name + ".yaml");
+  RunOptions options;
+  options.output_dir = output_dir(name).string();
+  options.quiet = true;
+  EXPECT_EQ(run_deck(config, options), 0);
+  return read_json(std::filesystem::path(*options.output_dir) / "summary.json");
+}
+
+// Elastic (neo-Hookean, 10 m/s; default stabilisation): the largest |balance error| of the
+// ledger over every step within 1 % of the energy brought in (the stabilisation energy is
+// part of W_i).
+// Elastic-plastic (J2, sigma_y = 200 MPa, 100 m/s: the impact stress rho c v/2 ~ 700 MPa
+// yields the bar): the plastic work goes to the dissipated energy and the ledger still
+// balances within 1 %.
+TEST(Correspondence, ImpactEnergyLedger) {
+  const nlohmann::json el = impact("stress_law: neo_hookean", 10.0, "correspondence_impact");
+  ASSERT_EQ(el["status"], "completed");
+  const auto& e = el["energy"];
+  EXPECT_NEAR(e["initial"].get<double>(), 0.5 * 2700 * 0.01 * 0.006 * 0.006 * 100, 1e-9);
+  EXPECT_GT(e["strain"].get<double>(), 0.05 * e["initial"].get<double>()) << "the impact happened";
+  const double elastic_error = e["max_abs_balance_error"];
+  const nlohmann::json pl =
+      impact("stress_law: j2, yield_stress: 2.0e8, hardening_modulus: 1.0e9", 100.0, "correspondence_impact_j2");
+  ASSERT_EQ(pl["status"], "completed");
+  const auto& p = pl["energy"];
+  const double plastic_error = p["max_abs_balance_error"];
+  const double dissipated = p["dissipated"].get<double>() / p["initial"].get<double>();
+  report("correspondence_impact_balance", elastic_error,
+         fmt::format("correspondence impact: max |balance error| {:.2e} (neo-Hookean, 10 m/s, {} steps); {:.2e} "
+                     "(J2, 100 m/s, plastic work {:.1f} % of the energy brought in)",
+                     elastic_error, el["steps"].get<int>(), plastic_error, 100 * dissipated));
+  EXPECT_LE(elastic_error, 1e-2);
+  EXPECT_LE(plastic_error, 1e-2);
+  EXPECT_GT(dissipated, 0.01) << "the bar yields";
+}
+
+// --- threads --------------------------------------------------------------------------
+
+struct ThreadRun {
+  std::vector<Vec3> u, v;
+  std::vector<double> damage, dissipated_at;
+};
+
+// A 3-D J2 block (7^3, partial volumes) with a critical stretch, random initial
+// velocities large enough to yield it and break bonds, 40 explicit steps: the
+// displacements, velocities, damage and dissipated energies (plastic work and broken
+// bonds) on 1 and 2 threads, bit for bit.
+ThreadRun run_threads(int threads) {
+  omp_set_num_threads(threads);
+  BlockSpec b;
+  b.n = {7, 7, 7};
+  b.partial_volume = true;
+  MaterialConfig mat = corr_material("j2", 0.1);
+  mat.damage.enabled = true;
+  mat.damage.critical_stretch = 2e-3;
+  System s = test::make_block(b, mat);
+  test::Rng rng(42);
+  for (auto& v : s.particles.v) v = Vec3{rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-20, 20)};
+  Loads loads;
+  ExplicitSolver solver(s, loads, 0.8 * stable_time_step(s), 0.0);
+  solver.initialize();
+  for (int step = 0; step < 40; ++step) solver.step(step % 10 == 0);
+  EXPECT_GT(s.broken, 0u) << "bonds break";
+  return {s.particles.u, s.particles.v, s.particles.damage, s.dissipated_at};
+}
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(Correspondence, SameBitsOnOneAndTwoThreads) {
+  const int saved = omp_get_max_threads();
+  const ThreadRun one = run_threads(1), two = run_threads(2);
+  omp_set_num_threads(saved);
+  EXPECT_TRUE(same_bits(one.u, two.u));
+  EXPECT_TRUE(same_bits(one.v, two.v));
+  EXPECT_TRUE(same_bits(one.damage, two.damage));
+  EXPECT_TRUE(same_bits(one.dissipated_at, two.dissipated_at));
 }
 
 }  // namespace

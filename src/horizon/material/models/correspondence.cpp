@@ -30,7 +30,7 @@ const ModelTraits& traits() {
         {"stabilization",
          "zero-energy-mode stabilisation G_s: T += G omega (Y - F xi), G = G_s c/delta with c = 18k/(pi delta^4) "
          "in 3-D (Silling 2017); 0: off",
-         ParameterSpec::Range::non_negative, 0.1},
+         ParameterSpec::Range::non_negative, 1.0},
         {"yield_stress", "stress_law j2: initial yield stress sigma_y [Pa] (required for j2)",
          ParameterSpec::Range::non_negative, 0.0},
         {"hardening_modulus", "stress_law j2: linear isotropic hardening modulus H [Pa]",
