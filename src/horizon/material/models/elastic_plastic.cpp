@@ -50,6 +50,7 @@ class ElasticPlastic final : public Model {
     ep_.assign(nb, 0);
     ep_trial_.assign(nb, 0);
     ledger_.assign(nb, BondLedger{});
+    pending_.assign(nb, PendingBooking{});
     // Bonds broken before the first pass (precracks) were never booked as dissipated.
     for (std::size_t k = 0; k < nb; ++k) ledger_[k].booked = B.intact[k] ? 0 : 1;
     ledger_trial_ = ledger_;
@@ -67,6 +68,7 @@ class ElasticPlastic final : public Model {
   // and what the ledger needs of the step (below).
   std::vector<double> ep_, ep_trial_;
   std::vector<BondLedger> ledger_, ledger_trial_;
+  std::vector<PendingBooking> pending_;  // bonds broken since the commit (history_ledger.hpp)
 };
 
 void ElasticPlastic::setup(const ModelSetup& in) {
@@ -172,9 +174,11 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       now = old;
       now.extension = e;
       if (bond_booked_now(B.intact[k], old.booked)) {
-        booked += broken_bond_booking(T[k], Y, r_len, e, vj);
+        booked += pending_booking(pending_[k], T[k], Y, r_len, e, vj);
         now.booked = 1;
         inelastic = true;
+      } else if (pending_[k].set) {
+        pending_[k] = PendingBooking{};  // a solver restored the bond (a failed static increment)
       }
       if (!B.intact[k]) {
         T[k] = {};
@@ -216,6 +220,7 @@ void ElasticPlastic::commit(System& s) {
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       ep_[k] = ep_trial_[k];
       ledger_[k] = ledger_trial_[k];
+      pending_[k] = PendingBooking{};
     }
     eps_p_[i] = eps_p_trial_[i];
     stored_[i] = stored_trial_[i];

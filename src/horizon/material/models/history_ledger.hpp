@@ -41,6 +41,22 @@ inline double broken_bond_booking(const Vec3& T_old, const Vec3& Y, double lengt
   return length > 0 ? 0.5 * dot(T_old, Y) / length * e * volume : 0.0;
 }
 
+// The booking of a bond broken since the last commit, computed in the pass that broke it
+// (whose T still holds the previous force state) and reused by the later passes before
+// the commit (a static solver's iterations after a breaking round, which find T zeroed).
+struct PendingBooking {
+  double amount = 0;
+  uint8_t set = 0;
+};
+inline double pending_booking(PendingBooking& p, const Vec3& T_old, const Vec3& Y, double length, double e,
+                              double volume) {
+  if (!p.set) {
+    p.amount = broken_bond_booking(T_old, Y, length, e, volume);
+    p.set = 1;
+  }
+  return p.amount;
+}
+
 // D_i from the step's work, the change of W and the booking (all per unit V_i).
 inline double inelastic_loss(double work, double stored_change, double booked) { return work - stored_change - booked; }
 

@@ -57,6 +57,7 @@ class Viscoelastic final : public Model {
       back_trial_[b].assign(nb, 0);
     }
     ledger_.assign(nb, BondLedger{});
+    pending_.assign(nb, PendingBooking{});
     // Bonds broken before the first pass (precracks) were never booked as dissipated.
     for (std::size_t k = 0; k < nb; ++k) ledger_[k].booked = B.intact[k] ? 0 : 1;
     ledger_trial_ = ledger_;
@@ -76,6 +77,7 @@ class Viscoelastic final : public Model {
   std::vector<double> ed_, ed_trial_;
   std::array<std::vector<double>, kMaxViscousBranches> back_, back_trial_;
   std::vector<BondLedger> ledger_, ledger_trial_;
+  std::vector<PendingBooking> pending_;  // bonds broken since the commit (history_ledger.hpp)
 };
 
 void Viscoelastic::setup(const ModelSetup& in) {
@@ -180,8 +182,10 @@ void Viscoelastic::force_state(ForcePass& pass) {
       now = old;
       now.extension = e;
       if (bond_booked_now(B.intact[k], old.booked)) {
-        booked += broken_bond_booking(T[k], Y, r, e, vj);
+        booked += pending_booking(pending_[k], T[k], Y, r, e, vj);
         now.booked = 1;
+      } else if (pending_[k].set) {
+        pending_[k] = PendingBooking{};  // a solver restored the bond (a failed static increment)
       }
       if (!B.intact[k]) {
         T[k] = {};
@@ -229,6 +233,7 @@ void Viscoelastic::commit(System& s) {
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       ed_[k] = ed_trial_[k];
       ledger_[k] = ledger_trial_[k];
+      pending_[k] = PendingBooking{};
       for (int b = 0; b < nbranch; ++b) back_[b][k] = back_trial_[b][k];
     }
     stored_[i] = stored_trial_[i];
