@@ -233,6 +233,14 @@ TEST(ElasticPlastic, EnergyLedgerClosesInElasticAndPlasticImpacts) {
                      100 * plastic.ledger.dissipated / plastic.ledger.initial, plastic.max_balance_error));
   EXPECT_GT(plastic.ledger.dissipated, 0.02 * plastic.ledger.initial);
   EXPECT_LT(plastic.max_balance_error, 0.01);
+  // 40 m/s with bonds breaking at 0.6 %: plastic bonds break, and the ledger books what
+  // they held beyond (1/2) t e (material/models/history_ledger.hpp).
+  const ImpactRun broken = run_impact_ledger(impact_deck(kSteel + ", damage: {critical_stretch: 0.006}}", 40, 3e-6));
+  report("ep_ledger_breaking", broken.max_balance_error,
+         fmt::format("elastic-plastic, impact with breaking (40 m/s, {} steps): dissipated {:.1f} % of the initial "
+                     "energy, max |balance error| = {:.2e}", broken.steps,
+                     100 * broken.ledger.dissipated / broken.ledger.initial, broken.max_balance_error));
+  EXPECT_LT(broken.max_balance_error, 0.01);
 }
 
 TEST(ElasticPlastic, StaticNewtonMatchesAdrAndTheLpsBelowYield) {

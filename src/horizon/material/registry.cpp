@@ -1,6 +1,7 @@
 // The material models Horizon knows, one line each (docs/design.md, "Adding a material
 // model"). The deck accepts these names after `model:`; docs/models.md has a page for each.
 #include "horizon/material/model.hpp"
+#include "horizon/material/models/correspondence.hpp"
 #include "horizon/material/models/elastic_plastic.hpp"
 #include "horizon/material/models/lps.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
@@ -16,6 +17,7 @@ const std::vector<ModelEntry>& model_registry() {
       nonlinear_solid_model(),
       elastic_plastic_model(),
       viscoelastic_model(),
+      correspondence_model(),
   };
   return registry;
 }

@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "horizon/material/nonlocal_gradient.hpp"
+
 namespace horizon {
 
 std::vector<SymTensor> strain_field(const System& s) {
@@ -12,24 +14,19 @@ std::vector<SymTensor> strain_field(const System& s) {
   std::vector<SymTensor> eps(P.size(), SymTensor{});
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < P.size(); ++i) {
-    Eigen::Matrix3d K = Eigen::Matrix3d::Zero(), N = Eigen::Matrix3d::Zero();
+    NonlocalGradient g;  // K and F as the correspondence model computes them
     const Vec3 yi = P.X[i] + P.u[i];
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!B.intact[k]) continue;
       const uint32_t j = B.nbr[k];
-      const Vec3 xi = P.X[j] - P.X[i], Y = P.X[j] + P.u[j] - yi;
-      const double w = B.weight[k] * B.volume[k];
-      const Eigen::Vector3d a(xi.x, xi.y, xi.z), y(Y.x, Y.y, Y.z);
-      K += w * a * a.transpose();
-      N += w * y * a.transpose();
+      g.add(P.X[j] - P.X[i], P.X[j] + P.u[j] - yi, B.weight[k] * B.volume[k]);
     }
-    // Only the first d axes: K is singular out of plane in 2-D and 1-D.
-    const Eigen::MatrixXd Kd = K.topLeftCorner(d, d), Nd = N.topLeftCorner(d, d);
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(Kd);
-    if (lu.rank() < d) continue;
-    const Eigen::MatrixXd F = Nd * lu.inverse();
+    // Only the first d axes: K is singular out of plane in 2-D and 1-D. Any K of full
+    // rank is accepted here (a post-processing measure): only round-off singularity is refused.
+    Eigen::Matrix3d Kinv, F;
+    if (!g.finish(d, 1e-12, Kinv, F)) continue;
     Eigen::Matrix3d e = Eigen::Matrix3d::Zero();
-    e.topLeftCorner(d, d) = 0.5 * (F + F.transpose()) - Eigen::MatrixXd::Identity(d, d);
+    e.topLeftCorner(d, d) = 0.5 * (F + F.transpose()).topLeftCorner(d, d) - Eigen::MatrixXd::Identity(d, d);
     eps[i] = {e(0, 0), e(1, 1), e(2, 2), e(0, 1), e(1, 2), e(0, 2)};
   }
   return eps;

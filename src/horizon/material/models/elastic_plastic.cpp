@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "horizon/core/error.hpp"
+#include "horizon/material/models/history_ledger.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -43,24 +44,31 @@ class ElasticPlastic final : public Model {
   }
 
  private:
-  void size_bonds(std::size_t nb) {
+  void size_bonds(const Bonds& B) {
+    const std::size_t nb = B.size();
     if (ep_.size() == nb) return;
     ep_.assign(nb, 0);
     ep_trial_.assign(nb, 0);
-    td_.assign(nb, 0);
-    td_trial_.assign(nb, 0);
+    ledger_.assign(nb, BondLedger{});
+    pending_.assign(nb, PendingBooking{});
+    // Bonds broken before the first pass (precracks) were never booked as dissipated.
+    for (std::size_t k = 0; k < nb; ++k) ledger_[k].booked = B.intact[k] ? 0 : 1;
+    ledger_trial_ = ledger_;
   }
 
   std::vector<uint32_t> particles_;
   int dim_ = 3;
   double bulk_ = 0;  // k' (lps_bulk_modulus)
   double mu_ = 0, yield_ = 0, hardening_ = 0;
-  // Per particle (indexed by particle, only this material's filled).
-  std::vector<double> eps_p_, eps_p_trial_;  // equivalent plastic strain: committed, trial
-  std::vector<double> work_trial_;           // plastic work density of the trial step [J/m^3]
-  // Per directed bond: the plastic deviatoric extension and the deviatoric force state,
-  // committed and trial (t^d_n for the trapezoidal plastic work).
-  std::vector<double> ep_, ep_trial_, td_, td_trial_;
+  // Per particle (indexed by particle, only this material's filled): the equivalent
+  // plastic strain and the stored energy density W, committed and trial, and the energy
+  // density dissipated in the trial step [J/m^3].
+  std::vector<double> eps_p_, eps_p_trial_, stored_, stored_trial_, loss_trial_;
+  // Per directed bond: the plastic deviatoric extension (history), committed and trial,
+  // and what the ledger needs of the step (below).
+  std::vector<double> ep_, ep_trial_;
+  std::vector<BondLedger> ledger_, ledger_trial_;
+  std::vector<PendingBooking> pending_;  // bonds broken since the commit (history_ledger.hpp)
 };
 
 void ElasticPlastic::setup(const ModelSetup& in) {
@@ -83,9 +91,11 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   const std::size_t n = s.particles.size();
   eps_p_.assign(n, 0);
   eps_p_trial_.assign(n, 0);
-  work_trial_.assign(n, 0);
+  stored_.assign(n, 0);
+  stored_trial_.assign(n, 0);
+  loss_trial_.assign(n, 0);
   ep_.clear();
-  size_bonds(s.bonds.size());
+  size_bonds(s.bonds);
 
   // As the LPS (material/models/lps.cpp): the bond-based spring of the same bulk modulus
   // for the stable time step, the contact micromodulus, the critical stretch.
@@ -111,7 +121,7 @@ void ElasticPlastic::force_state(ForcePass& pass) {
   const System& s = pass.system;
   const auto& B = s.bonds;
   const auto& M = s.model;
-  size_bonds(B.size());
+  size_bonds(B);
   const Point4* y = pass.y;
   Vec3* T = pass.T;
   double* energy = pass.energy;
@@ -149,35 +159,54 @@ void ElasticPlastic::force_state(ForcePass& pass) {
     eps_p_trial_[i] = eps_p_[i] + r.plastic_strain;
     const double beta = r.scale;
     const double p_coef = dim * bulk_ * theta / m;  // t^i = (d k' theta/m) omega |xi|
-    double work = 0, dev = 0;
+    double work = 0, dev = 0, booked = 0;
+    bool inelastic = r.plastic_strain > 0;
     for (uint64_t k = first; k < last; ++k) {
-      if (!B.intact[k]) {
-        T[k] = {};
-        ep_trial_[k] = ep_[k];
-        td_trial_[k] = 0;
-        continue;
-      }
       const KindCoefficients& c = kc[B.kind[k]];
       const BondKind& bk = B.kinds[B.kind[k]];
-      const double omega = bk.weight;
+      const double vj = bk.volume * bk.fraction;
       const Point4 pj = y[B.nbr[k]];
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
       const double r_len = std::sqrt(dot(Y, Y));
       const double e = r_len - c.length;
+      const BondLedger& old = ledger_[k];
+      BondLedger& now = ledger_trial_[k];
+      now = old;
+      now.extension = e;
+      if (bond_booked_now(B.intact[k], old.booked)) {
+        booked += pending_booking(pending_[k], T[k], Y, r_len, e, vj);
+        now.booked = 1;
+        inelastic = true;
+      } else if (pending_[k].set) {
+        pending_[k] = PendingBooking{};  // a solver restored the bond (a failed static increment)
+      }
+      if (!B.intact[k]) {
+        T[k] = {};
+        ep_trial_[k] = ep_[k];
+        now.force = 0;
+        if (old.force != 0) {  // it acted at the start of the step
+          work += 0.5 * old.force * (e - old.extension) * vj;
+          inelastic = true;
+        }
+        continue;
+      }
+      const double omega = bk.weight;
       const double ede_trial = deviatoric_extension(e, theta, c.length, dim) - ep_[k];
       const double ede = beta * ede_trial;
-      const double dep = (1.0 - beta) * ede_trial;
-      const double td = alpha * omega * ede;
-      ep_trial_[k] = ep_[k] + dep;
-      td_trial_[k] = td;
-      // Trapezoidal plastic work of the step (header), per unit V_i.
-      if (dep != 0) work += 0.5 * (td_[k] + td) * dep * bk.volume * bk.fraction;
+      ep_trial_[k] = ep_[k] + (1.0 - beta) * ede_trial;
       dev += c.wv * ede * ede;
-      const double t = p_coef * omega * c.length + td;
+      const double t = p_coef * omega * c.length + alpha * omega * ede;
+      now.force = t;
+      work += 0.5 * (old.force + t) * (e - old.extension) * vj;
       T[k] = (t / r_len) * Y;
     }
-    work_trial_[i] = work;
-    if (energy) energy[i] = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;
+    const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;
+    stored_trial_[i] = W;
+    // Dissipated in the step: the trapezoidal work of the step less the change of W, less
+    // what the force pass booked for the bonds it broke (header and inelastic_loss). Only
+    // steps with plastic flow or a broken bond dissipate; an elastic step books exactly 0.
+    loss_trial_[i] = inelastic ? inelastic_loss(work, W - stored_[i], booked) : 0.0;
+    if (energy) energy[i] = W;
   }
 }
 
@@ -190,11 +219,13 @@ void ElasticPlastic::commit(System& s) {
     const uint32_t i = particles_[q];
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       ep_[k] = ep_trial_[k];
-      td_[k] = td_trial_[k];
+      ledger_[k] = ledger_trial_[k];
+      pending_[k] = PendingBooking{};
     }
     eps_p_[i] = eps_p_trial_[i];
-    if (work_trial_[i] != 0) s.dissipated_at[i] += work_trial_[i] * P.volume[i];
-    work_trial_[i] = 0;
+    stored_[i] = stored_trial_[i];
+    if (loss_trial_[i] != 0) s.dissipated_at[i] += loss_trial_[i] * P.volume[i];
+    loss_trial_[i] = 0;
   }
 }
 

@@ -51,9 +51,10 @@
 // perfect plasticity, Silling's eq. 128-129).
 //
 // Energy: W = k' theta^2/2 + (alpha/2) sum_j omega (e^de)^2 V_j (seed 003 eq. 104 with the
-// elastic part); the plastic work of a step, sum_j (t^d_n + t^d_n+1)/2 (e^dp_n+1 - e^dp_n) V_j,
-// is exactly the trapezoidal work of the step minus the change of W, so that kinetic +
-// stored + dissipated - external work closes to the time integrator's error.
+// elastic part). The dissipated energy of a step (material/models/history_ledger.hpp) is
+// the trapezoidal work of the step less the change of W; without broken bonds that is
+// exactly the plastic work sum_j (t^d_n + t^d_n+1)/2 (e^dp_n+1 - e^dp_n) V_j, so that
+// kinetic + stored + dissipated - external work closes to the time integrator's error.
 //
 // Plane stress is refused: the model's plastic extension has no dilatation (eq. 127), while
 // J2 flow under s_33 = 0 changes the in-plane area (d eps_33^p = -(d eps_11^p + d eps_22^p)),

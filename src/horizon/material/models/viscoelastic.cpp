@@ -6,6 +6,7 @@
 #include <string>
 
 #include "horizon/core/error.hpp"
+#include "horizon/material/models/history_ledger.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -46,7 +47,8 @@ class Viscoelastic final : public Model {
   }
 
  private:
-  void size_bonds(std::size_t nb) {
+  void size_bonds(const Bonds& B) {
+    const std::size_t nb = B.size();
     if (ed_.size() == nb) return;
     ed_.assign(nb, 0);
     ed_trial_.assign(nb, 0);
@@ -54,6 +56,11 @@ class Viscoelastic final : public Model {
       back_[b].assign(nb, 0);
       back_trial_[b].assign(nb, 0);
     }
+    ledger_.assign(nb, BondLedger{});
+    pending_.assign(nb, PendingBooking{});
+    // Bonds broken before the first pass (precracks) were never booked as dissipated.
+    for (std::size_t k = 0; k < nb; ++k) ledger_[k].booked = B.intact[k] ? 0 : 1;
+    ledger_trial_ = ledger_;
   }
 
   std::vector<uint32_t> particles_;
@@ -62,11 +69,15 @@ class Viscoelastic final : public Model {
   double lambda_inf_ = 1;
   int branches_ = 0;
   std::array<double, kMaxViscousBranches> lambda_{}, tau_{};
-  // Per particle: the dissipation density of the trial step, and its running total.
-  std::vector<double> loss_trial_, dissipated_;
-  // Per directed bond: e^d and the back extension of each branch, committed and trial.
+  // Per particle: the stored energy density W, committed and trial; the dissipation
+  // density of the trial step (material/models/history_ledger.hpp) and its running total.
+  std::vector<double> stored_, stored_trial_, loss_trial_, dissipated_;
+  // Per directed bond: e^d and the back extension of each branch, committed and trial,
+  // and what the ledger needs of the step.
   std::vector<double> ed_, ed_trial_;
   std::array<std::vector<double>, kMaxViscousBranches> back_, back_trial_;
+  std::vector<BondLedger> ledger_, ledger_trial_;
+  std::vector<PendingBooking> pending_;  // bonds broken since the commit (history_ledger.hpp)
 };
 
 void Viscoelastic::setup(const ModelSetup& in) {
@@ -97,10 +108,12 @@ void Viscoelastic::setup(const ModelSetup& in) {
                 std::to_string(sum) + " exceed 1 (lambda_inf = 1 - their sum is the long-term share of mu)");
   lambda_inf_ = std::max(0.0, 1.0 - sum);
   const std::size_t n = s.particles.size();
+  stored_.assign(n, 0);
+  stored_trial_.assign(n, 0);
   loss_trial_.assign(n, 0);
   dissipated_.assign(n, 0);
   ed_.clear();
-  size_bonds(s.bonds.size());
+  size_bonds(s.bonds);
 
   // As the LPS (material/models/lps.cpp), with the instantaneous moduli (the stiffest
   // response, for the stable time step).
@@ -126,7 +139,7 @@ void Viscoelastic::force_state(ForcePass& pass) {
   const System& s = pass.system;
   const auto& B = s.bonds;
   const auto& M = s.model;
-  size_bonds(B.size());
+  size_bonds(B);
   const Point4* y = pass.y;
   Vec3* T = pass.T;
   double* energy = pass.energy;
@@ -155,40 +168,57 @@ void Viscoelastic::force_state(ForcePass& pass) {
     }
     const double theta = dim * sum / m;
     const double p_coef = dim * bulk_ * theta / m;  // t^i = (d k' theta/m) omega |xi|
-    double loss = 0, stored = 0;
+    double work = 0, booked = 0, stored = 0;
     for (uint64_t k = first; k < last; ++k) {
+      const KindCoefficients& c = kc[B.kind[k]];
+      const BondKind& bk = B.kinds[B.kind[k]];
+      const double vj = bk.volume * bk.fraction;
+      const Point4 pj = y[B.nbr[k]];
+      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+      const double r = std::sqrt(dot(Y, Y));
+      const double e = r - c.length;
+      const BondLedger& old = ledger_[k];
+      BondLedger& now = ledger_trial_[k];
+      now = old;
+      now.extension = e;
+      if (bond_booked_now(B.intact[k], old.booked)) {
+        booked += pending_booking(pending_[k], T[k], Y, r, e, vj);
+        now.booked = 1;
+      } else if (pending_[k].set) {
+        pending_[k] = PendingBooking{};  // a solver restored the bond (a failed static increment)
+      }
       if (!B.intact[k]) {
         T[k] = {};
         ed_trial_[k] = ed_[k];
         for (int b = 0; b < nbranch; ++b) back_trial_[b][k] = back_[b][k];
+        now.force = 0;
+        work += 0.5 * old.force * (e - old.extension) * vj;  // it acted at the start of the step (or 0)
         continue;
       }
-      const KindCoefficients& c = kc[B.kind[k]];
-      const double omega = B.kinds[B.kind[k]].weight;
-      const Point4 pj = y[B.nbr[k]];
-      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-      const double r = std::sqrt(dot(Y, Y));
-      const double ed = r - c.length - theta * c.length / dim;  // e^d (seed 003 sec. 15; digest sec. 8)
+      const double omega = bk.weight;
+      const double ed = e - theta * c.length / dim;  // e^d (seed 003 sec. 15; digest sec. 8)
       const double ed_old = ed_[k];
       ed_trial_[k] = ed;
       double dev = linf * ed;  // lambda_inf e^d + sum_b lambda_b (e^d - e^b)
       double springs = linf * ed * ed;
       for (int b = 0; b < nbranch; ++b) {
-        const double old_back = back_[b][k];
-        const double back = sls_back_extension(step[b], old_back, ed_old, ed);
+        const double back = sls_back_extension(step[b], back_[b][k], ed_old, ed);
         back_trial_[b][k] = back;
-        const double q_new = ed - back, q_old = ed_old - old_back;
-        dev += lambda_[b] * q_new;
-        springs += lambda_[b] * q_new * q_new;
-        // Trapezoidal work of branch b's force on its dashpot (header), per alpha.
-        loss += lambda_[b] * c.wv * 0.5 * (q_old + q_new) * (back - old_back);
+        const double q = ed - back;
+        dev += lambda_[b] * q;
+        springs += lambda_[b] * q * q;
       }
       stored += c.wv * springs;
       const double t = p_coef * omega * c.length + alpha * omega * dev;
+      now.force = t;
+      work += 0.5 * (old.force + t) * (e - old.extension) * vj;
       T[k] = (t / r) * Y;
     }
-    loss_trial_[i] = alpha * loss;
-    if (energy) energy[i] = 0.5 * bulk_ * theta * theta + 0.5 * alpha * stored;
+    const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * stored;
+    stored_trial_[i] = W;
+    // The dashpots' work in the step (material/models/history_ledger.hpp).
+    loss_trial_[i] = inelastic_loss(work, W - stored_[i], booked);
+    if (energy) energy[i] = W;
   }
 }
 
@@ -202,8 +232,11 @@ void Viscoelastic::commit(System& s) {
     const uint32_t i = particles_[q];
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       ed_[k] = ed_trial_[k];
+      ledger_[k] = ledger_trial_[k];
+      pending_[k] = PendingBooking{};
       for (int b = 0; b < nbranch; ++b) back_[b][k] = back_trial_[b][k];
     }
+    stored_[i] = stored_trial_[i];
     if (loss_trial_[i] != 0) {
       s.dissipated_at[i] += loss_trial_[i] * P.volume[i];
       dissipated_[i] += loss_trial_[i];

@@ -25,10 +25,10 @@
 // strain history: the relaxation test holds to round-off whatever dt.
 //
 // Energy: W = k' theta^2/2 + (alpha/2) sum_j omega [lambda_inf (e^d)^2 + sum_b lambda_b
-// (e^d - e^b_b)^2] V_j (the springs); the dissipation of a step, (alpha/2) sum_b lambda_b
-// sum_j omega (q_n + q_n+1) (e^b_n+1 - e^b_n) V_j with q = e^d - e^b (the trapezoidal work
-// of the branch force on the dashpot), is exactly the trapezoidal work of the step minus
-// the change of W.
+// (e^d - e^b_b)^2] V_j (the springs). The dissipated energy of a step
+// (material/models/history_ledger.hpp) is the trapezoidal work of the step less the change
+// of W; without broken bonds that is exactly the dashpots' work
+// (alpha/2) sum_b lambda_b sum_j omega (q_n + q_n+1) (e^b_n+1 - e^b_n) V_j, q = e^d - e^b.
 //
 // 2-D: the in-plane dilatation stays elastic with k' of the plane mode, computed from the
 // instantaneous mu. That is the 3-D model's assumption carried over; it is exact for

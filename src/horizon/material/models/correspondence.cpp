@@ -1,0 +1,212 @@
+#include "horizon/material/models/correspondence.hpp"
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "horizon/core/error.hpp"
+#include "horizon/material/nonlocal_gradient.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+namespace {
+
+using correspondence::History;
+using correspondence::LawSettings;
+using correspondence::Mat3;
+using correspondence::StressLaw;
+
+const ModelTraits& traits() {
+  static const ModelTraits t = [] {
+    ModelTraits m;
+    m.name = "correspondence";
+    m.aliases = {"nosb"};
+    m.summary =
+        "non-ordinary state-based correspondence with classical stress laws and Silling 2017 zero-energy-mode "
+        "stabilisation (Silling et al. 2007, sec. 18)";
+    m.min_dimension = 2;
+    m.parameters = {
+        {"stabilization",
+         "zero-energy-mode stabilisation G_s: T += G omega (Y - F xi), G = G_s c/delta with c = 18k/(pi delta^4) "
+         "in 3-D (Silling 2017); 0: off",
+         ParameterSpec::Range::non_negative, 1.0},
+        {"yield_stress", "stress_law j2: initial yield stress sigma_y [Pa] (required for j2)",
+         ParameterSpec::Range::non_negative, 0.0},
+        {"hardening_modulus", "stress_law j2: linear isotropic hardening modulus H [Pa]",
+         ParameterSpec::Range::non_negative, 0.0},
+        {"shape_tolerance",
+         "smallest reciprocal condition number of the shape tensor; below it the particle carries no stress "
+         "(contact only)",
+         ParameterSpec::Range::fraction, 1e-4},
+    };
+    m.choices = {
+        {"stress_law", "classical stress law: linear_elastic (small strain), neo_hookean, j2 (plasticity)",
+         {"linear_elastic", "neo_hookean", "j2"}},
+    };
+    return m;
+  }();
+  return t;
+}
+
+class Correspondence final : public Model {
+ public:
+  std::unique_ptr<Model> clone() const override { return std::make_unique<Correspondence>(*this); }
+  const ModelTraits& traits() const override { return horizon::traits(); }
+
+  void setup(const ModelSetup& in) override;
+  void force_state(ForcePass& pass) override;
+  void commit(System& s) override;
+  void fields(const System& s, std::vector<ModelField>& out) const override;
+
+ private:
+  LawSettings law_;
+  double G_ = 0;          // stabilisation modulus G_s c / delta [N/m^7]
+  double tolerance_ = 0;  // shape_tolerance
+  std::vector<uint32_t> particles_;
+  std::vector<History> committed_, trial_;
+  std::vector<double> work_;       // plastic work of the trial step [J/m^3]
+  std::vector<double> von_mises_;  // Cauchy von Mises stress of the last pass [Pa]
+  std::vector<uint8_t> singular_;  // 1: the shape tensor was refused at the last pass
+};
+
+void Correspondence::setup(const ModelSetup& in) {
+  const MaterialConfig& mat = in.material;
+  System& s = in.system;
+  auto& M = s.model;
+  const int dim = in.config.dimension;
+  if (dim < 2) throw Error("material '" + mat.name + "': the correspondence model needs dimension 2 or 3");
+
+  const std::string& law = choice(mat, "stress_law");
+  law_.law = law == "neo_hookean" ? StressLaw::neo_hookean : law == "j2" ? StressLaw::j2 : StressLaw::linear_elastic;
+  law_.elastic = classical::elastic_from_bulk_shear(mat.bulk_modulus, mat.shear_modulus);
+  law_.j2 = {parameter(mat, "yield_stress"), parameter(mat, "hardening_modulus")};
+  law_.dimension = dim;
+  law_.plane = in.dims.plane;
+  if (law_.law == StressLaw::j2 && !(law_.j2.yield_stress > 0))
+    throw Error("material '" + mat.name + "': stress_law j2 needs a positive yield_stress [Pa]");
+  tolerance_ = parameter(mat, "shape_tolerance");
+
+  // The bond-based micromodulus of the same bulk modulus with omega = 1 (18k/(pi delta^4)
+  // in 3-D): the scale of the stabilisation and of the short-range contact, as the LPS.
+  const double c = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, in.dims);
+  const double Gs = parameter(mat, "stabilization");
+  G_ = correspondence::stabilization_modulus(Gs, c, in.dims.horizon);
+  // Stable time step (Silling-Askari bound on the shared spring): the bond-based spring of
+  // the same bulk modulus, stiffened by the stabilisation, which adds at most G_s times it
+  // on a bond (omega |xi|/delta <= 1 for the influence functions offered).
+  const double spring =
+      0.5 * (1.0 + Gs) * equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, mat.influence, in.dims);
+  double s0 = std::numeric_limits<double>::infinity();
+  if (mat.damage.enabled)
+    s0 = mat.damage.critical_stretch
+             ? *mat.damage.critical_stretch
+             : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, in.dims);
+  particles_ = in.particles;
+  for (uint32_t i : particles_) {
+    M.spring[i] = spring;
+    M.contact_micromodulus[i] = c;
+    M.critical_stretch[i] = s0;
+    M.alpha[i] = mat.damage.enabled ? mat.damage.alpha : 0.0;
+  }
+  // Forces reach two horizons (f_i needs F_j of every neighbour j): the tangent probes
+  // columns that far apart.
+  M.state_based = true;
+
+  const std::size_t n = particles_.size();
+  committed_.assign(n, History{});
+  trial_.assign(n, History{});
+  work_.assign(n, 0.0);
+  von_mises_.assign(n, 0.0);
+  singular_.assign(n, 0);
+}
+
+void Correspondence::force_state(ForcePass& pass) {
+  const System& s = pass.system;
+  const Bonds& B = s.bonds;
+  const std::vector<Vec3>& X = s.particles.X;
+  const Point4* y = pass.y;
+  Vec3* T = pass.T;
+  const int dim = law_.dimension;
+  const std::size_t n = particles_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    const Point4 yi = y[i];
+    auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
+    // K_i and F_i over the acting bonds (seed 003 eq. 17, 134).
+    NonlocalGradient g;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      g.add(X[j] - X[i], deformed(j), B.weight[k] * B.volume[k]);
+    }
+    Mat3 Kinv, F;
+    const bool ok = g.finish(dim, tolerance_, Kinv, F);
+    singular_[l] = ok ? 0 : 1;
+    Mat3 A = Mat3::Zero();
+    double W = 0;
+    if (ok) {
+      const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l]);
+      if (r.ok) {
+        A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
+        W = r.W;
+      }
+      von_mises_[l] = correspondence::von_mises(r.sigma);
+    } else {
+      trial_[l] = committed_[l];
+      work_[l] = 0;
+      von_mises_[l] = 0;
+    }
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k] || !ok) {
+        T[k] = {};  // a broken bond, or a particle that carries no stress (contact only)
+        continue;
+      }
+      const uint32_t j = B.nbr[k];
+      const Vec3 xi = X[j] - X[i], Y = deformed(j);
+      const double omega = B.weight[k];
+      T[k] = correspondence::bond_force_state(A, F, G_, omega, xi, Y);
+      if (pass.energy && G_ != 0) W += correspondence::bond_stabilization_energy(F, G_, omega * B.volume[k], xi, Y);
+    }
+    if (pass.energy) pass.energy[i] = W;
+  }
+}
+
+void Correspondence::commit(System& s) {
+  for (std::size_t l = 0; l < particles_.size(); ++l) {
+    committed_[l] = trial_[l];
+    if (work_[l] != 0) s.dissipated_at[particles_[l]] += work_[l] * s.particles.volume[particles_[l]];
+    work_[l] = 0;  // a second commit without a force pass dissipates nothing more
+  }
+}
+
+// One field per name for every correspondence material of the run (the run keeps the
+// first model's fields of a name, so the first fills them all).
+void Correspondence::fields(const System& s, std::vector<ModelField>& out) const {
+  const std::size_t n = s.particles.size();
+  ModelField vm{"von_mises_stress", std::vector<double>(n, 0.0)};
+  ModelField ep{"equivalent_plastic_strain", std::vector<double>(n, 0.0)};
+  ModelField sg{"singular_shape_tensor", std::vector<double>(n, 0.0)};
+  for (const auto& model : s.models) {
+    const auto* c = dynamic_cast<const Correspondence*>(model.get());
+    if (!c) continue;
+    for (std::size_t l = 0; l < c->particles_.size(); ++l) {
+      const uint32_t i = c->particles_[l];
+      vm.values[i] = c->von_mises_[l];
+      ep.values[i] = c->committed_[l].plastic.alpha;
+      sg.values[i] = c->singular_[l];
+    }
+  }
+  out.push_back(std::move(vm));
+  out.push_back(std::move(ep));
+  out.push_back(std::move(sg));
+}
+
+}  // namespace
+
+ModelEntry correspondence_model() {
+  return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Correspondence>()); }};
+}
+
+}  // namespace horizon

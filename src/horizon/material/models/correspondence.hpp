@@ -1,0 +1,119 @@
+#pragma once
+// The correspondence material model (Silling et al. 2007, sec. 18; seed 003 digest sec.
+// 7.6 and 9) with classical stress laws and zero-energy-mode control. docs/models/
+// correspondence.md has the equations, the deck keys and the verification.
+//
+// Per particle i, over its acting bonds j (seed 003 eq. 17, 134, 142):
+//   K_i = sum_j omega V_j xi (x) xi,   F_i = (sum_j omega V_j Y (x) xi) K_i^-1,
+//   P_i = the first Piola-Kirchhoff stress of the classical law at F_i (classical/
+//         stress_laws.hpp: linear_elastic, neo_hookean, j2),
+//   T_ij = omega P_i K_i^-1 xi  +  G omega (Y_ij - F_i xi)                          (*)
+// and the force density f_i = sum_j (T_ij - T_ji) V_j (seed 003 eq. 33, digest sec. 9),
+// summed by the general force pass (solver/forces_general.hpp).
+//
+// The second term of (*) is the stabilisation of Silling 2017 ("Stability of peridynamic
+// correspondence material models and their particle discretizations", CMAME 322, 42-57):
+// a penalty on the nonuniform part z = Y - F xi of the deformation state, which F cannot
+// see (sum_j omega V_j z (x) xi = 0 by the definition of F), acting like a bond-based
+// spring on z. It is the Frechet derivative of W_s = (G/2) sum_j omega V_j |z|^2 (exactly:
+// the term from the dependence of F on Y vanishes because sum omega V z (x) xi = 0), so an
+// elastic law stays elastic, and it keeps angular momentum (sum_j Y x z omega V_j is the
+// axial vector of F K F^T - F K F^T = 0). The modulus is G = G_s c / delta, with c the
+// micromodulus of the bond-based material of the same bulk modulus (18 k/(pi delta^4) in
+// 3-D; material/constants.hpp equivalent_micromodulus with omega = 1) and G_s the deck's
+// `stabilization` (0: off). Dividing by delta makes T [N/m^6] with a dimensionless
+// omega; with omega = 1 a bond of length delta then carries G_s times the bond-based force
+// c s of the same non-affine stretch s = |z|/delta. (The normalisation of G in the paper
+// could not be checked against its text here; this one is stated and tested on its own.)
+//
+// A particle whose shape tensor is singular or ill-conditioned (reciprocal condition
+// number under `shape_tolerance`, material/nonlocal_gradient.hpp) writes T = 0 on all its
+// bonds: it carries no stress and meets its neighbours by contact only (seed 000 digest
+// sec. 6.1). A particle whose F has det F <= 0 (inverted) carries no stress either, but
+// keeps the stabilisation, which pushes it back.
+#include <Eigen/Dense>
+
+#include "horizon/core/vec3.hpp"
+#include "horizon/deck/config.hpp"
+#include "horizon/material/classical/stress_laws.hpp"
+#include "horizon/material/model.hpp"
+
+namespace horizon {
+
+ModelEntry correspondence_model();
+
+namespace correspondence {
+
+using Mat3 = Eigen::Matrix3d;
+
+enum class StressLaw { linear_elastic, neo_hookean, j2 };
+
+struct LawSettings {
+  StressLaw law = StressLaw::linear_elastic;
+  classical::Elastic elastic;
+  classical::J2Params j2;
+  int dimension = 3;
+  PlaneMode plane = PlaneMode::none;  // 2-D: stress or strain
+};
+
+// Per-particle history (the trial copy is written by the force pass, the committed one
+// read; Model::commit swaps them).
+struct History {
+  classical::J2State plastic;
+  double lambda3 = 1;  // plane stress: the out-of-plane stretch of the last evaluation
+};
+
+// The classical law at F (from NonlocalGradient::finish: F(2,2) = 1 in 2-D) from the
+// committed history; the trial history and the plastic work of the step come back.
+inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, const History& committed,
+                                         History& trial, double& plastic_work) {
+  trial = committed;
+  plastic_work = 0;
+  auto law = [&](const Mat3& F3) -> classical::LawResult {
+    switch (s.law) {
+      case StressLaw::linear_elastic: return classical::linear_elastic(s.elastic, F3);
+      case StressLaw::neo_hookean: return classical::neo_hookean(s.elastic, F3);
+      case StressLaw::j2:
+        return classical::j2_plasticity(s.elastic, s.j2, committed.plastic, F3, trial.plastic, plastic_work);
+    }
+    return {};
+  };
+  if (s.dimension == 2 && s.plane == PlaneMode::stress) {
+    double l3 = committed.lambda3;
+    const classical::LawResult r = classical::plane_stress(F, s.elastic, l3, law);
+    trial.lambda3 = l3;
+    return r;
+  }
+  return law(F);
+}
+
+inline Eigen::Vector3d to_eigen(const Vec3& a) { return {a.x, a.y, a.z}; }
+inline Vec3 to_vec3(const Eigen::Vector3d& a) { return {a[0], a[1], a[2]}; }
+
+// The stabilisation modulus G = G_s c / delta of (*).
+inline double stabilization_modulus(double coefficient, double micromodulus, double horizon) {
+  return coefficient * micromodulus / horizon;
+}
+
+// T_ij of (*): A = P K^-1 (zero for a particle that carries no stress), F the nonlocal
+// deformation gradient, G the stabilisation modulus.
+inline Vec3 bond_force_state(const Mat3& A, const Mat3& F, double G, double omega, const Vec3& xi, const Vec3& Y) {
+  const Eigen::Vector3d x = to_eigen(xi);
+  const Eigen::Vector3d t = omega * (A * x + G * (to_eigen(Y) - F * x));
+  return to_vec3(t);
+}
+
+// The stabilisation energy of one bond, (G/2) omega V_j |Y - F xi|^2 [J/m^3].
+inline double bond_stabilization_energy(const Mat3& F, double G, double omega_volume, const Vec3& xi, const Vec3& Y) {
+  const Eigen::Vector3d z = to_eigen(Y) - F * to_eigen(xi);
+  return 0.5 * G * omega_volume * z.squaredNorm();
+}
+
+// Von Mises equivalent of a Cauchy stress.
+inline double von_mises(const Mat3& s) {
+  const Mat3 dev = s - (s.trace() / 3.0) * Mat3::Identity();
+  return std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+}
+
+}  // namespace correspondence
+}  // namespace horizon

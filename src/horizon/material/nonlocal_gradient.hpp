@@ -1,0 +1,84 @@
+#pragma once
+// The shape tensor and the nonlocal deformation gradient of one particle (Silling et al.
+// 2007, seed 003 eq. 17 and 134; discrete form of digest sec. 9):
+//   K_i = sum_j omega_ij V_j xi_ij (x) xi_ij,   F_i = (sum_j omega_ij V_j Y_ij (x) xi_ij) K_i^-1
+// over the bonds that act. F_i equals F exactly for any homogeneous deformation
+// Y = F xi (digest sec. 13 check 4), whatever the family looks like. Shared by the
+// correspondence model (material/models/correspondence.hpp) and the output stress field
+// (material/stress_field.hpp).
+//
+// In d < 3 dimensions only the first d axes are used: K_i is d x d (it is singular out
+// of plane), K_i^-1 is returned in the top-left d x d block of a 3 x 3 matrix with zeros
+// elsewhere, and F_i gets 1 on the unused diagonal entries (the plane-stress thickness
+// stretch is the stress law's business).
+//
+// A shape tensor that is singular or ill-conditioned (fewer than d intact bonds that
+// span the d axes, e.g. after damage) is refused: its smallest eigenvalue must exceed
+// `tolerance` times its largest. The particle then carries no stress and interacts by
+// contact only (seed 000 digest sec. 6.1: "treat such a particle as fully failed").
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "horizon/core/vec3.hpp"
+
+namespace horizon {
+
+class NonlocalGradient {
+ public:
+  using Mat3 = Eigen::Matrix3d;
+
+  // One acting bond: reference bond xi, deformed bond Y, weight omega V_j.
+  void add(const Vec3& xi, const Vec3& Y, double wv) {
+    const Eigen::Vector3d a(xi.x, xi.y, xi.z), y(Y.x, Y.y, Y.z);
+    K_.noalias() += wv * a * a.transpose();
+    N_.noalias() += wv * y * a.transpose();
+  }
+
+  const Mat3& shape_tensor() const { return K_; }
+
+  // The reciprocal condition number of the d x d shape tensor (smallest over largest
+  // eigenvalue; 0 when empty).
+  double reciprocal_condition(int d) const {
+    if (d == 3) {
+      // Closed-form eigenvalues of the symmetric 3 x 3 (accurate enough for a ratio that
+      // is compared with a tolerance far above round-off).
+      Eigen::SelfAdjointEigenSolver<Mat3> es;
+      es.computeDirect(K_, Eigen::EigenvaluesOnly);
+      const Eigen::Vector3d ev = es.eigenvalues();  // ascending
+      return ev[2] > 0 ? ev[0] / ev[2] : 0.0;
+    }
+    if (d == 2) {
+      const double a = K_(0, 0), b = K_(1, 1), c = K_(0, 1);
+      const double mean = 0.5 * (a + b), r = std::hypot(0.5 * (a - b), c);
+      const double hi = mean + r, lo = mean - r;
+      return hi > 0 ? lo / hi : 0.0;
+    }
+    return K_(0, 0) > 0 ? 1.0 : 0.0;
+  }
+
+  // K^-1 and F as described above; false (Kinv = 0, F = I) when the shape tensor is
+  // refused.
+  bool finish(int d, double tolerance, Mat3& Kinv, Mat3& F) const {
+    Kinv.setZero();
+    F.setIdentity();
+    if (!(reciprocal_condition(d) > tolerance)) return false;
+    if (d == 3) {
+      Kinv = K_.inverse();
+      F = N_ * Kinv;
+    } else if (d == 2) {
+      const Eigen::Matrix2d ki = K_.topLeftCorner<2, 2>().inverse();
+      Kinv.topLeftCorner<2, 2>() = ki;
+      F.topLeftCorner<2, 2>() = N_.topLeftCorner<2, 2>() * ki;
+    } else {
+      Kinv(0, 0) = 1.0 / K_(0, 0);
+      F(0, 0) = N_(0, 0) * Kinv(0, 0);
+    }
+    return true;
+  }
+
+ private:
+  Mat3 K_ = Mat3::Zero();
+  Mat3 N_ = Mat3::Zero();
+};
+
+}  // namespace horizon
