@@ -11,7 +11,7 @@
 #
 # Installs LAMMPS (Debian packages lammps and lammps-examples) when it is missing.
 # bench/lammps/ves_eps_checks.py runs the control cases that explain the differences;
-# docs/benchmarks_ves_eps.md records the results and how to read them.
+# docs/benchmarks.md ("the viscoelastic and elastic-plastic examples") records the results and how to read them.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Control cases that explain where Horizon and LAMMPS differ on in.peri.ves and
-in.peri.eps (docs/benchmarks_ves_eps.md). One thread, one run of each case.
+in.peri.eps (docs/benchmarks.md ("the viscoelastic and elastic-plastic examples")). One thread, one run of each case.
 
 1. `limits`: LAMMPS's example deck with the model reduced to the linear peridynamic solid
    (LPS) in three ways: peri/lps itself; peri/ves with lambda_i = 0 (no viscous part);
