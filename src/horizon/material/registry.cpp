@@ -2,9 +2,11 @@
 // model"). The deck accepts these names after `model:`; docs/models.md has a page for each.
 #include "horizon/material/model.hpp"
 #include "horizon/material/models/correspondence.hpp"
+#include "horizon/material/models/elastic_plastic.hpp"
 #include "horizon/material/models/lps.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/material/models/pmb.hpp"
+#include "horizon/material/models/viscoelastic.hpp"
 
 namespace horizon {
 
@@ -13,6 +15,8 @@ const std::vector<ModelEntry>& model_registry() {
       pmb_model(),
       lps_model(),
       nonlinear_solid_model(),
+      elastic_plastic_model(),
+      viscoelastic_model(),
       correspondence_model(),
   };
   return registry;

@@ -1,0 +1,221 @@
+#include "horizon/material/models/viscoelastic.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "horizon/core/error.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+namespace {
+
+const ModelTraits& traits() {
+  static const ModelTraits t = [] {
+    ModelTraits m;
+    m.name = "viscoelastic";
+    m.summary = "LPS with a standard linear solid on the deviatoric extension, ordinary state-based "
+                "(Mitchell, SAND2011-8064)";
+    m.min_dimension = 2;
+    m.parameters = {
+        {"lambda_1", "weight of Maxwell branch 1 in the deviatoric response (lambda_inf = 1 - sum lambda_b)",
+         ParameterSpec::Range::fraction, std::nullopt},
+        {"tau_1", "decay time of Maxwell branch 1 [s]", ParameterSpec::Range::positive, std::nullopt},
+        {"lambda_2", "weight of Maxwell branch 2 (0: none)", ParameterSpec::Range::fraction, 0.0},
+        {"tau_2", "decay time of Maxwell branch 2 [s]", ParameterSpec::Range::non_negative, 0.0},
+        {"lambda_3", "weight of Maxwell branch 3 (0: none)", ParameterSpec::Range::fraction, 0.0},
+        {"tau_3", "decay time of Maxwell branch 3 [s]", ParameterSpec::Range::non_negative, 0.0},
+    };
+    return m;
+  }();
+  return t;
+}
+
+class Viscoelastic final : public Model {
+ public:
+  std::unique_ptr<Model> clone() const override { return std::make_unique<Viscoelastic>(*this); }
+  const ModelTraits& traits() const override { return horizon::traits(); }
+  void setup(const ModelSetup& in) override;
+  void force_state(ForcePass& pass) override;
+  void commit(System& s) override;
+  void fields(const System& s, std::vector<ModelField>& out) const override {
+    (void)s;
+    out.push_back({"viscous_dissipation", dissipated_});  // cumulative, per unit volume [J/m^3]
+  }
+
+ private:
+  void size_bonds(std::size_t nb) {
+    if (ed_.size() == nb) return;
+    ed_.assign(nb, 0);
+    ed_trial_.assign(nb, 0);
+    for (int b = 0; b < branches_; ++b) {
+      back_[b].assign(nb, 0);
+      back_trial_[b].assign(nb, 0);
+    }
+  }
+
+  std::vector<uint32_t> particles_;
+  int dim_ = 3;
+  double bulk_ = 0, mu_ = 0;
+  double lambda_inf_ = 1;
+  int branches_ = 0;
+  std::array<double, kMaxViscousBranches> lambda_{}, tau_{};
+  // Per particle: the dissipation density of the trial step, and its running total.
+  std::vector<double> loss_trial_, dissipated_;
+  // Per directed bond: e^d and the back extension of each branch, committed and trial.
+  std::vector<double> ed_, ed_trial_;
+  std::array<std::vector<double>, kMaxViscousBranches> back_, back_trial_;
+};
+
+void Viscoelastic::setup(const ModelSetup& in) {
+  const MaterialConfig& mat = in.material;
+  System& s = in.system;
+  auto& M = s.model;
+  dim_ = in.config.dimension;
+  if (dim_ == 1) throw Error("material '" + mat.name + "': model viscoelastic needs dimension 2 or 3");
+  particles_ = in.particles;
+  bulk_ = lps_bulk_modulus(mat.bulk_modulus, mat.shear_modulus, in.dims);
+  mu_ = mat.shear_modulus;
+  branches_ = 0;
+  double sum = 0;
+  for (int b = 0; b < kMaxViscousBranches; ++b) {
+    const std::string n = std::to_string(b + 1);
+    const double lambda = Model::parameter(mat, "lambda_" + n), tau = Model::parameter(mat, "tau_" + n);
+    if (lambda == 0) continue;
+    if (!(tau > 0))
+      throw Error("material '" + mat.name + "': Maxwell branch " + n + " has lambda_" + n + " = " +
+                  std::to_string(lambda) + " but no decay time: give tau_" + n + " > 0 [s]");
+    lambda_[branches_] = lambda;
+    tau_[branches_] = tau;
+    ++branches_;
+    sum += lambda;
+  }
+  if (sum > 1 + 1e-12)
+    throw Error("material '" + mat.name + "': the branch weights lambda_1 + lambda_2 + lambda_3 = " +
+                std::to_string(sum) + " exceed 1 (lambda_inf = 1 - their sum is the long-term share of mu)");
+  lambda_inf_ = std::max(0.0, 1.0 - sum);
+  const std::size_t n = s.particles.size();
+  loss_trial_.assign(n, 0);
+  dissipated_.assign(n, 0);
+  ed_.clear();
+  size_bonds(s.bonds.size());
+
+  // As the LPS (material/models/lps.cpp), with the instantaneous moduli (the stiffest
+  // response, for the stable time step).
+  const double spring = 0.5 * equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, mat.influence, in.dims);
+  const double contact_c = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, in.dims);
+  double s0 = std::numeric_limits<double>::infinity();
+  if (mat.damage.enabled)
+    s0 = mat.damage.critical_stretch
+             ? *mat.damage.critical_stretch
+             : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, in.dims);
+  for (uint32_t i : particles_) {
+    if (M.weighted_volume[i] <= 0)
+      throw Error("particle " + std::to_string(i) + " has no neighbours: the horizon is smaller than the spacing");
+    M.spring[i] = spring;
+    M.contact_micromodulus[i] = contact_c;
+    M.critical_stretch[i] = s0;
+    M.alpha[i] = mat.damage.enabled ? mat.damage.alpha : 0.0;
+  }
+  M.state_based = true;
+}
+
+void Viscoelastic::force_state(ForcePass& pass) {
+  const System& s = pass.system;
+  const auto& B = s.bonds;
+  const auto& M = s.model;
+  size_bonds(B.size());
+  const Point4* y = pass.y;
+  Vec3* T = pass.T;
+  double* energy = pass.energy;
+  const KindCoefficients* kc = M.kind.data();
+  const int dim = dim_, nbranch = branches_;
+  std::array<SlsStep, kMaxViscousBranches> step{};
+  for (int b = 0; b < nbranch; ++b) step[b] = sls_step(pass.dt, tau_[b]);
+  const double factor = lps_deviatoric_factor(dim) * mu_;  // alpha m
+  const double linf = lambda_inf_;
+  const std::size_t count = particles_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t q = 0; q < count; ++q) {
+    const uint32_t i = particles_[q];
+    const Point4 pi = y[i];
+    const uint64_t first = B.begin(i), last = B.end(i);
+    const double m = M.weighted_volume[i];
+    const double alpha = factor / m;
+    // theta = (d/m) sum omega |xi| e V_j over the intact bonds (seed 003 eq. 113, digest sec. 9).
+    double sum = 0;
+    for (uint64_t k = first; k < last; ++k) {
+      if (!B.intact[k]) continue;
+      const Point4 pj = y[B.nbr[k]];
+      const double dx = pj.x - pi.x, dy = pj.y - pi.y, dz = pj.z - pi.z;
+      const KindCoefficients& c = kc[B.kind[k]];
+      sum += c.wv * c.length * (std::sqrt(dx * dx + dy * dy + dz * dz) - c.length);
+    }
+    const double theta = dim * sum / m;
+    const double p_coef = dim * bulk_ * theta / m;  // t^i = (d k' theta/m) omega |xi|
+    double loss = 0, stored = 0;
+    for (uint64_t k = first; k < last; ++k) {
+      if (!B.intact[k]) {
+        T[k] = {};
+        ed_trial_[k] = ed_[k];
+        for (int b = 0; b < nbranch; ++b) back_trial_[b][k] = back_[b][k];
+        continue;
+      }
+      const KindCoefficients& c = kc[B.kind[k]];
+      const double omega = B.kinds[B.kind[k]].weight;
+      const Point4 pj = y[B.nbr[k]];
+      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+      const double r = std::sqrt(dot(Y, Y));
+      const double ed = r - c.length - theta * c.length / dim;  // e^d (seed 003 sec. 15; digest sec. 8)
+      const double ed_old = ed_[k];
+      ed_trial_[k] = ed;
+      double dev = linf * ed;  // lambda_inf e^d + sum_b lambda_b (e^d - e^b)
+      double springs = linf * ed * ed;
+      for (int b = 0; b < nbranch; ++b) {
+        const double old_back = back_[b][k];
+        const double back = sls_back_extension(step[b], old_back, ed_old, ed);
+        back_trial_[b][k] = back;
+        const double q_new = ed - back, q_old = ed_old - old_back;
+        dev += lambda_[b] * q_new;
+        springs += lambda_[b] * q_new * q_new;
+        // Trapezoidal work of branch b's force on its dashpot (header), per alpha.
+        loss += lambda_[b] * c.wv * 0.5 * (q_old + q_new) * (back - old_back);
+      }
+      stored += c.wv * springs;
+      const double t = p_coef * omega * c.length + alpha * omega * dev;
+      T[k] = (t / r) * Y;
+    }
+    loss_trial_[i] = alpha * loss;
+    if (energy) energy[i] = 0.5 * bulk_ * theta * theta + 0.5 * alpha * stored;
+  }
+}
+
+void Viscoelastic::commit(System& s) {
+  const auto& B = s.bonds;
+  const auto& P = s.particles;
+  const std::size_t count = particles_.size();
+  const int nbranch = branches_;
+#pragma omp parallel for schedule(static)
+  for (std::size_t q = 0; q < count; ++q) {
+    const uint32_t i = particles_[q];
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      ed_[k] = ed_trial_[k];
+      for (int b = 0; b < nbranch; ++b) back_[b][k] = back_trial_[b][k];
+    }
+    if (loss_trial_[i] != 0) {
+      s.dissipated_at[i] += loss_trial_[i] * P.volume[i];
+      dissipated_[i] += loss_trial_[i];
+    }
+    loss_trial_[i] = 0;
+  }
+}
+
+}  // namespace
+
+ModelEntry viscoelastic_model() {
+  return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Viscoelastic>()); }};
+}
+
+}  // namespace horizon
