@@ -684,5 +684,50 @@ TEST(Correspondence, SameBitsOnOneAndTwoThreads) {
   EXPECT_TRUE(same_bits(one.dissipated_at, two.dissipated_at));
 }
 
+// --- singular shape tensor through the model -----------------------------------------
+
+// A particle left with two intact bonds (both directions broken by hand, as damage would)
+// has a singular shape tensor: it carries no stress (all its T = 0, seed 000 digest sec.
+// 6.1), the field singular_shape_tensor marks it, and every force stays finite.
+TEST(Correspondence, SingularShapeTensorCarriesNoStress) {
+  test::SingleThread one;
+  BlockSpec b;
+  b.n = {7, 7, 7};
+  System s = test::make_block(b, corr_material("neo_hookean", 1.0));
+  const std::size_t c = 3 * 49 + 3 * 7 + 3;  // the centre
+  auto& B = s.bonds;
+  int kept = 0;
+  for (uint64_t k = B.begin(c); k < B.end(c); ++k) {
+    if (kept < 2 && B.length[k] < 1.01 * b.spacing) {
+      ++kept;
+      continue;
+    }
+    B.intact[k] = 0;
+    const std::size_t j = B.nbr[k];
+    for (uint64_t q = B.begin(j); q < B.end(j); ++q)
+      if (B.nbr[q] == c) B.intact[q] = 0;
+  }
+  refresh_damage(s);
+  for (std::size_t i = 0; i < s.particles.size(); ++i) s.particles.u[i] = 0.01 * s.particles.X[i];
+  s.particles.u[c] += Vec3{1e-5, -2e-5, 3e-5};
+  compute_forces(s, true);
+  for (uint64_t k = B.begin(c); k < B.end(c); ++k) EXPECT_EQ(norm(s.model.force_state[k]), 0.0);
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    EXPECT_TRUE(std::isfinite(s.particles.f[i].x) && std::isfinite(s.particles.f[i].y) &&
+                std::isfinite(s.particles.f[i].z) && std::isfinite(s.particles.energy[i]))
+        << i;
+  }
+  std::vector<ModelField> fields;
+  s.models[0].fields(s, fields);
+  bool found = false;
+  for (const auto& f : fields)
+    if (f.name == "singular_shape_tensor") {
+      found = true;
+      EXPECT_EQ(f.values[c], 1.0);
+      EXPECT_EQ(f.values[0], 0.0);
+    }
+  EXPECT_TRUE(found);
+}
+
 }  // namespace
 }  // namespace horizon::verification

@@ -129,7 +129,9 @@ void Correspondence::force_state(ForcePass& pass) {
   Vec3* T = pass.T;
   const int dim = law_.dimension;
   const std::size_t n = particles_.size();
-#pragma omp parallel for schedule(static)
+  // Small bodies on one thread: the finite-difference tangent calls this thousands of
+  // times, and a parallel region's barrier costs more than a few hundred particles.
+#pragma omp parallel for schedule(static) if (n > 512)
   for (std::size_t l = 0; l < n; ++l) {
     const uint32_t i = particles_[l];
     const Point4 yi = y[i];

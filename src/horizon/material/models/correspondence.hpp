@@ -23,8 +23,11 @@
 // 3-D; material/constants.hpp equivalent_micromodulus with omega = 1) and G_s the deck's
 // `stabilization` (0: off). Dividing by delta makes T [N/m^6] with a dimensionless
 // omega; with omega = 1 a bond of length delta then carries G_s times the bond-based force
-// c s of the same non-affine stretch s = |z|/delta. (The normalisation of G in the paper
-// could not be checked against its text here; this one is stated and tested on its own.)
+// c s of the same non-affine stretch s = |z|/delta. The paper's abstract states the idea
+// ("a term is added to the correspondence strain energy density that resists deviations
+// from a uniform deformation ... leaving the stress tensor unchanged"); its normalisation
+// of G could not be checked against its text here, so this one is stated and tested on
+// its own (docs/models/correspondence.md).
 //
 // A particle whose shape tensor is singular or ill-conditioned (reciprocal condition
 // number under `shape_tolerance`, material/nonlocal_gradient.hpp) writes T = 0 on all its
