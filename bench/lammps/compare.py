@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Horizon against LAMMPS PERI on LAMMPS's own examples (examples/peri/in.peri.pmb and
-in.peri.lps), one thread each, in one run of this script (bench/lammps/run.sh calls it).
+in.peri.lps; with `--models ves,eps` in.peri.ves and in.peri.eps), one thread each, in one
+run of this script (bench/lammps/run.sh and run_ves_eps.sh call it).
 
 For each model it runs LAMMPS and Horizon alternately, `--repeat` times each, and prints
 the wall time per step (median of the runs' loop times), directed bond evaluations per
 second, peak resident memory, the mean damage and kinetic energy at steps 250, 500, 750
 and 1000 of both codes with their relative difference, and the speed ratio; the last
-line is `pmb_speedup=X lps_speedup=Y`.
+line is `pmb_speedup=X lps_speedup=Y` (`ves_speedup=X eps_speedup=Y` for those models).
+`--lammps-only` runs and reports LAMMPS alone (for a model Horizon does not have yet).
 
 LAMMPS's deck is copied unchanged except for its output: `thermo 250` with the mean of
 `compute damage/atom` and `compute ke`. LAMMPS (units si, atom_style peri, where the mass
@@ -28,7 +30,7 @@ import tempfile
 import time
 
 VOLUME = 1.25e-10  # m^3, `set group all volume 1.25e-10`
-STEPS = (250, 500, 750, 1000)
+STEPS = (250, 500, 750, 1000)  # the default of --steps
 
 
 def run_measured(cmd, cwd, env=None):
@@ -96,6 +98,27 @@ def parse_horizon(outdir):
     return summary["loop_time_s"], summary["steps"], summary["bonds"], rows
 
 
+def report_lammps_only(model, deck, lmp_cmd, work, env, repeat, steps):
+    times, cpu = [], []
+    for r in range(repeat):
+        log, _ = run_measured(lmp_cmd, work, env)
+        loop, nsteps, bonds, rows, loop_cpu = parse_lammps(log)
+        times.append(loop / nsteps)
+        cpu.append(loop_cpu / nsteps)
+        print(f"# {model} run {r + 1}: LAMMPS {1e3 * times[-1]:.3f} ms/step", flush=True)
+    mem = peak_rss(lmp_cmd, work, env)
+    lt = statistics.median(times)
+    print(f"\n== {model.upper()}: {os.path.basename(deck)} (LAMMPS alone), 1 thread, median of {repeat}")
+    print(f"{'time per step [ms]':24s}{1e3 * lt:16.3f}   (runs: {', '.join(f'{1e3 * t:.3f}' for t in times)})")
+    print(f"{'CPU time per step [ms]':24s}{1e3 * statistics.median(cpu):16.3f}")
+    print(f"{'directed bonds':24s}{bonds:16d}")
+    print(f"{'bond evaluations/s':24s}{bonds / lt:16.4g}")
+    print(f"{'peak memory [MiB]':24s}{mem / 2**20:16.1f}")
+    print(f"{'step':>6s}{'KE LAMMPS [J]':>16s}{'damage LAMMPS':>15s}")
+    for st in steps:
+        print(f"{st:6d}{rows[st][0]:16.6e}{rows[st][1]:15.6f}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--horizon", required=True, help="the horizon executable")
@@ -104,7 +127,10 @@ def main():
     ap.add_argument("--decks", default=os.path.dirname(os.path.abspath(__file__)))
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--models", default="pmb,lps")
+    ap.add_argument("--steps", default=",".join(map(str, STEPS)), help="steps to report (multiples of 250)")
+    ap.add_argument("--lammps-only", action="store_true", help="run and report LAMMPS alone")
     args = ap.parse_args()
+    steps = [int(x) for x in args.steps.split(",")]
 
     work = tempfile.mkdtemp(prefix="horizon_vs_lammps_")
     env = dict(os.environ, OMP_NUM_THREADS="1")
@@ -117,6 +143,9 @@ def main():
         hz_out = os.path.join(work, f"horizon_{model}")
         hz_cmd = [args.horizon, "run", hdeck, "--threads", "1", "--quiet", "--output", hz_out]
         l_times, h_times, l_cpu, h_cpu = [], [], [], []
+        if args.lammps_only:
+            report_lammps_only(model, deck, lmp_cmd, work, env, args.repeat, steps)
+            continue
         for r in range(args.repeat):
             log, _ = run_measured(lmp_cmd, work, env)
             l_loop, l_steps, l_bonds, l_rows, l_loop_cpu = parse_lammps(log)
@@ -144,7 +173,7 @@ def main():
         print(f"{'step':>6s}{'KE LAMMPS [J]':>16s}{'KE Horizon [J]':>16s}{'diff':>9s}"
               f"{'damage LAMMPS':>15s}{'damage Horizon':>16s}{'diff':>9s}")
         worst = 0.0
-        for st in STEPS:
+        for st in steps:
             lk, ld = l_rows[st]
             hk, hd = h_rows[st]
             dk, dd = (hk - lk) / lk, (hd - ld) / ld
@@ -155,7 +184,8 @@ def main():
               f"(per-run ratios {', '.join(f'{a / b:.2f}' for a, b in zip(l_times, h_times))}); "
               f"in CPU time {lc / hc:.2f}")
     shutil.rmtree(work, ignore_errors=True)
-    print(" ".join(f"{m}_speedup={speedups[m]:.2f}" for m in speedups))
+    if speedups:
+        print(" ".join(f"{m}_speedup={speedups[m]:.2f}" for m in speedups))
 
 
 if __name__ == "__main__":
