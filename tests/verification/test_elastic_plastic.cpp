@@ -33,11 +33,12 @@ struct UniaxialPath {
   double unload_slope = 0, permanent = 0, elastic_slope = 0;
 };
 
-UniaxialPath uniaxial(double hardening, double r, int increments) {
+UniaxialPath uniaxial(double hardening, double r, int increments, InfluenceKind omega = InfluenceKind::constant) {
   test::SingleThread one;
-  MaterialPoint mp(model_material("elastic_plastic", kE, kNu, 7850,
-                                  {{"yield_stress", kYield}, {"hardening_modulus", hardening}}),
-                   3, PlaneMode::none, r);
+  MaterialConfig mat =
+      model_material("elastic_plastic", kE, kNu, 7850, {{"yield_stress", kYield}, {"hardening_modulus", hardening}});
+  mat.influence = omega;
+  MaterialPoint mp(mat, 3, PlaneMode::none, r);
   const double ey = kYield / kE, emax = 4 * ey, de = emax / increments;
   double lateral = 0, t = 0;
   UniaxialPath out;
@@ -140,6 +141,22 @@ TEST(ElasticPlastic, UniaxialStressLinearHardeningSlopeAndPermanentStrain) {
   EXPECT_NEAR(s_yield / kYield, 1.0, 0.03);
   EXPECT_NEAR(p.unload_slope / kE, 1.0, 0.03);
   EXPECT_NEAR(p.permanent / permanent_j2, 1.0, 0.05);
+}
+
+// The yield value holds for any influence function (the 1/omega-weighted norm, header):
+// the plateau with omega = 1 - r/delta and omega = delta/r.
+TEST(ElasticPlastic, UniaxialYieldWithOtherInfluenceFunctions) {
+  std::string text = "elastic-plastic, uniaxial stress, perfect plasticity, plateau at 4 eps_y: ";
+  double worst = 0;
+  for (const auto& [omega, name] : {std::pair{InfluenceKind::linear, "linear"}, std::pair{InfluenceKind::inverse, "inverse"}}) {
+    const UniaxialPath p = uniaxial(0.0, 3.0, 8, omega);
+    const double ratio = p.stress.back() / kYield;
+    worst = std::max(worst, std::abs(ratio - 1));
+    text += fmt::format("{} {:.2f} MPa ({:+.2f} %, elastic slope {:+.2f} %); ", name,
+                        p.stress.back() / 1e6, 100 * (ratio - 1), 100 * (p.elastic_slope / kE - 1));
+    EXPECT_NEAR(ratio, 1.0, 0.03) << name;
+  }
+  report("ep_yield_influence", worst, text);
 }
 
 // Plane strain: the 2-D calibration is in-plane pure shear, eps = diag(g, -g): the shear

@@ -95,6 +95,45 @@ TEST(Viscoelastic, StressRelaxationFollowsTheStandardLinearSolid) {
   }
 }
 
+// Isotropic expansion eps_xx = eps_yy (= eps_zz in 3-D) = 1e-4, ramped and held as above:
+// the mean stress of the collapsed force state. 3-D: the dilatation is elastic, p = 3 k eps
+// at every time. Plane strain: the 3-D model with eps_33 = 0, whose in-plane mean stress
+// is [k + (mu/3) g(t)] 2 eps with g the relaxation function of the ramp (header): the
+// lattice does not enter (theta is exact under isotropic expansion), so the check is tight.
+TEST(Viscoelastic, DilatationIsElasticIn3dAndRelaxesItsShearPartInPlaneStrain) {
+  test::SingleThread one;
+  const double mu = kE / (2 * (1 + kNu)), K = kE / (3 * (1 - 2 * kNu)), e0 = 1e-4, tr = 0.1 * kTau1;
+  auto g = [&](double t) {
+    return kLinf + kL1 * (kTau1 / tr) * std::expm1(tr / kTau1) * std::exp(-t / kTau1) +
+           kL2 * (kTau2 / tr) * std::expm1(tr / kTau2) * std::exp(-t / kTau2);
+  };
+  for (int dim : {3, 2}) {
+    MaterialPoint mp(material(), dim, dim == 2 ? PlaneMode::strain : PlaneMode::none, 3.0);
+    auto mean_stress = [&](double e, double t) {
+      Strain3 eps{};
+      for (int a = 0; a < dim; ++a) eps[a][a] = e;
+      const Eigen::Matrix3d s = mp.stress(eps, t);
+      mp.commit(t);
+      return (dim == 3 ? s.trace() : s(0, 0) + s(1, 1)) / dim;
+    };
+    double t = 0;
+    for (int n = 1; n <= 5; ++n) mean_stress(e0 * n / 5, t = tr * n / 5);
+    double worst = 0;
+    std::string text;
+    for (double target : {0.5 * kTau1, 2 * kTau1, 2 * kTau2}) {
+      double p = 0;
+      while (t < target - 1e-15) p = mean_stress(e0, t = std::min(target, t + 0.25 * kTau1));
+      const double exact = dim == 3 ? 3 * K * e0 : (K + mu / 3 * g(target)) * 2 * e0;
+      worst = std::max(worst, std::abs(p / exact - 1));
+      text += fmt::format("{:.1e} s: {:.5f} MPa ({:.5f}); ", target, p / 1e6, exact / 1e6);
+      EXPECT_NEAR(p / exact, 1.0, 1e-6) << dim << "-D at t = " << target;
+    }
+    report(dim == 3 ? "ves_dilatation_3d" : "ves_dilatation_2d", worst,
+           fmt::format("viscoelastic, {} isotropic expansion, mean stress {}worst {:.1e}",
+                       dim == 3 ? "3-D (elastic)" : "plane strain (k + mu/3 g(t))", text, worst));
+  }
+}
+
 // Creep under a constant shear stress S0 (one branch, lambda_1 = 0.5): the strain follows
 //   g(t) = S0/(2 mu) [1/lambda_inf - (1/lambda_inf - 1) exp(-t lambda_inf/tau)].
 // From three equally spaced samples, tau_c = dt / ln((g2 - g1)/(g3 - g2)), independent of the
@@ -181,6 +220,30 @@ TEST(Viscoelastic, EnergyLedgerClosesWithTheViscousDissipation) {
                      "energy, max |balance error| = {:.2e}", broken.steps,
                      100 * broken.ledger.dissipated / broken.ledger.initial, broken.max_balance_error));
   EXPECT_LT(broken.max_balance_error, 0.01);
+  // Plane strain, where the mu/3 of k' relaxes too (a back dilatation per particle).
+  const std::string plane = R"(dimension: 2
+plane: strain
+thickness: 1.0e-3
+spacing: 1.0e-3
+horizon: 3.0e-3
+materials:
+  p: {model: viscoelastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, lambda_1: 0.5, tau_1: 1.0e-6, lambda_2: 0.2, tau_2: 5.0e-6}
+bodies:
+  - {name: striker, material: p, shape: {box: {min: [0, 0], max: [0.006, 0.004]}}}
+  - {name: bar, material: p, shape: {box: {min: [0.006, 0], max: [0.018, 0.004]}}}
+regions:
+  striker: {box: {min: [0, 0], max: [0.006, 0.004]}}
+initial_conditions:
+  - {region: striker, velocity: [2, 0.3]}
+solver: {type: explicit, end_time: 8.0e-6, safety_factor: 0.5}
+)";
+  const ImpactRun two_d = run_impact_ledger(plane);
+  report("ves_ledger_plane_strain", two_d.max_balance_error,
+         fmt::format("viscoelastic, plane-strain impact (2 m/s, {} steps): dissipated {:.1f} % of the initial energy, "
+                     "max |balance error| = {:.2e}", two_d.steps, 100 * two_d.ledger.dissipated / two_d.ledger.initial,
+                     two_d.max_balance_error));
+  EXPECT_GT(two_d.ledger.dissipated, 0.05 * two_d.ledger.initial);
+  EXPECT_LT(two_d.max_balance_error, 0.01);
 }
 
 // Static: the pseudo-time of the solve (1 s) is long against tau, so the static answer is

@@ -66,9 +66,16 @@ class Viscoelastic final : public Model {
   std::vector<uint32_t> particles_;
   int dim_ = 3;
   double bulk_ = 0, mu_ = 0;
+  // Plane strain: the elastic part k of k' = k + mu/3 and the relaxing part mu/3 (header);
+  // 3-D and plane stress: bulk_elastic_ = k', dilatation_shear_ = 0.
+  double bulk_elastic_ = 0, dilatation_shear_ = 0;
   double lambda_inf_ = 1;
   int branches_ = 0;
   std::array<double, kMaxViscousBranches> lambda_{}, tau_{};
+  // Per particle, plane strain only: theta and the back dilatation of each branch,
+  // committed and trial (the relaxing mu/3 of k', header).
+  std::vector<double> theta_, theta_trial_;
+  std::array<std::vector<double>, kMaxViscousBranches> theta_back_, theta_back_trial_;
   // Per particle: the stored energy density W, committed and trial; the dissipation
   // density of the trial step (material/models/history_ledger.hpp) and its running total.
   std::vector<double> stored_, stored_trial_, loss_trial_, dissipated_;
@@ -88,6 +95,9 @@ void Viscoelastic::setup(const ModelSetup& in) {
   if (dim_ == 1) throw Error("material '" + mat.name + "': model viscoelastic needs dimension 2 or 3");
   particles_ = in.particles;
   bulk_ = lps_bulk_modulus(mat.bulk_modulus, mat.shear_modulus, in.dims);
+  const bool plane_strain = dim_ == 2 && in.config.plane == PlaneMode::strain;
+  bulk_elastic_ = plane_strain ? mat.bulk_modulus : bulk_;
+  dilatation_shear_ = plane_strain ? mat.shear_modulus / 3 : 0.0;
   mu_ = mat.shear_modulus;
   branches_ = 0;
   double sum = 0;
@@ -112,6 +122,13 @@ void Viscoelastic::setup(const ModelSetup& in) {
   stored_trial_.assign(n, 0);
   loss_trial_.assign(n, 0);
   dissipated_.assign(n, 0);
+  const std::size_t nd = dilatation_shear_ != 0 ? n : 0;
+  theta_.assign(nd, 0);
+  theta_trial_.assign(nd, 0);
+  for (int b = 0; b < kMaxViscousBranches; ++b) {
+    theta_back_[b].assign(b < branches_ ? nd : 0, 0);
+    theta_back_trial_[b].assign(b < branches_ ? nd : 0, 0);
+  }
   ed_.clear();
   size_bonds(s.bonds);
 
@@ -167,7 +184,22 @@ void Viscoelastic::force_state(ForcePass& pass) {
       sum += c.wv * c.length * (std::sqrt(dx * dx + dy * dy + dz * dz) - c.length);
     }
     const double theta = dim * sum / m;
-    const double p_coef = dim * bulk_ * theta / m;  // t^i = (d k' theta/m) omega |xi|
+    // t^i = (d/m) omega |xi| p_i, p_i = k' theta; in plane strain
+    // p_i = k theta + (mu/3) [lambda_inf theta + sum_b lambda_b (theta - theta^b_b)] (header).
+    double pressure = bulk_elastic_ * theta, dil_springs = 0;
+    if (dilatation_shear_ != 0) {
+      double relaxing = linf * theta;
+      dil_springs = linf * theta * theta;
+      for (int b = 0; b < nbranch; ++b) {
+        const double back = sls_back_extension(step[b], theta_back_[b][i], theta_[i], theta);
+        theta_back_trial_[b][i] = back;
+        relaxing += lambda_[b] * (theta - back);
+        dil_springs += lambda_[b] * (theta - back) * (theta - back);
+      }
+      theta_trial_[i] = theta;
+      pressure += dilatation_shear_ * relaxing;
+    }
+    const double p_coef = dim * pressure / m;
     double work = 0, booked = 0, stored = 0;
     for (uint64_t k = first; k < last; ++k) {
       const KindCoefficients& c = kc[B.kind[k]];
@@ -214,7 +246,7 @@ void Viscoelastic::force_state(ForcePass& pass) {
       work += 0.5 * (old.force + t) * (e - old.extension) * vj;
       T[k] = (t / r) * Y;
     }
-    const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * stored;
+    const double W = 0.5 * bulk_elastic_ * theta * theta + 0.5 * dilatation_shear_ * dil_springs + 0.5 * alpha * stored;
     stored_trial_[i] = W;
     // The dashpots' work in the step (material/models/history_ledger.hpp).
     loss_trial_[i] = inelastic_loss(work, W - stored_[i], booked);
@@ -237,6 +269,10 @@ void Viscoelastic::commit(System& s) {
       for (int b = 0; b < nbranch; ++b) back_[b][k] = back_trial_[b][k];
     }
     stored_[i] = stored_trial_[i];
+    if (dilatation_shear_ != 0) {
+      theta_[i] = theta_trial_[i];
+      for (int b = 0; b < nbranch; ++b) theta_back_[b][i] = theta_back_trial_[b][i];
+    }
     if (loss_trial_[i] != 0) {
       s.dissipated_at[i] += loss_trial_[i] * P.volume[i];
       dissipated_[i] += loss_trial_[i];

@@ -30,10 +30,18 @@
 // of W; without broken bonds that is exactly the dashpots' work
 // (alpha/2) sum_b lambda_b sum_j omega (q_n + q_n+1) (e^b_n+1 - e^b_n) V_j, q = e^d - e^b.
 //
-// 2-D: the in-plane dilatation stays elastic with k' of the plane mode, computed from the
-// instantaneous mu. That is the 3-D model's assumption carried over; it is exact for
-// isochoric in-plane deformation. Under in-plane dilatation the mu-part of k' (mu/3 in plane
-// strain) would relax in a 3-D standard linear solid; this model keeps it.
+// 2-D [DERIVED]. Plane strain is the 3-D model with eps_33 = 0, exactly: the 3-D deviator
+// has the in-plane part eps_ab - theta/3 delta_ab = e2_ab + (theta/6) delta_ab (e2 the
+// in-plane deviator, theta the in-plane dilatation), so the in-plane stress is
+// sigma_ab = [k theta + (1/3)(2 mu * theta/2)] delta_ab + 2 mu * e2_ab, where 2 mu * is the
+// standard-linear-solid operator: the mu/3 of k' = k + mu/3 relaxes like the deviatoric
+// part. The model writes the dilatation term as (d/m) omega |xi| p with
+//   p = k theta + (mu/3) [lambda_inf theta + sum_b lambda_b (theta - theta^b_b)],
+// theta^b_b a back dilatation per particle and branch, updated like e^b, and adds
+// (mu/6) [lambda_inf theta^2 + sum_b lambda_b (theta - theta^b_b)^2] to W. Plane stress keeps
+// the elastic k' = 9 k mu/(3k + 4 mu) of the instantaneous moduli: its sigma_33 = 0 couples
+// eps_33 to the relaxation in a way that is not of this form, so only isochoric in-plane
+// deformation is exact there.
 #include <cmath>
 
 #include "horizon/material/model.hpp"
