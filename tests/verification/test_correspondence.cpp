@@ -1,7 +1,7 @@
 // The correspondence model (material/models/correspondence.hpp; docs/models/
 // correspondence.md) through the whole chain: deck or block, build_system, the general
 // force pass, the solvers. Each figure is checked against an analytic value with its
-// tolerance stated; docs/verification/models_correspondence.md lists them.
+// tolerance stated; docs/verification.md, "The correspondence model" lists them.
 #include <gtest/gtest.h>
 #include <omp.h>
 

@@ -1,5 +1,5 @@
 // The elastic-plastic solid (material/models/elastic_plastic.hpp; docs/models/elastic_plastic.md;
-// docs/verification/models_eps_ves.md):
+// docs/verification.md, "the elastic-plastic and viscoelastic models"):
 // - uniaxial stress at a material point (the centre of a lattice block with a full family,
 //   homogeneous deformation u = eps (X - X_c) on every particle, the lateral strains solved
 //   so that the lateral stresses of the collapsed force state vanish): yield at sigma_y,

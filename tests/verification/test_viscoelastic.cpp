@@ -1,5 +1,5 @@
 // The viscoelastic solid (material/models/viscoelastic.hpp; docs/models/viscoelastic.md;
-// docs/verification/models_eps_ves.md):
+// docs/verification.md, "the elastic-plastic and viscoelastic models"):
 // - stress relaxation at a material point (the centre of a lattice block with a full family,
 //   homogeneous pure shear eps_xx = -eps_yy = g ramped in t_r and held) against the analytic
 //   standard linear solid with two Maxwell branches, at three times; 3-D and plane strain;
