@@ -1,8 +1,10 @@
 #include "horizon/material/model.hpp"
 
 #include <cstdio>
+#include <limits>
 
 #include "horizon/core/error.hpp"
+#include "horizon/solver/system.hpp"
 
 namespace horizon {
 
@@ -35,6 +37,28 @@ std::vector<std::string> model_names() {
   std::vector<std::string> names;
   for (const auto& e : model_registry()) names.push_back(e.traits.name);
   return names;
+}
+
+void fill_state_based_coefficients(const ModelSetup& in, double spring_factor) {
+  const MaterialConfig& mat = in.material;
+  auto& M = in.system.model;
+  const double spring =
+      0.5 * spring_factor * equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, mat.influence, in.dims);
+  const double contact_c = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, in.dims);
+  double s0 = std::numeric_limits<double>::infinity();
+  if (mat.damage.enabled)
+    s0 = mat.damage.critical_stretch
+             ? *mat.damage.critical_stretch
+             : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, in.dims);
+  for (uint32_t i : in.particles) {
+    if (M.weighted_volume[i] <= 0)
+      throw Error("particle " + std::to_string(i) + " has no neighbours: the horizon is smaller than the spacing");
+    M.spring[i] = spring;
+    M.contact_micromodulus[i] = contact_c;
+    M.critical_stretch[i] = s0;
+    M.alpha[i] = mat.damage.enabled ? mat.damage.alpha : 0.0;
+  }
+  M.state_based = true;
 }
 
 std::string describe_models() {

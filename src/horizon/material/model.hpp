@@ -154,6 +154,15 @@ class Model {
   static const std::string& choice(const MaterialConfig& m, const std::string& key);
 };
 
+// The shared coefficients of a state-based model calibrated like the LPS, for the
+// particles of `in`: the spring of the stable time step (the bond-based equivalent of the
+// same bulk modulus, times spring_factor for models stiffer than that), the contact
+// micromodulus (omega = 1, as LAMMPS peri/lps), the critical stretch (given, or from
+// fracture_energy by the LPS formula of material/constants.hpp) and its compression
+// factor; it refuses a particle without neighbours and marks the run state-based (the
+// tangent probes two horizons out).
+void fill_state_based_coefficients(const ModelSetup& in, double spring_factor = 1.0);
+
 // The registry: one entry per model (material/registry.cpp).
 struct ModelEntry {
   ModelTraits traits;

@@ -72,8 +72,6 @@ class Correspondence final : public Model {
 
 void Correspondence::setup(const ModelSetup& in) {
   const MaterialConfig& mat = in.material;
-  System& s = in.system;
-  auto& M = s.model;
   const int dim = in.config.dimension;
   if (dim < 2) throw Error("material '" + mat.name + "': the correspondence model needs dimension 2 or 3");
 
@@ -95,23 +93,10 @@ void Correspondence::setup(const ModelSetup& in) {
   // Stable time step (Silling-Askari bound on the shared spring): the bond-based spring of
   // the same bulk modulus, stiffened by the stabilisation, which adds at most G_s times it
   // on a bond (omega |xi|/delta <= 1 for the influence functions offered).
-  const double spring =
-      0.5 * (1.0 + Gs) * equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, mat.influence, in.dims);
-  double s0 = std::numeric_limits<double>::infinity();
-  if (mat.damage.enabled)
-    s0 = mat.damage.critical_stretch
-             ? *mat.damage.critical_stretch
-             : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, in.dims);
   particles_ = in.particles;
-  for (uint32_t i : particles_) {
-    M.spring[i] = spring;
-    M.contact_micromodulus[i] = c;
-    M.critical_stretch[i] = s0;
-    M.alpha[i] = mat.damage.enabled ? mat.damage.alpha : 0.0;
-  }
-  // Forces reach two horizons (f_i needs F_j of every neighbour j): the tangent probes
-  // columns that far apart.
-  M.state_based = true;
+  // Forces reach two horizons (f_i needs F_j of every neighbour j): state-based for the
+  // tangent probing.
+  fill_state_based_coefficients(in, 1.0 + Gs);
 
   const std::size_t n = particles_.size();
   committed_.assign(n, History{});

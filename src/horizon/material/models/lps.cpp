@@ -33,28 +33,11 @@ class Lps final : public Model {
     if (dim == 1) throw Error("material '" + mat.name + "': the LPS model needs dimension 2 or 3");
     const double kk = lps_bulk_modulus(mat.bulk_modulus, mat.shear_modulus, in.dims);
     const double alpha_mu = lps_deviatoric_factor(dim) * mat.shear_modulus;
-    const double spring = 0.5 * equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, mat.influence, in.dims);
-    // Contact stiffness from the bond-based micromodulus of the same bulk modulus with
-    // omega = 1 (18k/(pi delta^4) in 3-D), as LAMMPS peri/lps.
-    const double contact_c =
-        equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, in.dims);
-    double s0 = std::numeric_limits<double>::infinity();
-    if (mat.damage.enabled)
-      s0 = mat.damage.critical_stretch
-               ? *mat.damage.critical_stretch
-               : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, in.dims);
+    fill_state_based_coefficients(in);
     for (uint32_t i : in.particles) {
-      const double m = M.weighted_volume[i];
-      if (m <= 0)
-        throw Error("particle " + std::to_string(i) + " has no neighbours: the horizon is smaller than the spacing");
-      M.dilatation_coef[i] = dim * kk / m;
-      M.deviatoric_coef[i] = alpha_mu / m;
-      M.spring[i] = spring;
-      M.contact_micromodulus[i] = contact_c;
-      M.critical_stretch[i] = s0;
-      M.alpha[i] = mat.damage.enabled ? mat.damage.alpha : 0.0;
+      M.dilatation_coef[i] = dim * kk / M.weighted_volume[i];
+      M.deviatoric_coef[i] = alpha_mu / M.weighted_volume[i];
     }
-    M.state_based = true;
   }
 };
 

@@ -90,7 +90,6 @@ class Viscoelastic final : public Model {
 void Viscoelastic::setup(const ModelSetup& in) {
   const MaterialConfig& mat = in.material;
   System& s = in.system;
-  auto& M = s.model;
   dim_ = in.config.dimension;
   if (dim_ == 1) throw Error("material '" + mat.name + "': model viscoelastic needs dimension 2 or 3");
   particles_ = in.particles;
@@ -132,24 +131,8 @@ void Viscoelastic::setup(const ModelSetup& in) {
   ed_.clear();
   size_bonds(s.bonds);
 
-  // As the LPS (material/models/lps.cpp), with the instantaneous moduli (the stiffest
-  // response, for the stable time step).
-  const double spring = 0.5 * equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, mat.influence, in.dims);
-  const double contact_c = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, in.dims);
-  double s0 = std::numeric_limits<double>::infinity();
-  if (mat.damage.enabled)
-    s0 = mat.damage.critical_stretch
-             ? *mat.damage.critical_stretch
-             : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, in.dims);
-  for (uint32_t i : particles_) {
-    if (M.weighted_volume[i] <= 0)
-      throw Error("particle " + std::to_string(i) + " has no neighbours: the horizon is smaller than the spacing");
-    M.spring[i] = spring;
-    M.contact_micromodulus[i] = contact_c;
-    M.critical_stretch[i] = s0;
-    M.alpha[i] = mat.damage.enabled ? mat.damage.alpha : 0.0;
-  }
-  M.state_based = true;
+  // As the LPS (material/models/lps.cpp): spring, contact, critical stretch.
+  fill_state_based_coefficients(in);
 }
 
 void Viscoelastic::force_state(ForcePass& pass) {
