@@ -155,7 +155,7 @@ inline void for_each_lane(uint64_t begin, uint64_t end, F&& f) {
 // Bond-based models: breaking, the smallest stretch, contact and force in one pass.
 // kAfter: a breaking bond still carries its force in this step.
 template <bool kEnergy, bool kAfter>
-RowOut pmb_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
+RowOut pair_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i];
   double fx[8] = {}, fy[8] = {}, fz[8] = {}, en[8] = {}, sm[8];
@@ -434,7 +434,7 @@ HORIZON_AVX2 inline void add_contact(const Ctx& c, const Point4& pi, uint64_t k,
 HORIZON_AVX2 inline double min8(const D8& a) { return std::min(min4(a.v[0]), min4(a.v[1])); }
 
 template <bool kEnergy, bool kAfter>
-HORIZON_AVX2 RowOut pmb_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
+HORIZON_AVX2 RowOut pair_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i];
   const d4 s0i = splat(pi.w);
@@ -698,7 +698,7 @@ HORIZON_AVX512 inline void for_each_oct(uint64_t begin, uint64_t end, F&& f) {
 }
 
 template <bool kEnergy, bool kAfter>
-HORIZON_AVX512 RowOut pmb_row_avx512(const Ctx& c, std::size_t i, uint64_t total) {
+HORIZON_AVX512 RowOut pair_row_avx512(const Ctx& c, std::size_t i, uint64_t total) {
   const Point4 pi = c.pt[i];
   const double Ri = c.R[i];
   const d8 s0i = _mm512_set1_pd(pi.w), zero = _mm512_setzero_pd();
@@ -814,10 +814,10 @@ uint64_t bond_based_pass(System& s) {
   const Ctx c = context(s);
   const std::size_t n = P.size();
   const uint64_t total = s.bonds.size();
-  RowOut (*row)(const Ctx&, std::size_t, uint64_t) = pmb_row_scalar<kEnergy, kAfter>;
+  RowOut (*row)(const Ctx&, std::size_t, uint64_t) = pair_row_scalar<kEnergy, kAfter>;
 #if defined(HORIZON_AVX2_KERNELS)
-  if (use_avx2()) row = pmb_row_avx2<kEnergy, kAfter>;
-  if (use_avx512()) row = pmb_row_avx512<kEnergy, kAfter>;
+  if (use_avx2()) row = pair_row_avx2<kEnergy, kAfter>;
+  if (use_avx512()) row = pair_row_avx512<kEnergy, kAfter>;
 #endif
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
