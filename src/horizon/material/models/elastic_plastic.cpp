@@ -119,11 +119,15 @@ void ElasticPlastic::force_state(ForcePass& pass) {
     const uint64_t first = B.begin(i), last = B.end(i);
     const double m = M.weighted_volume[i];
     const double alpha = factor / m;
-    auto extension = [&](uint64_t k) {
+    // |Y| of each bond of the row, computed once and read by the three sweeps below.
+    thread_local std::vector<double> deformed;
+    deformed.resize(last - first);
+    for (uint64_t k = first; k < last; ++k) {
       const Point4 pj = y[B.nbr[k]];
       const double dx = pj.x - pi.x, dy = pj.y - pi.y, dz = pj.z - pi.z;
-      return std::sqrt(dx * dx + dy * dy + dz * dz) - kc[B.kind[k]].length;
-    };
+      deformed[k - first] = std::sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    auto extension = [&](uint64_t k) { return deformed[k - first] - kc[B.kind[k]].length; };
     // theta = (d/m) sum omega |xi| e V_j over the intact bonds (seed 003 eq. 113, digest sec. 9).
     double sum = 0;
     for (uint64_t k = first; k < last; ++k)
@@ -150,7 +154,7 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       const double vj = bk.volume * bk.fraction;
       const Point4 pj = y[B.nbr[k]];
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-      const double r_len = std::sqrt(dot(Y, Y));
+      const double r_len = deformed[k - first];
       const double e = r_len - c.length;
       const BondLedger& old = ledger_[k];
       BondLedger& now = ledger_trial_[k];
