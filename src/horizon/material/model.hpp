@@ -129,6 +129,15 @@ class Model {
   // system.dissipated_at [J] of its particles.
   virtual void commit(System& system) { (void)system; }
 
+  // The energy commit() would add to the ledger now [J]: what the model dissipated since
+  // the last commit, at the state of the last force pass (a static solver subtracts its
+  // change between re-equilibration rounds, so that the work is not also counted as
+  // released energy).
+  virtual double pending_dissipation(const System& system) const {
+    (void)system;
+    return 0;
+  }
+
   // Hold (true) or release the model's own bond breaking while a solver iterates
   // (the critical-stretch law is held by the solvers themselves).
   virtual void hold_bonds(bool hold) { (void)hold; }

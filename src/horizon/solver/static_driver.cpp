@@ -85,6 +85,12 @@ double current_strain_energy(System& s) {
   compute_forces(s, true);
   return strain_energy(s);
 }
+// What the history models would add to the ledger at a commit now (material/model.hpp).
+double pending_dissipation(const System& s) {
+  double sum = 0;
+  for (const auto& m : s.models) sum += m->pending_dissipation(s);
+  return sum;
+}
 }  // namespace
 
 bool StaticSolver::solve_increment(double lambda, const std::vector<Vec3>& u_before,
@@ -95,7 +101,7 @@ bool StaticSolver::solve_increment(double lambda, const std::vector<Vec3>& u_bef
   last_linear_iterations_ = 0;
   pending_work_ = 0;
   pending_released_ = 0;
-  double U = 0;
+  double U = 0, D = 0;
   std::vector<Vec3> u_prev;
   for (int round = 0;; ++round) {
     if (config_.method == StaticMethod::newton) {
@@ -125,6 +131,7 @@ bool StaticSolver::solve_increment(double lambda, const std::vector<Vec3>& u_bef
       return false;
     }
     const double U_new = current_strain_energy(s_);
+    const double D_new = pending_dissipation(s_);
     if (round == 0) {
       // The loading path of the increment, elastic up to its end: the work of the
       // constraints (trapezoidal in the reactions) and of the applied force densities.
@@ -136,9 +143,12 @@ bool StaticSolver::solve_increment(double lambda, const std::vector<Vec3>& u_bef
       // experiment it becomes kinetic energy and then heat): the ledger's damped energy.
       const double w = dead_load_work(P, P.b, u_prev) + loads_.update_reactions(s_, u_prev);
       pending_work_ += w;
-      pending_released_ += U - U_new + w;
+      // A history model's plastic or viscous work in this re-settling is its own to
+      // dissipate at the commit: not released energy as well.
+      pending_released_ += U - U_new + w - (D_new - D);
     }
     U = U_new;
+    D = D_new;
     if (round == config_.max_break_rounds) return true;  // what is still overstretched breaks at the next load
     // Quasi-static bond breaking: break what the equilibrium overstretches, re-solve.
     u_prev = P.u;

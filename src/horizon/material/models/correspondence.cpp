@@ -57,6 +57,11 @@ class Correspondence final : public Model {
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
   void commit(System& s) override;
+  double pending_dissipation(const System& s) const override {
+    double sum = 0;
+    for (std::size_t l = 0; l < particles_.size(); ++l) sum += work_[l] * s.particles.volume[particles_[l]];
+    return sum;
+  }
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
  private:

@@ -37,6 +37,11 @@ class ElasticPlastic final : public Model {
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
   void commit(System& s) override;
+  double pending_dissipation(const System& s) const override {
+    double sum = 0;
+    for (uint32_t i : particles_) sum += loss_trial_[i] * s.particles.volume[i];
+    return sum;
+  }
   void fields(const System& s, std::vector<ModelField>& out) const override {
     // The equivalent plastic strain, measured like the classical one (header).
     (void)s;
