@@ -38,9 +38,7 @@ class ElasticPlastic final : public Model {
   void force_state(ForcePass& pass) override;
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
-    double sum = 0;
-    for (uint32_t i : particles_) sum += loss_trial_[i] * s.particles.volume[i];
-    return sum;
+    return ledger_.pending_energy(particles_, s.particles.volume);
   }
   void fields(const System& s, std::vector<ModelField>& out) const override {
     // The equivalent plastic strain, measured like the classical one (header).
@@ -54,11 +52,7 @@ class ElasticPlastic final : public Model {
     if (ep_.size() == nb) return;
     ep_.assign(nb, 0);
     ep_trial_.assign(nb, 0);
-    ledger_.assign(nb, BondLedger{});
-    pending_.assign(nb, PendingBooking{});
-    // Bonds broken before the first pass (precracks) were never booked as dissipated.
-    for (std::size_t k = 0; k < nb; ++k) ledger_[k].booked = B.intact[k] ? 0 : 1;
-    ledger_trial_ = ledger_;
+    ledger_.size_bonds(B);
   }
 
   std::vector<uint32_t> particles_;
@@ -68,12 +62,11 @@ class ElasticPlastic final : public Model {
   // Per particle (indexed by particle, only this material's filled): the equivalent
   // plastic strain and the stored energy density W, committed and trial, and the energy
   // density dissipated in the trial step [J/m^3].
-  std::vector<double> eps_p_, eps_p_trial_, stored_, stored_trial_, loss_trial_;
+  std::vector<double> eps_p_, eps_p_trial_;
   // Per directed bond: the plastic deviatoric extension (history), committed and trial,
   // and what the ledger needs of the step (below).
   std::vector<double> ep_, ep_trial_;
-  std::vector<BondLedger> ledger_, ledger_trial_;
-  std::vector<PendingBooking> pending_;  // bonds broken since the commit (history_ledger.hpp)
+  HistoryLedger ledger_;  // the step's energy bookkeeping (history_ledger.hpp)
 };
 
 void ElasticPlastic::setup(const ModelSetup& in) {
@@ -95,9 +88,7 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   const std::size_t n = s.particles.size();
   eps_p_.assign(n, 0);
   eps_p_trial_.assign(n, 0);
-  stored_.assign(n, 0);
-  stored_trial_.assign(n, 0);
-  loss_trial_.assign(n, 0);
+  ledger_.size_particles(n);
   ep_.clear();
   size_bonds(s.bonds);
 
@@ -161,17 +152,10 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
       const double r_len = deformed[k - first];
       const double e = r_len - c.length;
-      const BondLedger& old = ledger_[k];
-      BondLedger& now = ledger_trial_[k];
-      now = old;
-      now.extension = e;
-      if (bond_booked_now(B.intact[k], old.booked)) {
-        booked += pending_booking(pending_[k], T[k], Y, r_len, e, vj);
-        now.booked = 1;
-        inelastic = true;
-      } else if (pending_[k].set) {
-        pending_[k] = PendingBooking{};  // a solver restored the bond (a failed static increment)
-      }
+      const bool booked_now = ledger_.open_bond(k, B.intact[k], T[k], Y, r_len, e, vj, booked);
+      const BondLedger& old = ledger_.bond[k];
+      BondLedger& now = ledger_.bond_trial[k];
+      if (booked_now) inelastic = true;
       if (!B.intact[k]) {
         T[k] = {};
         ep_trial_[k] = ep_[k];
@@ -193,11 +177,11 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       T[k] = (t / r_len) * Y;
     }
     const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;
-    stored_trial_[i] = W;
+    ledger_.stored_trial[i] = W;
     // Dissipated in the step: the trapezoidal work of the step less the change of W, less
     // what the force pass booked for the bonds it broke (header and inelastic_loss). Only
     // steps with plastic flow or a broken bond dissipate; an elastic step books exactly 0.
-    loss_trial_[i] = inelastic ? inelastic_loss(work, W - stored_[i], booked) : 0.0;
+    ledger_.loss_trial[i] = inelastic ? inelastic_loss(work, W - ledger_.stored[i], booked) : 0.0;
     if (energy) energy[i] = W;
   }
 }
@@ -211,13 +195,11 @@ void ElasticPlastic::commit(System& s) {
     const uint32_t i = particles_[q];
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       ep_[k] = ep_trial_[k];
-      ledger_[k] = ledger_trial_[k];
-      pending_[k] = PendingBooking{};
+      ledger_.commit_bond(k);
     }
     eps_p_[i] = eps_p_trial_[i];
-    stored_[i] = stored_trial_[i];
-    if (loss_trial_[i] != 0) s.dissipated_at[i] += loss_trial_[i] * P.volume[i];
-    loss_trial_[i] = 0;
+    const double loss = ledger_.commit_particle(i);
+    if (loss != 0) s.dissipated_at[i] += loss * P.volume[i];
   }
 }
 

@@ -19,8 +19,10 @@
 // through W here.
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/family/bonds.hpp"
 
 namespace horizon {
 
@@ -59,5 +61,66 @@ inline double pending_booking(PendingBooking& p, const Vec3& T_old, const Vec3& 
 
 // D_i from the step's work, the change of W and the booking (all per unit V_i).
 inline double inelastic_loss(double work, double stored_change, double booked) { return work - stored_change - booked; }
+
+// The ledger state of a history model, committed and trial: per directed bond what the
+// step's work needs, per particle the stored energy density W and the trial loss D_i
+// [J/m^3]. The model calls open_bond for each bond of a pass, loss for each particle,
+// and commit_bond / commit_particle at its commit.
+struct HistoryLedger {
+  std::vector<BondLedger> bond, bond_trial;
+  std::vector<PendingBooking> pending;  // bonds broken since the commit
+  std::vector<double> stored, stored_trial, loss_trial;
+
+  void size_particles(std::size_t n) {
+    stored.assign(n, 0);
+    stored_trial.assign(n, 0);
+    loss_trial.assign(n, 0);
+  }
+  // Sizes the bond arrays when the bond count changed; true when it did.
+  bool size_bonds(const Bonds& B) {
+    const std::size_t nb = B.size();
+    if (bond.size() == nb) return false;
+    bond.assign(nb, BondLedger{});
+    pending.assign(nb, PendingBooking{});
+    // Bonds broken before the first pass (precracks) were never booked as dissipated.
+    for (std::size_t k = 0; k < nb; ++k) bond[k].booked = B.intact[k] ? 0 : 1;
+    bond_trial = bond;
+    return true;
+  }
+  // Starts bond k's trial record at extension e; adds to `booked` what the force pass
+  // booked for it if it broke since the commit (T_old: its force state of the previous
+  // pass). Returns true when it did.
+  bool open_bond(uint64_t k, uint8_t intact, const Vec3& T_old, const Vec3& Y, double length, double e,
+                 double volume, double& booked) {
+    const BondLedger& old = bond[k];
+    BondLedger& now = bond_trial[k];
+    now = old;
+    now.extension = e;
+    if (bond_booked_now(intact, old.booked)) {
+      booked += pending_booking(pending[k], T_old, Y, length, e, volume);
+      now.booked = 1;
+      return true;
+    }
+    if (pending[k].set) pending[k] = PendingBooking{};  // a solver restored the bond (a failed static increment)
+    return false;
+  }
+  void commit_bond(uint64_t k) {
+    bond[k] = bond_trial[k];
+    pending[k] = PendingBooking{};
+  }
+  // Makes particle i's trial stored energy the committed one; returns its loss [J/m^3].
+  double commit_particle(std::size_t i) {
+    stored[i] = stored_trial[i];
+    const double loss = loss_trial[i];
+    loss_trial[i] = 0;
+    return loss;
+  }
+  // What commit would add to the ledger [J] (Model::pending_dissipation).
+  double pending_energy(const std::vector<uint32_t>& particles, const std::vector<double>& volume) const {
+    double sum = 0;
+    for (uint32_t i : particles) sum += loss_trial[i] * volume[i];
+    return sum;
+  }
+};
 
 }  // namespace horizon

@@ -42,9 +42,7 @@ class Viscoelastic final : public Model {
   void force_state(ForcePass& pass) override;
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
-    double sum = 0;
-    for (uint32_t i : particles_) sum += loss_trial_[i] * s.particles.volume[i];
-    return sum;
+    return ledger_.pending_energy(particles_, s.particles.volume);
   }
   void fields(const System& s, std::vector<ModelField>& out) const override {
     (void)s;
@@ -61,11 +59,7 @@ class Viscoelastic final : public Model {
       back_[b].assign(nb, 0);
       back_trial_[b].assign(nb, 0);
     }
-    ledger_.assign(nb, BondLedger{});
-    pending_.assign(nb, PendingBooking{});
-    // Bonds broken before the first pass (precracks) were never booked as dissipated.
-    for (std::size_t k = 0; k < nb; ++k) ledger_[k].booked = B.intact[k] ? 0 : 1;
-    ledger_trial_ = ledger_;
+    ledger_.size_bonds(B);
   }
 
   std::vector<uint32_t> particles_;
@@ -83,13 +77,12 @@ class Viscoelastic final : public Model {
   std::array<std::vector<double>, kMaxViscousBranches> theta_back_, theta_back_trial_;
   // Per particle: the stored energy density W, committed and trial; the dissipation
   // density of the trial step (material/models/history_ledger.hpp) and its running total.
-  std::vector<double> stored_, stored_trial_, loss_trial_, dissipated_;
+  std::vector<double> dissipated_;
   // Per directed bond: e^d and the back extension of each branch, committed and trial,
   // and what the ledger needs of the step.
   std::vector<double> ed_, ed_trial_;
   std::array<std::vector<double>, kMaxViscousBranches> back_, back_trial_;
-  std::vector<BondLedger> ledger_, ledger_trial_;
-  std::vector<PendingBooking> pending_;  // bonds broken since the commit (history_ledger.hpp)
+  HistoryLedger ledger_;  // the step's energy bookkeeping (history_ledger.hpp)
 };
 
 void Viscoelastic::setup(const ModelSetup& in) {
@@ -122,9 +115,7 @@ void Viscoelastic::setup(const ModelSetup& in) {
                 std::to_string(sum) + " exceed 1 (lambda_inf = 1 - their sum is the long-term share of mu)");
   lambda_inf_ = std::max(0.0, 1.0 - sum);
   const std::size_t n = s.particles.size();
-  stored_.assign(n, 0);
-  stored_trial_.assign(n, 0);
-  loss_trial_.assign(n, 0);
+  ledger_.size_particles(n);
   dissipated_.assign(n, 0);
   const std::size_t nd = dilatation_shear_ != 0 ? n : 0;
   theta_.assign(nd, 0);
@@ -197,16 +188,9 @@ void Viscoelastic::force_state(ForcePass& pass) {
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
       const double r = std::sqrt(dot(Y, Y));
       const double e = r - c.length;
-      const BondLedger& old = ledger_[k];
-      BondLedger& now = ledger_trial_[k];
-      now = old;
-      now.extension = e;
-      if (bond_booked_now(B.intact[k], old.booked)) {
-        booked += pending_booking(pending_[k], T[k], Y, r, e, vj);
-        now.booked = 1;
-      } else if (pending_[k].set) {
-        pending_[k] = PendingBooking{};  // a solver restored the bond (a failed static increment)
-      }
+      ledger_.open_bond(k, B.intact[k], T[k], Y, r, e, vj, booked);
+      const BondLedger& old = ledger_.bond[k];
+      BondLedger& now = ledger_.bond_trial[k];
       if (!B.intact[k]) {
         T[k] = {};
         ed_trial_[k] = ed_[k];
@@ -235,9 +219,9 @@ void Viscoelastic::force_state(ForcePass& pass) {
       T[k] = (t / r) * Y;
     }
     const double W = 0.5 * bulk_elastic_ * theta * theta + 0.5 * dilatation_shear_ * dil_springs + 0.5 * alpha * stored;
-    stored_trial_[i] = W;
+    ledger_.stored_trial[i] = W;
     // The dashpots' work in the step (material/models/history_ledger.hpp).
-    loss_trial_[i] = inelastic_loss(work, W - stored_[i], booked);
+    ledger_.loss_trial[i] = inelastic_loss(work, W - ledger_.stored[i], booked);
     if (energy) energy[i] = W;
   }
 }
@@ -252,20 +236,18 @@ void Viscoelastic::commit(System& s) {
     const uint32_t i = particles_[q];
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       ed_[k] = ed_trial_[k];
-      ledger_[k] = ledger_trial_[k];
-      pending_[k] = PendingBooking{};
+      ledger_.commit_bond(k);
       for (int b = 0; b < nbranch; ++b) back_[b][k] = back_trial_[b][k];
     }
-    stored_[i] = stored_trial_[i];
     if (dilatation_shear_ != 0) {
       theta_[i] = theta_trial_[i];
       for (int b = 0; b < nbranch; ++b) theta_back_[b][i] = theta_back_trial_[b][i];
     }
-    if (loss_trial_[i] != 0) {
-      s.dissipated_at[i] += loss_trial_[i] * P.volume[i];
-      dissipated_[i] += loss_trial_[i];
+    const double loss = ledger_.commit_particle(i);
+    if (loss != 0) {
+      s.dissipated_at[i] += loss * P.volume[i];
+      dissipated_[i] += loss;
     }
-    loss_trial_[i] = 0;
   }
 }
 
