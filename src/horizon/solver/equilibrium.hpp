@@ -49,7 +49,7 @@ class FixedBonds {
 };
 
 // True when every particle's forces follow the unified bond form of solver/system.hpp
-// (Model::unified: PMB, LPS), for which the analytic tangent exists; false with any other
+// (Model::unified), for which the analytic tangent exists; false with any other
 // model, whose tangent is taken by finite differences.
 bool unified_form(const System& s);
 

@@ -83,7 +83,7 @@ void unified_force_states(System& s, bool energy) {
       const double omega = B.kinds[B.kind[k]].weight;
       const double t = omega * (Pi * kc.length + M.deviatoric_coef[i] * e + M.pair_coef[i] * e * kc.inv_length);
       M.force_state[k] = (t / r) * Y;
-      W += 0.5 * t * e * B.volume[k];  // W_i = (1/2) sum_j t_ij e_ij V_j (exact for the unified form: bond-based and LPS-like coefficients)
+      W += 0.5 * t * e * B.volume[k];  // W_i = (1/2) sum_j t_ij e_ij V_j (exact for the unified form)
     }
     if (energy) P.energy[i] = W;
   }

@@ -7,7 +7,7 @@
 //      as (1/2) (T_ij . M) e V_i V_j from the force state of the last pass, goes to
 //      dissipated_at. With break_after_force the bond still acts in this pass.
 //   2. Force states: each model writes T_ij for the bonds of its particles
-//      (Model::force_state); the unified models (PMB, LPS) through their P/Q/R
+//      (Model::force_state); the unified models through their P/Q/R
 //      coefficients, T_ij = omega (P_i |xi| + Q_i e + R_i e/|xi|) M.
 //   3. Assembly: f_i = sum_j (T_ij - T_ji) V_j over the acting bonds (seed 003 eq. 33,
 //      discrete form of digest sec. 9), V_j the partial-volume-scaled volume of i's

@@ -9,7 +9,7 @@ namespace horizon {
 
 struct LinearSolver::Direct {
   // CHOLMOD chooses: supernodal (dense BLAS blocks) when the factor is dense enough to
-  // pay (3-D LPS), simplicial otherwise (2-D, small bodies), which avoids BLAS threads.
+  // pay (3-D state-based tangents), simplicial otherwise (2-D, small bodies), which avoids BLAS threads.
   Eigen::CholmodDecomposition<SparseMatrix, Eigen::Lower> llt;
   uint64_t pattern = 0;  // checksum of the analysed sparsity pattern
   bool analysed = false;

@@ -46,7 +46,7 @@ SolveReport newton_solve(System& s, const DofMap& d, const NewtonOptions& o, Lin
   Evaluation ev = evaluate(s, d, o.inertia);
   const bool unified = unified_form(s);
   if (!unified && o.linear_solver == LinearSolverKind::matrix_free) {
-    rep.failure = "the matrix-free product needs the analytic tangent of the unified models (pmb, lps), which this run's models lack: use "
+    rep.failure = "the matrix-free product needs the analytic tangent of the unified models (`horizon models`: Model::unified), which this run's models lack: use "
                   "solver.linear_solver cg or cholesky (finite-difference tangent)";
     return rep;
   }

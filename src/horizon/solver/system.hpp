@@ -15,14 +15,13 @@
 
 namespace horizon {
 
-// The unified models (Model::unified(): PMB, LPS) write their scalar force state on bond i->j as
+// The unified models (Model::unified()) write their scalar force state on bond i->j as
 //   t_ij = omega_ij * ( P_i |xi| + Q_i e_ij + R_i e_ij / |xi| ),   e = |Y| - |xi|,
 // and the force density on i is  sum_j (t_ij + t_ji) Y_ij/|Y_ij| V_j  (seed 003 eq. 33
 // with T = t M; digest sec. 9). The bond loop is therefore the same for all of them:
-//   PMB (seed 002 eq. 22): t = c s / 2, i.e. P = Q = 0, R = c/2;
-//   LPS (seed 003 eq. 113 and digest sec. 8): t = (d k' theta/m) omega|xi|
-//        + (alpha mu/m) omega (e - theta|xi|/d), i.e. P = theta (d k'/m - alpha mu/(d m)),
-//        Q = alpha mu/m, R = 0, with theta = (d/m) sum_j omega |xi| e V_j.
+//   a bond-based part R_i (material/models/pmb.cpp: R = c/2, P = Q = 0), and a dilatation
+//   part P_i = theta_i (a_i - b_i/d), Q_i = b_i with a_i = dilatation_coef, b_i =
+//   deviatoric_coef, theta = (d/m) sum_j omega |xi| e V_j (material/models/lps.cpp).
 // Materials differ only in these per-particle coefficients, so bonds between bodies
 // of different materials (or models) need no special case. Runs with other models take
 // the general force pass (solver/forces_general.hpp); the shared arrays below that are
@@ -55,10 +54,10 @@ inline bool family_contact(const KindCoefficients& c, const Vec3& Y, Vec3& f, do
 }
 
 struct ModelCoefficients {
-  std::vector<double> weighted_volume;  // m_i = sum omega |xi|^2 V_j (LPS), from the actual family
-  std::vector<double> dilatation_coef;  // d k'/m_i (LPS) else 0
-  std::vector<double> deviatoric_coef;  // alpha mu/m_i (LPS) else 0 -> Q
-  std::vector<double> pair_coef;        // c/2 (PMB) else 0 -> R
+  std::vector<double> weighted_volume;  // m_i = sum omega |xi|^2 V_j, from the actual family
+  std::vector<double> dilatation_coef;  // a_i: P_i = theta_i (a_i - b_i/d); 0 for bond-based
+  std::vector<double> deviatoric_coef;  // b_i -> Q
+  std::vector<double> pair_coef;        // -> R (bond-based part)
   std::vector<double> theta;            // dilatation
   std::vector<double> P;                // per-step P_i (depends on theta)
   std::vector<double> critical_stretch; // +inf: never breaks

@@ -10,7 +10,7 @@
 //   dP_i = c_i sum_k w_k n . dY,  c_i = a_i d/m_i,  a_i = d k'/m_i - alpha mu/(d m_i),
 // since P_i = a_i theta_i and theta_i = (d/m_i) sum_k omega v L e (seed 003 eq. 113,
 // digest sec. 8-9; docs/models.md sec. 1). dY = du_j - du_i. The dP_j term couples i
-// to the family of each neighbour j: the LPS tangent reaches two horizons (Parks,
+// to the family of each neighbour j: a state-based tangent reaches two horizons (Parks,
 // digest 004 sec. 10.7). Bond-based particles have c_i = 0 and couple within one
 // horizon. The form derives from the energy sum_i W_i V_i, so K is symmetric.
 #include <Eigen/Core>
