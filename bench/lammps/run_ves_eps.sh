@@ -18,22 +18,8 @@ root=$(cd "$here/../.." && pwd)
 build=${1:-$root/build}
 mkdir -p "$build" && build=$(cd "$build" && pwd)
 
-find_examples() {
-  local f
-  f=$(dpkg -L lammps-examples 2>/dev/null | grep '/peri/in\.peri\.ves$' | head -n 1 || true)
-  [ -z "$f" ] && f=$(find /usr/share -path '*examples/peri/in.peri.ves' 2>/dev/null | head -n 1 || true)
-  [ -n "$f" ] && dirname "$f"
-}
-
-if ! command -v lmp >/dev/null 2>&1 || [ -z "$(find_examples)" ]; then
-  echo "installing LAMMPS (Debian packages lammps, lammps-examples)"
-  sudo=""
-  [ "$(id -u)" -ne 0 ] && sudo=sudo
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq lammps lammps-examples >/dev/null
-fi
-examples=$(find_examples)
-[ -n "$examples" ] || { echo "LAMMPS's examples/peri not found" >&2; exit 1; }
+. "$here/lammps_setup.sh"
+lammps_setup in.peri.ves
 
 extra=()
 if [ -n "${LAMMPS_ONLY:-}" ]; then
