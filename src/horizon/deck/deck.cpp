@@ -160,6 +160,16 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
     check_reference(ctx, mat, body.material, materials, "material");
     const Item shape = b.get("shape", "e.g. {box: {min: [..], max: [..]}}");
     body.shape = read_shape(ctx, shape);
+    if (body.shape.has_points()) {
+      if (body.shape.kind() != Shape::Kind::points) {
+        ctx.fail(shape.mark, shape.path + ": a mesh body cannot be combined with other shapes (union, subtract); "
+                                          "give it a body of its own");
+      }
+      if (body.shape.point_measures().empty()) {
+        ctx.fail(shape.mark, shape.path + ": a body's mesh takes its elements (all, or block: name); set: selects "
+                                          "a region and belongs under regions");
+      }
+    }
     check_bounded(ctx, shape, body.shape);
     config.bodies.push_back(std::move(body));
   }

@@ -57,8 +57,19 @@ System build_system(const Config& config) {
     for (std::size_t m = 0; m < config.materials.size(); ++m)
       if (config.materials[m].name == body.material) mat = static_cast<int>(m);
     if (mat < 0) throw Error("body '" + body.name + "' names unknown material '" + body.material + "'");
-    const std::size_t added = fill_shape(s.particles, body.shape, spec, config.materials[mat].density,
-                                         static_cast<int32_t>(b), mat);
+    std::size_t added = 0;
+    if (body.shape.kind() == Shape::Kind::points) {
+      // A meshed body: one particle per element at its centre with its volume (2-D: area
+      // times thickness); geometry/mesh.hpp.
+      const auto& points = body.shape.point_list();
+      const auto& measures = body.shape.point_measures();
+      const double factor = config.dimension == 2 ? config.thickness : 1.0;
+      for (std::size_t p = 0; p < points.size(); ++p)
+        s.particles.add(points[p], measures[p] * factor, config.materials[mat].density, static_cast<int32_t>(b), mat);
+      added = points.size();
+    } else {
+      added = fill_shape(s.particles, body.shape, spec, config.materials[mat].density, static_cast<int32_t>(b), mat);
+    }
     if (added == 0)
       throw Error("body '" + body.name + "' contains no lattice point: its shape is smaller than the spacing " +
                   std::to_string(config.spacing) + " m or lies outside the lattice");
