@@ -182,6 +182,68 @@ TEST(MeshInput, StaticTensionMatchesLattice) {
   EXPECT_LT(std::abs(tet_rel), 0.08);
 }
 
+// A 2-D deck reads triangles and quadrangles in the xy-plane: a 6 x 4 mm rectangle as
+// squares of the spacing gives the lattice's particles with area x thickness; split into
+// triangles, the same total; a curve group selects the elements along an edge.
+TEST(MeshInput, PlaneMeshesOfTrianglesAndQuadrangles) {
+  const auto dir = output_dir("mesh_2d");
+  for (bool triangles : {false, true}) {
+    const std::string path = (dir / (triangles ? "tri.msh" : "quad.msh")).string();
+    {
+      std::ofstream out(path);
+      out.precision(17);
+      out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+      out << "$PhysicalNames\n2\n2 1 \"plate\"\n1 2 \"left\"\n$EndPhysicalNames\n";
+      out << "$Entities\n0 1 1 0\n1 0 0 0 0 0 0 1 2 0\n1 0 0 0 0 0 0 1 1 0\n$EndEntities\n";
+      const int nx = 6, ny = 4;
+      const int nodes = (nx + 1) * (ny + 1);
+      out << "$Nodes\n1 " << nodes << " 1 " << nodes << "\n2 1 0 " << nodes << "\n";
+      for (int i = 1; i <= nodes; ++i) out << i << "\n";
+      for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i) out << i * 1e-3 << " " << j * 1e-3 << " 0\n";
+      auto tag = [&](int i, int j) { return 1 + i + (nx + 1) * j; };
+      const int cells = triangles ? 2 * nx * ny : nx * ny;
+      out << "$EndNodes\n$Elements\n2 " << cells + ny << " 1 " << cells + ny << "\n";
+      out << "2 1 " << (triangles ? 2 : 3) << " " << cells << "\n";
+      int t = 1;
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          if (triangles) {
+            out << t++ << " " << tag(i, j) << " " << tag(i + 1, j) << " " << tag(i + 1, j + 1) << "\n";
+            out << t++ << " " << tag(i, j) << " " << tag(i + 1, j + 1) << " " << tag(i, j + 1) << "\n";
+          } else {
+            out << t++ << " " << tag(i, j) << " " << tag(i + 1, j) << " " << tag(i + 1, j + 1) << " " << tag(i, j + 1) << "\n";
+          }
+        }
+      out << "1 1 1 " << ny << "\n";
+      for (int j = 0; j < ny; ++j) out << t++ << " " << tag(0, j) << " " << tag(0, j + 1) << "\n";
+      out << "$EndElements\n";
+    }
+    const std::string deck = "dimension: 2\nplane: stress\nthickness: 2.0e-3\nspacing: 1.0e-3\nhorizon: 3.0e-3\n"
+                             "materials:\n  steel: {model: pmb, density: 8000, youngs_modulus: 200.0e9}\n"
+                             "bodies:\n  - {name: plate, material: steel, shape: {mesh: {file: " + path + ", block: plate}}}\n"
+                             "regions:\n  left: {mesh: {file: " + path + ", set: left}}\n"
+                             "solver: {end_time: 1.0e-6}\n";
+    Config config = parse_deck(deck, (dir / "deck.yaml").string());
+    const System s = build_system(config);
+    double volume = 0;
+    for (double v : s.particles.volume) volume += v;
+    EXPECT_EQ(s.particles.size(), triangles ? 48u : 24u);
+    EXPECT_NEAR(volume / (6e-3 * 4e-3 * 2e-3), 1.0, 1e-12) << path;
+    for (const auto& x : s.particles.X) EXPECT_EQ(x.z, 0.0);
+    std::size_t left = 0;
+    for (const auto& x : s.particles.X) left += config.regions.at("left").contains(x) ? 1 : 0;
+    EXPECT_EQ(left, triangles ? 8u : 4u) << path;  // the column of elements along x = 0
+    if (!triangles) {
+      for (const auto& x : s.particles.X) {
+        const double fx = x.x / 1e-3 - 0.5, fy = x.y / 1e-3 - 0.5;
+        EXPECT_NEAR(fx, std::round(fx), 1e-9);  // at the lattice's cell centres
+        EXPECT_NEAR(fy, std::round(fy), 1e-9);
+      }
+    }
+  }
+}
+
 // Errors name the deck's line and column and, for a bad mesh, the mesh file's line.
 TEST(MeshInput, ErrorsNameDeckAndMeshLines) {
   const auto dir = output_dir("mesh_errors");
