@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -21,6 +22,7 @@
 #include "horizon/output/pvd.hpp"
 #include "horizon/output/vtu.hpp"
 #include "horizon/solver/explicit.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
@@ -111,6 +113,10 @@ Frame make_frame(const System& s, double time, int64_t step) {
   scal("energy_density", [&](std::size_t i) { return P.energy[i]; });
   scal("block", [&](std::size_t i) { return static_cast<double>(P.block[i]); });
   scal("volume", [&](std::size_t i) { return P.volume[i]; });
+  if (s.heat.active()) {
+    scal("temperature", [&](std::size_t i) { return s.heat.T[i]; });
+    vec("heat_flux", s.heat.flux);
+  }
   // The models' own fields (material/model.hpp), once per name: a run with two materials
   // of one model writes its fields once.
   std::vector<ModelField> extra;
@@ -203,6 +209,7 @@ double fitted_speed(const std::vector<std::pair<double, double>>& h, double l0, 
 }  // namespace
 
 int run_deck(Config config, const RunOptions& options) {
+  if (config.solver.type == SolverType::heat) return run_heat_deck(std::move(config), options);
   if (config.solver.type != SolverType::explicit_dynamic) return run_implicit_deck(std::move(config), options);
   apply_run_options(config, options);
   if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -221,11 +228,38 @@ int run_deck(Config config, const RunOptions& options) {
   ExplicitSolver solver(s, loads, check.dt, config.solver.damping);
   solver.initialize();
 
+  // Coupled heat conduction (thermal/heat.hpp): after each mechanical step the temperature
+  // advances time_scale times its step, in as many forward-Euler sub-steps as its stability
+  // asks (one backward-Euler step when implicit); the next force pass sees the new thermal
+  // strain (staggered, one-step lag).
+  std::unique_ptr<HeatSolver> heat;
+  double heat_stable = 0, heat_initial = 0;
+  int heat_substeps = 1;
+  if (s.heat.active()) {
+    heat = std::make_unique<HeatSolver>(s, config.thermal.integration);
+    heat_stable = heat_stable_step(s);
+    heat_initial = heat_content(s);
+    const double h = check.dt * config.thermal.time_scale;
+    if (config.thermal.integration == HeatIntegration::explicit_euler)
+      heat_substeps = std::max(1, static_cast<int>(std::ceil(h / (config.solver.safety_factor * heat_stable))));
+    if (!options.quiet)
+      fmt::print(stderr, "heat            {} Euler, {:.4e} s per step ({} x the mechanical step, {} sub-steps; "
+                         "stable explicit heat step {:.4e} s)\n",
+                 config.thermal.integration == HeatIntegration::implicit_euler ? "backward" : "forward", h,
+                 config.thermal.time_scale, heat_substeps, heat_stable);
+  }
+  auto advance_heat = [&]() {
+    if (!heat) return;
+    const double h = solver.dt() * config.thermal.time_scale / heat_substeps;
+    for (int k = 0; k < heat_substeps; ++k) heat->step(h);
+  };
+
   // History columns: the ledger, damage, and the force each load applies.
   std::ostringstream history;
   history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
              "energy_balance_error,broken_bond_fraction,damage_max,damage_mean";
   for (const auto& L : loads.loads()) history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
+  if (s.heat.active()) history << ",heat_time," << heat_history_header(s);
   history << "\n";
   double max_balance_error = 0;
   auto record_history = [&]() {
@@ -240,11 +274,13 @@ int run_deck(Config config, const RunOptions& options) {
                            g.dissipated, g.damped, g.balance_error(), broken_fraction, dmax, dmean);
     for (const auto& L : loads.loads())
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
+    if (s.heat.active()) history << fmt::format(",{:.9e},", s.heat.time) << heat_history_row(s);
     history << "\n";
   };
   int frame_count = 0;
   auto write_frame = [&]() {
     const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
+    if (s.heat.active()) update_heat_flux(s);
     write_vtu((dir / name).string(), make_frame(s, solver.time(), solver.steps()));
     pvd.add(solver.time(), name);
     pvd.write();
@@ -290,6 +326,7 @@ int run_deck(Config config, const RunOptions& options) {
                                       : step * frames >= static_cast<int64_t>(next_frame) * total;
       const bool history_due = step % history_every == 0 || last;
       solver.step(history_due || frame_due);
+      advance_heat();
       if (history_due) {
         record_history();
         crack.record(s, solver.time());
@@ -340,6 +377,7 @@ int run_deck(Config config, const RunOptions& options) {
       loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
   summary_state(j, s, g, loads, max_balance_error);
+  if (heat) j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, heat_stable, heat_initial);
   // The crack path and front at the end, for the crack and fracture figures below.
   const std::vector<uint8_t> on = crack.active ? crack.path(s) : std::vector<uint8_t>{};
   const CrackFront f = crack.active ? crack.front(s, on) : CrackFront{};

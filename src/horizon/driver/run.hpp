@@ -2,6 +2,7 @@
 // `horizon run` and `horizon check` as library calls: deck -> system -> solver -> writers.
 #include <cstdint>
 #include <optional>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "horizon/deck/config.hpp"
@@ -44,6 +45,15 @@ int run_deck(Config config, const RunOptions& options);
 
 // The same for solver.type static and implicit_dynamic (driver/run_implicit.cpp).
 int run_implicit_deck(Config config, const RunOptions& options);
+
+// The same for solver.type heat (driver/run_heat.cpp).
+int run_heat_deck(Config config, const RunOptions& options);
+
+// The thermal columns of history.csv (after the mechanical ones in coupled runs), and the
+// thermal part of summary.json (driver/run_heat.cpp).
+std::string heat_history_header(const System& s);
+std::string heat_history_row(const System& s);
+nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content);
 
 // Shared by the drivers: the output frame of the current state, and the peak resident
 // memory of the process [bytes].

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "horizon/solver/forces.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
@@ -81,7 +82,7 @@ void ExplicitSolver::step(bool energy) {
   s_.time = time_;
   s_.dt = dt;
   compute_forces(s_, energy);
-  commit_history(s_);  // history models (plasticity, viscosity) accept this step
+  commit_history_with_heat(s_);  // history models (plasticity, viscosity) accept this step
 
   // Second half kick; damping taken implicitly on the half step so it stays stable.
   const double damp = 1.0 / (1.0 + damping_ * half);

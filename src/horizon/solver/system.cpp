@@ -1,5 +1,7 @@
 #include "horizon/solver/system.hpp"
 
+#include "horizon/thermal/heat.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -78,6 +80,16 @@ System build_system(const Config& config) {
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
   s.initial_bonds = s.bonds.size();
   setup_model(s, config.materials, config);
+  if (config.thermal.enabled) {
+    setup_heat(s, config.materials, config);  // thermal/heat.hpp
+    // The thermal strain reaches the models of the unified form only (the general force
+    // pass subtracts it from their extension): refuse it for the others.
+    for (std::size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].thermal.expansion != 0 && !s.models[m].unified())
+        throw Error("material '" + config.materials[m].name + "' (model " + config.materials[m].model +
+                    "): thermal expansion acts on the bond-based and LPS-type models (pmb, lps and the others "
+                    "of the unified form) only; set thermal.expansion: 0 for this material");
+  }
   return s;
 }
 
