@@ -103,7 +103,12 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
     const double m2 = h.calibration == HeatCalibration::discrete ? bulk[m] : m2_continuum;
     if (!(m2 > 0)) throw Error("material '" + mat.name + "': its particles have no bonds to conduct heat");
     h.kappa[i] = 2 * th.conductivity / m2;
-    h.expansion[i] = th.expansion;
+    // Plane strain: the blocked out-of-plane expansion pushes the plane apart, and a free
+    // body's in-plane strain is (1 + nu) alpha dT (sigma = 0 with eps_zz = 0 in
+    // sigma = lambda tr(eps) I + 2 mu eps - (3 lambda + 2 mu) alpha dT I): the 2-D bonds
+    // take that effective coefficient. Plane stress and 3-D: alpha itself.
+    const bool plane_strain = s.dimension == 2 && config.plane == PlaneMode::strain;
+    h.expansion[i] = th.expansion * (plane_strain ? 1 + mat.poissons_ratio : 1.0);
     h.reference[i] = th.reference_temperature;
     h.plastic_fraction[i] = th.plastic_heat_fraction;
     h.expands = h.expands || th.expansion != 0;

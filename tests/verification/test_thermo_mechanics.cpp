@@ -1,0 +1,131 @@
+// Thermal expansion in the bond stretch and the dilatation (solver/forces_general.cpp,
+// docs/models/heat.md "Thermal expansion"): a free block heated uniformly comes to rest at
+// the strain alpha dT (plane stress, 3-D) or (1 + nu) alpha dT (plane strain) with no
+// mechanical stretch in its interior bonds; runs without thermal strain keep the fast loops.
+#include <string>
+
+#include "horizon/solver/forces.hpp"
+#include "horizon/thermal/heat.hpp"
+#include "verification_support.hpp"
+
+namespace horizon::verification {
+namespace {
+
+std::string block_deck(const std::string& model, const std::string& plane, double alpha) {
+  return R"DECK(
+dimension: 2
+plane: )DECK" + plane + R"DECK(
+thickness: 0.001
+spacing: 0.0005
+horizon_factor: 3
+partial_volume: linear
+materials:
+  ceramic:
+    model: )DECK" + model + R"DECK(
+    density: 3900
+    youngs_modulus: 370e9
+)DECK" + (model == "pmb" ? "" : "    poissons_ratio: 0.22\n") +
+         R"DECK(    thermal: {conductivity: 30, specific_heat: 880, expansion: )DECK" + std::to_string(alpha) +
+         R"DECK(, reference_temperature: 293}
+bodies:
+  - {name: block, material: ceramic, shape: {box: {min: [0, 0], max: [0.01, 0.01]}}}
+thermal:
+  initial_temperature: 393
+solver: {end_time: 2.0e-5, damping: 1.5e6}
+)DECK";
+}
+
+struct Expansion {
+  double strain_xx = 0, strain_yy = 0, shear = 0;
+  double max_interior_stretch = 0;  // largest |mechanical stretch| of a bond between interior particles
+  double nu = 0;
+};
+
+// Runs the heated block to rest (damped explicit dynamics, the temperature uniform and
+// steady) and measures the interior's displacement gradient and mechanical stretches.
+Expansion expand(const std::string& model, const std::string& plane, double alpha) {
+  Config c = parse_deck(block_deck(model, plane, alpha), "block.yaml");
+  System s = build_system(c);
+  Loads loads(c, s);
+  const double dt = 0.8 * stable_time_step(s);
+  ExplicitSolver solver(s, loads, dt, c.solver.damping);
+  solver.initialize();
+  while (solver.time() < c.solver.end_time) solver.step(false);
+  const auto& P = s.particles;
+  std::vector<std::size_t> interior;
+  std::vector<uint8_t> inside(P.size(), 0);
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const double x = P.X[i].x, y = P.X[i].y, d = c.horizon;
+    if (x > d && x < 0.01 - d && y > d && y < 0.01 - d) interior.push_back(i), inside[i] = 1;
+  }
+  Expansion r;
+  const Eigen::Matrix3d G = displacement_gradient(P, interior);
+  r.strain_xx = G(0, 0);
+  r.strain_yy = G(1, 1);
+  r.shear = 0.5 * (G(0, 1) + G(1, 0));
+  for (std::size_t i : interior)
+    for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) {
+      const uint32_t j = s.bonds.nbr[k];
+      if (!inside[j]) continue;
+      const double L = s.bonds.length[k];
+      const double stretch = (norm(P.X[j] + P.u[j] - P.X[i] - P.u[i]) - L) / L;
+      const double mech = stretch - 0.5 * (s.thermal_strain[i] + s.thermal_strain[j]);
+      r.max_interior_stretch = std::max(r.max_interior_stretch, std::abs(mech));
+    }
+  r.nu = c.materials[0].poissons_ratio;
+  return r;
+}
+
+TEST(ThermoMechanics, FreeBlockExpandsWithoutStress) {
+  const double alpha = 8e-6, dT = 100;
+  for (const std::string model : {"pmb", "lps"}) {
+    const Expansion e = expand(model, "stress", alpha);
+    const double target = alpha * dT;
+    std::printf("[ figure ] %s plane stress: strain_xx / (alpha dT) = %.5f, strain_yy / (alpha dT) = %.5f, "
+                "interior mechanical stretch <= %.2e (alpha dT = %.1e)\n",
+                model.c_str(), e.strain_xx / target, e.strain_yy / target, e.max_interior_stretch, target);
+    EXPECT_NEAR(e.strain_xx / target, 1, 0.01) << model;
+    EXPECT_NEAR(e.strain_yy / target, 1, 0.01) << model;
+    EXPECT_LT(std::abs(e.shear), 0.01 * target) << model;
+    EXPECT_LT(e.max_interior_stretch, 0.01 * target) << model;  // no stress in the interior
+  }
+  // Plane strain: (1 + nu) alpha dT in the plane.
+  const Expansion e = expand("lps", "strain", alpha);
+  const double target = (1 + e.nu) * alpha * dT;
+  std::printf("[ figure ] lps plane strain: strain_xx / ((1 + nu) alpha dT) = %.5f\n", e.strain_xx / target);
+  EXPECT_NEAR(e.strain_xx / target, 1, 0.01);
+  EXPECT_NEAR(e.strain_yy / target, 1, 0.01);
+}
+
+TEST(ThermoMechanics, FastLoopsUnlessATemperatureStrains) {
+  // Without expansion the thermal run keeps the fast loops (no thermal strain); with it,
+  // at the reference temperature, the general pass gives the fast loops' forces.
+  Config c = parse_deck(block_deck("lps", "stress", 0.0), "block.yaml");
+  System s = build_system(c);
+  EXPECT_TRUE(s.heat.active());
+  EXPECT_TRUE(s.thermal_strain.empty());
+
+  Config c2 = parse_deck(block_deck("lps", "stress", 8e-6), "block.yaml");
+  System fast = build_system(c2);
+  ASSERT_FALSE(fast.thermal_strain.empty());
+  for (std::size_t i = 0; i < fast.particles.size(); ++i) {
+    const Vec3& X = fast.particles.X[i];
+    fast.particles.u[i] = {1e-4 * X.x * X.x + 2e-6 * X.y, 3e-6 * X.x - 5e-5 * X.y * X.y, 0};
+  }
+  System thermal = fast;
+  thermal.heat.T.assign(thermal.heat.T.size(), 293.0);  // the reference temperature: no thermal strain
+  update_thermal_strain(thermal);
+  fast.thermal_strain.clear();
+  compute_forces(fast, true);
+  compute_forces(thermal, true);
+  double fmax = 0, diff = 0;
+  for (std::size_t i = 0; i < fast.particles.size(); ++i) {
+    fmax = std::max(fmax, norm(fast.particles.f[i]));
+    diff = std::max(diff, norm(fast.particles.f[i] - thermal.particles.f[i]));
+  }
+  EXPECT_GT(fmax, 0);
+  EXPECT_LT(diff, 1e-9 * fmax);
+}
+
+}  // namespace
+}  // namespace horizon::verification
