@@ -26,7 +26,7 @@ std::string reduced_deck(const std::string& out) {
                             "left:   {box: {min: [0, 0], max: [0.0001, 0.003]");
   deck = std::regex_replace(deck, std::regex(R"(right:  \{box: \{min: \[0\.0199, 0\], max: \[0\.02, 0\.01\])"),
                             "right:  {box: {min: [0.0059, 0], max: [0.006, 0.003]");
-  deck = std::regex_replace(deck, std::regex(R"(end_time: 10\.0e-6)"), "end_time: 6.0e-6");
+  deck = std::regex_replace(deck, std::regex(R"(end_time: 20\.0e-6)"), "end_time: 6.0e-6");
   deck = std::regex_replace(deck, std::regex(R"(directory: out/thermal_shock, frames: 20)"),
                             "directory: " + out + ", frames: 30");
   return deck;

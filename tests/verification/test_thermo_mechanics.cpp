@@ -129,3 +129,89 @@ TEST(ThermoMechanics, FastLoopsUnlessATemperatureStrains) {
 
 }  // namespace
 }  // namespace horizon::verification
+
+namespace horizon::verification {
+namespace {
+
+// Heating from plastic work (one-way: thermal/heat.hpp commit_history_with_heat): a 2-D
+// elastic-plastic strip pulled past yield, insulated and without conduction losses to
+// the outside, holds beta times the plastic work the model dissipated as heat.
+TEST(ThermoMechanics, PlasticWorkHeatsTheBody) {
+  Config c = parse_deck(R"DECK(
+dimension: 2
+plane: strain
+thickness: 0.001
+spacing: 0.0005
+horizon_factor: 3
+materials:
+  steel:
+    model: elastic_plastic
+    density: 7850
+    youngs_modulus: 200.0e9
+    poissons_ratio: 0.3
+    yield_stress: 250.0e6
+    thermal: {conductivity: 45, specific_heat: 460, plastic_heat_fraction: 0.9}
+bodies:
+  - {name: strip, material: steel, shape: {box: {min: [0, 0], max: [0.01, 0.004]}}}
+regions:
+  left:  {box: {min: [0, 0], max: [0.0006, 0.004]}}
+  right: {box: {min: [0.0094, 0], max: [0.01, 0.004]}}
+thermal:
+  initial_temperature: 293
+loads:
+  - {region: left,  velocity: [-5, null]}
+  - {region: right, velocity: [5, null]}
+solver: {end_time: 2.0e-5}
+)DECK",
+                        "plastic_heat.yaml");
+  System s = build_system(c);
+  Loads loads(c, s);
+  ExplicitSolver solver(s, loads, 0.8 * stable_time_step(s), 0);
+  solver.initialize();
+  const double q0 = heat_content(s);
+  HeatSolver heat(s, HeatIntegration::explicit_euler);
+  while (solver.time() < c.solver.end_time) {
+    solver.step(false);
+    heat.step(solver.dt());
+  }
+  const double dissipated = s.dissipated();  // no bond breaks: all of it plastic work
+  std::printf("[ figure ] plastic work %.4e J, heat %.4e J, content change %.4e J, max temperature rise %.3f K\n",
+              dissipated, s.heat.plastic_heat, heat_content(s) - q0,
+              *std::max_element(s.heat.T.begin(), s.heat.T.end()) - 293);
+  EXPECT_GT(dissipated, 0);
+  EXPECT_NEAR(s.heat.plastic_heat / (0.9 * dissipated), 1, 1e-12);
+  EXPECT_NEAR((heat_content(s) - q0) / s.heat.plastic_heat, 1, 1e-9);  // conduction conserves it
+}
+
+TEST(ThermoMechanics, ExpansionRefusedForModelsOutsideTheUnifiedForm) {
+  const std::string deck = R"DECK(
+dimension: 2
+plane: strain
+thickness: 0.001
+spacing: 0.0005
+horizon_factor: 3
+materials:
+  steel:
+    model: elastic_plastic
+    density: 7850
+    youngs_modulus: 200.0e9
+    poissons_ratio: 0.3
+    yield_stress: 250.0e6
+    thermal: {conductivity: 45, specific_heat: 460, expansion: 1.2e-5, reference_temperature: 293}
+bodies:
+  - {name: strip, material: steel, shape: {box: {min: [0, 0], max: [0.004, 0.004]}}}
+thermal:
+  initial_temperature: 293
+solver: {end_time: 1.0e-6}
+)DECK";
+  const Config c = parse_deck(deck, "refused.yaml");
+  try {
+    build_system(c);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("thermal expansion acts on"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace horizon::verification

@@ -141,8 +141,14 @@ LineCracks cracks_across_line(const std::vector<Vec3>& points, const std::vector
     }
   }
   close();
-  if (out.positions.size() >= 2)
+  if (out.positions.size() >= 2) {
     out.mean_spacing = (out.positions.back() - out.positions.front()) / static_cast<double>(out.positions.size() - 1);
+    std::vector<double> gaps;
+    for (std::size_t k = 1; k < out.positions.size(); ++k) gaps.push_back(out.positions[k] - out.positions[k - 1]);
+    std::sort(gaps.begin(), gaps.end());
+    const std::size_t m = gaps.size();
+    out.median_spacing = m % 2 ? gaps[m / 2] : 0.5 * (gaps[m / 2 - 1] + gaps[m / 2]);
+  }
   return out;
 }
 

@@ -48,6 +48,7 @@ std::optional<double> branch_distance(const Particles& p, const Vec3& origin, co
 struct LineCracks {
   std::vector<double> positions;  // along the line, increasing [m]
   double mean_spacing = 0;        // (last - first)/(count - 1); 0 with fewer than two
+  double median_spacing = 0;      // the median gap between neighbours (robust to a missing crack)
 };
 LineCracks cracks_across_line(const std::vector<Vec3>& points, const std::vector<double>& damage, int along,
                               int normal, double at, double tol, double threshold, double merge);

@@ -206,6 +206,41 @@ double fitted_speed(const std::vector<std::pair<double, double>>& h, double l0, 
   return den > 0 ? (n * stl - st * sl) / den : 0;
 }
 
+// Thermal shock figures (2-D): for each thermal boundary condition, the cracks crossing
+// the lattice row 2 horizons inside its layer (damage >= kCrackDamage; cracks closer than
+// 2 horizons count as one), their positions along the layer and their spacing
+// (damage/crack_metrics.hpp, cracks_across_line).
+nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  const auto& X = s.particles.X;
+  Vec3 centre;
+  for (const auto& x : X) centre += x;
+  centre = centre / static_cast<double>(std::max<std::size_t>(1, X.size()));
+  for (const auto& bc : s.heat.boundary) {
+    if (bc.particles.empty()) continue;
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, mean[2] = {0, 0};
+    for (uint32_t i : bc.particles)
+      for (int k = 0; k < 2; ++k) {
+        lo[k] = std::min(lo[k], X[i][k]);
+        hi[k] = std::max(hi[k], X[i][k]);
+        mean[k] += X[i][k] / static_cast<double>(bc.particles.size());
+      }
+    const int normal = hi[0] - lo[0] < hi[1] - lo[1] ? 0 : 1, along = 1 - normal;
+    const double rows = std::round(2 * c.horizon / c.spacing) * c.spacing;
+    const double at = mean[normal] + (centre[normal] > mean[normal] ? rows : -rows);
+    const LineCracks lc = cracks_across_line(X, s.particles.damage, along, normal, at, 0.5 * c.spacing, kCrackDamage,
+                                             2 * c.horizon);
+    nlohmann::ordered_json e;
+    e["line"] = at;
+    e["count"] = lc.positions.size();
+    e["positions"] = lc.positions;
+    e["mean_spacing"] = lc.mean_spacing;
+    e["median_spacing"] = lc.median_spacing;
+    out[bc.name] = e;
+  }
+  return out;
+}
+
 }  // namespace
 
 int run_deck(Config config, const RunOptions& options) {
@@ -377,7 +412,10 @@ int run_deck(Config config, const RunOptions& options) {
       loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
   summary_state(j, s, g, loads, max_balance_error);
-  if (heat) j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, heat_stable, heat_initial);
+  if (heat) {
+    j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, heat_stable, heat_initial);
+    if (config.dimension == 2 && s.initial_bonds > 0) j["thermal"]["edge_cracks"] = edge_cracks(config, s);
+  }
   // The crack path and front at the end, for the crack and fracture figures below.
   const std::vector<uint8_t> on = crack.active ? crack.path(s) : std::vector<uint8_t>{};
   const CrackFront f = crack.active ? crack.front(s, on) : CrackFront{};
