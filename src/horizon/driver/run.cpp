@@ -283,10 +283,22 @@ int run_deck(Config config, const RunOptions& options) {
                  config.thermal.integration == HeatIntegration::implicit_euler ? "backward" : "forward", h,
                  config.thermal.time_scale, heat_substeps, heat_stable);
   }
+  // The thermal work by the trapezoidal rule (thermal/heat.hpp thermal_strain_work): a
+  // heat step's change of the thermal strain is booked after the next force pass, which
+  // is the first to see it, as the mean of its work at the force states before and after.
+  std::vector<double> strain_change;
+  double pending_work = 0;
   auto advance_heat = [&]() {
     if (!heat) return;
+    Ledger& g = solver.ledger();
+    if (!strain_change.empty()) g.thermal_work += pending_work + 0.5 * thermal_strain_work(s, strain_change);
+    const std::vector<double> before = s.thermal_strain;
     const double h = solver.dt() * config.thermal.time_scale / heat_substeps;
     for (int k = 0; k < heat_substeps; ++k) heat->step(h);
+    strain_change.assign(s.thermal_strain.size(), 0.0);
+    if (before.size() == s.thermal_strain.size())
+      for (std::size_t i = 0; i < before.size(); ++i) strain_change[i] = s.thermal_strain[i] - before[i];
+    pending_work = 0.5 * thermal_strain_work(s, strain_change);
   };
 
   // History columns: the ledger, damage, and the force each load applies.
@@ -294,7 +306,7 @@ int run_deck(Config config, const RunOptions& options) {
   history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
              "energy_balance_error,broken_bond_fraction,damage_max,damage_mean";
   for (const auto& L : loads.loads()) history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
-  if (s.heat.active()) history << ",heat_time," << heat_history_header(s);
+  if (s.heat.active()) history << ",thermal_work,heat_time," << heat_history_header(s);
   history << "\n";
   double max_balance_error = 0;
   auto record_history = [&]() {
@@ -309,7 +321,7 @@ int run_deck(Config config, const RunOptions& options) {
                            g.dissipated, g.damped, g.balance_error(), broken_fraction, dmax, dmean);
     for (const auto& L : loads.loads())
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
-    if (s.heat.active()) history << fmt::format(",{:.9e},", s.heat.time) << heat_history_row(s);
+    if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
   };
   int frame_count = 0;
@@ -414,6 +426,7 @@ int run_deck(Config config, const RunOptions& options) {
   summary_state(j, s, g, loads, max_balance_error);
   if (heat) {
     j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, heat_stable, heat_initial);
+    j["energy"]["thermal_work"] = g.thermal_work;
     if (config.dimension == 2 && s.initial_bonds > 0) j["thermal"]["edge_cracks"] = edge_cracks(config, s);
   }
   // The crack path and front at the end, for the crack and fracture figures below.

@@ -10,8 +10,9 @@
 namespace horizon {
 
 double Ledger::balance_error() const {
-  const double scale = std::max({std::abs(initial), std::abs(external_work), kinetic + strain + dissipated + damped, 1e-300});
-  return (kinetic + strain + dissipated + damped - initial - external_work) / scale;
+  const double scale = std::max(
+      {std::abs(initial), std::abs(external_work), std::abs(thermal_work), kinetic + strain + dissipated + damped, 1e-300});
+  return (kinetic + strain + dissipated + damped - initial - external_work - thermal_work) / scale;
 }
 
 namespace {

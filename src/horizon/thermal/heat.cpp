@@ -216,6 +216,30 @@ void update_thermal_strain(System& s) {
   for (std::size_t i = 0; i < h.T.size(); ++i) s.thermal_strain[i] = h.expansion[i] * (h.T[i] - h.reference[i]);
 }
 
+double thermal_strain_work(const System& s, const std::vector<double>& delta) {
+  const auto& B = s.bonds;
+  const auto& P = s.particles;
+  const auto& T = s.model.force_state;
+  if (delta.size() != P.size() || T.size() != B.size()) return 0;
+  double sum = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sum)
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    double row = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      const Vec3 Y = P.X[j] + P.u[j] - P.X[i] - P.u[i];
+      const double r = norm(Y);
+      if (r == 0) continue;
+      const double t = dot(T[k], Y) / r;
+      const double de = 0.5 * (delta[i] + delta[j]) * B.length[k];
+      row += t * de * B.volume[k];
+    }
+    sum -= row * P.volume[i];
+  }
+  return sum;
+}
+
 void deposit_heat(System& s, std::size_t i, double energy) {
   HeatState& h = s.heat;
   if (h.fixed[i]) return;  // a prescribed temperature takes the heat away at once

@@ -55,6 +55,14 @@ void update_heat_flux(System& s);
 // material expands; leaves it empty otherwise.
 void update_thermal_strain(System& s);
 
+// The rate of the stored energy with the thermal strain, applied to a change `delta`
+// (per particle) at the positions and force states of the last force pass (general pass:
+// model.force_state): -sum_i V_i sum_j t_ij (delta_ij |xi|) V_j [J], t_ij the scalar force
+// state, the gradient of W_i in e_ij for the unified models. The explicit driver books a
+// change of the thermal strain as thermal_work by the trapezoidal rule: half at the force
+// states before it, half at those after it (exact for their quadratic energies).
+double thermal_strain_work(const System& s, const std::vector<double>& delta);
+
 // Heat deposited at particle i [J] (plastic work times beta): raises T_i by E/(rho c V).
 void deposit_heat(System& s, std::size_t i, double energy);
 
