@@ -49,6 +49,13 @@ CheckReport check_system(const Config& c, const System& s) {
   r.precrack_bonds = s.precrack_bonds;
   r.memory_bytes = memory_estimate(s);
   r.stable_dt = stable_time_step(s);
+  if (s.heat.active()) r.heat_stable_dt = heat_stable_step(s);
+  if (c.solver.type == SolverType::heat) {
+    r.stable_dt = r.heat_stable_dt;
+    r.dt = c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * r.heat_stable_dt;
+    r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+    return r;
+  }
   if (c.solver.type == SolverType::static_equilibrium) {
     r.dt = c.solver.end_time / c.solver.load_steps;  // pseudo-time per load step
     r.steps = c.solver.load_steps;
@@ -69,6 +76,15 @@ std::string format_check(const Config& c, const CheckReport& r) {
                    r.particles ? static_cast<double>(r.bonds) / static_cast<double>(r.particles) : 0.0,
                    r.precrack_bonds);
   o << fmt::format("memory          {:.1f} MiB (estimate)\n", static_cast<double>(r.memory_bytes) / (1 << 20));
+  if (r.heat_stable_dt > 0)
+    o << fmt::format("heat            stable explicit heat step {:.4e} s ({}){}\n", r.heat_stable_dt,
+                     c.thermal.integration == HeatIntegration::implicit_euler ? "backward Euler" : "forward Euler",
+                     c.solver.type == SolverType::heat ? "" : fmt::format(", time scale {}", c.thermal.time_scale));
+  if (c.solver.type == SolverType::heat) {
+    o << fmt::format("solver          heat\n");
+    o << fmt::format("time step       {:.4e} s, {} steps to t = {:.4e} s\n", r.dt, r.steps, c.solver.end_time);
+    return o.str();
+  }
   if (c.solver.type == SolverType::static_equilibrium) {
     o << fmt::format("solver          static, {}\n",
                      c.solver.method == StaticMethod::adr ? "adaptive dynamic relaxation" : "Newton-Raphson");

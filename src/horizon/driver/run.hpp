@@ -26,6 +26,7 @@ struct CheckReport {
   std::size_t memory_bytes = 0;
   double stable_dt = 0;
   double dt = 0;                     // the step the run will use
+  double heat_stable_dt = 0;         // the explicit heat stable step (thermal runs; 0 otherwise)
   int64_t steps = 0;
 };
 

@@ -11,8 +11,8 @@
 // L T = kappa M2 with M2 = int_H g xi_1^2 dV, and the local equation gives 2k; hence
 //   kappa = 2k / M2,
 //   inverse kernel:  1-D 2k/(A delta^2), 2-D 6k/(pi h delta^3), 3-D 6k/(pi delta^4)
-//                    (Bobaru and Duangpanya 2010, Int. J. Heat Mass Transfer 53, eqs. 11-13;
-//                    Oterkus, Madenci and Agwai 2014, J. Comput. Phys. 265);
+//                    (Bobaru and Duangpanya 2010, Int. J. Heat Mass Transfer 53:4047;
+//                    Oterkus, Madenci and Agwai 2014, J. Comput. Phys. 265:71);
 //   constant kernel: 1-D 3k/(A delta^3) (digest 004 sec. 8, C = (3/delta^3) k),
 //                    2-D 8k/(pi h delta^4), 3-D 15k/(2 pi delta^5) [derived the same way].
 // calibration: continuum takes M2 as the integral above; discrete takes M2 summed over the
