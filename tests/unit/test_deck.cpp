@@ -535,7 +535,7 @@ TEST(DeckErrors, StaticSolverMistakes) {
   expect_error(small_deck_with(14, "solver: {end_time: 1.0e-6, method: newton}"), 14, 28,
                {"solver.method", "applies to type: static only", "this deck has type: explicit"});
   expect_error(small_deck_with(14, "solver: {type: static, safety_factor: 0.5}"), 14, 24,
-               {"solver.safety_factor", "applies to type: explicit only", "this deck has type: static"});
+               {"solver.safety_factor", "applies to type: explicit and heat only", "this deck has type: static"});
   expect_error(small_deck_with(14, "solver: {type: static, method: adr, linear_solver: cg}"), 14, 37,
                {"solver.linear_solver", "applies to method: newton only"});
   expect_error(small_deck_with(14, "solver: {type: implicit_dynamic, end_time: 1.0e-6}"), 14, 1,
