@@ -82,13 +82,17 @@ System build_system(const Config& config) {
   setup_model(s, config.materials, config);
   if (config.thermal.enabled) {
     setup_heat(s, config.materials, config);  // thermal/heat.hpp
-    // The thermal strain reaches the models of the unified form only (the general force
-    // pass subtracts it from their extension): refuse it for the others.
+    // The thermal strain reaches the models that declare it (ModelTraits::thermal_strain):
+    // refuse it for the others.
     for (std::size_t m = 0; m < config.materials.size(); ++m)
-      if (config.materials[m].thermal.expansion != 0 && !s.models[m].unified())
+      if (config.materials[m].thermal.expansion != 0 && !s.models[m].traits().thermal_strain) {
+        std::string takers;
+        for (const auto& e : model_registry())
+          if (e.traits.thermal_strain) takers += (takers.empty() ? "" : ", ") + e.traits.name;
         throw Error("material '" + config.materials[m].name + "' (model " + config.materials[m].model +
-                    "): thermal expansion acts on the bond-based and LPS-type models (pmb, lps and the others "
-                    "of the unified form) only; set thermal.expansion: 0 for this material");
+                    "): thermal expansion acts on models " + takers +
+                    " only; set thermal.expansion: 0 for this material");
+      }
   }
   return s;
 }
