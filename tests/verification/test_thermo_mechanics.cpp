@@ -198,6 +198,46 @@ solver: {end_time: 2.0e-5}
   EXPECT_NEAR((heat_content(s) - q0) / s.heat.plastic_heat, 1, 1e-9);  // conduction conserves it
 }
 
+// Temperature-dependent critical stretch: s0(T) = s0 max(0, 1 + slope (T - T_ref)). A
+// PMB block stretched uniformly to 0.7 s0 keeps every bond at T_ref and at T_ref + 250 K
+// (s0 x 0.75), and loses every bond at T_ref + 500 K with slope -1e-3/K (s0 halved).
+TEST(ThermoMechanics, CriticalStretchFallsWithTemperature) {
+  auto broken_at = [](double T) {
+    Config c = parse_deck(R"DECK(
+dimension: 2
+plane: stress
+thickness: 0.001
+spacing: 0.0005
+horizon_factor: 3
+materials:
+  ceramic:
+    model: pmb
+    density: 3900
+    youngs_modulus: 370e9
+    damage: {critical_stretch: 1.0e-3}
+    thermal: {conductivity: 30, specific_heat: 880, reference_temperature: 293, critical_stretch_slope: -1.0e-3}
+bodies:
+  - {name: block, material: ceramic, shape: {box: {min: [0, 0], max: [0.005, 0.005]}}}
+thermal:
+  initial_temperature: )DECK" + std::to_string(T) + R"DECK(
+solver: {end_time: 1.0e-6}
+)DECK",
+                          "soft.yaml");
+    System s = build_system(c);
+    EXPECT_TRUE(s.thermal_strain.empty());
+    EXPECT_FALSE(s.critical_stretch_factor.empty());
+    for (std::size_t i = 0; i < s.particles.size(); ++i) s.particles.u[i] = s.particles.X[i] * 0.7e-3;
+    compute_forces(s, false);
+    return static_cast<double>(s.broken) / static_cast<double>(s.bonds.size());
+  };
+  const double cold = broken_at(293), hot = broken_at(793), warm = broken_at(293 + 250);
+  std::printf("[ figure ] broken bond fraction at 0.7 s0: T_ref %.3f, T_ref + 250 K %.3f, T_ref + 500 K %.3f\n", cold,
+              warm, hot);
+  EXPECT_EQ(cold, 0);
+  EXPECT_EQ(warm, 0);  // s0 x 0.75 > 0.7 s0
+  EXPECT_EQ(hot, 1);   // s0 x 0.5 < 0.7 s0
+}
+
 TEST(ThermoMechanics, ExpansionRefusedForModelsThatDoNotTakeIt) {
   const std::string deck = R"DECK(
 dimension: 2

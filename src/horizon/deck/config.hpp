@@ -55,6 +55,8 @@ struct ThermalMaterialConfig {
   double expansion = 0;              // linear thermal expansion coefficient alpha [1/K]
   double reference_temperature = 0;  // T_ref [K]: no thermal strain at T = T_ref
   double plastic_heat_fraction = 0;  // Taylor-Quinney beta: share of the dissipated plastic work turned to heat
+  // Temperature-dependent critical stretch: s0(T) = s0 max(0, 1 + slope (T - T_ref)) [1/K].
+  double critical_stretch_slope = 0;
 };
 
 struct MaterialConfig {

@@ -6,7 +6,8 @@ namespace horizon::deck {
 
 ThermalMaterialConfig read_thermal_material(const DeckContext& ctx, const Item& item) {
   MapReader m(ctx, item,
-              {"conductivity", "specific_heat", "expansion", "reference_temperature", "plastic_heat_fraction"});
+              {"conductivity", "specific_heat", "expansion", "reference_temperature", "plastic_heat_fraction",
+               "critical_stretch_slope"});
   ThermalMaterialConfig t;
   t.enabled = true;
   t.conductivity = read_positive(ctx, m.get("conductivity", "the thermal conductivity k [W/(m K)], > 0"));
@@ -14,8 +15,12 @@ ThermalMaterialConfig read_thermal_material(const DeckContext& ctx, const Item& 
   if (auto a = m.find("expansion")) t.expansion = read_number(ctx, *a);
   if (auto r = m.find("reference_temperature")) {
     t.reference_temperature = read_number(ctx, *r);
-  } else if (t.expansion != 0) {
-    m.fail_missing("reference_temperature", "the temperature of no thermal strain [K] (expansion is not 0)");
+  }
+  if (auto c = m.find("critical_stretch_slope")) t.critical_stretch_slope = read_number(ctx, *c);
+  if (!m.has("reference_temperature") && (t.expansion != 0 || t.critical_stretch_slope != 0)) {
+    m.fail_missing("reference_temperature",
+                   "the temperature of no thermal strain and of the given critical stretch [K] (expansion or "
+                   "critical_stretch_slope is not 0)");
   }
   // Taylor and Quinney's fraction of plastic work turned to heat: 0.9 for metals.
   t.plastic_heat_fraction = 0.9;

@@ -36,6 +36,11 @@ BreakOut break_row(System& s, std::size_t i, bool after) {
   const Point4* pt = M.packed.data();
   const Point4 pi = pt[i];
   const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  // A temperature-dependent critical stretch scales each end's s0 (an end that never
+  // breaks, s0 = +inf, stays so).
+  const double* soft = s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data();
+  auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
+  const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
   BreakOut out;
   for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
     if (!B.intact[k]) continue;
@@ -46,7 +51,8 @@ BreakOut break_row(System& s, std::size_t i, bool after) {
     const double r = std::sqrt(dot(Y, Y)), e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length),
                  stretch = e * kc.inv_length;
     out.smin = stretch < out.smin ? stretch : out.smin;
-    const double s0 = pi.w < pj.w ? pi.w : pj.w;
+    const double wj = soft ? scaled(pj.w, soft[B.nbr[k]]) : pj.w;
+    const double s0 = wi < wj ? wi : wj;
     if (!(stretch > s0)) continue;
     B.intact[k] = after ? 2 : 0;
     ++out.broken;

@@ -119,6 +119,9 @@ struct System {
   // feels the mean of its ends' values: its mechanical extension is e - eps_ij |xi|
   // (solver/forces_general.cpp), and the force pass takes the general path while it is set.
   std::vector<double> thermal_strain;
+  // The factor max(0, 1 + slope_i (T_i - T_ref,i)) on particle i's critical stretch
+  // (temperature-dependent critical stretch), else empty; the general force pass applies it.
+  std::vector<double> critical_stretch_factor;
 
   // Sum of dissipated_at in a fixed order: the same figure on any thread count.
   double dissipated() const;

@@ -68,6 +68,7 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
   h.expansion.resize(n);
   h.reference.resize(n);
   h.plastic_fraction.resize(n);
+  h.stretch_slope.resize(n);
   h.fixed.assign(n, 0);
   h.flux.assign(n, Vec3{});
   h.kind_factor.resize(B.kinds.size());
@@ -111,6 +112,8 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
     h.expansion[i] = th.expansion * (plane_strain ? 1 + mat.poissons_ratio : 1.0);
     h.reference[i] = th.reference_temperature;
     h.plastic_fraction[i] = th.plastic_heat_fraction;
+    h.stretch_slope[i] = th.critical_stretch_slope;
+    h.softens = h.softens || th.critical_stretch_slope != 0;
     h.expands = h.expands || th.expansion != 0;
     h.T[i] = tc.initial_temperature(0.0, P.X[i].x, P.X[i].y, P.X[i].z);
   }
@@ -208,6 +211,13 @@ void update_heat_flux(System& s) {
 
 void update_thermal_strain(System& s) {
   const HeatState& h = s.heat;
+  if (h.active() && h.softens) {
+    s.critical_stretch_factor.resize(h.T.size());
+    for (std::size_t i = 0; i < h.T.size(); ++i)
+      s.critical_stretch_factor[i] = std::max(0.0, 1.0 + h.stretch_slope[i] * (h.T[i] - h.reference[i]));
+  } else {
+    s.critical_stretch_factor.clear();
+  }
   if (!h.active() || !h.expands) {
     s.thermal_strain.clear();
     return;

@@ -31,6 +31,7 @@ struct HeatState {
   std::vector<double> expansion;  // alpha_i [1/K]
   std::vector<double> reference;  // T_ref,i [K]
   std::vector<double> plastic_fraction;  // Taylor-Quinney beta_i
+  std::vector<double> stretch_slope;     // d(s0/s0_ref)/dT [1/K] (temperature-dependent critical stretch)
   std::vector<double> kind_factor;       // per bond kind: g(|xi|) V_j (partial-volume scaled)
   std::vector<uint8_t> fixed;            // 1: temperature prescribed by a boundary condition
   std::vector<Vec3> flux;                // heat flux vector q_i [W/m^2] (output)
@@ -38,6 +39,7 @@ struct HeatState {
   HeatKernel kernel = HeatKernel::inverse;
   HeatCalibration calibration = HeatCalibration::continuum;
   bool expands = false;    // some material has alpha != 0: mechanics sees the thermal strain
+  bool softens = false;    // some material has a critical_stretch_slope != 0
   double plastic_heat = 0; // heat released by plastic work so far [J]
   double time = 0;         // the time of T [s]
 
