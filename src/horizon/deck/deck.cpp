@@ -14,6 +14,7 @@
 #include "horizon/deck/conditions.hpp"
 #include "horizon/deck/contact.hpp"
 #include "horizon/deck/materials.hpp"
+#include "horizon/deck/peridigm/peridigm.hpp"
 #include "horizon/deck/reader.hpp"
 #include "horizon/deck/shapes.hpp"
 
@@ -161,6 +162,9 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
     const Item shape = b.get("shape", "e.g. {box: {min: [..], max: [..]}}");
     body.shape = read_shape(ctx, shape);
     check_bounded(ctx, shape, body.shape);
+    if (body.shape.kind() == Shape::Kind::points && body.shape.point_volumes().empty()) {
+      ctx.fail(shape.mark, shape.path + ": a body made of listed points needs a volume with each point ([x, y, z, volume])");
+    }
     config.bodies.push_back(std::move(body));
   }
 }
@@ -340,14 +344,20 @@ Config read_config(DeckContext& ctx, const Item& root) {
 }  // namespace
 
 Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
-  std::vector<std::string> warnings;
-  DeckContext ctx{file_name, 3, PlaneMode::none, &warnings};
+  DeckContext ctx{file_name, 3, PlaneMode::none, nullptr};
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }
+  return parse_deck_node(root, file_name);
+}
+
+Config parse_deck_node(const YAML::Node& given, const std::string& file_name) {
+  std::vector<std::string> warnings;
+  DeckContext ctx{file_name, 3, PlaneMode::none, &warnings};
+  YAML::Node root = given;
   if (!root.IsDefined() || root.IsNull()) {
     ctx.fail(YAML::Mark(),
              "the deck is empty; expected a map of keys such as dimension, spacing, horizon, "
@@ -357,6 +367,9 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
     ctx.fail(root.Mark(),
              "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " + describe(root));
   }
+  // A Peridigm deck (top-level key Peridigm) is translated to a native one first
+  // (deck/peridigm/); its own mistakes are reported at their place in it.
+  if (peridigm::is_peridigm_deck(root)) root = peridigm::to_native(root, file_name);
   Config config;
   try {
     config = read_config(ctx, Item{root, "", root.Mark(), std::nullopt});
@@ -366,6 +379,26 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
   }
   config.warnings = std::move(warnings);
   return config;
+}
+
+std::string convert_peridigm_deck(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open deck '" + path + "': " + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  DeckContext ctx{path, 3, PlaneMode::none, nullptr};
+  YAML::Node root;
+  try {
+    root = YAML::Load(text.str());
+  } catch (const YAML::Exception& e) {
+    ctx.fail(e.mark, "YAML syntax error: " + e.msg);
+  }
+  if (!peridigm::is_peridigm_deck(root))
+    ctx.fail(root.Mark(), "not a Peridigm deck: expected one top-level key, Peridigm");
+  const YAML::Node native = peridigm::to_native(root, path);
+  const std::string out = peridigm::native_yaml(native, path);
+  parse_deck(out, path + " (converted)");  // the translation must read back
+  return out;
 }
 
 Config load_deck(const std::string& path) {
