@@ -170,7 +170,7 @@ struct Deck {
     return node;
   }
 
-  Config config() const { return parse_deck_node(YAML::Clone(root), name); }
+  Config config() const { return parse_deck_node(root, name); }
 };
 
 // --- Simulation --------------------------------------------------------------------

@@ -15,7 +15,7 @@ import os
 import numpy as np
 
 from . import _core
-from ._core import Deck, DeckError, Error, convert_peridigm, models, read_frame, render
+from ._core import Deck, DeckError, Error, models
 
 __version__ = _core.__version__
 
@@ -36,6 +36,24 @@ def loads(text, name="<string>"):
 def from_dict(data, name="<dict>"):
     """A deck from nested dicts and lists (the same keys as a deck file)."""
     return Deck.from_dict(data, name)
+
+
+def read_frame(path):
+    """A frame (.vtu), or the last frame of a .pvd index or of a run's output folder, as
+    {"time", "step", "points": (N, 3) array, "fields": {name: array}} (copies)."""
+    return _core.read_frame(os.fspath(path))
+
+
+def render(path, field="damage", output=None, width=1200, scale=1.0):
+    """Draws a frame (or a run folder's last frame) coloured by `field` to PNG, as
+    `horizon render` does; returns the PNG's path (default: <field>.png beside the frame)."""
+    return _core.render(os.fspath(path), field, None if output is None else os.fspath(output), int(width),
+                        float(scale))
+
+
+def convert_peridigm(path):
+    """The native deck (YAML text) equivalent to the Peridigm deck at `path` (`horizon convert`)."""
+    return _core.convert_peridigm(os.fspath(path))
 
 
 def _as_deck(deck):

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -316,7 +317,18 @@ Config read_config(DeckContext& ctx, const Item& root) {
   read_lattice(ctx, m, config);
   read_materials(ctx, m, config);
   const std::vector<std::string> regions = read_regions(ctx, m, config);
+  const std::size_t lattice_warnings = ctx.warnings ? ctx.warnings->size() : 0;
   read_bodies(ctx, m, config);
+  // Bodies of listed points have no lattice: the warning about few lattice spacings per
+  // horizon (read_lattice) does not apply to them.
+  bool all_points = true;
+  for (const auto& b : config.bodies) all_points = all_points && b.shape.kind() == Shape::Kind::points;
+  if (all_points && ctx.warnings && lattice_warnings > 0) {
+    auto& w = *ctx.warnings;
+    w.erase(std::remove_if(w.begin(), w.end(),
+                           [](const std::string& x) { return x.find("lattice spacings; 3 or more") != std::string::npos; }),
+            w.end());
+  }
   if (auto p = m.find("precracks"))
     for (const auto& i : read_list(ctx, *p)) config.precracks.push_back(read_precrack(ctx, i));
   if (auto n = m.find("no_fail_regions")) {
@@ -357,19 +369,22 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
 Config parse_deck_node(const YAML::Node& given, const std::string& file_name) {
   std::vector<std::string> warnings;
   DeckContext ctx{file_name, 3, PlaneMode::none, &warnings};
-  YAML::Node root = given;
-  if (!root.IsDefined() || root.IsNull()) {
+  if (!given.IsDefined() || given.IsNull()) {
     ctx.fail(YAML::Mark(),
              "the deck is empty; expected a map of keys such as dimension, spacing, horizon, "
              "materials, bodies, solver (see docs/input.md)");
   }
-  if (!root.IsMap()) {
-    ctx.fail(root.Mark(),
-             "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " + describe(root));
+  if (!given.IsMap()) {
+    ctx.fail(given.Mark(),
+             "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " + describe(given));
   }
   // A Peridigm deck (top-level key Peridigm) is translated to a native one first
   // (deck/peridigm/); its own mistakes are reported at their place in it.
-  if (peridigm::is_peridigm_deck(root)) root = peridigm::to_native(root, file_name);
+  // (YAML::Node assignment rebinds shared nodes, so the translation gets its own.)
+  YAML::Node translated;
+  const bool peridigm_deck = peridigm::is_peridigm_deck(given);
+  if (peridigm_deck) translated.reset(peridigm::to_native(given, file_name));
+  const YAML::Node& root = peridigm_deck ? translated : given;
   Config config;
   try {
     config = read_config(ctx, Item{root, "", root.Mark(), std::nullopt});

@@ -48,7 +48,8 @@ struct Translation {
   std::optional<Item> horizon_item;
 };
 
-YAML::Node number(double v) { return YAML::Node(v); }
+// Numbers as their shortest exact decimal text (reads back to the same double).
+YAML::Node number(double v) { return YAML::Node(fmt::format("{}", v)); }
 
 YAML::Node point_row(const Vec3& x, std::optional<double> volume) {
   YAML::Node row(YAML::NodeType::Sequence);
