@@ -19,6 +19,7 @@
 #include "horizon/core/version.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/deck/peridigm/peridigm.hpp"
+#include "horizon/deck/peridigm/xml.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/material/model.hpp"
@@ -135,7 +136,7 @@ struct Deck {
     Deck d;
     d.name = name;
     try {
-      d.root = YAML::Load(text);
+      d.root = YAML::Load(peridigm::looks_like_xml(text) ? peridigm::xml_to_yaml(text, name) : text);
     } catch (const YAML::Exception& e) {
       throw DeckError(DeckLocation{name, e.mark.line + 1, e.mark.column + 1}, "YAML syntax error: " + e.msg);
     }

@@ -217,3 +217,36 @@ def test_unsupported_keys_are_errors_with_position(peridigm_dir, tmp_path, edit,
     assert (e.value.line, e.value.column) == (line, column), str(e.value)
     for w in words:
         assert w in str(e.value)
+
+
+def test_xml_deck_runs_like_its_yaml_twin(peridigm_dir, tmp_path, horizon_binary):
+    # Peridigm's XML form (Teuchos ParameterLists) of compression_3x1x1: same answers.
+    for form in ("yaml", "xml"):
+        deck = os.path.join(peridigm_dir, "compression_3x1x1." + form)
+        subprocess.run([horizon_binary, "run", deck, "-q", "-o", str(tmp_path / form)], check=True)
+    assert (tmp_path / "xml" / "history.csv").read_bytes() == (tmp_path / "yaml" / "history.csv").read_bytes()
+    s = horizon.Simulation(os.path.join(peridigm_dir, "compression_3x1x1.xml"), output_dir=tmp_path / "py")
+    s.step(5)
+    left = int(np.argmin(s.positions[:, 0]))
+    assert s.displacement[left, 0] == pytest.approx(4.56054038e-5, abs=1e-13)
+    assert "model: lps" in horizon.convert_peridigm(os.path.join(peridigm_dir, "compression_3x1x1.xml"))
+
+
+@pytest.mark.parametrize("edit, line, column, words", [
+    # Messages point at the XML attribute: here the name of the misspelled parameter.
+    (('name="Bulk Modulus"', 'name="Bulk Modulos"'), 23, 23, ["Bulk Modulos", "did you mean 'Bulk Modulus'"]),
+    # ... and here its value.
+    (('value="Elastic"', 'value="Pals"'), 21, 60, ["Pals"]),
+    # Malformed XML.
+    (('<ParameterList name="Solver">', '<ParameterList name="Solver">\n    <Oops/>'), 51, 5, ["unexpected element <Oops>"]),
+])
+def test_xml_errors_point_into_the_xml(peridigm_dir, tmp_path, edit, line, column, words):
+    text = open(os.path.join(peridigm_dir, "compression_3x1x1.xml")).read()
+    assert edit[0] in text
+    deck = tmp_path / "edited.xml"
+    deck.write_text(text.replace(edit[0], edit[1], 1))
+    with pytest.raises(horizon.DeckError) as e:
+        horizon.Simulation(str(deck))
+    assert (e.value.line, e.value.column) == (line, column), str(e.value)
+    for w in words:
+        assert w in str(e.value)

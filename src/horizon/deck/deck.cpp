@@ -16,6 +16,7 @@
 #include "horizon/deck/contact.hpp"
 #include "horizon/deck/materials.hpp"
 #include "horizon/deck/peridigm/peridigm.hpp"
+#include "horizon/deck/peridigm/xml.hpp"
 #include "horizon/deck/reader.hpp"
 #include "horizon/deck/shapes.hpp"
 
@@ -359,7 +360,8 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
   DeckContext ctx{file_name, 3, PlaneMode::none, nullptr};
   YAML::Node root;
   try {
-    root = YAML::Load(yaml_text);
+    // Peridigm's XML decks become YAML with the same lines and columns (deck/peridigm/xml.hpp).
+    root = YAML::Load(peridigm::looks_like_xml(yaml_text) ? peridigm::xml_to_yaml(yaml_text, file_name) : yaml_text);
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }
@@ -404,7 +406,7 @@ std::string convert_peridigm_deck(const std::string& path) {
   DeckContext ctx{path, 3, PlaneMode::none, nullptr};
   YAML::Node root;
   try {
-    root = YAML::Load(text.str());
+    root = YAML::Load(peridigm::looks_like_xml(text.str()) ? peridigm::xml_to_yaml(text.str(), path) : text.str());
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }
