@@ -506,7 +506,8 @@ int ExplicitRun::finish() {
     fmt::print(stderr, "{} in {} ({} steps, {:.3g} bond updates/s); output in {}\n", status, format_duration(wall),
                solver.steps(), j["bond_updates_per_second"].get<double>(), dir.string());
   }
-  if (!message.empty()) fmt::print(stderr, "horizon: {}\n", message);
+  // A run stopped by its caller says so in summary.json; quiet runs leave stderr alone.
+  if (!message.empty() && !(options.quiet && status == "stopped")) fmt::print(stderr, "horizon: {}\n", message);
   return r.exit_code;
 }
 
