@@ -250,3 +250,33 @@ def test_xml_errors_point_into_the_xml(peridigm_dir, tmp_path, edit, line, colum
     assert (e.value.line, e.value.column) == (line, column), str(e.value)
     for w in words:
         assert w in str(e.value)
+
+
+def test_body_force_free_fall(peridigm_dir, tmp_path):
+    # Body Force through a node-set file on a free cube: u_z = (b/rho) t^2/2 exactly.
+    s = sim(peridigm_dir, "body_force_free_cube", tmp_path)
+    assert s.particles == 27
+    while not s.done:
+        s.step(4)
+        expected = 0.5 * (100.0 / 1000.0) * s.time ** 2
+        np.testing.assert_allclose(s.displacement[:, 2], expected, rtol=1e-12)
+        np.testing.assert_allclose(s.displacement[:, :2], 0, atol=1e-14)
+    s.finish()
+    assert len(os.listdir(tmp_path / "body_force_free_cube" / "frames")) == 1 + 20 // 5
+
+
+def test_quasi_static_2x1x1_closed_form(peridigm_dir, tmp_path):
+    # QuasiStatic -> Horizon's static Newton solve: u = b/(2 alpha V) at each load step.
+    s = sim(peridigm_dir, "quasi_static_2x1x1", tmp_path)
+    s.run()
+    frames = tmp_path / "quasi_static_2x1x1" / "frames"
+    names = sorted(n for n in os.listdir(frames) if n.endswith(".vtu"))
+    assert len(names) == 3
+    alpha = 15 * MU / 8.0
+    for name, t in zip(names, (0.0, 0.5, 1.0)):
+        f = horizon.read_frame(frames / name)
+        right = int(np.argmax(f["points"][:, 0]))
+        assert f["time"] == pytest.approx(t)
+        assert f["fields"]["displacement"][right, 0] == pytest.approx(5.85e5 * t / (2 * alpha * 2.0), rel=1e-9,
+                                                                      abs=1e-20)
+        assert np.all(f["fields"]["displacement"][1 - right] == 0)

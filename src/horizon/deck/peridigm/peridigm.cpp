@@ -667,7 +667,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
         const double steps = std::ceil(end_time / *fixed_dt - 1e-9);
         output["frames"] = std::max(1, static_cast<int>(std::min(1e6, steps / every)));
       } else if (method == "QuasiStatic" || method == "NOXQuasiStatic") {
-        output["frames"] = 1;
+        const int steps = solver["load_steps"] ? solver["load_steps"].as<int>() : 1;
+        output["frames"] = std::max(1, steps / every);
       }
     }
     if (auto vars = om.find("Output Variables")) {
