@@ -97,7 +97,7 @@ class Simulation(_core.Simulation):
         """Runs to the end and writes history.csv and summary.json; returns the summary.
 
         With a callback, callback(sim) is called every `every` steps (and once at the
-        end); returning False (exactly False) stops the run there: the final frame,
+        end); returning False (or any false value but None: numpy.False_, 0) stops the run there: the final frame,
         history and summary are written as for a completed run, with status "stopped".
         An exception in the callback, or Ctrl-C, also ends the run cleanly and is raised.
         """
@@ -113,8 +113,11 @@ class Simulation(_core.Simulation):
         try:
             while not self.done:
                 self._advance(chunk)
-                if callback is not None and callback(self) is False:
-                    self._stop("stopped by the callback")
+                if callback is not None:
+                    verdict = callback(self)
+                    # None (no return) goes on; False, numpy.False_, 0 stop.
+                    if verdict is not None and not verdict:
+                        self._stop("stopped by the callback")
         except BaseException as e:  # KeyboardInterrupt included: end the run cleanly, then raise
             if not self.done:
                 self._stop("stopped by %s" % type(e).__name__)

@@ -122,6 +122,15 @@ def test_callback_returning_false_stops_cleanly(plate_text, tmp_path):
         sim.step(1)
 
 
+def test_callback_numpy_false_stops_and_none_goes_on(plate_text, tmp_path):
+    sim = horizon.Simulation(horizon.loads(plate_text), output_dir=tmp_path / "a")
+    sim.run(callback=lambda s: np.float64(s.steps) < 30, every=10)   # numpy.bool_
+    assert sim.steps == 30 and sim.status == "stopped"
+    sim = horizon.Simulation(horizon.loads(plate_text), output_dir=tmp_path / "b")
+    sim.run(callback=lambda s: None, every=10)
+    assert sim.status == "completed" and sim.steps == sim.total_steps
+
+
 def test_exception_in_callback_ends_run_and_propagates(plate_text, tmp_path):
     sim = horizon.Simulation(horizon.loads(plate_text), output_dir=tmp_path / "o")
 
