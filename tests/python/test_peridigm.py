@@ -121,12 +121,18 @@ def critical_velocity(k, mu, rho, volume, length, s_c):
     return math.sqrt(work / (rho * volume))
 
 
-@pytest.mark.parametrize("name", ["bond_breaking_initial_velocity", "bond_breaking_initial_velocity_ep"])
+@pytest.mark.parametrize("name", ["bond_breaking_initial_velocity", "bond_breaking_initial_velocity_ep",
+                                  "bond_breaking_interface_aware"])
 def test_bond_breaking_initial_velocity(peridigm_dir, tmp_path, name):
     v_c = critical_velocity(130.0e9, 60.0e9, 7800.0, 1.05, 1.0, 0.02)
     assert v_c == pytest.approx(244.949, abs=5e-4)
     assert 244.939 < v_c < 244.959
+    # interface_aware: blocks of critical stretch 0.02 and 0.05 meet in every bond; the
+    # smaller one rules (with 0.05 neither pair would break).
+    assert critical_velocity(130.0e9, 60.0e9, 7800.0, 1.05, 1.0, 0.05) > 600
     s = sim(peridigm_dir, name, tmp_path)
+    if name.endswith("interface_aware"):
+        assert s.block_names == ["block_1", "block_2"]
     order = np.lexsort((s.positions[:, 0], s.positions[:, 1]))   # Peridigm's ids 1..4
     s.step(6000)                                                 # t = 6e-5
     uy = s.displacement[order, 1]

@@ -252,8 +252,12 @@ YAML::Node read_damage(Translation& t, const Item& item) {
   MapReader m(t.ctx, item, {"Damage Model", "Critical Stretch", "Thermal Expansion Coefficient"});
   const Item model_item = m.get("Damage Model", "Critical Stretch");
   const std::string model = read_string(t.ctx, model_item);
-  if (squash(model) != "criticalstretch")
-    fail_choice(t.ctx, model_item, model, {"Critical Stretch"}, "Peridigm damage model Horizon reads");
+  // Horizon breaks a bond at the smaller critical stretch of its two ends (solver/forces.cpp):
+  // Peridigm's Interface Aware rule. Peridigm's plain Critical Stretch judges each directed
+  // bond by its own end's block; the two agree within a block (docs/peridigm.md).
+  const std::string w = squash(model);
+  if (w != "criticalstretch" && w != "interfaceaware")
+    fail_choice(t.ctx, model_item, model, {"Critical Stretch", "Interface Aware"}, "Peridigm damage model Horizon reads");
   if (auto a = m.find("Thermal Expansion Coefficient"); a && read_number(t.ctx, *a) != 0)
     t.ctx.fail(a->mark, a->path + ": thermal strain is not supported; only 0");
   YAML::Node d;
