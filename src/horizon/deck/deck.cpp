@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -14,6 +15,8 @@
 #include "horizon/deck/conditions.hpp"
 #include "horizon/deck/contact.hpp"
 #include "horizon/deck/materials.hpp"
+#include "horizon/deck/peridigm/peridigm.hpp"
+#include "horizon/deck/peridigm/xml.hpp"
 #include "horizon/deck/reader.hpp"
 #include "horizon/deck/shapes.hpp"
 #include "horizon/deck/thermal.hpp"
@@ -162,6 +165,9 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
     const Item shape = b.get("shape", "e.g. {box: {min: [..], max: [..]}}");
     body.shape = read_shape(ctx, shape);
     check_bounded(ctx, shape, body.shape);
+    if (body.shape.kind() == Shape::Kind::points && body.shape.point_volumes().empty()) {
+      ctx.fail(shape.mark, shape.path + ": a body made of listed points needs a volume with each point ([x, y, z, volume])");
+    }
     config.bodies.push_back(std::move(body));
   }
 }
@@ -365,7 +371,18 @@ Config read_config(DeckContext& ctx, const Item& root) {
   read_lattice(ctx, m, config);
   read_materials(ctx, m, config);
   const std::vector<std::string> regions = read_regions(ctx, m, config);
+  const std::size_t lattice_warnings = ctx.warnings ? ctx.warnings->size() : 0;
   read_bodies(ctx, m, config);
+  // Bodies of listed points have no lattice: the warning about few lattice spacings per
+  // horizon (read_lattice) does not apply to them.
+  bool all_points = true;
+  for (const auto& b : config.bodies) all_points = all_points && b.shape.kind() == Shape::Kind::points;
+  if (all_points && ctx.warnings && lattice_warnings > 0) {
+    auto& w = *ctx.warnings;
+    w.erase(std::remove_if(w.begin(), w.end(),
+                           [](const std::string& x) { return x.find("lattice spacings; 3 or more") != std::string::npos; }),
+            w.end());
+  }
   if (auto p = m.find("precracks"))
     for (const auto& i : read_list(ctx, *p)) config.precracks.push_back(read_precrack(ctx, i));
   if (auto n = m.find("no_fail_regions")) {
@@ -395,23 +412,36 @@ Config read_config(DeckContext& ctx, const Item& root) {
 }  // namespace
 
 Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
-  std::vector<std::string> warnings;
-  DeckContext ctx{file_name, 3, PlaneMode::none, &warnings};
+  DeckContext ctx{file_name, 3, PlaneMode::none, nullptr};
   YAML::Node root;
   try {
-    root = YAML::Load(yaml_text);
+    // Peridigm's XML decks become YAML with the same lines and columns (deck/peridigm/xml.hpp).
+    root = YAML::Load(peridigm::looks_like_xml(yaml_text) ? peridigm::xml_to_yaml(yaml_text, file_name) : yaml_text);
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }
-  if (!root.IsDefined() || root.IsNull()) {
+  return parse_deck_node(root, file_name);
+}
+
+Config parse_deck_node(const YAML::Node& given, const std::string& file_name) {
+  std::vector<std::string> warnings;
+  DeckContext ctx{file_name, 3, PlaneMode::none, &warnings};
+  if (!given.IsDefined() || given.IsNull()) {
     ctx.fail(YAML::Mark(),
              "the deck is empty; expected a map of keys such as dimension, spacing, horizon, "
              "materials, bodies, solver (see docs/input.md)");
   }
-  if (!root.IsMap()) {
-    ctx.fail(root.Mark(),
-             "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " + describe(root));
+  if (!given.IsMap()) {
+    ctx.fail(given.Mark(),
+             "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " + describe(given));
   }
+  // A Peridigm deck (top-level key Peridigm) is translated to a native one first
+  // (deck/peridigm/); its own mistakes are reported at their place in it.
+  // (YAML::Node assignment rebinds shared nodes, so the translation gets its own.)
+  YAML::Node translated;
+  const bool peridigm_deck = peridigm::is_peridigm_deck(given);
+  if (peridigm_deck) translated.reset(peridigm::to_native(given, file_name));
+  const YAML::Node& root = peridigm_deck ? translated : given;
   Config config;
   try {
     config = read_config(ctx, Item{root, "", root.Mark(), std::nullopt});
@@ -421,6 +451,26 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
   }
   config.warnings = std::move(warnings);
   return config;
+}
+
+std::string convert_peridigm_deck(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open deck '" + path + "': " + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  DeckContext ctx{path, 3, PlaneMode::none, nullptr};
+  YAML::Node root;
+  try {
+    root = YAML::Load(peridigm::looks_like_xml(text.str()) ? peridigm::xml_to_yaml(text.str(), path) : text.str());
+  } catch (const YAML::Exception& e) {
+    ctx.fail(e.mark, "YAML syntax error: " + e.msg);
+  }
+  if (!peridigm::is_peridigm_deck(root))
+    ctx.fail(root.Mark(), "not a Peridigm deck: expected one top-level key, Peridigm");
+  const YAML::Node native = peridigm::to_native(root, path);
+  const std::string out = peridigm::native_yaml(native, path);
+  parse_deck(out, path + " (converted)");  // the translation must read back
+  return out;
 }
 
 Config load_deck(const std::string& path) {

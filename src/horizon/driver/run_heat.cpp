@@ -104,7 +104,7 @@ int run_heat_deck(Config config, const RunOptions& options) {
   const int frames = std::max(1, config.output.frames);
   const int64_t history_every = std::max(1, config.output.history_every);
   int next_frame = 1;
-  install_interrupt_handler();
+  if (options.handle_signals) install_interrupt_handler();
   std::string status = "completed";
   int exit_code = 0;
   int64_t step = 0;
@@ -118,14 +118,14 @@ int run_heat_deck(Config config, const RunOptions& options) {
       write_frame(s.heat.time, step);
       ++next_frame;
     }
-    if (interrupt_requested()) {
+    if (options.handle_signals && interrupt_requested()) {
       status = "interrupted";
       exit_code = 130;
       write_frame(s.heat.time, step);
       break;
     }
   }
-  clear_interrupt();
+  if (options.handle_signals) clear_interrupt();
   write_file_atomic((dir / "history.csv").string(), history.str());
   nlohmann::ordered_json j = summary_header(config, s, status, "", step);
   j["time"] = s.heat.time;
