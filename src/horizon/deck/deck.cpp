@@ -19,6 +19,7 @@
 #include "horizon/deck/peridigm/xml.hpp"
 #include "horizon/deck/reader.hpp"
 #include "horizon/deck/shapes.hpp"
+#include "horizon/deck/thermal.hpp"
 
 namespace horizon {
 
@@ -30,7 +31,7 @@ const std::vector<std::string> kTopKeys = {
     "dimension",      "plane",           "thickness",          "area",      "spacing", "horizon",
     "horizon_factor", "lattice_origin",  "partial_volume",     "materials", "bodies",  "precracks",
     "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output",
-    "contact"};
+    "contact",        "thermal"};
 
 // A key that only makes sense in one dimension is an error in the others.
 void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* key, int dimension) {
@@ -191,22 +192,24 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
     sc.type = read_enum<SolverType>(ctx, *t,
                                     {{"explicit", SolverType::explicit_dynamic},
                                      {"static", SolverType::static_equilibrium},
-                                     {"implicit_dynamic", SolverType::implicit_dynamic}});
+                                     {"implicit_dynamic", SolverType::implicit_dynamic},
+                                     {"heat", SolverType::heat}});
     type = t->node.Scalar();
   }
   const bool is_explicit = sc.type == SolverType::explicit_dynamic;
   const bool is_static = sc.type == SolverType::static_equilibrium;
+  const bool is_heat = sc.type == SolverType::heat;
   const char* kStatic = "type: static";
   const char* kImplicit = "type: static and implicit_dynamic";
-  only_for(ctx, s, "safety_factor", is_explicit, "type: explicit", type);
-  only_for(ctx, s, "time_step", !is_static, "type: explicit and implicit_dynamic", type);
-  only_for(ctx, s, "damping", !is_static, "type: explicit and implicit_dynamic", type);
+  only_for(ctx, s, "safety_factor", is_explicit || is_heat, "type: explicit and heat", type);
+  only_for(ctx, s, "time_step", !is_static, "type: explicit, implicit_dynamic and heat", type);
+  only_for(ctx, s, "damping", !is_static && !is_heat, "type: explicit and implicit_dynamic", type);
   only_for(ctx, s, "method", is_static, kStatic, type);
   only_for(ctx, s, "load_steps", is_static, kStatic, type);
   only_for(ctx, s, "max_step_cuts", is_static, kStatic, type);
   for (const char* key : {"linear_solver", "tangent", "tolerance", "max_iterations", "max_break_rounds",
                           "condition_number"})
-    only_for(ctx, s, key, !is_explicit, kImplicit, type);
+    only_for(ctx, s, key, !is_explicit && !is_heat, kImplicit, type);
 
   if (is_static) {
     // The pseudo-time of a static run: loads are evaluated at t = end_time * k / load_steps.
@@ -311,6 +314,56 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   if (auto p = o.find("progress_every")) config.output.progress_every = at_least(*p, 0);
 }
 
+// The thermal section and the materials' thermal maps go together; the heat time step
+// belongs to heat runs, the time scale to coupled explicit ones.
+void check_thermal(const DeckContext& ctx, const MapReader& m, const Config& config) {
+  const Item materials = *m.find("materials");
+  const auto thermal = m.find("thermal");
+  for (const auto& mat : config.materials) {
+    const YAML::Node node = materials.node[mat.name];
+    if (thermal && !mat.thermal.enabled) {
+      ctx.fail(node.Mark(), "materials." + mat.name +
+                                ": the deck has a thermal section, so every material needs a thermal map, e.g. "
+                                "thermal: {conductivity: 30, specific_heat: 880}");
+    }
+    if (!thermal && mat.thermal.enabled) {
+      ctx.fail(node["thermal"].Mark(), "materials." + mat.name +
+                                           ".thermal: a thermal map needs the deck's thermal section (at least "
+                                           "thermal: {initial_temperature: ...}); see docs/input.md");
+    }
+  }
+  const SolverType type = config.solver.type;
+  if (type == SolverType::heat && !thermal) {
+    const MapReader s(ctx, *m.find("solver"), {"type", "end_time", "time_step", "safety_factor", "damping", "method",
+                                               "linear_solver", "tangent", "tolerance", "max_iterations", "load_steps",
+                                               "max_step_cuts", "max_break_rounds", "condition_number",
+                                               "adaptive_time_step", "adaptive_every"});
+    ctx.fail(s.find("type")->mark, "solver.type: heat needs a thermal section (thermal: {initial_temperature: ...})");
+  }
+  if (!thermal) return;
+  const MapReader t(ctx, *thermal, {"initial_temperature", "kernel", "calibration", "integration", "time_scale",
+                                    "boundary"});
+  if (type == SolverType::static_equilibrium || type == SolverType::implicit_dynamic) {
+    ctx.fail(thermal->key_mark ? *thermal->key_mark : thermal->mark,
+             "thermal: heat conduction runs with solver type heat (heat alone) or explicit (coupled); this deck has "
+             "a static or implicit_dynamic solver");
+  }
+  if (auto s = t.find("time_scale"); s && type == SolverType::heat) {
+    ctx.fail(*s->key_mark, s->path + ": applies to coupled runs (solver type explicit) only; a heat run takes "
+                                     "solver.time_step");
+  }
+  if (type == SolverType::heat && config.thermal.integration == HeatIntegration::implicit_euler &&
+      !config.solver.time_step) {
+    ctx.fail(t.find("integration")->mark, "thermal.integration: implicit needs solver.time_step (the heat step [s]; "
+                                          "backward Euler is stable for any size)");
+  }
+  for (const auto& mat : config.materials)
+    if (mat.thermal.expansion != 0 && type == SolverType::heat) {
+      ctx.warn(materials.node[mat.name]["thermal"]["expansion"].Mark(),
+               "materials." + mat.name + ".thermal.expansion: a heat run has no mechanics; the expansion is unused");
+    }
+}
+
 Config read_config(DeckContext& ctx, const Item& root) {
   Config config;
   config.deck_file = ctx.file;
@@ -350,6 +403,8 @@ Config read_config(DeckContext& ctx, const Item& root) {
     for (const auto& i : read_list(ctx, *l)) config.loads.push_back(read_load(ctx, i, regions));
   if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c);
   read_solver(ctx, m, config);
+  if (auto t = m.find("thermal")) config.thermal = read_thermal(ctx, *t, regions);
+  check_thermal(ctx, m, config);
   read_output(ctx, m, config);
   return config;
 }

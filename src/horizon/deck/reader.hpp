@@ -106,6 +106,8 @@ Vec3 read_vector(const DeckContext& ctx, const Item& item);
 // null for "not prescribed". Components beyond the dimension are unset, or zero when
 // free components are not allowed.
 Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_free);
+// One number or expression in t, x, y, z.
+Expression read_scalar_expr(const DeckContext& ctx, const Item& item);
 
 template <class E>
 E read_enum(const DeckContext& ctx, const Item& item, const std::vector<std::pair<std::string, E>>& choices) {

@@ -23,6 +23,7 @@
 #include "horizon/output/pvd.hpp"
 #include "horizon/output/vtu.hpp"
 #include "horizon/solver/explicit.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
@@ -49,6 +50,13 @@ CheckReport check_system(const Config& c, const System& s) {
   r.precrack_bonds = s.precrack_bonds;
   r.memory_bytes = memory_estimate(s);
   r.stable_dt = stable_time_step(s);
+  if (s.heat.active()) r.heat_stable_dt = heat_stable_step(s);
+  if (c.solver.type == SolverType::heat) {
+    r.stable_dt = r.heat_stable_dt;
+    r.dt = c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * r.heat_stable_dt;
+    r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+    return r;
+  }
   if (c.solver.type == SolverType::static_equilibrium) {
     r.dt = c.solver.end_time / c.solver.load_steps;  // pseudo-time per load step
     r.steps = c.solver.load_steps;
@@ -69,6 +77,15 @@ std::string format_check(const Config& c, const CheckReport& r) {
                    r.particles ? static_cast<double>(r.bonds) / static_cast<double>(r.particles) : 0.0,
                    r.precrack_bonds);
   o << fmt::format("memory          {:.1f} MiB (estimate)\n", static_cast<double>(r.memory_bytes) / (1 << 20));
+  if (r.heat_stable_dt > 0)
+    o << fmt::format("heat            stable explicit heat step {:.4e} s ({}){}\n", r.heat_stable_dt,
+                     c.thermal.integration == HeatIntegration::implicit_euler ? "backward Euler" : "forward Euler",
+                     c.solver.type == SolverType::heat ? "" : fmt::format(", time scale {}", c.thermal.time_scale));
+  if (c.solver.type == SolverType::heat) {
+    o << fmt::format("solver          heat\n");
+    o << fmt::format("time step       {:.4e} s, {} steps to t = {:.4e} s\n", r.dt, r.steps, c.solver.end_time);
+    return o.str();
+  }
   if (c.solver.type == SolverType::static_equilibrium) {
     o << fmt::format("solver          static, {}\n",
                      c.solver.method == StaticMethod::adr ? "adaptive dynamic relaxation" : "Newton-Raphson");
@@ -113,6 +130,10 @@ Frame make_frame(const System& s, double time, int64_t step) {
   scal("energy_density", [&](std::size_t i) { return P.energy[i]; });
   scal("block", [&](std::size_t i) { return static_cast<double>(P.block[i]); });
   scal("volume", [&](std::size_t i) { return P.volume[i]; });
+  if (s.heat.active()) {
+    scal("temperature", [&](std::size_t i) { return s.heat.T[i]; });
+    vec("heat_flux", s.heat.flux);
+  }
   // The models' own fields (material/model.hpp), once per name: a run with two materials
   // of one model writes its fields once.
   std::vector<ModelField> extra;
@@ -202,6 +223,41 @@ double fitted_speed(const std::vector<std::pair<double, double>>& h, double l0, 
   return den > 0 ? (n * stl - st * sl) / den : 0;
 }
 
+// Thermal shock figures (2-D): for each thermal boundary condition, the cracks crossing
+// the lattice row 2 horizons inside its layer (damage >= kCrackDamage; cracks closer than
+// 2 horizons count as one), their positions along the layer and their spacing
+// (damage/crack_metrics.hpp, cracks_across_line).
+nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  const auto& X = s.particles.X;
+  Vec3 centre;
+  for (const auto& x : X) centre += x;
+  centre = centre / static_cast<double>(std::max<std::size_t>(1, X.size()));
+  for (const auto& bc : s.heat.boundary) {
+    if (bc.particles.empty()) continue;
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, mean[2] = {0, 0};
+    for (uint32_t i : bc.particles)
+      for (int k = 0; k < 2; ++k) {
+        lo[k] = std::min(lo[k], X[i][k]);
+        hi[k] = std::max(hi[k], X[i][k]);
+        mean[k] += X[i][k] / static_cast<double>(bc.particles.size());
+      }
+    const int normal = hi[0] - lo[0] < hi[1] - lo[1] ? 0 : 1, along = 1 - normal;
+    const double rows = std::round(2 * c.horizon / c.spacing) * c.spacing;
+    const double at = mean[normal] + (centre[normal] > mean[normal] ? rows : -rows);
+    const LineCracks lc = cracks_across_line(X, s.particles.damage, along, normal, at, 0.5 * c.spacing, kCrackDamage,
+                                             2 * c.horizon);
+    nlohmann::ordered_json e;
+    e["line"] = at;
+    e["count"] = lc.positions.size();
+    e["positions"] = lc.positions;
+    e["mean_spacing"] = lc.mean_spacing;
+    e["median_spacing"] = lc.median_spacing;
+    out[bc.name] = e;
+  }
+  return out;
+}
+
 }  // namespace
 
 // The explicit run as an object: the constructor sets up the system, the solver and the
@@ -237,6 +293,31 @@ struct ExplicitRun::State {
   bool stopped = false;   // the loop has ended (end reached, interrupted, non-finite or stopped)
   bool finished = false;  // finish() has run
   nlohmann::ordered_json summary;
+  // Coupled heat conduction (thermal/heat.hpp): after each mechanical step the temperature
+  // advances time_scale times its step, in as many forward-Euler sub-steps as its stability
+  // asks (one backward-Euler step when implicit); the next force pass sees the new thermal
+  // strain (staggered, one-step lag).
+  std::unique_ptr<HeatSolver> heat;
+  double heat_stable = 0, heat_initial = 0;
+  int heat_substeps = 1;
+  // The thermal work by the trapezoidal rule (thermal/heat.hpp thermal_strain_work): a
+  // heat step's change of the thermal strain is booked after the next force pass, which
+  // is the first to see it, as the mean of its work at the force states before and after.
+  std::vector<double> strain_change;
+  double pending_work = 0;
+
+  void advance_heat() {
+    if (!heat) return;
+    Ledger& g = solver->ledger();
+    if (!strain_change.empty()) g.thermal_work += pending_work + 0.5 * thermal_strain_work(s, strain_change);
+    const std::vector<double> before = s.thermal_strain;
+    const double h = solver->dt() * config.thermal.time_scale / heat_substeps;
+    for (int k = 0; k < heat_substeps; ++k) heat->step(h);
+    strain_change.assign(s.thermal_strain.size(), 0.0);
+    if (before.size() == s.thermal_strain.size())
+      for (std::size_t i = 0; i < before.size(); ++i) strain_change[i] = s.thermal_strain[i] - before[i];
+    pending_work = 0.5 * thermal_strain_work(s, strain_change);
+  }
 
   void record_history() {
     const Ledger& g = solver->ledger();
@@ -250,10 +331,12 @@ struct ExplicitRun::State {
                            g.dissipated, g.damped, g.balance_error(), broken_fraction, dmax, dmean);
     for (const auto& L : loads->loads())
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
+    if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
   }
   void write_frame() {
     const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
+    if (s.heat.active()) update_heat_flux(s);
     write_vtu((dir / name).string(), make_frame(s, solver->time(), solver->steps()));
     pvd->add(solver->time(), name);
     pvd->write();
@@ -286,11 +369,25 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();
+  if (r.s.heat.active()) {
+    r.heat = std::make_unique<HeatSolver>(r.s, c.thermal.integration);
+    r.heat_stable = heat_stable_step(r.s);
+    r.heat_initial = heat_content(r.s);
+    const double h = r.check.dt * c.thermal.time_scale;
+    if (c.thermal.integration == HeatIntegration::explicit_euler)
+      r.heat_substeps = std::max(1, static_cast<int>(std::ceil(h / (c.solver.safety_factor * r.heat_stable))));
+    if (!options.quiet)
+      fmt::print(stderr, "heat            {} Euler, {:.4e} s per step ({} x the mechanical step, {} sub-steps; "
+                         "stable explicit heat step {:.4e} s)\n",
+                 c.thermal.integration == HeatIntegration::implicit_euler ? "backward" : "forward", h,
+                 c.thermal.time_scale, r.heat_substeps, r.heat_stable);
+  }
 
   // History columns: the ledger, damage, and the force each load applies.
   r.history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
                "energy_balance_error,broken_bond_fraction,damage_max,damage_mean";
   for (const auto& L : r.loads->loads()) r.history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
+  if (r.s.heat.active()) r.history << ",thermal_work,heat_time," << heat_history_header(r.s);
   r.history << "\n";
   r.crack = std::make_unique<CrackTracker>(c);
 
@@ -339,6 +436,7 @@ int64_t ExplicitRun::advance(int64_t n) {
                                         : step * r.frames >= static_cast<int64_t>(r.next_frame) * r.total;
       const bool history_due = step % r.history_every == 0 || last;
       solver.step(history_due || frame_due);
+      r.advance_heat();
       ++taken;
       if (history_due) {
         r.record_history();
@@ -436,6 +534,11 @@ int ExplicitRun::finish() {
       loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
   summary_state(j, s, g, *r.loads, r.max_balance_error);
+  if (r.heat) {
+    j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, r.heat_stable, r.heat_initial);
+    j["energy"]["thermal_work"] = g.thermal_work;
+    if (config.dimension == 2 && s.initial_bonds > 0) j["thermal"]["edge_cracks"] = edge_cracks(config, s);
+  }
   // The crack path and front at the end, for the crack and fracture figures below.
   const std::vector<uint8_t> on = crack.active ? crack.path(s) : std::vector<uint8_t>{};
   const CrackFront f = crack.active ? crack.front(s, on) : CrackFront{};
@@ -513,6 +616,7 @@ int ExplicitRun::finish() {
 
 
 int run_deck(Config config, const RunOptions& options) {
+  if (config.solver.type == SolverType::heat) return run_heat_deck(std::move(config), options);
   if (config.solver.type != SolverType::explicit_dynamic) return run_implicit_deck(std::move(config), options);
   ExplicitRun run(std::move(config), options);
   run.advance(std::numeric_limits<int64_t>::max());

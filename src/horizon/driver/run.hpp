@@ -4,6 +4,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "horizon/deck/config.hpp"
@@ -28,6 +29,7 @@ struct CheckReport {
   std::size_t memory_bytes = 0;
   double stable_dt = 0;
   double dt = 0;                     // the step the run will use
+  double heat_stable_dt = 0;         // the explicit heat stable step (thermal runs; 0 otherwise)
   int64_t steps = 0;
 };
 
@@ -92,6 +94,15 @@ class ExplicitRun {
 
 // The same for solver.type static and implicit_dynamic (driver/run_implicit.cpp).
 int run_implicit_deck(Config config, const RunOptions& options);
+
+// The same for solver.type heat (driver/run_heat.cpp).
+int run_heat_deck(Config config, const RunOptions& options);
+
+// The thermal columns of history.csv (after the mechanical ones in coupled runs), and the
+// thermal part of summary.json (driver/run_heat.cpp).
+std::string heat_history_header(const System& s);
+std::string heat_history_row(const System& s);
+nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content);
 
 // Shared by the drivers: the output frame of the current state, and the peak resident
 // memory of the process [bytes].

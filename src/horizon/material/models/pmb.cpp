@@ -12,6 +12,7 @@ const ModelTraits& traits() {
     m.name = "pmb";
     m.summary = "prototype microelastic brittle, bond-based (Silling and Askari 2005)";
     m.elastic = ElasticInput::one_modulus;
+    m.thermal_strain = true;  // in the general force pass (solver/forces_general.cpp)
     return m;
   }();
   return t;
