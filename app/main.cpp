@@ -9,6 +9,7 @@
 #include "horizon/core/version.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
+#include "horizon/output/atomic_file.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/output/plot.hpp"
 #include "horizon/output/render.hpp"
@@ -67,6 +68,11 @@ int main(int argc, char** argv) {
 
   auto* models = app.add_subcommand("models", "list the material models with their deck parameters");
 
+  std::string convert_out;
+  auto* convert = app.add_subcommand("convert", "translate a Peridigm deck (YAML) into the equivalent native deck");
+  convert->add_option("deck", deck_path, "the Peridigm deck (top-level key Peridigm)")->required();
+  convert->add_option("-o,--output", convert_out, "the native deck to write (default: standard output)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -98,6 +104,16 @@ int main(int argc, char** argv) {
       const TrussNetwork net = truss_network(s);
       write_truss_file(truss_path, s, net);
       fmt::print("wrote {}: {} nodes, {} trusses\n", truss_path, net.mass.size(), net.trusses.size());
+      return 0;
+    }
+    if (*convert) {
+      const std::string text = convert_peridigm_deck(deck_path);
+      if (convert_out.empty()) {
+        fmt::print("{}", text);
+      } else {
+        write_file_atomic(convert_out, text);
+        fmt::print(stderr, "wrote {}\n", convert_out);
+      }
       return 0;
     }
     if (*models) {

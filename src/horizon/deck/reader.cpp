@@ -305,4 +305,15 @@ Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_f
   return v;
 }
 
+Expression read_scalar_expr(const DeckContext& ctx, const Item& item) {
+  if (!is_scalar(item.node)) fail_expected(ctx, item, "a number or an expression in t, x, y, z");
+  const std::string& text = item.node.Scalar();
+  if (const auto value = parse_number(text)) return Expression(*value);
+  try {
+    return Expression(text);
+  } catch (const Error& e) {
+    ctx.fail(item.mark, item.path + ": " + e.what() + " (variables: t, x, y, z; e.g. \"293 + 10*sin(x/0.01)\")");
+  }
+}
+
 }  // namespace horizon::deck

@@ -26,6 +26,7 @@ struct DeckContext {
   int dimension = 3;
   PlaneMode plane = PlaneMode::none;
   std::vector<std::string>* warnings = nullptr;
+  double thickness = 1;  // 2-D: a mesh's element areas become volumes with it
   // Mesh files read so far (bodies and regions often name the same one), by path.
   std::shared_ptr<std::map<std::string, std::shared_ptr<const Mesh>>> meshes =
       std::make_shared<std::map<std::string, std::shared_ptr<const Mesh>>>();
@@ -112,6 +113,8 @@ Vec3 read_vector(const DeckContext& ctx, const Item& item);
 // null for "not prescribed". Components beyond the dimension are unset, or zero when
 // free components are not allowed.
 Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_free);
+// One number or expression in t, x, y, z.
+Expression read_scalar_expr(const DeckContext& ctx, const Item& item);
 
 template <class E>
 E read_enum(const DeckContext& ctx, const Item& item, const std::vector<std::pair<std::string, E>>& choices) {

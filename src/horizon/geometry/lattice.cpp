@@ -18,6 +18,14 @@ uint64_t pack(int64_t i, int64_t j, int64_t k) {
 
 std::size_t fill_shape(Particles& particles, const Shape& shape, const LatticeSpec& spec, double density,
                        int32_t block, int32_t material) {
+  if (shape.kind() == Shape::Kind::points) {
+    // Listed particles: each point as given, with its own volume (no lattice).
+    const auto& at = shape.point_list();
+    const auto& vol = shape.point_volumes();
+    for (std::size_t i = 0; i < at.size(); ++i)
+      particles.add(at[i], i < vol.size() ? vol[i] : spec.cell_volume, density, block, material);
+    return at.size();
+  }
   const Box3 box = shape.bounds();
   const double h = spec.spacing;
   const int d = spec.dimension;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <limits>
-#include <tuple>
 
 namespace horizon {
 
@@ -46,49 +45,6 @@ Shape Shape::half_space(Vec3 point, Vec3 normal) {
   return s;
 }
 
-// Sorted for lookup by exact coordinates: the particles made from a mesh sit exactly at
-// the stored points.
-struct Shape::PointSet {
-  std::vector<Vec3> points;
-  std::vector<double> measures;
-  std::vector<std::tuple<double, double, double>> sorted;
-  Box3 box;
-};
-
-Shape Shape::points(std::vector<Vec3> points, std::vector<double> measures) {
-  auto set = std::make_shared<PointSet>();
-  set->box = {Vec3{kHuge, kHuge, kHuge}, Vec3{-kHuge, -kHuge, -kHuge}};
-  for (const auto& p : points) {
-    set->sorted.emplace_back(p.x, p.y, p.z);
-    for (int k = 0; k < 3; ++k) {
-      set->box.min[k] = std::min(set->box.min[k], p[k]);
-      set->box.max[k] = std::max(set->box.max[k], p[k]);
-    }
-  }
-  std::sort(set->sorted.begin(), set->sorted.end());
-  set->points = std::move(points);
-  set->measures = std::move(measures);
-  Shape s;
-  s.kind_ = Kind::points;
-  s.points_ = std::move(set);
-  return s;
-}
-
-const std::vector<Vec3>& Shape::point_list() const {
-  static const std::vector<Vec3> kNone;
-  return points_ ? points_->points : kNone;
-}
-
-const std::vector<double>& Shape::point_measures() const {
-  static const std::vector<double> kNone;
-  return points_ ? points_->measures : kNone;
-}
-
-bool Shape::has_points() const {
-  if (kind_ == Kind::points) return true;
-  return std::any_of(parts_.begin(), parts_.end(), [](const Shape& s) { return s.has_points(); });
-}
-
 Shape Shape::union_of(std::vector<Shape> parts) {
   Shape s;
   s.kind_ = Kind::union_of;
@@ -103,8 +59,30 @@ Shape Shape::difference(std::vector<Shape> parts) {
   return s;
 }
 
+Shape Shape::points(std::vector<Vec3> at, std::vector<double> volumes) {
+  Shape s;
+  s.kind_ = Kind::points;
+  s.points_ = std::move(at);
+  s.volumes_ = std::move(volumes);
+  s.by_x_.reserve(s.points_.size());
+  double scale = 0;
+  for (std::size_t i = 0; i < s.points_.size(); ++i) {
+    s.by_x_.emplace_back(s.points_[i].x, i);
+    for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(s.points_[i][k]));
+  }
+  std::sort(s.by_x_.begin(), s.by_x_.end());
+  s.tolerance_ = 1e-9 * std::max(scale, 1e-300);
+  return s;
+}
+
 bool Shape::contains(const Vec3& p) const {
   switch (kind_) {
+    case Kind::points: {
+      auto it = std::lower_bound(by_x_.begin(), by_x_.end(), std::make_pair(p.x - tolerance_, std::size_t{0}));
+      for (; it != by_x_.end() && it->first <= p.x + tolerance_; ++it)
+        if (norm(points_[it->second] - p) <= tolerance_) return true;
+      return false;
+    }
     case Kind::box:
       return le(a_.x, p.x) && le(p.x, b_.x) && le(a_.y, p.y) && le(p.y, b_.y) && le(a_.z, p.z) &&
              le(p.z, b_.z);
@@ -120,8 +98,6 @@ bool Shape::contains(const Vec3& p) const {
       return le(norm2(p - a_), radius_ * radius_);
     case Kind::half_space:
       return le(dot(p - a_, b_), 0.0);
-    case Kind::points:
-      return std::binary_search(points_->sorted.begin(), points_->sorted.end(), std::make_tuple(p.x, p.y, p.z));
     case Kind::union_of:
       return std::any_of(parts_.begin(), parts_.end(), [&](const Shape& s) { return s.contains(p); });
     case Kind::difference:
@@ -163,8 +139,15 @@ Box3 Shape::bounds() const {
     }
     case Kind::difference:
       return parts_.empty() ? Box3{} : parts_[0].bounds();
-    case Kind::points:
-      return points_->box;
+    case Kind::points: {
+      Box3 r{{kHuge, kHuge, kHuge}, {-kHuge, -kHuge, -kHuge}};
+      for (const auto& q : points_)
+        for (int k = 0; k < 3; ++k) {
+          r.min[k] = std::min(r.min[k], q[k]);
+          r.max[k] = std::max(r.max[k], q[k]);
+        }
+      return r;
+    }
   }
   return {};
 }

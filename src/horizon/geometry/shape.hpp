@@ -2,6 +2,7 @@
 // Solid shapes: primitives combined by union and subtraction. A shape answers one
 // question, "is this point inside?", and gives a bounding box for the lattice.
 #include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -27,18 +28,14 @@ class Shape {
   static Shape union_of(std::vector<Shape> parts);
   // parts[0] minus every later part.
   static Shape difference(std::vector<Shape> parts);
-
-  // A finite set of points (the particles of a mesh: element centres), matched exactly;
-  // `measures` (volume in 3-D, area in 2-D, one per point) when the set is a body, empty
-  // when it only selects particles (a region).
-  static Shape points(std::vector<Vec3> points, std::vector<double> measures);
+  // A set of listed points (particles given one by one, as from a text file): contains
+  // exactly those points (to 1e-9 of the set's size). As a body's shape each point is one
+  // particle of the given volume; as a region it selects the particles at those points.
+  static Shape points(std::vector<Vec3> at, std::vector<double> volumes);
+  const std::vector<Vec3>& point_list() const { return points_; }
+  const std::vector<double>& point_volumes() const { return volumes_; }
 
   bool contains(const Vec3& p) const;
-  // Kind::points only: the points and their measures.
-  const std::vector<Vec3>& point_list() const;
-  const std::vector<double>& point_measures() const;
-  // Whether a point set appears anywhere in this shape.
-  bool has_points() const;
   // Bounding box; unbounded shapes (half spaces) report +-1e300.
   Box3 bounds() const;
   Kind kind() const { return kind_; }
@@ -48,8 +45,10 @@ class Shape {
   Vec3 a_, b_;          // box min/max, cylinder ends, sphere centre, half-space point/normal
   double radius_ = 0;
   std::vector<Shape> parts_;
-  struct PointSet;
-  std::shared_ptr<const PointSet> points_;
+  std::vector<Vec3> points_;    // points: as given
+  std::vector<double> volumes_;  // points: one volume per point (empty for a region)
+  std::vector<std::pair<double, std::size_t>> by_x_;  // points: x and index, sorted
+  double tolerance_ = 0;
 };
 
 }  // namespace horizon

@@ -1,5 +1,7 @@
 #include "horizon/solver/system.hpp"
 
+#include "horizon/thermal/heat.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -57,19 +59,8 @@ System build_system(const Config& config) {
     for (std::size_t m = 0; m < config.materials.size(); ++m)
       if (config.materials[m].name == body.material) mat = static_cast<int>(m);
     if (mat < 0) throw Error("body '" + body.name + "' names unknown material '" + body.material + "'");
-    std::size_t added = 0;
-    if (body.shape.kind() == Shape::Kind::points) {
-      // A meshed body: one particle per element at its centre with its volume (2-D: area
-      // times thickness); geometry/mesh.hpp.
-      const auto& points = body.shape.point_list();
-      const auto& measures = body.shape.point_measures();
-      const double factor = config.dimension == 2 ? config.thickness : 1.0;
-      for (std::size_t p = 0; p < points.size(); ++p)
-        s.particles.add(points[p], measures[p] * factor, config.materials[mat].density, static_cast<int32_t>(b), mat);
-      added = points.size();
-    } else {
-      added = fill_shape(s.particles, body.shape, spec, config.materials[mat].density, static_cast<int32_t>(b), mat);
-    }
+    const std::size_t added = fill_shape(s.particles, body.shape, spec, config.materials[mat].density,
+                                         static_cast<int32_t>(b), mat);
     if (added == 0)
       throw Error("body '" + body.name + "' contains no lattice point: its shape is smaller than the spacing " +
                   std::to_string(config.spacing) + " m or lies outside the lattice");
@@ -89,6 +80,27 @@ System build_system(const Config& config) {
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
   s.initial_bonds = s.bonds.size();
   setup_model(s, config.materials, config);
+  if (config.thermal.enabled) {
+    setup_heat(s, config.materials, config);  // thermal/heat.hpp
+    // The temperature-dependent critical stretch acts in the general force pass's
+    // critical-stretch test: not for a model that owns the force pass.
+    for (std::size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].thermal.critical_stretch_slope != 0 && s.models[m].owns_force_pass())
+        throw Error("material '" + config.materials[m].name + "' (model " + config.materials[m].model +
+                    "): thermal.critical_stretch_slope scales the critical-stretch law of the general force pass, "
+                    "which this model does not use");
+    // The thermal strain reaches the models that declare it (ModelTraits::thermal_strain):
+    // refuse it for the others.
+    for (std::size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].thermal.expansion != 0 && !s.models[m].traits().thermal_strain) {
+        std::string takers;
+        for (const auto& e : model_registry())
+          if (e.traits.thermal_strain) takers += (takers.empty() ? "" : ", ") + e.traits.name;
+        throw Error("material '" + config.materials[m].name + "' (model " + config.materials[m].model +
+                    "): thermal expansion acts on models " + takers +
+                    " only; set thermal.expansion: 0 for this material");
+      }
+  }
   return s;
 }
 

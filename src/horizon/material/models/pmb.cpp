@@ -24,6 +24,7 @@ const ModelTraits& traits() {
          "particle's stiffness tensor (seed 002 eq. 35-36), the mean of the two ends per bond",
          ParameterSpec::Range::boolean, 0.0},
     };
+    m.thermal_strain = true;  // in the general force pass (solver/forces_general.cpp)
     return m;
   }();
   return t;
