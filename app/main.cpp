@@ -1,4 +1,4 @@
-// The `horizon` command line: run, check, render, plot, models, --version. It only chains library
+// The `horizon` command line: run, check, export-truss, render, plot, models, --version. It only chains library
 // calls; every stage lives in src/horizon.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -13,6 +13,7 @@
 #include "horizon/material/model.hpp"
 #include "horizon/output/plot.hpp"
 #include "horizon/output/render.hpp"
+#include "horizon/output/truss.hpp"
 #include "horizon/output/resolve_frame.hpp"
 #include "horizon/output/vtu.hpp"
 
@@ -38,6 +39,13 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a deck; print particles, bonds, memory and time step");
   check->add_option("deck", deck_path, "the deck (YAML)")->required();
   check->add_option("--coarsen", run_opts.coarsen, "as for run")->check(CLI::PositiveNumber);
+
+  std::string truss_path = "trusses.txt";
+  auto* export_truss = app.add_subcommand(
+      "export-truss", "write the bond network of a bond-based deck as truss elements with lumped masses (seed 002 sec. 6)");
+  export_truss->add_option("deck", deck_path, "the deck (YAML)")->required();
+  export_truss->add_option("-o,--output", truss_path, "the truss file (default trusses.txt)");
+  export_truss->add_option("--coarsen", run_opts.coarsen, "as for run")->check(CLI::PositiveNumber);
 
   std::string frame_path, png_path, field = "damage";
   RenderOptions render_opts;
@@ -86,6 +94,16 @@ int main(int argc, char** argv) {
       const System s = build_system(config);
       fmt::print("{}", format_check(config, check_system(config, s)));
       fmt::print("deck is valid\n");
+      return 0;
+    }
+    if (*export_truss) {
+      Config config = load_deck(deck_path);
+      for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
+      apply_run_options(config, run_opts);
+      const System s = build_system(config);
+      const TrussNetwork net = truss_network(s);
+      write_truss_file(truss_path, s, net);
+      fmt::print("wrote {}: {} nodes, {} trusses\n", truss_path, net.mass.size(), net.trusses.size());
       return 0;
     }
     if (*convert) {

@@ -56,6 +56,7 @@ void read_lattice(DeckContext& ctx, const MapReader& m, Config& config) {
     if (auto t = m.find("thickness")) config.thickness = read_positive(ctx, *t);
   }
   ctx.plane = config.plane;
+  ctx.thickness = config.thickness;
   if (auto a = m.find("area"); a && config.dimension == 1) config.area = read_positive(ctx, *a);
 
   const Item spacing = m.get("spacing", "the lattice spacing [m], > 0");
@@ -166,7 +167,9 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
     body.shape = read_shape(ctx, shape);
     check_bounded(ctx, shape, body.shape);
     if (body.shape.kind() == Shape::Kind::points && body.shape.point_volumes().empty()) {
-      ctx.fail(shape.mark, shape.path + ": a body made of listed points needs a volume with each point ([x, y, z, volume])");
+      ctx.fail(shape.mark, shape.path +
+                               ": a body made of listed points needs a volume with each point ([x, y, z, volume]); "
+                               "a mesh's set: selects a region and belongs under regions");
     }
     config.bodies.push_back(std::move(body));
   }

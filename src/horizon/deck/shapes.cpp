@@ -15,8 +15,8 @@ namespace horizon::deck {
 
 namespace {
 
-const std::vector<std::string> kShapeKinds = {"box",   "cylinder", "disk",  "sphere",
-                                              "half_space", "union", "subtract", "points"};
+const std::vector<std::string> kShapeKinds = {"box",   "cylinder", "disk",     "sphere", "half_space",
+                                              "union", "subtract", "points",   "mesh"};
 const char* const kAxisNames[3] = {"x", "y", "z"};
 
 // In 2-D a disk is a cylinder along z through the plane; its ends lie far outside any
@@ -91,6 +91,66 @@ Shape read_half_space(const DeckContext& ctx, const Item& item) {
   const Vec3 normal = read_vector(ctx, normal_item);
   if (!(norm(normal) > 0)) ctx.fail(normal_item.mark, normal_item.path + ": the normal must not be zero");
   return Shape::half_space(point, normal);
+}
+
+std::string group_names(const std::vector<MeshGroup>& groups) {
+  std::string out;
+  for (const auto& g : groups) out += (out.empty() ? "" : ", ") + g.name;
+  return out.empty() ? "none" : out;
+}
+
+// A mesh file's elements as particles (geometry/mesh.hpp): all of them, one block's, or
+// (regions) those touching a node or side set.
+Shape read_mesh_shape(const DeckContext& ctx, const Item& item, const YAML::Mark& key_mark) {
+  if (ctx.dimension == 1) ctx.fail(key_mark, item.path + ": a mesh needs a 2-D or 3-D deck");
+  MapReader m(ctx, item, {"file", "block", "set", "scale"});
+  const Item file_item = m.get("file", "the mesh file: .msh (Gmsh 4.1) or .exo, .e, .g (Exodus II), relative to the deck");
+  std::filesystem::path file = read_string(ctx, file_item);
+  if (file.is_relative()) file = std::filesystem::path(ctx.file).parent_path() / file;
+  const std::string key = file.lexically_normal().string() + "#" + std::to_string(ctx.dimension);
+  std::shared_ptr<const Mesh> mesh;
+  if (auto it = ctx.meshes->find(key); it != ctx.meshes->end()) {
+    mesh = it->second;
+  } else {
+    try {
+      mesh = std::make_shared<const Mesh>(read_mesh(file.lexically_normal().string(), ctx.dimension));
+    } catch (const Error& e) {
+      ctx.fail(file_item.mark, file_item.path + ": " + e.what());
+    }
+    ctx.meshes->emplace(key, mesh);
+  }
+  double scale = 1;
+  if (auto sc = m.find("scale")) scale = read_positive(ctx, *sc);
+  std::vector<uint32_t> cells;
+  bool with_measures = true;
+  const auto which = m.exactly_one({"block", "set"}, false);
+  if (which == "block") {
+    const Item b = *m.find("block");
+    const std::string name = read_string(ctx, b);
+    const MeshGroup* g = mesh->find_block(name);
+    if (!g) ctx.fail(b.mark, b.path + ": the mesh has no block '" + name + "'; its blocks: " + group_names(mesh->blocks));
+    cells = g->members;
+  } else if (which == "set") {
+    const Item st = *m.find("set");
+    const std::string name = read_string(ctx, st);
+    const MeshGroup* g = mesh->find_set(name);
+    if (!g) ctx.fail(st.mark, st.path + ": the mesh has no set '" + name + "'; its sets: " + group_names(mesh->sets));
+    cells = mesh->cells_touching(*g);
+    if (cells.empty()) ctx.fail(st.mark, st.path + ": no element of the mesh touches set '" + name + "'");
+    with_measures = false;
+  } else {
+    cells.resize(mesh->cell_nodes.size());
+    for (uint32_t e = 0; e < cells.size(); ++e) cells[e] = e;
+  }
+  std::vector<Vec3> points;
+  std::vector<double> measures;
+  // Full volumes, as a body of listed points carries: 2-D areas times the thickness.
+  const double measure_scale = std::pow(scale, ctx.dimension) * (ctx.dimension == 2 ? ctx.thickness : 1.0);
+  for (uint32_t e : cells) {
+    points.push_back(scale == 1 ? mesh->centroid[e] : mesh->centroid[e] * scale);
+    if (with_measures) measures.push_back(mesh->measure[e] * measure_scale);
+  }
+  return Shape::points(std::move(points), std::move(measures));
 }
 
 // points: a list of [x, y, z] or [x, y, z, volume] rows (one coordinate per axis), or
@@ -190,6 +250,8 @@ Shape read_shape(const DeckContext& ctx, const Item& item) {
   if (e.key == "disk") return read_disk(ctx, e.value, key_mark);
   if (e.key == "cylinder") return read_cylinder(ctx, e.value, key_mark);
   if (e.key == "half_space") return read_half_space(ctx, e.value);
+  if (e.key == "mesh") return read_mesh_shape(ctx, e.value, key_mark);
+
   if (e.key == "points") return read_points(ctx, e.value);
   if (e.key == "union") return Shape::union_of(read_parts(ctx, e.value, 1, "the shape is all of them together"));
   if (e.key == "subtract") {

@@ -4,6 +4,7 @@
 #include "horizon/material/models/correspondence.hpp"
 #include "horizon/material/models/elastic_plastic.hpp"
 #include "horizon/material/models/lps.hpp"
+#include "horizon/material/models/microplastic.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/material/models/pmb.hpp"
 #include "horizon/material/models/viscoelastic.hpp"
@@ -18,6 +19,7 @@ const std::vector<ModelEntry>& model_registry() {
       elastic_plastic_model(),
       viscoelastic_model(),
       correspondence_model(),
+      microplastic_model(),
   };
   return registry;
 }
