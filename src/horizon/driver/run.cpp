@@ -29,6 +29,7 @@ namespace fs = std::filesystem;
 void apply_run_options(Config& c, const RunOptions& o) {
   if (o.output_dir) c.output.directory = *o.output_dir;
   if (o.end_time) c.solver.end_time = *o.end_time;
+  if (o.max_memory_gib > 0) c.memory_limit_bytes = o.max_memory_gib * 1024.0 * 1024.0 * 1024.0;
   if (o.coarsen != 1) {
     c.spacing *= o.coarsen;
     c.horizon *= o.coarsen;
@@ -38,6 +39,16 @@ void apply_run_options(Config& c, const RunOptions& o) {
 
 double run_time_step(const Config& c, const System& s) {
   return c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * stable_time_step(s);
+}
+
+int64_t step_count(const Config& c, double dt) {
+  const double steps = std::ceil(c.solver.end_time / dt - 1e-9);
+  if (!(steps <= kMaxSteps)) {
+    throw Error(fmt::format("{}: the run would take {:.3g} steps of {:.4g} s to end_time {:.4g} s, more than the "
+                            "{:g} a run may take; check solver.end_time and solver.time_step (units: seconds)",
+                            c.deck_file, steps, dt, c.solver.end_time, kMaxSteps));
+  }
+  return static_cast<int64_t>(steps);
 }
 
 CheckReport check_system(const Config& c, const System& s) {
@@ -52,9 +63,18 @@ CheckReport check_system(const Config& c, const System& s) {
     r.steps = c.solver.load_steps;
   } else {
     r.dt = run_time_step(c, s);  // implicit dynamics requires solver.time_step (deck check)
-    r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+    r.steps = step_count(c, r.dt);
   }
   return r;
+}
+
+SetUp set_up(const Config& c) {
+  SetUp u;
+  u.system = build_system(c);
+  u.loads = Loads(c, u.system);
+  u.loads.apply_initial_conditions(c, u.system);
+  u.check = check_system(c, u.system);
+  return u;
 }
 
 std::string format_check(const Config& c, const CheckReport& r) {
@@ -207,6 +227,8 @@ int run_deck(Config config, const RunOptions& options) {
   apply_run_options(config, options);
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const auto wall_start = std::chrono::steady_clock::now();
+  const fs::path dir = config.output.directory;
+  prepare_output_directory(dir.string(), "frames");  // before the (long) set-up
 
   System s = build_system(config);
   Loads loads(config, s);
@@ -214,8 +236,6 @@ int run_deck(Config config, const RunOptions& options) {
   const CheckReport check = check_system(config, s);
   if (!options.quiet) fmt::print(stderr, "{}", format_check(config, check));
 
-  const fs::path dir = config.output.directory;
-  fs::create_directories(dir / "frames");
   PvdIndex pvd((dir / "frames.pvd").string());
 
   ExplicitSolver solver(s, loads, check.dt, config.solver.damping);
@@ -301,9 +321,9 @@ int run_deck(Config config, const RunOptions& options) {
       if (!options.quiet) progress.update(solver.steps(), solver.time());
       if (interrupt_requested()) {
         status = "interrupted";
-        exit_code = 130;
-        message = fmt::format("interrupted at step {}, t = {:.4e} s; a final frame was written", solver.steps(),
-                              solver.time());
+        exit_code = interrupt_exit_code();
+        message = fmt::format("{} at step {}, t = {:.4e} s; a final frame was written", interrupt_name(),
+                              solver.steps(), solver.time());
         break;
       }
     }
@@ -311,9 +331,16 @@ int run_deck(Config config, const RunOptions& options) {
     status = "non-finite";
     exit_code = 2;
     message = e.what();
+  } catch (const OutputError& e) {
+    // The frames listed in frames.pvd are complete (written under a temporary name and
+    // renamed); the one that failed is not listed. No final frame: the disk said no.
+    status = "output error";
+    exit_code = 5;
+    message = fmt::format("{}; stopped at step {}, frames.pvd lists the {} complete frames", e.what(),
+                          solver.steps(), pvd.entries().size());
   }
   if (!options.quiet) progress.finish();
-  if (exit_code != 0) {
+  if (exit_code != 0 && exit_code != 5) {
     // The last good state (restored by the solver on a non-finite step) as the final frame.
     solver.update_kinetic();
     record_history();
@@ -324,7 +351,17 @@ int run_deck(Config config, const RunOptions& options) {
   const double loop_time = progress.elapsed();
   const double loop_cpu_time = cpu_seconds() - cpu_start;
 
-  write_file_atomic((dir / "history.csv").string(), history.str());
+  // After an output error, history and summary are tried once (they are small) and their
+  // failure only reported.
+  auto write_result = [&](const std::string& name, const std::string& text) {
+    try {
+      write_file_atomic((dir / name).string(), text);
+    } catch (const OutputError& e) {
+      if (exit_code != 5) throw;
+      fmt::print(stderr, "horizon: {}\n", e.what());
+    }
+  };
+  write_result("history.csv", history.str());
 
   // Summary: final figures and run statistics.
   const Ledger& g = solver.ledger();
@@ -403,8 +440,11 @@ int run_deck(Config config, const RunOptions& options) {
     fj["crack_angles_signed_deg"] = signed_angles;
     j["fracture"] = fj;
   }
-  write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+  const std::string energy_warning = energy_balance_warning(config, max_balance_error);
+  if (!energy_warning.empty()) j["warnings"] = {energy_warning};
+  write_result("summary.json", j.dump(2) + "\n");
 
+  if (!energy_warning.empty()) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
   if (!options.quiet) {
     fmt::print(stderr, "{} in {} ({} steps, {:.3g} bond updates/s); output in {}\n", status, format_duration(wall),
                solver.steps(), j["bond_updates_per_second"].get<double>(), dir.string());
