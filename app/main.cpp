@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
       Config config = load_deck(deck_path);
       for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
       apply_run_options(config, run_opts);
-      const SetUp u = set_up(config);
+      const PreparedRun u = prepare_run(config);
       fmt::print("{}", format_check(config, u.check));
       fmt::print("deck is valid\n");
       return 0;

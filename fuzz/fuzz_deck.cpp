@@ -29,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   try {
     horizon::Config config = horizon::parse_deck(text, "fuzz.yaml");
     config.memory_limit_bytes = kFuzzMemoryLimit;
-    const horizon::SetUp u = horizon::set_up(config);
+    const horizon::PreparedRun u = horizon::prepare_run(config);
     (void)u;
   } catch (const horizon::Error&) {
     // A clean refusal: what every bad deck must end in.

@@ -69,7 +69,7 @@ struct Child {
 // RLIMIT_FSIZE in the child (what `ulimit -f` does).
 Child start(const fs::path& deck, const fs::path& out, long limit_bytes = 0) {
   Child c;
-  c.log = out.parent_path() / (out.filename().string() + ".log");
+  c.log = deck.parent_path() / (out.filename().string() + ".log");
   const std::string bin = HORIZON_BINARY, d = deck.string(), o = out.string(), l = c.log.string();
   c.pid = fork();
   if (c.pid == 0) {

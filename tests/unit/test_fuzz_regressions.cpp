@@ -43,7 +43,7 @@ TEST(FuzzRegressions, EveryKeptInputEndsInAValueOrACleanError) {
     try {
       Config config = parse_deck(text.str(), f.filename().string());
       config.memory_limit_bytes = 64.0 * 1024 * 1024;  // the fuzz target's limit
-      const SetUp u = set_up(config);
+      const PreparedRun u = prepare_run(config);
       EXPECT_GT(u.system.particles.size(), 0u) << f;
     } catch (const Error& e) {
       outcome = e.what();

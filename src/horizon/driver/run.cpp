@@ -68,8 +68,8 @@ CheckReport check_system(const Config& c, const System& s) {
   return r;
 }
 
-SetUp set_up(const Config& c) {
-  SetUp u;
+PreparedRun prepare_run(const Config& c) {
+  PreparedRun u;
   u.system = build_system(c);
   u.loads = Loads(c, u.system);
   u.loads.apply_initial_conditions(c, u.system);
@@ -336,7 +336,7 @@ int run_deck(Config config, const RunOptions& options) {
     // renamed); the one that failed is not listed. No final frame: the disk said no.
     status = "output error";
     exit_code = 5;
-    message = fmt::format("{}; stopped at step {}, frames.pvd lists the {} complete frames", e.what(),
+    message = fmt::format("output error: {}; stopped at step {}, frames.pvd lists the {} complete frames", e.what(),
                           solver.steps(), pvd.entries().size());
   }
   if (!options.quiet) progress.finish();

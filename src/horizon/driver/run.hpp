@@ -47,12 +47,12 @@ int64_t step_count(const Config& config, double dt);
 // Everything a run does before its first step, as `horizon check` does it: the system
 // (after the memory guard, solver/memory_guard.hpp), the loads and initial conditions,
 // the time step. Throws horizon::Error for a deck that cannot run.
-struct SetUp {
+struct PreparedRun {
   System system;
   Loads loads;
   CheckReport check;
 };
-SetUp set_up(const Config& config);
+PreparedRun prepare_run(const Config& config);
 std::string format_check(const Config& config, const CheckReport& r);
 
 // Runs the deck and writes frames, history.csv and summary.json into the output
