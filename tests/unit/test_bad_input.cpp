@@ -110,6 +110,9 @@ TEST(BadInput, HugeSizesAreRefusedBeforeAllocation) {
   EXPECT_SAYS(m, "raise the limit with --max-memory <GiB>");
   EXPECT_SAYS(error_of(with("end_time: 1e-6", "end_time: 1e6")),
               "the run would take 1.22e+13 steps of 8.213e-08 s to end_time 1e+06 s, more than the 1e+12");
+  // One particle, no bond: no stable time step (the run would have taken 0 steps of inf s).
+  EXPECT_SAYS(error_of(with("max: [0.02, 0.01]}}}", "max: [0.0005, 0.0005]}}}")),
+              "bad.yaml: the time step is inf: no particle has a bond that sets a stable step");
   EXPECT_SAYS(error_of(with("horizon_factor: 3", "horizon_factor: 3\nlattice_origin: [1e30, 0]")),
               "a body lies more than 1e15 spacings from the lattice origin");
 }

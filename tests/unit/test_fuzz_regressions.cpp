@@ -1,5 +1,7 @@
-// Every input the deck fuzzer (fuzz/fuzz_deck.cpp) found to crash, hang, exhaust memory
-// or hit undefined behaviour, kept in tests/data/fuzz_regressions/ once fixed: each must
+// Every input that once crashed, hung, exhausted memory or hit undefined behaviour in the
+// deck reader or the set-up (found by the deck fuzzer, fuzz/fuzz_deck.cpp, or by hand),
+// kept in tests/data/fuzz_regressions/ once fixed, with the extremes of docs/reliability.md
+// (binary, 100,000 nested brackets, spacing 1e-9 m, an alias fan-out): each must
 // now end the way the fuzz target demands, a value or a clean horizon::Error, within the
 // fuzzer's memory limit. Under `make test-sanitize` this runs with ASan and UBSan too.
 #include <gtest/gtest.h>

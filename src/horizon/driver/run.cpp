@@ -42,6 +42,12 @@ double run_time_step(const Config& c, const System& s) {
 }
 
 int64_t step_count(const Config& c, double dt) {
+  if (!(dt > 0 && std::isfinite(dt))) {
+    throw Error(fmt::format("{}: the time step is {}: no particle has a bond that sets a stable step (a body of a "
+                            "single particle, or bodies thinner than a spacing apart from each other?); check the "
+                            "bodies, the spacing and the horizon",
+                            c.deck_file, dt));
+  }
   const double steps = std::ceil(c.solver.end_time / dt - 1e-9);
   if (!(steps <= kMaxSteps)) {
     throw Error(fmt::format("{}: the run would take {:.3g} steps of {:.4g} s to end_time {:.4g} s, more than the "
