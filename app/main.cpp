@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <csignal>
 #include <exception>
 
 #include "horizon/core/error.hpp"
@@ -35,10 +36,14 @@ int main(int argc, char** argv) {
   run->add_option("--end-time", end_time, "override solver.end_time [s]")->check(CLI::PositiveNumber);
   run->add_option("--threads", run_opts.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("-q,--quiet", run_opts.quiet, "no progress line");
+  run->add_option("--max-memory", run_opts.max_memory_gib,
+                  "refuse decks estimated to need more than this [GiB] (default: the machine's memory)")
+      ->check(CLI::PositiveNumber);
 
   auto* check = app.add_subcommand("check", "validate a deck; print particles, bonds, memory and time step");
   check->add_option("deck", deck_path, "the deck (YAML)")->required();
   check->add_option("--coarsen", run_opts.coarsen, "as for run")->check(CLI::PositiveNumber);
+  check->add_option("--max-memory", run_opts.max_memory_gib, "as for run")->check(CLI::PositiveNumber);
 
   std::string truss_path = "trusses.txt";
   auto* export_truss = app.add_subcommand(
@@ -79,6 +84,11 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
 
+  // A file-size limit (ulimit -f) makes write(2) fail with EFBIG instead of killing the
+  // process, so that it ends as an output error with its message (exit status 5).
+  std::signal(SIGXFSZ, SIG_IGN);
+  // Exit statuses (docs/reliability.md): 0 completed, 1 bad input, 2 non-finite state,
+  // 3 internal error, 4 not converged, 5 output could not be written, 130/143 SIGINT/SIGTERM.
   try {
     if (*run) {
       if (!out_dir.empty()) run_opts.output_dir = out_dir;
@@ -91,8 +101,8 @@ int main(int argc, char** argv) {
       Config config = load_deck(deck_path);
       for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
       apply_run_options(config, run_opts);
-      const System s = build_system(config);
-      fmt::print("{}", format_check(config, check_system(config, s)));
+      const PreparedRun u = prepare_run(config);
+      fmt::print("{}", format_check(config, u.check));
       fmt::print("deck is valid\n");
       return 0;
     }
@@ -133,6 +143,9 @@ int main(int argc, char** argv) {
       fmt::print("wrote {}\n", png_path);
       return 0;
     }
+  } catch (const OutputError& e) {
+    fmt::print(stderr, "horizon: output error: {}\n", e.what());
+    return 5;
   } catch (const Error& e) {
     fmt::print(stderr, "horizon: {}\n", e.what());
     return 1;

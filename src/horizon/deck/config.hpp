@@ -133,6 +133,9 @@ struct SolverConfig {
   // stable step from the current bond tangent stiffness every adaptive_every steps.
   bool adaptive_time_step = false;
   int adaptive_every = 5;
+  // Explicit and implicit dynamics: a run whose |energy balance error| (relative to the
+  // largest energy of the ledger) exceeds this warns in the log and in summary.json.
+  double energy_balance_warning = 0.05;
 };
 
 // How the damage field weighs the bonds: phi_i = 1 - sum(intact) w / sum(all) w with
@@ -243,6 +246,9 @@ struct Config {
   SolverConfig solver;
   ThermalConfig thermal;
   OutputConfig output;
+  // Not a deck key: the memory a run may need [bytes] before build_system refuses it
+  // (solver/memory_guard.hpp); 0 means the machine's physical memory. --max-memory sets it.
+  double memory_limit_bytes = 0;
   // Legal but dubious choices found while reading the deck, one line each in the form
   // "file:line:column: warning: ...", for the run to print.
   std::vector<std::string> warnings;

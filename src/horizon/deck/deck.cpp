@@ -188,7 +188,7 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   MapReader s(ctx, m.get("solver", "at least {end_time: ...}"),
               {"type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
                "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds",
-               "condition_number", "adaptive_time_step", "adaptive_every"});
+               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning"});
   SolverConfig& sc = config.solver;
   std::string type = "explicit";
   if (auto t = s.find("type")) {
@@ -235,6 +235,7 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
     sc.safety_factor = v;
   }
   if (auto d = s.find("damping")) sc.damping = read_non_negative(ctx, *d);
+  if (auto w = s.find("energy_balance_warning")) sc.energy_balance_warning = read_positive(ctx, *w);
 
   if (auto me = s.find("method"))
     sc.method = read_enum<StaticMethod>(ctx, *me, {{"newton", StaticMethod::newton}, {"adr", StaticMethod::adr}});

@@ -32,6 +32,7 @@ namespace fs = std::filesystem;
 void apply_run_options(Config& c, const RunOptions& o) {
   if (o.output_dir) c.output.directory = *o.output_dir;
   if (o.end_time) c.solver.end_time = *o.end_time;
+  if (o.max_memory_gib > 0) c.memory_limit_bytes = o.max_memory_gib * 1024.0 * 1024.0 * 1024.0;
   if (o.coarsen != 1) {
     c.spacing *= o.coarsen;
     c.horizon *= o.coarsen;
@@ -41,6 +42,22 @@ void apply_run_options(Config& c, const RunOptions& o) {
 
 double run_time_step(const Config& c, const System& s) {
   return c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * stable_time_step(s);
+}
+
+int64_t step_count(const Config& c, double dt) {
+  if (!(dt > 0 && std::isfinite(dt))) {
+    throw Error(fmt::format("{}: the time step is {}: no particle has a bond that sets a stable step (a body of a "
+                            "single particle, or bodies thinner than a spacing apart from each other?); check the "
+                            "bodies, the spacing and the horizon",
+                            c.deck_file, dt));
+  }
+  const double steps = std::ceil(c.solver.end_time / dt - 1e-9);
+  if (!(steps <= kMaxSteps)) {
+    throw Error(fmt::format("{}: the run would take {:.3g} steps of {:.4g} s to end_time {:.4g} s, more than the "
+                            "{:g} a run may take; check solver.end_time and solver.time_step (units: seconds)",
+                            c.deck_file, steps, dt, c.solver.end_time, kMaxSteps));
+  }
+  return static_cast<int64_t>(steps);
 }
 
 CheckReport check_system(const Config& c, const System& s) {
@@ -54,7 +71,7 @@ CheckReport check_system(const Config& c, const System& s) {
   if (c.solver.type == SolverType::heat) {
     r.stable_dt = r.heat_stable_dt;
     r.dt = c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * r.heat_stable_dt;
-    r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+    r.steps = step_count(c, r.dt);
     return r;
   }
   if (c.solver.type == SolverType::static_equilibrium) {
@@ -62,9 +79,18 @@ CheckReport check_system(const Config& c, const System& s) {
     r.steps = c.solver.load_steps;
   } else {
     r.dt = run_time_step(c, s);  // implicit dynamics requires solver.time_step (deck check)
-    r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+    r.steps = step_count(c, r.dt);
   }
   return r;
+}
+
+PreparedRun prepare_run(const Config& c) {
+  PreparedRun u;
+  u.system = build_system(c);
+  u.loads = Loads(c, u.system);
+  u.loads.apply_initial_conditions(c, u.system);
+  u.check = check_system(c, u.system);
+  return u;
 }
 
 std::string format_check(const Config& c, const CheckReport& r) {
@@ -356,6 +382,8 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   apply_run_options(c, options);
   if (options.threads > 0) omp_set_num_threads(options.threads);
   r.wall_start = std::chrono::steady_clock::now();
+  r.dir = c.output.directory;
+  prepare_output_directory(r.dir.string(), "frames");  // before the (long) set-up
 
   r.s = build_system(c);
   r.loads = std::make_unique<Loads>(c, r.s);
@@ -363,8 +391,6 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   r.check = check_system(c, r.s);
   if (!options.quiet) fmt::print(stderr, "{}", format_check(c, r.check));
 
-  r.dir = c.output.directory;
-  fs::create_directories(r.dir / "frames");
   r.pvd = std::make_unique<PvdIndex>((r.dir / "frames.pvd").string());
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
@@ -449,9 +475,9 @@ int64_t ExplicitRun::advance(int64_t n) {
       if (!r.options.quiet) r.progress->update(solver.steps(), solver.time());
       if (r.options.handle_signals && interrupt_requested()) {
         r.status = "interrupted";
-        r.exit_code = 130;
-        r.message = fmt::format("interrupted at step {}, t = {:.4e} s; a final frame was written", solver.steps(),
-                                solver.time());
+        r.exit_code = interrupt_exit_code();
+        r.message = fmt::format("{} at step {}, t = {:.4e} s; a final frame was written", interrupt_name(),
+                                solver.steps(), solver.time());
         r.stopped = true;
         return taken;
       }
@@ -460,6 +486,15 @@ int64_t ExplicitRun::advance(int64_t n) {
     r.status = "non-finite";
     r.exit_code = 2;
     r.message = e.what();
+    r.stopped = true;
+    return taken;
+  } catch (const OutputError& e) {
+    // The frames listed in frames.pvd are complete (written under a temporary name and
+    // renamed); the one that failed is not listed. No final frame: the disk said no.
+    r.status = "output error";
+    r.exit_code = 5;
+    r.message = fmt::format("output error: {}; stopped at step {}, frames.pvd lists the {} complete frames", e.what(),
+                            solver.steps(), r.pvd->entries().size());
     r.stopped = true;
     return taken;
   }
@@ -507,7 +542,7 @@ int ExplicitRun::finish() {
   const std::string& message = r.message;
   auto& crack = *r.crack;
   if (!options.quiet) r.progress->finish();
-  if (r.exit_code != 0 || status == "stopped") {
+  if ((r.exit_code != 0 && r.exit_code != 5) || status == "stopped") {
     // The last good state (restored by the solver on a non-finite step) as the final frame.
     solver.update_kinetic();
     r.record_history();
@@ -518,7 +553,17 @@ int ExplicitRun::finish() {
   const double loop_time = r.progress->elapsed();
   const double loop_cpu_time = cpu_seconds() - r.cpu_start;
 
-  write_file_atomic((dir / "history.csv").string(), r.history.str());
+  // After an output error, history and summary are tried once (they are small) and their
+  // failure only reported.
+  auto write_result = [&](const std::string& name, const std::string& text) {
+    try {
+      write_file_atomic((dir / name).string(), text);
+    } catch (const OutputError& e) {
+      if (r.exit_code != 5) throw;
+      fmt::print(stderr, "horizon: {}\n", e.what());
+    }
+  };
+  write_result("history.csv", r.history.str());
 
   // Summary: final figures and run statistics.
   const Ledger& g = solver.ledger();
@@ -602,9 +647,12 @@ int ExplicitRun::finish() {
     fj["crack_angles_signed_deg"] = signed_angles;
     j["fracture"] = fj;
   }
-  write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+  const std::string energy_warning = energy_balance_warning(config, r.max_balance_error);
+  if (!energy_warning.empty()) j["warnings"] = {energy_warning};
+  write_result("summary.json", j.dump(2) + "\n");
   r.summary = j;
 
+  if (!energy_warning.empty()) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
   if (!options.quiet) {
     fmt::print(stderr, "{} in {} ({} steps, {:.3g} bond updates/s); output in {}\n", status, format_duration(wall),
                solver.steps(), j["bond_updates_per_second"].get<double>(), dir.string());

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "horizon/deck/config.hpp"
+#include "horizon/loading/loads.hpp"
 #include "horizon/output/frame.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -20,6 +21,7 @@ struct RunOptions {
   bool quiet = false;                     // no progress line
   int threads = 0;                        // 0: OpenMP's default
   bool handle_signals = true;             // Ctrl-C ends the run cleanly (off for the Python module)
+  double max_memory_gib = 0;              // the memory guard's limit; 0: the machine's memory
 };
 
 struct CheckReport {
@@ -40,6 +42,22 @@ void apply_run_options(Config& config, const RunOptions& options);
 double run_time_step(const Config& config, const System& s);
 
 CheckReport check_system(const Config& config, const System& s);
+
+// The steps of a run of step dt to solver.end_time. More than kMaxSteps (a trillion,
+// months of computing for the smallest deck) is an error: a unit mistake in end_time or
+// time_step, not a run.
+inline constexpr double kMaxSteps = 1e12;
+int64_t step_count(const Config& config, double dt);
+
+// Everything a run does before its first step, as `horizon check` does it: the system
+// (after the memory guard, solver/memory_guard.hpp), the loads and initial conditions,
+// the time step. Throws horizon::Error for a deck that cannot run.
+struct PreparedRun {
+  System system;
+  Loads loads;
+  CheckReport check;
+};
+PreparedRun prepare_run(const Config& config);
 std::string format_check(const Config& config, const CheckReport& r);
 
 // Runs the deck and writes frames, history.csv and summary.json into the output
