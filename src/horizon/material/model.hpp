@@ -74,6 +74,7 @@ struct ModelTraits {
   bool energy_law = false;           // damage: {law: energy, ...} (Tupek's nonlinear solid)
   bool exclusive = false;            // shares a run only with materials of the same model
   bool adaptive_time_step = false;   // solver.adaptive_time_step applies (stable_time_step from the current state)
+  bool structural = false;           // models the nodes of a beam, plate or shell (deck structure: ...), not a solid
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
                                         InfluenceKind::gaussian};
   InfluenceKind default_influence = InfluenceKind::constant;

@@ -47,6 +47,12 @@ double cell_volume(const Config& c) {
 System build_system(const Config& config) {
   System s;
   s.dimension = config.dimension;
+  switch (config.structure.kind) {
+    case StructureKind::none: s.active_components = 0; break;
+    case StructureKind::beam:
+    case StructureKind::plate: s.active_components = 4; break;
+    case StructureKind::shell: s.active_components = 7; break;
+  }
   s.horizon = config.horizon;
   s.spacing = config.spacing;
 

