@@ -195,6 +195,19 @@ TEST(BondPair, NavierPlateWithTwoSpacingHorizonDoesNotConverge) {
   EXPECT_LT(std::abs(r40 - r20), 0.3 * (r20 - 1));
 }
 
+// Digest sec. 6.2 P2: any Poisson ratio with the bond-multiple correction (sec. 3.9, 4.4):
+// w_c / w_Navier(D(nu)) at n = 40, delta = 3 dx.
+TEST(BondPair, NavierPlateAnyPoissonRatio) {
+  OneThread one;
+  const double nus[3] = {0.0, 0.3, 0.45}, expected[3] = {1.0289, 1.0219, 1.0184};
+  for (int q = 0; q < 3; ++q) {
+    const double r = navier_ratio(40, nus[q], 3);
+    report(fmt::format("navier_nu_{}", q), r,
+           fmt::format("Navier plate n = 40, nu = {}: w_c/w_N = {:.5f} (digest {:.4f})", nus[q], r, expected[q]));
+    EXPECT_NEAR(r, expected[q], 1e-3 * expected[q]) << "nu = " << nus[q];
+  }
+}
+
 // The full-size figures of docs/verification.md (run with
 // --gtest_also_run_disabled_tests --gtest_filter='BondPair.DISABLED_*'):
 // n = 80 at delta = 3 dx (digest 1.0145; within 2 % of Navier) and at delta = 2 dx (1.1725).

@@ -300,7 +300,9 @@ void BondPair::setup(const ModelSetup& in) {
         bonds_.push_back({static_cast<uint32_t>(k), j->second, o.length, coef, 2 * o.length / m_memb});
       }
       if (j == where.end() || jp == where.end()) continue;
-      if (k >= n && j->second >= n && jp->second >= n) continue;
+      // Pairs of ghosts alone move no real node, but complete the isotropic curvature of a
+      // ghost centre (sec. 4.4), which does.
+      if (k >= n && j->second >= n && jp->second >= n && iso_C_ == 0) continue;
       const double w = by_length ? o.length : 1.0;
       Pair p{static_cast<uint32_t>(k), j->second, jp->second, 2 * w * alpha * V_[k] * V_[j->second],
              4 * iso_C_ / m0 * o.length * V_[k] * V_[j->second] / (o.length * o.length), 1 / o.length};
