@@ -208,6 +208,34 @@ TEST(BondPair, NavierPlateAnyPoissonRatio) {
   }
 }
 
+// Digest sec. 6.2 P3: uniform pressure plus an in-plane edge load N_x, applied as the
+// uniform pre-stretch it causes (digest sec. 4.7: eps_xx = N/(E h), eps_yy = -nu N/(E h),
+// in-plane coordinates held), carried to the deflection by the extension springs
+// (sec. 3.8). w_c/w_c(0) against Timoshenko's series, eta = N_x a^2/(pi^2 D).
+double combined_load_center(int n, double eta) {
+  const double nu = 1.0 / 3.0, D = flexural_rigidity(nu);
+  const double N = eta * std::pow(3.14159265358979323846, 2) * D / (kSide * kSide);
+  const double eps = N / (200e9 * kThickness);
+  const std::string loads = fmt::format("  - {{region: all, displacement: [\"{}*x\", \"{}*y\", null]}}\n", eps, -nu * eps);
+  StaticRun run(parse_deck(plate_deck(n, nu, 3, "plate", loads), "plate.yaml"));
+  EXPECT_TRUE(run.run()) << run.solver.failure();
+  return -run.w_at({kSide / 2, kSide / 2, 0});
+}
+
+TEST(BondPair, CombinedLateralAndInPlaneLoad) {
+  OneThread one;
+  const int n = 40;
+  const double w0 = combined_load_center(n, 0);
+  const double etas[4] = {-2, 0, 4, 16}, expected[4] = {2.0211, 1.0, 0.4918, 0.1898};
+  for (int q = 0; q < 4; ++q) {
+    const double r = combined_load_center(n, etas[q]) / w0;
+    report(fmt::format("combined_{}", q), r,
+           fmt::format("combined load n = {}, eta = {}: w_c/w_c0 = {:.4f} (series {:.4f}, {:+.2f} %)", n, etas[q], r,
+                       expected[q], 100 * (r / expected[q] - 1)));
+    EXPECT_NEAR(r, expected[q], 0.03 * expected[q]) << "eta = " << etas[q];
+  }
+}
+
 // The full-size figures of docs/verification.md (run with
 // --gtest_also_run_disabled_tests --gtest_filter='BondPair.DISABLED_*'):
 // n = 80 at delta = 3 dx (digest 1.0145; within 2 % of Navier) and at delta = 2 dx (1.1725).
