@@ -626,3 +626,74 @@ TEST(DeckErrors, AdaptiveStepNeedsNonlinearSolid) {
 }
 
 }  // namespace horizon
+
+namespace horizon {
+namespace {
+
+// Thin structures (structure: ..., model bond_pair): a valid plate, and each
+// contradiction reported at its line and column.
+// Line numbers: 1 dimension, 2 structure, 3 type, 4 supports, 5 support, 6 thickness,
+// 7 spacing, 8 horizon_factor, 9 materials, 10 steel, 11 bodies, 12 body, 13 loads,
+// 14 pressure, 15 solver.
+const char* const kPlateDeck = R"deck(dimension: 2
+structure:
+  type: plate
+  supports:
+    - {axis: x, at: 0.0, kind: clamped}
+thickness: 0.01
+spacing: 0.1
+horizon_factor: 3
+materials:
+  steel: {model: bond_pair, density: 7800, youngs_modulus: 200e9, poissons_ratio: 0.3}
+bodies:
+  - {name: plate, material: steel, shape: {box: {min: [0, 0], max: [1, 1]}}}
+loads:
+  - {region: all, pressure: [0, 0, -1]}
+solver: {type: static, tangent: finite_difference}
+)deck";
+
+std::string plate_deck_with(int line, const std::string& text) {
+  std::string deck = kPlateDeck, out;
+  int n = 1;
+  std::size_t start = 0;
+  while (start < deck.size()) {
+    const std::size_t end = deck.find('\n', start);
+    out += (n == line ? text : deck.substr(start, end - start)) + "\n";
+    start = end + 1;
+    ++n;
+  }
+  return out;
+}
+
+TEST(Deck, PlateDeckParses) {
+  const Config c = parse_deck(kPlateDeck, "test.yaml");
+  EXPECT_EQ(c.structure.kind, StructureKind::plate);
+  ASSERT_EQ(c.structure.supports.size(), 1u);
+  EXPECT_EQ(c.structure.supports[0].kind, SupportKind::clamped);
+  EXPECT_EQ(c.loads.at(0).kind, LoadKind::pressure);
+  ASSERT_TRUE(c.loads.at(0).value[2]);
+  EXPECT_EQ((*c.loads.at(0).value[2])(0, 0, 0, 0), -1.0);
+  EXPECT_EQ(c.thickness, 0.01);
+}
+
+TEST(DeckErrors, StructureContradictions) {
+  // A beam is 1-D.
+  expect_error(plate_deck_with(3, "  type: beam"), 3, 9, {"structure.type", "needs dimension: 1"});
+  // A plate has no plane mode.
+  expect_error(plate_deck_with(6, "plane: stress"), 6, 1, {"plane", "no plane mode"});
+  // Loads and motions of a structure have x, y and z.
+  expect_error(plate_deck_with(14, "  - {region: all, pressure: [0, -1]}"), 14, 29, {"3 components", "3-D space"});
+  // A support axis within the lattice, and a known kind.
+  expect_error(plate_deck_with(5, "    - {axis: z, at: 0.0, kind: clamped}"), 5, 14, {"axis"});
+  expect_error(plate_deck_with(5, "    - {axis: x, at: 0.0, kind: pinned}"), 5, 32, {"clamped", "simply_supported"});
+  // A solid model on a structure, and the structural model on a solid.
+  expect_error(plate_deck_with(10, "  steel: {model: pmb, density: 7800, youngs_modulus: 200e9}"), 10, 18,
+               {"model pmb is a solid", "bond_pair"});
+  expect_error(small_deck_with(7, "    model: bond_pair\n    poissons_ratio: 0.3"), 7, 12, {"give structure"});
+  // Pressure is a structure's load.
+  expect_error(small_deck_with(14, "loads: [{region: all, pressure: [0, -1]}]\nsolver: {end_time: 1.0e-6}"), 14, 23,
+               {"pressure", "structures"});
+}
+
+}  // namespace
+}  // namespace horizon
