@@ -100,6 +100,11 @@ class BondPair final : public Model {
   std::vector<double> theta_p_, theta_p_trial_;  // plastic offset (committed, trial)
   std::vector<uint8_t> failed_;                  // brittle failure (permanent)
   std::vector<double> pairs_at_;                 // pairs centred at each real node
+  // Energy weight of a real node: 1/2 per support line it lies on. The forces on the real
+  // nodes are -dE/du of E = sum_k weight_k e_k (e_k the energy of the pairs and half
+  // bonds centred at k, ghosts following their masters): a ghost centre's terms are the
+  // mirror images of a real centre's, and a centre on the line is its own image.
+  std::vector<double> energy_weight_;
   bool held_ = false;
   bool transverse_ = true;  // beam / plate: z only
   bool signed_mode_ = false;
@@ -185,6 +190,10 @@ void BondPair::setup(const ModelSetup& in) {
   // horizons of the support line (the stencil's reach) to the far side, transverse
   // displacement even (clamped) or odd (simply supported); the in-plane normal component
   // mirrors about the support line's own motion, the tangential one is even.
+  energy_weight_.assign(n, 1.0);
+  for (const auto& sup : config.structure.supports)
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::abs(P.X[i][sup.axis] - sup.at) < 1e-6 * dx) energy_weight_[i] *= 0.5;
   std::vector<std::vector<GhostTerm>> terms(n);
   for (std::size_t i = 0; i < n; ++i) terms[i] = {GhostTerm{static_cast<uint32_t>(i), Vec3{1, 1, 1}}};
   for (const auto& sup : config.structure.supports) {
@@ -451,7 +460,7 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
     Vec3 f = F_[i] / P.volume[i];
     if (transverse_) f = nz * f.z;
     P.f[i] = f;
-    if (energy) P.energy[i] /= P.volume[i];
+    if (energy) P.energy[i] *= energy_weight_[i] / P.volume[i];
   }
   // Damage: the fraction of failed pairs about each node (dissertation Fig. 5.16).
   if (theta_fail_ > 0) {
