@@ -181,7 +181,8 @@ void Loads::apply_forces(System& s, double t) const {
   }
 }
 
-double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before) {
+double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, const std::vector<Vec3>* v_before,
+                               double dt) {
   auto& P = s.particles;
   double work = 0;
   for (auto& L : loads_) {
@@ -197,13 +198,24 @@ double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before) {
     for (std::size_t n = 0; n < L.particles.size(); ++n) {
       const uint32_t i = L.particles[n];
       // The constraint supplies what the prescribed motion needs beyond the internal
-      // force; for slow loading that is -f V.
+      // force: rho V a - (f + b) V; for slow loading that is -(f + b) V. The static part
+      // does work by the trapezoidal rule; the inertial part does exactly the change of
+      // the constrained components' kinetic energy, 1/2 rho V (v^2 - v_before^2).
       Vec3 r = -(P.f[i] + P.b[i]) * P.volume[i];
       for (int c = 0; c < 3; ++c)
         if (!L.value[c]) r[c] = 0;
       const Vec3 du = P.u[i] - u_before[i];
       work += 0.5 * dot(L.reaction_old[n] + r, du);
       L.reaction_old[n] = r;
+      if (v_before && dt > 0) {
+        const double mass = P.density[i] * P.volume[i];
+        const Vec3& v0 = (*v_before)[i];
+        for (int c = 0; c < 3; ++c)
+          if (L.value[c]) {
+            r[c] += mass * (P.v[i][c] - v0[c]) / dt;
+            work += 0.5 * mass * (P.v[i][c] * P.v[i][c] - v0[c] * v0[c]);
+          }
+      }
       L.reaction += r;
     }
   }

@@ -36,13 +36,27 @@ class Loads {
   // Zeroes and refills particles.b (body force and traction) at time t.
   void apply_forces(System& s, double t) const;
   // After the force pass at time t: reactions of constrained regions (the force the
-  // constraint exerts, rho V a - f V, a from the prescribed motion) and applied force
-  // totals. Returns the work done by the constraints over the step (trapezoidal).
-  double update_reactions(System& s, const std::vector<Vec3>& u_before);
+  // constraint exerts, rho V a - (f + b) V) and applied force totals. Returns the work
+  // done by the constraints over the step (trapezoidal). Dynamic solvers pass the
+  // velocities at the start of the step and the step, so that a = (v - v_before)/dt of
+  // the prescribed motion counts: the constraint's work then includes the kinetic energy
+  // it gives its particles. Static solvers leave them out (a = 0).
+  double update_reactions(System& s, const std::vector<Vec3>& u_before, const std::vector<Vec3>* v_before = nullptr,
+                          double dt = 0);
 
   std::vector<AppliedLoad>& loads() { return loads_; }
   const std::vector<AppliedLoad>& loads() const { return loads_; }
   bool is_constrained(std::size_t i, int component) const;
+  // |v|^2 over the components of particle i that no constraint prescribes: what mass-
+  // proportional damping dissipates on (a prescribed component's velocity is set by its
+  // constraint whatever the damped update gives it).
+  double free_speed2(std::size_t i, const Vec3& v) const {
+    const unsigned fixed = constrained_.empty() ? 0u : constrained_[i];
+    double vv = 0;
+    for (int c = 0; c < 3; ++c)
+      if (!((fixed >> c) & 1u)) vv += v[c] * v[c];
+    return vv;
+  }
 
  private:
   std::vector<AppliedLoad> loads_;

@@ -91,7 +91,9 @@ void ExplicitSolver::step(bool energy) {
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 vh = P.v[i];
     const Vec3 v = (vh + (P.f[i] + P.b[i]) * (half / P.density[i])) * damp;
-    if (damping_ > 0) damped += P.density[i] * P.volume[i] * damping_ * half * (dot(v, v) + dot(v_before_[i], v_before_[i]));
+    if (damping_ > 0)
+      damped += P.density[i] * P.volume[i] * damping_ * half *
+                (loads_.free_speed2(i, v) + loads_.free_speed2(i, v_before_[i]));
     P.v[i] = v;
     finite = finite && std::isfinite(v.x + v.y + v.z + P.u[i].x + P.u[i].y + P.u[i].z);
   }
@@ -111,7 +113,7 @@ void ExplicitSolver::step(bool energy) {
   loads_.apply_constraints(s_, time_, dt);
 
   // Work of the applied force densities (trapezoidal in b) and of the constraints.
-  double work = loads_.update_reactions(s_, u_before_);
+  double work = loads_.update_reactions(s_, u_before_, &v_before_, dt);
   if (has_forces_) {
     double w = 0;
     for (std::size_t i = 0; i < n; ++i)

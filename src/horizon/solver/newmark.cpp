@@ -119,12 +119,13 @@ SolveReport NewmarkSolver::step() {
 
   // Ledger: work of the constraints and of the applied force densities (trapezoidal),
   // energy taken by the damping (trapezoidal in gamma M v^2).
-  double work = loads_.update_reactions(s_, u_before);
+  double work = loads_.update_reactions(s_, u_before, &v_before, dt);
   double damped = 0;
   for (std::size_t i = 0; i < P.size(); ++i) {
     work += 0.5 * P.volume[i] * dot(P.b[i] + b_before[i], P.u[i] - u_before[i]);
     if (damping_ > 0)
-      damped += 0.5 * dt * damping_ * P.density[i] * P.volume[i] * (dot(P.v[i], P.v[i]) + dot(v_before[i], v_before[i]));
+      damped += 0.5 * dt * damping_ * P.density[i] * P.volume[i] *
+                (loads_.free_speed2(i, P.v[i]) + loads_.free_speed2(i, v_before[i]));
   }
   ledger_.external_work += work;
   ledger_.damped += damped;
