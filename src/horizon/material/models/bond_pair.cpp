@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "horizon/core/error.hpp"
+#include "horizon/family/precrack.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -298,12 +299,20 @@ void BondPair::setup(const ModelSetup& in) {
   pairs_.clear();
   bonds_.clear();
   pairs_at_.assign(n, 0);
+  // A bond that crosses a precrack does not exist, nor does a pair with such a bond.
+  auto cut = [&](std::size_t a, std::size_t b) {
+    for (const auto& c : config.precracks)
+      if (crosses(X_[a], X_[b], c, dim_)) return true;
+    return false;
+  };
   for (std::size_t k = 0; k < N; ++k) {
     bool exact = false;
     const LatticeKey kk = key_of(X_[k], exact);
     for (const auto& o : half) {
-      const auto j = where.find({kk.a + o.a, kk.b + o.b});
-      const auto jp = where.find({kk.a - o.a, kk.b - o.b});
+      auto j = where.find({kk.a + o.a, kk.b + o.b});
+      auto jp = where.find({kk.a - o.a, kk.b - o.b});
+      if (j != where.end() && cut(k, j->second)) j = where.end();
+      if (jp != where.end() && cut(k, jp->second)) jp = where.end();
       if (j != where.end() && (k < n || j->second < n)) {
         const double coef = beta * V_[k] * V_[j->second];
         bonds_.push_back({static_cast<uint32_t>(k), j->second, o.length, coef, 2 * o.length / m_memb});
