@@ -81,9 +81,18 @@ InitialConditionConfig read_initial_condition(const DeckContext& ctx, const Item
 }
 
 LoadConfig read_load(const DeckContext& ctx, const Item& item, const std::vector<std::string>& regions) {
-  MapReader m(ctx, item, {"region", "traction", "displacement", "velocity", "body_force", "normal"});
+  MapReader m(ctx, item, {"region", "traction", "displacement", "velocity", "body_force", "force", "pressure", "normal"});
   LoadConfig load;
-  const std::string kind = *m.exactly_one({"traction", "displacement", "velocity", "body_force"}, true);
+  const std::string kind =
+      *m.exactly_one({"traction", "displacement", "velocity", "body_force", "force", "pressure"}, true);
+  if (kind == "force") load.kind = LoadKind::force;
+  if (kind == "pressure") {
+    load.kind = LoadKind::pressure;
+    if (!ctx.structure) {
+      ctx.fail(*m.find("pressure")->key_mark, item.path + ".pressure: applies to structures (beam, plate, shell) "
+                                              "only; a solid takes traction or body_force");
+    }
+  }
   if (kind == "traction") load.kind = LoadKind::traction;
   if (kind == "displacement") load.kind = LoadKind::displacement;
   if (kind == "velocity") load.kind = LoadKind::velocity;

@@ -96,7 +96,10 @@ struct InitialConditionConfig {
   Vec3Expr displacement;
 };
 
-enum class LoadKind { traction, body_force, displacement, velocity };
+// force: a total force [N] spread evenly over the region's particles (a point load over a
+// patch about one horizon wide, seed 001 digest sec. 4.7); pressure: structures only, a
+// load per unit mid-surface area (plates, shells) or per unit length (beams).
+enum class LoadKind { traction, body_force, displacement, velocity, force, pressure };
 
 struct LoadConfig {
   LoadKind kind = LoadKind::traction;
@@ -223,10 +226,32 @@ struct ThermalConfig {
   // a slow heat transfer for a mechanical response that stays quasi-static).
   double time_scale = 1;
   std::vector<ThermalBoundaryConfig> boundary;
+// Thin structures (seed 001, O'Grady 2014; docs/models/bond_pair.md): a beam is a 1-D line
+// of nodes along x, a plate or shell a 2-D lattice in the x-y plane, living in 3-D space.
+// beam and plate: only the transverse displacement w = u_z is free (the in-plane
+// components follow their constraints, 0 by default; the dissertation's z-only mode);
+// shell: all three components.
+enum class StructureKind { none, beam, plate, shell };
+enum class SupportKind { clamped, simply_supported };
+
+// An edge support (a point of a beam, a line of a plate) at X[axis] = at: the nodes on it
+// are held (w = 0), and ghost nodes mirror the body across it over two horizons, with
+// the transverse displacement even (clamped) or odd (simply supported) (seed 001 digest
+// sec. 4.7 and 6).
+struct SupportConfig {
+  int axis = 0;
+  double at = 0;
+  SupportKind kind = SupportKind::clamped;
+};
+
+struct StructureConfig {
+  StructureKind kind = StructureKind::none;
+  std::vector<SupportConfig> supports;
 };
 
 struct Config {
   std::string deck_file;
+  StructureConfig structure;
   int dimension = 3;
   PlaneMode plane = PlaneMode::none;
   double thickness = 1;    // 2-D only [m]

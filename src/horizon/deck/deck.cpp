@@ -31,7 +31,8 @@ const std::vector<std::string> kTopKeys = {
     "dimension",      "plane",           "thickness",          "area",      "spacing", "horizon",
     "horizon_factor", "lattice_origin",  "partial_volume",     "materials", "bodies",  "precracks",
     "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output",
-    "contact",        "thermal"};
+    "contact",        "thermal",
+    "structure"};
 
 // A key that only makes sense in one dimension is an error in the others.
 void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* key, int dimension) {
@@ -42,15 +43,60 @@ void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* k
   }
 }
 
+// structure: {type: beam | plate | shell, supports: [{axis, at, kind}]} (docs/input.md).
+void read_structure(DeckContext& ctx, const MapReader& top, const Item& dim, Config& config) {
+  const auto item = top.find("structure");
+  if (!item) return;
+  MapReader m(ctx, *item, {"type", "supports"});
+  const Item type = m.get("type", "beam (dimension 1), plate or shell (dimension 2)");
+  StructureConfig& sc = config.structure;
+  sc.kind = read_enum<StructureKind>(
+      ctx, type, {{"beam", StructureKind::beam}, {"plate", StructureKind::plate}, {"shell", StructureKind::shell}});
+  const int needed = sc.kind == StructureKind::beam ? 1 : 2;
+  if (config.dimension != needed) {
+    ctx.fail(type.mark, type.path + ": a " + type.node.Scalar() + " is a " + std::to_string(needed) +
+                            "-D lattice of nodes in 3-D space; it needs dimension: " + std::to_string(needed) +
+                            ", this deck has dimension: " + dim.node.Scalar());
+  }
+  if (auto p = top.find("plane")) {
+    ctx.fail(*p->key_mark, p->path + ": applies to 2-D solids only; a " + type.node.Scalar() +
+                               " has no plane mode (its bending and membrane laws are plane stress)");
+  }
+  config.plane = PlaneMode::stress;
+  if (auto sup = m.find("supports")) {
+    if (!sup->node.IsSequence()) fail_expected(ctx, *sup, "a list of supports, each {axis, at, kind}");
+    for (const auto& i : read_list(ctx, *sup)) {
+      MapReader s(ctx, i, {"axis", "at", "kind"});
+      SupportConfig support;
+      const std::vector<std::string> axes = {"x", "y"};
+      const Item axis = s.get("axis", needed == 1 ? "x (the beam's axis)" : "x or y (the normal of the edge)");
+      support.axis = static_cast<int>(choose_word(ctx, axis, std::vector<std::string>(axes.begin(), axes.begin() + needed)));
+      support.at = read_number(ctx, s.get("at", "the coordinate of the support [m]"));
+      support.kind = read_enum<SupportKind>(ctx, s.get("kind", "clamped or simply_supported"),
+                                            {{"clamped", SupportKind::clamped},
+                                             {"simply_supported", SupportKind::simply_supported}});
+      for (const auto& other : sc.supports)
+        if (other.axis == support.axis && other.at == support.at)
+          ctx.fail(i.mark, i.path + ": a second support at the same place");
+      sc.supports.push_back(support);
+    }
+  }
+  ctx.motion_components = 3;
+  ctx.structure = true;
+}
+
 void read_lattice(DeckContext& ctx, const MapReader& m, Config& config) {
   const Item dim = m.get("dimension", "1, 2 or 3");
   config.dimension = static_cast<int>(choose_word(ctx, dim, {"1", "2", "3"})) + 1;
   ctx.dimension = config.dimension;
+  read_structure(ctx, m, dim, config);
 
   only_in_dimension(ctx, m, "plane", 2);
   only_in_dimension(ctx, m, "thickness", 2);
   only_in_dimension(ctx, m, "area", 1);
-  if (config.dimension == 2) {
+  if (config.structure.kind != StructureKind::none) {
+    if (auto t = m.find("thickness")) config.thickness = read_positive(ctx, *t);
+  } else if (config.dimension == 2) {
     config.plane = read_enum<PlaneMode>(ctx, m.get("plane", "a 2-D deck is plane stress or plane strain"),
                                         {{"stress", PlaneMode::stress}, {"strain", PlaneMode::strain}});
     if (auto t = m.find("thickness")) config.thickness = read_positive(ctx, *t);
@@ -112,6 +158,27 @@ void read_materials(const DeckContext& ctx, const MapReader& m, Config& config) 
                                config.materials[0].name + "' (model " + a.name + "): bodies of model " + excl.name +
                                " interact only with " + excl.name + " bodies; use model " + excl.name +
                                " for every material (e.g. with fracture: false for a projectile)");
+    }
+  }
+  // A thin structure takes a structural model (ModelTraits::structural), and a structural
+  // model needs a structure.
+  for (std::size_t q = 0; q < entries.size(); ++q) {
+    const ModelTraits& t = find_model(config.materials[q].model)->traits;
+    const Item& e = entries[q].value;
+    const Item model = e.node["model"] ? Item{e.node["model"], child_path(e.path, "model"), e.node["model"].Mark(),
+                                              std::nullopt}
+                                       : e;
+    const bool structure = config.structure.kind != StructureKind::none;
+    if (structure && !t.structural) {
+      std::string which;
+      for (const auto& r : model_registry())
+        if (r.traits.structural) which += (which.empty() ? "" : ", ") + r.traits.name;
+      ctx.fail(model.mark, model.path + ": model " + t.name + " is a solid; the nodes of a structure (beam, plate, "
+                                        "shell) take model " + which);
+    }
+    if (!structure && t.structural) {
+      ctx.fail(model.mark, model.path + ": model " + t.name + " models beams, plates and shells; give structure: "
+                                        "{type: beam | plate | shell} (docs/input.md)");
     }
   }
   // One breaking order for the whole run: the force pass applies it to every bond.
@@ -237,8 +304,13 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   if (auto d = s.find("damping")) sc.damping = read_non_negative(ctx, *d);
   if (auto w = s.find("energy_balance_warning")) sc.energy_balance_warning = read_positive(ctx, *w);
 
-  if (auto me = s.find("method"))
+  if (auto me = s.find("method")) {
     sc.method = read_enum<StaticMethod>(ctx, *me, {{"newton", StaticMethod::newton}, {"adr", StaticMethod::adr}});
+    if (sc.method == StaticMethod::adr && ctx.structure) {
+      ctx.warn(me->mark, me->path + ": ADR's damping estimate stalls on the fourth-order bending operator of a "
+                                    "structure (docs/models/bond_pair.md, Solvers); method: newton converges");
+    }
+  }
   const bool newton = !is_static || sc.method == StaticMethod::newton;
   only_for(ctx, s, "linear_solver", newton, "method: newton", "static with method: adr");
   only_for(ctx, s, "tangent", newton, "method: newton", "static with method: adr");

@@ -257,8 +257,8 @@ std::vector<Item> read_list(const DeckContext& ctx, const Item& item) {
 
 namespace {
 // The components of a vector, checked for count.
-std::vector<Item> components(const DeckContext& ctx, const Item& item, std::string_view kind) {
-  const int n = ctx.dimension;
+std::vector<Item> components(const DeckContext& ctx, const Item& item, std::string_view kind, int count = 0) {
+  const int n = count > 0 ? count : ctx.dimension;
   const std::string expected = std::to_string(n) + (n == 1 ? " component" : " components");
   if (!item.node.IsDefined() || !item.node.IsSequence()) {
     fail_expected(ctx, item,
@@ -269,8 +269,10 @@ std::vector<Item> components(const DeckContext& ctx, const Item& item, std::stri
   }
   auto items = read_list(ctx, item);
   if (static_cast<int>(items.size()) != n) {
-    ctx.fail(item.mark, prefix(item.path) + "expected " + expected + " (one per axis of a " + std::to_string(n) +
-                            "-D deck), found " + std::to_string(items.size()));
+    ctx.fail(item.mark, prefix(item.path) + "expected " + expected +
+                            (n != ctx.dimension ? std::string(" (x, y, z: the nodes of a thin structure move in 3-D space)")
+                                                : " (one per axis of a " + std::to_string(n) + "-D deck)") +
+                            ", found " + std::to_string(items.size()));
   }
   return items;
 }
@@ -285,7 +287,8 @@ Vec3 read_vector(const DeckContext& ctx, const Item& item) {
 
 Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_free) {
   Vec3Expr v;
-  const auto items = components(ctx, item, allow_free ? "numbers, expressions or null" : "numbers or expressions");
+  const auto items = components(ctx, item, allow_free ? "numbers, expressions or null" : "numbers or expressions",
+                                ctx.motion_components);
   for (std::size_t k = 0; k < items.size(); ++k) {
     const Item& c = items[k];
     if (c.node.IsNull()) {
@@ -317,7 +320,7 @@ Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_f
     }
   }
   if (!allow_free)
-    for (int k = ctx.dimension; k < 3; ++k) v[k] = Expression(0.0);
+    for (int k = static_cast<int>(items.size()); k < 3; ++k) v[k] = Expression(0.0);
   return v;
 }
 

@@ -30,6 +30,10 @@ struct DeckContext {
   // Mesh files read so far (bodies and regions often name the same one), by path.
   std::shared_ptr<std::map<std::string, std::shared_ptr<const Mesh>>> meshes =
       std::make_shared<std::map<std::string, std::shared_ptr<const Mesh>>>();
+  // Components of a load or motion vector (read_vector_expr): 3 for thin structures, whose
+  // nodes move in 3-D space; 0 means the dimension.
+  int motion_components = 0;
+  bool structure = false;  // a beam, plate or shell (Config::structure)
 
   [[noreturn]] void fail(const YAML::Mark& at, const std::string& message) const;
   void warn(const YAML::Mark& at, const std::string& message) const;
@@ -111,7 +115,8 @@ std::vector<Item> read_list(const DeckContext& ctx, const Item& item);
 Vec3 read_vector(const DeckContext& ctx, const Item& item);
 // A vector whose components are numbers, expressions in t, x, y, z, or (if `allow_free`)
 // null for "not prescribed". Components beyond the dimension are unset, or zero when
-// free components are not allowed.
+// free components are not allowed. Thin structures (ctx.motion_components = 3) take
+// three components in any dimension.
 Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_free);
 // One number or expression in t, x, y, z.
 Expression read_scalar_expr(const DeckContext& ctx, const Item& item);

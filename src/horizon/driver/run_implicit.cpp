@@ -170,19 +170,22 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   auto write_frame = [&](double time, int64_t step) {
     const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
     Frame f = make_frame(s, time, step);
-    // Stress from the nonlocal deformation gradient and Hooke's law (material/stress_field.hpp).
-    const std::vector<SymTensor> sigma = stress_field(s, config.materials, config.plane);
-    const char* names[6] = {"stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_xz"};
-    const int shown[3][6] = {{0, -1, -1, -1, -1, -1}, {0, 1, 3, -1, -1, -1}, {0, 1, 2, 3, 4, 5}};
-    for (int c : shown[config.dimension - 1]) {
-      if (c < 0) continue;
-      FrameField ff{names[c], 1, std::vector<double>(sigma.size())};
-      for (std::size_t i = 0; i < sigma.size(); ++i) ff.data[i] = sigma[i][static_cast<std::size_t>(c)];
-      f.fields.push_back(std::move(ff));
+    // Stress from the nonlocal deformation gradient and Hooke's law (material/stress_field.hpp);
+    // a thin structure reports its section fields (deflection, curvature, moment) instead.
+    if (config.structure.kind == StructureKind::none) {
+      const std::vector<SymTensor> sigma = stress_field(s, config.materials, config.plane);
+      const char* names[6] = {"stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_xz"};
+      const int shown[3][6] = {{0, -1, -1, -1, -1, -1}, {0, 1, 3, -1, -1, -1}, {0, 1, 2, 3, 4, 5}};
+      for (int c : shown[config.dimension - 1]) {
+        if (c < 0) continue;
+        FrameField ff{names[c], 1, std::vector<double>(sigma.size())};
+        for (std::size_t i = 0; i < sigma.size(); ++i) ff.data[i] = sigma[i][static_cast<std::size_t>(c)];
+        f.fields.push_back(std::move(ff));
+      }
+      FrameField vm{"von_mises", 1, std::vector<double>(sigma.size())};
+      for (std::size_t i = 0; i < sigma.size(); ++i) vm.data[i] = von_mises(sigma[i]);
+      f.fields.push_back(std::move(vm));
     }
-    FrameField vm{"von_mises", 1, std::vector<double>(sigma.size())};
-    for (std::size_t i = 0; i < sigma.size(); ++i) vm.data[i] = von_mises(sigma[i]);
-    f.fields.push_back(std::move(vm));
     write_vtu((dir / name).string(), f);
     pvd.add(time, name);
     pvd.write();

@@ -18,6 +18,8 @@ const char* kind_name(LoadKind k) {
     case LoadKind::body_force: return "body_force";
     case LoadKind::displacement: return "displacement";
     case LoadKind::velocity: return "velocity";
+    case LoadKind::force: return "force";
+    case LoadKind::pressure: return "pressure";
   }
   return "load";
 }
@@ -112,6 +114,19 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
     for (int c = 0; c < 3; ++c)
       if (lc.value[c])
         for (uint32_t i : L.particles) check_finite(config.deck_file, *lc.value[c], 0, s.particles.X[i], "load " + L.name, c);
+    if (lc.kind == LoadKind::force) {
+      // A total force spread evenly over the region: the density F / sum V (seed 001
+      // digest sec. 4.7: a point load over the nodes of a patch about one horizon wide).
+      double volume = 0;
+      for (uint32_t i : L.particles) volume += s.particles.volume[i];
+      L.scale = 1.0 / volume;
+    }
+    if (lc.kind == LoadKind::pressure) {
+      // Per unit mid-surface area of a plate or shell (the density p / thickness), per
+      // unit length of a beam (q / area): the nodal force is p times the node's area or
+      // length (seed 001 digest sec. 4.7, "treated normally").
+      L.scale = 1.0 / (config.dimension == 1 ? config.area : config.thickness);
+    }
     if (is_constraint(lc.kind)) {
       L.reaction_old.assign(L.particles.size(), Vec3{});
       for (uint32_t i : L.particles)
@@ -134,6 +149,21 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
           owner[i][c] = static_cast<int32_t>(loads_.size());
         }
     }
+    loads_.push_back(std::move(L));
+  }
+  // Supports of a thin structure (deck structure.supports): the nodes on the support line
+  // are held at w = 0; the model mirrors the body across it with ghost nodes (seed 001
+  // digest sec. 4.7).
+  for (std::size_t q = 0; q < config.structure.supports.size(); ++q) {
+    const SupportConfig& sup = config.structure.supports[q];
+    AppliedLoad L;
+    L.kind = LoadKind::displacement;
+    L.value[2] = Expression(0.0);
+    L.name = "support" + std::to_string(q + 1) + ":displacement";
+    for (std::size_t i = 0; i < s.particles.size(); ++i)
+      if (std::abs(s.particles.X[i][sup.axis] - sup.at) < 1e-6 * s.spacing) L.particles.push_back(static_cast<uint32_t>(i));
+    L.reaction_old.assign(L.particles.size(), Vec3{});
+    for (uint32_t i : L.particles) constrained_[i] |= 4u;
     loads_.push_back(std::move(L));
   }
   for (const auto& ic : config.contact.indenters) {

@@ -75,10 +75,13 @@ std::string describe_models() {
     out += ": " + t.summary + "\n";
     out += std::string("  elastic constants: ") +
            (t.elastic == ElasticInput::one_modulus ? "one modulus (or micromodulus)" : "any two of E, nu, K, G") +
-           "; dimension " + (t.min_dimension > 1 ? std::to_string(t.min_dimension) + " or 3" : "1, 2 or 3") +
+           (t.structural ? std::string("; structures (beam, plate, shell) only")
+                         : "; dimension " + (t.min_dimension > 1 ? std::to_string(t.min_dimension) + " or 3" : "1, 2 or 3")) +
            "; damage law " +
            (t.critical_stretch_law && t.energy_law ? "critical_stretch or energy"
-                                                   : t.energy_law ? "energy" : "critical_stretch") +
+            : t.energy_law                         ? "energy"
+            : t.critical_stretch_law               ? "critical_stretch"
+                                                   : "its own (model parameters)") +
            (t.exclusive ? "; shares a run only with its own model" : "") + "\n";
     for (const auto& p : t.parameters)
       out += "  " + p.key + ": " + p.meaning +

@@ -78,6 +78,7 @@ struct ModelTraits {
   // docs/models/heat.md): materials.NAME.thermal.expansion is allowed. The unified models
   // take it in the general force pass; a model with its own force_state takes it there.
   bool thermal_strain = false;
+  bool structural = false;           // models the nodes of a beam, plate or shell (deck structure: ...), not a solid
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
                                         InfluenceKind::gaussian};
   InfluenceKind default_influence = InfluenceKind::constant;

@@ -13,8 +13,8 @@ DofMap build_map(const System& s, const Loads* loads) {
   const std::size_t n = s.particles.size();
   d.index.assign(3 * n, -1);
   for (std::size_t i = 0; i < n; ++i)
-    for (int c = 0; c < s.dimension; ++c) {
-      if (loads && loads->is_constrained(i, c)) continue;
+    for (int c = 0; c < 3; ++c) {
+      if (!s.active(c) || (loads && loads->is_constrained(i, c))) continue;
       d.index[3 * i + c] = static_cast<int32_t>(d.particle.size());
       d.particle.push_back(static_cast<uint32_t>(i));
       d.component.push_back(static_cast<uint8_t>(c));
@@ -68,7 +68,8 @@ LoadNorms load_norms(const System& s, const DofMap& d) {
   const auto& P = s.particles;
   double ext = 0, react = 0;
   for (std::size_t i = 0; i < P.size(); ++i)
-    for (int c = 0; c < s.dimension; ++c) {
+    for (int c = 0; c < 3; ++c) {
+      if (!s.active(c)) continue;
       const double b = P.b[i][c] * P.volume[i];
       ext += b * b;
       if (d.dof(i, c) < 0) {

@@ -38,7 +38,7 @@ double kinetic_energy(const System& s) {
 ExplicitSolver::ExplicitSolver(System& s, Loads& loads, double dt, double damping)
     : s_(s), loads_(loads), dt_(dt), damping_(damping) {
   for (const auto& L : loads_.loads())
-    if (L.kind == LoadKind::traction || L.kind == LoadKind::body_force) has_forces_ = true;
+    if (L.kind != LoadKind::displacement && L.kind != LoadKind::velocity) has_forces_ = true;
 }
 
 void ExplicitSolver::update_kinetic() { ledger_.kinetic = kinetic_energy(s_); }

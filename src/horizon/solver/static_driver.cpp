@@ -39,6 +39,8 @@ void apply_static_loads(const Loads& loads, System& s, double t_previous, double
             break;
           case LoadKind::traction:
           case LoadKind::body_force:
+          case LoadKind::force:
+          case LoadKind::pressure:
             P.b[i][c] += L.scale * factor * g(t, x.x, x.y, x.z);
             break;
         }

@@ -88,6 +88,12 @@ System build_system(const Config& config) {
   check_memory(config, config.memory_limit_bytes);  // before anything is allocated
   System s;
   s.dimension = config.dimension;
+  switch (config.structure.kind) {
+    case StructureKind::none: s.active_components = 0; break;
+    case StructureKind::beam:
+    case StructureKind::plate: s.active_components = 4; break;
+    case StructureKind::shell: s.active_components = 7; break;
+  }
   s.horizon = config.horizon;
   s.spacing = config.spacing;
 

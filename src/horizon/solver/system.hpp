@@ -97,6 +97,11 @@ void reset_model_arrays(ModelCoefficients& M, std::size_t n);
 
 struct System {
   int dimension = 3;
+  // The displacement components the solvers advance, bit c for component c: the first
+  // `dimension` for solids; z alone for beams and plates (the transverse deflection),
+  // all three for shells (deck structure, docs/input.md). 0: by the dimension.
+  uint8_t active_components = 0;
+  bool active(int c) const { return active_components ? ((active_components >> c) & 1u) != 0 : c < dimension; }
   double horizon = 0;
   double spacing = 0;
   Particles particles;

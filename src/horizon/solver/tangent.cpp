@@ -337,7 +337,8 @@ SparseMatrix finite_difference_tangent(System& s, const DofMap& d, double probe)
   std::vector<uint8_t> seen(n, 0);
   for (const auto& group : groups) {
     if (group.empty()) continue;
-    for (int c = 0; c < s.dimension; ++c) {
+    for (int c = 0; c < 3; ++c) {
+      if (!s.active(c)) continue;
       bool any = false;
       for (uint32_t p : group) any = any || d.dof(p, c) >= 0;
       if (!any) continue;
@@ -353,7 +354,7 @@ SparseMatrix finite_difference_tangent(System& s, const DofMap& d, double probe)
         if (col < 0) continue;
         reached(p, rows, seen);
         for (uint32_t i : rows)
-          for (int r = 0; r < s.dimension; ++r) {
+          for (int r = 0; r < 3; ++r) {
             const int32_t row = d.dof(i, r);
             if (row < 0) continue;
             const double v = -(f_plus[i][r] - P.f[i][r]) / (2 * probe) * P.volume[i];

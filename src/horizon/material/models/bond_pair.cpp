@@ -1,0 +1,566 @@
+#include "horizon/material/models/bond_pair.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "horizon/core/error.hpp"
+#include "horizon/family/precrack.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+namespace {
+
+constexpr double kPiValue = 3.14159265358979323846;
+
+const ModelTraits& traits() {
+  static const ModelTraits t = [] {
+    ModelTraits m;
+    m.name = "bond_pair";
+    m.aliases = {"ogrady"};
+    m.summary = "O'Grady's bond-pair beams, plates and flat shells: rotational springs between opposite bonds "
+                "(seed 001, dissertation ch. 4-5)";
+    m.critical_stretch_law = false;
+    m.exclusive = true;
+    m.structural = true;
+    m.influences = {InfluenceKind::constant};
+    m.parameters = {
+        {"depth", "beam: depth t of the rectangular section [m], I = area t^2/12; 0: a square section",
+         ParameterSpec::Range::non_negative, 0.0},
+        {"membrane", "in-plane (beam: axial) extension springs, eq. 4.13 (a shell needs them)",
+         ParameterSpec::Range::boolean, 1.0},
+        {"yield_strain", "elastic-perfectly-plastic pairs: surface yield strain (eq. 4.8); 0: elastic",
+         ParameterSpec::Range::non_negative, 0.0},
+        {"critical_strain", "brittle pairs: surface strain at which a pair fails for good (eq. 4.9); 0: never",
+         ParameterSpec::Range::non_negative, 0.0},
+    };
+    m.choices = {
+        {"pair_weight", "weight omega of the bending pairs: uniform (omega = 1) or length (omega = |xi|), sec. 4.2.3",
+         {"uniform", "length"}},
+    };
+    return m;
+  }();
+  return t;
+}
+
+// One unordered pair of opposite bonds (j, j') through its centre k.
+struct Pair {
+  uint32_t k, j, jp;
+  double coef;        // 2 omega alpha Vk Vj [N m]: e = coef (1 + cos theta)
+  double iso;         // (4 C/m0) omega_iso Vk Vj / |xi|^2 (bond-multiple correction, sec. 4.4)
+  double inv_length;  // 1/|xi|
+};
+
+// One unordered bond (k, j) of the extension springs.
+struct Bond {
+  uint32_t k, j;
+  double length;
+  double coef;  // beta omega Vk Vj: e = coef (|Y| - |xi|)^2
+  double dil;   // 2 omega |xi| / m_b (the 2-D dilatation, sec. 3.9) times V (of the other end)
+};
+
+// A ghost node: its displacement is an affine image of real nodes' displacements,
+// u_g = sum_t coeff_t (componentwise) u_{node_t} (mirror across a support, digest sec. 4.7).
+struct GhostTerm {
+  uint32_t node;
+  Vec3 coeff;
+};
+
+class BondPair final : public Model {
+ public:
+  std::unique_ptr<Model> clone() const override { return std::make_unique<BondPair>(*this); }
+  const ModelTraits& traits() const override { return horizon::traits(); }
+  bool owns_force_pass() const override { return true; }
+  void setup(const ModelSetup& in) override;
+  uint64_t force_pass(System& s, bool energy) override;
+  void commit(System& s) override;
+  double pending_dissipation(const System& s) const override;
+  void hold_bonds(bool hold) override { held_ = hold; }
+  double stable_time_step(const System& s) const override;
+  void fields(const System& s, std::vector<ModelField>& out) const override;
+
+ private:
+  void positions(const System& s);
+
+  std::size_t n_real_ = 0;
+  std::vector<Vec3> X_;                 // reference positions, real nodes then ghosts
+  std::vector<double> V_;               // node length (beam) or area (plate) [m or m^2]
+  std::vector<uint64_t> ghost_offset_;  // per ghost, into ghost_terms_
+  std::vector<GhostTerm> ghost_terms_;
+  std::vector<Pair> pairs_;
+  std::vector<Bond> bonds_;
+  std::vector<double> section_;  // per real node: particle volume / V (area of a beam, thickness of a plate)
+  std::vector<Vec3> y_;          // current positions of all nodes
+  std::vector<Vec3> F_;          // nodal forces of all nodes [N]
+  std::vector<Vec3> kbar_;       // isotropic curvature vector per node (sec. 4.4)
+  std::vector<double> theta_;    // 2-D dilatation per node (sec. 3.9)
+  std::vector<double> m0_inv_;   // per node: 1/m0 of its own complete pairs (curvature output)
+  // Per pair history.
+  std::vector<double> theta_p_, theta_p_trial_;  // plastic offset (committed, trial)
+  std::vector<uint8_t> failed_;                  // brittle failure (permanent)
+  std::vector<double> pairs_at_;                 // pairs centred at each real node
+  // Energy weight of a real node: 1/2 per support line it lies on. The forces on the real
+  // nodes are -dE/du of E = sum_k weight_k e_k (e_k the energy of the pairs and half
+  // bonds centred at k, ghosts following their masters): a ghost centre's terms are the
+  // mirror images of a real centre's, and a centre on the line is its own image.
+  std::vector<double> energy_weight_;
+  bool held_ = false;
+  bool transverse_ = true;  // beam / plate: z only
+  bool signed_mode_ = false;
+  double theta_yield_ = 0, theta_fail_ = 0;
+  double iso_C_ = 0, dil_coef_ = 0;  // C of sec. 4.4; G h (3 nu - 1)/(1 - nu) of sec. 3.9
+  double moment_factor_ = 0;         // moment per unit curvature: EI (beam), D (1 + nu) (plate)
+  double bending_bound_ = 0, membrane_bound_ = 0, iso_bound_ = 0;  // time-step bounds
+  int dim_ = 2;
+};
+
+// Integer lattice key of a position.
+struct LatticeKey {
+  int64_t a, b;
+  bool operator==(const LatticeKey& o) const { return a == o.a && b == o.b; }
+};
+struct LatticeHash {
+  std::size_t operator()(const LatticeKey& k) const {
+    return std::hash<int64_t>()(k.a * 1000003 + k.b);
+  }
+};
+
+void BondPair::setup(const ModelSetup& in) {
+  System& s = in.system;
+  const Config& config = in.config;
+  const MaterialConfig& mat = in.material;
+  for (const auto& m : config.materials)
+    if (!find_model(m.model) || find_model(m.model)->traits.name != "bond_pair")
+      throw Error("material '" + m.name + "' (model " + m.model + ") cannot share a run with model bond_pair");
+  if (config.structure.kind == StructureKind::none)
+    throw Error("model bond_pair models beams, plates and shells: give structure: {type: ...}");
+  for (const auto& m : config.materials)
+    if (m.youngs_modulus != mat.youngs_modulus || m.poissons_ratio != mat.poissons_ratio ||
+        Model::parameter(m, "depth") != Model::parameter(mat, "depth"))
+      throw Error("materials '" + mat.name + "' and '" + m.name +
+                  "': a structure is one section of one material (one bond_pair material per run)");
+  auto& P = s.particles;
+  const std::size_t n = P.size();
+  dim_ = config.dimension;
+  const double dx = config.spacing, delta = config.horizon;
+  transverse_ = config.structure.kind != StructureKind::shell;
+
+  // The generic model arrays, neutral (other code reads their sizes); the forces reach
+  // two horizons (the partner of a neighbour's partner), for the tangent's probing.
+  auto& M = s.model;
+  M.dim = dim_;
+  M.weighted_volume.assign(n, 0);
+  reset_model_arrays(M, n);
+  M.state_based = true;
+  s.dissipated_at.assign(n, 0);
+
+  // Section: the beam's area A and depth t (I = A t^2/12), the plate's thickness h.
+  const double E = mat.youngs_modulus, nu = mat.poissons_ratio, G = mat.shear_modulus;
+  const double A = config.area, h = config.thickness;
+  double depth = Model::parameter(mat, "depth");
+  if (dim_ == 1 && depth == 0) depth = std::sqrt(A);
+  if (dim_ == 2) depth = h;
+  const double cellV = dim_ == 1 ? dx : dx * dx;  // node length or area
+
+  // The lattice: every real node must be a lattice point (the pairs need exact opposites,
+  // dissertation sec. 5.2: "the discretization must be absolutely regular").
+  const Vec3 origin = n ? P.X[0] : Vec3{};
+  auto key_of = [&](const Vec3& x, bool& exact) {
+    const double fa = (x.x - origin.x) / dx, fb = dim_ == 2 ? (x.y - origin.y) / dx : 0.0;
+    const double ra = std::round(fa), rb = std::round(fb);
+    exact = std::abs(fa - ra) < 1e-6 && std::abs(fb - rb) < 1e-6;
+    return LatticeKey{static_cast<int64_t>(ra), static_cast<int64_t>(rb)};
+  };
+  std::unordered_map<LatticeKey, uint32_t, LatticeHash> where;
+  n_real_ = n;
+  X_.assign(P.X.begin(), P.X.end());
+  V_.assign(n, cellV);
+  section_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    bool exact = false;
+    const LatticeKey key = key_of(P.X[i], exact);
+    if (!exact || std::abs(P.X[i].z) > 1e-9 * dx || (dim_ == 1 && std::abs(P.X[i].y) > 1e-9 * dx))
+      throw Error("model bond_pair needs a regular lattice of nodes (one spacing, one body lattice)");
+    where.emplace(key, static_cast<uint32_t>(i));
+    section_[i] = P.volume[i] / cellV;
+  }
+
+  // Ghost nodes across each support (digest sec. 4.7 and 6): mirror every node within two
+  // horizons of the support line (the stencil's reach) to the far side, transverse
+  // displacement even (clamped) or odd (simply supported); the in-plane normal component
+  // mirrors about the support line's own motion, the tangential one is even.
+  energy_weight_.assign(n, 1.0);
+  for (const auto& sup : config.structure.supports)
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::abs(P.X[i][sup.axis] - sup.at) < 1e-6 * dx) energy_weight_[i] *= 0.5;
+  std::vector<std::vector<GhostTerm>> terms(n);
+  for (std::size_t i = 0; i < n; ++i) terms[i] = {GhostTerm{static_cast<uint32_t>(i), Vec3{1, 1, 1}}};
+  for (const auto& sup : config.structure.supports) {
+    const int a = sup.axis;
+    double mean = 0;
+    for (std::size_t i = 0; i < n; ++i) mean += P.X[i][a] - sup.at;
+    const double side = mean >= 0 ? 1.0 : -1.0;
+    bool on_line = false;
+    for (std::size_t i = 0; i < n; ++i) on_line = on_line || std::abs(P.X[i][a] - sup.at) < 1e-6 * dx;
+    if (!on_line)
+      throw Error("support at " + std::string(a == 0 ? "x" : "y") + " = " + std::to_string(sup.at) +
+                  ": no node lies on it; place the lattice so that nodes lie on the supports (lattice_origin)");
+    const std::size_t existing = X_.size();
+    for (std::size_t i = 0; i < existing; ++i) {
+      const double d = (X_[i][a] - sup.at) * side;
+      if (!(d > 1e-6 * dx && d <= 2 * delta * (1 + 1e-9))) continue;
+      Vec3 xg = X_[i];
+      xg[a] = 2 * sup.at - X_[i][a];
+      bool exact = false;
+      const LatticeKey key = key_of(xg, exact);
+      if (where.count(key)) continue;  // the body itself is there
+      Vec3 foot_x = X_[i];
+      foot_x[a] = sup.at;
+      const auto foot = where.find(key_of(foot_x, exact));
+      std::vector<GhostTerm> t;
+      Vec3 mirror{1, 1, 1};
+      mirror[a] = -1;
+      mirror.z = sup.kind == SupportKind::clamped ? 1.0 : -1.0;
+      for (const auto& term : terms[i]) t.push_back({term.node, Vec3{term.coeff.x * mirror.x, term.coeff.y * mirror.y,
+                                                                     term.coeff.z * mirror.z}});
+      if (foot != where.end())
+        for (const auto& term : terms[foot->second]) {
+          Vec3 c{};
+          c[a] = 2 * term.coeff[a];
+          t.push_back({term.node, c});
+        }
+      where.emplace(key, static_cast<uint32_t>(X_.size()));
+      X_.push_back(xg);
+      V_.push_back(V_[i]);
+      terms.push_back(std::move(t));
+    }
+  }
+  ghost_offset_.assign(1, 0);
+  ghost_terms_.clear();
+  for (std::size_t g = n; g < X_.size(); ++g) {
+    for (const auto& t : terms[g]) ghost_terms_.push_back(t);
+    ghost_offset_.push_back(ghost_terms_.size());
+  }
+  const std::size_t N = X_.size();
+
+  // Lattice offsets of a full family, |xi| <= delta, and the bulk normalisations
+  // (digest sec. 4.2: m over a full family, also near edges).
+  const bool by_length = Model::choice(mat, "pair_weight") == "length";
+  struct Offset {
+    int64_t a, b;
+    double length;
+  };
+  std::vector<Offset> half;  // one of each opposite pair
+  double m_bend = 0, m_memb = 0, m0 = 0, s_bend = 0, s_iso = 0, s_memb = 0;
+  const int64_t reach = static_cast<int64_t>(std::floor(delta / dx + 1e-9));
+  for (int64_t a = -reach; a <= reach; ++a)
+    for (int64_t b = (dim_ == 2 ? -reach : 0); b <= (dim_ == 2 ? reach : 0); ++b) {
+      if (a == 0 && b == 0) continue;
+      const double L = dx * std::sqrt(static_cast<double>(a * a + b * b));
+      if (L > delta * (1 + 1e-9)) continue;
+      const double w = by_length ? L : 1.0;
+      m_bend += w * L * L * cellV;  // m = sum omega |xi|^2 V (eqs. 4.4, 4.12)
+      m_memb += L * L * cellV;      // m = sum |xi|^2 V (eq. 4.13, omega = 1)
+      m0 += L * cellV;              // m0 = sum omega_iso V, omega_iso = |xi| (sec. 4.4)
+      s_bend += w * cellV / (L * L);
+      s_iso += L * cellV / (L * L);
+      s_memb += cellV;
+      if (a > 0 || (a == 0 && b > 0)) half.push_back({a, b, L});
+    }
+  // alpha: beam EI/m (eq. 4.4); plate 2 G h^3 / (3 m) (eq. 4.12, D = G h^3/4 at nu = 1/3).
+  const double I = A * depth * depth / 12;
+  const double alpha = dim_ == 1 ? E * I / m_bend : 2 * G * h * h * h / (3 * m_bend);
+  // Extension springs: beam EA/m (a 1-D bar, digest sec. 2.1); plate beta = 8 G h / m (eq. 4.13).
+  const bool membrane = Model::parameter(mat, "membrane") != 0;
+  const double beta = !membrane ? 0.0 : dim_ == 1 ? E * A / m_memb : 8 * G * h / m_memb;
+  if (!membrane && !transverse_)
+    throw Error("material '" + mat.name + "': a shell needs membrane: true (the bending pairs alone do not resist "
+                "in-plane stretch or shear, dissertation sec. 4.3.2)");
+  // Any Poisson ratio (sec. 3.9): the bond-multiple correction of the bending energy,
+  // C = 2 G h^3/12 (3 nu - 1)/(1 - nu) (sec. 4.4), and the 2-D LPS dilatation term of the
+  // membrane, G h (3 nu - 1)/(1 - nu).
+  iso_C_ = dim_ == 2 ? 2 * G * h * h * h / 12 * (3 * nu - 1) / (1 - nu) : 0.0;
+  if (std::abs(3 * nu - 1) < 1e-12) iso_C_ = 0;
+  dil_coef_ = (dim_ == 2 && membrane && iso_C_ != 0) ? G * h * (3 * nu - 1) / (1 - nu) : 0.0;
+  moment_factor_ = dim_ == 1 ? E * I : (E * h * h * h / (12 * (1 - nu * nu))) * (1 + nu);
+
+  // Failure and plasticity: one critical kink for every pair (digest sec. 3.5).
+  const double ey = Model::parameter(mat, "yield_strain"), ec = Model::parameter(mat, "critical_strain");
+  theta_yield_ = ey > 0 ? critical_kink(delta, ey, depth) : 0.0;
+  theta_fail_ = ec > 0 ? critical_kink(delta, ec, depth) : 0.0;
+  signed_mode_ = theta_yield_ > 0;
+  if (signed_mode_ && !transverse_)
+    throw Error("material '" + mat.name + "': yield_strain needs a beam or a plate (the signed kink of the "
+                "transverse mode; in 3-D the plastic kink plane is undetermined, digest sec. 3.5)");
+
+  // Pairs and bonds: every centre (real or ghost) whose pair touches a real node.
+  pairs_.clear();
+  bonds_.clear();
+  pairs_at_.assign(n, 0);
+  // A bond that crosses a precrack does not exist, nor does a pair with such a bond.
+  auto cut = [&](std::size_t a, std::size_t b) {
+    for (const auto& c : config.precracks)
+      if (crosses(X_[a], X_[b], c, dim_)) return true;
+    return false;
+  };
+  for (std::size_t k = 0; k < N; ++k) {
+    bool exact = false;
+    const LatticeKey kk = key_of(X_[k], exact);
+    for (const auto& o : half) {
+      auto j = where.find({kk.a + o.a, kk.b + o.b});
+      auto jp = where.find({kk.a - o.a, kk.b - o.b});
+      if (j != where.end() && cut(k, j->second)) j = where.end();
+      if (jp != where.end() && cut(k, jp->second)) jp = where.end();
+      if (j != where.end() && (k < n || j->second < n)) {
+        const double coef = beta * V_[k] * V_[j->second];
+        bonds_.push_back({static_cast<uint32_t>(k), j->second, o.length, coef, 2 * o.length / m_memb});
+      }
+      if (j == where.end() || jp == where.end()) continue;
+      // Pairs of ghosts alone move no real node, but complete the isotropic curvature of a
+      // ghost centre (sec. 4.4), which does.
+      if (k >= n && j->second >= n && jp->second >= n && iso_C_ == 0) continue;
+      const double w = by_length ? o.length : 1.0;
+      Pair p{static_cast<uint32_t>(k), j->second, jp->second, 2 * w * alpha * V_[k] * V_[j->second],
+             4 * iso_C_ / m0 * o.length * V_[k] * V_[j->second] / (o.length * o.length), 1 / o.length};
+      pairs_.push_back(p);
+      if (k < n) pairs_at_[k] += 1;
+    }
+  }
+  m0_inv_.assign(N, 1 / m0);
+  theta_p_.assign(pairs_.size(), 0);
+  theta_p_trial_.assign(pairs_.size(), 0);
+  failed_.assign(pairs_.size(), 0);
+  y_.assign(N, Vec3{});
+  F_.assign(N, Vec3{});
+  kbar_.assign(N, Vec3{});
+  theta_.assign(N, 0);
+
+  // Gerschgorin bounds of the linearised operator per unit V (digest sec. 4.8):
+  // bending 16 alpha sum omega V/xi^2, extension 4 beta sum V, correction 2 |C| g^2.
+  bending_bound_ = 16 * alpha * s_bend;
+  membrane_bound_ = 4 * beta * s_memb;
+  const double g = 4 / m0 * s_iso;
+  iso_bound_ = 2 * std::abs(iso_C_) * g * g;
+}
+
+void BondPair::positions(const System& s) {
+  const auto& P = s.particles;
+  for (std::size_t i = 0; i < n_real_; ++i) y_[i] = P.X[i] + P.u[i];
+  for (std::size_t g = 0; g + n_real_ < X_.size(); ++g) {
+    Vec3 u{};
+    for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t) {
+      const GhostTerm& gt = ghost_terms_[t];
+      const Vec3& um = P.u[gt.node];
+      u += Vec3{gt.coeff.x * um.x, gt.coeff.y * um.y, gt.coeff.z * um.z};
+    }
+    y_[n_real_ + g] = X_[n_real_ + g] + u;
+  }
+}
+
+uint64_t BondPair::force_pass(System& s, bool energy) {
+  auto& P = s.particles;
+  positions(s);
+  const std::size_t N = X_.size();
+  std::fill(F_.begin(), F_.end(), Vec3{});
+  if (energy) std::fill(P.energy.begin(), P.energy.end(), 0.0);
+  auto add_energy = [&](uint32_t node, double e) {
+    if (energy && node < n_real_) P.energy[node] += e;
+  };
+  const Vec3 nz{0, 0, 1};
+  uint64_t newly_failed = 0;
+
+  // Bending pairs (eqs. 3.1, 4.1 x 2; digest sec. 4.2), elastic-plastic (4.8) or brittle (4.9).
+  for (std::size_t q = 0; q < pairs_.size(); ++q) {
+    const Pair& p = pairs_[q];
+    if (failed_[q]) continue;
+    const Vec3 Y = y_[p.j] - y_[p.k], Yp = y_[p.jp] - y_[p.k];
+    if (signed_mode_) {
+      // Transverse mode with plastic offsets: e = coef (1 - cos(s - theta_p)).
+      const double sk = signed_kink(y_[p.j].z, y_[p.jp].z, y_[p.k].z, 1 / p.inv_length) -
+                        (X_[p.j].z + X_[p.jp].z - 2 * X_[p.k].z) * p.inv_length;
+      if (theta_fail_ > 0 && std::abs(sk) >= theta_fail_) {
+        if (!held_) {
+          failed_[q] = 1;
+          ++newly_failed;
+          continue;
+        }
+      }
+      const double tp = plastic_offset(sk, theta_p_[q], theta_yield_);
+      theta_p_trial_[q] = tp;
+      const double se = sk - tp;
+      const double dEds = p.coef * std::sin(se);
+      const double g = dEds * p.inv_length;
+      F_[p.j].z -= g;
+      F_[p.jp].z -= g;
+      F_[p.k].z += 2 * g;
+      add_energy(p.k, p.coef * (1 - std::cos(se)));
+      continue;
+    }
+    const PairGradient gr = bond_pair_gradient(Y, Yp);
+    if (theta_fail_ > 0 && gr.one_plus_cos >= 1 - std::cos(theta_fail_)) {
+      if (!held_) {
+        failed_[q] = 1;
+        ++newly_failed;
+        continue;
+      }
+    }
+    const Vec3 Fj = gr.dY * (-p.coef), Fjp = gr.dYp * (-p.coef);
+    F_[p.j] += Fj;
+    F_[p.jp] += Fjp;
+    F_[p.k] -= Fj + Fjp;
+    add_energy(p.k, p.coef * gr.one_plus_cos);
+  }
+
+  // Isotropic-curvature (bond-multiple) correction for nu != 1/3 (eq. 4.14, digest sec. 4.4):
+  // kbar_k = (1/m0) sum_j omega (Y_kj + Y_kj')/|xi|^2 V_j, E' = sum_k C kbar.kbar V_k.
+  if (iso_C_ != 0) {
+    std::fill(kbar_.begin(), kbar_.end(), Vec3{});
+    for (std::size_t q = 0; q < pairs_.size(); ++q) {
+      const Pair& p = pairs_[q];
+      if (failed_[q]) continue;
+      const Vec3 Y = y_[p.j] - y_[p.k], Yp = y_[p.jp] - y_[p.k];
+      // Both orientations of the pair: 2 omega V_j (Y + Y')/|xi|^2, omega_iso = |xi|.
+      kbar_[p.k] += (Y + Yp) * (2 * p.inv_length * V_[p.j] * m0_inv_[p.k]);
+    }
+    for (std::size_t q = 0; q < pairs_.size(); ++q) {
+      const Pair& p = pairs_[q];
+      if (failed_[q]) continue;
+      const Vec3 g = kbar_[p.k] * p.iso;  // dE'/dy_j = dE'/dy_j' = (4C/m0) omega Vk Vj kbar_k/|xi|^2
+      F_[p.j] -= g;
+      F_[p.jp] -= g;
+      F_[p.k] += g * 2.0;
+    }
+    if (energy)
+      for (std::size_t k = 0; k < n_real_; ++k) P.energy[k] += iso_C_ * dot(kbar_[k], kbar_[k]) * V_[k];
+  }
+
+  // Extension springs (eq. 4.13): e = beta omega Vk Vj (|Y| - |xi|)^2 per bond, and for
+  // nu != 1/3 the 2-D dilatation term (sec. 3.9): E' = sum_k (G h/2)(3nu-1)/(1-nu) theta_k^2 V_k,
+  // theta_k = (2/m) sum_j omega |xi| (|Y| - |xi|) V_j.
+  if (!bonds_.empty() && bonds_[0].coef != 0) {
+    if (dil_coef_ != 0) {
+      std::fill(theta_.begin(), theta_.end(), 0.0);
+      for (const Bond& b : bonds_) {
+        const double e = norm(y_[b.j] - y_[b.k]) - b.length;
+        theta_[b.k] += b.dil * e * V_[b.j];
+        theta_[b.j] += b.dil * e * V_[b.k];
+      }
+    }
+    for (const Bond& b : bonds_) {
+      const Vec3 Y = y_[b.j] - y_[b.k];
+      const double L = norm(Y), e = L - b.length;
+      double t = 2 * b.coef * e;  // dE/d|Y|
+      if (dil_coef_ != 0) t += dil_coef_ * (theta_[b.k] * V_[b.k] * b.dil * V_[b.j] + theta_[b.j] * V_[b.j] * b.dil * V_[b.k]);
+      const Vec3 f = Y * (t / L);
+      F_[b.k] += f;
+      F_[b.j] -= f;
+      add_energy(b.k, 0.5 * b.coef * e * e);
+      add_energy(b.j, 0.5 * b.coef * e * e);
+    }
+    if (energy && dil_coef_ != 0)
+      for (std::size_t k = 0; k < n_real_; ++k) P.energy[k] += 0.5 * dil_coef_ * theta_[k] * theta_[k] * V_[k];
+  }
+
+  // Force densities of the real nodes (ghost forces are dropped: the ghosts only complete
+  // the stencils near the supports); beams and plates move in z only.
+  for (std::size_t i = 0; i < n_real_; ++i) {
+    Vec3 f = F_[i] / P.volume[i];
+    if (transverse_) f = nz * f.z;
+    P.f[i] = f;
+    if (energy) P.energy[i] *= energy_weight_[i] / P.volume[i];
+  }
+  // Damage: the fraction of failed pairs about each node (dissertation Fig. 5.16).
+  if (theta_fail_ > 0) {
+    std::vector<double> failed_at(n_real_, 0);
+    for (std::size_t q = 0; q < pairs_.size(); ++q)
+      if (failed_[q] && pairs_[q].k < n_real_) failed_at[pairs_[q].k] += 1;
+    for (std::size_t i = 0; i < n_real_; ++i) P.damage[i] = pairs_at_[i] > 0 ? failed_at[i] / pairs_at_[i] : 0.0;
+  }
+  (void)N;
+  return newly_failed;
+}
+
+void BondPair::commit(System& s) {
+  if (!signed_mode_) return;
+  // Plastic work: the yield force times the plastic kink increment, pair by pair.
+  for (std::size_t q = 0; q < pairs_.size(); ++q) {
+    const double d = theta_p_trial_[q] - theta_p_[q];
+    if (d != 0 && pairs_[q].k < n_real_)
+      s.dissipated_at[pairs_[q].k] += pairs_[q].coef * std::sin(theta_yield_) * std::abs(d);
+  }
+  theta_p_ = theta_p_trial_;
+}
+
+double BondPair::pending_dissipation(const System& s) const {
+  (void)s;
+  if (!signed_mode_) return 0;
+  double sum = 0;
+  for (std::size_t q = 0; q < pairs_.size(); ++q)
+    if (pairs_[q].k < n_real_) sum += pairs_[q].coef * std::sin(theta_yield_) * std::abs(theta_p_trial_[q] - theta_p_[q]);
+  return sum;
+}
+
+double BondPair::stable_time_step(const System& s) const {
+  // Central differences are stable for dt <= 2/sqrt(lambda_max), lambda_max <= (row sum
+  // of the linearised operator per unit V)/(mass per unit V) (digest sec. 4.8).
+  const auto& P = s.particles;
+  double dt = std::numeric_limits<double>::infinity();
+  const double bound = bending_bound_ + membrane_bound_ + iso_bound_;
+  for (std::size_t i = 0; i < n_real_; ++i) {
+    const double mass = P.density[i] * section_[i];  // rho A or rho h
+    dt = std::min(dt, 2 / std::sqrt(bound / mass));
+  }
+  return dt;
+}
+
+void BondPair::fields(const System& s, std::vector<ModelField>& out) const {
+  const auto& P = s.particles;
+  const std::size_t n = n_real_;
+  ModelField w{"deflection", std::vector<double>(n)};
+  ModelField kappa{"curvature", std::vector<double>(n)};
+  ModelField moment{"moment", std::vector<double>(n)};
+  // The mean curvature (kappa_1 + kappa_2)/2 of a plate, kappa of a beam:
+  // (1/m0) sum_j omega (w_j + w_j' - 2 w_k)/|xi|^2 V_j over complete pairs, omega = |xi|
+  // (the isotropic curvature of sec. 4.4, z component).
+  std::vector<double> m0(n, 0), sum(n, 0);
+  for (std::size_t q = 0; q < pairs_.size(); ++q) {
+    const Pair& p = pairs_[q];
+    if (p.k >= n) continue;
+    auto wz = [&](uint32_t node) {
+      if (node < n) return P.u[node].z;
+      double u = 0;
+      const std::size_t g = node - n;
+      for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t)
+        u += ghost_terms_[t].coeff.z * P.u[ghost_terms_[t].node].z;
+      return u;
+    };
+    const double L = 1 / p.inv_length;
+    sum[p.k] += 2 * L * V_[p.j] * (wz(p.j) + wz(p.jp) - 2 * wz(p.k)) / (L * L);
+    m0[p.k] += 2 * L * V_[p.j];
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    w.values[i] = P.u[i].z;
+    kappa.values[i] = m0[i] > 0 ? sum[i] / m0[i] : 0.0;
+    moment.values[i] = -moment_factor_ * kappa.values[i];
+  }
+  out.push_back(std::move(w));
+  out.push_back(std::move(kappa));
+  out.push_back(std::move(moment));
+  if (signed_mode_) {
+    ModelField plastic{"plastic_pairs", std::vector<double>(n, 0)};
+    for (std::size_t q = 0; q < pairs_.size(); ++q)
+      if (pairs_[q].k < n && theta_p_[q] != 0) plastic.values[pairs_[q].k] += 1 / pairs_at_[pairs_[q].k];
+    out.push_back(std::move(plastic));
+  }
+  (void)kPiValue;
+}
+
+}  // namespace
+
+ModelEntry bond_pair_model() {
+  return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<BondPair>()); }};
+}
+
+}  // namespace horizon

@@ -1,0 +1,58 @@
+#pragma once
+// O'Grady's bond-pair model of beams, plates and flat shells (seed 001: J. O'Grady,
+// "Peridynamic beams, plates, and shells: a nonordinary, state-based model", PhD
+// dissertation, UTSA 2014; digest ../shared/reference/notes/001_ogrady.md). Every bond xi
+// of a node is paired with its opposite -xi; a rotational spring between the two resists
+// the kink of the pair (bending). docs/models/bond_pair.md has the equations, the deck
+// keys and the verification figures.
+//
+// Energy of one pair of node k, counted over both orientations of the family sum
+// (digest sec. 0 item 2 and sec. 4.2: the force state is 2 x eq. (4.1)):
+//   e = 2 omega alpha Vk Vj (1 + cos theta),  cos theta = Yhat<xi> . Yhat<-xi>   (eq. 3.1 / 4.1)
+// with V the node's length (beam) or area (plate), alpha = EI/m (beam, eq. 4.4) or
+// 2 G h^3 / (3 m) (plate, eq. 4.12), m = sum_j omega |xi|^2 V_j over a full family.
+// The nodal forces are -de/dy of the three nodes of the pair, which is the consistent
+// discretisation of digest sec. 4.2 (f_k = sum_j (T_k<xi_kj> - T_j<xi_jk>) V_j).
+#include <cmath>
+
+#include "horizon/core/vec3.hpp"
+#include "horizon/material/model.hpp"
+
+namespace horizon {
+
+// d(1 + cos theta)/dY and d(1 + cos theta)/dY' of a pair with deformed bonds Y = y_j - y_k
+// and Y' = y_j' - y_k: (Yhat' - cos theta Yhat)/|Y| (digest sec. 3.1, the second form of
+// eq. 4.1, derived via a x (a x b) = (a.b) a - b), and the same with the roles swapped.
+struct PairGradient {
+  Vec3 dY, dYp;
+  double one_plus_cos = 0;
+};
+inline PairGradient bond_pair_gradient(const Vec3& Y, const Vec3& Yp) {
+  const double a = norm(Y), b = norm(Yp);
+  const Vec3 e = Y / a, ep = Yp / b;
+  const double c = dot(e, ep);
+  return {(ep - c * e) / a, (e - c * ep) / b, 1 + c};
+}
+
+// The signed kink of a pair in the transverse (z-only) mode: the deviation from straight
+// Delta theta ~ (w_j + w_j' - 2 w_k)/|xi| (digest sec. 3.2, eqs. 4.2-4.3, and the recipe
+// of sec. 3.5 for z-only beams and plates).
+inline double signed_kink(double wj, double wjp, double wk, double length) { return (wj + wjp - 2 * wk) / length; }
+
+// Elastic-perfectly-plastic return mapping of one pair (digest sec. 3.5 recipe, eq. 4.8):
+// the trial elastic kink s - theta_p; beyond the critical kink theta_c the plastic offset
+// grows so that the elastic part stays at +-theta_c. Returns the new plastic offset.
+inline double plastic_offset(double s, double theta_p, double theta_c) {
+  const double trial = s - theta_p;
+  if (std::abs(trial) <= theta_c) return theta_p;
+  return theta_p + (trial > 0 ? trial - theta_c : trial + theta_c);
+}
+
+// The critical kink of every pair: the longest pairs (|xi| = delta) reach it when the
+// surface fibre (depth t) reaches the strain eps_c: Delta theta_c = 2 delta eps_c / t
+// (digest sec. 3.5).
+inline double critical_kink(double horizon, double strain, double depth) { return 2 * horizon * strain / depth; }
+
+ModelEntry bond_pair_model();
+
+}  // namespace horizon
