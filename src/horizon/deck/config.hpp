@@ -226,6 +226,8 @@ struct ThermalConfig {
   // a slow heat transfer for a mechanical response that stays quasi-static).
   double time_scale = 1;
   std::vector<ThermalBoundaryConfig> boundary;
+};
+
 // Thin structures (seed 001, O'Grady 2014; docs/models/bond_pair.md): a beam is a 1-D line
 // of nodes along x, a plate or shell a 2-D lattice in the x-y plane, living in 3-D space.
 // beam and plate: only the transverse displacement w = u_z is free (the in-plane
