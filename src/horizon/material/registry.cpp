@@ -3,6 +3,7 @@
 #include "horizon/material/model.hpp"
 #include "horizon/material/models/correspondence.hpp"
 #include "horizon/material/models/elastic_plastic.hpp"
+#include "horizon/material/models/extended_correspondence.hpp"
 #include "horizon/material/models/lps.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/material/models/pmb.hpp"
@@ -18,6 +19,7 @@ const std::vector<ModelEntry>& model_registry() {
       elastic_plastic_model(),
       viscoelastic_model(),
       correspondence_model(),
+      extended_correspondence_model(),
   };
   return registry;
 }
