@@ -97,6 +97,9 @@ class ExtendedCorrespondence final : public Model {
   std::vector<double> work_, energy_, von_mises_;
   std::vector<uint8_t> inactive_;  // 1: carried no stress at the last pass (failed or singular)
   std::vector<double> eps_;        // per bond: the bond strain of the pass (scratch)
+  std::vector<extended::MomentMap> maps_;  // per particle: the kept moment map
+  std::vector<uint32_t> acting_;           // its acting-set size (UINT32_MAX: not built)
+  std::vector<uint8_t> map_ok_;            // 1: the map and the shape tensor passed the guard
 };
 
 void ExtendedCorrespondence::setup(const ModelSetup& in) {
@@ -152,6 +155,9 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   energy_.assign(n, 0.0);
   von_mises_.assign(n, 0.0);
   inactive_.assign(n, 0);
+  maps_.assign(n, extended::MomentMap{});
+  acting_.assign(n, UINT32_MAX);
+  map_ok_.assign(n, 0);
 }
 
 void ExtendedCorrespondence::force_state(ForcePass& pass) {
@@ -171,19 +177,38 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     const bool self_failed = committed_[l].damage > critical_;
     auto acts = [&](uint64_t k) { return B.intact[k] && !self_failed && !failed_committed(B.nbr[k]); };
     extended::NonlocalStrain E(dim_, m_);
-    NonlocalGradient K;  // the shape tensor, for the conditioning guard only
     bool ok = !self_failed;
     if (ok) {
+      // The moment map and the shape-tensor guard depend on the acting set only, which
+      // only shrinks (bonds break, neighbours fail): its size identifies it.
+      uint32_t count = 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) count += acts(k) ? 1 : 0;
+      if (count != acting_[l]) {
+        NonlocalGradient K;  // the shape tensor, for the conditioning guard only
+        extended::MomentMap map;
+        map.reset(dim_);
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+          if (!acts(k)) continue;
+          const Vec3 xi = X[B.nbr[k]] - X[i];
+          const double w = B.weight[k] * B.volume[k];
+          map.add(xi, w, dim_);
+          K.add(xi, xi, w);
+        }
+        Mat3 Kinv, F;
+        map_ok_[l] = K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
+        maps_[l] = map;
+        acting_[l] = count;
+      }
+      ok = map_ok_[l] != 0;
+    }
+    if (ok) {
+      E.use(maps_[l]);
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
         if (!acts(k)) continue;
         const uint32_t j = B.nbr[k];
-        const Vec3 xi = X[j] - X[i], Y = deformed(j);
-        const double w = B.weight[k] * B.volume[k];
-        eps_[k] = E.add(xi, Y, w);
-        K.add(xi, Y, w);
+        eps_[k] = E.add_strain(X[j] - X[i], deformed(j), B.weight[k] * B.volume[k]);
       }
-      Mat3 Kinv, F;
-      ok = K.finish(dim_, tolerance_, Kinv, F) && E.finish();
+      ok = E.finish(false);
     }
     classical::StrainLawOut out;
     if (ok) {

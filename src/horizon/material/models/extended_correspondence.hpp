@@ -101,51 +101,72 @@ inline Vec6 normal_dyad(const Vec3& xi) {
 
 // d eps_(m) / d Y = c^(m-1) Y / |xi|^2 (digest sec. 3.2), as the scalar factor of Y.
 inline double strain_gradient_factor(double c, double m, double xi2) {
-  return (m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) / xi2;
+  return (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) / xi2;
 }
 
-// One particle's evaluation on its acting bonds, in two sweeps (the force needs E, and
-// the stabilisation needs R of all bonds before any force).
+// The moment map M_i of (*) and its factorisation: it depends on the reference bonds and
+// the acting set only, so a particle keeps it until its acting set changes.
+class MomentMap {
+ public:
+  void reset(int dimension) {
+    M_.setZero();
+    if (dimension == 2) M_(2, 2) = M_(3, 3) = M_(4, 4) = 1.0;  // plane strain: E_33 = E_23 = E_13 = 0
+  }
+  void add(const Vec3& xi, double w, int dimension) {
+    M_.noalias() += w * shape_state(xi, dimension) * normal_projector(xi).transpose();
+  }
+  // False when M is singular.
+  bool finish() {
+    const Eigen::FullPivLU<Mat6> lu(M_);
+    if (!lu.isInvertible()) return false;
+    inverse_ = lu.inverse();
+    return inverse_.allFinite();
+  }
+  Vec6 solve(const Vec6& b) const { return inverse_ * b; }
+  // The vector a with t : Ht_j = a . h_j for a tensor t (a = M^-T W t).
+  Vec6 dual(const Mat3& t) const { return inverse_.transpose() * contraction_weights().cwiseProduct(to_vec6(t)); }
+
+ private:
+  Mat6 M_ = Mat6::Zero();
+  Mat6 inverse_ = Mat6::Zero();
+};
+
+// One particle's evaluation on its acting bonds: sweep 1 adds every bond (add), finish()
+// gives E; the force needs E, and the stabilisation needs R of all bonds, before any force.
 class NonlocalStrain {
  public:
-  NonlocalStrain(int dimension, double m) : dim_(dimension), m_(m) {
-    if (dimension == 2) {
-      // Out-of-plane rows: identity, so that E_33 = E_23 = E_13 = 0 (plane strain).
-      M_.setZero();
-      M_(2, 2) = M_(3, 3) = M_(4, 4) = 1.0;
-    }
-  }
-  // Sweep 1: one acting bond with weight w = omega V_j.
+  NonlocalStrain(int dimension, double m) : dim_(dimension), m_(m) { map_.reset(dimension); }
+  // Sweep 1 with the moment map built here (tests, and a particle whose map is rebuilt).
   double add(const Vec3& xi, const Vec3& Y, double w) {
+    map_.add(xi, w, dim_);
+    return add_strain(xi, Y, w);
+  }
+  // Sweep 1 with a kept moment map (use()).
+  double add_strain(const Vec3& xi, const Vec3& Y, double w) {
     const double c = dot(Y, Y) / dot(xi, xi);
     const double eps = seth_hill_strain(c, m_);
-    const Vec6 h = shape_state(xi, dim_);
-    M_.noalias() += w * h * normal_projector(xi).transpose();
-    S_.noalias() += (w * eps) * h;
+    S_.noalias() += (w * eps) * shape_state(xi, dim_);
     return eps;
   }
+  void use(const MomentMap& map) { map_ = map; }
+  const MomentMap& map() const { return map_; }
   // E = M^-1 S; false when M is singular.
-  bool finish() {
-    lu_.compute(M_);
-    if (!(std::abs(lu_.determinant()) > 0) || !std::isfinite(lu_.determinant())) return false;
-    E_ = lu_.solve(S_);
+  bool finish(bool factorise = true) {
+    if (factorise && !map_.finish()) return false;
+    E_ = map_.solve(S_);
     return E_.allFinite();
   }
   Mat3 strain() const { return to_mat3(E_); }
-  // The vector a with sigma : Ht_j = a . h_j for a stress tensor sigma (a = M^-T W sigma).
-  Vec6 dual(const Mat3& sigma) const {
-    return lu_.transpose().solve(contraction_weights().cwiseProduct(to_vec6(sigma)));
-  }
+  Vec6 dual(const Mat3& sigma) const { return map_.dual(sigma); }
   // r_j = eps_j - n . E n.
   double residual(const Vec3& xi, double eps) const { return eps - normal_projector(xi).dot(E_); }
 
  private:
   int dim_;
   double m_;
-  Mat6 M_ = Mat6::Zero();
+  MomentMap map_;
   Vec6 S_ = Vec6::Zero();
   Vec6 E_ = Vec6::Zero();
-  Eigen::PartialPivLU<Mat6> lu_;
 };
 
 // The force state (**) of one bond: a = dual(sigma), b = dual(R), ks the stabilisation
