@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build demo test bench clean format
+.PHONY: all deps build demo test test-sanitize fuzz bench clean format
 
 all: build
 
@@ -23,8 +23,23 @@ demo: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan, then the tests
+# labelled sanitize (unit and regression: every unit test, the command-line, output-fault
+# and example smoke tests) under it; any report fails the test (docs/reliability.md).
+ASAN_BUILD ?= build-asan
+test-sanitize: deps
+	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DHORIZON_SANITIZE=ON $(CMAKE_FLAGS)
+	cmake --build $(ASAN_BUILD) -j $(JOBS) --target horizon test_unit test_regression
+	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
+	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ctest -L sanitize --output-on-failure -j $(JOBS)
+
+# The deck fuzzer (clang, libFuzzer): FUZZ_SECONDS of fuzzing from the seed corpus.
+FUZZ_SECONDS ?= 600
+fuzz:
+	bash scripts/fuzz-deck.sh $(FUZZ_SECONDS)
+
 bench: build
 	$(BUILD)/bench/bench_kernels --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz out

@@ -1,17 +1,20 @@
-// The `horizon` command line: run, check, render, plot, models, --version. It only chains library
+// The `horizon` command line: run, check, export-truss, render, plot, models, --version. It only chains library
 // calls; every stage lives in src/horizon.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <csignal>
 #include <exception>
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/version.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
+#include "horizon/output/atomic_file.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/output/plot.hpp"
 #include "horizon/output/render.hpp"
+#include "horizon/output/truss.hpp"
 #include "horizon/output/resolve_frame.hpp"
 #include "horizon/output/vtu.hpp"
 
@@ -33,10 +36,21 @@ int main(int argc, char** argv) {
   run->add_option("--end-time", end_time, "override solver.end_time [s]")->check(CLI::PositiveNumber);
   run->add_option("--threads", run_opts.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("-q,--quiet", run_opts.quiet, "no progress line");
+  run->add_option("--max-memory", run_opts.max_memory_gib,
+                  "refuse decks estimated to need more than this [GiB] (default: the machine's memory)")
+      ->check(CLI::PositiveNumber);
 
   auto* check = app.add_subcommand("check", "validate a deck; print particles, bonds, memory and time step");
   check->add_option("deck", deck_path, "the deck (YAML)")->required();
   check->add_option("--coarsen", run_opts.coarsen, "as for run")->check(CLI::PositiveNumber);
+  check->add_option("--max-memory", run_opts.max_memory_gib, "as for run")->check(CLI::PositiveNumber);
+
+  std::string truss_path = "trusses.txt";
+  auto* export_truss = app.add_subcommand(
+      "export-truss", "write the bond network of a bond-based deck as truss elements with lumped masses (seed 002 sec. 6)");
+  export_truss->add_option("deck", deck_path, "the deck (YAML)")->required();
+  export_truss->add_option("-o,--output", truss_path, "the truss file (default trusses.txt)");
+  export_truss->add_option("--coarsen", run_opts.coarsen, "as for run")->check(CLI::PositiveNumber);
 
   std::string frame_path, png_path, field = "damage";
   RenderOptions render_opts;
@@ -59,12 +73,22 @@ int main(int argc, char** argv) {
 
   auto* models = app.add_subcommand("models", "list the material models with their deck parameters");
 
+  std::string convert_out;
+  auto* convert = app.add_subcommand("convert", "translate a Peridigm deck (YAML) into the equivalent native deck");
+  convert->add_option("deck", deck_path, "the Peridigm deck (top-level key Peridigm)")->required();
+  convert->add_option("-o,--output", convert_out, "the native deck to write (default: standard output)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
 
+  // A file-size limit (ulimit -f) makes write(2) fail with EFBIG instead of killing the
+  // process, so that it ends as an output error with its message (exit status 5).
+  std::signal(SIGXFSZ, SIG_IGN);
+  // Exit statuses (docs/reliability.md): 0 completed, 1 bad input, 2 non-finite state,
+  // 3 internal error, 4 not converged, 5 output could not be written, 130/143 SIGINT/SIGTERM.
   try {
     if (*run) {
       if (!out_dir.empty()) run_opts.output_dir = out_dir;
@@ -77,9 +101,29 @@ int main(int argc, char** argv) {
       Config config = load_deck(deck_path);
       for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
       apply_run_options(config, run_opts);
-      const System s = build_system(config);
-      fmt::print("{}", format_check(config, check_system(config, s)));
+      const PreparedRun u = prepare_run(config);
+      fmt::print("{}", format_check(config, u.check));
       fmt::print("deck is valid\n");
+      return 0;
+    }
+    if (*export_truss) {
+      Config config = load_deck(deck_path);
+      for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
+      apply_run_options(config, run_opts);
+      const System s = build_system(config);
+      const TrussNetwork net = truss_network(s);
+      write_truss_file(truss_path, s, net);
+      fmt::print("wrote {}: {} nodes, {} trusses\n", truss_path, net.mass.size(), net.trusses.size());
+      return 0;
+    }
+    if (*convert) {
+      const std::string text = convert_peridigm_deck(deck_path);
+      if (convert_out.empty()) {
+        fmt::print("{}", text);
+      } else {
+        write_file_atomic(convert_out, text);
+        fmt::print(stderr, "wrote {}\n", convert_out);
+      }
       return 0;
     }
     if (*models) {
@@ -99,6 +143,9 @@ int main(int argc, char** argv) {
       fmt::print("wrote {}\n", png_path);
       return 0;
     }
+  } catch (const OutputError& e) {
+    fmt::print(stderr, "horizon: output error: {}\n", e.what());
+    return 5;
   } catch (const Error& e) {
     fmt::print(stderr, "horizon: {}\n", e.what());
     return 1;

@@ -3,10 +3,14 @@
 # Runs as root on Debian 12 (the README's quick start); prints what it installs.
 # libopenblas0-pthread replaces the reference BLAS under CHOLMOD (solver.linear_solver:
 # cholesky): its supernodal factorisation is dense-block work, 4x faster with OpenBLAS.
+# libexodusii-dev: Exodus II mesh input (about 32 MB with netCDF and HDF5).
+# pybind11-dev, python3-dev, python3-numpy, python3-pytest: the Python module and its tests
+# (against /usr/bin/python3); python3-matplotlib: the examples in examples/python.
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libyaml-cpp-dev libeigen3-dev libmuparser-dev
+      pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
       libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev nlohmann-json3-dev
-      libsuitesparse-dev libspectra-dev libopenblas0-pthread)
+      libsuitesparse-dev libspectra-dev libopenblas0-pthread libexodusii-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -140,6 +140,7 @@ TEST(Cli, InterruptWritesAFinalFrameAndAValidIndex) {
   EXPECT_EQ(WEXITSTATUS(st), 130);
   const auto entries = horizon::read_pvd((d / "out" / "frames.pvd").string());
   ASSERT_GE(entries.size(), 2u);
+  for (const auto& e : entries) EXPECT_EQ(horizon::read_vtu(e.second).points.size(), 800u) << e.second;
   const horizon::Frame last = horizon::read_vtu(entries.back().second);
   EXPECT_GT(last.step, 0);
   EXPECT_EQ(last.points.size(), 800u);
@@ -160,4 +161,33 @@ TEST(Cli, NonFiniteStateStopsWithParticleAndStep) {
   const auto entries = horizon::read_pvd((d / "out" / "frames.pvd").string());
   const horizon::Frame last = horizon::read_vtu(entries.back().second);
   for (double u : last.field("displacement")->data) ASSERT_TRUE(std::isfinite(u));
+}
+
+// The energy-balance warning (solver.energy_balance_warning, default 5 %): a run whose
+// ledger error exceeds it says so on stderr and in summary.json, and still completes.
+// The plate's error is ~1e-4 (velocity Verlet's O(dt^2)): above a threshold of 1e-9,
+// below the default.
+TEST(Cli, EnergyBalanceAboveTheThresholdWarnsInLogAndSummary) {
+  const fs::path d = scratch("energy");
+  write(d / "strict.yaml", plate_deck(2e-6, ", energy_balance_warning: 1.0e-9"));
+  write(d / "default.yaml", plate_deck(2e-6));
+  const Result strict = run("run " + (d / "strict.yaml").string() + " -o " + (d / "strict").string() + " -q");
+  EXPECT_EQ(strict.status, 0) << strict.output;
+  EXPECT_NE(strict.output.find("horizon: warning: the energy balance error reached"), std::string::npos)
+      << strict.output;
+  std::ifstream js(d / "strict" / "summary.json");
+  const auto j = nlohmann::json::parse(js);
+  const double error = j["energy"]["max_abs_balance_error"];
+  EXPECT_GT(error, 1e-9);
+  EXPECT_LT(error, 0.05);
+  ASSERT_TRUE(j.contains("warnings"));
+  EXPECT_NE(j["warnings"][0].get<std::string>().find("above solver.energy_balance_warning (1e-07 %)"), std::string::npos)
+      << j["warnings"];
+
+  const Result quiet = run("run " + (d / "default.yaml").string() + " -o " + (d / "default").string() + " -q");
+  EXPECT_EQ(quiet.status, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find("warning"), std::string::npos) << quiet.output;
+  std::ifstream jd(d / "default" / "summary.json");
+  EXPECT_FALSE(nlohmann::json::parse(jd).contains("warnings"));
+  fs::remove_all(d);
 }

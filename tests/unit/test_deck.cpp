@@ -535,7 +535,7 @@ TEST(DeckErrors, StaticSolverMistakes) {
   expect_error(small_deck_with(14, "solver: {end_time: 1.0e-6, method: newton}"), 14, 28,
                {"solver.method", "applies to type: static only", "this deck has type: explicit"});
   expect_error(small_deck_with(14, "solver: {type: static, safety_factor: 0.5}"), 14, 24,
-               {"solver.safety_factor", "applies to type: explicit only", "this deck has type: static"});
+               {"solver.safety_factor", "applies to type: explicit and heat only", "this deck has type: static"});
   expect_error(small_deck_with(14, "solver: {type: static, method: adr, linear_solver: cg}"), 14, 37,
                {"solver.linear_solver", "applies to method: newton only"});
   expect_error(small_deck_with(14, "solver: {type: implicit_dynamic, end_time: 1.0e-6}"), 14, 1,
@@ -625,4 +625,69 @@ TEST(DeckErrors, AdaptiveStepNeedsNonlinearSolid) {
                {"solver.adaptive_time_step", "nonlinear_solid"});
 }
 
+}  // namespace horizon
+
+namespace horizon {
+namespace {
+
+// The thermal parts of the deck (deck/thermal.cpp, docs/input.md "thermal").
+
+// `deck` with the line `line` (exact text) replaced by `text`.
+std::string small_deck_with_text(const std::string& deck, const std::string& line, const std::string& text) {
+  const std::size_t at = deck.find(line + "\n");
+  return at == std::string::npos ? deck : deck.substr(0, at) + text + deck.substr(at + line.size());
+}
+const char* const kThermalMaterial = "    youngs_modulus: 72.0e9\n    thermal: {conductivity: 1.0, specific_heat: 800}";
+
+TEST(DeckThermal, HeatRunParses) {
+  std::string deck = small_deck_with(9, kThermalMaterial);
+  deck = small_deck_with_text(deck, "solver: {end_time: 1.0e-6}",
+                              "regions:\n  left: {box: {min: [0, 0], max: [0.001, 0.01]}}\n"
+                              "thermal:\n  initial_temperature: \"300 + 10*x\"\n  kernel: constant\n"
+                              "  calibration: discrete\n  integration: implicit\n  boundary:\n"
+                              "    - {region: left, temperature: 273}\n"
+                              "    - {region: all, convection: {coefficient: 10, ambient: 293}, normal: y}\n"
+                              "solver: {type: heat, end_time: 1.0, time_step: 0.1}");
+  const Config c = parse_deck(deck, "test.yaml");
+  EXPECT_TRUE(c.thermal.enabled);
+  EXPECT_EQ(c.solver.type, SolverType::heat);
+  EXPECT_EQ(c.thermal.kernel, HeatKernel::constant);
+  EXPECT_EQ(c.thermal.calibration, HeatCalibration::discrete);
+  EXPECT_EQ(c.thermal.integration, HeatIntegration::implicit_euler);
+  ASSERT_EQ(c.thermal.boundary.size(), 2u);
+  EXPECT_EQ(c.thermal.boundary[1].normal_axis, 1);
+  EXPECT_DOUBLE_EQ(c.thermal.initial_temperature(0, 0.01, 0, 0), 300.1);
+  EXPECT_DOUBLE_EQ(c.materials[0].thermal.conductivity, 1.0);
+  EXPECT_DOUBLE_EQ(c.materials[0].thermal.plastic_heat_fraction, 0.9);
+}
+
+TEST(DeckThermal, Errors) {
+  // A thermal section needs every material's thermal map.
+  expect_error(small_deck_with(14, "thermal: {initial_temperature: 300}\nsolver: {end_time: 1.0e-6}"), 7, 5,
+               {"materials.glass", "needs a thermal map"});
+  // A thermal map needs the section.
+  expect_error(small_deck_with(9, kThermalMaterial), 10, 14, {"materials.glass.thermal", "thermal section"});
+  // Unknown keys suggest the closest.
+  expect_error(small_deck_with(9, "    youngs_modulus: 72.0e9\n    thermal: {conductivty: 1.0, specific_heat: 800}"),
+               10, 15, {"conductivty", "did you mean 'conductivity'?"});
+  std::string deck = small_deck_with(9, kThermalMaterial);
+  deck = small_deck_with_text(deck, "solver: {end_time: 1.0e-6}",
+                              "thermal: {initial_temperature: 300, kernal: constant}\nsolver: {end_time: 1.0e-6}");
+  expect_error(deck, 15, 37, {"did you mean 'kernel'?"});
+  // solver.type heat without a thermal section.
+  expect_error(small_deck_with(14, "solver: {type: heat, end_time: 1.0}"), 14, 16, {"needs a thermal section"});
+  // Implicit heat without a step.
+  deck = small_deck_with(9, kThermalMaterial);
+  deck = small_deck_with_text(deck, "solver: {end_time: 1.0e-6}",
+                              "thermal: {initial_temperature: 300, integration: implicit}\n"
+                              "solver: {type: heat, end_time: 1.0}");
+  expect_error(deck, 15, 50, {"implicit needs solver.time_step"});
+  // A bad expression names its place.
+  deck = small_deck_with(9, kThermalMaterial);
+  deck = small_deck_with_text(deck, "solver: {end_time: 1.0e-6}",
+                              "thermal: {initial_temperature: \"300 +* x\"}\nsolver: {end_time: 1.0e-6}");
+  expect_error(deck, 15, 32, {"thermal.initial_temperature"});
+}
+
+}  // namespace
 }  // namespace horizon

@@ -12,6 +12,13 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A file of a run's output could not be written (disk full, file-size limit, a directory
+// that cannot be created or written). `horizon` exits with status 5 (docs/reliability.md).
+class OutputError : public Error {
+ public:
+  using Error::Error;
+};
+
 // Where in a deck something was found. line and column are 1-based; 0 means unknown.
 struct DeckLocation {
   std::string file;

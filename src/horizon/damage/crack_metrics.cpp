@@ -116,4 +116,40 @@ std::optional<double> branch_distance(const Particles& p, const Vec3& origin, co
   return std::nullopt;
 }
 
+LineCracks cracks_across_line(const std::vector<Vec3>& points, const std::vector<double>& damage, int along,
+                              int normal, double at, double tol, double threshold, double merge) {
+  std::vector<std::pair<double, double>> line;  // (position, damage)
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (std::abs(points[i][normal] - at) <= tol) line.emplace_back(points[i][along], damage[i]);
+  std::sort(line.begin(), line.end());
+  LineCracks out;
+  double sum = 0, weight = 0;
+  auto close = [&]() {
+    if (weight <= 0) return;
+    const double x = sum / weight;
+    if (!out.positions.empty() && x - out.positions.back() < merge)
+      out.positions.back() = 0.5 * (out.positions.back() + x);
+    else
+      out.positions.push_back(x);
+    sum = weight = 0;
+  };
+  for (const auto& [x, d] : line) {
+    if (d >= threshold) {
+      sum += x * d, weight += d;
+    } else if (weight > 0) {
+      close();
+    }
+  }
+  close();
+  if (out.positions.size() >= 2) {
+    out.mean_spacing = (out.positions.back() - out.positions.front()) / static_cast<double>(out.positions.size() - 1);
+    std::vector<double> gaps;
+    for (std::size_t k = 1; k < out.positions.size(); ++k) gaps.push_back(out.positions[k] - out.positions[k - 1]);
+    std::sort(gaps.begin(), gaps.end());
+    const std::size_t m = gaps.size();
+    out.median_spacing = m % 2 ? gaps[m / 2] : 0.5 * (gaps[m / 2 - 1] + gaps[m / 2]);
+  }
+  return out;
+}
+
 }  // namespace horizon

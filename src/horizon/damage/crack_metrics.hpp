@@ -40,4 +40,17 @@ CrackFront crack_front(const Particles& p, const Vec3& origin, const Vec3& direc
 std::optional<double> branch_distance(const Particles& p, const Vec3& origin, const Vec3& direction, double threshold,
                                       double slice, double gap, const std::vector<uint8_t>* mask = nullptr);
 
+// Cracks crossing a line (thermal shock: the edge cracks seen at a depth below a quenched
+// edge). The line is X[normal] = at; the points within `tol` of it are sorted along the
+// axis `along`, and each run of consecutive points with damage >= `threshold` is one
+// crack, at the damage-weighted mean of the run's positions; runs closer than `merge`
+// count as one. `points` and `damage` are one per particle (a frame's points and field).
+struct LineCracks {
+  std::vector<double> positions;  // along the line, increasing [m]
+  double mean_spacing = 0;        // (last - first)/(count - 1); 0 with fewer than two
+  double median_spacing = 0;      // the median gap between neighbours (robust to a missing crack)
+};
+LineCracks cracks_across_line(const std::vector<Vec3>& points, const std::vector<double>& damage, int along,
+                              int normal, double at, double tol, double threshold, double merge);
+
 }  // namespace horizon

@@ -46,6 +46,19 @@ struct DamageConfig {
   double failure_length_exponent = 2;
 };
 
+// A material's thermal properties (docs/input.md, materials.NAME.thermal;
+// docs/models/heat.md): present for every material of a run with a thermal section.
+struct ThermalMaterialConfig {
+  bool enabled = false;
+  double conductivity = 0;           // classical conductivity k [W/(m K)]
+  double specific_heat = 0;          // c [J/(kg K)]: heat capacity per volume rho c
+  double expansion = 0;              // linear thermal expansion coefficient alpha [1/K]
+  double reference_temperature = 0;  // T_ref [K]: no thermal strain at T = T_ref
+  double plastic_heat_fraction = 0;  // Taylor-Quinney beta: share of the dissipated plastic work turned to heat
+  // Temperature-dependent critical stretch: s0(T) = s0 max(0, 1 + slope (T - T_ref)) [1/K].
+  double critical_stretch_slope = 0;
+};
+
 struct MaterialConfig {
   std::string name;
   // The registry name of its model (material/registry.cpp; docs/models.md lists them).
@@ -63,6 +76,7 @@ struct MaterialConfig {
   // every one present: the deck fills in the defaults.
   std::map<std::string, double> parameters;
   std::map<std::string, std::string> choices;
+  ThermalMaterialConfig thermal;
 };
 
 struct BodyConfig {
@@ -93,7 +107,8 @@ struct LoadConfig {
 
 // explicit: velocity Verlet; static: equilibrium at each load step (Newton or ADR);
 // implicit_dynamic: Newmark average acceleration (docs/input.md, solver).
-enum class SolverType { explicit_dynamic, static_equilibrium, implicit_dynamic };
+// heat: heat conduction alone (no mechanics; thermal section required).
+enum class SolverType { explicit_dynamic, static_equilibrium, implicit_dynamic, heat };
 enum class StaticMethod { newton, adr };
 enum class LinearSolverKind { cg, cholesky, matrix_free };
 enum class TangentKind { analytic, finite_difference };
@@ -118,6 +133,9 @@ struct SolverConfig {
   // stable step from the current bond tangent stiffness every adaptive_every steps.
   bool adaptive_time_step = false;
   int adaptive_every = 5;
+  // Explicit and implicit dynamics: a run whose |energy balance error| (relative to the
+  // largest energy of the ledger) exceeds this warns in the log and in summary.json.
+  double energy_balance_warning = 0.05;
 };
 
 // How the damage field weighs the bonds: phi_i = 1 - sum(intact) w / sum(all) w with
@@ -169,6 +187,44 @@ struct ContactConfig {
   std::vector<IndenterConfig> indenters;
 };
 
+// Nonlocal heat conduction (thermal/heat.hpp, docs/models/heat.md).
+// kernel: the micro-conductivity's dependence on the bond length, kappa g(|xi|) with
+//   inverse  g = 1/|xi| (Bobaru and Duangpanya 2010, Oterkus et al. 2014),
+//   constant g = 1       (the kernel of digest 004 sec. 8, C = 3k/delta^3 in 1-D).
+// calibration: how kappa is fixed from the classical conductivity k,
+//   continuum:  the horizon integral, kappa = 2k / int_H g xi_1^2 dV (piecewise-constant
+//               quadrature: not asymptotically compatible, digest 004 sec. 8);
+//   discrete:   the same moment summed over the lattice family with its partial volumes,
+//               so that the discrete operator is exact on quadratics (asymptotically
+//               compatible, Trask, You, Yu and Parks 2019).
+enum class HeatKernel { inverse, constant };
+enum class HeatCalibration { continuum, discrete };
+enum class HeatIntegration { explicit_euler, implicit_euler };
+enum class ThermalBoundaryKind { temperature, flux, convection };
+
+struct ThermalBoundaryConfig {
+  ThermalBoundaryKind kind = ThermalBoundaryKind::temperature;
+  std::string region;   // empty: every particle
+  Expression value;     // temperature [K] or flux into the body [W/m^2] (expressions in t, x, y, z)
+  double coefficient = 0;  // convection: film coefficient h [W/(m^2 K)]
+  Expression ambient;      // convection: ambient temperature [K]
+  int normal_axis = -1;    // flux and convection: 0,1,2; -1 = the axis the region is thinnest along
+};
+
+struct ThermalConfig {
+  bool enabled = false;
+  Expression initial_temperature;  // [K], in x, y, z
+  HeatKernel kernel = HeatKernel::inverse;
+  HeatCalibration calibration = HeatCalibration::continuum;
+  HeatIntegration integration = HeatIntegration::explicit_euler;
+  // solver.type heat: the heat step is solver.time_step (default: the explicit stable
+  // step times solver.safety_factor; required for implicit). Coupled runs: the heat
+  // advances time_scale times the mechanical step per step (1: real time; > 1 accelerates
+  // a slow heat transfer for a mechanical response that stays quasi-static).
+  double time_scale = 1;
+  std::vector<ThermalBoundaryConfig> boundary;
+};
+
 struct Config {
   std::string deck_file;
   int dimension = 3;
@@ -188,7 +244,11 @@ struct Config {
   std::vector<InitialConditionConfig> initial_conditions;
   std::vector<LoadConfig> loads;
   SolverConfig solver;
+  ThermalConfig thermal;
   OutputConfig output;
+  // Not a deck key: the memory a run may need [bytes] before build_system refuses it
+  // (solver/memory_guard.hpp); 0 means the machine's physical memory. --max-memory sets it.
+  double memory_limit_bytes = 0;
   // Legal but dubious choices found while reading the deck, one line each in the form
   // "file:line:column: warning: ...", for the run to print.
   std::vector<std::string> warnings;

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -14,8 +15,11 @@
 #include "horizon/deck/conditions.hpp"
 #include "horizon/deck/contact.hpp"
 #include "horizon/deck/materials.hpp"
+#include "horizon/deck/peridigm/peridigm.hpp"
+#include "horizon/deck/peridigm/xml.hpp"
 #include "horizon/deck/reader.hpp"
 #include "horizon/deck/shapes.hpp"
+#include "horizon/deck/thermal.hpp"
 
 namespace horizon {
 
@@ -27,7 +31,7 @@ const std::vector<std::string> kTopKeys = {
     "dimension",      "plane",           "thickness",          "area",      "spacing", "horizon",
     "horizon_factor", "lattice_origin",  "partial_volume",     "materials", "bodies",  "precracks",
     "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output",
-    "contact"};
+    "contact",        "thermal"};
 
 // A key that only makes sense in one dimension is an error in the others.
 void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* key, int dimension) {
@@ -52,6 +56,7 @@ void read_lattice(DeckContext& ctx, const MapReader& m, Config& config) {
     if (auto t = m.find("thickness")) config.thickness = read_positive(ctx, *t);
   }
   ctx.plane = config.plane;
+  ctx.thickness = config.thickness;
   if (auto a = m.find("area"); a && config.dimension == 1) config.area = read_positive(ctx, *a);
 
   const Item spacing = m.get("spacing", "the lattice spacing [m], > 0");
@@ -161,6 +166,11 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
     const Item shape = b.get("shape", "e.g. {box: {min: [..], max: [..]}}");
     body.shape = read_shape(ctx, shape);
     check_bounded(ctx, shape, body.shape);
+    if (body.shape.kind() == Shape::Kind::points && body.shape.point_volumes().empty()) {
+      ctx.fail(shape.mark, shape.path +
+                               ": a body made of listed points needs a volume with each point ([x, y, z, volume]); "
+                               "a mesh's set: selects a region and belongs under regions");
+    }
     config.bodies.push_back(std::move(body));
   }
 }
@@ -178,29 +188,31 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   MapReader s(ctx, m.get("solver", "at least {end_time: ...}"),
               {"type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
                "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds",
-               "condition_number", "adaptive_time_step", "adaptive_every"});
+               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning"});
   SolverConfig& sc = config.solver;
   std::string type = "explicit";
   if (auto t = s.find("type")) {
     sc.type = read_enum<SolverType>(ctx, *t,
                                     {{"explicit", SolverType::explicit_dynamic},
                                      {"static", SolverType::static_equilibrium},
-                                     {"implicit_dynamic", SolverType::implicit_dynamic}});
+                                     {"implicit_dynamic", SolverType::implicit_dynamic},
+                                     {"heat", SolverType::heat}});
     type = t->node.Scalar();
   }
   const bool is_explicit = sc.type == SolverType::explicit_dynamic;
   const bool is_static = sc.type == SolverType::static_equilibrium;
+  const bool is_heat = sc.type == SolverType::heat;
   const char* kStatic = "type: static";
   const char* kImplicit = "type: static and implicit_dynamic";
-  only_for(ctx, s, "safety_factor", is_explicit, "type: explicit", type);
-  only_for(ctx, s, "time_step", !is_static, "type: explicit and implicit_dynamic", type);
-  only_for(ctx, s, "damping", !is_static, "type: explicit and implicit_dynamic", type);
+  only_for(ctx, s, "safety_factor", is_explicit || is_heat, "type: explicit and heat", type);
+  only_for(ctx, s, "time_step", !is_static, "type: explicit, implicit_dynamic and heat", type);
+  only_for(ctx, s, "damping", !is_static && !is_heat, "type: explicit and implicit_dynamic", type);
   only_for(ctx, s, "method", is_static, kStatic, type);
   only_for(ctx, s, "load_steps", is_static, kStatic, type);
   only_for(ctx, s, "max_step_cuts", is_static, kStatic, type);
   for (const char* key : {"linear_solver", "tangent", "tolerance", "max_iterations", "max_break_rounds",
                           "condition_number"})
-    only_for(ctx, s, key, !is_explicit, kImplicit, type);
+    only_for(ctx, s, key, !is_explicit && !is_heat, kImplicit, type);
 
   if (is_static) {
     // The pseudo-time of a static run: loads are evaluated at t = end_time * k / load_steps.
@@ -223,6 +235,7 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
     sc.safety_factor = v;
   }
   if (auto d = s.find("damping")) sc.damping = read_non_negative(ctx, *d);
+  if (auto w = s.find("energy_balance_warning")) sc.energy_balance_warning = read_positive(ctx, *w);
 
   if (auto me = s.find("method"))
     sc.method = read_enum<StaticMethod>(ctx, *me, {{"newton", StaticMethod::newton}, {"adr", StaticMethod::adr}});
@@ -305,6 +318,56 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   if (auto p = o.find("progress_every")) config.output.progress_every = at_least(*p, 0);
 }
 
+// The thermal section and the materials' thermal maps go together; the heat time step
+// belongs to heat runs, the time scale to coupled explicit ones.
+void check_thermal(const DeckContext& ctx, const MapReader& m, const Config& config) {
+  const Item materials = *m.find("materials");
+  const auto thermal = m.find("thermal");
+  for (const auto& mat : config.materials) {
+    const YAML::Node node = materials.node[mat.name];
+    if (thermal && !mat.thermal.enabled) {
+      ctx.fail(node.Mark(), "materials." + mat.name +
+                                ": the deck has a thermal section, so every material needs a thermal map, e.g. "
+                                "thermal: {conductivity: 30, specific_heat: 880}");
+    }
+    if (!thermal && mat.thermal.enabled) {
+      ctx.fail(node["thermal"].Mark(), "materials." + mat.name +
+                                           ".thermal: a thermal map needs the deck's thermal section (at least "
+                                           "thermal: {initial_temperature: ...}); see docs/input.md");
+    }
+  }
+  const SolverType type = config.solver.type;
+  if (type == SolverType::heat && !thermal) {
+    const MapReader s(ctx, *m.find("solver"), {"type", "end_time", "time_step", "safety_factor", "damping", "method",
+                                               "linear_solver", "tangent", "tolerance", "max_iterations", "load_steps",
+                                               "max_step_cuts", "max_break_rounds", "condition_number",
+                                               "adaptive_time_step", "adaptive_every"});
+    ctx.fail(s.find("type")->mark, "solver.type: heat needs a thermal section (thermal: {initial_temperature: ...})");
+  }
+  if (!thermal) return;
+  const MapReader t(ctx, *thermal, {"initial_temperature", "kernel", "calibration", "integration", "time_scale",
+                                    "boundary"});
+  if (type == SolverType::static_equilibrium || type == SolverType::implicit_dynamic) {
+    ctx.fail(thermal->key_mark ? *thermal->key_mark : thermal->mark,
+             "thermal: heat conduction runs with solver type heat (heat alone) or explicit (coupled); this deck has "
+             "a static or implicit_dynamic solver");
+  }
+  if (auto s = t.find("time_scale"); s && type == SolverType::heat) {
+    ctx.fail(*s->key_mark, s->path + ": applies to coupled runs (solver type explicit) only; a heat run takes "
+                                     "solver.time_step");
+  }
+  if (type == SolverType::heat && config.thermal.integration == HeatIntegration::implicit_euler &&
+      !config.solver.time_step) {
+    ctx.fail(t.find("integration")->mark, "thermal.integration: implicit needs solver.time_step (the heat step [s]; "
+                                          "backward Euler is stable for any size)");
+  }
+  for (const auto& mat : config.materials)
+    if (mat.thermal.expansion != 0 && type == SolverType::heat) {
+      ctx.warn(materials.node[mat.name]["thermal"]["expansion"].Mark(),
+               "materials." + mat.name + ".thermal.expansion: a heat run has no mechanics; the expansion is unused");
+    }
+}
+
 Config read_config(DeckContext& ctx, const Item& root) {
   Config config;
   config.deck_file = ctx.file;
@@ -312,7 +375,18 @@ Config read_config(DeckContext& ctx, const Item& root) {
   read_lattice(ctx, m, config);
   read_materials(ctx, m, config);
   const std::vector<std::string> regions = read_regions(ctx, m, config);
+  const std::size_t lattice_warnings = ctx.warnings ? ctx.warnings->size() : 0;
   read_bodies(ctx, m, config);
+  // Bodies of listed points have no lattice: the warning about few lattice spacings per
+  // horizon (read_lattice) does not apply to them.
+  bool all_points = true;
+  for (const auto& b : config.bodies) all_points = all_points && b.shape.kind() == Shape::Kind::points;
+  if (all_points && ctx.warnings && lattice_warnings > 0) {
+    auto& w = *ctx.warnings;
+    w.erase(std::remove_if(w.begin(), w.end(),
+                           [](const std::string& x) { return x.find("lattice spacings; 3 or more") != std::string::npos; }),
+            w.end());
+  }
   if (auto p = m.find("precracks"))
     for (const auto& i : read_list(ctx, *p)) config.precracks.push_back(read_precrack(ctx, i));
   if (auto n = m.find("no_fail_regions")) {
@@ -333,6 +407,8 @@ Config read_config(DeckContext& ctx, const Item& root) {
     for (const auto& i : read_list(ctx, *l)) config.loads.push_back(read_load(ctx, i, regions));
   if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c);
   read_solver(ctx, m, config);
+  if (auto t = m.find("thermal")) config.thermal = read_thermal(ctx, *t, regions);
+  check_thermal(ctx, m, config);
   read_output(ctx, m, config);
   return config;
 }
@@ -340,23 +416,36 @@ Config read_config(DeckContext& ctx, const Item& root) {
 }  // namespace
 
 Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
-  std::vector<std::string> warnings;
-  DeckContext ctx{file_name, 3, PlaneMode::none, &warnings};
+  DeckContext ctx{file_name, 3, PlaneMode::none, nullptr};
   YAML::Node root;
   try {
-    root = YAML::Load(yaml_text);
+    // Peridigm's XML decks become YAML with the same lines and columns (deck/peridigm/xml.hpp).
+    root = YAML::Load(peridigm::looks_like_xml(yaml_text) ? peridigm::xml_to_yaml(yaml_text, file_name) : yaml_text);
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }
-  if (!root.IsDefined() || root.IsNull()) {
+  return parse_deck_node(root, file_name);
+}
+
+Config parse_deck_node(const YAML::Node& given, const std::string& file_name) {
+  std::vector<std::string> warnings;
+  DeckContext ctx{file_name, 3, PlaneMode::none, &warnings};
+  if (!given.IsDefined() || given.IsNull()) {
     ctx.fail(YAML::Mark(),
              "the deck is empty; expected a map of keys such as dimension, spacing, horizon, "
              "materials, bodies, solver (see docs/input.md)");
   }
-  if (!root.IsMap()) {
-    ctx.fail(root.Mark(),
-             "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " + describe(root));
+  if (!given.IsMap()) {
+    ctx.fail(given.Mark(),
+             "expected the deck to be a map of 'key: value' lines (dimension, spacing, ...), found " + describe(given));
   }
+  // A Peridigm deck (top-level key Peridigm) is translated to a native one first
+  // (deck/peridigm/); its own mistakes are reported at their place in it.
+  // (YAML::Node assignment rebinds shared nodes, so the translation gets its own.)
+  YAML::Node translated;
+  const bool peridigm_deck = peridigm::is_peridigm_deck(given);
+  if (peridigm_deck) translated.reset(peridigm::to_native(given, file_name));
+  const YAML::Node& root = peridigm_deck ? translated : given;
   Config config;
   try {
     config = read_config(ctx, Item{root, "", root.Mark(), std::nullopt});
@@ -366,6 +455,26 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
   }
   config.warnings = std::move(warnings);
   return config;
+}
+
+std::string convert_peridigm_deck(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open deck '" + path + "': " + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  DeckContext ctx{path, 3, PlaneMode::none, nullptr};
+  YAML::Node root;
+  try {
+    root = YAML::Load(peridigm::looks_like_xml(text.str()) ? peridigm::xml_to_yaml(text.str(), path) : text.str());
+  } catch (const YAML::Exception& e) {
+    ctx.fail(e.mark, "YAML syntax error: " + e.msg);
+  }
+  if (!peridigm::is_peridigm_deck(root))
+    ctx.fail(root.Mark(), "not a Peridigm deck: expected one top-level key, Peridigm");
+  const YAML::Node native = peridigm::to_native(root, path);
+  const std::string out = peridigm::native_yaml(native, path);
+  parse_deck(out, path + " (converted)");  // the translation must read back
+  return out;
 }
 
 Config load_deck(const std::string& path) {

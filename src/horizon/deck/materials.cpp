@@ -1,4 +1,5 @@
 #include "horizon/deck/materials.hpp"
+#include "horizon/deck/thermal.hpp"
 
 #include <fmt/format.h>
 
@@ -250,7 +251,7 @@ void derive_from_micromodulus(MaterialConfig& mat, const Config& config) {
 namespace {
 const std::vector<std::string> kCommonKeys = {"model",         "density",      "youngs_modulus", "poissons_ratio",
                                                "bulk_modulus",  "shear_modulus", "influence",      "damage",
-                                               "micromodulus"};
+                                               "micromodulus", "thermal"};
 }  // namespace
 
 MaterialConfig read_material(const DeckContext& ctx, const std::string& name, const Item& item) {
@@ -351,6 +352,7 @@ MaterialConfig read_material(const DeckContext& ctx, const std::string& name, co
     }
   }
   if (auto d = m.find("damage")) mat.damage = read_damage(ctx, *d, traits);
+  if (auto t = m.find("thermal")) mat.thermal = read_thermal_material(ctx, *t);
   // A boolean `fracture: false` (bonds of this material never break) contradicts a damage map.
   for (const auto& p : traits.parameters)
     if (p.key == "fracture" && p.range == ParameterSpec::Range::boolean && mat.damage.enabled &&

@@ -62,13 +62,23 @@ std::string child_path(const std::string& path, std::string_view key) {
 
 std::string index_path(const std::string& path, std::size_t index) { return path + "[" + std::to_string(index) + "]"; }
 
+// A scalar as a message quotes it: control characters (a binary file read as a deck) as
+// a byte count, and long text cut to its first 60 characters.
+std::string quote_scalar(const std::string& s) {
+  std::size_t control = 0;
+  for (unsigned char ch : s) control += (ch < 0x20 && ch != '\t') || ch == 0x7f;
+  if (control > 0) return "binary data (" + std::to_string(s.size()) + " bytes, not text)";
+  if (s.size() > 60) return "'" + s.substr(0, 60) + "...' (" + std::to_string(s.size()) + " characters)";
+  return "'" + s + "'";
+}
+
 std::string describe(const YAML::Node& node) {
   if (!node.IsDefined()) return "nothing";
   switch (node.Type()) {
     case YAML::NodeType::Null:
       return "an empty value";
     case YAML::NodeType::Scalar:
-      return "'" + node.Scalar() + "'";
+      return quote_scalar(node.Scalar());
     case YAML::NodeType::Sequence:
       return "a list of " + std::to_string(node.size()) + (node.size() == 1 ? " item" : " items");
     case YAML::NodeType::Map:
@@ -299,10 +309,27 @@ Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_f
     } catch (const Error& e) {
       ctx.fail(c.mark, c.path + ": " + e.what() + " (variables: t, x, y, z; e.g. \"-20*min(t/1e-6, 1)\")");
     }
+    // A constant expression is evaluated once, here: 1/0, sqrt(-1), log(0) are caught at
+    // their line (expressions in t, x, y, z are checked where they apply, loads.cpp).
+    if (v[k]->is_constant() && !std::isfinite((*v[k])(0))) {
+      ctx.fail(c.mark, c.path + ": the expression '" + text + "' is " + (std::isnan((*v[k])(0)) ? "not a number" : "infinite") +
+                           " (a division by zero, or a function outside its domain); expected a finite value");
+    }
   }
   if (!allow_free)
     for (int k = ctx.dimension; k < 3; ++k) v[k] = Expression(0.0);
   return v;
+}
+
+Expression read_scalar_expr(const DeckContext& ctx, const Item& item) {
+  if (!is_scalar(item.node)) fail_expected(ctx, item, "a number or an expression in t, x, y, z");
+  const std::string& text = item.node.Scalar();
+  if (const auto value = parse_number(text)) return Expression(*value);
+  try {
+    return Expression(text);
+  } catch (const Error& e) {
+    ctx.fail(item.mark, item.path + ": " + e.what() + " (variables: t, x, y, z; e.g. \"293 + 10*sin(x/0.01)\")");
+  }
 }
 
 }  // namespace horizon::deck

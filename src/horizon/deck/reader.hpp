@@ -4,6 +4,8 @@
 // Nothing outside src/horizon/deck includes this header.
 #include <yaml-cpp/yaml.h>
 
+#include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -13,6 +15,7 @@
 #include "horizon/core/expression.hpp"
 #include "horizon/core/vec3.hpp"
 #include "horizon/deck/config.hpp"
+#include "horizon/geometry/mesh.hpp"
 
 namespace horizon::deck {
 
@@ -23,6 +26,10 @@ struct DeckContext {
   int dimension = 3;
   PlaneMode plane = PlaneMode::none;
   std::vector<std::string>* warnings = nullptr;
+  double thickness = 1;  // 2-D: a mesh's element areas become volumes with it
+  // Mesh files read so far (bodies and regions often name the same one), by path.
+  std::shared_ptr<std::map<std::string, std::shared_ptr<const Mesh>>> meshes =
+      std::make_shared<std::map<std::string, std::shared_ptr<const Mesh>>>();
 
   [[noreturn]] void fail(const YAML::Mark& at, const std::string& message) const;
   void warn(const YAML::Mark& at, const std::string& message) const;
@@ -106,6 +113,8 @@ Vec3 read_vector(const DeckContext& ctx, const Item& item);
 // null for "not prescribed". Components beyond the dimension are unset, or zero when
 // free components are not allowed.
 Vec3Expr read_vector_expr(const DeckContext& ctx, const Item& item, bool allow_free);
+// One number or expression in t, x, y, z.
+Expression read_scalar_expr(const DeckContext& ctx, const Item& item);
 
 template <class E>
 E read_enum(const DeckContext& ctx, const Item& item, const std::vector<std::pair<std::string, E>>& choices) {

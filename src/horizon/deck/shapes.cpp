@@ -1,6 +1,13 @@
 #include "horizon/deck/shapes.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
 
 #include "horizon/deck/suggest.hpp"
 
@@ -8,7 +15,8 @@ namespace horizon::deck {
 
 namespace {
 
-const std::vector<std::string> kShapeKinds = {"box", "cylinder", "disk", "sphere", "half_space", "union", "subtract"};
+const std::vector<std::string> kShapeKinds = {"box",   "cylinder", "disk",     "sphere", "half_space",
+                                              "union", "subtract", "points",   "mesh"};
 const char* const kAxisNames[3] = {"x", "y", "z"};
 
 // In 2-D a disk is a cylinder along z through the plane; its ends lie far outside any
@@ -85,6 +93,132 @@ Shape read_half_space(const DeckContext& ctx, const Item& item) {
   return Shape::half_space(point, normal);
 }
 
+std::string group_names(const std::vector<MeshGroup>& groups) {
+  std::string out;
+  for (const auto& g : groups) out += (out.empty() ? "" : ", ") + g.name;
+  return out.empty() ? "none" : out;
+}
+
+// A mesh file's elements as particles (geometry/mesh.hpp): all of them, one block's, or
+// (regions) those touching a node or side set.
+Shape read_mesh_shape(const DeckContext& ctx, const Item& item, const YAML::Mark& key_mark) {
+  if (ctx.dimension == 1) ctx.fail(key_mark, item.path + ": a mesh needs a 2-D or 3-D deck");
+  MapReader m(ctx, item, {"file", "block", "set", "scale"});
+  const Item file_item = m.get("file", "the mesh file: .msh (Gmsh 4.1) or .exo, .e, .g (Exodus II), relative to the deck");
+  std::filesystem::path file = read_string(ctx, file_item);
+  if (file.is_relative()) file = std::filesystem::path(ctx.file).parent_path() / file;
+  const std::string key = file.lexically_normal().string() + "#" + std::to_string(ctx.dimension);
+  std::shared_ptr<const Mesh> mesh;
+  if (auto it = ctx.meshes->find(key); it != ctx.meshes->end()) {
+    mesh = it->second;
+  } else {
+    try {
+      mesh = std::make_shared<const Mesh>(read_mesh(file.lexically_normal().string(), ctx.dimension));
+    } catch (const Error& e) {
+      ctx.fail(file_item.mark, file_item.path + ": " + e.what());
+    }
+    ctx.meshes->emplace(key, mesh);
+  }
+  double scale = 1;
+  if (auto sc = m.find("scale")) scale = read_positive(ctx, *sc);
+  std::vector<uint32_t> cells;
+  bool with_measures = true;
+  const auto which = m.exactly_one({"block", "set"}, false);
+  if (which == "block") {
+    const Item b = *m.find("block");
+    const std::string name = read_string(ctx, b);
+    const MeshGroup* g = mesh->find_block(name);
+    if (!g) ctx.fail(b.mark, b.path + ": the mesh has no block '" + name + "'; its blocks: " + group_names(mesh->blocks));
+    cells = g->members;
+  } else if (which == "set") {
+    const Item st = *m.find("set");
+    const std::string name = read_string(ctx, st);
+    const MeshGroup* g = mesh->find_set(name);
+    if (!g) ctx.fail(st.mark, st.path + ": the mesh has no set '" + name + "'; its sets: " + group_names(mesh->sets));
+    cells = mesh->cells_touching(*g);
+    if (cells.empty()) ctx.fail(st.mark, st.path + ": no element of the mesh touches set '" + name + "'");
+    with_measures = false;
+  } else {
+    cells.resize(mesh->cell_nodes.size());
+    for (uint32_t e = 0; e < cells.size(); ++e) cells[e] = e;
+  }
+  std::vector<Vec3> points;
+  std::vector<double> measures;
+  // Full volumes, as a body of listed points carries: 2-D areas times the thickness.
+  const double measure_scale = std::pow(scale, ctx.dimension) * (ctx.dimension == 2 ? ctx.thickness : 1.0);
+  for (uint32_t e : cells) {
+    points.push_back(scale == 1 ? mesh->centroid[e] : mesh->centroid[e] * scale);
+    if (with_measures) measures.push_back(mesh->measure[e] * measure_scale);
+  }
+  return Shape::points(std::move(points), std::move(measures));
+}
+
+// points: a list of [x, y, z] or [x, y, z, volume] rows (one coordinate per axis), or
+// {file: name} naming a text file of such rows (whitespace-separated; lines starting
+// with # are comments; a relative name is relative to the deck's folder).
+Shape read_points(const DeckContext& ctx, const Item& item) {
+  const int d = ctx.dimension;
+  std::vector<Vec3> at;
+  std::vector<double> volumes;
+  std::size_t with_volume = 0;
+  auto add = [&](const std::vector<double>& row, const std::function<void(const std::string&)>& fail) {
+    if (row.size() != static_cast<std::size_t>(d) && row.size() != static_cast<std::size_t>(d + 1))
+      fail("expected " + std::to_string(d) + " coordinates, or " + std::to_string(d) + " and a volume, found " +
+           std::to_string(row.size()) + " numbers");
+    Vec3 x;
+    for (int k = 0; k < d; ++k) x[k] = row[static_cast<std::size_t>(k)];
+    at.push_back(x);
+    if (row.size() == static_cast<std::size_t>(d + 1)) {
+      if (!(row.back() > 0)) fail("a point's volume must be > 0, found " + fmt::format("{}", row.back()));
+      volumes.push_back(row.back());
+      ++with_volume;
+    } else {
+      volumes.push_back(0);
+    }
+  };
+  if (item.node.IsMap()) {
+    MapReader m(ctx, item, {"file"});
+    const Item f = m.get("file", "a text file of points, one 'x y z [volume]' row per line");
+    std::filesystem::path path = read_string(ctx, f);
+    if (path.is_relative()) path = std::filesystem::path(ctx.file).parent_path() / path;
+    std::ifstream in(path);
+    if (!in) ctx.fail(f.mark, f.path + ": cannot open the points file '" + path.string() + "'");
+    std::string line;
+    int line_no = 0;
+    while (std::getline(in, line)) {
+      ++line_no;
+      const auto first = line.find_first_not_of(" \t\r");
+      if (first == std::string::npos || line[first] == '#') continue;
+      std::istringstream row(line);
+      std::vector<double> values;
+      std::string word;
+      while (row >> word) {
+        char* end = nullptr;
+        const double v = std::strtod(word.c_str(), &end);
+        if (end == word.c_str() || *end != '\0' || !std::isfinite(v))
+          ctx.fail(f.mark, fmt::format("{}: {}:{}: expected a number, found '{}'", f.path, path.string(), line_no, word));
+        values.push_back(v);
+      }
+      add(values, [&](const std::string& msg) { ctx.fail(f.mark, fmt::format("{}: {}:{}: {}", f.path, path.string(), line_no, msg)); });
+    }
+    if (at.empty()) ctx.fail(f.mark, f.path + ": the points file '" + path.string() + "' holds no points");
+  } else {
+    if (!item.node.IsSequence()) fail_expected(ctx, item, "a list of points [x, y, z] or [x, y, z, volume], or {file: name}");
+    const auto rows = read_list(ctx, item);
+    if (rows.empty()) ctx.fail(item.mark, item.path + ": expected at least one point");
+    for (const auto& r : rows) {
+      if (!r.node.IsSequence()) fail_expected(ctx, r, "a point [x, y, z] or [x, y, z, volume]");
+      std::vector<double> values;
+      for (const auto& c : read_list(ctx, r)) values.push_back(read_number(ctx, c));
+      add(values, [&](const std::string& msg) { ctx.fail(r.mark, r.path + ": " + msg); });
+    }
+  }
+  if (with_volume != 0 && with_volume != at.size())
+    ctx.fail(item.mark, item.path + ": give a volume with every point or with none");
+  if (with_volume == 0) volumes.clear();
+  return Shape::points(std::move(at), std::move(volumes));
+}
+
 std::vector<Shape> read_parts(const DeckContext& ctx, const Item& item, std::size_t at_least, const char* what) {
   if (!item.node.IsSequence()) fail_expected(ctx, item, std::string("a list of shapes (") + what + ")");
   const auto items = read_list(ctx, item);
@@ -116,6 +250,9 @@ Shape read_shape(const DeckContext& ctx, const Item& item) {
   if (e.key == "disk") return read_disk(ctx, e.value, key_mark);
   if (e.key == "cylinder") return read_cylinder(ctx, e.value, key_mark);
   if (e.key == "half_space") return read_half_space(ctx, e.value);
+  if (e.key == "mesh") return read_mesh_shape(ctx, e.value, key_mark);
+
+  if (e.key == "points") return read_points(ctx, e.value);
   if (e.key == "union") return Shape::union_of(read_parts(ctx, e.value, 1, "the shape is all of them together"));
   if (e.key == "subtract") {
     return Shape::difference(read_parts(ctx, e.value, 2, "the first shape minus all later ones"));

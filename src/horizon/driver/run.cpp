@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -21,6 +23,7 @@
 #include "horizon/output/pvd.hpp"
 #include "horizon/output/vtu.hpp"
 #include "horizon/solver/explicit.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
@@ -29,6 +32,7 @@ namespace fs = std::filesystem;
 void apply_run_options(Config& c, const RunOptions& o) {
   if (o.output_dir) c.output.directory = *o.output_dir;
   if (o.end_time) c.solver.end_time = *o.end_time;
+  if (o.max_memory_gib > 0) c.memory_limit_bytes = o.max_memory_gib * 1024.0 * 1024.0 * 1024.0;
   if (o.coarsen != 1) {
     c.spacing *= o.coarsen;
     c.horizon *= o.coarsen;
@@ -40,6 +44,22 @@ double run_time_step(const Config& c, const System& s) {
   return c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * stable_time_step(s);
 }
 
+int64_t step_count(const Config& c, double dt) {
+  if (!(dt > 0 && std::isfinite(dt))) {
+    throw Error(fmt::format("{}: the time step is {}: no particle has a bond that sets a stable step (a body of a "
+                            "single particle, or bodies thinner than a spacing apart from each other?); check the "
+                            "bodies, the spacing and the horizon",
+                            c.deck_file, dt));
+  }
+  const double steps = std::ceil(c.solver.end_time / dt - 1e-9);
+  if (!(steps <= kMaxSteps)) {
+    throw Error(fmt::format("{}: the run would take {:.3g} steps of {:.4g} s to end_time {:.4g} s, more than the "
+                            "{:g} a run may take; check solver.end_time and solver.time_step (units: seconds)",
+                            c.deck_file, steps, dt, c.solver.end_time, kMaxSteps));
+  }
+  return static_cast<int64_t>(steps);
+}
+
 CheckReport check_system(const Config& c, const System& s) {
   CheckReport r;
   r.particles = s.particles.size();
@@ -47,14 +67,30 @@ CheckReport check_system(const Config& c, const System& s) {
   r.precrack_bonds = s.precrack_bonds;
   r.memory_bytes = memory_estimate(s);
   r.stable_dt = stable_time_step(s);
+  if (s.heat.active()) r.heat_stable_dt = heat_stable_step(s);
+  if (c.solver.type == SolverType::heat) {
+    r.stable_dt = r.heat_stable_dt;
+    r.dt = c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * r.heat_stable_dt;
+    r.steps = step_count(c, r.dt);
+    return r;
+  }
   if (c.solver.type == SolverType::static_equilibrium) {
     r.dt = c.solver.end_time / c.solver.load_steps;  // pseudo-time per load step
     r.steps = c.solver.load_steps;
   } else {
     r.dt = run_time_step(c, s);  // implicit dynamics requires solver.time_step (deck check)
-    r.steps = static_cast<int64_t>(std::ceil(c.solver.end_time / r.dt - 1e-9));
+    r.steps = step_count(c, r.dt);
   }
   return r;
+}
+
+PreparedRun prepare_run(const Config& c) {
+  PreparedRun u;
+  u.system = build_system(c);
+  u.loads = Loads(c, u.system);
+  u.loads.apply_initial_conditions(c, u.system);
+  u.check = check_system(c, u.system);
+  return u;
 }
 
 std::string format_check(const Config& c, const CheckReport& r) {
@@ -67,6 +103,15 @@ std::string format_check(const Config& c, const CheckReport& r) {
                    r.particles ? static_cast<double>(r.bonds) / static_cast<double>(r.particles) : 0.0,
                    r.precrack_bonds);
   o << fmt::format("memory          {:.1f} MiB (estimate)\n", static_cast<double>(r.memory_bytes) / (1 << 20));
+  if (r.heat_stable_dt > 0)
+    o << fmt::format("heat            stable explicit heat step {:.4e} s ({}){}\n", r.heat_stable_dt,
+                     c.thermal.integration == HeatIntegration::implicit_euler ? "backward Euler" : "forward Euler",
+                     c.solver.type == SolverType::heat ? "" : fmt::format(", time scale {}", c.thermal.time_scale));
+  if (c.solver.type == SolverType::heat) {
+    o << fmt::format("solver          heat\n");
+    o << fmt::format("time step       {:.4e} s, {} steps to t = {:.4e} s\n", r.dt, r.steps, c.solver.end_time);
+    return o.str();
+  }
   if (c.solver.type == SolverType::static_equilibrium) {
     o << fmt::format("solver          static, {}\n",
                      c.solver.method == StaticMethod::adr ? "adaptive dynamic relaxation" : "Newton-Raphson");
@@ -111,6 +156,10 @@ Frame make_frame(const System& s, double time, int64_t step) {
   scal("energy_density", [&](std::size_t i) { return P.energy[i]; });
   scal("block", [&](std::size_t i) { return static_cast<double>(P.block[i]); });
   scal("volume", [&](std::size_t i) { return P.volume[i]; });
+  if (s.heat.active()) {
+    scal("temperature", [&](std::size_t i) { return s.heat.T[i]; });
+    vec("heat_flux", s.heat.flux);
+  }
   // The models' own fields (material/model.hpp), once per name: a run with two materials
   // of one model writes its fields once.
   std::vector<ModelField> extra;
@@ -200,137 +249,327 @@ double fitted_speed(const std::vector<std::pair<double, double>>& h, double l0, 
   return den > 0 ? (n * stl - st * sl) / den : 0;
 }
 
+// Thermal shock figures (2-D): for each thermal boundary condition, the cracks crossing
+// the lattice row 2 horizons inside its layer (damage >= kCrackDamage; cracks closer than
+// 2 horizons count as one), their positions along the layer and their spacing
+// (damage/crack_metrics.hpp, cracks_across_line).
+nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  const auto& X = s.particles.X;
+  Vec3 centre;
+  for (const auto& x : X) centre += x;
+  centre = centre / static_cast<double>(std::max<std::size_t>(1, X.size()));
+  for (const auto& bc : s.heat.boundary) {
+    if (bc.particles.empty()) continue;
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, mean[2] = {0, 0};
+    for (uint32_t i : bc.particles)
+      for (int k = 0; k < 2; ++k) {
+        lo[k] = std::min(lo[k], X[i][k]);
+        hi[k] = std::max(hi[k], X[i][k]);
+        mean[k] += X[i][k] / static_cast<double>(bc.particles.size());
+      }
+    const int normal = hi[0] - lo[0] < hi[1] - lo[1] ? 0 : 1, along = 1 - normal;
+    const double rows = std::round(2 * c.horizon / c.spacing) * c.spacing;
+    const double at = mean[normal] + (centre[normal] > mean[normal] ? rows : -rows);
+    const LineCracks lc = cracks_across_line(X, s.particles.damage, along, normal, at, 0.5 * c.spacing, kCrackDamage,
+                                             2 * c.horizon);
+    nlohmann::ordered_json e;
+    e["line"] = at;
+    e["count"] = lc.positions.size();
+    e["positions"] = lc.positions;
+    e["mean_spacing"] = lc.mean_spacing;
+    e["median_spacing"] = lc.median_spacing;
+    out[bc.name] = e;
+  }
+  return out;
+}
+
 }  // namespace
 
-int run_deck(Config config, const RunOptions& options) {
-  if (config.solver.type != SolverType::explicit_dynamic) return run_implicit_deck(std::move(config), options);
-  apply_run_options(config, options);
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-  const auto wall_start = std::chrono::steady_clock::now();
-
-  System s = build_system(config);
-  Loads loads(config, s);
-  loads.apply_initial_conditions(config, s);
-  const CheckReport check = check_system(config, s);
-  if (!options.quiet) fmt::print(stderr, "{}", format_check(config, check));
-
-  const fs::path dir = config.output.directory;
-  fs::create_directories(dir / "frames");
-  PvdIndex pvd((dir / "frames.pvd").string());
-
-  ExplicitSolver solver(s, loads, check.dt, config.solver.damping);
-  solver.initialize();
-
-  // History columns: the ledger, damage, and the force each load applies.
+// The explicit run as an object: the constructor sets up the system, the solver and the
+// output and writes the first frame; advance() takes steps; finish() writes history.csv
+// and summary.json. run_deck is constructor, advance to the end, finish.
+struct ExplicitRun::State {
+  Config config;
+  RunOptions options;
+  std::chrono::steady_clock::time_point wall_start;
+  System s;
+  std::unique_ptr<Loads> loads;
+  CheckReport check;
+  fs::path dir;
+  std::unique_ptr<PvdIndex> pvd;
+  std::unique_ptr<ExplicitSolver> solver;
   std::ostringstream history;
-  history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
-             "energy_balance_error,broken_bond_fraction,damage_max,damage_mean";
-  for (const auto& L : loads.loads()) history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
-  history << "\n";
   double max_balance_error = 0;
-  auto record_history = [&]() {
-    const Ledger& g = solver.ledger();
+  int frame_count = 0;
+  std::unique_ptr<CrackTracker> crack;
+  int64_t total = 0;
+  bool adaptive = false;
+  int adaptive_every = 1;
+  double end_time = 0;
+  double dt_nominal = 0, dt_min = 0, dt_max = 0;
+  int64_t history_every = 1;
+  int frames = 1;
+  std::unique_ptr<Progress> progress;
+  std::string status = "completed";
+  int exit_code = 0;
+  std::string message;
+  int next_frame = 1;
+  double cpu_start = 0;
+  bool stopped = false;   // the loop has ended (end reached, interrupted, non-finite or stopped)
+  bool finished = false;  // finish() has run
+  nlohmann::ordered_json summary;
+  // Coupled heat conduction (thermal/heat.hpp): after each mechanical step the temperature
+  // advances time_scale times its step, in as many forward-Euler sub-steps as its stability
+  // asks (one backward-Euler step when implicit); the next force pass sees the new thermal
+  // strain (staggered, one-step lag).
+  std::unique_ptr<HeatSolver> heat;
+  double heat_stable = 0, heat_initial = 0;
+  int heat_substeps = 1;
+  // The thermal work by the trapezoidal rule (thermal/heat.hpp thermal_strain_work): a
+  // heat step's change of the thermal strain is booked after the next force pass, which
+  // is the first to see it, as the mean of its work at the force states before and after.
+  std::vector<double> strain_change;
+  double pending_work = 0;
+
+  void advance_heat() {
+    if (!heat) return;
+    Ledger& g = solver->ledger();
+    if (!strain_change.empty()) g.thermal_work += pending_work + 0.5 * thermal_strain_work(s, strain_change);
+    const std::vector<double> before = s.thermal_strain;
+    const double h = solver->dt() * config.thermal.time_scale / heat_substeps;
+    for (int k = 0; k < heat_substeps; ++k) heat->step(h);
+    strain_change.assign(s.thermal_strain.size(), 0.0);
+    if (before.size() == s.thermal_strain.size())
+      for (std::size_t i = 0; i < before.size(); ++i) strain_change[i] = s.thermal_strain[i] - before[i];
+    pending_work = 0.5 * thermal_strain_work(s, strain_change);
+  }
+
+  void record_history() {
+    const Ledger& g = solver->ledger();
     const DamageStats dstat = damage_stats(s.particles);
     const double dmax = dstat.max, dmean = dstat.mean;
     const double broken_fraction =
         s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0;
     max_balance_error = std::max(max_balance_error, std::abs(g.balance_error()));
     history << fmt::format("{:.9e},{},{:.6e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6f},{:.9f}",
-                           solver.time(), solver.steps(), solver.dt(), g.kinetic, g.strain, g.external_work,
+                           solver->time(), solver->steps(), solver->dt(), g.kinetic, g.strain, g.external_work,
                            g.dissipated, g.damped, g.balance_error(), broken_fraction, dmax, dmean);
-    for (const auto& L : loads.loads())
+    for (const auto& L : loads->loads())
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
+    if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
-  };
-  int frame_count = 0;
-  auto write_frame = [&]() {
+  }
+  void write_frame() {
     const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
-    write_vtu((dir / name).string(), make_frame(s, solver.time(), solver.steps()));
-    pvd.add(solver.time(), name);
-    pvd.write();
-  };
-  CrackTracker crack(config);
+    if (s.heat.active()) update_heat_flux(s);
+    write_vtu((dir / name).string(), make_frame(s, solver->time(), solver->steps()));
+    pvd->add(solver->time(), name);
+    pvd->write();
+  }
+  bool at_end() const {
+    return adaptive ? solver->time() >= end_time * (1 - 1e-12) : solver->steps() >= total;
+  }
+};
 
-  int64_t total = check.steps;
+ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::make_unique<State>()) {
+  State& r = *st_;
+  r.config = std::move(config);
+  r.options = options;
+  Config& c = r.config;
+  if (c.solver.type != SolverType::explicit_dynamic)
+    throw Error("a step-by-step run needs solver.type explicit; static and implicit_dynamic decks run to the end");
+  apply_run_options(c, options);
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  r.wall_start = std::chrono::steady_clock::now();
+  r.dir = c.output.directory;
+  prepare_output_directory(r.dir.string(), "frames");  // before the (long) set-up
+
+  r.s = build_system(c);
+  r.loads = std::make_unique<Loads>(c, r.s);
+  r.loads->apply_initial_conditions(c, r.s);
+  r.check = check_system(c, r.s);
+  if (!options.quiet) fmt::print(stderr, "{}", format_check(c, r.check));
+
+  r.pvd = std::make_unique<PvdIndex>((r.dir / "frames.pvd").string());
+
+  r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
+  r.solver->initialize();
+  if (r.s.heat.active()) {
+    r.heat = std::make_unique<HeatSolver>(r.s, c.thermal.integration);
+    r.heat_stable = heat_stable_step(r.s);
+    r.heat_initial = heat_content(r.s);
+    const double h = r.check.dt * c.thermal.time_scale;
+    if (c.thermal.integration == HeatIntegration::explicit_euler)
+      r.heat_substeps = std::max(1, static_cast<int>(std::ceil(h / (c.solver.safety_factor * r.heat_stable))));
+    if (!options.quiet)
+      fmt::print(stderr, "heat            {} Euler, {:.4e} s per step ({} x the mechanical step, {} sub-steps; "
+                         "stable explicit heat step {:.4e} s)\n",
+                 c.thermal.integration == HeatIntegration::implicit_euler ? "backward" : "forward", h,
+                 c.thermal.time_scale, r.heat_substeps, r.heat_stable);
+  }
+
+  // History columns: the ledger, damage, and the force each load applies.
+  r.history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
+               "energy_balance_error,broken_bond_fraction,damage_max,damage_mean";
+  for (const auto& L : r.loads->loads()) r.history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
+  if (r.s.heat.active()) r.history << ",thermal_work,heat_time," << heat_history_header(r.s);
+  r.history << "\n";
+  r.crack = std::make_unique<CrackTracker>(c);
+
+  r.total = r.check.steps;
   // The adaptive step (models with ModelTraits::adaptive_time_step; the deck allows it for
   // no other): recomputed from the current bond stiffness every adaptive_every steps; the
   // run ends at end_time, frames fall due by time.
-  const bool adaptive = config.solver.adaptive_time_step;
-  const int adaptive_every = std::max(1, config.solver.adaptive_every);
-  const double end_time = config.solver.end_time;
-  double dt_nominal = check.dt, dt_min = check.dt, dt_max = check.dt;
-  const int64_t history_every = std::max(1, config.output.history_every);
-  const int frames = std::max(1, config.output.frames);
-  record_history();
-  write_frame();
-  crack.record(s, 0);
+  r.adaptive = c.solver.adaptive_time_step;
+  r.adaptive_every = std::max(1, c.solver.adaptive_every);
+  r.end_time = c.solver.end_time;
+  r.dt_nominal = r.dt_min = r.dt_max = r.check.dt;
+  r.history_every = std::max(1, c.output.history_every);
+  r.frames = std::max(1, c.output.frames);
+  r.record_history();
+  r.write_frame();
+  r.crack->record(r.s, 0);
 
-  install_interrupt_handler();
-  Progress progress(total, static_cast<double>(s.bonds.size()), config.output.progress_every);
-  std::string status = "completed";
-  int exit_code = 0;
-  std::string message;
-  int next_frame = 1;
-  const double cpu_start = cpu_seconds();
+  if (options.handle_signals) install_interrupt_handler();
+  r.progress = std::make_unique<Progress>(r.total, static_cast<double>(r.s.bonds.size()), c.output.progress_every);
+  r.cpu_start = cpu_seconds();
+  r.stopped = r.at_end();
+}
+
+ExplicitRun::~ExplicitRun() = default;
+
+int64_t ExplicitRun::advance(int64_t n) {
+  State& r = *st_;
+  int64_t taken = 0;
+  if (r.stopped) return 0;
+  const Config& c = r.config;
+  ExplicitSolver& solver = *r.solver;
   try {
-    while (adaptive ? solver.time() < end_time * (1 - 1e-12) : solver.steps() < total) {
+    while (taken < n && !r.at_end()) {
       const int64_t step = solver.steps() + 1;
-      bool last = step == total;
-      if (adaptive) {
-        if (solver.steps() % adaptive_every == 0)
-          dt_nominal = config.solver.safety_factor * stable_time_step(s);
-        double dt = dt_nominal;
-        if (solver.time() + dt >= end_time * (1 - 1e-12)) dt = end_time - solver.time(), last = true;
+      bool last = step == r.total;
+      if (r.adaptive) {
+        if (solver.steps() % r.adaptive_every == 0) r.dt_nominal = c.solver.safety_factor * stable_time_step(r.s);
+        double dt = r.dt_nominal;
+        if (solver.time() + dt >= r.end_time * (1 - 1e-12)) dt = r.end_time - solver.time(), last = true;
         solver.set_dt(dt);
-        dt_min = std::min(dt_min, dt_nominal);
-        dt_max = std::max(dt_max, dt_nominal);
-        total = std::max(total, step + 1);
+        r.dt_min = std::min(r.dt_min, r.dt_nominal);
+        r.dt_max = std::max(r.dt_max, r.dt_nominal);
+        r.total = std::max(r.total, step + 1);
       }
-      const bool frame_due = adaptive ? last || (solver.time() + solver.dt()) * frames >= next_frame * end_time
-                                      : step * frames >= static_cast<int64_t>(next_frame) * total;
-      const bool history_due = step % history_every == 0 || last;
+      const bool frame_due = r.adaptive ? last || (solver.time() + solver.dt()) * r.frames >= r.next_frame * r.end_time
+                                        : step * r.frames >= static_cast<int64_t>(r.next_frame) * r.total;
+      const bool history_due = step % r.history_every == 0 || last;
       solver.step(history_due || frame_due);
+      r.advance_heat();
+      ++taken;
       if (history_due) {
-        record_history();
-        crack.record(s, solver.time());
+        r.record_history();
+        r.crack->record(r.s, solver.time());
       }
       if (frame_due) {
-        write_frame();
-        ++next_frame;
+        r.write_frame();
+        ++r.next_frame;
       }
-      if (!options.quiet) progress.update(solver.steps(), solver.time());
-      if (interrupt_requested()) {
-        status = "interrupted";
-        exit_code = 130;
-        message = fmt::format("interrupted at step {}, t = {:.4e} s; a final frame was written", solver.steps(),
-                              solver.time());
-        break;
+      if (!r.options.quiet) r.progress->update(solver.steps(), solver.time());
+      if (r.options.handle_signals && interrupt_requested()) {
+        r.status = "interrupted";
+        r.exit_code = interrupt_exit_code();
+        r.message = fmt::format("{} at step {}, t = {:.4e} s; a final frame was written", interrupt_name(),
+                                solver.steps(), solver.time());
+        r.stopped = true;
+        return taken;
       }
     }
   } catch (const NonFiniteState& e) {
-    status = "non-finite";
-    exit_code = 2;
-    message = e.what();
+    r.status = "non-finite";
+    r.exit_code = 2;
+    r.message = e.what();
+    r.stopped = true;
+    return taken;
+  } catch (const OutputError& e) {
+    // The frames listed in frames.pvd are complete (written under a temporary name and
+    // renamed); the one that failed is not listed. No final frame: the disk said no.
+    r.status = "output error";
+    r.exit_code = 5;
+    r.message = fmt::format("output error: {}; stopped at step {}, frames.pvd lists the {} complete frames", e.what(),
+                            solver.steps(), r.pvd->entries().size());
+    r.stopped = true;
+    return taken;
   }
-  if (!options.quiet) progress.finish();
-  if (exit_code != 0) {
+  if (r.at_end()) r.stopped = true;
+  return taken;
+}
+
+void ExplicitRun::stop(const std::string& reason) {
+  State& r = *st_;
+  if (r.stopped) return;
+  r.status = "stopped";
+  r.message = fmt::format("stopped at step {}, t = {:.4e} s ({}); a final frame was written", r.solver->steps(),
+                          r.solver->time(), reason);
+  r.stopped = true;
+}
+
+bool ExplicitRun::done() const { return st_->stopped; }
+bool ExplicitRun::finished() const { return st_->finished; }
+const System& ExplicitRun::system() const { return st_->s; }
+System& ExplicitRun::system() { return st_->s; }
+const Config& ExplicitRun::config() const { return st_->config; }
+const Ledger& ExplicitRun::ledger() const { return st_->solver->ledger(); }
+const Loads& ExplicitRun::loads() const { return *st_->loads; }
+double ExplicitRun::time() const { return st_->solver->time(); }
+double ExplicitRun::dt() const { return st_->solver->dt(); }
+int64_t ExplicitRun::steps() const { return st_->solver->steps(); }
+int64_t ExplicitRun::total_steps() const { return st_->total; }
+const std::string& ExplicitRun::status() const { return st_->status; }
+std::string ExplicitRun::history_csv() const { return st_->history.str(); }
+const nlohmann::ordered_json& ExplicitRun::summary() const { return st_->summary; }
+std::string ExplicitRun::output_directory() const { return st_->dir.string(); }
+int ExplicitRun::exit_code() const { return st_->exit_code; }
+
+int ExplicitRun::finish() {
+  State& r = *st_;
+  if (r.finished) return r.exit_code;
+  r.stopped = true;
+  r.finished = true;
+  const Config& config = r.config;
+  const RunOptions& options = r.options;
+  System& s = r.s;
+  ExplicitSolver& solver = *r.solver;
+  const fs::path& dir = r.dir;
+  const std::string& status = r.status;
+  const std::string& message = r.message;
+  auto& crack = *r.crack;
+  if (!options.quiet) r.progress->finish();
+  if ((r.exit_code != 0 && r.exit_code != 5) || status == "stopped") {
     // The last good state (restored by the solver on a non-finite step) as the final frame.
     solver.update_kinetic();
-    record_history();
-    write_frame();
+    r.record_history();
+    r.write_frame();
   }
-  clear_interrupt();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  const double loop_time = progress.elapsed();
-  const double loop_cpu_time = cpu_seconds() - cpu_start;
+  if (options.handle_signals) clear_interrupt();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - r.wall_start).count();
+  const double loop_time = r.progress->elapsed();
+  const double loop_cpu_time = cpu_seconds() - r.cpu_start;
 
-  write_file_atomic((dir / "history.csv").string(), history.str());
+  // After an output error, history and summary are tried once (they are small) and their
+  // failure only reported.
+  auto write_result = [&](const std::string& name, const std::string& text) {
+    try {
+      write_file_atomic((dir / name).string(), text);
+    } catch (const OutputError& e) {
+      if (r.exit_code != 5) throw;
+      fmt::print(stderr, "horizon: {}\n", e.what());
+    }
+  };
+  write_result("history.csv", r.history.str());
 
   // Summary: final figures and run statistics.
   const Ledger& g = solver.ledger();
   nlohmann::ordered_json j = summary_header(config, s, status, message, solver.steps());
   j["time_step"] = solver.dt();
-  if (adaptive) j["time_step_range"] = {dt_min, dt_max};
+  if (r.adaptive) j["time_step_range"] = {r.dt_min, r.dt_max};
   j["time"] = solver.time();
   j["threads"] = omp_get_max_threads();
   j["wall_time_s"] = wall;
@@ -339,7 +578,12 @@ int run_deck(Config config, const RunOptions& options) {
   j["bond_updates_per_second"] =
       loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
-  summary_state(j, s, g, loads, max_balance_error);
+  summary_state(j, s, g, *r.loads, r.max_balance_error);
+  if (r.heat) {
+    j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, r.heat_stable, r.heat_initial);
+    j["energy"]["thermal_work"] = g.thermal_work;
+    if (config.dimension == 2 && s.initial_bonds > 0) j["thermal"]["edge_cracks"] = edge_cracks(config, s);
+  }
   // The crack path and front at the end, for the crack and fracture figures below.
   const std::vector<uint8_t> on = crack.active ? crack.path(s) : std::vector<uint8_t>{};
   const CrackFront f = crack.active ? crack.front(s, on) : CrackFront{};
@@ -403,14 +647,28 @@ int run_deck(Config config, const RunOptions& options) {
     fj["crack_angles_signed_deg"] = signed_angles;
     j["fracture"] = fj;
   }
-  write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+  const std::string energy_warning = energy_balance_warning(config, r.max_balance_error);
+  if (!energy_warning.empty()) j["warnings"] = {energy_warning};
+  write_result("summary.json", j.dump(2) + "\n");
+  r.summary = j;
 
+  if (!energy_warning.empty()) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
   if (!options.quiet) {
     fmt::print(stderr, "{} in {} ({} steps, {:.3g} bond updates/s); output in {}\n", status, format_duration(wall),
                solver.steps(), j["bond_updates_per_second"].get<double>(), dir.string());
   }
-  if (!message.empty()) fmt::print(stderr, "horizon: {}\n", message);
-  return exit_code;
+  // A run stopped by its caller says so in summary.json; quiet runs leave stderr alone.
+  if (!message.empty() && !(options.quiet && status == "stopped")) fmt::print(stderr, "horizon: {}\n", message);
+  return r.exit_code;
+}
+
+
+int run_deck(Config config, const RunOptions& options) {
+  if (config.solver.type == SolverType::heat) return run_heat_deck(std::move(config), options);
+  if (config.solver.type != SolverType::explicit_dynamic) return run_implicit_deck(std::move(config), options);
+  ExplicitRun run(std::move(config), options);
+  run.advance(std::numeric_limits<int64_t>::max());
+  return run.finish();
 }
 
 }  // namespace horizon

@@ -61,6 +61,8 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   // the static load path has them yet.
   if (config.contact.short_range.enabled || !config.contact.indenters.empty())
     throw Error("contact (short-range or rigid indenters) is available with solver type explicit only");
+  const fs::path dir = config.output.directory;
+  prepare_output_directory(dir.string(), "frames");  // before the (long) set-up
   System s = build_system(config);
   Loads loads(config, s);
   loads.apply_initial_conditions(config, s);
@@ -80,8 +82,6 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     }
   }
 
-  const fs::path dir = config.output.directory;
-  fs::create_directories(dir / "frames");
   PvdIndex pvd((dir / "frames.pvd").string());
 
   NewtonOptions newton;
@@ -192,8 +192,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   write_frame(0, 0);
   install_interrupt_handler();
   const int frames = std::max(1, config.output.frames);
-  const int64_t total = is_static ? sc.load_steps
-                                  : static_cast<int64_t>(std::ceil(sc.end_time / *sc.time_step - 1e-9));
+  const int64_t total = is_static ? sc.load_steps : step_count(config, *sc.time_step);
   Progress progress(total, static_cast<double>(s.bonds.size()), config.output.progress_every);
   std::string status = "completed", message;
   int exit_code = 0;
@@ -243,8 +242,8 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     }
     if (interrupt_requested()) {
       status = "interrupted";
-      exit_code = 130;
-      message = fmt::format("interrupted at step {}; a final frame was written", steps);
+      exit_code = interrupt_exit_code();
+      message = fmt::format("{} at step {}; a final frame was written", interrupt_name(), steps);
       break;
     }
   }
@@ -287,7 +286,10 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   }
   if (!condition.empty()) sj["condition"] = condition;
   j["solver"] = sj;
+  const std::string energy_warning = energy_balance_warning(config, max_balance_error);
+  if (!energy_warning.empty()) j["warnings"] = {energy_warning};
   write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+  if (!energy_warning.empty()) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
 
   if (!options.quiet) {
     fmt::print(stderr, "{} in {} ({} {}); output in {}\n", status, format_duration(wall), steps,

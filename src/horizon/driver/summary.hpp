@@ -1,6 +1,8 @@
 #pragma once
 // The part of summary.json every solver writes the same way: what ran, on what, and
 // how it ended. Each driver adds its own figures after these.
+#include <fmt/format.h>
+
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -54,6 +56,19 @@ inline void summary_state(nlohmann::ordered_json& j, const System& s, const Ledg
   nlohmann::ordered_json reactions = nlohmann::ordered_json::object();
   for (const auto& L : loads.loads()) reactions[L.name] = {L.reaction.x, L.reaction.y, L.reaction.z};
   j["loads"] = reactions;
+}
+
+// The warning of a run whose largest |energy balance error| (Ledger::balance_error, a
+// fraction of the largest energy in play) exceeded solver.energy_balance_warning; empty
+// when it did not. The drivers print it and list it under "warnings" in summary.json.
+inline std::string energy_balance_warning(const Config& config, double max_abs_balance_error) {
+  const double limit = config.solver.energy_balance_warning;
+  if (!(max_abs_balance_error > limit)) return "";
+  return fmt::format("the energy balance error reached {:.3g} % of the largest energy, above "
+                     "solver.energy_balance_warning ({:.3g} %): the results may be wrong (a time step too large "
+                     "for the loads or the stiffness, or energy leaving the ledger); history.csv has the error "
+                     "step by step",
+                     100 * max_abs_balance_error, 100 * limit);
 }
 
 }  // namespace horizon

@@ -37,21 +37,22 @@ CellGrid make_grid(const std::vector<Vec3>& points, double radius) {
 // The data that make a kind, compared bit for bit.
 struct KindKey {
   uint64_t length, volume, fraction, weight;
-  int32_t mi, mj;
+  int32_t mi, mj, ci, cj;
   bool operator==(const KindKey&) const = default;
-  auto tie() const { return std::tie(length, volume, fraction, weight, mi, mj); }
+  auto tie() const { return std::tie(length, volume, fraction, weight, mi, mj, ci, cj); }
   bool operator<(const KindKey& o) const { return tie() < o.tie(); }
 };
 
 KindKey key_of(const BondKind& c) {
   return {std::bit_cast<uint64_t>(c.length), std::bit_cast<uint64_t>(c.volume), std::bit_cast<uint64_t>(c.fraction),
-          std::bit_cast<uint64_t>(c.weight), c.material_i, c.material_j};
+          std::bit_cast<uint64_t>(c.weight), c.material_i, c.material_j, c.class_i, c.class_j};
 }
 
 uint64_t hash_of(const KindKey& k) {
   uint64_t h = 0x9e3779b97f4a7c15ull;
   for (uint64_t v : {k.length, k.volume, k.fraction, k.weight,
-                     (static_cast<uint64_t>(static_cast<uint32_t>(k.mi)) << 32) | static_cast<uint32_t>(k.mj)}) {
+                     (static_cast<uint64_t>(static_cast<uint32_t>(k.mi)) << 32) | static_cast<uint32_t>(k.mj),
+                     (static_cast<uint64_t>(static_cast<uint32_t>(k.ci)) << 32) | static_cast<uint32_t>(k.cj)}) {
     h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
     h *= 0xff51afd7ed558ccdull;
   }
@@ -260,6 +261,25 @@ void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material)
     BondKind c = old[bonds.kind[k]];
     c.material_i = material[i];
     c.material_j = material[bonds.nbr[k]];
+    return c;
+  });
+}
+
+void split_kinds_by_class(Bonds& bonds, const std::vector<int32_t>& cls) {
+  const std::size_t n = bonds.particles();
+  bool consistent = true;
+#pragma omp parallel for schedule(static) reduction(&& : consistent)
+  for (std::size_t i = 0; i < n; ++i)
+    for (uint64_t k = bonds.begin(i); k < bonds.end(i); ++k) {
+      const BondKind& c = bonds.kinds[bonds.kind[k]];
+      consistent = consistent && c.class_i == cls[i] && c.class_j == cls[bonds.nbr[k]];
+    }
+  if (consistent) return;
+  const std::vector<BondKind> old = bonds.kinds;
+  regroup(bonds, [&](std::size_t i, uint64_t k) {
+    BondKind c = old[bonds.kind[k]];
+    c.class_i = cls[i];
+    c.class_j = cls[bonds.nbr[k]];
     return c;
   });
 }

@@ -59,8 +59,30 @@ Shape Shape::difference(std::vector<Shape> parts) {
   return s;
 }
 
+Shape Shape::points(std::vector<Vec3> at, std::vector<double> volumes) {
+  Shape s;
+  s.kind_ = Kind::points;
+  s.points_ = std::move(at);
+  s.volumes_ = std::move(volumes);
+  s.by_x_.reserve(s.points_.size());
+  double scale = 0;
+  for (std::size_t i = 0; i < s.points_.size(); ++i) {
+    s.by_x_.emplace_back(s.points_[i].x, i);
+    for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(s.points_[i][k]));
+  }
+  std::sort(s.by_x_.begin(), s.by_x_.end());
+  s.tolerance_ = 1e-9 * std::max(scale, 1e-300);
+  return s;
+}
+
 bool Shape::contains(const Vec3& p) const {
   switch (kind_) {
+    case Kind::points: {
+      auto it = std::lower_bound(by_x_.begin(), by_x_.end(), std::make_pair(p.x - tolerance_, std::size_t{0}));
+      for (; it != by_x_.end() && it->first <= p.x + tolerance_; ++it)
+        if (norm(points_[it->second] - p) <= tolerance_) return true;
+      return false;
+    }
     case Kind::box:
       return le(a_.x, p.x) && le(p.x, b_.x) && le(a_.y, p.y) && le(p.y, b_.y) && le(a_.z, p.z) &&
              le(p.z, b_.z);
@@ -117,6 +139,15 @@ Box3 Shape::bounds() const {
     }
     case Kind::difference:
       return parts_.empty() ? Box3{} : parts_[0].bounds();
+    case Kind::points: {
+      Box3 r{{kHuge, kHuge, kHuge}, {-kHuge, -kHuge, -kHuge}};
+      for (const auto& q : points_)
+        for (int k = 0; k < 3; ++k) {
+          r.min[k] = std::min(r.min[k], q[k]);
+          r.max[k] = std::max(r.max[k], q[k]);
+        }
+      return r;
+    }
   }
   return {};
 }

@@ -2,6 +2,7 @@
 // Solid shapes: primitives combined by union and subtraction. A shape answers one
 // question, "is this point inside?", and gives a bounding box for the lattice.
 #include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,7 @@ struct Box3 {
 
 class Shape {
  public:
-  enum class Kind { box, cylinder, sphere, half_space, union_of, difference };
+  enum class Kind { box, cylinder, sphere, half_space, union_of, difference, points };
 
   static Shape box(Vec3 min, Vec3 max);
   // Cylinder of the given radius around the segment from a to b. In 2-D a cylinder
@@ -27,6 +28,12 @@ class Shape {
   static Shape union_of(std::vector<Shape> parts);
   // parts[0] minus every later part.
   static Shape difference(std::vector<Shape> parts);
+  // A set of listed points (particles given one by one, as from a text file): contains
+  // exactly those points (to 1e-9 of the set's size). As a body's shape each point is one
+  // particle of the given volume; as a region it selects the particles at those points.
+  static Shape points(std::vector<Vec3> at, std::vector<double> volumes);
+  const std::vector<Vec3>& point_list() const { return points_; }
+  const std::vector<double>& point_volumes() const { return volumes_; }
 
   bool contains(const Vec3& p) const;
   // Bounding box; unbounded shapes (half spaces) report +-1e300.
@@ -38,6 +45,10 @@ class Shape {
   Vec3 a_, b_;          // box min/max, cylinder ends, sphere centre, half-space point/normal
   double radius_ = 0;
   std::vector<Shape> parts_;
+  std::vector<Vec3> points_;    // points: as given
+  std::vector<double> volumes_;  // points: one volume per point (empty for a region)
+  std::vector<std::pair<double, std::size_t>> by_x_;  // points: x and index, sorted
+  double tolerance_ = 0;
 };
 
 }  // namespace horizon

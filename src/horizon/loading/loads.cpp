@@ -1,7 +1,11 @@
 #include "horizon/loading/loads.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
+
+#include <fmt/format.h>
 
 #include "horizon/core/error.hpp"
 
@@ -18,6 +22,26 @@ const char* kind_name(LoadKind k) {
   return "load";
 }
 bool is_constraint(LoadKind k) { return k == LoadKind::displacement || k == LoadKind::velocity; }
+
+bool same_expression(const Expression& a, const Expression& b) {
+  if (a.is_constant() != b.is_constant()) return false;
+  return a.is_constant() ? a(0) == b(0) : a.text() == b.text();
+}
+
+const char* axis_name(int c) { return c == 0 ? "x" : c == 1 ? "y" : "z"; }
+
+// An expression that is not finite where it is used at the start (1/0, sqrt(-1), log(0))
+// is an error here rather than a non-finite state a step later.
+void check_finite(const std::string& file, const Expression& e, double t, const Vec3& x, const std::string& what,
+                  int c) {
+  const double v = e(t, x.x, x.y, x.z);
+  if (std::isfinite(v)) return;
+  throw Error(fmt::format("{}: {} {}-component '{}' is {} at t = {:g}, (x, y, z) = ({:g}, {:g}, {:g}) (a division "
+                          "by zero, or a function outside its domain); an expression must be finite wherever it "
+                          "applies",
+                          file, what, axis_name(c), e.text(), std::isnan(v) ? "not a number" : "infinite", t, x.x, x.y,
+                          x.z));
+}
 }  // namespace
 
 std::vector<uint32_t> region_particles(const Config& config, const System& s, const std::string& region) {
@@ -30,8 +54,21 @@ std::vector<uint32_t> region_particles(const Config& config, const System& s, co
   if (it == config.regions.end()) throw Error("unknown region '" + region + "'");
   for (std::size_t i = 0; i < s.particles.size(); ++i)
     if (it->second.contains(s.particles.X[i])) ids.push_back(static_cast<uint32_t>(i));
-  if (ids.empty())
-    throw Error("region '" + region + "' contains no particle (is it inside a body, at least one spacing thick?)");
+  if (ids.empty()) {
+    const Box3 r = it->second.bounds();
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const Vec3& x : s.particles.X)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], x[k]), hi[k] = std::max(hi[k], x[k]);
+    auto box = [&](const Vec3& a, const Vec3& b) {
+      std::string t;
+      for (int k = 0; k < config.dimension; ++k)
+        t += fmt::format("{}{}: [{:g}, {:g}]", k ? ", " : "", axis_name(k), a[k], b[k]);
+      return t;
+    };
+    throw Error(fmt::format("{}: region '{}' contains no particle: it spans {}, the particles span {}; is it inside "
+                            "a body, at least one spacing ({:g} m) thick?",
+                            config.deck_file, region, box(r.min, r.max), box(lo, hi), s.spacing));
+  }
   return ids;
 }
 
@@ -42,6 +79,9 @@ double layer_depth(const System& s, const std::vector<uint32_t>& ids, int axis) 
 }
 
 Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.size(), 0) {
+  // The load that constrains each component of each particle (index into loads_), to
+  // name both when a second one conflicts.
+  std::vector<std::array<int32_t, 3>> owner(s.particles.size(), {-1, -1, -1});
   for (const auto& lc : config.loads) {
     AppliedLoad L;
     L.kind = lc.kind;
@@ -69,11 +109,30 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
       // d, so the total force is T times the loaded area (docs/input.md).
       L.scale = 1.0 / layer_depth(s, L.particles, axis);
     }
+    for (int c = 0; c < 3; ++c)
+      if (lc.value[c])
+        for (uint32_t i : L.particles) check_finite(config.deck_file, *lc.value[c], 0, s.particles.X[i], "load " + L.name, c);
     if (is_constraint(lc.kind)) {
       L.reaction_old.assign(L.particles.size(), Vec3{});
       for (uint32_t i : L.particles)
-        for (int c = 0; c < 3; ++c)
-          if (lc.value[c]) constrained_[i] |= static_cast<uint8_t>(1u << c);
+        for (int c = 0; c < 3; ++c) {
+          if (!lc.value[c]) continue;
+          if (owner[i][c] >= 0) {
+            // Two constraints on one component of one particle: the later would silently
+            // override the earlier. The same prescription twice (corners shared by two
+            // clamped edges) is harmless and allowed.
+            const AppliedLoad& prior = loads_[static_cast<std::size_t>(owner[i][c])];
+            if (prior.kind != lc.kind || !same_expression(*prior.value[c], *lc.value[c])) {
+              const Vec3& x = s.particles.X[i];
+              throw Error(fmt::format("{}: loads '{}' and '{}' both prescribe the {}-component of particle {} at ({:g}, "
+                                      "{:g}, {:g}) differently; a component takes one displacement or velocity: "
+                                      "make the regions disjoint or give the component once",
+                                      config.deck_file, prior.name, L.name, axis_name(c), i, x.x, x.y, x.z));
+            }
+          }
+          constrained_[i] |= static_cast<uint8_t>(1u << c);
+          owner[i][c] = static_cast<int32_t>(loads_.size());
+        }
     }
     loads_.push_back(std::move(L));
   }
@@ -97,8 +156,14 @@ void Loads::apply_initial_conditions(const Config& config, System& s) const {
     for (uint32_t i : region_particles(config, s, ic.region)) {
       const Vec3& x = P.X[i];
       for (int c = 0; c < 3; ++c) {
-        if (ic.velocity[c]) P.v[i][c] = (*ic.velocity[c])(0, x.x, x.y, x.z);
-        if (ic.displacement[c]) P.u[i][c] = (*ic.displacement[c])(0, x.x, x.y, x.z);
+        if (ic.velocity[c]) {
+          check_finite(config.deck_file, *ic.velocity[c], 0, x, "initial velocity", c);
+          P.v[i][c] = (*ic.velocity[c])(0, x.x, x.y, x.z);
+        }
+        if (ic.displacement[c]) {
+          check_finite(config.deck_file, *ic.displacement[c], 0, x, "initial displacement", c);
+          P.u[i][c] = (*ic.displacement[c])(0, x.x, x.y, x.z);
+        }
       }
     }
 }

@@ -74,6 +74,10 @@ struct ModelTraits {
   bool energy_law = false;           // damage: {law: energy, ...} (Tupek's nonlinear solid)
   bool exclusive = false;            // shares a run only with materials of the same model
   bool adaptive_time_step = false;   // solver.adaptive_time_step applies (stable_time_step from the current state)
+  // The model subtracts System::thermal_strain from its bond extensions (thermal expansion,
+  // docs/models/heat.md): materials.NAME.thermal.expansion is allowed. The unified models
+  // take it in the general force pass; a model with its own force_state takes it there.
+  bool thermal_strain = false;
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
                                         InfluenceKind::gaussian};
   InfluenceKind default_influence = InfluenceKind::constant;

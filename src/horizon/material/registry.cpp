@@ -5,6 +5,7 @@
 #include "horizon/material/models/elastic_plastic.hpp"
 #include "horizon/material/models/extended_correspondence.hpp"
 #include "horizon/material/models/lps.hpp"
+#include "horizon/material/models/microplastic.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/material/models/pmb.hpp"
 #include "horizon/material/models/viscoelastic.hpp"
@@ -20,6 +21,7 @@ const std::vector<ModelEntry>& model_registry() {
       viscoelastic_model(),
       correspondence_model(),
       extended_correspondence_model(),
+      microplastic_model(),
   };
   return registry;
 }

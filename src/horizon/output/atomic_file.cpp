@@ -26,13 +26,14 @@ void write_file_atomic(const std::string& path,
   if (target.has_parent_path()) {
     fs::create_directories(target.parent_path(), ec);
     if (ec)
-      throw Error("cannot create directory '" + target.parent_path().string() +
-                  "' for output file '" + path + "': " + ec.message());
+      throw OutputError("cannot create directory '" + target.parent_path().string() + "' for output file '" + path +
+                        "': " + ec.message());
   }
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out)
-      throw Error("cannot open '" + tmp.string() + "' for writing: " + std::strerror(errno));
+      throw OutputError("cannot open '" + tmp.string() + "' for writing: " + std::strerror(errno));
+    errno = 0;
     try {
       write(out);
     } catch (...) {
@@ -41,18 +42,39 @@ void write_file_atomic(const std::string& path,
       throw;
     }
     out.flush();
+    // The failed write(2) leaves its errno (ENOSPC: disk full, EFBIG: file-size limit;
+    // `horizon` ignores SIGXFSZ so that the limit is an error, not a kill).
+    int e = errno;
+    if (out) {
+      out.close();  // the last buffered bytes reach the disk here
+      e = errno;
+    }
     if (!out) {
       out.close();
       fs::remove(tmp, ec);
-      throw Error("failed while writing '" + tmp.string() + "' (disk full?)");
+      throw OutputError("cannot write '" + tmp.string() + "': " + (e ? std::strerror(e) : "write failed") +
+                        "; '" + path + "' keeps its previous content");
     }
   }
   fs::rename(tmp, target, ec);
   if (ec) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    throw Error("cannot rename '" + tmp.string() + "' to '" + path + "': " + ec.message());
+    throw OutputError("cannot rename '" + tmp.string() + "' to '" + path + "': " + ec.message());
   }
+}
+
+void prepare_output_directory(const std::string& dir, const std::string& sub) {
+  std::error_code ec;
+  const fs::path d(dir);
+  fs::create_directories(d / sub, ec);
+  if (ec) throw OutputError("cannot create the output directory '" + (d / sub).string() + "': " + ec.message());
+  const fs::path probe = d / sub / ".horizon-write-probe";
+  {
+    std::ofstream out(probe, std::ios::binary | std::ios::trunc);
+    if (!out) throw OutputError("the output directory '" + (d / sub).string() + "' is not writable: " + std::strerror(errno));
+  }
+  fs::remove(probe, ec);
 }
 
 }  // namespace horizon

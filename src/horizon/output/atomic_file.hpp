@@ -9,12 +9,17 @@
 namespace horizon {
 
 // Writes `bytes` to `path` atomically, creating parent directories as needed.
-// Throws horizon::Error naming the path when anything fails.
+// Throws horizon::OutputError naming the path and the system's reason when anything fails.
 void write_file_atomic(const std::string& path, const std::string& bytes);
 
 // Same, but the content is produced by `write` into a binary stream; lets large files
 // be streamed without building them in memory first.
 void write_file_atomic(const std::string& path,
                        const std::function<void(std::ostream&)>& write);
+
+// Creates a run's output directory (and `sub` inside it) and proves it writable by
+// writing and removing a probe file, so that a run that could not save its results
+// fails before it starts. Throws horizon::OutputError.
+void prepare_output_directory(const std::string& dir, const std::string& sub);
 
 }  // namespace horizon

@@ -17,7 +17,12 @@ PvdIndex::PvdIndex(std::string path) : path_(std::move(path)) {}
 
 void PvdIndex::add(double time, const std::string& relative_file) {
   entries_.emplace_back(time, relative_file);
-  write();
+  try {
+    write();
+  } catch (...) {
+    entries_.pop_back();  // the index on disk is the previous one: keep saying so
+    throw;
+  }
 }
 
 void PvdIndex::write() const {

@@ -5,12 +5,14 @@
 #include <sstream>
 
 #include "horizon/solver/forces.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
 double Ledger::balance_error() const {
-  const double scale = std::max({std::abs(initial), std::abs(external_work), kinetic + strain + dissipated + damped, 1e-300});
-  return (kinetic + strain + dissipated + damped - initial - external_work) / scale;
+  const double scale = std::max(
+      {std::abs(initial), std::abs(external_work), std::abs(thermal_work), kinetic + strain + dissipated + damped, 1e-300});
+  return (kinetic + strain + dissipated + damped - initial - external_work - thermal_work) / scale;
 }
 
 namespace {
@@ -81,7 +83,7 @@ void ExplicitSolver::step(bool energy) {
   s_.time = time_;
   s_.dt = dt;
   compute_forces(s_, energy);
-  commit_history(s_);  // history models (plasticity, viscosity) accept this step
+  commit_history_with_heat(s_);  // history models (plasticity, viscosity) accept this step
 
   // Second half kick; damping taken implicitly on the half step so it stays stable.
   const double damp = 1.0 / (1.0 + damping_ * half);

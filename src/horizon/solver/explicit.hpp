@@ -18,6 +18,9 @@ struct Ledger {
   double dissipated = 0;     // energy of broken bonds
   double damped = 0;         // energy removed by damping
   double initial = 0;        // kinetic + strain at t = 0
+  // Energy the temperature put into the stored energy by changing the thermal strain at
+  // fixed positions (coupled thermal runs; thermal/heat.hpp thermal_strain_work).
+  double thermal_work = 0;
 
   // (K + U + D + damped - initial - W_ext) relative to the largest energy in play.
   double balance_error() const;
@@ -47,6 +50,7 @@ class ExplicitSolver {
   // Changes the step from the next step on (the adaptive step of the nonlinear solid).
   void set_dt(double dt) { dt_ = dt; }
   const Ledger& ledger() const { return ledger_; }
+  Ledger& ledger() { return ledger_; }
   // Brings the kinetic energy up to date (strain energy is updated by step(true)).
   void update_kinetic();
 

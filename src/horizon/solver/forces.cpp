@@ -977,7 +977,10 @@ ForceStats compute_forces(System& s, bool energy) {
   auto& M = s.model;
   if (M.kind.size() != s.bonds.kinds.size() || M.intact_weight.size() != s.particles.size())
     build_kind_coefficients(s, DamageMeasure::weighted);
-  if (!s.models.all_unified() || g_path == KernelPath::general) {
+  // The fast loops know no temperature: a thermal strain or a temperature-dependent
+  // critical stretch takes the general pass.
+  if (!s.models.all_unified() || g_path == KernelPath::general || !s.thermal_strain.empty() ||
+      !s.critical_stretch_factor.empty()) {
     stats.broken = general_forces(s, energy);  // solver/forces_general.cpp
     M.min_stretch.swap(M.min_stretch_next);
     s.contact.add_forces(s, M.packed.data(), s.particles.f.data(), energy ? s.particles.energy.data() : nullptr);

@@ -14,6 +14,16 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 inline Vec3 delta(const Point4& a, const Point4& b) { return {b.x - a.x, b.y - a.y, b.z - a.z}; }
 
+// The free thermal extension of bond i-j: eps_ij |xi| with eps_ij = (eps_i + eps_j)/2,
+// eps = alpha (T - T_ref) (System::thermal_strain). A bond-based force then follows the
+// stretch s - alpha dT (Oterkus, Madenci and Agwai 2014, J. Mech. Phys. Solids 64:1;
+// Kilic and Madenci 2010), and the LPS dilatation becomes theta - d alpha dT on a full
+// family (Madenci and Oterkus 2014, "Peridynamic Theory and Its Applications", sec. 7),
+// so a free body heated uniformly expands without force.
+inline double thermal_extension(const double* eps, std::size_t i, std::size_t j, double length) {
+  return eps ? 0.5 * (eps[i] + eps[j]) * length : 0.0;
+}
+
 // Pass 1 of one row: breaking, the smallest stretch, the damage bookkeeping.
 struct BreakOut {
   double smin = kInf, lost = 0;
@@ -25,15 +35,24 @@ BreakOut break_row(System& s, std::size_t i, bool after) {
   auto& M = s.model;
   const Point4* pt = M.packed.data();
   const Point4 pi = pt[i];
+  const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  // A temperature-dependent critical stretch scales each end's s0 (an end that never
+  // breaks, s0 = +inf, stays so).
+  const double* soft = s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data();
+  auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
+  const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
   BreakOut out;
   for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
     if (!B.intact[k]) continue;
     const KindCoefficients& kc = M.kind[B.kind[k]];
     const Point4 pj = pt[B.nbr[k]];
     const Vec3 Y = delta(pi, pj);
-    const double r = std::sqrt(dot(Y, Y)), e = r - kc.length, stretch = e * kc.inv_length;
+    // The mechanical stretch: less the thermal strain of the bond (thermal_extension).
+    const double r = std::sqrt(dot(Y, Y)), e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length),
+                 stretch = e * kc.inv_length;
     out.smin = stretch < out.smin ? stretch : out.smin;
-    const double s0 = pi.w < pj.w ? pi.w : pj.w;
+    const double wj = soft ? scaled(pj.w, soft[B.nbr[k]]) : pj.w;
+    const double s0 = wi < wj ? wi : wj;
     if (!(stretch > s0)) continue;
     B.intact[k] = after ? 2 : 0;
     ++out.broken;
@@ -44,11 +63,14 @@ BreakOut break_row(System& s, std::size_t i, bool after) {
 }
 
 // The force states of the particles whose model is unified (solver/system.hpp).
+// With a thermal strain, e is the mechanical extension e - eps_ij |xi| in the dilatation,
+// the force and the energy alike (thermal_extension).
 void unified_force_states(System& s, bool energy) {
   auto& P = s.particles;
   auto& B = s.bonds;
   auto& M = s.model;
   const Point4* pt = M.packed.data();
+  const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
   const std::size_t n = P.size();
   std::vector<uint8_t> mine(s.models.size());
   for (std::size_t m = 0; m < s.models.size(); ++m) mine[m] = s.models[m].unified() ? 1 : 0;
@@ -64,7 +86,7 @@ void unified_force_states(System& s, bool energy) {
         if (!B.intact[k]) continue;
         const KindCoefficients& kc = M.kind[B.kind[k]];
         const Vec3 Y = delta(pi, pt[B.nbr[k]]);
-        sum += kc.wv * kc.length * (std::sqrt(dot(Y, Y)) - kc.length);
+        sum += kc.wv * kc.length * (std::sqrt(dot(Y, Y)) - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length));
       }
       const double theta = M.dim * sum / M.weighted_volume[i];
       M.theta[i] = theta;
@@ -79,7 +101,7 @@ void unified_force_states(System& s, bool energy) {
       }
       const KindCoefficients& kc = M.kind[B.kind[k]];
       const Vec3 Y = delta(pi, pt[B.nbr[k]]);
-      const double r = std::sqrt(dot(Y, Y)), e = r - kc.length;
+      const double r = std::sqrt(dot(Y, Y)), e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length);
       const double omega = B.kinds[B.kind[k]].weight;
       const double t = omega * (Pi * kc.length + M.deviatoric_coef[i] * e + M.pair_coef[i] * e * kc.inv_length);
       M.force_state[k] = (t / r) * Y;

@@ -1,5 +1,9 @@
 #include "horizon/solver/system.hpp"
 
+#include <fmt/format.h>
+
+#include "horizon/thermal/heat.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +15,7 @@
 #include "horizon/material/constants.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/solver/memory_guard.hpp"
 
 namespace horizon {
 
@@ -42,9 +47,45 @@ double cell_volume(const Config& c) {
   return v;
 }
 
+std::string point_text(const Vec3& p, int d) {
+  std::string s = "(";
+  for (int k = 0; k < d; ++k) s += (k ? ", " : "") + fmt::format("{:g}", p[k]);
+  return s + ")";
+}
+
+// A precrack that crosses no bond (outside every body, or shorter than a bond and between
+// two lattice lines) changes nothing: a mistake in the deck, reported as such. Only the
+// particles within a horizon of the crack's bounding box are tried.
+void check_precracks_cut(const System& s, const Config& config) {
+  const auto& X = s.particles.X;
+  const int d = config.dimension;
+  for (std::size_t c = 0; c < config.precracks.size(); ++c) {
+    const PrecrackConfig& pc = config.precracks[c];
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const Vec3& p : pc.points)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    bool cuts = false;
+    for (std::size_t i = 0; i < X.size() && !cuts; ++i) {
+      bool near = true;
+      for (int k = 0; k < d; ++k) near = near && X[i][k] >= lo[k] - config.horizon && X[i][k] <= hi[k] + config.horizon;
+      if (!near) continue;
+      for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i) && !cuts; ++k)
+        cuts = crosses(X[i], X[s.bonds.nbr[k]], pc, d);
+    }
+    if (!cuts) {
+      std::string where;
+      for (const Vec3& p : pc.points) where += (where.empty() ? "" : " - ") + point_text(p, d);
+      throw Error(fmt::format("{}: precracks[{}] {} crosses no bond: it lies outside the bodies (or between two lattice "
+                              "lines); move it into a body, or remove it",
+                              config.deck_file, c, where));
+    }
+  }
+}
+
 }  // namespace
 
 System build_system(const Config& config) {
+  check_memory(config, config.memory_limit_bytes);  // before anything is allocated
   System s;
   s.dimension = config.dimension;
   s.horizon = config.horizon;
@@ -75,9 +116,31 @@ System build_system(const Config& config) {
                            family_radius(config.horizon, config.spacing, config.partial_volume.rule),
                            &s.particles.material);
   if (config.partial_volume) apply_partial_volume(s.bonds, config.horizon, config.spacing);
+  check_precracks_cut(s, config);
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
   s.initial_bonds = s.bonds.size();
   setup_model(s, config.materials, config);
+  if (config.thermal.enabled) {
+    setup_heat(s, config.materials, config);  // thermal/heat.hpp
+    // The temperature-dependent critical stretch acts in the general force pass's
+    // critical-stretch test: not for a model that owns the force pass.
+    for (std::size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].thermal.critical_stretch_slope != 0 && s.models[m].owns_force_pass())
+        throw Error("material '" + config.materials[m].name + "' (model " + config.materials[m].model +
+                    "): thermal.critical_stretch_slope scales the critical-stretch law of the general force pass, "
+                    "which this model does not use");
+    // The thermal strain reaches the models that declare it (ModelTraits::thermal_strain):
+    // refuse it for the others.
+    for (std::size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].thermal.expansion != 0 && !s.models[m].traits().thermal_strain) {
+        std::string takers;
+        for (const auto& e : model_registry())
+          if (e.traits.thermal_strain) takers += (takers.empty() ? "" : ", ") + e.traits.name;
+        throw Error("material '" + config.materials[m].name + "' (model " + config.materials[m].model +
+                    "): thermal expansion acts on models " + takers +
+                    " only; set thermal.expansion: 0 for this material");
+      }
+  }
   return s;
 }
 

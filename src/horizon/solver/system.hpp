@@ -12,6 +12,7 @@
 #include "horizon/family/bonds.hpp"
 #include "horizon/geometry/particles.hpp"
 #include "horizon/material/model_set.hpp"
+#include "horizon/thermal/heat_state.hpp"
 
 namespace horizon {
 
@@ -112,6 +113,15 @@ struct System {
   std::size_t precrack_bonds = 0;
   std::vector<double> dissipated_at;  // energy of the bonds broken at each particle [J]
   uint64_t broken = 0;                // directed bonds broken so far
+  // Heat conduction (thermal/heat.hpp); empty without a thermal section.
+  HeatState heat;
+  // alpha_i (T_i - T_ref,i) when a temperature field expands the body, else empty. A bond
+  // feels the mean of its ends' values: its mechanical extension is e - eps_ij |xi|
+  // (solver/forces_general.cpp), and the force pass takes the general path while it is set.
+  std::vector<double> thermal_strain;
+  // The factor max(0, 1 + slope_i (T_i - T_ref,i)) on particle i's critical stretch
+  // (temperature-dependent critical stretch), else empty; the general force pass applies it.
+  std::vector<double> critical_stretch_factor;
 
   // Sum of dissipated_at in a fixed order: the same figure on any thread count.
   double dissipated() const;

@@ -25,6 +25,7 @@ const ModelTraits& traits() {
          "perfect plasticity",
          ParameterSpec::Range::non_negative, 0.0},
     };
+    m.thermal_strain = true;  // force_state subtracts eps_ij |xi| from e (docs/models/heat.md)
     return m;
   }();
   return t;
@@ -108,6 +109,12 @@ void ElasticPlastic::force_state(ForcePass& pass) {
   const int dim = dim_;
   const double factor = lps_deviatoric_factor(dim) * mu_;  // alpha m
   const std::size_t count = particles_.size();
+  // The thermal extension eps_ij |xi| of a bond, eps_ij the mean of its ends' thermal
+  // strains (System::thermal_strain; none without a temperature field).
+  const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  auto thermal = [eps](std::size_t i, std::size_t j, double length) {
+    return eps ? 0.5 * (eps[i] + eps[j]) * length : 0.0;
+  };
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
@@ -123,7 +130,10 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       const double dx = pj.x - pi.x, dy = pj.y - pi.y, dz = pj.z - pi.z;
       deformed[k - first] = std::sqrt(dx * dx + dy * dy + dz * dz);
     }
-    auto extension = [&](uint64_t k) { return deformed[k - first] - kc[B.kind[k]].length; };
+    // The mechanical extension: e less the bond's thermal extension.
+    auto extension = [&](uint64_t k) {
+      return deformed[k - first] - kc[B.kind[k]].length - thermal(i, B.nbr[k], kc[B.kind[k]].length);
+    };
     // theta = (d/m) sum omega |xi| e V_j over the intact bonds (seed 003 eq. 113, digest sec. 9).
     double sum = 0;
     for (uint64_t k = first; k < last; ++k)
@@ -151,7 +161,7 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       const Point4 pj = y[B.nbr[k]];
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
       const double r_len = deformed[k - first];
-      const double e = r_len - c.length;
+      const double e = extension(k);
       const bool booked_now = ledger_.open_bond(k, B.intact[k], T[k], Y, r_len, e, vj, booked);
       const BondLedger& old = ledger_.bond[k];
       BondLedger& now = ledger_.bond_trial[k];

@@ -13,6 +13,7 @@ const ModelTraits& traits() {
     m.name = "lps";
     m.summary = "linear peridynamic solid, ordinary state-based (Silling et al. 2007, sec. 15)";
     m.min_dimension = 2;
+    m.thermal_strain = true;  // in the general force pass (solver/forces_general.cpp)
     return m;
   }();
   return t;

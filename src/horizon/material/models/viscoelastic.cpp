@@ -29,6 +29,7 @@ const ModelTraits& traits() {
         {"lambda_3", "weight of Maxwell branch 3 (0: none)", ParameterSpec::Range::fraction, 0.0},
         {"tau_3", "decay time of Maxwell branch 3 [s]", ParameterSpec::Range::non_negative, 0.0},
     };
+    m.thermal_strain = true;  // force_state subtracts eps_ij |xi| from e (docs/models/heat.md)
     return m;
   }();
   return t;
@@ -146,6 +147,12 @@ void Viscoelastic::force_state(ForcePass& pass) {
   const double factor = lps_deviatoric_factor(dim) * mu_;  // alpha m
   const double linf = lambda_inf_;
   const std::size_t count = particles_.size();
+  // The thermal extension eps_ij |xi| of a bond (System::thermal_strain; none without a
+  // temperature field).
+  const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  auto thermal = [eps](std::size_t i, std::size_t j, double length) {
+    return eps ? 0.5 * (eps[i] + eps[j]) * length : 0.0;
+  };
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
@@ -153,14 +160,15 @@ void Viscoelastic::force_state(ForcePass& pass) {
     const uint64_t first = B.begin(i), last = B.end(i);
     const double m = M.weighted_volume[i];
     const double alpha = factor / m;
-    // theta = (d/m) sum omega |xi| e V_j over the intact bonds (seed 003 eq. 113, digest sec. 9).
+    // theta = (d/m) sum omega |xi| e V_j over the intact bonds (seed 003 eq. 113, digest sec. 9),
+    // e the mechanical extension (less the thermal extension eps_ij |xi|, docs/models/heat.md).
     double sum = 0;
     for (uint64_t k = first; k < last; ++k) {
       if (!B.intact[k]) continue;
       const Point4 pj = y[B.nbr[k]];
       const double dx = pj.x - pi.x, dy = pj.y - pi.y, dz = pj.z - pi.z;
       const KindCoefficients& c = kc[B.kind[k]];
-      sum += c.wv * c.length * (std::sqrt(dx * dx + dy * dy + dz * dz) - c.length);
+      sum += c.wv * c.length * (std::sqrt(dx * dx + dy * dy + dz * dz) - c.length - thermal(i, B.nbr[k], c.length));
     }
     const double theta = dim * sum / m;
     // t^i = (d/m) omega |xi| p_i, p_i = k' theta; in plane strain
@@ -187,7 +195,7 @@ void Viscoelastic::force_state(ForcePass& pass) {
       const Point4 pj = y[B.nbr[k]];
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
       const double r = std::sqrt(dot(Y, Y));
-      const double e = r - c.length;
+      const double e = r - c.length - thermal(i, B.nbr[k], c.length);
       ledger_.open_bond(k, B.intact[k], T[k], Y, r, e, vj, booked);
       const BondLedger& old = ledger_.bond[k];
       BondLedger& now = ledger_.bond_trial[k];

@@ -1,0 +1,705 @@
+#include "horizon/deck/peridigm/peridigm.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "horizon/core/error.hpp"
+#include "horizon/core/expression.hpp"
+#include "horizon/deck/reader.hpp"
+
+namespace horizon::peridigm {
+
+namespace {
+
+using namespace horizon::deck;
+namespace fs = std::filesystem;
+
+// Peridigm compares type words without case, spaces or underscores
+// (Peridigm_Enums.cpp, survey sec. 1.6).
+std::string squash(const std::string& s) {
+  std::string r;
+  for (char c : s)
+    if (c != ' ' && c != '_') r += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return r;
+}
+
+struct Point {
+  Vec3 x;
+  double volume = 0;
+  int block = 1;
+};
+
+struct Translation {
+  const DeckContext& ctx;
+  fs::path folder;
+  std::vector<Point> points;  // in Peridigm's global id order (id = index + 1)
+  double horizon = 0;
+  YAML::Node out;
+  std::optional<Item> horizon_item;
+};
+
+// Numbers as their shortest exact decimal text (reads back to the same double).
+YAML::Node number(double v) { return YAML::Node(fmt::format("{}", v)); }
+
+YAML::Node point_row(const Vec3& x, std::optional<double> volume) {
+  YAML::Node row(YAML::NodeType::Sequence);
+  row.SetStyle(YAML::EmitterStyle::Flow);
+  row.push_back(number(x.x));
+  row.push_back(number(x.y));
+  row.push_back(number(x.z));
+  if (volume) row.push_back(number(*volume));
+  return row;
+}
+
+// A value that may be a number or a string holding one.
+double value_number(const DeckContext& ctx, const Item& item) { return read_number(ctx, item); }
+
+// --- Discretization --------------------------------------------------------------
+
+void read_text_file(Translation& t, const Item& file_item) {
+  const std::string name = read_string(t.ctx, file_item);
+  fs::path path = name;
+  if (path.is_relative()) path = t.folder / path;
+  std::ifstream in(path);
+  if (!in) t.ctx.fail(file_item.mark, file_item.path + ": cannot open the text-file discretisation '" + path.string() + "'");
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto first = line.find_first_not_of(" \t\r");
+    // Peridigm_TextFileDiscretization.cpp: rows starting with #, / or * are comments.
+    if (first == std::string::npos || line[first] == '#' || line[first] == '/' || line[first] == '*') continue;
+    std::istringstream row(line);
+    std::vector<double> v;
+    std::string word;
+    while (row >> word) {
+      char* end = nullptr;
+      const double x = std::strtod(word.c_str(), &end);
+      if (end == word.c_str() || *end != '\0' || !std::isfinite(x))
+        t.ctx.fail(file_item.mark,
+                   fmt::format("{}: {}:{}: expected a number, found '{}'", file_item.path, path.string(), line_no, word));
+      v.push_back(x);
+    }
+    // Columns x y z block volume (the code reads data[3] as the block and data[4] as
+    // the volume, whatever Peridigm's docs say; survey sec. 1.7).
+    if (v.size() != 5)
+      t.ctx.fail(file_item.mark, fmt::format("{}: {}:{}: expected 5 columns 'x y z block volume', found {}",
+                                             file_item.path, path.string(), line_no, v.size()));
+    if (v[3] != std::floor(v[3]) || v[3] < 1)
+      t.ctx.fail(file_item.mark, fmt::format("{}: {}:{}: the block (4th column) must be a whole number >= 1, found {}",
+                                             file_item.path, path.string(), line_no, v[3]));
+    if (!(v[4] > 0))
+      t.ctx.fail(file_item.mark, fmt::format("{}: {}:{}: the volume (5th column) must be > 0, found {}",
+                                             file_item.path, path.string(), line_no, v[4]));
+    t.points.push_back({{v[0], v[1], v[2]}, v[4], static_cast<int>(v[3])});
+  }
+  if (t.points.empty()) t.ctx.fail(file_item.mark, file_item.path + ": the file '" + path.string() + "' holds no points");
+}
+
+struct Grid {
+  Vec3 origin, length;
+  int n[3] = {1, 1, 1};
+};
+
+Grid read_grid(Translation& t, const Item& item) {
+  MapReader g(t.ctx, item,
+              {"Type", "X Origin", "Y Origin", "Z Origin", "X Length", "Y Length", "Z Length", "Number Points X",
+               "Number Points Y", "Number Points Z"});
+  if (auto type = g.find("Type")) {
+    if (squash(read_string(t.ctx, *type)) != "pdquickgrid")
+      t.ctx.fail(type->mark, type->path + ": expected PdQuickGrid, found " + text_of(*type));
+  }
+  Grid grid;
+  const char* axes[3] = {"X", "Y", "Z"};
+  for (int k = 0; k < 3; ++k) {
+    grid.origin[k] = value_number(t.ctx, g.get(std::string(axes[k]) + " Origin", "the grid's lowest corner"));
+    grid.length[k] = read_positive(t.ctx, g.get(std::string(axes[k]) + " Length", "the grid's length, > 0"));
+    const Item np = g.get(std::string("Number Points ") + axes[k], "points along the axis, >= 1");
+    grid.n[k] = read_int(t.ctx, np);
+    if (grid.n[k] < 1) t.ctx.fail(np.mark, np.path + ": expected at least 1 point, found " + text_of(np));
+  }
+  return grid;
+}
+
+// PdQuickGrid's tensor-product grid: cell centres, x fastest, each with its cell's
+// volume (QuickGrid.cxx; survey sec. 1.7).
+void fill_grid(Translation& t, const Grid& g) {
+  const Vec3 d{g.length.x / g.n[0], g.length.y / g.n[1], g.length.z / g.n[2]};
+  const double volume = d.x * d.y * d.z;
+  for (int k = 0; k < g.n[2]; ++k)
+    for (int j = 0; j < g.n[1]; ++j)
+      for (int i = 0; i < g.n[0]; ++i)
+        t.points.push_back({{g.origin.x + (i + 0.5) * d.x, g.origin.y + (j + 0.5) * d.y, g.origin.z + (k + 0.5) * d.z},
+                            volume, 1});
+}
+
+// PdQuickGrid's default neighbourhood is a box of n = round(delta/dx) cells per axis
+// (0.5 rounds up; QuickGrid.cxx getCellNeighborhoodSize, survey sec. 1.7 and 3.4);
+// Horizon's families are spheres |xi| <= delta. The deck runs unchanged when the two
+// give the same bonds on this grid; otherwise it is an error.
+void check_box_neighbourhood(Translation& t, const Grid& g, const Item& where) {
+  const Vec3 d{g.length.x / g.n[0], g.length.y / g.n[1], g.length.z / g.n[2]};
+  int cells[3];
+  for (int k = 0; k < 3; ++k) cells[k] = static_cast<int>(std::floor(t.horizon / d[k] + 0.5));
+  for (int a = -(g.n[0] - 1); a < g.n[0]; ++a)
+    for (int b = -(g.n[1] - 1); b < g.n[1]; ++b)
+      for (int c = -(g.n[2] - 1); c < g.n[2]; ++c) {
+        if (a == 0 && b == 0 && c == 0) continue;
+        const bool box = std::abs(a) <= cells[0] && std::abs(b) <= cells[1] && std::abs(c) <= cells[2];
+        const double r = std::sqrt(a * a * d.x * d.x + b * b * d.y * d.y + c * c * d.z * d.z);
+        const bool sphere = r <= t.horizon * (1 + 1e-12);
+        if (box != sphere)
+          t.ctx.fail(where.mark,
+                     fmt::format("{}: PdQuickGrid's default neighbourhood (a box of round(horizon/spacing) cells per "
+                                 "axis: {} x {} x {}) bonds differently from the sphere |xi| <= horizon = {} Horizon "
+                                 "uses (e.g. the offset of {} x {} x {} cells, length {:.6g}, is {} the box but {} the "
+                                 "sphere); add NeighborhoodType: \"Spherical\", or give the points as a Text File",
+                                 where.path, cells[0], cells[1], cells[2], t.horizon, a, b, c, r,
+                                 box ? "inside" : "outside", sphere ? "inside" : "outside"));
+      }
+}
+
+// --- Materials and damage ----------------------------------------------------------
+
+YAML::Node read_material(Translation& t, const Item& item) {
+  // Keys every Peridigm material shares (Peridigm_Material.cpp), then each model's own.
+  std::vector<std::string> keys = {"Material Model",  "Density",          "Bulk Modulus",
+                                   "Shear Modulus",   "Young's Modulus",  "Poisson's Ratio",
+                                   "Thermal Expansion Coefficient", "Apply Shear Correction Factor",
+                                   "Apply Automatic Differentiation Jacobian", "Compute Partial Stress",
+                                   "Yield Stress",    "Disable Plasticity", "Hardening Modulus",
+                                   "Hourglass Coefficient", "lambda_i", "tau b", "Finite Difference Probe Length"};
+  MapReader m(t.ctx, item, keys);
+  const Item model_item = m.get("Material Model", "Elastic, Elastic Bond Based, Elastic Plastic, ...");
+  const std::string model = read_string(t.ctx, model_item);
+  const std::string w = squash(model);
+  YAML::Node mat;
+  std::vector<std::string> own;  // the model-specific keys this model accepts
+  if (w == "elastic") {
+    mat["model"] = "lps";
+  } else if (w == "elasticbondbased") {
+    mat["model"] = "pmb";
+  } else if (w == "elasticplastic" || w == "elasticplastichardening") {
+    own = {"Yield Stress", "Disable Plasticity"};
+    if (w == "elasticplastichardening") own.push_back("Hardening Modulus");
+    bool disabled = false;
+    if (auto d = m.find("Disable Plasticity")) disabled = read_bool(t.ctx, *d);
+    if (disabled) {
+      // Disable Plasticity leaves Peridigm's elastic LPS part (elastic_plastic.cxx).
+      mat["model"] = "lps";
+    } else {
+      mat["model"] = "elastic_plastic";
+      mat["yield_stress"] = read_positive(t.ctx, m.get("Yield Stress", "the yield stress [Pa]"));
+      if (auto h = m.find("Hardening Modulus")) mat["hardening_modulus"] = read_non_negative(t.ctx, *h);
+    }
+  } else if (w == "viscoelastic") {
+    own = {"lambda_i", "tau b"};
+    mat["model"] = "viscoelastic";
+    mat["lambda_1"] = read_number(t.ctx, m.get("lambda_i", "the weight of the Maxwell branch"));
+    mat["tau_1"] = read_positive(t.ctx, m.get("tau b", "the Maxwell branch's decay time [s]"));
+  } else if (w == "elasticcorrespondence") {
+    own = {"Hourglass Coefficient"};
+    mat["model"] = "correspondence";
+    mat["stress_law"] = "linear_elastic";
+    if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
+  } else {
+    fail_choice(t.ctx, model_item, model,
+                {"Elastic", "Elastic Bond Based", "Elastic Plastic", "Elastic Plastic Hardening", "Viscoelastic",
+                 "Elastic Correspondence"},
+                "Peridigm material model Horizon reads");
+  }
+  // A model-specific key given to another model is an error (Peridigm ignores it).
+  for (const std::string& k : {std::string("Yield Stress"), std::string("Disable Plasticity"),
+                               std::string("Hardening Modulus"), std::string("Hourglass Coefficient"),
+                               std::string("lambda_i"), std::string("tau b")}) {
+    if (std::find(own.begin(), own.end(), k) != own.end()) continue;
+    if (auto it = m.find(k))
+      t.ctx.fail(*it->key_mark, it->path + ": not a parameter of Material Model '" + model + "'");
+  }
+  mat["density"] = read_positive(t.ctx, m.get("Density", "the mass density"));
+  const std::pair<const char*, const char*> moduli[] = {{"Bulk Modulus", "bulk_modulus"},
+                                                        {"Shear Modulus", "shear_modulus"},
+                                                        {"Young's Modulus", "youngs_modulus"},
+                                                        {"Poisson's Ratio", "poissons_ratio"}};
+  for (const auto& [from, to] : moduli)
+    if (auto v = m.find(from)) mat[to] = read_number(t.ctx, *v);
+  if (auto a = m.find("Thermal Expansion Coefficient")) {
+    if (read_number(t.ctx, *a) != 0)
+      t.ctx.fail(a->mark, a->path + ": thermal strain is not supported (Horizon has no temperature field); only 0");
+  }
+  for (const char* flag : {"Apply Shear Correction Factor", "Compute Partial Stress"}) {
+    if (auto f = m.find(flag); f && read_bool(t.ctx, *f))
+      t.ctx.fail(f->mark, f->path + ": not supported; only false");
+  }
+  // Apply Automatic Differentiation Jacobian and Finite Difference Probe Length choose
+  // how Peridigm builds its tangent; Horizon's Newton solver has its own. Read, no effect.
+  if (auto f = m.find("Apply Automatic Differentiation Jacobian")) read_bool(t.ctx, *f);
+  if (auto f = m.find("Finite Difference Probe Length")) read_positive(t.ctx, *f);
+  return mat;
+}
+
+YAML::Node read_damage(Translation& t, const Item& item) {
+  MapReader m(t.ctx, item, {"Damage Model", "Critical Stretch", "Thermal Expansion Coefficient"});
+  const Item model_item = m.get("Damage Model", "Critical Stretch");
+  const std::string model = read_string(t.ctx, model_item);
+  // Horizon breaks a bond at the smaller critical stretch of its two ends (solver/forces.cpp):
+  // Peridigm's Interface Aware rule. Peridigm's plain Critical Stretch judges each directed
+  // bond by its own end's block; the two agree within a block (docs/peridigm.md).
+  const std::string w = squash(model);
+  if (w != "criticalstretch" && w != "interfaceaware")
+    fail_choice(t.ctx, model_item, model, {"Critical Stretch", "Interface Aware"}, "Peridigm damage model Horizon reads");
+  if (auto a = m.find("Thermal Expansion Coefficient"); a && read_number(t.ctx, *a) != 0)
+    t.ctx.fail(a->mark, a->path + ": thermal strain is not supported; only 0");
+  YAML::Node d;
+  d["critical_stretch"] = read_positive(t.ctx, m.get("Critical Stretch", "the critical bond stretch, > 0"));
+  return d;
+}
+
+// --- Boundary conditions -----------------------------------------------------------
+
+std::vector<int> read_ids(Translation& t, const Item& item) {
+  const std::string text = read_string(t.ctx, item);
+  std::vector<int> ids;
+  std::istringstream in(text);
+  std::string word;
+  bool numeric = true;
+  while (in >> word) {
+    char* end = nullptr;
+    const long v = std::strtol(word.c_str(), &end, 10);
+    if (*end != '\0' || end == word.c_str()) {
+      numeric = false;
+      break;
+    }
+    ids.push_back(static_cast<int>(v));
+  }
+  if (!numeric) {
+    // A file of ids, one a line (Peridigm_BoundaryAndInitialConditionManager.cpp).
+    ids.clear();
+    fs::path path = text;
+    if (path.is_relative()) path = t.folder / path;
+    std::ifstream f(path);
+    if (!f)
+      t.ctx.fail(item.mark, item.path + ": expected node ids (\"1 2 3\") or a file of them; cannot open '" +
+                                path.string() + "'");
+    while (f >> word) {
+      char* end = nullptr;
+      const long v = std::strtol(word.c_str(), &end, 10);
+      if (*end != '\0' || end == word.c_str())
+        t.ctx.fail(item.mark, item.path + ": the node-set file '" + path.string() + "' holds '" + word +
+                                  "', not a node id");
+      ids.push_back(static_cast<int>(v));
+    }
+  }
+  if (ids.empty()) t.ctx.fail(item.mark, item.path + ": the node set is empty");
+  for (int id : ids)
+    if (id < 1 || static_cast<std::size_t>(id) > t.points.size())
+      t.ctx.fail(item.mark, fmt::format("{}: node id {} is out of range: the discretisation has nodes 1 to {}",
+                                        item.path, id, t.points.size()));
+  return ids;
+}
+
+// An expression in x, y, z, t as Horizon's muParser reads it; Peridigm's RTCompiler
+// accepts C statements (if/else) that muParser does not.
+std::string read_value(Translation& t, const Item& item) {
+  if (!item.node.IsScalar()) fail_expected(t.ctx, item, "a number or an expression in x, y, z and t");
+  const std::string text = item.node.Scalar();
+  try {
+    Expression e(text);
+    (void)e(0, 0, 0, 0);
+  } catch (const Error& err) {
+    t.ctx.fail(item.mark, item.path + ": cannot read the expression '" + text + "' (" + err.what() +
+                              "); Horizon reads muParser expressions (docs/input.md), not C statements such as if/else");
+  }
+  return text;
+}
+
+}  // namespace
+
+bool is_peridigm_deck(const YAML::Node& root) {
+  if (!root.IsMap() || root.size() != 1) return false;
+  const YAML::Node& r = root;
+  for (const auto& kv : r)
+    if (kv.first.IsScalar() && kv.first.Scalar() == "Peridigm") return true;
+  return false;
+}
+
+YAML::Node to_native(const YAML::Node& root, const std::string& file) {
+  DeckContext ctx{file, 3, PlaneMode::none, nullptr};
+  Translation t{ctx, fs::path(file).parent_path(), {}, 0, YAML::Node(YAML::NodeType::Map), std::nullopt};
+  const Item top{root, "", root.Mark(), std::nullopt};
+  MapReader outer(ctx, top, {"Peridigm"});
+  const Item pd = outer.get("Peridigm", "the deck");
+  MapReader m(ctx, pd,
+              {"Verbose", "Discretization", "Materials", "Damage Models", "Blocks", "Boundary Conditions", "Solver",
+               "Output"});
+  if (auto v = m.find("Verbose")) read_bool(ctx, *v);
+
+  // Blocks first: the horizon (one for all blocks) shapes the discretisation checks.
+  const Item blocks = m.get("Blocks", "a map of block groups {Block Names, Material, Horizon}");
+  struct Group {
+    std::string name;
+    std::vector<std::string> block_names;
+    Item names_item;
+    std::string material, damage;
+    Item material_item;
+    std::optional<Item> damage_item;
+  };
+  std::vector<Group> groups;
+  for (const auto& e : map_entries(ctx, blocks)) {
+    MapReader b(ctx, e.value, {"Block Names", "Material", "Damage Model", "Horizon"});
+    Group g{e.key, {}, b.get("Block Names", "e.g. \"block_1 block_2\" or default"), "", "",
+            b.get("Material", "the name of one of the Materials"), b.find("Damage Model")};
+    std::istringstream names(read_string(ctx, g.names_item));
+    for (std::string w; names >> w;) g.block_names.push_back(w);
+    g.material = read_string(ctx, g.material_item);
+    if (g.damage_item) g.damage = read_string(ctx, *g.damage_item);
+    const Item h = b.get("Horizon", "the horizon of these blocks");
+    if (h.node.IsScalar() && !h.node.Scalar().empty()) {
+      char* end = nullptr;
+      std::strtod(h.node.Scalar().c_str(), &end);
+      if (*end != '\0')
+        ctx.fail(h.mark, h.path + ": a horizon that varies in space ('" + h.node.Scalar() +
+                             "') is not supported; Horizon has one horizon for the whole deck");
+    }
+    const double delta = read_positive(ctx, h);
+    if (t.horizon_item && delta != t.horizon)
+      ctx.fail(h.mark, fmt::format("{}: blocks with different horizons ({} here, {} at line {}) are not supported; "
+                                   "Horizon has one horizon for the whole deck",
+                                   h.path, delta, t.horizon, t.horizon_item->mark.line + 1));
+    t.horizon = delta;
+    t.horizon_item = h;
+    groups.push_back(std::move(g));
+  }
+  if (groups.empty()) ctx.fail(blocks.mark, "Blocks: expected at least one block group");
+
+  // Discretization.
+  const Item disc = m.get("Discretization", "Type: Text File or PdQuickGrid");
+  MapReader d(ctx, disc,
+              {"Type", "Input Mesh File", "NeighborhoodType", "TensorProduct3DMeshGenerator", "Influence Function",
+               "Omit Bonds Between Blocks"});
+  const Item type = d.get("Type", "Text File or PdQuickGrid");
+  const std::string kind = squash(read_string(ctx, type));
+  std::string influence = "constant";
+  if (auto f = d.find("Influence Function")) {
+    const std::string w = squash(read_string(ctx, *f));
+    if (w == "one" || w == "1" || w == "1.0") {
+      influence = "constant";
+    } else if (w == "1.0/zeta" || w == "1/zeta") {
+      // omega = 1/|xi|; Horizon's inverse is delta/|xi|. A constant factor in omega
+      // cancels in every ordinary state-based force (m scales with it).
+      influence = "inverse";
+    } else {
+      ctx.fail(f->mark, f->path + ": expected One or \"1.0/zeta\" (the influence functions Horizon maps), found " +
+                            text_of(*f));
+    }
+  }
+  if (auto o = d.find("Omit Bonds Between Blocks")) {
+    if (squash(read_string(ctx, *o)) != "none")
+      ctx.fail(o->mark, o->path + ": only None is supported (Horizon bonds every pair within the horizon)");
+  }
+  if (kind == "textfile") {
+    for (const char* k : {"NeighborhoodType", "TensorProduct3DMeshGenerator"})
+      if (auto it = d.find(k)) ctx.fail(*it->key_mark, it->path + ": applies to Type PdQuickGrid only");
+    read_text_file(t, d.get("Input Mesh File", "the text file of 'x y z block volume' rows"));
+  } else if (kind == "pdquickgrid") {
+    if (auto it = d.find("Input Mesh File")) ctx.fail(*it->key_mark, it->path + ": applies to Type Text File only");
+    const Item gen = d.get("TensorProduct3DMeshGenerator", "the grid: origins, lengths and numbers of points");
+    const Grid grid = read_grid(t, gen);
+    bool spherical = false;
+    if (auto n = d.find("NeighborhoodType")) {
+      const std::string w = squash(read_string(ctx, *n));
+      if (w != "spherical") ctx.fail(n->mark, n->path + ": expected Spherical, found " + text_of(*n));
+      spherical = true;
+    }
+    if (!spherical) check_box_neighbourhood(t, grid, type);
+    fill_grid(t, grid);
+  } else if (kind == "exodus") {
+    ctx.fail(type.mark, type.path + ": Exodus meshes are not read yet; give the points as a Text File "
+                                    "(x y z block volume rows) or use PdQuickGrid");
+  } else {
+    fail_choice(ctx, type, read_string(ctx, type), {"Text File", "PdQuickGrid"}, "discretisation");
+  }
+
+  // Materials and damage models, by name.
+  std::map<std::string, Item> materials, damages;
+  for (const auto& e : map_entries(ctx, m.get("Materials", "a map of materials"))) materials.emplace(e.key, e.value);
+  if (auto dm = m.find("Damage Models"))
+    for (const auto& e : map_entries(ctx, *dm)) damages.emplace(e.key, e.value);
+  std::vector<std::string> material_names, damage_names;
+  for (const auto& [k, v] : materials) material_names.push_back(k);
+  for (const auto& [k, v] : damages) damage_names.push_back(k);
+
+  // One native material per block group (its material with its damage model).
+  YAML::Node mats(YAML::NodeType::Map);
+  std::map<int, std::string> group_of_block;  // block id -> group
+  std::set<int> present;
+  for (const auto& p : t.points) present.insert(p.block);
+  for (const auto& g : groups) {
+    check_reference(ctx, g.material_item, g.material, material_names, "material");
+    YAML::Node mat = read_material(t, materials.at(g.material));
+    mat["influence"] = influence;
+    if (g.damage_item) {
+      check_reference(ctx, *g.damage_item, g.damage, damage_names, "damage model");
+      mat["damage"] = read_damage(t, damages.at(g.damage));
+    }
+    mats[g.name] = mat;
+    for (const auto& bn : g.block_names) {
+      std::vector<int> ids;
+      if (bn == "default") {
+        ids.assign(present.begin(), present.end());
+      } else {
+        int id = 0;
+        if (bn.rfind("block_", 0) == 0) id = std::atoi(bn.c_str() + 6);
+        if (id < 1)
+          ctx.fail(g.names_item.mark, g.names_item.path + ": expected block names block_1, block_2, ... or default, "
+                                                           "found '" + bn + "'");
+        if (!present.count(id))
+          ctx.fail(g.names_item.mark, g.names_item.path + ": the discretisation has no points in " + bn);
+        ids.push_back(id);
+      }
+      for (int id : ids) {
+        if (group_of_block.count(id))
+          ctx.fail(g.names_item.mark, fmt::format("{}: block_{} is already in block group '{}'", g.names_item.path,
+                                                  id, group_of_block[id]));
+        group_of_block[id] = g.name;
+      }
+    }
+  }
+  for (int id : present)
+    if (!group_of_block.count(id))
+      ctx.fail(blocks.mark, fmt::format("Blocks: block_{} of the discretisation is in no block group", id));
+
+  // The lattice keys Horizon needs: the spacing only bounds the horizon from below
+  // for listed points (each point keeps its own volume); its smallest cube root.
+  double spacing = 1e300;
+  for (const auto& p : t.points) spacing = std::min(spacing, std::cbrt(p.volume));
+  spacing = std::min(spacing, t.horizon);
+  YAML::Node& out = t.out;
+  out["dimension"] = 3;
+  out["spacing"] = number(spacing);
+  out["horizon"] = number(t.horizon);
+  out["materials"] = mats;
+  YAML::Node bodies(YAML::NodeType::Sequence);
+  for (int id : present) {
+    YAML::Node body;
+    body["name"] = fmt::format("block_{}", id);
+    body["material"] = group_of_block[id];
+    YAML::Node rows(YAML::NodeType::Sequence);
+    for (const auto& p : t.points)
+      if (p.block == id) rows.push_back(point_row(p.x, p.volume));
+    body["shape"]["points"] = rows;
+    bodies.push_back(body);
+  }
+  out["bodies"] = bodies;
+
+  // Boundary conditions: node sets are the non-map entries; the rest are conditions.
+  YAML::Node regions(YAML::NodeType::Map), ics(YAML::NodeType::Sequence), loads(YAML::NodeType::Sequence);
+  if (auto bc = m.find("Boundary Conditions")) {
+    std::map<std::string, std::vector<int>> sets;
+    const auto entries = map_entries(ctx, *bc);
+    for (const auto& e : entries) {
+      if (e.value.node.IsMap()) continue;
+      if (e.key == "Create Node Set For Rank Deficient Nodes")
+        ctx.fail(*e.value.key_mark, e.value.path + ": not supported (Horizon's static solver pins no points itself)");
+      sets[e.key] = read_ids(t, e.value);
+    }
+    std::vector<std::string> set_names;
+    for (const auto& [k, v] : sets) set_names.push_back(k);
+    std::set<std::string> used;
+    // Per node set and kind, the components given so far (one native entry each).
+    struct Cond {
+      std::string set, kind;
+      std::array<std::optional<std::string>, 3> value;
+    };
+    std::vector<Cond> conds;
+    for (const auto& e : entries) {
+      if (!e.value.node.IsMap()) continue;
+      MapReader c(ctx, e.value, {"Type", "Node Set", "Coordinate", "Value"});
+      const Item type_item = c.get("Type", "Prescribed Displacement, Initial Velocity, ...");
+      const std::string w = squash(read_string(ctx, type_item));
+      std::string kind;
+      if (w == "prescribeddisplacement") kind = "displacement";
+      else if (w == "initialdisplacement") kind = "initial_displacement";
+      else if (w == "initialvelocity") kind = "initial_velocity";
+      else if (w == "bodyforce") kind = "body_force";
+      else
+        fail_choice(ctx, type_item, read_string(ctx, type_item),
+                    {"Prescribed Displacement", "Initial Displacement", "Initial Velocity", "Body Force"},
+                    "boundary condition Horizon reads");
+      const Item set_item = c.get("Node Set", "the name of a node set defined in Boundary Conditions");
+      const std::string set = read_string(ctx, set_item);
+      check_reference(ctx, set_item, set, set_names, "node set");
+      used.insert(set);
+      const Item coord = c.get("Coordinate", "x, y or z");
+      const int axis = static_cast<int>(choose_word(ctx, coord, {"x", "y", "z"}));
+      const std::string value = read_value(t, c.get("Value", "a number or an expression in x, y, z, t"));
+      auto it = std::find_if(conds.begin(), conds.end(),
+                             [&](const Cond& k) { return k.set == set && k.kind == kind; });
+      if (it == conds.end()) {
+        conds.push_back({set, kind, {}});
+        it = conds.end() - 1;
+      }
+      if (it->value[axis])
+        ctx.fail(coord.mark, e.value.path + ": node set '" + set + "' already has a " + type_item.node.Scalar() +
+                                 " along " + coord.node.Scalar());
+      it->value[axis] = value;
+    }
+    for (const auto& set : used) {
+      YAML::Node rows(YAML::NodeType::Sequence);
+      for (int id : sets[set]) rows.push_back(point_row(t.points[static_cast<std::size_t>(id - 1)].x, std::nullopt));
+      regions[set]["points"] = rows;
+    }
+    for (const auto& k : conds) {
+      const bool free_rest = k.kind == "displacement" || k.kind == "initial_displacement" || k.kind == "initial_velocity";
+      YAML::Node v(YAML::NodeType::Sequence);
+      v.SetStyle(YAML::EmitterStyle::Flow);
+      for (int a = 0; a < 3; ++a) {
+        if (k.value[a]) v.push_back(*k.value[a]);
+        else if (free_rest) v.push_back(YAML::Node(YAML::NodeType::Null));
+        else v.push_back(0);
+      }
+      YAML::Node entry;
+      entry["region"] = k.set;
+      if (k.kind == "initial_velocity") {
+        entry["velocity"] = v;
+        ics.push_back(entry);
+      } else if (k.kind == "initial_displacement") {
+        entry["displacement"] = v;
+        ics.push_back(entry);
+      } else {
+        entry[k.kind] = v;
+        loads.push_back(entry);
+      }
+    }
+  }
+  if (regions.size()) out["regions"] = regions;
+  if (ics.size()) out["initial_conditions"] = ics;
+  if (loads.size()) out["loads"] = loads;
+
+  // Solver.
+  const Item solver_item = m.get("Solver", "Initial Time, Final Time and one of Verlet, QuasiStatic, "
+                                           "NOXQuasiStatic, Implicit");
+  MapReader s(ctx, solver_item, {"Verbose", "Initial Time", "Final Time", "Verlet", "QuasiStatic", "NOXQuasiStatic",
+                                 "Implicit"});
+  if (auto v = s.find("Verbose")) read_bool(ctx, *v);
+  if (auto t0 = s.find("Initial Time"); t0 && read_number(ctx, *t0) != 0)
+    ctx.fail(t0->mark, t0->path + ": only 0 is supported (Horizon's runs start at t = 0)");
+  // Peridigm's default Final Time is 1 (survey sec. 1.5).
+  const double end_time = s.has("Final Time") ? read_positive(ctx, *s.find("Final Time")) : 1.0;
+  const std::string method = *s.exactly_one({"Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit"}, true);
+  const Item mi = *s.find(method);
+  YAML::Node solver;
+  solver["end_time"] = number(end_time);
+  std::optional<double> fixed_dt;
+  if (method == "Verlet") {
+    MapReader v(ctx, mi, {"Fixed dt", "Safety Factor"});
+    solver["type"] = "explicit";
+    if (v.has("Fixed dt") && v.has("Safety Factor"))
+      ctx.fail(*v.find("Safety Factor")->key_mark, mi.path + ": give Fixed dt or Safety Factor, not both");
+    if (auto f = v.find("Fixed dt")) fixed_dt = read_positive(ctx, *f), solver["time_step"] = number(*fixed_dt);
+    if (auto f = v.find("Safety Factor")) solver["safety_factor"] = read_positive(ctx, *f);
+  } else if (method == "Implicit") {
+    MapReader v(ctx, mi, {"Fixed dt", "Beta", "Gamma", "Absolute Tolerance", "Maximum Solver Iterations"});
+    solver["type"] = "implicit_dynamic";
+    fixed_dt = read_positive(ctx, v.get("Fixed dt", "the time step"));
+    solver["time_step"] = number(*fixed_dt);
+    if (auto b = v.find("Beta"); b && read_number(ctx, *b) != 0.25)
+      ctx.fail(b->mark, b->path + ": only 0.25 (Horizon's Newmark is the average-acceleration rule)");
+    if (auto g = v.find("Gamma"); g && read_number(ctx, *g) != 0.5)
+      ctx.fail(g->mark, g->path + ": only 0.5 (Horizon's Newmark is the average-acceleration rule)");
+    if (auto a = v.find("Absolute Tolerance")) read_positive(ctx, *a);
+    if (auto i = v.find("Maximum Solver Iterations")) solver["max_iterations"] = read_int(ctx, *i);
+  } else {
+    // QuasiStatic (Peridigm's Newton) and NOXQuasiStatic (Newton through NOX) both map
+    // to Horizon's static Newton solve. Their absolute residual tolerances do not carry
+    // over: Horizon stops on the residual relative to the applied load (docs/input.md).
+    MapReader v(ctx, mi,
+                method == "QuasiStatic"
+                    ? std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Maximum Solver Iterations"}
+                    : std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Max Solver Iterations",
+                                               "Nonlinear Solver", "Direction"});
+    solver["type"] = "static";
+    solver["method"] = "newton";
+    if (auto n = v.find("Number of Load Steps")) solver["load_steps"] = read_int(ctx, *n);
+    if (auto a = v.find("Absolute Tolerance")) read_positive(ctx, *a);
+    for (const char* k : {"Maximum Solver Iterations", "Max Solver Iterations"})
+      if (auto i = v.find(k)) solver["max_iterations"] = read_int(ctx, *i);
+    if (auto n = v.find("Nonlinear Solver")) {
+      if (squash(read_string(ctx, *n)) != "linesearchbased")
+        ctx.fail(n->mark, n->path + ": only Line Search Based maps to Horizon's Newton solver");
+    }
+    if (auto dir = v.find("Direction")) {
+      MapReader dm(ctx, *dir, {"Method"});
+      const Item meth = dm.get("Method", "Newton");
+      if (squash(read_string(ctx, meth)) != "newton")
+        ctx.fail(meth.mark, meth.path + ": only Newton maps to Horizon's Newton solver");
+    }
+  }
+  out["solver"] = solver;
+
+  // Output: Exodus files become Horizon's VTU frames, history.csv and summary.json.
+  YAML::Node output;
+  output["directory"] = "out/peridigm";
+  if (auto o = m.find("Output")) {
+    MapReader om(ctx, *o, {"Output File Type", "Output Format", "Output Filename", "Output Frequency",
+                           "Parallel Write", "Output Variables", "Initial Output Step", "Final Output Step"});
+    if (auto f = om.find("Output File Type")) {
+      if (squash(read_string(ctx, *f)) != "exodusii")
+        ctx.fail(f->mark, f->path + ": expected ExodusII, found " + text_of(*f));
+    }
+    if (auto f = om.find("Output Format")) read_string(ctx, *f);
+    if (auto f = om.find("Parallel Write")) read_bool(ctx, *f);
+    for (const char* k : {"Initial Output Step", "Final Output Step"})
+      if (auto it = om.find(k)) ctx.fail(*it->key_mark, it->path + ": not supported");
+    if (auto f = om.find("Output Filename")) output["directory"] = "out/" + read_string(ctx, *f);
+    if (auto f = om.find("Output Frequency")) {
+      const Item fi = *f;
+      const int every = read_int(ctx, fi);
+      if (every < 1) ctx.fail(fi.mark, fi.path + ": expected at least 1");
+      output["history_every"] = every;
+      if (fixed_dt) {
+        const double steps = std::ceil(end_time / *fixed_dt - 1e-9);
+        output["frames"] = std::max(1, static_cast<int>(std::min(1e6, steps / every)));
+      } else if (method == "QuasiStatic" || method == "NOXQuasiStatic") {
+        const int steps = solver["load_steps"] ? solver["load_steps"].as<int>() : 1;
+        output["frames"] = std::max(1, steps / every);
+      }
+    }
+    if (auto vars = om.find("Output Variables")) {
+      // Horizon writes its own set of fields; each requested variable must be one of
+      // Peridigm's names Horizon can answer with (docs/peridigm.md).
+      static const std::vector<std::string> known = {
+          "Displacement", "Velocity", "Acceleration", "Force", "Force_Density", "Damage", "Dilatation",
+          "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
+          "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
+          "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain"};
+      for (const auto& e : map_entries(ctx, *vars)) {
+        if (std::find(known.begin(), known.end(), e.key) == known.end())
+          fail_choice(ctx, Item{YAML::Node(e.key), e.value.path, *e.value.key_mark, e.value.key_mark}, e.key, known,
+                      "output variable Horizon answers");
+        read_bool(ctx, e.value);
+      }
+    }
+  }
+  out["output"] = output;
+  return out;
+}
+
+std::string native_yaml(const YAML::Node& native, const std::string& source) {
+  YAML::Emitter e;
+  e.SetDoublePrecision(17);
+  e << native;
+  return "# Converted by `horizon convert` from the Peridigm deck " + source + "\n" + std::string(e.c_str()) + "\n";
+}
+
+}  // namespace horizon::peridigm

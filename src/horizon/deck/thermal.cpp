@@ -1,0 +1,87 @@
+#include "horizon/deck/thermal.hpp"
+
+#include "horizon/deck/conditions.hpp"
+
+namespace horizon::deck {
+
+ThermalMaterialConfig read_thermal_material(const DeckContext& ctx, const Item& item) {
+  MapReader m(ctx, item,
+              {"conductivity", "specific_heat", "expansion", "reference_temperature", "plastic_heat_fraction",
+               "critical_stretch_slope"});
+  ThermalMaterialConfig t;
+  t.enabled = true;
+  t.conductivity = read_positive(ctx, m.get("conductivity", "the thermal conductivity k [W/(m K)], > 0"));
+  t.specific_heat = read_positive(ctx, m.get("specific_heat", "the specific heat c [J/(kg K)], > 0"));
+  if (auto a = m.find("expansion")) t.expansion = read_number(ctx, *a);
+  if (auto r = m.find("reference_temperature")) {
+    t.reference_temperature = read_number(ctx, *r);
+  }
+  if (auto c = m.find("critical_stretch_slope")) t.critical_stretch_slope = read_number(ctx, *c);
+  if (!m.has("reference_temperature") && (t.expansion != 0 || t.critical_stretch_slope != 0)) {
+    m.fail_missing("reference_temperature",
+                   "the temperature of no thermal strain and of the given critical stretch [K] (expansion or "
+                   "critical_stretch_slope is not 0)");
+  }
+  // Taylor and Quinney's fraction of plastic work turned to heat: 0.9 for metals.
+  t.plastic_heat_fraction = 0.9;
+  if (auto b = m.find("plastic_heat_fraction")) {
+    const double v = read_number(ctx, *b);
+    if (!(v >= 0 && v <= 1)) fail_expected(ctx, *b, "a fraction in [0, 1]");
+    t.plastic_heat_fraction = v;
+  }
+  return t;
+}
+
+namespace {
+
+ThermalBoundaryConfig read_boundary(const DeckContext& ctx, const Item& item, const std::vector<std::string>& regions) {
+  MapReader m(ctx, item, {"region", "temperature", "flux", "convection", "normal"});
+  ThermalBoundaryConfig bc;
+  const std::string kind = *m.exactly_one({"temperature", "flux", "convection"}, true);
+  bc.region = read_region_name(ctx, m.get("region", "where the condition acts: a name from regions, or all"), regions);
+  if (kind == "temperature") {
+    bc.kind = ThermalBoundaryKind::temperature;
+    bc.value = read_scalar_expr(ctx, *m.find(kind));
+  } else if (kind == "flux") {
+    bc.kind = ThermalBoundaryKind::flux;
+    bc.value = read_scalar_expr(ctx, *m.find(kind));
+  } else {
+    bc.kind = ThermalBoundaryKind::convection;
+    MapReader c(ctx, *m.find(kind), {"coefficient", "ambient"});
+    bc.coefficient = read_non_negative(ctx, c.get("coefficient", "the film coefficient h [W/(m^2 K)], >= 0"));
+    bc.ambient = read_scalar_expr(ctx, c.get("ambient", "the ambient temperature [K] (number or expression)"));
+  }
+  if (auto n = m.find("normal")) {
+    if (bc.kind == ThermalBoundaryKind::temperature)
+      ctx.fail(*n->key_mark, n->path + ": 'normal' applies to flux and convection only, not to temperature");
+    const std::vector<std::string> axes = {"x", "y", "z"};
+    bc.normal_axis =
+        static_cast<int>(choose_word(ctx, *n, std::vector<std::string>(axes.begin(), axes.begin() + ctx.dimension)));
+  }
+  return bc;
+}
+
+}  // namespace
+
+ThermalConfig read_thermal(const DeckContext& ctx, const Item& item, const std::vector<std::string>& regions) {
+  MapReader m(ctx, item,
+              {"initial_temperature", "kernel", "calibration", "integration", "time_scale", "boundary"});
+  ThermalConfig t;
+  t.enabled = true;
+  t.initial_temperature =
+      read_scalar_expr(ctx, m.get("initial_temperature", "the temperature at t = 0 [K] (number or expression in x, y, z)"));
+  if (auto k = m.find("kernel"))
+    t.kernel = read_enum<HeatKernel>(ctx, *k, {{"inverse", HeatKernel::inverse}, {"constant", HeatKernel::constant}});
+  if (auto c = m.find("calibration"))
+    t.calibration = read_enum<HeatCalibration>(
+        ctx, *c, {{"continuum", HeatCalibration::continuum}, {"discrete", HeatCalibration::discrete}});
+  if (auto i = m.find("integration"))
+    t.integration = read_enum<HeatIntegration>(
+        ctx, *i, {{"explicit", HeatIntegration::explicit_euler}, {"implicit", HeatIntegration::implicit_euler}});
+  if (auto s = m.find("time_scale")) t.time_scale = read_positive(ctx, *s);
+  if (auto b = m.find("boundary"))
+    for (const auto& i : read_list(ctx, *b)) t.boundary.push_back(read_boundary(ctx, i, regions));
+  return t;
+}
+
+}  // namespace horizon::deck

@@ -1,0 +1,64 @@
+#pragma once
+// Meshes as particle sources. A volume element (3-D: tetrahedron, hexahedron, wedge,
+// pyramid; 2-D: triangle, quadrangle) becomes one particle at its centre of volume
+// carrying the element's volume (area in 2-D) -- the convention of Peridigm's Exodus
+// reader (Parks et al., Peridigm Users' Guide, SAND2012-7800, sec. "Mesh input").
+// Element blocks (Exodus) or physical groups of the mesh's top dimension (Gmsh) are the
+// blocks; node sets, side sets (Exodus) and lower-dimensional physical groups (Gmsh) are
+// the sets. docs/input.md ("Meshes") describes the deck side.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "horizon/core/error.hpp"
+#include "horizon/core/vec3.hpp"
+
+namespace horizon {
+
+// A mesh file that cannot be read; the message names the file and, where it applies,
+// the line ("part.msh:12: ...").
+class MeshError : public Error {
+ public:
+  using Error::Error;
+};
+
+enum class CellType { tri3, quad4, tet4, hex8, wedge6, pyramid5 };
+
+struct MeshGroup {
+  std::string name;  // the group's name; its number as text when it has none
+  int64_t id = 0;
+  std::vector<uint32_t> members;  // cells (blocks) or nodes (sets), ascending
+};
+
+struct Mesh {
+  std::string file;
+  int dimension = 3;  // of the cells: 3 (volumes) or 2 (areas in the xy-plane)
+  std::vector<Vec3> nodes;
+  std::vector<CellType> cell_type;
+  std::vector<std::vector<uint32_t>> cell_nodes;  // indices into nodes
+  std::vector<Vec3> centroid;                     // centre of volume of each cell
+  std::vector<double> measure;                    // volume (3-D) or area (2-D) of each cell
+  std::vector<MeshGroup> blocks;                  // partition of the cells (or one block of all)
+  std::vector<MeshGroup> sets;                    // node sets
+
+  // The cells with at least one node in the set (the layer of elements touching it).
+  std::vector<uint32_t> cells_touching(const MeshGroup& set) const;
+  // A block or set by name, or by number written as text; nullptr when none matches.
+  const MeshGroup* find_block(const std::string& key) const;
+  const MeshGroup* find_set(const std::string& key) const;
+};
+
+// Gmsh MSH format 4.1 (ASCII or binary), documented in the Gmsh reference manual,
+// sec. 10.1 "MSH file format". `dimension` is the deck's (2 or 3): the cells are the
+// elements of that dimension; the others serve only as sets.
+Mesh read_gmsh(const std::string& path, int dimension);
+// Exodus II through the Exodus library (Debian libexodusii-dev).
+Mesh read_exodus(const std::string& path, int dimension);
+// By extension: .msh is Gmsh; .exo, .e, .g, .ex2, .exii are Exodus.
+Mesh read_mesh(const std::string& path, int dimension);
+
+// Volume (or area) and centre of volume of one cell from its node coordinates.
+void cell_geometry(CellType type, const std::vector<Vec3>& x, double& measure, Vec3& centroid);
+const char* cell_type_name(CellType type);
+
+}  // namespace horizon

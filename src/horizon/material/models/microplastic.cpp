@@ -1,0 +1,164 @@
+#include "horizon/material/models/microplastic.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "horizon/material/models/history_ledger.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+namespace {
+
+const ModelTraits& traits() {
+  static const ModelTraits t = [] {
+    ModelTraits m;
+    m.name = "microplastic";
+    m.summary = "proportional microplastic bonds, bond-based elastic-perfectly plastic (Macek and Silling, seed 002 "
+                "eq. 19-21)";
+    m.elastic = ElasticInput::one_modulus;
+    m.parameters = {
+        {"yield_stretch",
+         "bond yield stretch s_Y [-], the same in tension and compression; the seed's estimate is "
+         "sigma_ut/(2 E) (eq. 50)",
+         ParameterSpec::Range::positive, std::nullopt},
+    };
+    return m;
+  }();
+  return t;
+}
+
+class Microplastic final : public Model {
+ public:
+  std::unique_ptr<Model> clone() const override { return std::make_unique<Microplastic>(*this); }
+  const ModelTraits& traits() const override { return horizon::traits(); }
+
+  void setup(const ModelSetup& in) override {
+    const MaterialConfig& mat = in.material;
+    auto& M = in.system.model;
+    c_ = mat.micromodulus ? *mat.micromodulus : pmb_micromodulus(mat.youngs_modulus, mat.influence, in.dims);
+    yield_ = Model::parameter(mat, "yield_stretch");
+    double s0 = std::numeric_limits<double>::infinity();
+    if (mat.damage.enabled) {
+      s0 = mat.damage.critical_stretch
+               ? *mat.damage.critical_stretch
+               : microplastic_critical_stretch(
+                     pmb_critical_stretch(*mat.damage.fracture_energy, c_, mat.influence, in.dims), yield_);
+    }
+    particles_ = in.particles;
+    for (uint32_t i : particles_) {
+      M.spring[i] = 0.5 * c_;  // the elastic stiffness bounds the tangent: PMB's stable step
+      M.contact_micromodulus[i] = c_;
+      M.critical_stretch[i] = s0;
+      M.alpha[i] = mat.damage.enabled ? mat.damage.alpha : 0.0;
+    }
+    const std::size_t n = in.system.particles.size();
+    ledger_.size_particles(n);
+    sbar_.clear();
+    size_bonds(in.system.bonds);
+  }
+
+  void force_state(ForcePass& pass) override {
+    const System& s = pass.system;
+    const auto& B = s.bonds;
+    size_bonds(B);
+    const Point4* y = pass.y;
+    Vec3* T = pass.T;
+    const std::size_t count = particles_.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t q = 0; q < count; ++q) {
+      const uint32_t i = particles_[q];
+      const Point4 pi = y[i];
+      double W = 0, work = 0, booked = 0;
+      bool inelastic = false;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        const BondKind& bk = B.kind_of(k);
+        const double vj = bk.volume * bk.fraction;
+        const Point4 pj = y[B.nbr[k]];
+        const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+        const double r = norm(Y);
+        const double e = r - bk.length;
+        const bool booked_now = ledger_.open_bond(k, B.intact[k], T[k], Y, r, e, vj, booked);
+        const BondLedger& old = ledger_.bond[k];
+        BondLedger& now = ledger_.bond_trial[k];
+        inelastic = inelastic || booked_now;
+        if (!B.intact[k]) {
+          T[k] = {};
+          sbar_trial_[k] = sbar_[k];
+          now.force = 0;
+          if (old.force != 0) {
+            work += 0.5 * old.force * (e - old.extension) * vj;
+            inelastic = true;
+          }
+          continue;
+        }
+        const double stretch = e / bk.length;
+        const double sbar = microplastic_return(stretch, sbar_[k], yield_);
+        sbar_trial_[k] = sbar;
+        if (sbar != sbar_[k]) inelastic = true;
+        // t = omega (c/2) (s - sbar): half the pair force (eq. 19); W_i = sum_j (t/2)(s - sbar) |xi| v_j,
+        // the elastic part of the micropotential w = c (s - sbar)^2 |xi|/2 halved between the ends.
+        const double t = bk.weight * 0.5 * c_ * (stretch - sbar);
+        W += 0.5 * t * (stretch - sbar) * bk.length * vj;
+        now.force = t;
+        work += 0.5 * (old.force + t) * (e - old.extension) * vj;
+        T[k] = (r > 0 ? t / r : 0.0) * Y;
+      }
+      ledger_.stored_trial[i] = W;
+      // Plastic flow or a broken bond: the trapezoidal work of the step less the change of
+      // W, less what the force pass booked (history_ledger.hpp); an elastic step books 0.
+      ledger_.loss_trial[i] = inelastic ? inelastic_loss(work, W - ledger_.stored[i], booked) : 0.0;
+      if (pass.energy) pass.energy[i] = W;
+    }
+  }
+
+  void commit(System& s) override {
+    const auto& B = s.bonds;
+    const std::size_t count = particles_.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t q = 0; q < count; ++q) {
+      const uint32_t i = particles_[q];
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        sbar_[k] = sbar_trial_[k];
+        ledger_.commit_bond(k);
+      }
+      const double loss = ledger_.commit_particle(i);
+      if (loss != 0) s.dissipated_at[i] += loss * s.particles.volume[i];
+    }
+  }
+
+  double pending_dissipation(const System& s) const override {
+    return ledger_.pending_energy(particles_, s.particles.volume);
+  }
+
+  void fields(const System& s, std::vector<ModelField>& out) const override {
+    // The largest |plastic stretch| among a particle's bonds.
+    std::vector<double> v(s.particles.size(), 0);
+    const auto& B = s.bonds;
+    if (sbar_.size() == B.size())
+      for (uint32_t i : particles_)
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) v[i] = std::max(v[i], std::abs(sbar_[k]));
+    out.push_back({"plastic_stretch", std::move(v)});
+  }
+
+ private:
+  void size_bonds(const Bonds& B) {
+    if (sbar_.size() == B.size()) return;
+    sbar_.assign(B.size(), 0);
+    sbar_trial_.assign(B.size(), 0);
+    ledger_.size_bonds(B);
+  }
+
+  double c_ = 0, yield_ = 0;
+  std::vector<uint32_t> particles_;
+  std::vector<double> sbar_, sbar_trial_;  // plastic stretch per directed bond, committed and trial
+  HistoryLedger ledger_;
+};
+
+}  // namespace
+
+ModelEntry microplastic_model() {
+  return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Microplastic>()); }};
+}
+
+}  // namespace horizon

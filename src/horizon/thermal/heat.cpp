@@ -1,0 +1,383 @@
+#include "horizon/thermal/heat.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "horizon/core/error.hpp"
+#include "horizon/loading/loads.hpp"
+#include "horizon/solver/linear.hpp"
+
+namespace horizon {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// g(|xi|) of the kernel (config.hpp, HeatKernel).
+double kernel_value(HeatKernel k, double length) { return k == HeatKernel::inverse ? 1.0 / length : 1.0; }
+
+double bond_kappa(const HeatState& h, std::size_t i, std::size_t j) { return 0.5 * (h.kappa[i] + h.kappa[j]); }
+
+// The axis along which a set of particles is thinnest (as tractions, loading/loads.cpp).
+int thinnest_axis(const System& s, const std::vector<uint32_t>& ids, int dimension) {
+  int axis = 0;
+  double best = 1e300;
+  for (int k = 0; k < dimension; ++k) {
+    double lo = 1e300, hi = -1e300;
+    for (uint32_t i : ids) {
+      lo = std::min(lo, s.particles.X[i][k]);
+      hi = std::max(hi, s.particles.X[i][k]);
+    }
+    if (hi - lo < best) {
+      best = hi - lo;
+      axis = k;
+    }
+  }
+  return axis;
+}
+
+}  // namespace
+
+double heat_moment_continuum(HeatKernel kernel, int dimension, double horizon, double measure) {
+  // M2 = int_H g xi_1^2 dV (heat.hpp); int xi_1^2 f(r) dV = (1/d) int r^2 f(r) dV by symmetry.
+  const double d = horizon;
+  if (kernel == HeatKernel::inverse) {
+    if (dimension == 1) return measure * d * d;                // A int_{-d}^{d} |x| dx
+    if (dimension == 2) return measure * kPi * d * d * d / 3;  // h (1/2) int_0^d r 2 pi r dr
+    return kPi * d * d * d * d / 3;                            // (1/3) int_0^d r 4 pi r^2 dr
+  }
+  if (dimension == 1) return measure * 2 * d * d * d / 3;      // A int_{-d}^{d} x^2 dx
+  if (dimension == 2) return measure * kPi * d * d * d * d / 4;  // h (1/2) int_0^d r^2 2 pi r dr
+  return 4 * kPi * std::pow(d, 5) / 15;                        // (1/3) int_0^d r^2 4 pi r^2 dr
+}
+
+void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config) {
+  auto& P = s.particles;
+  auto& B = s.bonds;
+  HeatState& h = s.heat;
+  const std::size_t n = P.size();
+  const ThermalConfig& tc = config.thermal;
+  h = HeatState{};
+  h.kernel = tc.kernel;
+  h.calibration = tc.calibration;
+  h.T.resize(n);
+  h.capacity.resize(n);
+  h.kappa.resize(n);
+  h.expansion.resize(n);
+  h.reference.resize(n);
+  h.plastic_fraction.resize(n);
+  h.stretch_slope.resize(n);
+  h.fixed.assign(n, 0);
+  h.flux.assign(n, Vec3{});
+  h.kind_factor.resize(B.kinds.size());
+  for (std::size_t k = 0; k < B.kinds.size(); ++k) {
+    const BondKind& c = B.kinds[k];
+    h.kind_factor[k] = kernel_value(h.kernel, c.length) * c.volume * c.fraction;
+  }
+  // The discrete moment sum_j g |xi|^2 V_j / d of each particle's family; its largest
+  // value per material is the bulk value of the lattice (surface particles miss part).
+  std::vector<double> bulk(materials.size(), 0.0);
+  if (h.calibration == HeatCalibration::discrete) {
+    for (std::size_t i = 0; i < n; ++i) {
+      double m2 = 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        const double L = B.kinds[B.kind[k]].length;
+        m2 += h.kind_factor[B.kind[k]] * L * L;
+      }
+      m2 /= s.dimension;
+      double& b = bulk[static_cast<std::size_t>(P.material[i])];
+      b = std::max(b, m2);
+    }
+  }
+  const double measure = s.dimension == 1 ? config.area : config.thickness;
+  const double m2_continuum = heat_moment_continuum(h.kernel, s.dimension, s.horizon, measure);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t m = static_cast<std::size_t>(P.material[i]);
+    const MaterialConfig& mat = materials[m];
+    const ThermalMaterialConfig& th = mat.thermal;
+    if (!th.enabled)
+      throw Error("material '" + mat.name + "' has no thermal properties; a run with a thermal section needs "
+                  "materials.NAME.thermal for every material");
+    h.capacity[i] = mat.density * th.specific_heat;
+    const double m2 = h.calibration == HeatCalibration::discrete ? bulk[m] : m2_continuum;
+    if (!(m2 > 0)) throw Error("material '" + mat.name + "': its particles have no bonds to conduct heat");
+    h.kappa[i] = 2 * th.conductivity / m2;
+    // Plane strain: the blocked out-of-plane expansion pushes the plane apart, and a free
+    // body's in-plane strain is (1 + nu) alpha dT (sigma = 0 with eps_zz = 0 in
+    // sigma = lambda tr(eps) I + 2 mu eps - (3 lambda + 2 mu) alpha dT I): the 2-D bonds
+    // take that effective coefficient. Plane stress and 3-D: alpha itself.
+    const bool plane_strain = s.dimension == 2 && config.plane == PlaneMode::strain;
+    h.expansion[i] = th.expansion * (plane_strain ? 1 + mat.poissons_ratio : 1.0);
+    h.reference[i] = th.reference_temperature;
+    h.plastic_fraction[i] = th.plastic_heat_fraction;
+    h.stretch_slope[i] = th.critical_stretch_slope;
+    h.softens = h.softens || th.critical_stretch_slope != 0;
+    h.expands = h.expands || th.expansion != 0;
+    h.T[i] = tc.initial_temperature(0.0, P.X[i].x, P.X[i].y, P.X[i].z);
+  }
+  for (const auto& bc : tc.boundary) {
+    HeatBoundary hb;
+    hb.kind = bc.kind;
+    hb.value = bc.value;
+    hb.coefficient = bc.coefficient;
+    hb.ambient = bc.ambient;
+    hb.particles = region_particles(config, s, bc.region);
+    const char* kind = bc.kind == ThermalBoundaryKind::temperature ? "temperature"
+                       : bc.kind == ThermalBoundaryKind::flux      ? "flux"
+                                                                   : "convection";
+    hb.name = (bc.region.empty() ? std::string("all") : bc.region) + ":" + kind;
+    if (bc.kind != ThermalBoundaryKind::temperature && !hb.particles.empty()) {
+      // A flux through the boundary becomes a source density over a layer of depth d, so
+      // that the total is the flux times the area (as tractions, docs/input.md).
+      const int axis = bc.normal_axis >= 0 ? bc.normal_axis : thinnest_axis(s, hb.particles, s.dimension);
+      hb.scale = 1.0 / layer_depth(s, hb.particles, axis);
+    }
+    if (bc.kind == ThermalBoundaryKind::temperature)
+      for (uint32_t i : hb.particles) h.fixed[i] = 1;
+    h.boundary.push_back(std::move(hb));
+  }
+  apply_temperature_conditions(s, 0.0);
+  update_thermal_strain(s);
+  update_heat_flux(s);
+}
+
+void apply_temperature_conditions(System& s, double t) {
+  auto& P = s.particles;
+  for (const auto& bc : s.heat.boundary)
+    if (bc.kind == ThermalBoundaryKind::temperature)
+      for (uint32_t i : bc.particles) s.heat.T[i] = bc.value(t, P.X[i].x, P.X[i].y, P.X[i].z);
+}
+
+void heat_conduction(const System& s, const std::vector<double>& T, std::vector<double>& out) {
+  const auto& B = s.bonds;
+  const HeatState& h = s.heat;
+  const std::size_t n = s.particles.size();
+  out.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    double sum = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      sum += bond_kappa(h, i, j) * h.kind_factor[B.kind[k]] * (T[j] - T[i]);
+    }
+    out[i] = sum;
+  }
+}
+
+double heat_stable_step(const System& s) {
+  const auto& B = s.bonds;
+  const HeatState& h = s.heat;
+  std::vector<double> film(s.particles.size(), 0.0);
+  for (const auto& bc : h.boundary)
+    if (bc.kind == ThermalBoundaryKind::convection)
+      for (uint32_t i : bc.particles) film[i] += bc.coefficient * bc.scale;
+  double dt = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    double diag = film[i];
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+      if (B.intact[k]) diag += bond_kappa(h, i, B.nbr[k]) * h.kind_factor[B.kind[k]];
+    if (diag > 0) dt = std::min(dt, h.capacity[i] / diag);
+  }
+  return dt;
+}
+
+double heat_content(const System& s) {
+  const HeatState& h = s.heat;
+  double sum = 0;
+  for (std::size_t i = 0; i < h.T.size(); ++i)
+    sum += h.capacity[i] * (h.T[i] - h.reference[i]) * s.particles.volume[i];
+  return sum;
+}
+
+void update_heat_flux(System& s) {
+  const auto& B = s.bonds;
+  const auto& X = s.particles.X;
+  HeatState& h = s.heat;
+  const std::size_t n = s.particles.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 q;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      q += (bond_kappa(h, i, j) * h.kind_factor[B.kind[k]] * (h.T[j] - h.T[i])) * (X[j] - X[i]);
+    }
+    h.flux[i] = q * -0.5;
+  }
+}
+
+void update_thermal_strain(System& s) {
+  const HeatState& h = s.heat;
+  if (h.active() && h.softens) {
+    s.critical_stretch_factor.resize(h.T.size());
+    for (std::size_t i = 0; i < h.T.size(); ++i)
+      s.critical_stretch_factor[i] = std::max(0.0, 1.0 + h.stretch_slope[i] * (h.T[i] - h.reference[i]));
+  } else {
+    s.critical_stretch_factor.clear();
+  }
+  if (!h.active() || !h.expands) {
+    s.thermal_strain.clear();
+    return;
+  }
+  s.thermal_strain.resize(h.T.size());
+  for (std::size_t i = 0; i < h.T.size(); ++i) s.thermal_strain[i] = h.expansion[i] * (h.T[i] - h.reference[i]);
+}
+
+double thermal_strain_work(const System& s, const std::vector<double>& delta) {
+  const auto& B = s.bonds;
+  const auto& P = s.particles;
+  const auto& T = s.model.force_state;
+  if (delta.size() != P.size() || T.size() != B.size()) return 0;
+  double sum = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sum)
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    double row = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      const Vec3 Y = P.X[j] + P.u[j] - P.X[i] - P.u[i];
+      const double r = norm(Y);
+      if (r == 0) continue;
+      const double t = dot(T[k], Y) / r;
+      const double de = 0.5 * (delta[i] + delta[j]) * B.length[k];
+      row += t * de * B.volume[k];
+    }
+    sum -= row * P.volume[i];
+  }
+  return sum;
+}
+
+void deposit_heat(System& s, std::size_t i, double energy) {
+  HeatState& h = s.heat;
+  if (h.fixed[i]) return;  // a prescribed temperature takes the heat away at once
+  h.T[i] += energy / (h.capacity[i] * s.particles.volume[i]);
+  h.plastic_heat += energy;
+}
+
+void commit_history_with_heat(System& s) {
+  HeatState& h = s.heat;
+  bool plastic = false;
+  for (double b : h.plastic_fraction) plastic = plastic || b > 0;
+  if (!h.active() || !plastic || s.models.all_unified()) {  // the unified models dissipate nothing in commit
+    commit_history(s);
+    return;
+  }
+  std::vector<double> before = s.dissipated_at;
+  commit_history(s);
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const double d = s.dissipated_at[i] - before[i];
+    if (d > 0) deposit_heat(s, i, h.plastic_fraction[i] * d);
+  }
+}
+
+// The backward-Euler system on the free particles, scaled by V_i so that it is symmetric:
+//   (rho c V_i/dt + V_i sum_j K_ij + V_i h_i/d) T_i - sum_{j free} V_i K_ij T_j
+//     = rho c V_i/dt T_i^n + V_i (q_i + h_i/d T_amb) + sum_{j fixed} V_i K_ij T_j^{n+1},
+// K_ij = kbar g V_j (V_i K_ij = kbar g V_i V_j: symmetric, the partial-volume fraction
+// depends on |xi| alone), symmetric positive definite for dt > 0.
+struct HeatSolver::Implicit {
+  LinearSolver solver{LinearSolverKind::cholesky};
+  std::vector<int> index;  // free particle -> unknown, -1 for fixed ones
+};
+
+HeatSolver::HeatSolver(System& s, HeatIntegration integration) : s_(s), integration_(integration) {
+  if (integration_ == HeatIntegration::implicit_euler) implicit_ = std::make_unique<Implicit>();
+}
+HeatSolver::~HeatSolver() = default;
+
+void HeatSolver::step(double dt) {
+  auto& P = s_.particles;
+  auto& B = s_.bonds;
+  HeatState& h = s_.heat;
+  const std::size_t n = P.size();
+  const double t0 = h.time, t1 = h.time + dt;
+  old_ = h.T;
+  // Sources and films at the new time (implicit) or the old one (explicit).
+  const double ts = integration_ == HeatIntegration::implicit_euler ? t1 : t0;
+  std::vector<double> source(n, 0.0), film(n, 0.0), film_t(n, 0.0);
+  for (const auto& bc : h.boundary) {
+    if (bc.kind == ThermalBoundaryKind::flux) {
+      for (uint32_t i : bc.particles) source[i] += bc.value(ts, P.X[i].x, P.X[i].y, P.X[i].z) * bc.scale;
+    } else if (bc.kind == ThermalBoundaryKind::convection) {
+      for (uint32_t i : bc.particles) {
+        film[i] += bc.coefficient * bc.scale;
+        film_t[i] += bc.coefficient * bc.scale * bc.ambient(ts, P.X[i].x, P.X[i].y, P.X[i].z);
+      }
+    }
+  }
+  if (integration_ == HeatIntegration::explicit_euler) {
+    heat_conduction(s_, h.T, rate_);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+      if (!h.fixed[i]) h.T[i] += dt * (rate_[i] + source[i] + film_t[i] - film[i] * h.T[i]) / h.capacity[i];
+  } else {
+    auto& I = *implicit_;
+    I.index.assign(n, -1);
+    int m = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!h.fixed[i]) I.index[i] = m++;
+    apply_temperature_conditions(s_, t1);  // the fixed values the free ones see
+    std::vector<Eigen::Triplet<double>> trip;
+    trip.reserve(B.size() + n);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m), x(m);
+    for (std::size_t i = 0; i < n; ++i) {
+      const int r = I.index[i];
+      if (r < 0) continue;
+      const double Vi = P.volume[i];
+      double diag = h.capacity[i] * Vi / dt + Vi * film[i];
+      rhs[r] = h.capacity[i] * Vi / dt * old_[i] + Vi * (source[i] + film_t[i]);
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!B.intact[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const double a = Vi * bond_kappa(h, i, j) * h.kind_factor[B.kind[k]];
+        diag += a;
+        if (I.index[j] >= 0)
+          trip.emplace_back(r, I.index[j], -a);
+        else
+          rhs[r] += a * h.T[j];
+      }
+      trip.emplace_back(r, r, diag);
+    }
+    SparseMatrix A(m, m);
+    A.setFromTriplets(trip.begin(), trip.end());
+    const LinearStats st = I.solver.solve(A, Eigen::VectorXd(), rhs, x, 1e-12, 10000);
+    if (!st.ok) throw Error("the implicit heat step failed: the conduction matrix could not be factorised");
+    for (std::size_t i = 0; i < n; ++i)
+      if (I.index[i] >= 0) h.T[i] = x[I.index[i]];
+  }
+  apply_temperature_conditions(s_, t1);
+  // The heat each boundary brought in over the step.
+  for (auto& bc : h.boundary) {
+    double q = 0;
+    const bool implicit = integration_ == HeatIntegration::implicit_euler;
+    for (uint32_t i : bc.particles) {
+      const double Vi = P.volume[i];
+      if (bc.kind == ThermalBoundaryKind::flux) {
+        q += dt * Vi * bc.value(ts, P.X[i].x, P.X[i].y, P.X[i].z) * bc.scale;
+      } else if (bc.kind == ThermalBoundaryKind::convection) {
+        const double Ti = implicit ? h.T[i] : old_[i];
+        q += dt * Vi * bc.coefficient * bc.scale * (bc.ambient(ts, P.X[i].x, P.X[i].y, P.X[i].z) - Ti);
+      } else {
+        // What the prescribed particle gave its free neighbours over the step (explicit:
+        // at the old temperatures; implicit: at the new ones), plus its own change.
+        const std::vector<double>& Tc = implicit ? h.T : old_;
+        double out = 0;
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+          if (!B.intact[k]) continue;
+          const uint32_t j = B.nbr[k];
+          if (h.fixed[j]) continue;
+          out += bond_kappa(h, i, j) * h.kind_factor[B.kind[k]] * (Tc[i] - Tc[j]);
+        }
+        q += dt * Vi * out + h.capacity[i] * Vi * (h.T[i] - old_[i]);
+      }
+    }
+    bc.heat += q;
+  }
+  h.time = t1;
+  update_thermal_strain(s_);
+}
+
+}  // namespace horizon

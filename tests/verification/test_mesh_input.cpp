@@ -1,0 +1,318 @@
+// Mesh input (geometry/mesh.hpp; docs/input.md "Meshes"): a box meshed by the test as
+// Gmsh MSH 4.1 (ASCII and binary) and Exodus II gives particles at the element centres
+// carrying the element volumes -- the box's volume to 1e-12 relative, also for distorted
+// hexahedra and tetrahedra -- and, meshed with cubes of the lattice spacing, the very
+// particles of Horizon's own lattice and the same static tension result. Bad meshes are
+// errors naming the deck's line and column and the mesh file's line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "horizon/core/error.hpp"
+#include "horizon/geometry/mesh.hpp"
+#include "horizon/solver/static_driver.hpp"
+#include "../single_thread.hpp"
+#include "mesh_writers.hpp"
+#include "verification_support.hpp"
+
+namespace horizon::verification {
+namespace {
+
+constexpr double h = 1e-3;
+const Vec3 kLo{0, 0, 0};
+const Vec3 kHi{12 * h, 4 * h, 4 * h};
+constexpr double kBoxVolume = 12 * 4 * 4 * h * h * h;
+
+double total_volume(const Mesh& m) {
+  double v = 0;
+  for (double x : m.measure) v += x;
+  return v;
+}
+
+TEST(MeshInput, VolumesTileTheBox) {
+  const auto dir = output_dir("mesh_volumes");
+  struct Case {
+    const char* name;
+    bool tets, binary, exodus;
+    double jitter;
+  };
+  const Case cases[] = {{"hex.msh", false, false, false, 0},       {"hex_bin.msh", false, true, false, 0},
+                        {"hex_jitter.msh", false, false, false, 0.3}, {"tet_jitter.msh", true, false, false, 0.3},
+                        {"hex.exo", false, false, true, 0},       {"tet_jitter.exo", true, false, true, 0.3}};
+  for (const auto& c : cases) {
+    const test::BoxMesh box = test::box_mesh(kLo, kHi, 12, 4, 4, c.tets, c.jitter);
+    const std::string path = (dir / c.name).string();
+    if (c.exodus) {
+      ASSERT_TRUE(test::write_exodus(box, path));
+    } else {
+      test::write_msh(box, path, c.binary);
+    }
+    const Mesh m = read_mesh(path, 3);
+    ASSERT_EQ(m.cell_nodes.size(), box.cells.size()) << c.name;
+    const double rel = std::abs(total_volume(m) / kBoxVolume - 1);
+    report(std::string("mesh_volume_") + c.name, rel,
+           fmt::format("mesh {}: {} elements, total volume - box volume = {:.1e} relative", c.name,
+                       m.cell_nodes.size(), rel));
+    EXPECT_LT(rel, 1e-12) << c.name;
+    // The sets: 'left' and 'right' each touch one layer of cells (hexahedra: 4 x 4).
+    const MeshGroup* left = m.find_set("left");
+    ASSERT_NE(left, nullptr) << c.name;
+    EXPECT_EQ(left->members.size(), 25u) << c.name;
+    if (!c.tets) {
+      EXPECT_EQ(m.cells_touching(*left).size(), 16u) << c.name;
+    }
+    ASSERT_NE(m.find_block("block"), nullptr) << c.name;
+  }
+}
+
+// A distorted hexahedron's volume against its split into tetrahedra when its faces are
+// planar (a parallelepiped sheared in two directions): the trilinear quadrature and the
+// split agree, and the centre of volume is the node average.
+TEST(MeshInput, CellGeometry) {
+  const Vec3 a{1e-3, 0, 0}, b{0.3e-3, 2e-3, 0}, c{0.2e-3, -0.4e-3, 1.5e-3}, o{0.1, 0.2, 0.3};
+  const std::vector<Vec3> hex = {o, o + a, o + a + b, o + b, o + c, o + a + c, o + a + b + c, o + b + c};
+  double V;
+  Vec3 centre;
+  cell_geometry(CellType::hex8, hex, V, centre);
+  const double exact = std::abs(dot(a, cross(b, c)));
+  EXPECT_NEAR(V / exact, 1.0, 1e-13);
+  EXPECT_LT(norm(centre - (o + (a + b + c) * 0.5)), 1e-15);
+  // A wedge is half of it.
+  const std::vector<Vec3> wedge = {o, o + a, o + b, o + c, o + a + c, o + b + c};
+  cell_geometry(CellType::wedge6, wedge, V, centre);
+  EXPECT_NEAR(V / (0.5 * exact), 1.0, 1e-13);
+  EXPECT_LT(norm(centre - (o + (a + b) / 3.0 + c * 0.5)), 1e-15);
+  // A pyramid over the base o, o+a, o+a+b, o+b with apex o+c: one third of base x height.
+  const std::vector<Vec3> pyramid = {o, o + a, o + a + b, o + b, o + c};
+  cell_geometry(CellType::pyramid5, pyramid, V, centre);
+  EXPECT_NEAR(V / (exact / 3.0), 1.0, 1e-13);
+  const std::vector<Vec3> quad = {o, o + a, o + a + b, o + b};
+  cell_geometry(CellType::quad4, quad, V, centre);
+  EXPECT_NEAR(V / norm(cross(a, b)), 1.0, 1e-13);
+}
+
+std::string tension_deck(const std::string& body, const std::string& left, const std::string& right) {
+  return "dimension: 3\nspacing: 1.0e-3\nhorizon: 3.0e-3\n"
+         "materials:\n  steel: {model: pmb, density: 8000, youngs_modulus: 200.0e9}\n"
+         "bodies:\n  - {name: bar, material: steel, shape: " + body + "}\n"
+         "regions:\n  left: " + left + "\n  right: " + right + "\n"
+         "loads:\n  - {region: left, displacement: [0, 0, 0]}\n"
+         "  - {region: right, displacement: [1.0e-6, 0, 0]}\n"
+         "solver: {type: static, method: newton, linear_solver: cholesky, tolerance: 1.0e-12}\n";
+}
+
+struct TensionRun {
+  std::size_t particles = 0;
+  double volume = 0;
+  double force = 0;  // the right end's reaction along x [N]
+  std::vector<Vec3> X, u;
+};
+
+TensionRun run_tension(const std::string& deck_text, const std::string& deck_path) {
+  test::SingleThread one;
+  Config config = parse_deck(deck_text, deck_path);
+  System system = build_system(config);
+  Loads loads(config, system);
+  StaticSolver solver(system, loads, config.solver);
+  loads.apply_initial_conditions(config, system);
+  solver.initialize();
+  while (!solver.done()) EXPECT_TRUE(solver.advance()) << solver.failure();
+  TensionRun r;
+  r.particles = system.particles.size();
+  for (double v : system.particles.volume) r.volume += v;
+  for (const auto& L : loads.loads())
+    if (L.name == "right:displacement") r.force = L.reaction.x;
+  r.X = system.particles.X;
+  r.u = system.particles.u;
+  return r;
+}
+
+// The same bar from the lattice and from meshes. Hexahedra of the lattice spacing put the
+// particles where the lattice does (to round-off in the centres) with the same volumes:
+// the end force agrees to 1e-9. Jittered tetrahedra (six per cube, interior nodes moved
+// by up to 0.3 spacings) are a different discretisation of the same body; their end
+// force is compared with a stated tolerance.
+TEST(MeshInput, StaticTensionMatchesLattice) {
+  const auto dir = output_dir("mesh_tension");
+  const std::string deck = (dir / "deck.yaml").string();
+  const TensionRun lattice =
+      run_tension(tension_deck("{box: {min: [0, 0, 0], max: [0.012, 0.004, 0.004]}}",
+                               "{box: {min: [0, 0, 0], max: [0.001, 0.004, 0.004]}}",
+                               "{box: {min: [0.011, 0, 0], max: [0.012, 0.004, 0.004]}}"),
+                  deck);
+  test::write_msh(test::box_mesh(kLo, kHi, 12, 4, 4, false), (dir / "hex.msh").string(), false);
+  ASSERT_TRUE(test::write_exodus(test::box_mesh(kLo, kHi, 12, 4, 4, false), (dir / "hex.exo").string()));
+  test::write_msh(test::box_mesh(kLo, kHi, 12, 4, 4, true, 0.3), (dir / "tet.msh").string(), false);
+  auto mesh_deck = [&](const std::string& file) {
+    return tension_deck("{mesh: {file: " + file + ", block: block}}", "{mesh: {file: " + file + ", set: left}}",
+                        "{mesh: {file: " + file + ", set: right}}");
+  };
+  const TensionRun hex = run_tension(mesh_deck("hex.msh"), deck);
+  const TensionRun exo = run_tension(mesh_deck("hex.exo"), deck);
+  const TensionRun tet = run_tension(mesh_deck("tet.msh"), deck);
+
+  ASSERT_EQ(hex.particles, lattice.particles);
+  ASSERT_EQ(exo.particles, lattice.particles);
+  double dx = 0, du = 0, umax = 0;
+  for (std::size_t i = 0; i < lattice.particles; ++i) {
+    dx = std::max({dx, norm(hex.X[i] - lattice.X[i]), norm(exo.X[i] - lattice.X[i])});
+    du = std::max({du, norm(hex.u[i] - lattice.u[i]), norm(exo.u[i] - lattice.u[i])});
+    umax = std::max(umax, norm(lattice.u[i]));
+  }
+  EXPECT_LT(dx, 1e-12 * h);
+  EXPECT_NEAR(hex.volume / kBoxVolume, 1.0, 1e-12);
+  EXPECT_NEAR(tet.volume / kBoxVolume, 1.0, 1e-12);
+  const double hex_rel = std::abs(hex.force / lattice.force - 1);
+  const double exo_rel = std::abs(exo.force / lattice.force - 1);
+  const double tet_rel = tet.force / lattice.force - 1;
+  report("mesh_tension_hex", hex_rel,
+         fmt::format("PMB bar 12 x 4 x 4 mm, end displacement 1 um: lattice end force {:.2f} N; Gmsh hexahedra "
+                     "{:.1e} relative, Exodus hexahedra {:.1e}, max |u_mesh - u_lattice| / max |u| = {:.1e}",
+                     lattice.force, hex_rel, exo_rel, du / umax));
+  report("mesh_tension_tet", tet_rel,
+         fmt::format("the same bar from {} jittered tetrahedra: end force {:.2f} N, {:+.1f} % against the lattice",
+                     tet.particles, tet.force, 100 * tet_rel));
+  EXPECT_LT(hex_rel, 1e-9);
+  EXPECT_LT(exo_rel, 1e-9);
+  EXPECT_LT(du / umax, 1e-9);
+  EXPECT_LT(std::abs(tet_rel), 0.08);
+}
+
+// A 2-D deck reads triangles and quadrangles in the xy-plane: a 6 x 4 mm rectangle as
+// squares of the spacing gives the lattice's particles with area x thickness; split into
+// triangles, the same total; a curve group selects the elements along an edge.
+TEST(MeshInput, PlaneMeshesOfTrianglesAndQuadrangles) {
+  const auto dir = output_dir("mesh_2d");
+  for (bool triangles : {false, true}) {
+    const std::string path = (dir / (triangles ? "tri.msh" : "quad.msh")).string();
+    {
+      std::ofstream out(path);
+      out.precision(17);
+      out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+      out << "$PhysicalNames\n2\n2 1 \"plate\"\n1 2 \"left\"\n$EndPhysicalNames\n";
+      out << "$Entities\n0 1 1 0\n1 0 0 0 0 0 0 1 2 0\n1 0 0 0 0 0 0 1 1 0\n$EndEntities\n";
+      const int nx = 6, ny = 4;
+      const int nodes = (nx + 1) * (ny + 1);
+      out << "$Nodes\n1 " << nodes << " 1 " << nodes << "\n2 1 0 " << nodes << "\n";
+      for (int i = 1; i <= nodes; ++i) out << i << "\n";
+      for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i) out << i * 1e-3 << " " << j * 1e-3 << " 0\n";
+      auto tag = [&](int i, int j) { return 1 + i + (nx + 1) * j; };
+      const int cells = triangles ? 2 * nx * ny : nx * ny;
+      out << "$EndNodes\n$Elements\n2 " << cells + ny << " 1 " << cells + ny << "\n";
+      out << "2 1 " << (triangles ? 2 : 3) << " " << cells << "\n";
+      int t = 1;
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          if (triangles) {
+            out << t++ << " " << tag(i, j) << " " << tag(i + 1, j) << " " << tag(i + 1, j + 1) << "\n";
+            out << t++ << " " << tag(i, j) << " " << tag(i + 1, j + 1) << " " << tag(i, j + 1) << "\n";
+          } else {
+            out << t++ << " " << tag(i, j) << " " << tag(i + 1, j) << " " << tag(i + 1, j + 1) << " " << tag(i, j + 1) << "\n";
+          }
+        }
+      out << "1 1 1 " << ny << "\n";
+      for (int j = 0; j < ny; ++j) out << t++ << " " << tag(0, j) << " " << tag(0, j + 1) << "\n";
+      out << "$EndElements\n";
+    }
+    const std::string deck = "dimension: 2\nplane: stress\nthickness: 2.0e-3\nspacing: 1.0e-3\nhorizon: 3.0e-3\n"
+                             "materials:\n  steel: {model: pmb, density: 8000, youngs_modulus: 200.0e9}\n"
+                             "bodies:\n  - {name: plate, material: steel, shape: {mesh: {file: " + path + ", block: plate}}}\n"
+                             "regions:\n  left: {mesh: {file: " + path + ", set: left}}\n"
+                             "solver: {end_time: 1.0e-6}\n";
+    Config config = parse_deck(deck, (dir / "deck.yaml").string());
+    const System s = build_system(config);
+    double volume = 0;
+    for (double v : s.particles.volume) volume += v;
+    EXPECT_EQ(s.particles.size(), triangles ? 48u : 24u);
+    EXPECT_NEAR(volume / (6e-3 * 4e-3 * 2e-3), 1.0, 1e-12) << path;
+    for (const auto& x : s.particles.X) EXPECT_EQ(x.z, 0.0);
+    std::size_t left = 0;
+    for (const auto& x : s.particles.X) left += config.regions.at("left").contains(x) ? 1 : 0;
+    EXPECT_EQ(left, triangles ? 8u : 4u) << path;  // the column of elements along x = 0
+    if (!triangles) {
+      for (const auto& x : s.particles.X) {
+        const double fx = x.x / 1e-3 - 0.5, fy = x.y / 1e-3 - 0.5;
+        EXPECT_NEAR(fx, std::round(fx), 1e-9);  // at the lattice's cell centres
+        EXPECT_NEAR(fy, std::round(fy), 1e-9);
+      }
+    }
+  }
+}
+
+// Errors name the deck's line and column and, for a bad mesh, the mesh file's line.
+TEST(MeshInput, ErrorsNameDeckAndMeshLines) {
+  const auto dir = output_dir("mesh_errors");
+  const std::string deck = (dir / "deck.yaml").string();
+  auto error_of = [&](const std::string& text) -> std::string {
+    try {
+      parse_deck(text, deck);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string box = "{box: {min: [0, 0, 0], max: [0.001, 0.004, 0.004]}}";
+  // Missing file: the deck's line 7 (the body), column of the file name.
+  std::string msg = error_of(tension_deck("{mesh: {file: nowhere.msh}}", box, box));
+  EXPECT_NE(msg.find("deck.yaml:7:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("nowhere.msh"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("No such file"), std::string::npos) << msg;
+
+  // A second-order tetrahedron (type 11) on the mesh file's line 30.
+  {
+    std::ofstream out(dir / "tet10.msh");
+    out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 10 1 10\n3 1 0 10\n";
+    for (int i = 1; i <= 10; ++i) out << i << "\n";
+    for (int i = 0; i < 10; ++i) out << (i % 2) << " " << (i % 3) << " " << (i % 5) << "\n";
+    out << "$EndNodes\n$Elements\n1 1 1 1\n3 1 11 1\n1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
+  }
+  msg = error_of(tension_deck("{mesh: {file: tet10.msh}}", box, box));
+  EXPECT_NE(msg.find("deck.yaml:7:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("tet10.msh:30:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("10-node tetrahedron"), std::string::npos) << msg;
+
+  // A malformed number on line 8 of the mesh.
+  {
+    std::ofstream out(dir / "bad.msh");
+    out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n3 1 0 1\n1\n0 zero 0\n$EndNodes\n";
+  }
+  msg = error_of(tension_deck("{mesh: {file: bad.msh}}", box, box));
+  EXPECT_NE(msg.find("bad.msh:8: expected a number for a node coordinate, found 'zero'"), std::string::npos) << msg;
+
+  // An old format version.
+  {
+    std::ofstream out(dir / "v2.msh");
+    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  }
+  msg = error_of(tension_deck("{mesh: {file: v2.msh}}", box, box));
+  EXPECT_NE(msg.find("v2.msh:2: MSH format version 2.2 is not supported"), std::string::npos) << msg;
+
+  // Unknown block and set names list the ones the mesh has; a set cannot be a body.
+  test::write_msh(test::box_mesh(kLo, kHi, 12, 4, 4, false), (dir / "hex.msh").string(), false);
+  msg = error_of(tension_deck("{mesh: {file: hex.msh, block: steel}}", box, box));
+  EXPECT_NE(msg.find("deck.yaml:7:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("no block 'steel'; its blocks: block"), std::string::npos) << msg;
+  msg = error_of(tension_deck("{box: {min: [0, 0, 0], max: [0.012, 0.004, 0.004]}}",
+                              "{mesh: {file: hex.msh, set: top}}", box));
+  EXPECT_NE(msg.find("deck.yaml:9:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("its sets: left, right"), std::string::npos) << msg;
+  msg = error_of(tension_deck("{mesh: {file: hex.msh, set: left}}", box, box));
+  EXPECT_NE(msg.find("belongs under regions"), std::string::npos) << msg;
+  msg = error_of(tension_deck("{mesh: {file: hex.msh, colour: red}}", box, box));
+  EXPECT_NE(msg.find("colour"), std::string::npos) << msg;
+  // Not an Exodus file.
+  {
+    std::ofstream out(dir / "junk.exo");
+    out << "junk\n";
+  }
+  msg = error_of(tension_deck("{mesh: {file: junk.exo}}", box, box));
+  EXPECT_NE(msg.find("not an Exodus II file"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace horizon::verification
