@@ -4,6 +4,7 @@
 #include "horizon/material/models/bond_pair.hpp"
 #include "horizon/material/models/correspondence.hpp"
 #include "horizon/material/models/elastic_plastic.hpp"
+#include "horizon/material/models/extended_correspondence.hpp"
 #include "horizon/material/models/lps.hpp"
 #include "horizon/material/models/microplastic.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
@@ -20,6 +21,7 @@ const std::vector<ModelEntry>& model_registry() {
       elastic_plastic_model(),
       viscoelastic_model(),
       correspondence_model(),
+      extended_correspondence_model(),
       microplastic_model(),
       bond_pair_model(),
   };

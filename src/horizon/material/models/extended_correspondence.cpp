@@ -1,0 +1,301 @@
+#include "horizon/material/models/extended_correspondence.hpp"
+
+#include <string>
+#include <vector>
+
+#include "horizon/core/error.hpp"
+#include "horizon/material/nonlocal_gradient.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+namespace {
+
+using classical::StrainLaw;
+using classical::StrainLawParams;
+using classical::StrainLawState;
+using extended::Mat3;
+using extended::Vec6;
+
+const ModelTraits& traits() {
+  static const ModelTraits t = [] {
+    ModelTraits m;
+    m.name = "extended_correspondence";
+    m.summary =
+        "Tupek's extended correspondence on Seth-Hill bond strains (thesis eq. 4.2-4.7) with elastic, J2 or modified "
+        "Johnson-Cook viscoplasticity and damage, damage-dependent influence (eq. 7.1-7.2)";
+    m.min_dimension = 2;
+    m.default_influence = InfluenceKind::gaussian;
+    using R = ParameterSpec::Range;
+    m.parameters = {
+        {"seth_hill_m", "Seth-Hill parameter m of the bond strains (0: logarithmic, 1/2: engineering)", R::any, 0.0},
+        {"stabilization", "bond-level stabilisation G_s: W_s = G_s mu_bar (d/sum w) sum w (eps - n.E n)^2; 0: off",
+         R::non_negative, 0.0},
+        {"yield_stress", "j2: initial yield stress [Pa]; johnson_cook: sigma_0 [Pa]", R::non_negative, 0.0},
+        {"hardening_modulus", "j2: linear isotropic hardening modulus H [Pa]", R::non_negative, 0.0},
+        {"hardening_coefficient", "johnson_cook: B [Pa] (eps_p0 = (sigma_0/B)^(1/n))", R::non_negative, 0.0},
+        {"hardening_exponent", "johnson_cook: n", R::positive, 1.0},
+        {"rate_coefficient", "johnson_cook: C of the asinh rate term", R::non_negative, 0.0},
+        {"reference_rate", "johnson_cook: reference plastic strain rate [1/s]", R::positive, 1.0},
+        {"failure_d1", "johnson_cook damage: d1 of eps_f = [d1 + d2 exp(-d3 sigma_m/sigma_e)][1 + d4 ln(rate/rate_0)]",
+         R::any, 0.0},
+        {"failure_d2", "johnson_cook damage: d2", R::any, 0.0},
+        {"failure_d3", "johnson_cook damage: d3", R::any, 0.0},
+        {"failure_d4", "johnson_cook damage: d4", R::any, 0.0},
+        {"failure_reference_rate", "johnson_cook damage: reference rate of eps_f [1/s]", R::positive, 1.0},
+        {"critical_damage",
+         "D_c of the damage-dependent influence: bonds to a particle with D > D_c stop acting and it carries no "
+         "stress; 1: off",
+         R::fraction, 0.99},
+        {"shape_tolerance",
+         "smallest reciprocal condition number of the shape tensor; below it the particle carries no stress",
+         R::fraction, 1e-4},
+    };
+    m.choices = {
+        {"stress_law", "law on the nonlocal strain E_(m): elastic (isotropic quadratic), j2 (linear hardening), "
+                       "johnson_cook (Tupek's modified Johnson-Cook with damage)",
+         {"elastic", "j2", "johnson_cook"}},
+    };
+    return m;
+  }();
+  return t;
+}
+
+class ExtendedCorrespondence final : public Model {
+ public:
+  std::unique_ptr<Model> clone() const override { return std::make_unique<ExtendedCorrespondence>(*this); }
+  const ModelTraits& traits() const override { return horizon::traits(); }
+
+  void setup(const ModelSetup& in) override;
+  void force_state(ForcePass& pass) override;
+  void commit(System& s) override;
+  double pending_dissipation(const System& s) const override {
+    double sum = 0;
+    for (std::size_t l = 0; l < particles_.size(); ++l)
+      sum += (work_[l] + released(l)) * s.particles.volume[particles_[l]];
+    return sum;
+  }
+  void fields(const System& s, std::vector<ModelField>& out) const override;
+
+ private:
+  // Elastic energy released by a particle that fails in this step [J/m^3].
+  double released(std::size_t l) const {
+    return committed_[l].damage <= critical_ && trial_[l].damage > critical_ ? energy_[l] : 0.0;
+  }
+  bool failed_committed(uint32_t i) const {
+    const int32_t l = local_[i];
+    return l >= 0 && committed_[l].damage > critical_;
+  }
+
+  StrainLawParams law_;
+  int dim_ = 3;
+  double m_ = 0, critical_ = 0.99, tolerance_ = 1e-4;
+  std::vector<uint32_t> particles_;
+  std::vector<int32_t> local_;   // particle index -> index in particles_ (-1: not ours)
+  std::vector<double> ks_;       // stabilisation modulus per particle [Pa]
+  std::vector<StrainLawState> committed_, trial_;
+  std::vector<double> work_, energy_, von_mises_;
+  std::vector<uint8_t> inactive_;  // 1: carried no stress at the last pass (failed or singular)
+  std::vector<double> eps_;        // per bond: the bond strain of the pass (scratch)
+  std::vector<extended::MomentMap> maps_;  // per particle: the kept moment map
+  std::vector<uint32_t> acting_;           // its acting-set size (UINT32_MAX: not built)
+  std::vector<uint8_t> map_ok_;            // 1: the map and the shape tensor passed the guard
+};
+
+void ExtendedCorrespondence::setup(const ModelSetup& in) {
+  const MaterialConfig& mat = in.material;
+  dim_ = in.config.dimension;
+  if (dim_ < 2) throw Error("material '" + mat.name + "': the extended_correspondence model needs dimension 2 or 3");
+  if (dim_ == 2 && in.dims.plane == PlaneMode::stress)
+    throw Error("material '" + mat.name + "': the extended_correspondence model supports plane strain only in 2-D");
+  const std::string& law = choice(mat, "stress_law");
+  law_.law = law == "j2" ? StrainLaw::j2 : law == "johnson_cook" ? StrainLaw::johnson_cook : StrainLaw::elastic;
+  law_.kappa = mat.bulk_modulus;
+  law_.mu = mat.shear_modulus;
+  law_.yield_stress = law_.sigma0 = parameter(mat, "yield_stress");
+  law_.hardening_modulus = parameter(mat, "hardening_modulus");
+  law_.B = parameter(mat, "hardening_coefficient");
+  law_.n = parameter(mat, "hardening_exponent");
+  law_.C = parameter(mat, "rate_coefficient");
+  law_.rate0 = parameter(mat, "reference_rate");
+  law_.d1 = parameter(mat, "failure_d1");
+  law_.d2 = parameter(mat, "failure_d2");
+  law_.d3 = parameter(mat, "failure_d3");
+  law_.d4 = parameter(mat, "failure_d4");
+  law_.damage_rate0 = parameter(mat, "failure_reference_rate");
+  law_.damage = law_.law == StrainLaw::johnson_cook && (law_.d1 != 0 || law_.d2 != 0);
+  if (law_.law != StrainLaw::elastic && !(law_.yield_stress > 0))
+    throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
+  if (law_.law == StrainLaw::johnson_cook && !(law_.B > 0))
+    throw Error("material '" + mat.name + "': stress_law johnson_cook needs a positive hardening_coefficient [Pa]");
+  m_ = parameter(mat, "seth_hill_m");
+  critical_ = parameter(mat, "critical_damage");
+  tolerance_ = parameter(mat, "shape_tolerance");
+  const double Gs = parameter(mat, "stabilization");
+  // mu_bar of the nonlinear solid's bond-based term (digest sec. 13.2).
+  const double mu_bar = (dim_ == 3 ? 2.5 : 2.0) * mat.shear_modulus;
+
+  const System& s = in.system;
+  const Bonds& B = s.bonds;
+  particles_ = in.particles;
+  local_.assign(s.particles.size(), -1);
+  ks_.assign(particles_.size(), 0.0);
+  for (std::size_t l = 0; l < particles_.size(); ++l) {
+    const uint32_t i = particles_[l];
+    local_[i] = static_cast<int32_t>(l);
+    double w = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) w += B.weight[k] * B.volume[k];
+    ks_[l] = w > 0 ? Gs * mu_bar * dim_ / w : 0.0;
+  }
+  fill_state_based_coefficients(in, 1.0 + Gs);
+  const std::size_t n = particles_.size();
+  committed_.assign(n, StrainLawState{});
+  trial_.assign(n, StrainLawState{});
+  work_.assign(n, 0.0);
+  energy_.assign(n, 0.0);
+  von_mises_.assign(n, 0.0);
+  inactive_.assign(n, 0);
+  maps_.assign(n, extended::MomentMap{});
+  acting_.assign(n, UINT32_MAX);
+  map_ok_.assign(n, 0);
+}
+
+void ExtendedCorrespondence::force_state(ForcePass& pass) {
+  const System& s = pass.system;
+  const Bonds& B = s.bonds;
+  const std::vector<Vec3>& X = s.particles.X;
+  const Point4* y = pass.y;
+  Vec3* T = pass.T;
+  if (eps_.size() != B.size()) eps_.assign(B.size(), 0.0);
+  const std::size_t n = particles_.size();
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    const Point4 yi = y[i];
+    auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
+    // omega_D (thesis eq. 7.2): a bond acts while neither end has D > D_c.
+    const bool self_failed = committed_[l].damage > critical_;
+    auto acts = [&](uint64_t k) { return B.intact[k] && !self_failed && !failed_committed(B.nbr[k]); };
+    extended::NonlocalStrain E(dim_, m_);
+    bool ok = !self_failed;
+    if (ok) {
+      // The moment map and the shape-tensor guard depend on the acting set only, which
+      // only shrinks (bonds break, neighbours fail): its size identifies it.
+      uint32_t count = 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) count += acts(k) ? 1 : 0;
+      if (count != acting_[l]) {
+        NonlocalGradient K;  // the shape tensor, for the conditioning guard only
+        extended::MomentMap map;
+        map.reset(dim_);
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+          if (!acts(k)) continue;
+          const Vec3 xi = X[B.nbr[k]] - X[i];
+          const double w = B.weight[k] * B.volume[k];
+          map.add(xi, w, dim_);
+          K.add(xi, xi, w);
+        }
+        Mat3 Kinv, F;
+        map_ok_[l] = K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
+        maps_[l] = map;
+        acting_[l] = count;
+      }
+      ok = map_ok_[l] != 0;
+    }
+    if (ok) {
+      E.use(maps_[l]);
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!acts(k)) continue;
+        const uint32_t j = B.nbr[k];
+        eps_[k] = E.add_strain(X[j] - X[i], deformed(j), B.weight[k] * B.volume[k]);
+      }
+      ok = E.finish(false);
+    }
+    classical::StrainLawOut out;
+    if (ok) {
+      out = classical::strain_law(law_, committed_[l], E.strain(), pass.dt, trial_[l]);
+      ok = !out.failed;
+    } else {
+      trial_[l] = committed_[l];
+    }
+    inactive_[l] = ok ? 0 : 1;
+    work_[l] = ok ? out.plastic_work : 0.0;
+    if (!ok) {
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) T[k] = {};
+      energy_[l] = von_mises_[l] = 0;
+      if (pass.energy) pass.energy[i] = 0;
+      continue;
+    }
+    const Vec6 a = E.dual(out.S);
+    Vec6 b = Vec6::Zero();
+    double W = out.W;
+    const double ks = ks_[l];
+    if (ks != 0) {
+      Mat3 R = Mat3::Zero();
+      double Ws = 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!acts(k)) continue;
+        const Vec3 xi = X[B.nbr[k]] - X[i];
+        const double w = B.weight[k] * B.volume[k], r = E.residual(xi, eps_[k]);
+        const Eigen::Vector3d nv = Eigen::Vector3d(xi.x, xi.y, xi.z).normalized();
+        R.noalias() += (w * r) * nv * nv.transpose();
+        Ws += w * r * r;
+      }
+      b = E.dual(R);
+      W += ks * Ws;
+    }
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!acts(k)) {
+        T[k] = {};
+        continue;
+      }
+      const uint32_t j = B.nbr[k];
+      const Vec3 xi = X[j] - X[i], Y = deformed(j);
+      const double r = ks != 0 ? E.residual(xi, eps_[k]) : 0.0;
+      T[k] = extended::bond_force_state(a, b, ks, B.weight[k], m_, dim_, xi, Y, r);
+    }
+    energy_[l] = W;
+    const Mat3 dev = out.S - (out.S.trace() / 3.0) * Mat3::Identity();
+    von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+    if (pass.energy) pass.energy[i] = W;
+  }
+}
+
+void ExtendedCorrespondence::commit(System& s) {
+  for (std::size_t l = 0; l < particles_.size(); ++l) {
+    const double d = work_[l] + released(l);
+    if (d != 0) s.dissipated_at[particles_[l]] += d * s.particles.volume[particles_[l]];
+    committed_[l] = trial_[l];
+    work_[l] = 0;
+  }
+}
+
+void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& out) const {
+  const std::size_t n = s.particles.size();
+  ModelField vm{"von_mises_stress", std::vector<double>(n, 0.0)};
+  ModelField ep{"equivalent_plastic_strain", std::vector<double>(n, 0.0)};
+  ModelField dm{"ductile_damage", std::vector<double>(n, 0.0)};
+  ModelField in{"carries_no_stress", std::vector<double>(n, 0.0)};
+  for (const auto& model : s.models) {
+    const auto* c = dynamic_cast<const ExtendedCorrespondence*>(model.get());
+    if (!c) continue;
+    for (std::size_t l = 0; l < c->particles_.size(); ++l) {
+      const uint32_t i = c->particles_[l];
+      vm.values[i] = c->von_mises_[l];
+      ep.values[i] = c->committed_[l].alpha;
+      dm.values[i] = c->committed_[l].damage;
+      in.values[i] = c->inactive_[l];
+    }
+  }
+  out.push_back(std::move(vm));
+  out.push_back(std::move(ep));
+  out.push_back(std::move(dm));
+  out.push_back(std::move(in));
+}
+
+}  // namespace
+
+ModelEntry extended_correspondence_model() {
+  return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<ExtendedCorrespondence>()); }};
+}
+
+}  // namespace horizon

@@ -1,0 +1,183 @@
+#pragma once
+// Tupek's extended constitutive correspondence (thesis ch. 4, eq. 4.2-4.7; seed 000
+// digest sec. 3.2-3.4) with the modified Johnson-Cook viscoplasticity and damage of
+// thesis ch. 7 (digest sec. 6) and the damage-dependent influence function (eq. 7.1-7.2).
+// docs/models/extended_correspondence.md has the equations, keys and verification.
+//
+// Per particle i, over its acting bonds j (xi = x_j - x_i, Y = y_j - y_i):
+//   c_j = |Y|^2/|xi|^2,  eps_j = (c^m - 1)/(2m)  (eps = ln(c)/2 for m = 0)     (4.2)
+//   H_j = 5/2 n (x) n - 1/2 I  (3-D),  2 n (x) n - 1/2 I_2 (2-D plane strain),  n = xi/|xi|  (4.4)
+//   E_i = M_i^-1 sum_j w_j eps_j H_j,  w_j = omega_j V_j                        (4.3) (*)
+//   sigma_i = the law at E_i (classical/strain_laws.hpp), conjugate to E_(m)
+//   T_ij = omega_j [sigma_i : Ht_j + 2 k_s (r_j - R_i : Ht_j)] c_j^(m-1) Y/|xi|^2  (4.7) (**)
+// with Ht_j = M_i^-1 H_j. The force is parallel to Y: the model is ordinary and keeps
+// angular momentum (thesis sec. 4.3).
+//
+// (*) The moment map M_i (a linear map of symmetric tensors, 6 x 6 in 3-D) is
+//   M_i(e) = sum_j w_j (n_j . e n_j) H_j.
+// For the continuum bulk with int omega = 3 it is the identity (thesis: the moments
+// J_11 = 1/2, I_1111 = 3/2, I_1122 = 1/2 make E = eps exact for uniform small strain),
+// and (*) is then Tupek's (4.3). On a particle family (a lattice at delta = 3 h, a free
+// surface, a damaged family) the discrete moments are not isotropic; dividing by M_i makes
+// E_i = eps exactly for every uniform small strain at every particle, the way K^-1 makes
+// the classical F exact for every affine map. It keeps the finite-strain dilatation
+// property (m = 0, F = J^(1/3) R: eps_j = ln(J)/3 for every bond, so E = M^-1 (ln J/3)
+// sum w H = ln(J)/3 I since M(I) = sum w H). Departure from the thesis, which does not
+// renormalise near surfaces (sec. 6.1.3): documented in the model page.
+//
+// (**) The second term is a bond-level stabilisation (not in the thesis): the energy
+//   W_s = k_s sum_j w_j r_j^2,   r_j = eps_j - n_j . E_i n_j,
+// penalises the part of the bond strains that E_i cannot see (a zero-energy mode of E,
+// e.g. the 3-D checkerboard, leaves E at O(a^2) while bonds strain at O(a)). r_j = 0 for
+// every uniform small strain (E_i = eps exactly by (*)), so the stabilisation leaves the
+// small-strain moduli alone. Its exact Frechet derivative is (**) with R_i =
+// sum_j w_j r_j n_j (x) n_j, so W + W_s stays an energy and T stays parallel to Y.
+// k_s = G_s mu_bar d / sum_j omega_j V_j (reference family), mu_bar = 5/2 mu (3-D), 2 mu
+// (2-D) (digest sec. 13.2: the bond-based modulus of the nonlinear solid); G_s is the
+// deck's `stabilization`. At finite strain r_j is not zero for a homogeneous shear (the
+// log of a mean is not the mean of the logs): r ~ 0.4 at a compressive log strain of 1,
+// so G_s must stay small (<= 1e-3) under large plastic flow.
+//
+// Damage-dependent influence (thesis eq. 7.1-7.2): omega_j = omega_xi(|xi|) omega_D(D_i,
+// D_j), omega_D = 0 if D_i > D_c or D_j > D_c, else 1 (D the Johnson-Cook damage). A
+// particle with D > D_c, or whose shape tensor K_i = sum w xi (x) xi is ill-conditioned
+// (material/nonlocal_gradient.hpp; the digest's guard "treat as fully failed"), carries no
+// stress and meets its neighbours through contact only.
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "horizon/core/vec3.hpp"
+#include "horizon/material/classical/strain_laws.hpp"
+#include "horizon/material/model.hpp"
+#include "horizon/material/models/nonlinear_solid.hpp"
+
+namespace horizon {
+
+ModelEntry extended_correspondence_model();
+
+namespace extended {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat3 = Eigen::Matrix3d;
+
+// Symmetric tensors as 6-vectors (11, 22, 33, 23, 13, 12); A : B = sum_k w_k a_k b_k with
+// w = (1, 1, 1, 2, 2, 2).
+inline Vec6 to_vec6(const Mat3& A) { return (Vec6() << A(0, 0), A(1, 1), A(2, 2), A(1, 2), A(0, 2), A(0, 1)).finished(); }
+inline Mat3 to_mat3(const Vec6& a) {
+  Mat3 A;
+  A << a[0], a[5], a[4], a[5], a[1], a[3], a[4], a[3], a[2];
+  return A;
+}
+inline Vec6 contraction_weights() { return (Vec6() << 1, 1, 1, 2, 2, 2).finished(); }
+
+// H<xi> of (4.4) as a 6-vector: 3-D 5/2 n n - 1/2 I; 2-D (digest sec. 3.3, derived)
+// 2 n n - 1/2 I_2 (no out-of-plane part).
+inline Vec6 shape_state(const Vec3& xi, int dimension) {
+  const double L2 = dot(xi, xi);
+  const double a = dimension == 3 ? 2.5 : 2.0;
+  Vec6 h;
+  h << a * xi.x * xi.x / L2 - 0.5, a * xi.y * xi.y / L2 - 0.5, dimension == 3 ? a * xi.z * xi.z / L2 - 0.5 : 0.0,
+      a * xi.y * xi.z / L2, a * xi.x * xi.z / L2, a * xi.x * xi.y / L2;
+  return h;
+}
+
+// p with p . e = n . e n (the bond's normal strain of a tensor e).
+inline Vec6 normal_projector(const Vec3& xi) {
+  const double L2 = dot(xi, xi);
+  Vec6 p;
+  p << xi.x * xi.x / L2, xi.y * xi.y / L2, xi.z * xi.z / L2, 2 * xi.y * xi.z / L2, 2 * xi.x * xi.z / L2,
+      2 * xi.x * xi.y / L2;
+  return p;
+}
+
+// n n as a 6-vector (tensor components).
+inline Vec6 normal_dyad(const Vec3& xi) {
+  const double L2 = dot(xi, xi);
+  Vec6 p;
+  p << xi.x * xi.x / L2, xi.y * xi.y / L2, xi.z * xi.z / L2, xi.y * xi.z / L2, xi.x * xi.z / L2, xi.x * xi.y / L2;
+  return p;
+}
+
+// d eps_(m) / d Y = c^(m-1) Y / |xi|^2 (digest sec. 3.2), as the scalar factor of Y.
+inline double strain_gradient_factor(double c, double m, double xi2) {
+  return (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) / xi2;
+}
+
+// The moment map M_i of (*) and its factorisation: it depends on the reference bonds and
+// the acting set only, so a particle keeps it until its acting set changes.
+class MomentMap {
+ public:
+  void reset(int dimension) {
+    M_.setZero();
+    if (dimension == 2) M_(2, 2) = M_(3, 3) = M_(4, 4) = 1.0;  // plane strain: E_33 = E_23 = E_13 = 0
+  }
+  void add(const Vec3& xi, double w, int dimension) {
+    M_.noalias() += w * shape_state(xi, dimension) * normal_projector(xi).transpose();
+  }
+  // False when M is singular.
+  bool finish() {
+    const Eigen::FullPivLU<Mat6> lu(M_);
+    if (!lu.isInvertible()) return false;
+    inverse_ = lu.inverse();
+    return inverse_.allFinite();
+  }
+  Vec6 solve(const Vec6& b) const { return inverse_ * b; }
+  // The vector a with t : Ht_j = a . h_j for a tensor t (a = M^-T W t).
+  Vec6 dual(const Mat3& t) const { return inverse_.transpose() * contraction_weights().cwiseProduct(to_vec6(t)); }
+
+ private:
+  Mat6 M_ = Mat6::Zero();
+  Mat6 inverse_ = Mat6::Zero();
+};
+
+// One particle's evaluation on its acting bonds: sweep 1 adds every bond (add), finish()
+// gives E; the force needs E, and the stabilisation needs R of all bonds, before any force.
+class NonlocalStrain {
+ public:
+  NonlocalStrain(int dimension, double m) : dim_(dimension), m_(m) { map_.reset(dimension); }
+  // Sweep 1 with the moment map built here (tests, and a particle whose map is rebuilt).
+  double add(const Vec3& xi, const Vec3& Y, double w) {
+    map_.add(xi, w, dim_);
+    return add_strain(xi, Y, w);
+  }
+  // Sweep 1 with a kept moment map (use()).
+  double add_strain(const Vec3& xi, const Vec3& Y, double w) {
+    const double c = dot(Y, Y) / dot(xi, xi);
+    const double eps = seth_hill_strain(c, m_);
+    S_.noalias() += (w * eps) * shape_state(xi, dim_);
+    return eps;
+  }
+  void use(const MomentMap& map) { map_ = map; }
+  const MomentMap& map() const { return map_; }
+  // E = M^-1 S; false when M is singular.
+  bool finish(bool factorise = true) {
+    if (factorise && !map_.finish()) return false;
+    E_ = map_.solve(S_);
+    return E_.allFinite();
+  }
+  Mat3 strain() const { return to_mat3(E_); }
+  Vec6 dual(const Mat3& sigma) const { return map_.dual(sigma); }
+  // r_j = eps_j - n . E n.
+  double residual(const Vec3& xi, double eps) const { return eps - normal_projector(xi).dot(E_); }
+
+ private:
+  int dim_;
+  double m_;
+  MomentMap map_;
+  Vec6 S_ = Vec6::Zero();
+  Vec6 E_ = Vec6::Zero();
+};
+
+// The force state (**) of one bond: a = dual(sigma), b = dual(R), ks the stabilisation
+// modulus, omega the (damage-dependent) influence weight.
+inline Vec3 bond_force_state(const Vec6& a, const Vec6& b, double ks, double omega, double m, int dimension,
+                             const Vec3& xi, const Vec3& Y, double r) {
+  const double xi2 = dot(xi, xi), c = dot(Y, Y) / xi2;
+  const Vec6 h = shape_state(xi, dimension);
+  const double s = a.dot(h) + 2.0 * ks * (r - b.dot(h));
+  return (omega * s * strain_gradient_factor(c, m, xi2)) * Y;
+}
+
+}  // namespace extended
+}  // namespace horizon
