@@ -79,10 +79,12 @@ class BondPair final : public Model {
   double pending_dissipation(const System& s) const override;
   void hold_bonds(bool hold) override { held_ = hold; }
   double stable_time_step(const System& s) const override;
+  bool stiffness(const System& s, StiffnessSink& out) const override;
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
  private:
   void positions(const System& s);
+  std::vector<Vec3> current_positions(const System& s) const;
 
   std::size_t n_real_ = 0;
   std::vector<Vec3> X_;                 // reference positions, real nodes then ghosts
@@ -345,9 +347,10 @@ void BondPair::setup(const ModelSetup& in) {
   iso_bound_ = 2 * std::abs(iso_C_) * g * g;
 }
 
-void BondPair::positions(const System& s) {
+std::vector<Vec3> BondPair::current_positions(const System& s) const {
   const auto& P = s.particles;
-  for (std::size_t i = 0; i < n_real_; ++i) y_[i] = P.X[i] + P.u[i];
+  std::vector<Vec3> y(X_.size());
+  for (std::size_t i = 0; i < n_real_; ++i) y[i] = P.X[i] + P.u[i];
   for (std::size_t g = 0; g + n_real_ < X_.size(); ++g) {
     Vec3 u{};
     for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t) {
@@ -355,9 +358,12 @@ void BondPair::positions(const System& s) {
       const Vec3& um = P.u[gt.node];
       u += Vec3{gt.coeff.x * um.x, gt.coeff.y * um.y, gt.coeff.z * um.z};
     }
-    y_[n_real_ + g] = X_[n_real_ + g] + u;
+    y[n_real_ + g] = X_[n_real_ + g] + u;
   }
+  return y;
 }
+
+void BondPair::positions(const System& s) { y_ = current_positions(s); }
 
 uint64_t BondPair::force_pass(System& s, bool energy) {
   auto& P = s.particles;
@@ -513,6 +519,211 @@ double BondPair::stable_time_step(const System& s) const {
     dt = std::min(dt, 2 / std::sqrt(bound / mass));
   }
   return dt;
+}
+
+namespace {
+// A 3x3 block of the stiffness.
+struct Block {
+  double a[3][3] = {};
+  static Block outer(const Vec3& u, const Vec3& v, double s = 1) {
+    Block b;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) b.a[r][c] = s * u[r] * v[c];
+    return b;
+  }
+  static Block identity(double s) {
+    Block b;
+    for (int r = 0; r < 3; ++r) b.a[r][r] = s;
+    return b;
+  }
+  Block& operator+=(const Block& o) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) a[r][c] += o.a[r][c];
+    return *this;
+  }
+  Block operator+(const Block& o) const { return Block(*this) += o; }
+  Block operator-() const {
+    Block b;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) b.a[r][c] = -a[r][c];
+    return b;
+  }
+  Block transpose() const {
+    Block b;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) b.a[r][c] = a[c][r];
+    return b;
+  }
+  Block scaled(double s) const {
+    Block b;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) b.a[r][c] = s * a[r][c];
+    return b;
+  }
+};
+}  // namespace
+
+// The tangent K = -dF/du of the force pass above, term by term (each term's energy e has
+// nodal forces -de/dy, so its blocks are the Hessian d2e/dy_a dy_b), rows of the real
+// nodes only (ghost forces are dropped by the force pass), columns of a ghost mapped to
+// its masters by its mirror coefficients (u_g = sum coeff o u_master):
+//   - bending pair, e = coef (1 + c), c = e.e', e = Y/a, e' = Y'/b (eq. 4.1 x 2): with
+//     w = e' - c e, w' = e - c e', P = I - e e^T, P' = I - e' e'^T (differentiating
+//     bond_pair_gradient once more),
+//       d2c/dY2 = -(e w^T + w e^T + c P)/a^2,  d2c/dY'2 = -(e' w'^T + w' e'^T + c P')/b^2,
+//       d2c/dY dY' = (P' - e w'^T)/(a b),
+//     and Y = y_j - y_k, Y' = y_j' - y_k;
+//   - signed (plastic) pair, e = coef (1 - cos(s - theta_p)), s = (w_j + w_j' - 2 w_k)/|xi|:
+//     coef cos(s - theta_p) b b^T/|xi|^2, b = (1, 1, -2), while elastic, and 0 while the
+//     pair flows plastically (perfect plasticity, sec. 3.5: the force is capped);
+//   - isotropic-curvature correction (sec. 4.4), linear in y: per centre k,
+//     K += (sum_q iso_q b_q)(sum_q c_q b_q)^T I, c_q = 2 V_j/(|xi| m0);
+//   - extension springs, e = coef (|Y| - |xi|)^2 (+ dilatation): (t/|Y|)(I - n n^T) +
+//     2 coef n n^T per bond (t = dE/d|Y| as in the force pass), and for nu != 1/3 the
+//     dilatation term sum_c dil_coef V_c grad(theta_c) grad(theta_c)^T.
+bool BondPair::stiffness(const System& s, StiffnessSink& out) const {
+  const std::vector<Vec3> y = current_positions(s);
+  const int c0 = transverse_ ? 2 : 0;  // beams and plates: the z rows and columns only
+  const Vec3 one{1, 1, 1};
+  // K(a, b) += H, b real or a ghost.
+  auto add_block = [&](uint32_t a, uint32_t b, const Block& H) {
+    if (a >= n_real_) return;
+    auto put = [&](uint32_t node, const Vec3& coeff) {
+      for (int r = c0; r < 3; ++r)
+        for (int c = c0; c < 3; ++c) out.add(a, r, node, c, H.a[r][c] * coeff[c]);
+    };
+    if (b < n_real_) {
+      put(b, one);
+      return;
+    }
+    const std::size_t g = b - n_real_;
+    for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t) put(ghost_terms_[t].node, ghost_terms_[t].coeff);
+  };
+  // K(a, b) += v for the z component alone.
+  auto add_zz = [&](uint32_t a, uint32_t b, double v) {
+    if (a >= n_real_) return;
+    if (b < n_real_) {
+      out.add(a, 2, b, 2, v);
+      return;
+    }
+    const std::size_t g = b - n_real_;
+    for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t)
+      out.add(a, 2, ghost_terms_[t].node, 2, v * ghost_terms_[t].coeff.z);
+  };
+
+  // Bending pairs.
+  for (std::size_t q = 0; q < pairs_.size(); ++q) {
+    if (failed_[q]) continue;
+    const Pair& p = pairs_[q];
+    if (p.k >= n_real_ && p.j >= n_real_ && p.jp >= n_real_) continue;  // moves no real row
+    const uint32_t nodes[3] = {p.j, p.jp, p.k};
+    if (signed_mode_) {
+      const double sk = signed_kink(y[p.j].z, y[p.jp].z, y[p.k].z, 1 / p.inv_length) -
+                        (X_[p.j].z + X_[p.jp].z - 2 * X_[p.k].z) * p.inv_length;
+      const double trial = sk - theta_p_[q];
+      if (std::abs(trial) > theta_yield_) continue;  // flowing: the force is capped
+      const double k = p.coef * std::cos(trial) * p.inv_length * p.inv_length;
+      const double b[3] = {1, 1, -2};
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) add_zz(nodes[r], nodes[c], k * b[r] * b[c]);
+      continue;
+    }
+    const Vec3 Y = y[p.j] - y[p.k], Yp = y[p.jp] - y[p.k];
+    const double a = norm(Y), b = norm(Yp);
+    const Vec3 e = Y / a, ep = Yp / b;
+    const double c = dot(e, ep);
+    const Vec3 w = ep - c * e, wp = e - c * ep;
+    const Block P = Block::identity(1) + -Block::outer(e, e), Pp = Block::identity(1) + -Block::outer(ep, ep);
+    const Block hYY = (Block::outer(e, w) + Block::outer(w, e) + P.scaled(c)).scaled(-p.coef / (a * a));
+    const Block hPP = (Block::outer(ep, wp) + Block::outer(wp, ep) + Pp.scaled(c)).scaled(-p.coef / (b * b));
+    const Block hYP = (Pp + -Block::outer(e, wp)).scaled(p.coef / (a * b));
+    const Block hPY = hYP.transpose();
+    const Block H[3][3] = {
+        {hYY, hYP, -(hYY + hYP)},
+        {hPY, hPP, -(hPY + hPP)},
+        {-(hYY + hPY), -(hYP + hPP), hYY + hYP + hPY + hPP},
+    };
+    for (int r = 0; r < 3; ++r)
+      for (int cc = 0; cc < 3; ++cc) add_block(nodes[r], nodes[cc], H[r][cc]);
+  }
+
+  // Isotropic-curvature correction, centre by centre (the pairs are stored by centre).
+  if (iso_C_ != 0) {
+    std::vector<std::pair<uint32_t, double>> A, C;
+    auto accumulate = [](std::vector<std::pair<uint32_t, double>>& v, uint32_t node, double x) {
+      for (auto& e : v)
+        if (e.first == node) {
+          e.second += x;
+          return;
+        }
+      v.emplace_back(node, x);
+    };
+    for (std::size_t q0 = 0; q0 < pairs_.size();) {
+      std::size_t q1 = q0;
+      while (q1 < pairs_.size() && pairs_[q1].k == pairs_[q0].k) ++q1;
+      A.clear();
+      C.clear();
+      for (std::size_t q = q0; q < q1; ++q) {
+        if (failed_[q]) continue;
+        const Pair& p = pairs_[q];
+        const double cq = 2 * p.inv_length * V_[p.j] * m0_inv_[p.k];
+        accumulate(A, p.j, p.iso);
+        accumulate(A, p.jp, p.iso);
+        accumulate(A, p.k, -2 * p.iso);
+        accumulate(C, p.j, cq);
+        accumulate(C, p.jp, cq);
+        accumulate(C, p.k, -2 * cq);
+      }
+      for (const auto& [ra, va] : A)
+        for (const auto& [cb, vc] : C) add_block(ra, cb, Block::identity(va * vc));
+      q0 = q1;
+    }
+  }
+
+  // Extension springs and the dilatation term.
+  if (!bonds_.empty() && bonds_[0].coef != 0) {
+    std::vector<double> theta(X_.size(), 0.0);
+    if (dil_coef_ != 0)
+      for (const Bond& b : bonds_) {
+        const double e = norm(y[b.j] - y[b.k]) - b.length;
+        theta[b.k] += b.dil * e * V_[b.j];
+        theta[b.j] += b.dil * e * V_[b.k];
+      }
+    // grad(theta_c) per centre c: (node, vector) terms.
+    std::vector<std::vector<std::pair<uint32_t, Vec3>>> grad(dil_coef_ != 0 ? X_.size() : 0);
+    for (const Bond& b : bonds_) {
+      const Vec3 Y = y[b.j] - y[b.k];
+      const double L = norm(Y), e = L - b.length;
+      double t = 2 * b.coef * e;
+      if (dil_coef_ != 0) t += dil_coef_ * (theta[b.k] * V_[b.k] * b.dil * V_[b.j] + theta[b.j] * V_[b.j] * b.dil * V_[b.k]);
+      const Vec3 n = Y / L;
+      const Block H = (Block::identity(t / L) + Block::outer(n, n, 2 * b.coef - t / L));
+      add_block(b.j, b.j, H);
+      add_block(b.k, b.k, H);
+      add_block(b.j, b.k, -H);
+      add_block(b.k, b.j, -H);
+      if (dil_coef_ != 0) {
+        auto accumulate = [](std::vector<std::pair<uint32_t, Vec3>>& v, uint32_t node, const Vec3& x) {
+          for (auto& term : v)
+            if (term.first == node) {
+              term.second += x;
+              return;
+            }
+          v.emplace_back(node, x);
+        };
+        accumulate(grad[b.k], b.j, n * (b.dil * V_[b.j]));
+        accumulate(grad[b.k], b.k, n * (-b.dil * V_[b.j]));
+        accumulate(grad[b.j], b.j, n * (b.dil * V_[b.k]));
+        accumulate(grad[b.j], b.k, n * (-b.dil * V_[b.k]));
+      }
+    }
+    for (std::size_t c = 0; c < grad.size(); ++c) {
+      const double f = dil_coef_ * V_[c];
+      for (const auto& [ra, ga] : grad[c])
+        for (const auto& [cb, gb] : grad[c]) add_block(ra, cb, Block::outer(ga, gb, f));
+    }
+  }
+  return true;
 }
 
 void BondPair::fields(const System& s, std::vector<ModelField>& out) const {
