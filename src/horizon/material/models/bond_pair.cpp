@@ -102,6 +102,7 @@ class BondPair final : public Model {
   // Per pair history.
   std::vector<double> theta_p_, theta_p_trial_;  // plastic offset (committed, trial)
   std::vector<uint8_t> failed_;                  // brittle failure (permanent)
+  std::vector<uint8_t> no_fail_;                 // a node of the pair lies in a no_fail region
   std::vector<double> pairs_at_;                 // pairs centred at each real node
   // Energy weight of a real node: 1/2 per support line it lies on. The forces on the real
   // nodes are -dE/du of E = sum_k weight_k e_k (e_k the energy of the pairs and half
@@ -334,6 +335,11 @@ void BondPair::setup(const ModelSetup& in) {
   theta_p_.assign(pairs_.size(), 0);
   theta_p_trial_.assign(pairs_.size(), 0);
   failed_.assign(pairs_.size(), 0);
+  // no_fail_regions: a pair with a node in one never fails (loading points, supports).
+  no_fail_.assign(pairs_.size(), 0);
+  for (std::size_t q = 0; q < pairs_.size(); ++q)
+    for (uint32_t node : {pairs_[q].k, pairs_[q].j, pairs_[q].jp})
+      if (node < n && P.no_fail[node]) no_fail_[q] = 1;
   y_.assign(N, Vec3{});
   F_.assign(N, Vec3{});
   kbar_.assign(N, Vec3{});
@@ -386,7 +392,7 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       // Transverse mode with plastic offsets: e = coef (1 - cos(s - theta_p)).
       const double sk = signed_kink(y_[p.j].z, y_[p.jp].z, y_[p.k].z, 1 / p.inv_length) -
                         (X_[p.j].z + X_[p.jp].z - 2 * X_[p.k].z) * p.inv_length;
-      if (theta_fail_ > 0 && std::abs(sk) >= theta_fail_) {
+      if (theta_fail_ > 0 && !no_fail_[q] && std::abs(sk) >= theta_fail_) {
         if (!held_) {
           failed_[q] = 1;
           ++newly_failed;
@@ -405,7 +411,7 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       continue;
     }
     const PairGradient gr = bond_pair_gradient(Y, Yp);
-    if (theta_fail_ > 0 && gr.one_plus_cos >= 1 - std::cos(theta_fail_)) {
+    if (theta_fail_ > 0 && !no_fail_[q] && gr.one_plus_cos >= 1 - std::cos(theta_fail_)) {
       if (!held_) {
         failed_[q] = 1;
         ++newly_failed;
