@@ -51,6 +51,9 @@ struct Pair {
   double coef;        // 2 omega alpha Vk Vj [N m]: e = coef (1 + cos theta)
   double iso;         // (4 C/m0) omega_iso Vk Vj / |xi|^2 (bond-multiple correction, sec. 4.4)
   double inv_length;  // 1/|xi|
+  // Curved shells: the pair's reference angle theta0 (cos, sin); straight pairs have
+  // cos = -1, sin = 0, and e = coef (1 - cos(theta - theta0)) is then coef (1 + cos theta).
+  double c0 = -1, s0 = 0;
 };
 
 // One unordered bond (k, j) of the extension springs.
@@ -170,11 +173,28 @@ void BondPair::setup(const ModelSetup& in) {
   // The lattice: every real node must be a lattice point (the pairs need exact opposites,
   // dissertation sec. 5.2: "the discretization must be absolutely regular").
   const Vec3 origin = n ? P.X[0] : Vec3{};
+  // A cylindrical shell (StructureConfig::cylinder_radius): the lattice is that of (x, arc
+  // length), periodic around with `around` nodes.
+  const double R = config.structure.cylinder_radius;
+  int64_t around = 0;
+  if (R > 0) {
+    const double f = 2 * kPiValue * R / dx;
+    around = static_cast<int64_t>(std::llround(f));
+    if (std::abs(f - static_cast<double>(around)) > 1e-6 * f || around < 3)
+      throw Error("structure.cylinder_radius: the circumference 2 pi R = " + std::to_string(2 * kPiValue * R) +
+                  " m must be a whole number of spacings (" + std::to_string(f) + ")");
+  }
+  auto wrap = [around](int64_t b) { return around > 0 ? ((b % around) + around) % around : b; };
   auto key_of = [&](const Vec3& x, bool& exact) {
-    const double fa = (x.x - origin.x) / dx, fb = dim_ == 2 ? (x.y - origin.y) / dx : 0.0;
+    double fa = (x.x - origin.x) / dx, fb = dim_ == 2 ? (x.y - origin.y) / dx : 0.0;
+    if (R > 0) {
+      double arc = R * std::atan2(x.y, x.z);
+      if (arc < 0) arc += 2 * kPiValue * R;
+      fb = arc / dx;
+    }
     const double ra = std::round(fa), rb = std::round(fb);
     exact = std::abs(fa - ra) < 1e-6 && std::abs(fb - rb) < 1e-6;
-    return LatticeKey{static_cast<int64_t>(ra), static_cast<int64_t>(rb)};
+    return LatticeKey{static_cast<int64_t>(ra), wrap(static_cast<int64_t>(rb))};
   };
   std::unordered_map<LatticeKey, uint32_t, LatticeHash> where;
   n_real_ = n;
@@ -184,9 +204,12 @@ void BondPair::setup(const ModelSetup& in) {
   for (std::size_t i = 0; i < n; ++i) {
     bool exact = false;
     const LatticeKey key = key_of(P.X[i], exact);
-    if (!exact || std::abs(P.X[i].z) > 1e-9 * dx || (dim_ == 1 && std::abs(P.X[i].y) > 1e-9 * dx))
+    const bool off = R > 0 ? std::abs(std::hypot(P.X[i].y, P.X[i].z) - R) > 1e-9 * dx : std::abs(P.X[i].z) > 1e-9 * dx;
+    if (!exact || off || (dim_ == 1 && std::abs(P.X[i].y) > 1e-9 * dx))
       throw Error("model bond_pair needs a regular lattice of nodes (one spacing, one body lattice)");
-    where.emplace(key, static_cast<uint32_t>(i));
+    if (!where.emplace(key, static_cast<uint32_t>(i)).second)
+      throw Error("model bond_pair: two nodes at one lattice point (a cylinder's lattice must not repeat the "
+                  "first row at arc length 2 pi R)");
     section_[i] = P.volume[i] / cellV;
   }
 
@@ -289,6 +312,9 @@ void BondPair::setup(const ModelSetup& in) {
   dil_coef_ = (dim_ == 2 && membrane && iso_C_ != 0) ? G * h * (3 * nu - 1) / (1 - nu) : 0.0;
   moment_factor_ = dim_ == 1 ? E * I : (E * h * h * h / (12 * (1 - nu * nu))) * (1 + nu);
 
+  if (R > 0 && iso_C_ != 0)
+    throw Error("material '" + mat.name + "': a curved shell takes nu = 1/3 only (the isotropic-curvature "
+                "correction of sec. 4.4 is not defined about a curved reference)");
   // Failure and plasticity: one critical kink for every pair (digest sec. 3.5).
   const double ey = Model::parameter(mat, "yield_strain"), ec = Model::parameter(mat, "critical_strain");
   theta_yield_ = ey > 0 ? critical_kink(delta, ey, depth) : 0.0;
@@ -312,13 +338,14 @@ void BondPair::setup(const ModelSetup& in) {
     bool exact = false;
     const LatticeKey kk = key_of(X_[k], exact);
     for (const auto& o : half) {
-      auto j = where.find({kk.a + o.a, kk.b + o.b});
-      auto jp = where.find({kk.a - o.a, kk.b - o.b});
+      auto j = where.find({kk.a + o.a, wrap(kk.b + o.b)});
+      auto jp = where.find({kk.a - o.a, wrap(kk.b - o.b)});
       if (j != where.end() && cut(k, j->second)) j = where.end();
       if (jp != where.end() && cut(k, jp->second)) jp = where.end();
       if (j != where.end() && (k < n || j->second < n)) {
         const double coef = beta * V_[k] * V_[j->second];
-        bonds_.push_back({static_cast<uint32_t>(k), j->second, o.length, coef, 2 * o.length / m_memb});
+        // The reference chord (= |xi| on a flat lattice).
+        bonds_.push_back({static_cast<uint32_t>(k), j->second, norm(X_[j->second] - X_[k]), coef, 2 * o.length / m_memb});
       }
       if (j == where.end() || jp == where.end()) continue;
       // Pairs of ghosts alone move no real node, but complete the isotropic curvature of a
@@ -327,6 +354,14 @@ void BondPair::setup(const ModelSetup& in) {
       const double w = by_length ? o.length : 1.0;
       Pair p{static_cast<uint32_t>(k), j->second, jp->second, 2 * w * alpha * V_[k] * V_[j->second],
              4 * iso_C_ / m0 * o.length * V_[k] * V_[j->second] / (o.length * o.length), 1 / o.length};
+      if (R > 0) {
+        // The reference angle of a pair on the curved surface (the dissertation's ch. 6
+        // proposal: the pairs not collinear at rest start with their own angle).
+        const Vec3 e = X_[p.j] - X_[k], ep = X_[p.jp] - X_[k];
+        p.c0 = std::clamp(dot(e, ep) / (norm(e) * norm(ep)), -1.0, 1.0);
+        p.s0 = std::sqrt(std::max(0.0, 1 - p.c0 * p.c0));
+        if (p.s0 < 1e-12) p.c0 = -1, p.s0 = 0;
+      }
       pairs_.push_back(p);
       if (k < n) pairs_at_[k] += 1;
     }
@@ -411,18 +446,19 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       continue;
     }
     const PairGradient gr = bond_pair_gradient(Y, Yp);
-    if (theta_fail_ > 0 && !no_fail_[q] && gr.one_plus_cos >= 1 - std::cos(theta_fail_)) {
+    const ReferencedPair rp = referenced_pair(gr.one_plus_cos - 1, p.c0, p.s0);
+    if (theta_fail_ > 0 && !no_fail_[q] && rp.energy >= 1 - std::cos(theta_fail_)) {
       if (!held_) {
         failed_[q] = 1;
         ++newly_failed;
         continue;
       }
     }
-    const Vec3 Fj = gr.dY * (-p.coef), Fjp = gr.dYp * (-p.coef);
+    const Vec3 Fj = gr.dY * (-p.coef * rp.dc), Fjp = gr.dYp * (-p.coef * rp.dc);
     F_[p.j] += Fj;
     F_[p.jp] += Fjp;
     F_[p.k] -= Fj + Fjp;
-    add_energy(p.k, p.coef * gr.one_plus_cos);
+    add_energy(p.k, p.coef * rp.energy);
   }
 
   // Isotropic-curvature (bond-multiple) correction for nu != 1/3 (eq. 4.14, digest sec. 4.4):
@@ -573,7 +609,8 @@ struct Block {
 // nodal forces -de/dy, so its blocks are the Hessian d2e/dy_a dy_b), rows of the real
 // nodes only (ghost forces are dropped by the force pass), columns of a ghost mapped to
 // its masters by its mirror coefficients (u_g = sum coeff o u_master):
-//   - bending pair, e = coef (1 + c), c = e.e', e = Y/a, e' = Y'/b (eq. 4.1 x 2): with
+//   - bending pair, e = coef f(c), f = 1 + c (or 1 - cos(theta - theta0) on a curved
+//     shell), c = e.e', e = Y/a, e' = Y'/b (eq. 4.1 x 2): f'(c) d2c + f''(c) dc dc^T, with
 //     w = e' - c e, w' = e - c e', P = I - e e^T, P' = I - e' e'^T (differentiating
 //     bond_pair_gradient once more),
 //       d2c/dY2 = -(e w^T + w e^T + c P)/a^2,  d2c/dY'2 = -(e' w'^T + w' e'^T + c P')/b^2,
@@ -639,10 +676,20 @@ bool BondPair::stiffness(const System& s, StiffnessSink& out) const {
     const Vec3 e = Y / a, ep = Yp / b;
     const double c = dot(e, ep);
     const Vec3 w = ep - c * e, wp = e - c * ep;
+    // e_pair = coef f(c): coef f'(c) d2c + coef f''(c) dc dc^T (referenced_pair).
+    const ReferencedPair rp = referenced_pair(c, p.c0, p.s0);
+    const double k1 = p.coef * rp.dc;
     const Block P = Block::identity(1) + -Block::outer(e, e), Pp = Block::identity(1) + -Block::outer(ep, ep);
-    const Block hYY = (Block::outer(e, w) + Block::outer(w, e) + P.scaled(c)).scaled(-p.coef / (a * a));
-    const Block hPP = (Block::outer(ep, wp) + Block::outer(wp, ep) + Pp.scaled(c)).scaled(-p.coef / (b * b));
-    const Block hYP = (Pp + -Block::outer(e, wp)).scaled(p.coef / (a * b));
+    Block hYY = (Block::outer(e, w) + Block::outer(w, e) + P.scaled(c)).scaled(-k1 / (a * a));
+    Block hPP = (Block::outer(ep, wp) + Block::outer(wp, ep) + Pp.scaled(c)).scaled(-k1 / (b * b));
+    Block hYP = (Pp + -Block::outer(e, wp)).scaled(k1 / (a * b));
+    if (rp.dcc != 0) {
+      const Vec3 gY = w / a, gP = wp / b;  // dc/dY, dc/dY'
+      const double k2 = p.coef * rp.dcc;
+      hYY += Block::outer(gY, gY, k2);
+      hPP += Block::outer(gP, gP, k2);
+      hYP += Block::outer(gY, gP, k2);
+    }
     const Block hPY = hYP.transpose();
     const Block H[3][3] = {
         {hYY, hYP, -(hYY + hYP)},
