@@ -9,7 +9,8 @@
 //   isotropic-curvature correction, extension springs with the 2-D dilatation, ghost
 //   nodes across clamped and simply supported edges) against central finite differences
 //   of the force pass, for a beam, plates and a flat shell at a random deformation;
-//   symmetry.
+//   symmetry;
+// - the errors of a tube deck (structure.cylinder_radius).
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -17,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -237,6 +239,28 @@ TEST(BondPairTangent, FlatShellMatchesFiniteDifferences) {
   }
 }
 
+TEST(BondPairTangent, CurvedShellMatchesFiniteDifferences) {
+  // A tube (structure.cylinder_radius): pairs with reference angles (f' d2c + f'' dc dc^T)
+  // and chord springs, at a random deformation.
+  const double pi = 3.14159265358979323846, dx = 2 * pi * 0.5 / 24;
+  const std::string deck = fmt::format(R"(dimension: 2
+structure: {{type: shell, cylinder_radius: 0.5}}
+thickness: 0.01
+spacing: {}
+horizon_factor: 3
+lattice_origin: [0.0, 0.0]
+materials:
+  steel: {{model: bond_pair, density: 7800, youngs_modulus: 200e9, poissons_ratio: 0.3333333333333333}}
+bodies:
+  - {{name: tube, material: steel, shape: {{box: {{min: [0.0, 0.0], max: [{}, {}]}}}}}}
+solver: {{type: static}}
+)",
+                                       dx, 8 * dx, 2 * pi * 0.5 - dx / 2);
+  const TangentCheck r = check_tangent(deck, 0.05, 0.01, "tube", true);
+  EXPECT_LT(r.fd_error, kTangentTolerance);
+  EXPECT_LT(r.asymmetry, 1e-10);  // no ghosts: an energy gradient
+}
+
 TEST(BondPairTangent, PlasticPairsMatchFiniteDifferences) {
   // Elastic-perfectly-plastic pairs (signed kink): at this deflection some pairs flow.
   const TangentCheck r = check_tangent(
@@ -244,6 +268,64 @@ TEST(BondPairTangent, PlasticPairsMatchFiniteDifferences) {
       "plastic plate");
   EXPECT_LT(r.fd_error, kTangentTolerance);
   EXPECT_LT(r.asymmetry, 1e-12);
+}
+
+}  // namespace
+}  // namespace horizon
+
+namespace horizon {
+namespace {
+
+std::string tube_error_deck(const std::string& structure, double spacing, double arc_end) {
+  return fmt::format(R"(dimension: 2
+structure: {}
+thickness: 0.01
+spacing: {}
+horizon_factor: 3
+lattice_origin: [0.0, 0.0]
+materials:
+  steel: {{model: bond_pair, density: 7800, youngs_modulus: 200e9, poissons_ratio: 0.3333333333333333}}
+bodies:
+  - {{name: tube, material: steel, shape: {{box: {{min: [0.0, 0.0], max: [1.0, {}]}}}}}}
+solver: {{type: static}}
+)",
+                     structure, spacing, arc_end);
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Curved shells refuse what they cannot model, with the deck's line and column or the
+// reason.
+TEST(BondPairTangent, CylinderDeckErrors) {
+  const double pi = 3.14159265358979323846, dx = 2 * pi / 32;
+  std::string e = error_of([&] { parse_deck(tube_error_deck("{type: plate, cylinder_radius: 1.0}", dx, 6), "t.yaml"); });
+  EXPECT_NE(e.find("t.yaml:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("a curved surface is a shell"), std::string::npos) << e;
+  e = error_of([&] {
+    parse_deck(tube_error_deck("{type: shell, supports: [{axis: x, at: 0.0, kind: clamped}], cylinder_radius: 1.0}",
+                               dx, 6),
+               "t.yaml");
+  });
+  EXPECT_NE(e.find("supports on a cylinder are not implemented"), std::string::npos) << e;
+  // 2 pi R not a whole number of spacings.
+  e = error_of([&] { build_system(parse_deck(tube_error_deck("{type: shell, cylinder_radius: 1.0}", 0.2, 6), "t.yaml")); });
+  EXPECT_NE(e.find("whole number of spacings"), std::string::npos) << e;
+  // A body that repeats the first row at 2 pi R.
+  e = error_of(
+      [&] { build_system(parse_deck(tube_error_deck("{type: shell, cylinder_radius: 1.0}", dx, 2 * pi), "t.yaml")); });
+  EXPECT_NE(e.find("two nodes at one lattice point"), std::string::npos) << e;
+  // A correct tube builds.
+  EXPECT_EQ(error_of([&] {
+              build_system(parse_deck(tube_error_deck("{type: shell, cylinder_radius: 1.0}", dx, 2 * pi - dx / 2), "t.yaml"));
+            }),
+            "");
 }
 
 }  // namespace
