@@ -11,7 +11,7 @@ bin=${2:-build/horizon}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for t in analytic finite_difference; do
-  sed "s/tangent: finite_difference/tangent: $t/; s#out_plate_navier#$work/out_$t#" examples/plate_navier.yaml > "$work/$t.yaml"
+  sed -E "s/tangent: [a-z_]+/tangent: $t/; s#out_plate_navier#$work/out_$t#" examples/plate_navier.yaml > "$work/$t.yaml"
 done
 for r in $(seq "$repeats"); do
   for t in analytic finite_difference; do
