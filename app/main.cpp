@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
   run->add_option("--end-time", end_time, "override solver.end_time [s]")->check(CLI::PositiveNumber);
   run->add_option("--threads", run_opts.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("-q,--quiet", run_opts.quiet, "no progress line");
+  std::string restart_path;
+  run->add_option("--restart", restart_path,
+                  "continue from a checkpoint (output.checkpoint) of this deck, in its output directory");
   run->add_option("--max-memory", run_opts.max_memory_gib,
                   "refuse decks estimated to need more than this [GiB] (default: the machine's memory)")
       ->check(CLI::PositiveNumber);
@@ -93,6 +96,7 @@ int main(int argc, char** argv) {
     if (*run) {
       if (!out_dir.empty()) run_opts.output_dir = out_dir;
       if (end_time > 0) run_opts.end_time = end_time;
+      if (!restart_path.empty()) run_opts.restart = restart_path;
       Config config = load_deck(deck_path);
       for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
       return run_deck(std::move(config), run_opts);

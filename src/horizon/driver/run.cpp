@@ -20,6 +20,7 @@
 #include "horizon/damage/crack_metrics.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/output/atomic_file.hpp"
+#include "horizon/output/checkpoint.hpp"
 #include "horizon/output/pvd.hpp"
 #include "horizon/output/vtu.hpp"
 #include "horizon/solver/explicit.hpp"
@@ -370,6 +371,67 @@ struct ExplicitRun::State {
   bool at_end() const {
     return adaptive ? solver->time() >= end_time * (1 - 1e-12) : solver->steps() >= total;
   }
+
+  // Checkpoint and restart (output/checkpoint.hpp): the run's whole state, the solver's,
+  // the system's and the loads', and the output bookkeeping (history rows so far, frames
+  // and the PVD index), so that a restart continues history.csv and frames.pvd without
+  // a lost or repeated row or frame.
+  void checkpoint(StateArchive& a) {
+    a.check("run", std::string("explicit"), "a run of kind");
+    solver->checkpoint(a);
+    checkpoint_system(s, a);
+    loads->checkpoint(a);
+    std::string rows = history.str();
+    a.io("history", rows);
+    a.io("max_balance_error", max_balance_error);
+    a.io("frame_count", frame_count);
+    a.io("next_frame", next_frame);
+    a.io("total", total);
+    a.io("dt_nominal", dt_nominal);
+    a.io("dt_min", dt_min);
+    a.io("dt_max", dt_max);
+    std::vector<double> times, crack_rows;
+    std::string files;
+    for (const auto& [t, f] : pvd->entries()) times.push_back(t), files += f + "\n";
+    for (const auto& [t, l] : crack->history) crack_rows.push_back(t), crack_rows.push_back(l);
+    a.io("pvd_times", times);
+    a.io("pvd_files", files);
+    a.io("crack_history", crack_rows);
+    a.io("heat_initial", heat_initial);
+    a.io("heat_strain_change", strain_change);
+    a.io("heat_pending_work", pending_work);
+    if (!a.loading()) return;
+    history = std::ostringstream();
+    history << rows;
+    std::vector<std::pair<double, std::string>> entries;
+    std::size_t at = 0;
+    for (double t : times) {
+      const std::size_t end = files.find('\n', at);
+      if (end == std::string::npos) throw Error("checkpoint: the frame index is shorter than its list of times");
+      entries.emplace_back(t, files.substr(at, end - at));
+      at = end + 1;
+    }
+    pvd->set_entries(std::move(entries));
+    crack->history.clear();
+    for (std::size_t k = 0; k + 1 < crack_rows.size(); k += 2) crack->history.emplace_back(crack_rows[k], crack_rows[k + 1]);
+  }
+  std::string checkpoint_path() const { return (dir / "checkpoint.hzc").string(); }
+  void write_checkpoint() {
+    CheckpointWriter w;
+    checkpoint(w);
+    w.write(checkpoint_path());
+  }
+  void read_checkpoint(const std::string& path) {
+    try {
+      CheckpointReader in(path);
+      checkpoint(in);
+      in.finish();
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: --restart: {}", config.deck_file, e.what()));
+    }
+    steps_at_start = solver->steps();
+  }
+  int64_t steps_at_start = 0;  // a restart's first step - 1
 };
 
 ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::make_unique<State>()) {
@@ -427,9 +489,19 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   r.dt_nominal = r.dt_min = r.dt_max = r.check.dt;
   r.history_every = std::max(1, c.output.history_every);
   r.frames = std::max(1, c.output.frames);
-  r.record_history();
-  r.write_frame();
-  r.crack->record(r.s, 0);
+  if (options.restart) {
+    // The state of the checkpoint replaces the initial one; the index lists the frames
+    // written before it (later ones, from an interrupted run, are written again).
+    r.read_checkpoint(*options.restart);
+    r.pvd->write();
+    if (!options.quiet)
+      fmt::print(stderr, "restart         from {} at step {}, t = {:.4e} s\n", *options.restart, r.solver->steps(),
+                 r.solver->time());
+  } else {
+    r.record_history();
+    r.write_frame();
+    r.crack->record(r.s, 0);
+  }
 
   if (options.handle_signals) install_interrupt_handler();
   r.progress = std::make_unique<Progress>(r.total, static_cast<double>(r.s.bonds.size()), c.output.progress_every);
@@ -472,6 +544,8 @@ int64_t ExplicitRun::advance(int64_t n) {
         r.write_frame();
         ++r.next_frame;
       }
+      if (c.output.checkpoint_every > 0 && solver.steps() % c.output.checkpoint_every == 0 && !r.at_end())
+        r.write_checkpoint();
       if (!r.options.quiet) r.progress->update(solver.steps(), solver.time());
       if (r.options.handle_signals && interrupt_requested()) {
         r.status = "interrupted";
@@ -576,7 +650,7 @@ int ExplicitRun::finish() {
   j["loop_time_s"] = loop_time;
   j["loop_cpu_time_s"] = loop_cpu_time;
   j["bond_updates_per_second"] =
-      loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
+      loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps() - r.steps_at_start) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
   summary_state(j, s, g, *r.loads, r.max_balance_error);
   if (r.heat) {
@@ -664,6 +738,8 @@ int ExplicitRun::finish() {
 
 
 int run_deck(Config config, const RunOptions& options) {
+  if (options.restart && config.solver.type != SolverType::explicit_dynamic)
+    throw Error(fmt::format("{}: --restart continues explicit runs only (solver.type explicit)", config.deck_file));
   if (config.solver.type == SolverType::heat) return run_heat_deck(std::move(config), options);
   if (config.solver.type != SolverType::explicit_dynamic) return run_implicit_deck(std::move(config), options);
   ExplicitRun run(std::move(config), options);

@@ -22,6 +22,9 @@ struct RunOptions {
   int threads = 0;                        // 0: OpenMP's default
   bool handle_signals = true;             // Ctrl-C ends the run cleanly (off for the Python module)
   double max_memory_gib = 0;              // the memory guard's limit; 0: the machine's memory
+  // A checkpoint (output/checkpoint.hpp) to continue from: explicit runs only; the deck
+  // must build the same particles, bonds and materials.
+  std::optional<std::string> restart;
 };
 
 struct CheckReport {

@@ -8,6 +8,7 @@
 
 #include "horizon/contact/short_range.hpp"
 #include "horizon/core/point4.hpp"
+#include "horizon/core/state_archive.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/family/bonds.hpp"
 #include "horizon/geometry/particles.hpp"
@@ -150,6 +151,12 @@ void commit_history(System& s);
 // C_ij = c_ij / |xi| (before the safety factor), or the model's own when it owns the
 // force pass.
 double stable_time_step(const System& s);
+
+// Checkpoint and restart (output/checkpoint.hpp): everything of the system that a run
+// changes (positions, velocities, forces, bond flags, the shared model arrays, heat,
+// dissipation, every model's own state through Model::checkpoint), after a check that
+// particle, bond and material counts and the models match the deck's.
+void checkpoint_system(System& s, StateArchive& a);
 
 // Estimated memory of the run [bytes]: particles, bonds and model arrays.
 std::size_t memory_estimate(const System& s);

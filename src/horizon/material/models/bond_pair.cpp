@@ -81,6 +81,12 @@ class BondPair final : public Model {
   double stable_time_step(const System& s) const override;
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
+  void checkpoint(StateArchive& a) override {
+    a.io("theta_p", theta_p_);
+    a.io("theta_p_trial", theta_p_trial_);
+    a.io("failed", failed_);
+    a.io("held", held_);
+  }
  private:
   void positions(const System& s);
 
