@@ -1,5 +1,8 @@
 // The `horizon` command line: run, check, export-truss, render, plot, models, --version. It only chains library
 // calls; every stage lives in src/horizon.
+#if defined(HORIZON_MPI)
+#include <mpi.h>
+#endif
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -18,7 +21,8 @@
 #include "horizon/output/resolve_frame.hpp"
 #include "horizon/output/vtu.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+int horizon_main(int argc, char** argv) {
   using namespace horizon;
   CLI::App app{"Horizon: a peridynamics engine"};
   app.set_version_flag("--version", std::string("horizon ") + version_string);
@@ -158,4 +162,17 @@ int main(int argc, char** argv) {
     return 3;
   }
   return 0;
+}
+}  // namespace
+
+// An MPI build (HORIZON_MPI) runs under mpirun, and alone as one rank.
+int main(int argc, char** argv) {
+#if defined(HORIZON_MPI)
+  MPI_Init(&argc, &argv);
+  const int rc = horizon_main(argc, argv);
+  MPI_Finalize();
+  return rc;
+#else
+  return horizon_main(argc, argv);
+#endif
 }

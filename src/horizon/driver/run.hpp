@@ -125,6 +125,13 @@ std::string heat_history_header(const System& s);
 std::string heat_history_row(const System& s);
 nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content);
 
+// Why an explicit deck cannot be split over MPI ranks yet (parallel/decomposition.hpp),
+// or "" when it can.
+std::string distributed_limits(const Config& config, const System& s, const RunOptions& options);
+// CRC-32 of every particle's displacement, velocity and damage, in index order
+// (summary.json state_crc32: equal digests, equal final states, bit for bit).
+uint32_t state_digest(const System& s);
+
 // Shared by the drivers: the output frame of the current state, and the peak resident
 // memory of the process [bytes].
 Frame make_frame(const System& s, double time, int64_t step);

@@ -96,6 +96,8 @@ struct ModelCoefficients {
 // then fill in their models).
 void reset_model_arrays(ModelCoefficients& M, std::size_t n);
 
+struct Decomposition;
+
 struct System {
   int dimension = 3;
   // The displacement components the solvers advance, bit c for component c: the first
@@ -129,7 +131,14 @@ struct System {
   // (temperature-dependent critical stretch), else empty; the general force pass applies it.
   std::vector<double> critical_stretch_factor;
 
-  // Sum of dissipated_at in a fixed order: the same figure on any thread count.
+  // A run split over MPI ranks (parallel/decomposition.hpp), else null and both lists
+  // empty: `owned` are the particles this rank integrates, `active_rows` those whose forces
+  // it computes (the force passes and the contact loop run over them alone).
+  Decomposition* decomposition = nullptr;
+  std::vector<uint32_t> owned, active_rows;
+
+  // Sum of dissipated_at in a fixed order: the same figure on any thread count (over
+  // the owned particles, by parallel/decomposition.hpp GridSum, when decomposed).
   double dissipated() const;
 };
 
