@@ -77,11 +77,15 @@ void allgather_owned(const System& s, const Decomposition& d, int k, Pack pack, 
 void choose_ghosts(System& s, Decomposition& d) {
   const std::size_t n = s.particles.size();
   const auto& B = s.bonds;
-  std::vector<uint8_t> need(n, 0);
-  for (uint32_t i : s.active_rows) {
-    if (!d.owns(i)) need[i] = 1;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) need[B.nbr[k]] = 1;
+  // The bond ghosts never change (bonds only break): found once.
+  if (d.bond_ghosts.size() != n) {
+    d.bond_ghosts.assign(n, 0);
+    for (uint32_t i : s.active_rows) {
+      if (!d.owns(i)) d.bond_ghosts[i] = 1;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) d.bond_ghosts[B.nbr[k]] = 1;
+    }
   }
+  std::vector<uint8_t> need = d.bond_ghosts;
   if (d.contact_reach > 0) {
     // Every particle within reach + skin of an owned one (a hash grid of that cell size).
     const double cell = d.contact_reach + d.skin, cut2 = cell * cell;
@@ -218,6 +222,10 @@ bool any_rank(const Decomposition& d, bool flag) {
 
 void halo_exchange(System& s, Decomposition& d) {
   [[maybe_unused]] auto& u = s.particles.u;
+  if (d.size == 1) {  // one rank: no ghosts, nothing to send or to choose again
+    ++d.stats.steps;
+    return;
+  }
   const double half2 = 0.25 * d.skin * d.skin;
   bool moved = false;
   for (uint32_t i : d.owned) moved = moved || norm2(position(s, i) - d.y_built[i]) > half2;

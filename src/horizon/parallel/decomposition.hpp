@@ -57,6 +57,7 @@ struct Decomposition {
   std::vector<uint32_t> owned;       // this rank's, in index order
   std::vector<uint8_t> is_owned;     // per particle
   std::vector<std::vector<uint32_t>> send, recv;  // per rank: owned particles it needs / ghosts it sends us
+  std::vector<uint8_t> bond_ghosts;  // per particle: a bond neighbour of a computed row (or such a row) not owned
   std::vector<Vec3> y_built;         // positions when the ghosts were chosen (owned entries)
   HaloStats stats;
 
@@ -90,8 +91,8 @@ class GridSum {
  public:
   GridSum(const System& s, int quantities);
   void add(int q, double term) {
-    if (grid_) terms_[q].push_back(term);
-    else plain_[q] += term;
+    if (!grid_) plain_[q] += term;
+    else if (term != 0) terms_[q].push_back(term);  // most terms are 0 (work away from loads)
   }
   void add(int q, const Vec3& v) {
     add(q, v.x);
