@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build demo test test-sanitize fuzz bench clean format
+.PHONY: all deps build demo test test-mpi test-sanitize fuzz bench clean format
 
 all: build
 
@@ -22,6 +22,16 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	$(MAKE) test-mpi
+
+# The MPI build (HORIZON_MPI, Open MPI) in build-mpi: the program alone (the library is
+# compiled again with MPI), then the tests labelled mpi: mpirun --oversubscribe on 1 to 4
+# ranks (docs/design.md, "Running on several ranks").
+MPI_BUILD ?= build-mpi
+test-mpi: deps
+	cmake -S . -B $(MPI_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DHORIZON_MPI=ON -DHORIZON_PYTHON=OFF $(CMAKE_FLAGS)
+	cmake --build $(MPI_BUILD) -j $(JOBS) --target horizon
+	cd $(MPI_BUILD) && ctest -L mpi --output-on-failure
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan, then the tests
 # labelled unit and regression (every unit test, the command-line, output-fault and
@@ -42,4 +52,4 @@ bench: build
 	$(BUILD)/bench/bench_kernels --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz out
+	rm -rf $(BUILD) $(ASAN_BUILD) $(MPI_BUILD) build-fuzz out

@@ -1,5 +1,8 @@
 // The `horizon` command line: run, check, export-truss, render, plot, models, --version. It only chains library
 // calls; every stage lives in src/horizon.
+#if defined(HORIZON_MPI)
+#include <mpi.h>
+#endif
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -18,7 +21,8 @@
 #include "horizon/output/resolve_frame.hpp"
 #include "horizon/output/vtu.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+int horizon_main(int argc, char** argv) {
   using namespace horizon;
   CLI::App app{"Horizon: a peridynamics engine"};
   app.set_version_flag("--version", std::string("horizon ") + version_string);
@@ -36,6 +40,9 @@ int main(int argc, char** argv) {
   run->add_option("--end-time", end_time, "override solver.end_time [s]")->check(CLI::PositiveNumber);
   run->add_option("--threads", run_opts.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("-q,--quiet", run_opts.quiet, "no progress line");
+  std::string restart_path;
+  run->add_option("--restart", restart_path,
+                  "continue from a checkpoint (output.checkpoint) of this deck, in its output directory");
   run->add_option("--max-memory", run_opts.max_memory_gib,
                   "refuse decks estimated to need more than this [GiB] (default: the machine's memory)")
       ->check(CLI::PositiveNumber);
@@ -93,6 +100,7 @@ int main(int argc, char** argv) {
     if (*run) {
       if (!out_dir.empty()) run_opts.output_dir = out_dir;
       if (end_time > 0) run_opts.end_time = end_time;
+      if (!restart_path.empty()) run_opts.restart = restart_path;
       Config config = load_deck(deck_path);
       for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
       return run_deck(std::move(config), run_opts);
@@ -154,4 +162,17 @@ int main(int argc, char** argv) {
     return 3;
   }
   return 0;
+}
+}  // namespace
+
+// An MPI build (HORIZON_MPI) runs under mpirun, and alone as one rank.
+int main(int argc, char** argv) {
+#if defined(HORIZON_MPI)
+  MPI_Init(&argc, &argv);
+  const int rc = horizon_main(argc, argv);
+  MPI_Finalize();
+  return rc;
+#else
+  return horizon_main(argc, argv);
+#endif
 }

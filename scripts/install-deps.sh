@@ -4,13 +4,14 @@
 # libopenblas0-pthread replaces the reference BLAS under CHOLMOD (solver.linear_solver:
 # cholesky): its supernodal factorisation is dense-block work, 4x faster with OpenBLAS.
 # libexodusii-dev: Exodus II mesh input (about 32 MB with netCDF and HDF5).
+# libopenmpi-dev, openmpi-bin: the MPI build (HORIZON_MPI; `make test` builds and tests it).
 # pybind11-dev, python3-dev, python3-numpy, python3-pytest: the Python module and its tests
 # (against /usr/bin/python3); python3-matplotlib: the examples in examples/python.
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libyaml-cpp-dev libeigen3-dev libmuparser-dev
       pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
       libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev nlohmann-json3-dev
-      libsuitesparse-dev libspectra-dev libopenblas0-pthread libexodusii-dev)
+      libsuitesparse-dev libspectra-dev libopenblas0-pthread libexodusii-dev libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -115,8 +115,12 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   if (candidates_ == 0) return;
   const double cut2 = cutoff_ * cutoff_;
   const double factor = config_.stiffness_factor / horizon_;
+  // A decomposed run adds the contact of its active particles alone (solver/system.hpp).
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t count = act ? act->size() : n;
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t a = 0; a < count; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     if (rows_[i].empty()) continue;
     Vec3 fi;
     double wi = 0;

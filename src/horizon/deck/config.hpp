@@ -152,6 +152,7 @@ struct OutputConfig {
   int frames = 10;
   int history_every = 10;
   int progress_every = 0;  // plain progress line every N steps when not a terminal; 0 = auto
+  int64_t checkpoint_every = 0;  // output.checkpoint.every: steps between checkpoints; 0 = none
 };
 
 // The partial-volume rule, readable as a boolean (true: any rule but none) so that

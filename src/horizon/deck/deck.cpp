@@ -381,7 +381,7 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
 void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   const auto item = m.find("output");
   if (!item) return;
-  MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every", "damage_measure"});
+  MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every", "damage_measure", "checkpoint"});
   if (auto d = o.find("damage_measure")) {
     config.output.damage_measure =
         read_enum<DamageMeasure>(ctx, *d, {{"weighted", DamageMeasure::weighted}, {"volume", DamageMeasure::volume}});
@@ -398,6 +398,12 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   if (auto f = o.find("frames")) config.output.frames = at_least(*f, 1);
   if (auto h = o.find("history_every")) config.output.history_every = at_least(*h, 1);
   if (auto p = o.find("progress_every")) config.output.progress_every = at_least(*p, 0);
+  if (auto c = o.find("checkpoint")) {
+    if (config.solver.type != SolverType::explicit_dynamic)
+      ctx.fail(*c->key_mark, c->path + ": checkpoints are written by explicit runs only (solver.type explicit)");
+    MapReader cp(ctx, *c, {"every"});
+    config.output.checkpoint_every = at_least(cp.get("every", "the steps between checkpoints"), 1);
+  }
 }
 
 // The thermal section and the materials' thermal maps go together; the heat time step

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 #include <sys/resource.h>
+#include <zlib.h>
 
 #include <chrono>
 #include <cmath>
@@ -20,7 +21,10 @@
 #include "horizon/damage/crack_metrics.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/output/atomic_file.hpp"
+#include "horizon/output/checkpoint.hpp"
 #include "horizon/output/pvd.hpp"
+#include "horizon/parallel/decomposition.hpp"
+#include "horizon/solver/forces.hpp"
 #include "horizon/output/vtu.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/thermal/heat.hpp"
@@ -286,6 +290,30 @@ nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
 
 }  // namespace
 
+std::string distributed_limits(const Config& c, const System& s, const RunOptions& o) {
+  if (!s.models.all_unified() || s.models.owner())
+    return "only the unified models (pmb, lps) are split over ranks; other models need their own halo";
+  if (s.heat.active() || !s.thermal_strain.empty() || !s.critical_stretch_factor.empty())
+    return "heat conduction and thermal strain are not split over ranks";
+  if (c.solver.adaptive_time_step) return "the adaptive time step is not split over ranks";
+  if (c.solver.damping > 0) return "damping is not split over ranks";
+  if (world_size() > 1 && (c.output.checkpoint_every > 0 || o.restart))
+    return "checkpoint and restart run on one rank only";
+  return "";
+}
+
+uint32_t state_digest(const System& s) {
+  const auto& P = s.particles;
+  uLong crc = crc32(0L, Z_NULL, 0);
+  auto add = [&](const void* p, std::size_t bytes) {
+    crc = crc32(crc, static_cast<const Bytef*>(p), static_cast<uInt>(bytes));
+  };
+  add(P.u.data(), P.u.size() * sizeof(Vec3));
+  add(P.v.data(), P.v.size() * sizeof(Vec3));
+  add(P.damage.data(), P.damage.size() * sizeof(double));
+  return static_cast<uint32_t>(crc);
+}
+
 // The explicit run as an object: the constructor sets up the system, the solver and the
 // output and writes the first frame; advance() takes steps; finish() writes history.csv
 // and summary.json. run_deck is constructor, advance to the end, finish.
@@ -331,6 +359,15 @@ struct ExplicitRun::State {
   // is the first to see it, as the mean of its work at the force states before and after.
   std::vector<double> strain_change;
   double pending_work = 0;
+  // A run split over MPI ranks (parallel/decomposition.hpp); null in serial runs. Rank 0
+  // (lead) writes history.csv, summary.json, frames.pvd and the .pvtu of each frame; each
+  // rank writes its own piece of every frame.
+  std::unique_ptr<Decomposition> dd;
+  bool lead = true;
+  // Every particle's state on this rank, before anything reads the whole body.
+  void sync() {
+    if (dd) gather_state(s, *dd);
+  }
 
   void advance_heat() {
     if (!heat) return;
@@ -361,15 +398,92 @@ struct ExplicitRun::State {
     history << "\n";
   }
   void write_frame() {
-    const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
+    const std::string base = fmt::format("frame_{:05d}", frame_count++);
     if (s.heat.active()) update_heat_flux(s);
-    write_vtu((dir / name).string(), make_frame(s, solver->time(), solver->steps()));
+    const Frame f = make_frame(s, solver->time(), solver->steps());
+    if (!dd) {
+      const std::string name = "frames/" + base + ".vtu";
+      write_vtu((dir / name).string(), f);
+      pvd->add(solver->time(), name);
+      pvd->write();
+      return;
+    }
+    // One piece per rank, its own particles; the index once all pieces are complete.
+    write_vtu((dir / "frames" / fmt::format("{}_p{}.vtu", base, dd->rank)).string(), frame_subset(f, dd->owned));
+    any_rank(*dd, false);  // a barrier
+    if (!lead) return;
+    std::vector<std::string> pieces;
+    for (int r = 0; r < dd->size; ++r) pieces.push_back(fmt::format("{}_p{}.vtu", base, r));
+    const std::string name = "frames/" + base + ".pvtu";
+    write_pvtu((dir / name).string(), f, pieces);
     pvd->add(solver->time(), name);
     pvd->write();
   }
   bool at_end() const {
     return adaptive ? solver->time() >= end_time * (1 - 1e-12) : solver->steps() >= total;
   }
+
+  // Checkpoint and restart (output/checkpoint.hpp): the run's whole state, the solver's,
+  // the system's and the loads', and the output bookkeeping (history rows so far, frames
+  // and the PVD index), so that a restart continues history.csv and frames.pvd without
+  // a lost or repeated row or frame.
+  void checkpoint(StateArchive& a) {
+    a.check("run", std::string("explicit"), "a run of kind");
+    solver->checkpoint(a);
+    checkpoint_system(s, a);
+    loads->checkpoint(a);
+    std::string rows = history.str();
+    a.io("history", rows);
+    a.io("max_balance_error", max_balance_error);
+    a.io("frame_count", frame_count);
+    a.io("next_frame", next_frame);
+    a.io("total", total);
+    a.io("dt_nominal", dt_nominal);
+    a.io("dt_min", dt_min);
+    a.io("dt_max", dt_max);
+    std::vector<double> times, crack_rows;
+    std::string files;
+    for (const auto& [t, f] : pvd->entries()) times.push_back(t), files += f + "\n";
+    for (const auto& [t, l] : crack->history) crack_rows.push_back(t), crack_rows.push_back(l);
+    a.io("pvd_times", times);
+    a.io("pvd_files", files);
+    a.io("crack_history", crack_rows);
+    a.io("heat_initial", heat_initial);
+    a.io("heat_strain_change", strain_change);
+    a.io("heat_pending_work", pending_work);
+    if (!a.loading()) return;
+    history = std::ostringstream();
+    history << rows;
+    std::vector<std::pair<double, std::string>> entries;
+    std::size_t at = 0;
+    for (double t : times) {
+      const std::size_t end = files.find('\n', at);
+      if (end == std::string::npos) throw Error("checkpoint: the frame index is shorter than its list of times");
+      entries.emplace_back(t, files.substr(at, end - at));
+      at = end + 1;
+    }
+    pvd->set_entries(std::move(entries));
+    crack->history.clear();
+    for (std::size_t k = 0; k + 1 < crack_rows.size(); k += 2) crack->history.emplace_back(crack_rows[k], crack_rows[k + 1]);
+  }
+  std::string checkpoint_path() const { return (dir / "checkpoint.hzc").string(); }
+  void write_checkpoint() {
+    if (!lead) return;
+    CheckpointWriter w;
+    checkpoint(w);
+    w.write(checkpoint_path());
+  }
+  void read_checkpoint(const std::string& path) {
+    try {
+      CheckpointReader in(path);
+      checkpoint(in);
+      in.finish();
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: --restart: {}", config.deck_file, e.what()));
+    }
+    steps_at_start = solver->steps();
+  }
+  int64_t steps_at_start = 0;  // a restart's first step - 1
 };
 
 ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::make_unique<State>()) {
@@ -379,6 +493,8 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   Config& c = r.config;
   if (c.solver.type != SolverType::explicit_dynamic)
     throw Error("a step-by-step run needs solver.type explicit; static and implicit_dynamic decks run to the end");
+  r.lead = world_rank() == 0;
+  if (!r.lead) r.options.quiet = true;
   apply_run_options(c, options);
   if (options.threads > 0) omp_set_num_threads(options.threads);
   r.wall_start = std::chrono::steady_clock::now();
@@ -395,6 +511,19 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();
+  if (mpi_built()) {
+    // An MPI build decomposes every run it can, on one rank too, so that one rank and
+    // many give the same bits (parallel/decomposition.hpp); a deck it cannot split runs
+    // serially on one rank and is refused on more.
+    const std::string why = distributed_limits(c, r.s, options);
+    if (why.empty()) {
+      r.dd = std::make_unique<Decomposition>();
+      decompose(r.s, *r.dd, c.spacing);
+    } else if (world_size() > 1) {
+      throw Error(fmt::format("{}: this deck cannot run on {} MPI ranks yet: {}; run it on one rank",
+                              c.deck_file, world_size(), why));
+    }
+  }
   if (r.s.heat.active()) {
     r.heat = std::make_unique<HeatSolver>(r.s, c.thermal.integration);
     r.heat_stable = heat_stable_step(r.s);
@@ -427,12 +556,25 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   r.dt_nominal = r.dt_min = r.dt_max = r.check.dt;
   r.history_every = std::max(1, c.output.history_every);
   r.frames = std::max(1, c.output.frames);
-  r.record_history();
-  r.write_frame();
-  r.crack->record(r.s, 0);
+  if (options.restart) {
+    // The state of the checkpoint replaces the initial one; the index lists the frames
+    // written before it (later ones, from an interrupted run, are written again).
+    r.read_checkpoint(*options.restart);
+    r.pvd->write();
+    if (!options.quiet)
+      fmt::print(stderr, "restart         from {} at step {}, t = {:.4e} s\n", *options.restart, r.solver->steps(),
+                 r.solver->time());
+  } else {
+    r.record_history();
+    r.write_frame();
+    r.crack->record(r.s, 0);
+  }
 
   if (options.handle_signals) install_interrupt_handler();
   r.progress = std::make_unique<Progress>(r.total, static_cast<double>(r.s.bonds.size()), c.output.progress_every);
+  if (!r.options.quiet && r.dd && r.dd->size > 1)
+    fmt::print(stderr, "ranks           {} (recursive coordinate bisection; {} particles on rank 0)\n", r.dd->size,
+               r.dd->owned.size());
   r.cpu_start = cpu_seconds();
   r.stopped = r.at_end();
 }
@@ -464,6 +606,7 @@ int64_t ExplicitRun::advance(int64_t n) {
       solver.step(history_due || frame_due);
       r.advance_heat();
       ++taken;
+      if (history_due || frame_due) r.sync();
       if (history_due) {
         r.record_history();
         r.crack->record(r.s, solver.time());
@@ -472,8 +615,11 @@ int64_t ExplicitRun::advance(int64_t n) {
         r.write_frame();
         ++r.next_frame;
       }
+      if (c.output.checkpoint_every > 0 && solver.steps() % c.output.checkpoint_every == 0 && !r.at_end())
+        r.write_checkpoint();
       if (!r.options.quiet) r.progress->update(solver.steps(), solver.time());
-      if (r.options.handle_signals && interrupt_requested()) {
+      const bool interrupted = r.options.handle_signals && interrupt_requested();
+      if (r.dd ? any_rank(*r.dd, interrupted) : interrupted) {
         r.status = "interrupted";
         r.exit_code = interrupt_exit_code();
         r.message = fmt::format("{} at step {}, t = {:.4e} s; a final frame was written", interrupt_name(),
@@ -542,6 +688,7 @@ int ExplicitRun::finish() {
   const std::string& message = r.message;
   auto& crack = *r.crack;
   if (!options.quiet) r.progress->finish();
+  r.sync();
   if ((r.exit_code != 0 && r.exit_code != 5) || status == "stopped") {
     // The last good state (restored by the solver on a non-finite step) as the final frame.
     solver.update_kinetic();
@@ -556,6 +703,7 @@ int ExplicitRun::finish() {
   // After an output error, history and summary are tried once (they are small) and their
   // failure only reported.
   auto write_result = [&](const std::string& name, const std::string& text) {
+    if (!r.lead) return;
     write_result_file((dir / name).string(), text, r.exit_code == 5);
   };
   write_result("history.csv", r.history.str());
@@ -567,11 +715,27 @@ int ExplicitRun::finish() {
   if (r.adaptive) j["time_step_range"] = {r.dt_min, r.dt_max};
   j["time"] = solver.time();
   j["threads"] = omp_get_max_threads();
+  j["ranks"] = r.dd ? r.dd->size : 1;
+  j["state_crc32"] = state_digest(s);
+  if (r.dd) {
+    // Halo traffic per rank and step (docs/benchmarks.md), from every rank.
+    const std::vector<HaloStats> hs = gather_halo_stats(*r.dd);
+    nlohmann::ordered_json h = nlohmann::ordered_json::array();
+    for (std::size_t k = 0; k < hs.size(); ++k) {
+      const double steps = static_cast<double>(std::max<uint64_t>(1, hs[k].steps));
+      h.push_back({{"rank", k},
+                   {"particles", std::count(r.dd->owner.begin(), r.dd->owner.end(), static_cast<int32_t>(k))},
+                   {"messages_per_step", static_cast<double>(hs[k].messages) / steps},
+                   {"bytes_per_step", static_cast<double>(hs[k].bytes) / steps},
+                   {"ghost_rebuilds", hs[k].rebuilds}});
+    }
+    j["halo"] = h;
+  }
   j["wall_time_s"] = wall;
   j["loop_time_s"] = loop_time;
   j["loop_cpu_time_s"] = loop_cpu_time;
   j["bond_updates_per_second"] =
-      loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps()) / loop_time : 0.0;
+      loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps() - r.steps_at_start) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
   summary_state(j, s, g, *r.loads, r.max_balance_error);
   if (r.heat) {
@@ -647,18 +811,20 @@ int ExplicitRun::finish() {
   write_result("summary.json", j.dump(2) + "\n");
   r.summary = j;
 
-  if (!energy_warning.empty()) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
+  if (!energy_warning.empty() && r.lead) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
   if (!options.quiet) {
     fmt::print(stderr, "{} in {} ({} steps, {:.3g} bond updates/s); output in {}\n", status, format_duration(wall),
                solver.steps(), j["bond_updates_per_second"].get<double>(), dir.string());
   }
   // A run stopped by its caller says so in summary.json; quiet runs leave stderr alone.
-  if (!message.empty() && !(options.quiet && status == "stopped")) fmt::print(stderr, "horizon: {}\n", message);
+  if (!message.empty() && r.lead && !(options.quiet && status == "stopped")) fmt::print(stderr, "horizon: {}\n", message);
   return r.exit_code;
 }
 
 
 int run_deck(Config config, const RunOptions& options) {
+  if (options.restart && config.solver.type != SolverType::explicit_dynamic)
+    throw Error(fmt::format("{}: --restart continues explicit runs only (solver.type explicit)", config.deck_file));
   if (config.solver.type == SolverType::heat) return run_heat_deck(std::move(config), options);
   if (config.solver.type != SolverType::explicit_dynamic) return run_implicit_deck(std::move(config), options);
   ExplicitRun run(std::move(config), options);

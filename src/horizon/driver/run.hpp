@@ -22,6 +22,9 @@ struct RunOptions {
   int threads = 0;                        // 0: OpenMP's default
   bool handle_signals = true;             // Ctrl-C ends the run cleanly (off for the Python module)
   double max_memory_gib = 0;              // the memory guard's limit; 0: the machine's memory
+  // A checkpoint (output/checkpoint.hpp) to continue from: explicit runs only; the deck
+  // must build the same particles, bonds and materials.
+  std::optional<std::string> restart;
 };
 
 struct CheckReport {
@@ -121,6 +124,13 @@ int run_heat_deck(Config config, const RunOptions& options);
 std::string heat_history_header(const System& s);
 std::string heat_history_row(const System& s);
 nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content);
+
+// Why an explicit deck cannot be split over MPI ranks yet (parallel/decomposition.hpp),
+// or "" when it can.
+std::string distributed_limits(const Config& config, const System& s, const RunOptions& options);
+// CRC-32 of every particle's displacement, velocity and damage, in index order
+// (summary.json state_crc32: equal digests, equal final states, bit for bit).
+uint32_t state_digest(const System& s);
 
 // Shared by the drivers: the output frame of the current state, and the peak resident
 // memory of the process [bytes].

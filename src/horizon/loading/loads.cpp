@@ -1,5 +1,7 @@
 #include "horizon/loading/loads.hpp"
 
+#include "horizon/parallel/decomposition.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -249,19 +251,22 @@ void Loads::apply_forces(System& s, double t) const {
 double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, const std::vector<Vec3>* v_before,
                                double dt) {
   auto& P = s.particles;
-  double work = 0;
-  for (auto& L : loads_) {
-    L.reaction = Vec3{};
-    if (L.indenter) {
-      L.reaction = L.applied;
-      continue;
-    }
+  // Quantity 0: the work; 1 + 3l: the reaction of load l. In a decomposed run each rank
+  // adds its own particles and GridSum makes the totals independent of the split.
+  const Decomposition* dd = s.decomposition;
+  GridSum sums(s, 1 + 3 * static_cast<int>(loads_.size()));
+  for (std::size_t l = 0; l < loads_.size(); ++l) {
+    auto& L = loads_[l];
+    const int q = 1 + 3 * static_cast<int>(l);
+    if (L.indenter) continue;
     if (!is_constraint(L.kind)) {
-      for (uint32_t i : L.particles) L.reaction += P.b[i] * P.volume[i];
+      for (uint32_t i : L.particles)
+        if (!dd || dd->owns(i)) sums.add(q, P.b[i] * P.volume[i]);
       continue;
     }
     for (std::size_t n = 0; n < L.particles.size(); ++n) {
       const uint32_t i = L.particles[n];
+      if (dd && !dd->owns(i)) continue;
       // The constraint supplies what the prescribed motion needs beyond the internal
       // force: rho V a - (f + b) V; for slow loading that is -(f + b) V. The static part
       // does work by the trapezoidal rule; the inertial part does exactly the change of
@@ -270,7 +275,7 @@ double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, con
       for (int c = 0; c < 3; ++c)
         if (!L.value[c]) r[c] = 0;
       const Vec3 du = P.u[i] - u_before[i];
-      work += 0.5 * dot(L.reaction_old[n] + r, du);
+      sums.add(0, 0.5 * dot(L.reaction_old[n] + r, du));
       L.reaction_old[n] = r;
       if (v_before && dt > 0) {
         const double mass = P.density[i] * P.volume[i];
@@ -278,13 +283,18 @@ double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, con
         for (int c = 0; c < 3; ++c)
           if (L.value[c]) {
             r[c] += mass * (P.v[i][c] - v0[c]) / dt;
-            work += 0.5 * mass * (P.v[i][c] * P.v[i][c] - v0[c] * v0[c]);
+            sums.add(0, 0.5 * mass * (P.v[i][c] * P.v[i][c] - v0[c] * v0[c]));
           }
       }
-      L.reaction += r;
+      sums.add(q, r);
     }
   }
-  return work;
+  const std::vector<double> t = sums.totals();
+  for (std::size_t l = 0; l < loads_.size(); ++l) {
+    const std::size_t q = 1 + 3 * l;
+    loads_[l].reaction = loads_[l].indenter ? loads_[l].applied : Vec3{t[q], t[q + 1], t[q + 2]};
+  }
+  return t[0];
 }
 
 }  // namespace horizon

@@ -44,6 +44,19 @@ class Loads {
   double update_reactions(System& s, const std::vector<Vec3>& u_before, const std::vector<Vec3>* v_before = nullptr,
                           double dt = 0);
 
+  // Checkpoint and restart: each load's reactions and applied force (the rest comes from
+  // the deck).
+  void checkpoint(StateArchive& a) {
+    a.check("loads", loads_.size(), "loads");
+    for (auto& L : loads_) {
+      a.push(L.name);
+      a.io("reaction_old", L.reaction_old);
+      a.io("reaction", L.reaction);
+      a.io("applied", L.applied);
+      a.pop();
+    }
+  }
+
   std::vector<AppliedLoad>& loads() { return loads_; }
   const std::vector<AppliedLoad>& loads() const { return loads_; }
   bool is_constrained(std::size_t i, int component) const;

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "horizon/core/point4.hpp"
+#include "horizon/core/state_archive.hpp"
 #include "horizon/core/vec3.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/material/constants.hpp"
@@ -185,6 +186,13 @@ class Model {
     (void)system;
     return 0;
   }
+
+  // Checkpoint and restart (output/checkpoint.hpp): the model lists, with a.io(name, x),
+  // every array and number of its state that a run changes (committed and trial history,
+  // its ledger, caches whose content decides later results), in a fixed order; the same
+  // call saves and loads. Constants that setup computes from the deck are left out: a
+  // restart builds them again. A model without such state keeps the default.
+  virtual void checkpoint(StateArchive& a) { (void)a; }
 
   // Output fields (names stable: users post-process them).
   virtual void fields(const System& system, std::vector<ModelField>& out) const { (void)system, (void)out; }

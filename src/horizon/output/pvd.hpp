@@ -19,6 +19,9 @@ class PvdIndex {
   // Writes the index atomically: readers see the previous version or this one.
   void write() const;
 
+  // Replaces the entries (a restart continues the index of its checkpoint).
+  void set_entries(std::vector<std::pair<double, std::string>> entries) { entries_ = std::move(entries); }
+
   const std::string& path() const { return path_; }
   const std::vector<std::pair<double, std::string>>& entries() const { return entries_; }
 

@@ -284,4 +284,37 @@ void write_vtu(const std::string& path, const Frame& frame) {
 
 Frame read_vtu(const std::string& path) { return VtuReader(path).read(); }
 
+Frame frame_subset(const Frame& frame, const std::vector<uint32_t>& which) {
+  Frame f;
+  f.time = frame.time;
+  f.step = frame.step;
+  f.dimension = frame.dimension;
+  f.points.reserve(which.size());
+  for (uint32_t i : which) f.points.push_back(frame.points[i]);
+  for (const auto& ff : frame.fields) {
+    FrameField g{ff.name, ff.components, {}};
+    const auto c = static_cast<std::size_t>(ff.components);
+    g.data.reserve(which.size() * c);
+    for (uint32_t i : which)
+      for (std::size_t k = 0; k < c; ++k) g.data.push_back(ff.data[i * c + k]);
+    f.fields.push_back(std::move(g));
+  }
+  return f;
+}
+
+void write_pvtu(const std::string& path, const Frame& like, const std::vector<std::string>& pieces) {
+  std::string x =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      "  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n";
+  for (const auto& ff : like.fields)
+    x += fmt::format("      <PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n",
+                     xml_escape(ff.name), ff.components);
+  x += "    </PPointData>\n    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
+       "    </PPoints>\n";
+  for (const auto& p : pieces) x += fmt::format("    <Piece Source=\"{}\"/>\n", xml_escape(p));
+  x += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  write_file_atomic(path, x);
+}
+
 }  // namespace horizon

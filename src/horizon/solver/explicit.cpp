@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/thermal/heat.hpp"
 
@@ -30,6 +31,11 @@ NonFiniteState::NonFiniteState(std::size_t i, const Vec3& position, int64_t step
 
 double kinetic_energy(const System& s) {
   const auto& P = s.particles;
+  if (s.decomposition) {
+    GridSum g(s, 1);
+    for (uint32_t i : s.owned) g.add(0, 0.5 * P.density[i] * P.volume[i] * norm2(P.v[i]));
+    return g.totals()[0];
+  }
   double sum = 0;
   for (std::size_t i = 0; i < P.size(); ++i) sum += 0.5 * P.density[i] * P.volume[i] * norm2(P.v[i]);
   return sum;
@@ -60,7 +66,9 @@ void ExplicitSolver::initialize() {
 
 void ExplicitSolver::step(bool energy) {
   auto& P = s_.particles;
-  const std::size_t n = P.size();
+  // A decomposed run integrates its own particles alone (solver/system.hpp).
+  const std::vector<uint32_t>* own = s_.owned.empty() ? nullptr : &s_.owned;
+  const std::size_t n = own ? own->size() : P.size();
   const double dt = dt_, half = 0.5 * dt;
   u_before_ = P.u;
   v_before_ = P.v;
@@ -68,13 +76,17 @@ void ExplicitSolver::step(bool energy) {
 
   // Half kick and drift. a(n) = (f + b)/rho - gamma v.
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = own ? (*own)[k] : k;
     const Vec3 a = (P.f[i] + P.b[i]) / P.density[i] - P.v[i] * damping_;
     P.v[i] += a * half;
   }
   loads_.prescribe_velocity(s_, time_ + half);
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) P.u[i] += P.v[i] * dt;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = own ? (*own)[k] : k;
+    P.u[i] += P.v[i] * dt;
+  }
 
   time_ += dt;
   ++steps_;
@@ -82,6 +94,7 @@ void ExplicitSolver::step(bool energy) {
   loads_.apply_forces(s_, time_);
   s_.time = time_;
   s_.dt = dt;
+  if (s_.decomposition) halo_exchange(s_, *s_.decomposition);  // the ghosts' displacements
   compute_forces(s_, energy);
   commit_history_with_heat(s_);  // history models (plasticity, viscosity) accept this step
 
@@ -90,7 +103,8 @@ void ExplicitSolver::step(bool energy) {
   double damped = 0;
   bool finite = true;
 #pragma omp parallel for schedule(static) reduction(&& : finite) reduction(+ : damped)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = own ? (*own)[k] : k;
     const Vec3 vh = P.v[i];
     const Vec3 v = (vh + (P.f[i] + P.b[i]) * (half / P.density[i])) * damp;
     if (damping_ > 0)
@@ -99,10 +113,12 @@ void ExplicitSolver::step(bool energy) {
     P.v[i] = v;
     finite = finite && std::isfinite(v.x + v.y + v.z + P.u[i].x + P.u[i].y + P.u[i].z);
   }
+  if (s_.decomposition) finite = !any_rank(*s_.decomposition, !finite);
   if (!finite) {
     std::size_t bad = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (!std::isfinite(P.v[i].x + P.v[i].y + P.v[i].z + P.u[i].x + P.u[i].y + P.u[i].z)) {
+    for (std::size_t i = 0; i < P.size(); ++i)
+      if ((s_.owned.empty() || s_.decomposition->owns(i)) &&
+          !std::isfinite(P.v[i].x + P.v[i].y + P.v[i].z + P.u[i].x + P.u[i].y + P.u[i].z)) {
         bad = i;
         break;
       }
@@ -117,10 +133,12 @@ void ExplicitSolver::step(bool energy) {
   // Work of the applied force densities (trapezoidal in b) and of the constraints.
   double work = loads_.update_reactions(s_, u_before_, &v_before_, dt);
   if (has_forces_) {
-    double w = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      w += 0.5 * P.volume[i] * dot(P.b[i] + b_before_[i], P.u[i] - u_before_[i]);
-    work += w;
+    GridSum w(s_, 1);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = own ? (*own)[k] : k;
+      w.add(0, 0.5 * P.volume[i] * dot(P.b[i] + b_before_[i], P.u[i] - u_before_[i]));
+    }
+    work += w.totals()[0];
   }
   ledger_.external_work += work;
   ledger_.damped += damped;

@@ -51,6 +51,13 @@ class ExplicitSolver {
   void set_dt(double dt) { dt_ = dt; }
   const Ledger& ledger() const { return ledger_; }
   Ledger& ledger() { return ledger_; }
+  // Checkpoint and restart: time, step count, step and ledger.
+  void checkpoint(StateArchive& a) {
+    a.io("solver_time", time_);
+    a.io("solver_steps", steps_);
+    a.io("solver_dt", dt_);
+    a.io("ledger", ledger_);
+  }
   // Brings the kinetic energy up to date (strain energy is updated by step(true)).
   void update_kinetic();
 

@@ -1,5 +1,7 @@
 #include "horizon/solver/forces.hpp"
 
+#include "horizon/parallel/decomposition.hpp"
+
 #include "horizon/solver/forces_general.hpp"
 
 #include <algorithm>
@@ -812,7 +814,9 @@ uint64_t bond_based_pass(System& s) {
   auto& P = s.particles;
   auto& M = s.model;
   const Ctx c = context(s);
-  const std::size_t n = P.size();
+  // A decomposed run computes the rows of its active particles alone (solver/system.hpp).
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t n = act ? act->size() : P.size();
   const uint64_t total = s.bonds.size();
   RowOut (*row)(const Ctx&, std::size_t, uint64_t) = pair_row_scalar<kEnergy, kAfter>;
 #if defined(HORIZON_AVX2_KERNELS)
@@ -821,7 +825,8 @@ uint64_t bond_based_pass(System& s) {
 #endif
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     const RowOut o = row(c, i, total);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
@@ -839,7 +844,9 @@ uint64_t break_and_dilate(System& s) {
   auto& M = s.model;
   if (M.deformed_length.size() != s.bonds.size()) M.deformed_length.assign(s.bonds.size(), 1.0);
   const Ctx c = context(s);
-  const std::size_t n = P.size();
+  // A decomposed run computes the rows of its active particles alone (solver/system.hpp).
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t n = act ? act->size() : P.size();
   const uint64_t total = s.bonds.size();
   RowOut (*row)(const Ctx&, std::size_t, double, uint64_t) = dilate_row_scalar<kAfter>;
 #if defined(HORIZON_AVX2_KERNELS)
@@ -848,7 +855,8 @@ uint64_t break_and_dilate(System& s) {
 #endif
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     const RowOut o = row(c, i, M.P[i], total);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
@@ -867,7 +875,9 @@ template <bool kEnergy>
 void internal_force(System& s) {
   auto& P = s.particles;
   const Ctx c = context(s);
-  const std::size_t n = P.size();
+  // A decomposed run computes the rows of its active particles alone (solver/system.hpp).
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t n = act ? act->size() : P.size();
   const uint64_t total = s.bonds.size();
   RowOut (*row)(const Ctx&, std::size_t, uint64_t) = force_row_scalar<kEnergy>;
 #if defined(HORIZON_AVX2_KERNELS)
@@ -875,7 +885,8 @@ void internal_force(System& s) {
   if (use_avx512()) row = force_row_avx512<kEnergy>;
 #endif
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     const RowOut o = row(c, i, total);
     P.f[i] = {o.fx, o.fy, o.fz};
     if constexpr (kEnergy) P.energy[i] = o.energy;
@@ -1004,6 +1015,11 @@ ForceStats compute_forces(System& s, bool energy) {
 }
 
 double strain_energy(const System& s) {
+  if (s.decomposition) {
+    GridSum g(s, 1);
+    for (uint32_t i : s.owned) g.add(0, s.particles.energy[i] * s.particles.volume[i]);
+    return g.totals()[0];
+  }
   double sum = 0;
   for (std::size_t i = 0; i < s.particles.size(); ++i) sum += s.particles.energy[i] * s.particles.volume[i];
   return sum;

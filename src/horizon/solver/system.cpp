@@ -1,5 +1,7 @@
 #include "horizon/solver/system.hpp"
 
+#include "horizon/parallel/decomposition.hpp"
+
 #include <fmt/format.h>
 
 #include "horizon/thermal/heat.hpp"
@@ -220,6 +222,11 @@ void commit_history(System& s) {
 }
 
 double System::dissipated() const {
+  if (decomposition) {
+    GridSum g(*this, 1);
+    for (uint32_t i : owned) g.add(0, dissipated_at[i]);
+    return g.totals()[0];
+  }
   double sum = 0;
   for (double d : dissipated_at) sum += d;
   return sum;

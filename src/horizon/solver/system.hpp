@@ -8,6 +8,7 @@
 
 #include "horizon/contact/short_range.hpp"
 #include "horizon/core/point4.hpp"
+#include "horizon/core/state_archive.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/family/bonds.hpp"
 #include "horizon/geometry/particles.hpp"
@@ -95,6 +96,8 @@ struct ModelCoefficients {
 // then fill in their models).
 void reset_model_arrays(ModelCoefficients& M, std::size_t n);
 
+struct Decomposition;
+
 struct System {
   int dimension = 3;
   // The displacement components the solvers advance, bit c for component c: the first
@@ -128,7 +131,14 @@ struct System {
   // (temperature-dependent critical stretch), else empty; the general force pass applies it.
   std::vector<double> critical_stretch_factor;
 
-  // Sum of dissipated_at in a fixed order: the same figure on any thread count.
+  // A run split over MPI ranks (parallel/decomposition.hpp), else null and both lists
+  // empty: `owned` are the particles this rank integrates, `active_rows` those whose forces
+  // it computes (the force passes and the contact loop run over them alone).
+  Decomposition* decomposition = nullptr;
+  std::vector<uint32_t> owned, active_rows;
+
+  // Sum of dissipated_at in a fixed order: the same figure on any thread count (over
+  // the owned particles, by parallel/decomposition.hpp GridSum, when decomposed).
   double dissipated() const;
 };
 
@@ -150,6 +160,12 @@ void commit_history(System& s);
 // C_ij = c_ij / |xi| (before the safety factor), or the model's own when it owns the
 // force pass.
 double stable_time_step(const System& s);
+
+// Checkpoint and restart (output/checkpoint.hpp): everything of the system that a run
+// changes (positions, velocities, forces, bond flags, the shared model arrays, heat,
+// dissipation, every model's own state through Model::checkpoint), after a check that
+// particle, bond and material counts and the models match the deck's.
+void checkpoint_system(System& s, StateArchive& a);
 
 // Estimated memory of the run [bytes]: particles, bonds and model arrays.
 std::size_t memory_estimate(const System& s);

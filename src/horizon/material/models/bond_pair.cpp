@@ -85,6 +85,12 @@ class BondPair final : public Model {
   bool stiffness(const System& s, StiffnessSink& out) const override;
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
+  void checkpoint(StateArchive& a) override {
+    a.io("theta_p", theta_p_);
+    a.io("theta_p_trial", theta_p_trial_);
+    a.io("failed", failed_);
+    a.io("held", held_);
+  }
  private:
   void positions(const System& s);
   std::vector<Vec3> current_positions(const System& s) const;

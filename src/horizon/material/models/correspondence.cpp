@@ -10,6 +10,10 @@
 
 namespace horizon {
 
+// A History is numbers and a fixed-size Eigen matrix: it checkpoints as its bytes.
+template <>
+struct plain_data<correspondence::History> : std::true_type {};
+
 namespace {
 
 using correspondence::History;
@@ -64,6 +68,13 @@ class Correspondence final : public Model {
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
+  void checkpoint(StateArchive& a) override {
+    a.io("committed", committed_);
+    a.io("trial", trial_);
+    a.io("work", work_);
+    a.io("von_mises", von_mises_);
+    a.io("singular", singular_);
+  }
  private:
   LawSettings law_;
   double G_ = 0;          // stabilisation modulus G_s c / delta [N/m^7]

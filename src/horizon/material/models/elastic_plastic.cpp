@@ -47,6 +47,13 @@ class ElasticPlastic final : public Model {
     out.push_back({"plastic_strain", eps_p_});
   }
 
+  void checkpoint(StateArchive& a) override {
+    a.io("eps_p", eps_p_);
+    a.io("eps_p_trial", eps_p_trial_);
+    a.io("ep", ep_);
+    a.io("ep_trial", ep_trial_);
+    ledger_.checkpoint(a);
+  }
  private:
   void size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();

@@ -9,6 +9,10 @@
 
 namespace horizon {
 
+// A StrainLawState is numbers and a fixed-size Eigen matrix: it checkpoints as its bytes.
+template <>
+struct plain_data<classical::StrainLawState> : std::true_type {};
+
 namespace {
 
 using classical::StrainLaw;
@@ -77,6 +81,18 @@ class ExtendedCorrespondence final : public Model {
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
+  // The moment maps are a cache of the acting sets: after a restart they are built again
+  // (acting_ = not built), from the same bonds, so they come out the same.
+  void checkpoint(StateArchive& a) override {
+    a.io("committed", committed_);
+    a.io("trial", trial_);
+    a.io("work", work_);
+    a.io("energy", energy_);
+    a.io("von_mises", von_mises_);
+    a.io("inactive", inactive_);
+    a.io("map_ok", map_ok_);
+    if (a.loading()) acting_.assign(acting_.size(), UINT32_MAX);
+  }
  private:
   // Elastic energy released by a particle that fails in this step [J/m^3].
   double released(std::size_t l) const {

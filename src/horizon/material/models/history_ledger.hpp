@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/core/state_archive.hpp"
 #include "horizon/family/bonds.hpp"
 
 namespace horizon {
@@ -70,6 +71,16 @@ struct HistoryLedger {
   std::vector<BondLedger> bond, bond_trial;
   std::vector<PendingBooking> pending;  // bonds broken since the commit
   std::vector<double> stored, stored_trial, loss_trial;
+
+  // Checkpoint and restart (core/state_archive.hpp).
+  void checkpoint(StateArchive& a) {
+    a.io("ledger_bond", bond);
+    a.io("ledger_bond_trial", bond_trial);
+    a.io("ledger_pending", pending);
+    a.io("ledger_stored", stored);
+    a.io("ledger_stored_trial", stored_trial);
+    a.io("ledger_loss_trial", loss_trial);
+  }
 
   void size_particles(std::size_t n) {
     stored.assign(n, 0);

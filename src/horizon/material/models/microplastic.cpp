@@ -141,6 +141,11 @@ class Microplastic final : public Model {
     out.push_back({"plastic_stretch", std::move(v)});
   }
 
+  void checkpoint(StateArchive& a) override {
+    a.io("sbar", sbar_);
+    a.io("sbar_trial", sbar_trial_);
+    ledger_.checkpoint(a);
+  }
  private:
   void size_bonds(const Bonds& B) {
     if (sbar_.size() == B.size()) return;

@@ -75,6 +75,16 @@ class NonlinearSolid final : public Model {
   }
   NonlinearState N;
 
+  void checkpoint(StateArchive& a) override {
+    a.io("compression_only", N.compression_only);
+    a.io("theta", N.theta);
+    a.io("nonlocal_damage", N.nonlocal_damage);
+    a.io("bond_strain", N.bond_strain);
+    a.io("contact_stiffness", N.contact_stiffness);
+    a.io("last_stable_dt", N.last_stable_dt);
+    a.io("saved_beta", saved_beta_);
+    a.io("beta", N.beta);
+  }
  private:
   std::vector<double> saved_beta_;
 };

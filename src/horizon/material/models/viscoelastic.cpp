@@ -50,6 +50,20 @@ class Viscoelastic final : public Model {
     out.push_back({"viscous_dissipation", dissipated_});  // cumulative, per unit volume [J/m^3]
   }
 
+  void checkpoint(StateArchive& a) override {
+    a.io("theta", theta_);
+    a.io("theta_trial", theta_trial_);
+    a.io("dissipated", dissipated_);
+    a.io("ed", ed_);
+    a.io("ed_trial", ed_trial_);
+    for (std::size_t b = 0; b < kMaxViscousBranches; ++b) {
+      a.io("theta_back_" + std::to_string(b), theta_back_[b]);
+      a.io("theta_back_trial_" + std::to_string(b), theta_back_trial_[b]);
+      a.io("back_" + std::to_string(b), back_[b]);
+      a.io("back_trial_" + std::to_string(b), back_trial_[b]);
+    }
+    ledger_.checkpoint(a);
+  }
  private:
   void size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();

@@ -1,0 +1,65 @@
+#!/usr/bin/env python3
+"""MPI figures for docs/benchmarks.md: one rank against the serial build, ranks x threads
+strong scaling, and halo traffic per rank at 1-16 ranks (oversubscribed).
+
+    python3 bench/mpi/run.py [--serial build/horizon] [--mpi build-mpi/horizon] [--reps 5]
+
+Prints markdown tables; every run's summary.json state_crc32 must agree (the final state,
+bit for bit)."""
+import argparse, json, os, statistics, subprocess, tempfile
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--serial", default="build/horizon")
+ap.add_argument("--mpi", default="build-mpi/horizon")
+ap.add_argument("--deck", default="bench/mpi/lammps_fine.yaml")
+ap.add_argument("--reps", type=int, default=5)
+ap.add_argument("--part", default="all", choices=["all", "cost", "scaling", "halo"])
+a = ap.parse_args()
+env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_WAIT_POLICY="passive")
+tmp = tempfile.mkdtemp(prefix="horizon_mpi_bench_")
+crcs = set()
+
+
+def run(cmd, extra=()):
+    out = os.path.join(tmp, "run")
+    subprocess.run(cmd + ["run", a.deck, "-q", "-o", out] + list(extra), check=True, env=env)
+    s = json.load(open(os.path.join(out, "summary.json")))
+    if "--end-time" not in extra:
+        crcs.add(s["state_crc32"])
+    return s
+
+
+def med(xs):
+    return statistics.median(xs)
+
+
+if a.part in ("all", "cost"):
+    print("| build | loop wall [s] (median of %d) | loop CPU [s] |" % a.reps)
+    print("|---|---|---|")
+    for name, cmd in (("serial", [a.serial]), ("MPI, 1 rank", ["mpirun", "-n", "1", a.mpi])):
+        r = [run(cmd, ["--threads", "1"]) for _ in range(a.reps)]
+        print("| %s | %.3f | %.3f |" % (name, med([x["loop_time_s"] for x in r]), med([x["loop_cpu_time_s"] for x in r])))
+
+if a.part in ("all", "scaling"):
+    print("\n| ranks x threads | loop wall [s] (median of %d) | speed-up |" % a.reps)
+    print("|---|---|---|")
+    base = None
+    for ranks, threads in ((1, 1), (1, 2), (2, 1), (2, 2)):
+        r = [run(["mpirun", "--oversubscribe", "--mca", "mpi_yield_when_idle", "1", "-n", str(ranks), a.mpi], ["--threads", str(threads)]) for _ in range(a.reps)]
+        t = med([x["loop_time_s"] for x in r])
+        base = base or t
+        print("| %d x %d | %.3f | %.2f |" % (ranks, threads, t, base / t))
+
+if a.part in ("all", "halo"):
+    print("\n| ranks | particles per rank (mean) | messages per rank per step (mean, max) | bytes per rank per step (mean, max) | ghost re-selections |")
+    print("|---|---|---|---|---|")
+    for ranks in (1, 2, 4, 8, 16):
+        s = run(["mpirun", "--oversubscribe", "-n", str(ranks), a.mpi], ["--threads", "1", "--end-time", "5e-6"])
+        h = s["halo"]
+        m = [x["messages_per_step"] for x in h]
+        b = [x["bytes_per_step"] for x in h]
+        p = [x["particles"] for x in h]
+        print("| %d | %.0f | %.2f, %.0f | %.0f, %.0f | %d |" % (ranks, statistics.mean(p), statistics.mean(m), max(m),
+                                                            statistics.mean(b), max(b), h[0]["ghost_rebuilds"]))
+
+print("\nfinal-state CRC-32 of the full-length runs: %s (%s)" % (sorted(crcs), "all equal" if len(crcs) <= 1 else "DIFFER"))

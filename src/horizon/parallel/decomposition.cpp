@@ -1,0 +1,377 @@
+#include "horizon/parallel/decomposition.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "horizon/core/cell_key.hpp"
+#include "horizon/core/error.hpp"
+#include "horizon/solver/system.hpp"
+
+#if defined(HORIZON_MPI)
+#include <mpi.h>
+#endif
+
+namespace horizon {
+
+namespace {
+
+void rcb(const std::vector<Vec3>& x, std::vector<uint32_t>& ids, std::size_t begin, std::size_t end, int first,
+         int ranks, std::vector<int32_t>& owner) {
+  if (ranks == 1 || end - begin == 0) {
+    for (std::size_t k = begin; k < end; ++k) owner[ids[k]] = first;
+    return;
+  }
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (std::size_t k = begin; k < end; ++k)
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], x[ids[k]][c]);
+      hi[c] = std::max(hi[c], x[ids[k]][c]);
+    }
+  int axis = 0;
+  for (int c = 1; c < 3; ++c)
+    if (hi[c] - lo[c] > hi[axis] - lo[axis]) axis = c;
+  std::sort(ids.begin() + static_cast<std::ptrdiff_t>(begin), ids.begin() + static_cast<std::ptrdiff_t>(end),
+            [&](uint32_t a, uint32_t b) { return x[a][axis] < x[b][axis] || (x[a][axis] == x[b][axis] && a < b); });
+  const int left = ranks / 2;
+  const std::size_t cut = begin + (end - begin) * static_cast<std::size_t>(left) / static_cast<std::size_t>(ranks);
+  rcb(x, ids, begin, cut, first, left, owner);
+  rcb(x, ids, cut, end, first + left, ranks - left, owner);
+}
+
+Vec3 position(const System& s, std::size_t i) { return s.particles.X[i] + s.particles.u[i]; }
+
+#if defined(HORIZON_MPI)
+// Every rank's owned entries of `per` (k doubles per particle, packed by `pack`) onto
+// every rank, unpacked by `unpack` in each owner's index order.
+template <class Pack, class Unpack>
+void allgather_owned(const System& s, const Decomposition& d, int k, Pack pack, Unpack unpack) {
+  std::vector<double> mine;
+  mine.reserve(d.owned.size() * static_cast<std::size_t>(k));
+  for (uint32_t i : d.owned) pack(i, mine);
+  std::vector<int> counts(static_cast<std::size_t>(d.size)), displs(static_cast<std::size_t>(d.size));
+  std::vector<int> owned_count(static_cast<std::size_t>(d.size), 0);
+  for (int32_t r : d.owner) ++owned_count[static_cast<std::size_t>(r)];
+  int at = 0;
+  for (int r = 0; r < d.size; ++r) {
+    counts[static_cast<std::size_t>(r)] = owned_count[static_cast<std::size_t>(r)] * k;
+    displs[static_cast<std::size_t>(r)] = at;
+    at += counts[static_cast<std::size_t>(r)];
+  }
+  std::vector<double> all(static_cast<std::size_t>(at));
+  MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                 MPI_DOUBLE, MPI_COMM_WORLD);
+  std::vector<std::size_t> next(displs.begin(), displs.end());
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    std::size_t& p = next[static_cast<std::size_t>(d.owner[i])];
+    unpack(i, all.data() + p);
+    p += static_cast<std::size_t>(k);
+  }
+}
+#endif
+
+// The ghosts of this rank from the current positions of every particle (which must be
+// up to date on this rank), and the lists of what to send where.
+void choose_ghosts(System& s, Decomposition& d) {
+  const std::size_t n = s.particles.size();
+  const auto& B = s.bonds;
+  // The bond ghosts never change (bonds only break): found once.
+  if (d.bond_ghosts.size() != n) {
+    d.bond_ghosts.assign(n, 0);
+    for (uint32_t i : s.active_rows) {
+      if (!d.owns(i)) d.bond_ghosts[i] = 1;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) d.bond_ghosts[B.nbr[k]] = 1;
+    }
+  }
+  std::vector<uint8_t> need = d.bond_ghosts;
+  if (d.contact_reach > 0) {
+    // Every particle within reach + skin of an owned one (a hash grid of that cell size).
+    const double cell = d.contact_reach + d.skin, cut2 = cell * cell;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+    auto key = [&](const Vec3& p, int dx, int dy, int dz) {
+      return pack_cell(cell_coord(p.x, cell) + dx, cell_coord(p.y, cell) + dy, cell_coord(p.z, cell) + dz);
+    };
+    for (std::size_t j = 0; j < n; ++j) grid[key(position(s, j), 0, 0, 0)].push_back(static_cast<uint32_t>(j));
+    for (uint32_t i : d.owned) {
+      const Vec3 yi = position(s, i);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const auto it = grid.find(key(yi, dx, dy, dz));
+            if (it == grid.end()) continue;
+            for (uint32_t j : it->second)
+              if (norm2(position(s, j) - yi) < cut2) need[j] = 1;
+          }
+    }
+  }
+  d.recv.assign(static_cast<std::size_t>(d.size), {});
+  for (std::size_t j = 0; j < n; ++j)
+    if (need[j] && !d.owns(j)) d.recv[static_cast<std::size_t>(d.owner[j])].push_back(static_cast<uint32_t>(j));
+  d.send.assign(static_cast<std::size_t>(d.size), {});
+#if defined(HORIZON_MPI)
+  std::vector<int> want(static_cast<std::size_t>(d.size)), give(static_cast<std::size_t>(d.size));
+  for (int r = 0; r < d.size; ++r) want[static_cast<std::size_t>(r)] = static_cast<int>(d.recv[static_cast<std::size_t>(r)].size());
+  MPI_Alltoall(want.data(), 1, MPI_INT, give.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::vector<int> sd(static_cast<std::size_t>(d.size)), rd(static_cast<std::size_t>(d.size));
+  std::vector<uint32_t> asked, flat;
+  int a = 0, b = 0;
+  for (int r = 0; r < d.size; ++r) {
+    rd[static_cast<std::size_t>(r)] = a;
+    a += want[static_cast<std::size_t>(r)];
+    for (uint32_t j : d.recv[static_cast<std::size_t>(r)]) flat.push_back(j);
+    sd[static_cast<std::size_t>(r)] = b;
+    b += give[static_cast<std::size_t>(r)];
+  }
+  asked.resize(static_cast<std::size_t>(b));
+  MPI_Alltoallv(flat.data(), want.data(), rd.data(), MPI_UINT32_T, asked.data(), give.data(), sd.data(), MPI_UINT32_T,
+                MPI_COMM_WORLD);
+  for (int r = 0; r < d.size; ++r)
+    d.send[static_cast<std::size_t>(r)].assign(asked.begin() + sd[static_cast<std::size_t>(r)],
+                                              asked.begin() + sd[static_cast<std::size_t>(r)] + give[static_cast<std::size_t>(r)]);
+#endif
+  d.y_built.resize(n);
+  for (uint32_t i : d.owned) d.y_built[i] = position(s, i);
+  ++d.stats.rebuilds;
+}
+
+}  // namespace
+
+std::vector<int32_t> rcb_owners(const std::vector<Vec3>& x, int ranks) {
+  std::vector<int32_t> owner(x.size(), 0);
+  std::vector<uint32_t> ids(x.size());
+  std::iota(ids.begin(), ids.end(), 0u);
+  rcb(x, ids, 0, ids.size(), 0, std::max(1, ranks), owner);
+  return owner;
+}
+
+bool mpi_built() {
+#if defined(HORIZON_MPI)
+  return true;
+#else
+  return false;
+#endif
+}
+
+int world_rank() {
+#if defined(HORIZON_MPI)
+  int r = 0, on = 0;
+  MPI_Initialized(&on);
+  if (on) MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+#else
+  return 0;
+#endif
+}
+
+int world_size() {
+#if defined(HORIZON_MPI)
+  int n = 1, on = 0;
+  MPI_Initialized(&on);
+  if (on) MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+#else
+  return 1;
+#endif
+}
+
+void decompose(System& s, Decomposition& d, double skin) {
+  d.rank = world_rank();
+  d.size = world_size();
+  d.skin = skin;
+  d.contact_reach = s.contact.enabled() ? s.contact.config().max_distance * s.spacing : 0.0;
+  // The rows of a particle read values its neighbours computed in the same pass: the
+  // dilatation (state-based models) and the critical stretch lowered by the neighbour's
+  // smallest stretch of the previous pass (the compression factor alpha). Then the
+  // neighbours' rows are computed here too, from the positions one horizon further out.
+  bool alpha = false;
+  for (double a : s.model.alpha) alpha = alpha || a != 0;
+  d.state_based = s.model.state_based || alpha;
+  const std::size_t n = s.particles.size();
+  d.owner = rcb_owners(s.particles.X, d.size);
+  d.owned.clear();
+  d.is_owned.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (d.owner[i] == d.rank) d.owned.push_back(static_cast<uint32_t>(i)), d.is_owned[i] = 1;
+  s.owned = d.owned;
+  if (d.state_based) {
+    std::vector<uint8_t> act(d.is_owned);
+    for (uint32_t i : d.owned)
+      for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) act[s.bonds.nbr[k]] = 1;
+    s.active_rows.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (act[i]) s.active_rows.push_back(static_cast<uint32_t>(i));
+  } else {
+    s.active_rows = d.owned;
+  }
+  s.decomposition = &d;
+  choose_ghosts(s, d);
+}
+
+bool any_rank(const Decomposition& d, bool flag) {
+  (void)d;
+#if defined(HORIZON_MPI)
+  int in = flag ? 1 : 0, out = 0;
+  MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
+  return out != 0;
+#else
+  return flag;
+#endif
+}
+
+void halo_exchange(System& s, Decomposition& d) {
+  [[maybe_unused]] auto& u = s.particles.u;
+  if (d.size == 1) {  // one rank: no ghosts, nothing to send or to choose again
+    ++d.stats.steps;
+    return;
+  }
+  const double half2 = 0.25 * d.skin * d.skin;
+  bool moved = false;
+  for (uint32_t i : d.owned) moved = moved || norm2(position(s, i) - d.y_built[i]) > half2;
+  if (any_rank(d, moved)) {
+#if defined(HORIZON_MPI)
+    allgather_owned(
+        s, d, 3, [&](uint32_t i, std::vector<double>& out) { out.insert(out.end(), {u[i].x, u[i].y, u[i].z}); },
+        [&](std::size_t i, const double* p) { u[i] = {p[0], p[1], p[2]}; });
+#endif
+    choose_ghosts(s, d);
+  }
+  ++d.stats.steps;
+#if defined(HORIZON_MPI)
+  std::vector<std::vector<double>> out(static_cast<std::size_t>(d.size)), in(static_cast<std::size_t>(d.size));
+  std::vector<MPI_Request> req;
+  for (int r = 0; r < d.size; ++r) {
+    const auto& rl = d.recv[static_cast<std::size_t>(r)];
+    if (r == d.rank || rl.empty()) continue;
+    in[static_cast<std::size_t>(r)].resize(3 * rl.size());
+    req.emplace_back();
+    MPI_Irecv(in[static_cast<std::size_t>(r)].data(), static_cast<int>(3 * rl.size()), MPI_DOUBLE, r, 7, MPI_COMM_WORLD,
+              &req.back());
+  }
+  for (int r = 0; r < d.size; ++r) {
+    const auto& sl = d.send[static_cast<std::size_t>(r)];
+    if (r == d.rank || sl.empty()) continue;
+    auto& o = out[static_cast<std::size_t>(r)];
+    for (uint32_t i : sl) o.insert(o.end(), {u[i].x, u[i].y, u[i].z});
+    req.emplace_back();
+    MPI_Isend(o.data(), static_cast<int>(o.size()), MPI_DOUBLE, r, 7, MPI_COMM_WORLD, &req.back());
+    ++d.stats.messages;
+    d.stats.bytes += o.size() * sizeof(double);
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (int r = 0; r < d.size; ++r) {
+    const auto& rl = d.recv[static_cast<std::size_t>(r)];
+    if (r == d.rank || rl.empty()) continue;
+    const double* p = in[static_cast<std::size_t>(r)].data();
+    for (std::size_t k = 0; k < rl.size(); ++k) u[rl[k]] = {p[3 * k], p[3 * k + 1], p[3 * k + 2]};
+  }
+#endif
+}
+
+void gather_state(System& s, Decomposition& d) {
+  [[maybe_unused]] auto& P = s.particles;
+  uint64_t broken = 0;
+  for (uint32_t i : d.owned)
+    for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) broken += s.bonds.intact[k] != 1 ? 1 : 0;
+#if defined(HORIZON_MPI)
+  allgather_owned(
+      s, d, 15,
+      [&](uint32_t i, std::vector<double>& o) {
+        o.insert(o.end(), {P.u[i].x, P.u[i].y, P.u[i].z, P.v[i].x, P.v[i].y, P.v[i].z, P.f[i].x, P.f[i].y, P.f[i].z,
+                           P.b[i].x, P.b[i].y, P.b[i].z, P.damage[i], P.energy[i], s.dissipated_at[i]});
+      },
+      [&](std::size_t i, const double* p) {
+        P.u[i] = {p[0], p[1], p[2]};
+        P.v[i] = {p[3], p[4], p[5]};
+        P.f[i] = {p[6], p[7], p[8]};
+        P.b[i] = {p[9], p[10], p[11]};
+        P.damage[i] = p[12];
+        P.energy[i] = p[13];
+        s.dissipated_at[i] = p[14];
+      });
+  uint64_t all = 0;
+  MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+  broken = all;
+#endif
+  s.broken = broken;
+}
+
+std::vector<HaloStats> gather_halo_stats(const Decomposition& d) {
+  std::vector<HaloStats> all;
+#if defined(HORIZON_MPI)
+  uint64_t mine[4] = {d.stats.steps, d.stats.messages, d.stats.bytes, d.stats.rebuilds};
+  std::vector<uint64_t> buf(4 * static_cast<std::size_t>(d.size));
+  MPI_Gather(mine, 4, MPI_UINT64_T, buf.data(), 4, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  if (d.rank == 0)
+    for (int r = 0; r < d.size; ++r) {
+      const uint64_t* b = buf.data() + 4 * r;
+      all.push_back({b[0], b[1], b[2], b[3]});
+    }
+#else
+  all.push_back(d.stats);
+#endif
+  return all;
+}
+
+GridSum::GridSum(const System& s, int quantities)
+    : grid_(s.decomposition), plain_(static_cast<std::size_t>(quantities), 0.0) {
+  if (grid_) terms_.resize(static_cast<std::size_t>(quantities));
+}
+
+std::vector<double> GridSum::totals() const {
+  if (!grid_) return plain_;
+  // Rounding every term to the grid 2^(E - 100), |term| < 2^E for the largest term over
+  // all ranks, and adding the integers exactly: the total is the same however the terms
+  // are split and ordered. 2^27 terms of at most 2^100 fit in 128 bits.
+  const std::size_t nq = terms_.size();
+  std::vector<int> e(nq, INT_MIN / 2), emax(nq);
+  for (std::size_t q = 0; q < nq; ++q)
+    for (double t : terms_[q])
+      if (t != 0) {
+        int x = 0;
+        std::frexp(t, &x);
+        e[q] = std::max(e[q], x);
+      }
+#if defined(HORIZON_MPI)
+  MPI_Allreduce(e.data(), emax.data(), static_cast<int>(nq), MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+#else
+  emax = e;
+#endif
+  std::vector<int64_t> parts(2 * nq);
+  for (std::size_t q = 0; q < nq; ++q) {
+    __int128 sum = 0;
+    if (emax[q] > INT_MIN / 2)
+      for (double t : terms_[q]) {
+        const double x = std::ldexp(t, 100 - emax[q]);
+        const double hi = std::trunc(std::ldexp(x, -50));
+        const double rem = x - std::ldexp(hi, 50);
+        sum += static_cast<__int128>(static_cast<int64_t>(hi)) * (static_cast<__int128>(1) << 50) +
+               static_cast<__int128>(std::llround(rem));
+      }
+    const auto bits = static_cast<unsigned __int128>(sum);
+    parts[2 * q] = static_cast<int64_t>(static_cast<uint64_t>(bits >> 64));
+    parts[2 * q + 1] = static_cast<int64_t>(static_cast<uint64_t>(bits));
+  }
+  std::vector<int64_t> all = parts;
+#if defined(HORIZON_MPI)
+  all.resize(parts.size() * static_cast<std::size_t>(grid_->size));
+  MPI_Allgather(parts.data(), static_cast<int>(parts.size()), MPI_INT64_T, all.data(), static_cast<int>(parts.size()),
+                MPI_INT64_T, MPI_COMM_WORLD);
+#endif
+  std::vector<double> out(nq, 0.0);
+  const std::size_t ranks = all.size() / std::max<std::size_t>(1, parts.size());
+  for (std::size_t q = 0; q < nq; ++q) {
+    if (emax[q] <= INT_MIN / 2) continue;
+    __int128 total = 0;
+    for (std::size_t r = 0; r < ranks; ++r) {
+      const unsigned __int128 bits = (static_cast<unsigned __int128>(static_cast<uint64_t>(all[r * parts.size() + 2 * q])) << 64) |
+                                     static_cast<uint64_t>(all[r * parts.size() + 2 * q + 1]);
+      total += static_cast<__int128>(bits);
+    }
+    out[q] = std::ldexp(static_cast<double>(total), emax[q] - 100);
+  }
+  return out;
+}
+
+}  // namespace horizon

@@ -1,0 +1,111 @@
+#pragma once
+// Domain decomposition of an explicit run over MPI ranks (docs/design.md, "Running on
+// several ranks"; built with -DHORIZON_MPI=ON).
+//
+// What is distributed is the work, not yet the memory: every rank builds the whole system
+// from the deck (the same particles, bonds and model constants in the same order: the
+// serial indices are the global ids), then
+//   - owns the particles of its box of a recursive coordinate bisection of the reference
+//     positions (rcb_owners: the same split at any thread count, ties by global id);
+//   - integrates only its own particles, and computes the bond rows of its own and, for
+//     state-based models and the critical stretch with a compression factor, also of
+//     their bond neighbours (the dilatation or the lowered critical stretch of a
+//     neighbour is computed again here instead of being sent, so one exchange a step
+//     suffices);
+//   - receives each step the displacements of its ghosts: the bond neighbours of its
+//     active particles, and every particle within the short-range contact distance plus a
+//     skin of one of its own (halo_exchange). When any particle has moved more than half
+//     the skin since the ghosts were chosen, all displacements are gathered and the
+//     ghosts chosen again (the Verlet-list rule, as contact/short_range.hpp);
+//   - each particle's force is summed over its whole bond row in the serial order, so its
+//     bits do not depend on the rank count;
+//   - global sums (energies, work, reactions, indenter forces) go through GridSum: every
+//     term is rounded to a grid of 2^-100 of the largest term of that sum over all ranks
+//     and the integers are added exactly, so the total does not depend on how the terms
+//     are split between ranks or on their order;
+//   - before a history row, a frame or the summary, the state of every particle is
+//     gathered on every rank (gather_state), so damage statistics, crack tracking and
+//     summary figures are computed as in a serial run.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "horizon/core/vec3.hpp"
+
+namespace horizon {
+
+struct System;
+
+// Owner rank of each particle: recursive coordinate bisection of `x` into `ranks` boxes
+// (a box of p ranks is cut across its longest side, at the particle that gives its two
+// halves floor(p/2) and ceil(p/2) ranks' shares of particles; ties broken by index).
+std::vector<int32_t> rcb_owners(const std::vector<Vec3>& x, int ranks);
+
+struct HaloStats {
+  uint64_t steps = 0;             // exchanges so far
+  uint64_t messages = 0;          // messages this rank sent, summed over the exchanges
+  uint64_t bytes = 0;             // bytes this rank sent, summed over the exchanges
+  uint64_t rebuilds = 0;          // ghost re-selections (each gathers every displacement)
+};
+
+struct Decomposition {
+  int rank = 0, size = 1;
+  double skin = 0;                   // ghost margin for moving particles [m]
+  double contact_reach = 0;          // short-range contact distance [m] (0: no contact)
+  bool state_based = false;          // neighbours' rows are computed here too (decompose)
+  std::vector<int32_t> owner;        // per particle
+  std::vector<uint32_t> owned;       // this rank's, in index order
+  std::vector<uint8_t> is_owned;     // per particle
+  std::vector<std::vector<uint32_t>> send, recv;  // per rank: owned particles it needs / ghosts it sends us
+  std::vector<uint8_t> bond_ghosts;  // per particle: a bond neighbour of a computed row (or such a row) not owned
+  std::vector<Vec3> y_built;         // positions when the ghosts were chosen (owned entries)
+  HaloStats stats;
+
+  bool owns(std::size_t i) const { return is_owned[i] != 0; }
+};
+
+// True when this build has MPI (HORIZON_MPI).
+bool mpi_built();
+// Rank and size of MPI_COMM_WORLD (0 and 1 without MPI).
+int world_rank();
+int world_size();
+
+// Splits the system over the ranks, chooses the ghosts and sets s.active, s.owned and
+// s.decomposition. Collective.
+void decompose(System& s, Decomposition& d, double skin);
+// Before a force pass: re-chooses the ghosts when needed, then sends the displacements of
+// owned particles to the ranks that hold them as ghosts. Collective.
+void halo_exchange(System& s, Decomposition& d);
+// Gathers u, v, f, b, damage, energy and dissipated_at of every particle from its owner
+// onto every rank, and the count of broken bonds. Collective.
+void gather_state(System& s, Decomposition& d);
+// Any rank's flag (logical or). Collective.
+bool any_rank(const Decomposition& d, bool flag);
+// The halo statistics of every rank, on rank 0 (others get an empty vector). Collective.
+std::vector<HaloStats> gather_halo_stats(const Decomposition& d);
+
+// Sums of several quantities (add(q, term)), independent of how the terms are split
+// between ranks when the system is decomposed (see above), and the plain sum in the order
+// of the calls when it is not (the serial result, bit for bit).
+class GridSum {
+ public:
+  GridSum(const System& s, int quantities);
+  void add(int q, double term) {
+    if (!grid_) plain_[q] += term;
+    else if (term != 0) terms_[q].push_back(term);  // most terms are 0 (work away from loads)
+  }
+  void add(int q, const Vec3& v) {
+    add(q, v.x);
+    add(q + 1, v.y);
+    add(q + 2, v.z);
+  }
+  // Collective when decomposed.
+  std::vector<double> totals() const;
+
+ private:
+  const struct Decomposition* grid_ = nullptr;
+  std::vector<double> plain_;
+  std::vector<std::vector<double>> terms_;
+};
+
+}  // namespace horizon

@@ -1,0 +1,55 @@
+// The system's part of a checkpoint (solver/system.hpp checkpoint_system).
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+void checkpoint_system(System& s, StateArchive& a) {
+  auto& P = s.particles;
+  auto& M = s.model;
+  const std::size_t n = P.size(), nb = s.bonds.size();
+  a.check("particles", n, "particles");
+  a.check("bonds", nb, "bonds");
+  a.check("materials", s.models.size(), "materials");
+  for (std::size_t m = 0; m < s.models.size(); ++m)
+    a.check("model " + std::to_string(m), s.models[m].traits().name, "for material " + std::to_string(m) + " the model");
+
+  a.io_sized("u", P.u, n);
+  a.io_sized("v", P.v, n);
+  a.io_sized("f", P.f, n);
+  a.io_sized("b", P.b, n);
+  a.io_sized("damage", P.damage, n);
+  a.io_sized("energy", P.energy, n);
+  a.io_sized("intact", s.bonds.intact, nb);
+
+  // The shared model arrays that the force passes change (the rest is set up from the deck).
+  a.io("min_stretch", M.min_stretch);
+  a.io("theta", M.theta);
+  a.io("P", M.P);
+  a.io("damage_total", M.damage_total);
+  a.io("intact_weight", M.intact_weight);
+  a.io("deformed_length", M.deformed_length);
+  a.io("force_state", M.force_state);
+
+  a.io("time", s.time);
+  a.io("dt", s.dt);
+  a.io_sized("dissipated_at", s.dissipated_at, s.dissipated_at.size());
+  a.io("broken", s.broken);
+  a.io("thermal_strain", s.thermal_strain);
+  a.io("critical_stretch_factor", s.critical_stretch_factor);
+
+  auto& H = s.heat;
+  a.check("heat boundaries", H.boundary.size(), "thermal boundary conditions");
+  a.io("heat_T", H.T);
+  a.io("heat_flux", H.flux);
+  for (auto& bc : H.boundary) a.io("heat_boundary " + bc.name, bc.heat);
+  a.io("heat_plastic", H.plastic_heat);
+  a.io("heat_time", H.time);
+
+  for (std::size_t m = 0; m < s.models.size(); ++m) {
+    a.push("model " + std::to_string(m));
+    s.models[m].checkpoint(a);
+    a.pop();
+  }
+}
+
+}  // namespace horizon
