@@ -22,23 +22,19 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
-	$(MAKE) test-mpi
 
-# The MPI build (HORIZON_MPI, Open MPI) in build-mpi: the program alone (the library is
-# compiled again with MPI), then the tests labelled mpi: mpirun --oversubscribe on 1 to 4
-# ranks (docs/design.md, "Running on several ranks").
-MPI_BUILD ?= build-mpi
-test-mpi: deps
-	cmake -S . -B $(MPI_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DHORIZON_MPI=ON -DHORIZON_PYTHON=OFF $(CMAKE_FLAGS)
-	cmake --build $(MPI_BUILD) -j $(JOBS) --target horizon
-	cd $(MPI_BUILD) && ctest -L mpi --output-on-failure
+# The MPI program's tests alone (horizon-mpi, built by `make build` beside horizon; also
+# part of `make test`): mpirun --oversubscribe on 1 to 4 ranks (docs/design.md, "Running
+# on several ranks").
+test-mpi: build
+	cd $(BUILD) && ctest -L mpi --output-on-failure
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan, then the tests
 # labelled unit and regression (every unit test, the command-line, output-fault and
 # example smoke tests) under it; any report fails the test (docs/reliability.md).
 ASAN_BUILD ?= build-asan
 test-sanitize: deps
-	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DHORIZON_SANITIZE=ON $(CMAKE_FLAGS)
+	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DHORIZON_SANITIZE=ON -DHORIZON_MPI=OFF $(CMAKE_FLAGS)
 	cmake --build $(ASAN_BUILD) -j $(JOBS) --target horizon test_unit test_regression
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
 	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ctest -L '^(unit|regression)$$' --output-on-failure -j $(JOBS)
@@ -52,4 +48,4 @@ bench: build
 	$(BUILD)/bench/bench_kernels --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) $(MPI_BUILD) build-fuzz out
+	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz out

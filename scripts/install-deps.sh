@@ -4,7 +4,7 @@
 # libopenblas0-pthread replaces the reference BLAS under CHOLMOD (solver.linear_solver:
 # cholesky): its supernodal factorisation is dense-block work, 4x faster with OpenBLAS.
 # libexodusii-dev: Exodus II mesh input (about 32 MB with netCDF and HDF5).
-# libopenmpi-dev, openmpi-bin: the MPI build (HORIZON_MPI; `make test` builds and tests it).
+# libopenmpi-dev, openmpi-bin: the MPI program horizon-mpi (HORIZON_MPI; `make test` builds and tests it).
 # pybind11-dev, python3-dev, python3-numpy, python3-pytest: the Python module and its tests
 # (against /usr/bin/python3); python3-matplotlib: the examples in examples/python.
 set -euo pipefail

@@ -2,7 +2,7 @@
 """MPI figures for docs/benchmarks.md: one rank against the serial build, ranks x threads
 strong scaling, and halo traffic per rank at 1-16 ranks (oversubscribed).
 
-    python3 bench/mpi/run.py [--serial build/horizon] [--mpi build-mpi/horizon] [--reps 5]
+    python3 bench/mpi/run.py [--serial build/horizon] [--mpi build/horizon-mpi] [--reps 5]
 
 Prints markdown tables; every run's summary.json state_crc32 must agree (the final state,
 bit for bit)."""
@@ -10,7 +10,7 @@ import argparse, json, os, statistics, subprocess, tempfile
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--serial", default="build/horizon")
-ap.add_argument("--mpi", default="build-mpi/horizon")
+ap.add_argument("--mpi", default="build/horizon-mpi")
 ap.add_argument("--deck", default="bench/mpi/lammps_fine.yaml")
 ap.add_argument("--reps", type=int, default=5)
 ap.add_argument("--part", default="all", choices=["all", "cost", "scaling", "halo"])
