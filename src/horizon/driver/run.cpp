@@ -129,7 +129,8 @@ std::string format_check(const Config& c, const CheckReport& r) {
                      c.solver.tolerance);
     return o.str();
   }
-  o << fmt::format("stable step     {:.4e} s (Silling-Askari bound)\n", r.stable_dt);
+  o << fmt::format("stable step     {:.4e} s ({})\n", r.stable_dt,
+                   r.fe_elements ? "Silling-Askari bound and the elements'" : "Silling-Askari bound");
   if (c.solver.type == SolverType::implicit_dynamic)
     o << fmt::format("time step       {:.4e} s (implicit Newmark, {:.1f} x the stable step)\n", r.dt,
                      r.dt / r.stable_dt);

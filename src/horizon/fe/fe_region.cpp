@@ -76,7 +76,7 @@ void FeRegion::setup_geometry() {
           for (int k = 0; k < 3; ++k) s += Ji[k][i] * kHexSign[I][k] / 8.0;
           b[3 * I + i] = s;
         }
-      volume[e] = 8 * d;
+      volume[e] = 8 * d * (e < volume_scale.size() ? volume_scale[e] : 1.0);
       // Hourglass vectors (Flanagan and Belytschko 1981, eq. 35 with their B_iI = V b_iI):
       // gamma_aI = h_aI - (sum_J h_aJ x_J) . b_I, with h_1..4 = xi eta, eta zeta, zeta xi,
       // xi eta zeta at the nodes. gamma is orthogonal to every linear field.
@@ -109,7 +109,7 @@ void FeRegion::setup_geometry() {
         }
         b[i] = s0;
       }
-      volume[e] = d / 6;
+      volume[e] = d / 6 * (e < volume_scale.size() ? volume_scale[e] : 1.0);
     }
   }
 }
@@ -258,10 +258,10 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
     const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
     const Box3 box = body.shape.bounds();
     const Vec3 origin = config.lattice_origin ? *config.lattice_origin : box.min + Vec3{0.5 * h, 0.5 * h, 0.5 * h};
-    // Per axis: the lattice indices inside the box, and the element-geometry coordinate of
-    // each (the outermost ones moved onto the box faces, so the elements fill the box).
+    // Per axis: the lattice indices inside the box and their coordinates.
     int64_t first[3], count[3];
     std::vector<double> coord[3];
+    double ext_lo[3], ext_hi[3];  // from the outermost lattice points to the box faces
     for (int k = 0; k < 3; ++k) {
       const double lo = (box.min[k] - origin[k]) / h, hi = (box.max[k] - origin[k]) / h;
       first[k] = static_cast<int64_t>(std::ceil(lo - 1e-9));
@@ -273,8 +273,8 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
                                 body.name, std::max<int64_t>(0, count[k]), "xyz"[k]));
       if (count[k] > 200000) throw Error("body '" + body.name + "' (finite elements): more than 2e5 nodes along an axis");
       for (int64_t i = 0; i < count[k]; ++i) coord[k].push_back(origin[k] + static_cast<double>(first[k] + i) * h);
-      coord[k].front() = box.min[k];
-      coord[k].back() = box.max[k];
+      ext_lo[k] = std::max(0.0, coord[k].front() - box.min[k]);
+      ext_hi[k] = std::max(0.0, box.max[k] - coord[k].back());
     }
     // The peridynamic particles on this lattice (by index), which take their points.
     std::unordered_map<int64_t, uint32_t> pd;
@@ -334,14 +334,25 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
             free_node = free_node || !is_pd[static_cast<std::size_t>(g[I])];
           }
           if (!free_node) continue;
+          // The cells of the outermost layers also stand for the material between the
+          // outermost lattice points and the box faces (half a spacing by default): their
+          // volume (mass and stiffness) is scaled by (h + that distance) / h per axis,
+          // their kinematics stay on the lattice, so every node coincides with its
+          // lattice point (fe_region.hpp).
+          const int64_t ijk[3] = {i, j, k};
+          double scale = 1;
+          for (int a = 0; a < 3; ++a)
+            scale *= (h + (ijk[a] == 0 ? ext_lo[a] : 0.0) + (ijk[a] + 2 == count[a] ? ext_hi[a] : 0.0)) / h;
           if (npe == 8) {
             for (int I = 0; I < 8; ++I) fe.conn.push_back(node_of(g[I]));
+            fe.volume_scale.push_back(scale);
           } else {
             for (const auto& t : kTets) {
               bool f = false;
               for (int I : t) f = f || !is_pd[static_cast<std::size_t>(g[I])];
               if (!f) continue;
               for (int I : t) fe.conn.push_back(node_of(g[I]));
+              fe.volume_scale.push_back(scale);
             }
           }
         }

@@ -4,8 +4,9 @@
 // loop together with the peridynamic particles, and their coupling to peridynamic
 // bodies (seed 002 digest sec. 7; docs/design.md, "Finite-element regions").
 //
-// Nodes are particles. An FE body's nodes sit on the lattice of the deck's spacing
-// (its outermost node layers moved onto the faces of its box), so where a peridynamic
+// Nodes are particles. An FE body's nodes sit on the lattice of the deck's spacing (the
+// cells of the outermost layers stand for the material out to the box faces: their
+// volume is scaled, their nodes stay on the lattice), so where a peridynamic
 // body lies inside the FE body's box its particles are the nodes there. Every degree of
 // freedom has one owner:
 //   - a particle of a peridynamic body is owned by the peridynamics: its force is the
@@ -38,8 +39,8 @@ struct Particles;
 
 struct FeRegion {
   int nodes_per_element = 8;  // 8: hex8, 4: tet4 (one kind per run's FE bodies)
-  // Per FE node: its particle, its position in the element geometry, and whether the
-  // FE owns it.
+  // Per FE node: its particle, its position (its particle's lattice point), and whether
+  // the FE owns it.
   std::vector<uint32_t> node_particle;
   std::vector<Vec3> node_X;
   std::vector<uint8_t> node_owned;
@@ -48,6 +49,9 @@ struct FeRegion {
   // vectors gamma (hex8: 4 x 8) and hourglass stiffness.
   std::vector<uint32_t> conn;
   std::vector<double> volume, lambda, mu, density, hourglass_k;
+  // Per element: the factor on its geometric volume (outermost cells stand for the
+  // material out to the box faces; 1 elsewhere).
+  std::vector<double> volume_scale;
   std::vector<double> grad;
   std::vector<double> gamma;
   // Per particle: 1 where the FE owns it (its force and energy come from the elements).
