@@ -79,10 +79,18 @@ struct MaterialConfig {
   ThermalMaterialConfig thermal;
 };
 
+// How a body is discretised: peridynamic particles on the lattice, or classical finite
+// elements on the same lattice's grid (fe/fe_region.hpp; docs/input.md, "Finite-element bodies").
+enum class Discretization { peridynamic, fe };
+enum class FeElement { hex8, tet4 };
+
 struct BodyConfig {
   std::string name;
   std::string material;
   Shape shape;
+  Discretization discretization = Discretization::peridynamic;
+  FeElement element = FeElement::hex8;  // fe only
+  double hourglass = 0.1;               // fe hex8 only: hourglass stiffness coefficient kappa
 };
 
 // A polygon (3-D) or a segment (2-D: two points, extruded through the thickness).

@@ -228,7 +228,7 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
   std::vector<std::string> materials;
   for (const auto& mat : config.materials) materials.push_back(mat.name);
   for (std::size_t i = 0; i < items.size(); ++i) {
-    MapReader b(ctx, items[i], {"name", "material", "shape"});
+    MapReader b(ctx, items[i], {"name", "material", "shape", "discretization", "element", "hourglass"});
     BodyConfig body;
     body.name = "body" + std::to_string(i + 1);
     if (auto n = b.find("name")) {
@@ -248,6 +248,27 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
                                ": a body made of listed points needs a volume with each point ([x, y, z, volume]); "
                                "a mesh's set: selects a region and belongs under regions");
     }
+    // Finite-element bodies (fe/fe_region.hpp; docs/input.md, "Finite-element bodies").
+    if (auto d = b.find("discretization"))
+      body.discretization = read_enum<Discretization>(ctx, *d, {{"peridynamic", Discretization::peridynamic},
+                                                                {"fe", Discretization::fe}});
+    const bool fe = body.discretization == Discretization::fe;
+    for (const char* key : {"element", "hourglass"})
+      if (auto k = b.find(key); k && !fe)
+        ctx.fail(*k->key_mark, k->path + ": applies to finite-element bodies only (discretization: fe)");
+    if (auto e = b.find("element"))
+      body.element = read_enum<FeElement>(ctx, *e, {{"hex8", FeElement::hex8}, {"tet4", FeElement::tet4}});
+    if (auto hg = b.find("hourglass")) {
+      if (body.element != FeElement::hex8)
+        ctx.fail(*hg->key_mark, hg->path + ": hourglass control applies to hex8 elements only");
+      body.hourglass = read_non_negative(ctx, *hg);
+      if (body.hourglass > 1) ctx.fail(hg->mark, hg->path + ": expected a coefficient in [0, 1] (typically 0.05 to 0.15)");
+    }
+    if (fe && body.shape.kind() != Shape::Kind::box)
+      ctx.fail(shape.mark, shape.path + ": a finite-element body's shape is a box (its elements fill the box on the "
+                                        "lattice's grid)");
+    if (fe && ctx.dimension != 3)
+      ctx.fail(b.find("discretization")->mark, "discretization: fe needs a 3-D deck (dimension: 3)");
     config.bodies.push_back(std::move(body));
   }
 }
@@ -495,6 +516,16 @@ Config read_config(DeckContext& ctx, const Item& root) {
     for (const auto& i : read_list(ctx, *l)) config.loads.push_back(read_load(ctx, i, regions));
   if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c);
   read_solver(ctx, m, config);
+  if (config.solver.type != SolverType::explicit_dynamic || config.structure.kind != StructureKind::none) {
+    const auto items = read_list(ctx, *m.find("bodies"));
+    for (std::size_t i = 0; i < config.bodies.size(); ++i)
+      if (config.bodies[i].discretization == Discretization::fe) {
+        const Item d = *MapReader(ctx, items[i], {"name", "material", "shape", "discretization", "element",
+                                                  "hourglass"}).find("discretization");
+        ctx.fail(d.mark, d.path + ": finite-element bodies run with solver type explicit, in solid decks (no "
+                                  "structure)");
+      }
+  }
   if (auto t = m.find("thermal")) config.thermal = read_thermal(ctx, *t, regions);
   check_thermal(ctx, m, config);
   read_output(ctx, m, config);

@@ -17,6 +17,7 @@
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
 #include "horizon/driver/summary.hpp"
+#include "horizon/fe/fe_region.hpp"
 #include "horizon/damage/crack_angle.hpp"
 #include "horizon/damage/crack_metrics.hpp"
 #include "horizon/loading/loads.hpp"
@@ -71,6 +72,12 @@ CheckReport check_system(const Config& c, const System& s) {
   r.precrack_bonds = s.precrack_bonds;
   r.memory_bytes = memory_estimate(s);
   r.stable_dt = stable_time_step(s);
+  if (s.fe) {
+    r.fe_elements = s.fe->elements();
+    r.fe_nodes = s.fe->nodes();
+    r.fe_shared_nodes = s.fe->shared_nodes();
+    r.fe_nodes_per_element = s.fe->nodes_per_element;
+  }
   if (s.heat.active()) r.heat_stable_dt = heat_stable_step(s);
   if (c.solver.type == SolverType::heat) {
     r.stable_dt = r.heat_stable_dt;
@@ -106,6 +113,9 @@ std::string format_check(const Config& c, const CheckReport& r) {
   o << fmt::format("bonds           {} directed ({:.1f} per particle), {} cut by precracks\n", r.bonds,
                    r.particles ? static_cast<double>(r.bonds) / static_cast<double>(r.particles) : 0.0,
                    r.precrack_bonds);
+  if (r.fe_elements)
+    o << fmt::format("fe              {} {} elements, {} nodes ({} of them peridynamic particles)\n", r.fe_elements,
+                     r.fe_nodes_per_element == 8 ? "hex8" : "tet4", r.fe_nodes, r.fe_shared_nodes);
   o << fmt::format("memory          {:.1f} MiB (estimate)\n", static_cast<double>(r.memory_bytes) / (1 << 20));
   if (r.heat_stable_dt > 0)
     o << fmt::format("heat            stable explicit heat step {:.4e} s ({}){}\n", r.heat_stable_dt,
@@ -123,7 +133,8 @@ std::string format_check(const Config& c, const CheckReport& r) {
                      c.solver.tolerance);
     return o.str();
   }
-  o << fmt::format("stable step     {:.4e} s (Silling-Askari bound)\n", r.stable_dt);
+  o << fmt::format("stable step     {:.4e} s ({})\n", r.stable_dt,
+                   r.fe_elements ? "Silling-Askari bound and the elements'" : "Silling-Askari bound");
   if (c.solver.type == SolverType::implicit_dynamic)
     o << fmt::format("time step       {:.4e} s (implicit Newmark, {:.1f} x the stable step)\n", r.dt,
                      r.dt / r.stable_dt);
@@ -737,6 +748,12 @@ int ExplicitRun::finish() {
   j["bond_updates_per_second"] =
       loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps() - r.steps_at_start) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
+  if (s.fe) {
+    j["fe"] = {{"elements", s.fe->elements()},
+               {"element", s.fe->nodes_per_element == 8 ? "hex8" : "tet4"},
+               {"nodes", s.fe->nodes()},
+               {"shared_nodes", s.fe->shared_nodes()}};
+  }
   summary_state(j, s, g, *r.loads, r.max_balance_error);
   if (r.heat) {
     j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, r.heat_stable, r.heat_initial);

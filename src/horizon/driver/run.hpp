@@ -36,6 +36,9 @@ struct CheckReport {
   double dt = 0;                     // the step the run will use
   double heat_stable_dt = 0;         // the explicit heat stable step (thermal runs; 0 otherwise)
   int64_t steps = 0;
+  // Finite-element bodies (fe/fe_region.hpp): elements, nodes, nodes shared with particles.
+  std::size_t fe_elements = 0, fe_nodes = 0, fe_shared_nodes = 0;
+  int fe_nodes_per_element = 0;
 };
 
 // Applies the command-line overrides to a deck.

@@ -1,4 +1,5 @@
 #include "horizon/solver/forces.hpp"
+#include "horizon/fe/fe_region.hpp"
 
 #include "horizon/parallel/decomposition.hpp"
 
@@ -995,6 +996,7 @@ ForceStats compute_forces(System& s, bool energy) {
     stats.broken = general_forces(s, energy);  // solver/forces_general.cpp
     M.min_stretch.swap(M.min_stretch_next);
     s.contact.add_forces(s, M.packed.data(), s.particles.f.data(), energy ? s.particles.energy.data() : nullptr);
+    if (s.fe) s.fe->apply(s, energy);  // the FE-owned nodes' forces (fe/fe_region.hpp)
     s.broken += stats.broken;
     return stats;
   }
@@ -1010,6 +1012,7 @@ ForceStats compute_forces(System& s, bool energy) {
   }
   M.min_stretch.swap(M.min_stretch_next);
   s.contact.add_forces(s, M.packed.data(), s.particles.f.data(), energy ? s.particles.energy.data() : nullptr);
+  if (s.fe) s.fe->apply(s, energy);  // the FE-owned nodes' forces (fe/fe_region.hpp)
   s.broken += stats.broken;
   return stats;
 }

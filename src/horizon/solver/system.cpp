@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "horizon/core/error.hpp"
+#include "horizon/fe/fe_region.hpp"
 #include "horizon/family/neighbors.hpp"
 #include "horizon/family/precrack.hpp"
 #include "horizon/geometry/lattice.hpp"
@@ -106,6 +107,10 @@ System build_system(const Config& config) {
     for (std::size_t m = 0; m < config.materials.size(); ++m)
       if (config.materials[m].name == body.material) mat = static_cast<int>(m);
     if (mat < 0) throw Error("body '" + body.name + "' names unknown material '" + body.material + "'");
+    if (body.discretization == Discretization::fe) {  // built below, after the particles
+      s.block_names.push_back(body.name);
+      continue;
+    }
     const std::size_t added = fill_shape(s.particles, body.shape, spec, config.materials[mat].density,
                                          static_cast<int32_t>(b), mat);
     if (added == 0)
@@ -125,14 +130,63 @@ System build_system(const Config& config) {
       if (region.contains(s.particles.X[i])) s.particles.no_fail[i] = 1;
   }
 
-  s.bonds = find_neighbors(s.particles.X, s.particles.volume,
-                           family_radius(config.horizon, config.spacing, config.partial_volume.rule),
-                           &s.particles.material);
+  const double radius = family_radius(config.horizon, config.spacing, config.partial_volume.rule);
+  std::vector<uint8_t> ghost;
+  build_fe_regions(s, config, radius, ghost);  // fe/fe_region.hpp: no-op without FE bodies
+  if (!s.fe) {
+    s.bonds = find_neighbors(s.particles.X, s.particles.volume, radius, &s.particles.material);
+  } else {
+    // Families of the peridynamic particles and of the FE nodes within a horizon of them
+    // (ghosts, with the lattice cell's volume as a neighbour); bonds between two FE-owned
+    // nodes are dropped, so the FE nodes carry only the bonds that complete the
+    // particles' families (fe/fe_region.hpp).
+    const auto& P = s.particles;
+    std::vector<uint32_t> subset;
+    std::vector<Vec3> pts;
+    std::vector<double> vol;
+    std::vector<int32_t> mats;
+    for (std::size_t i = 0; i < P.size(); ++i)
+      if (!s.fe->owned_particle[i] || ghost[i]) {
+        subset.push_back(static_cast<uint32_t>(i));
+        pts.push_back(P.X[i]);
+        vol.push_back(s.fe->owned_particle[i] ? cell_volume(config) : P.volume[i]);
+        mats.push_back(P.material[i]);
+      }
+    Bonds sub = find_neighbors(pts, vol, radius, &mats);
+    Bonds& b = s.bonds;
+    b.kinds = std::move(sub.kinds);
+    b.offset.assign(P.size() + 1, 0);
+    for (std::size_t q = 0; q < subset.size(); ++q) {
+      const std::size_t i = subset[q];
+      for (uint64_t k = sub.begin(q); k < sub.end(q); ++k) {
+        const uint32_t j = subset[sub.nbr[k]];
+        if (s.fe->owned_particle[i] && s.fe->owned_particle[j]) continue;
+        b.nbr.push_back(j);
+        b.kind.push_back(sub.kind[k]);
+        ++b.offset[i + 1];
+      }
+    }
+    for (std::size_t i = 0; i < P.size(); ++i) b.offset[i + 1] += b.offset[i];
+    b.intact.assign(b.nbr.size(), 1);
+  }
   if (config.partial_volume) apply_partial_volume(s.bonds, config.horizon, config.spacing);
   check_precracks_cut(s, config);
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
   s.initial_bonds = s.bonds.size();
+  if (s.fe) {
+    // A per-particle surface correction would read the FE nodes' partial families as
+    // surfaces and stiffen the particles' bonds to them without bound.
+    for (const auto& m : config.materials) {
+      const auto it = m.parameters.find("surface_correction");
+      if (it != m.parameters.end() && it->second != 0)
+        throw Error("material '" + m.name + "': surface_correction cannot be used in a deck with finite-element bodies "
+                    "(the FE nodes near the particles have partial families)");
+    }
+  }
   setup_model(s, config.materials, config);
+  if (s.fe && (s.model.state_based || s.models.owner()))
+    throw Error("finite-element bodies couple to bond-based peridynamic models only (a state-based model's force on a "
+                "particle needs its neighbours' full families, which the FE nodes do not have)");
   if (config.thermal.enabled) {
     setup_heat(s, config.materials, config);  // thermal/heat.hpp
     // The temperature-dependent critical stretch acts in the general force pass's
@@ -246,6 +300,7 @@ double stable_time_step(const System& s) {
     }
     if (sum > 0) dt = std::min(dt, std::sqrt(2 * P.density[i] / sum));
   }
+  if (s.fe) dt = std::min(dt, s.fe->stable_time_step());
   return dt;
 }
 

@@ -3,6 +3,7 @@
 // coefficients. Built from a Config by build_system(); tests build small ones in code.
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@
 #include "horizon/thermal/heat_state.hpp"
 
 namespace horizon {
+
+struct FeRegion;  // fe/fe_region.hpp
 
 // The unified models (Model::unified()) write their scalar force state on bond i->j as
 //   t_ij = omega_ij * ( P_i |xi| + Q_i e_ij + R_i e_ij / |xi| ),   e = |Y| - |xi|,
@@ -130,6 +133,10 @@ struct System {
   // The factor max(0, 1 + slope_i (T_i - T_ref,i)) on particle i's critical stretch
   // (temperature-dependent critical stretch), else empty; the general force pass applies it.
   std::vector<double> critical_stretch_factor;
+  // Classical finite-element regions coupled to the particles (fe/fe_region.hpp); null
+  // without finite-element bodies. Its nodes are particles; compute_forces overwrites
+  // the force of the nodes it owns with the element assembly.
+  std::shared_ptr<FeRegion> fe;
 
   // A run split over MPI ranks (parallel/decomposition.hpp), else null and both lists
   // empty: `owned` are the particles this rank integrates, `active_rows` those whose forces

@@ -1,0 +1,438 @@
+#include "horizon/fe/fe_region.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "horizon/core/error.hpp"
+#include "horizon/deck/config.hpp"
+#include "horizon/solver/system.hpp"
+
+namespace horizon {
+
+namespace {
+
+// Hexahedron node signs in the parent cube (the usual ordering: bottom face
+// counter-clockwise, then the top face).
+constexpr int kHexSign[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+
+// The Kuhn split of a cube into six tetrahedra around its diagonal 0-6 (hex local
+// numbering): every cube split alike, so neighbouring cubes' faces match.
+constexpr int kTets[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
+
+double det3(const double J[3][3]) {
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
+// Inverse of a 3 x 3 matrix (det given).
+void inv3(const double J[3][3], double d, double I[3][3]) {
+  I[0][0] = (J[1][1] * J[2][2] - J[1][2] * J[2][1]) / d;
+  I[0][1] = (J[0][2] * J[2][1] - J[0][1] * J[2][2]) / d;
+  I[0][2] = (J[0][1] * J[1][2] - J[0][2] * J[1][1]) / d;
+  I[1][0] = (J[1][2] * J[2][0] - J[1][0] * J[2][2]) / d;
+  I[1][1] = (J[0][0] * J[2][2] - J[0][2] * J[2][0]) / d;
+  I[1][2] = (J[0][2] * J[1][0] - J[0][0] * J[1][2]) / d;
+  I[2][0] = (J[1][0] * J[2][1] - J[1][1] * J[2][0]) / d;
+  I[2][1] = (J[0][1] * J[2][0] - J[0][0] * J[2][1]) / d;
+  I[2][2] = (J[0][0] * J[1][1] - J[0][1] * J[1][0]) / d;
+}
+
+}  // namespace
+
+std::size_t FeRegion::owned_nodes() const {
+  std::size_t n = 0;
+  for (auto o : node_owned) n += o;
+  return n;
+}
+
+void FeRegion::setup_geometry() {
+  const int n = nodes_per_element;
+  const std::size_t ne = conn.size() / static_cast<std::size_t>(n);
+  volume.assign(ne, 0);
+  grad.assign(ne * static_cast<std::size_t>(3 * n), 0);
+  if (n == 8) gamma.assign(ne * 32, 0);
+  for (std::size_t e = 0; e < ne; ++e) {
+    const uint32_t* c = &conn[e * static_cast<std::size_t>(n)];
+    double* b = &grad[e * static_cast<std::size_t>(3 * n)];
+    if (n == 8) {
+      // One-point (centre) integration: J = sum_I x_I (x) dN_I/dxi at xi = 0, with
+      // dN_I/dxi_k = s_Ik / 8; b_I = J^-T dN_I/dxi; V = 8 det J (exact for parallelepipeds).
+      double J[3][3] = {};
+      for (int I = 0; I < 8; ++I)
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) J[i][k] += node_X[c[I]][i] * kHexSign[I][k] / 8.0;
+      const double d = det3(J);
+      if (!(d > 0)) throw Error(fmt::format("finite element {} is inverted or flat (Jacobian {:.3g})", e, d));
+      double Ji[3][3];
+      inv3(J, d, Ji);
+      for (int I = 0; I < 8; ++I)
+        for (int i = 0; i < 3; ++i) {
+          double s = 0;
+          for (int k = 0; k < 3; ++k) s += Ji[k][i] * kHexSign[I][k] / 8.0;
+          b[3 * I + i] = s;
+        }
+      volume[e] = 8 * d * (e < volume_scale.size() ? volume_scale[e] : 1.0);
+      // Hourglass vectors (Flanagan and Belytschko 1981, eq. 35 with their B_iI = V b_iI):
+      // gamma_aI = h_aI - (sum_J h_aJ x_J) . b_I, with h_1..4 = xi eta, eta zeta, zeta xi,
+      // xi eta zeta at the nodes. gamma is orthogonal to every linear field.
+      for (int a = 0; a < 4; ++a) {
+        double h[8];
+        for (int I = 0; I < 8; ++I) {
+          const int* s = kHexSign[I];
+          h[I] = a == 0 ? s[0] * s[1] : a == 1 ? s[1] * s[2] : a == 2 ? s[2] * s[0] : s[0] * s[1] * s[2];
+        }
+        Vec3 hx;
+        for (int I = 0; I < 8; ++I) hx += h[I] * node_X[c[I]];
+        for (int I = 0; I < 8; ++I)
+          gamma[e * 32 + static_cast<std::size_t>(a * 8 + I)] =
+              h[I] - (hx.x * b[3 * I] + hx.y * b[3 * I + 1] + hx.z * b[3 * I + 2]);
+      }
+    } else {
+      // Linear tetrahedron: N_I linear, b_I constant; J = [x1 - x0, x2 - x0, x3 - x0].
+      double J[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) J[i][k] = node_X[c[k + 1]][i] - node_X[c[0]][i];
+      const double d = det3(J);
+      if (!(d > 0)) throw Error(fmt::format("finite element {} is inverted or flat (Jacobian {:.3g})", e, d));
+      double Ji[3][3];
+      inv3(J, d, Ji);
+      for (int i = 0; i < 3; ++i) {
+        double s0 = 0;
+        for (int k = 0; k < 3; ++k) {
+          b[3 * (k + 1) + i] = Ji[k][i];
+          s0 -= Ji[k][i];
+        }
+        b[i] = s0;
+      }
+      volume[e] = d / 6 * (e < volume_scale.size() ? volume_scale[e] : 1.0);
+    }
+  }
+}
+
+void FeRegion::apply(System& s, bool energy) {
+  auto& P = s.particles;
+  const int n = nodes_per_element;
+  const std::size_t ne = elements();
+  elem_force.resize(ne * static_cast<std::size_t>(n));
+  elem_energy.resize(ne);
+#pragma omp parallel for schedule(static)
+  for (std::size_t e = 0; e < ne; ++e) {
+    const uint32_t* c = &conn[e * static_cast<std::size_t>(n)];
+    const double* b = &grad[e * static_cast<std::size_t>(3 * n)];
+    // Small-strain linear elasticity at the centre: H = sum_I u_I (x) b_I, eps = sym H,
+    // sigma = lambda tr(eps) I + 2 mu eps; internal nodal force F_I = -V sigma b_I.
+    double H[3][3] = {};
+    for (int I = 0; I < n; ++I) {
+      const Vec3& u = P.u[node_particle[c[I]]];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) H[i][j] += u[i] * b[3 * I + j];
+    }
+    double eps[3][3], sig[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) eps[i][j] = 0.5 * (H[i][j] + H[j][i]);
+    const double tr = eps[0][0] + eps[1][1] + eps[2][2];
+    double w = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        sig[i][j] = 2 * mu[e] * eps[i][j] + (i == j ? lambda[e] * tr : 0.0);
+        w += 0.5 * sig[i][j] * eps[i][j];
+      }
+    const double V = volume[e];
+    Vec3* F = &elem_force[e * static_cast<std::size_t>(n)];
+    for (int I = 0; I < n; ++I) {
+      Vec3 f;
+      for (int i = 0; i < 3; ++i) f[i] = -V * (sig[i][0] * b[3 * I] + sig[i][1] * b[3 * I + 1] + sig[i][2] * b[3 * I + 2]);
+      F[I] = f;
+    }
+    double energy_e = V * w;
+    if (n == 8) {
+      // Hourglass control, stiffness form (Flanagan and Belytschko 1981, sec. 5): the
+      // generalised hourglass displacements q_a = sum_I gamma_aI u_I resist with
+      // F_I = -k sum_a gamma_aI q_a, energy k/2 sum_a |q_a|^2.
+      const double* g = &gamma[e * 32];
+      const double k = hourglass_k[e];
+      for (int a = 0; a < 4; ++a) {
+        Vec3 q;
+        for (int I = 0; I < 8; ++I) q += g[a * 8 + I] * P.u[node_particle[c[I]]];
+        for (int I = 0; I < 8; ++I) F[I] -= (k * g[a * 8 + I]) * q;
+        energy_e += 0.5 * k * norm2(q);
+      }
+    }
+    elem_energy[e] = energy_e;
+  }
+  const std::size_t nn = nodes();
+#pragma omp parallel for schedule(static)
+  for (std::size_t a = 0; a < nn; ++a) {
+    if (!node_owned[a]) continue;
+    const uint32_t p = node_particle[a];
+    Vec3 f;
+    double w = 0;
+    for (uint64_t k = node_offset[a]; k < node_offset[a + 1]; ++k) {
+      f += elem_force[node_elem[k]];
+      w += elem_energy[node_elem[k] / static_cast<uint32_t>(n)] / n;
+    }
+    P.f[p] = f / P.volume[p];
+    P.damage[p] = 0;
+    if (energy) P.energy[p] = w / P.volume[p];
+  }
+}
+
+double FeRegion::element_energy(const System&) const {
+  double sum = 0;
+  for (double w : elem_energy) sum += w;
+  return sum;
+}
+
+double FeRegion::stable_time_step() const {
+  // Element eigenvalue inequality (the assembled omega_max is at most the largest element
+  // one with the element's share of the lumped mass; Hughes, "The Finite Element Method",
+  // 2000, sec. 9.3). Element bound: lambda_max(K_e) <= V (3 lambda + 2 mu) lambda_max(sum_I
+  // b_I b_I^T) (since tr(eps)^2 <= 3 eps:eps and |eps| <= |H|), plus the hourglass part
+  // k lambda_max(sum_a gamma_a gamma_a^T) <= k sum_a |gamma_a|^2; mass per node rho V / n.
+  // For a cube of side h with nu = 1/4 this gives dt = h / (1.29 c_d), the
+  // one-point hexahedron's own limit (Flanagan and Belytschko 1981, sec. 7).
+  double dt = std::numeric_limits<double>::infinity();
+  const int n = nodes_per_element;
+  for (std::size_t e = 0; e < elements(); ++e) {
+    const double* b = &grad[e * static_cast<std::size_t>(3 * n)];
+    double G[3][3] = {};
+    for (int I = 0; I < n; ++I)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) G[i][j] += b[3 * I + i] * b[3 * I + j];
+    double lmax = 0;  // Gershgorin bound on the largest eigenvalue
+    for (int i = 0; i < 3; ++i) lmax = std::max(lmax, std::abs(G[i][0]) + std::abs(G[i][1]) + std::abs(G[i][2]));
+    double K = volume[e] * (3 * lambda[e] + 2 * mu[e]) * lmax;
+    if (n == 8) {
+      // The hourglass vectors are orthogonal to the linear fields, which hold the range of
+      // the one-point stiffness on a parallelepiped (b_I is linear in the nodes there), so
+      // the two parts act on orthogonal subspaces: the larger of the two bounds. The
+      // hourglass part: k lambda_max(Gram of gamma), Gershgorin on its rows.
+      const double* g = &gamma[e * 32];
+      double hg = 0;
+      for (int a = 0; a < 4; ++a) {
+        double row = 0;
+        for (int c = 0; c < 4; ++c) {
+          double d = 0;
+          for (int I = 0; I < 8; ++I) d += g[a * 8 + I] * g[c * 8 + I];
+          row += std::abs(d);
+        }
+        hg = std::max(hg, row);
+      }
+      K = std::max(K, hourglass_k[e] * hg);
+    }
+    const double omega2 = K * n / (density[e] * volume[e]);
+    if (omega2 > 0) dt = std::min(dt, 2 / std::sqrt(omega2));
+  }
+  return dt;
+}
+
+void build_fe_regions(System& s, const Config& config, double radius, std::vector<uint8_t>& ghost) {
+  auto& P = s.particles;
+  const std::size_t n_pd = P.size();
+  const double h = config.spacing;
+  FeRegion fe;
+  bool any = false;
+  for (std::size_t b = 0; b < config.bodies.size(); ++b) {
+    const BodyConfig& body = config.bodies[b];
+    if (body.discretization != Discretization::fe) continue;
+    const int npe = body.element == FeElement::tet4 ? 4 : 8;
+    if (any && npe != fe.nodes_per_element)
+      throw Error("body '" + body.name + "': the finite-element bodies of one deck use one element type");
+    fe.nodes_per_element = npe;
+    any = true;
+    int mat = -1;
+    for (std::size_t m = 0; m < config.materials.size(); ++m)
+      if (config.materials[m].name == body.material) mat = static_cast<int>(m);
+    if (mat < 0) throw Error("body '" + body.name + "' names unknown material '" + body.material + "'");
+    const MaterialConfig& mc = config.materials[static_cast<std::size_t>(mat)];
+    const double E = mc.youngs_modulus, nu = mc.poissons_ratio, rho = mc.density;
+    if (!(E > 0) || !(nu > -1 && nu < 0.5) || !(rho > 0))
+      throw Error(fmt::format("body '{}' (finite elements): material '{}' needs a Young's modulus > 0, a Poisson's "
+                              "ratio in (-1, 0.5) and a density > 0 (it has E = {}, nu = {}, density = {})",
+                              body.name, mc.name, E, nu, rho));
+    const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+    const Box3 box = body.shape.bounds();
+    const Vec3 origin = config.lattice_origin ? *config.lattice_origin : box.min + Vec3{0.5 * h, 0.5 * h, 0.5 * h};
+    // Per axis: the lattice indices inside the box and their coordinates.
+    int64_t first[3], count[3];
+    std::vector<double> coord[3];
+    double ext_lo[3], ext_hi[3];  // from the outermost lattice points to the box faces
+    for (int k = 0; k < 3; ++k) {
+      const double lo = (box.min[k] - origin[k]) / h, hi = (box.max[k] - origin[k]) / h;
+      first[k] = static_cast<int64_t>(std::ceil(lo - 1e-9));
+      const int64_t last = static_cast<int64_t>(std::floor(hi + 1e-9));
+      count[k] = last - first[k] + 1;
+      if (count[k] < 2)
+        throw Error(fmt::format("body '{}' (finite elements): its box holds {} lattice point(s) along axis {}; an "
+                                "element needs two (make the box at least two spacings long)",
+                                body.name, std::max<int64_t>(0, count[k]), "xyz"[k]));
+      if (count[k] > 200000) throw Error("body '" + body.name + "' (finite elements): more than 2e5 nodes along an axis");
+      for (int64_t i = 0; i < count[k]; ++i) coord[k].push_back(origin[k] + static_cast<double>(first[k] + i) * h);
+      ext_lo[k] = std::max(0.0, coord[k].front() - box.min[k]);
+      ext_hi[k] = std::max(0.0, box.max[k] - coord[k].back());
+    }
+    // The peridynamic particles on this lattice (by index), which take their points.
+    std::unordered_map<int64_t, uint32_t> pd;
+    auto key = [&](int64_t i, int64_t j, int64_t k) { return (k * count[1] + j) * count[0] + i; };
+    for (std::size_t p = 0; p < n_pd; ++p) {
+      int64_t idx[3];
+      bool on = true;
+      for (int k = 0; k < 3 && on; ++k) {
+        const double v = (P.X[p][k] - origin[k]) / h;
+        const double r = std::round(v);
+        on = std::abs(v - r) < 1e-6 && r >= static_cast<double>(first[k]) &&
+             r <= static_cast<double>(first[k] + count[k] - 1);
+        idx[k] = static_cast<int64_t>(r) - first[k];
+      }
+      if (on) {
+        pd.emplace(key(idx[0], idx[1], idx[2]), static_cast<uint32_t>(p));
+      } else {
+        bool inside = true;
+        for (int k = 0; k < 3; ++k) inside = inside && P.X[p][k] > box.min[k] && P.X[p][k] < box.max[k];
+        if (inside)
+          throw Error(fmt::format(
+              "body '{}' (finite elements): the particle at ({:g}, {:g}, {:g}) of body '{}' lies inside its box but "
+              "off its lattice (spacing {:g} m from ({:g}, {:g}, {:g})); put the peridynamic body's box a whole number "
+              "of spacings from the finite-element box, or set lattice_origin",
+              body.name, P.X[p].x, P.X[p].y, P.X[p].z, s.block_names[static_cast<std::size_t>(P.block[p])], h,
+              origin.x, origin.y, origin.z));
+      }
+    }
+    const std::size_t nodes = static_cast<std::size_t>(count[0] * count[1] * count[2]);
+    std::vector<int64_t> node_id(nodes, -1);  // FE node id per grid point (when used)
+    std::vector<uint8_t> is_pd(nodes, 0);
+    for (const auto& [k, p] : pd) is_pd[static_cast<std::size_t>(k)] = 1;
+    // Elements: the grid cells (or their six tetrahedra) with at least one node that no
+    // peridynamic particle takes.
+    const std::size_t elem_before = fe.conn.size() / static_cast<std::size_t>(npe);
+    std::vector<std::size_t> new_nodes;
+    auto node_of = [&](int64_t g) -> uint32_t {
+      auto& id = node_id[static_cast<std::size_t>(g)];
+      if (id < 0) {
+        id = static_cast<int64_t>(fe.node_particle.size());
+        const int64_t i = g % count[0], j = (g / count[0]) % count[1], k = g / (count[0] * count[1]);
+        fe.node_X.push_back({coord[0][static_cast<std::size_t>(i)], coord[1][static_cast<std::size_t>(j)],
+                             coord[2][static_cast<std::size_t>(k)]});
+        fe.node_owned.push_back(is_pd[static_cast<std::size_t>(g)] ? 0 : 1);
+        fe.node_particle.push_back(is_pd[static_cast<std::size_t>(g)] ? pd.at(g) : 0);
+        if (!is_pd[static_cast<std::size_t>(g)]) new_nodes.push_back(static_cast<std::size_t>(g));
+      }
+      return static_cast<uint32_t>(id);
+    };
+    for (int64_t k = 0; k + 1 < count[2]; ++k)
+      for (int64_t j = 0; j + 1 < count[1]; ++j)
+        for (int64_t i = 0; i + 1 < count[0]; ++i) {
+          int64_t g[8];
+          bool free_node = false;
+          for (int I = 0; I < 8; ++I) {
+            g[I] = key(i + (kHexSign[I][0] > 0), j + (kHexSign[I][1] > 0), k + (kHexSign[I][2] > 0));
+            free_node = free_node || !is_pd[static_cast<std::size_t>(g[I])];
+          }
+          if (!free_node) continue;
+          // The cells of the outermost layers also stand for the material between the
+          // outermost lattice points and the box faces (half a spacing by default): their
+          // volume (mass and stiffness) is scaled by (h + that distance) / h per axis,
+          // their kinematics stay on the lattice, so every node coincides with its
+          // lattice point (fe_region.hpp).
+          const int64_t ijk[3] = {i, j, k};
+          double scale = 1;
+          for (int a = 0; a < 3; ++a)
+            scale *= (h + (ijk[a] == 0 ? ext_lo[a] : 0.0) + (ijk[a] + 2 == count[a] ? ext_hi[a] : 0.0)) / h;
+          if (npe == 8) {
+            for (int I = 0; I < 8; ++I) fe.conn.push_back(node_of(g[I]));
+            fe.volume_scale.push_back(scale);
+          } else {
+            for (const auto& t : kTets) {
+              bool f = false;
+              for (int I : t) f = f || !is_pd[static_cast<std::size_t>(g[I])];
+              if (!f) continue;
+              for (int I : t) fe.conn.push_back(node_of(g[I]));
+              fe.volume_scale.push_back(scale);
+            }
+          }
+        }
+    const std::size_t added = fe.conn.size() / static_cast<std::size_t>(npe) - elem_before;
+    if (added == 0)
+      throw Error("body '" + body.name + "' (finite elements): every node of its box is a particle of a peridynamic "
+                  "body, so it has no element");
+    for (std::size_t e = elem_before; e < elem_before + added; ++e) {
+      fe.lambda.push_back(lam);
+      fe.mu.push_back(mu);
+      fe.density.push_back(rho);
+      fe.hourglass_k.push_back(body.hourglass);  // scaled below, once the geometry is known
+    }
+    // The FE-owned nodes become particles at their lattice points (the element geometry
+    // keeps node_X); the volume is set to the lumped one below.
+    for (std::size_t g : new_nodes) {
+      const int64_t gi = static_cast<int64_t>(g);
+      const int64_t i = gi % count[0], j = (gi / count[0]) % count[1], k = gi / (count[0] * count[1]);
+      const Vec3 x{origin.x + static_cast<double>(first[0] + i) * h, origin.y + static_cast<double>(first[1] + j) * h,
+                   origin.z + static_cast<double>(first[2] + k) * h};
+      const uint32_t id = static_cast<uint32_t>(node_id[g]);
+      fe.node_particle[id] = static_cast<uint32_t>(P.size());
+      P.add(x, 0.0, rho, static_cast<int32_t>(b), mat);
+    }
+  }
+  if (!any) return;
+  if (config.dimension != 3) throw Error("finite-element bodies are three-dimensional (dimension: 3)");
+  fe.setup_geometry();
+  const std::size_t ne = fe.elements();
+  const int npe = fe.nodes_per_element;
+  // Hourglass stiffness k = kappa (lambda + 2 mu) V sum_I |b_I|^2 / 8: kappa times the
+  // one-point element's stiffness scale for a mode of unit hourglass vector norm^2 / 8
+  // (Flanagan and Belytschko 1981 take it proportional to (lambda + 2 mu) b_iI b_iI).
+  for (std::size_t e = 0; e < ne; ++e) {
+    double bb = 0;
+    for (int q = 0; q < 3 * npe; ++q) bb += fe.grad[e * static_cast<std::size_t>(3 * npe) + q] * fe.grad[e * static_cast<std::size_t>(3 * npe) + q];
+    fe.hourglass_k[e] *= (fe.lambda[e] + 2 * fe.mu[e]) * fe.volume[e] * bb / 8;
+  }
+  // Node -> element lists, lumped volumes (V_e / n per node) of the FE-owned nodes.
+  const std::size_t nn = fe.nodes();
+  fe.node_offset.assign(nn + 1, 0);
+  for (uint32_t a : fe.conn) ++fe.node_offset[a + 1];
+  for (std::size_t a = 0; a < nn; ++a) fe.node_offset[a + 1] += fe.node_offset[a];
+  fe.node_elem.resize(fe.conn.size());
+  std::vector<uint64_t> fill(fe.node_offset.begin(), fe.node_offset.end() - 1);
+  for (std::size_t q = 0; q < fe.conn.size(); ++q) fe.node_elem[fill[fe.conn[q]]++] = static_cast<uint32_t>(q);
+  for (std::size_t a = 0; a < nn; ++a) {
+    if (!fe.node_owned[a]) continue;
+    double v = 0;
+    for (uint64_t k = fe.node_offset[a]; k < fe.node_offset[a + 1]; ++k) v += fe.volume[fe.node_elem[k] / static_cast<uint32_t>(npe)] / npe;
+    P.volume[fe.node_particle[a]] = v;
+  }
+  fe.owned_particle.assign(P.size(), 0);
+  for (std::size_t a = 0; a < nn; ++a)
+    if (fe.node_owned[a]) fe.owned_particle[fe.node_particle[a]] = 1;
+  // Ghosts: FE-owned nodes within `radius` of a peridynamic particle (a cell list of the
+  // peridynamic particles, cells of side `radius`).
+  ghost.assign(P.size(), 0);
+  if (n_pd > 0) {
+    std::unordered_map<int64_t, std::vector<uint32_t>> cells;
+    auto cell = [&](const Vec3& x, int k) { return static_cast<int64_t>(std::floor(x[k] / radius)); };
+    auto ckey = [](int64_t i, int64_t j, int64_t k) { return (i * 73856093) ^ (j * 19349663) ^ (k * 83492791); };
+    for (std::size_t p = 0; p < n_pd; ++p) cells[ckey(cell(P.X[p], 0), cell(P.X[p], 1), cell(P.X[p], 2))].push_back(static_cast<uint32_t>(p));
+    const double r2 = radius * radius * (1 + 2e-10);
+    for (std::size_t p = n_pd; p < P.size(); ++p) {
+      const int64_t ci = cell(P.X[p], 0), cj = cell(P.X[p], 1), ck = cell(P.X[p], 2);
+      for (int64_t di = -1; di <= 1 && !ghost[p]; ++di)
+        for (int64_t dj = -1; dj <= 1 && !ghost[p]; ++dj)
+          for (int64_t dk = -1; dk <= 1 && !ghost[p]; ++dk) {
+            auto it = cells.find(ckey(ci + di, cj + dj, ck + dk));
+            if (it == cells.end()) continue;
+            for (uint32_t q : it->second)
+              if (norm2(P.X[q] - P.X[p]) <= r2) {
+                ghost[p] = 1;
+                break;
+              }
+          }
+    }
+  }
+  s.fe = std::make_shared<FeRegion>(std::move(fe));
+}
+
+}  // namespace horizon

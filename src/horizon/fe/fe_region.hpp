@@ -1,0 +1,92 @@
+#pragma once
+// Classical finite-element regions (linear elastic 8-node hexahedra with one-point
+// integration and hourglass control, or 4-node tetrahedra) advanced by the explicit
+// loop together with the peridynamic particles, and their coupling to peridynamic
+// bodies (seed 002 digest sec. 7; docs/design.md, "Finite-element regions").
+//
+// Nodes are particles. An FE body's nodes sit on the lattice of the deck's spacing (the
+// cells of the outermost layers stand for the material out to the box faces: their
+// volume is scaled, their nodes stay on the lattice), so where a peridynamic
+// body lies inside the FE body's box its particles are the nodes there. Every degree of
+// freedom has one owner:
+//   - a particle of a peridynamic body is owned by the peridynamics: its force is the
+//     bond sum, over a full family (the FE nodes within a horizon of it, "ghosts", are
+//     its neighbours like any particle);
+//   - every other node is owned by the FE: its force is the element assembly, over all
+//     the elements around it (the elements that reach into the peridynamic body by one
+//     layer carry the peridynamic particles' displacements).
+// The coupling is therefore the interpolation constraint u_p = N u_h of the seed's
+// eq. 46 with coincident points (N = 1 at the node) over an overlap of one horizon on
+// the FE side and one element on the peridynamic side, and force-based: each owner
+// takes its force from its own model only. A linear displacement field gives zero force
+// on every owned degree of freedom (the peridynamic family is complete and symmetric,
+// the FE node has all its elements), so a uniform strain crosses the interface with no
+// spurious force: the patch test holds to round-off (tests/verification/test_fe.cpp).
+// The price is that the coupling forces derive from no energy: the ledger (each owner's
+// energy: the particles' bond energies and the FE-owned nodes' share of the element
+// energies) closes to the error the wave test measures, not to round-off.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "horizon/core/vec3.hpp"
+
+namespace horizon {
+
+struct Config;
+struct System;
+struct Particles;
+
+struct FeRegion {
+  int nodes_per_element = 8;  // 8: hex8, 4: tet4 (one kind per run's FE bodies)
+  // Per FE node: its particle, its position (its particle's lattice point), and whether
+  // the FE owns it.
+  std::vector<uint32_t> node_particle;
+  std::vector<Vec3> node_X;
+  std::vector<uint8_t> node_owned;
+  // Per element: its nodes (nodes_per_element each, FE node ids), volume, Lame constants,
+  // shape-function gradients at the centre b_I = dN_I/dx (3 per node), hourglass
+  // vectors gamma (hex8: 4 x 8) and hourglass stiffness.
+  std::vector<uint32_t> conn;
+  std::vector<double> volume, lambda, mu, density, hourglass_k;
+  // Per element: the factor on its geometric volume (outermost cells stand for the
+  // material out to the box faces; 1 elsewhere).
+  std::vector<double> volume_scale;
+  std::vector<double> grad;
+  std::vector<double> gamma;
+  // Per particle: 1 where the FE owns it (its force and energy come from the elements).
+  std::vector<uint8_t> owned_particle;
+  // Node -> (element, local node) lists, for a race-free assembly.
+  std::vector<uint64_t> node_offset;
+  std::vector<uint32_t> node_elem;  // element * nodes_per_element + local
+  // Scratch: element nodal forces and energies.
+  std::vector<Vec3> elem_force;
+  std::vector<double> elem_energy;
+
+  std::size_t elements() const { return volume.size(); }
+  std::size_t nodes() const { return node_particle.size(); }
+  std::size_t owned_nodes() const;
+  std::size_t shared_nodes() const { return nodes() - owned_nodes(); }
+
+  // Overwrites the force density and the energy density of every FE-owned particle
+  // with the element assembly (F_I / V_I, the FE-owned share of element energies / V_I).
+  void apply(System& s, bool energy);
+  // Strain energy of all the elements (not only the FE-owned share) [J].
+  double element_energy(const System& s) const;
+  // Stable step of the elements with lumped mass (Flanagan and Belytschko 1981, sec. 7:
+  // omega_max^2 <= 8 (lambda + 2 mu) b_iI b_iI / (rho V^2) for the one-point hexahedron,
+  // here with b = V dN/dx; the hourglass stiffness added; the same bound for tet4 with
+  // 4 nodes). Returns +inf without elements.
+  double stable_time_step() const;
+  // Precomputes gradients, volumes and hourglass vectors from node_X and conn.
+  void setup_geometry();
+};
+
+// Builds the FE regions of the deck's FE bodies into s (after the peridynamic bodies'
+// particles exist): nodes on the lattice, carved where peridynamic particles are; new
+// particles for the FE-owned nodes with their lumped volume. Sets block names.
+// `ghost` (out, one per particle) marks the FE-owned nodes within `radius` of a
+// peridynamic particle: the ones the neighbour search must see.
+void build_fe_regions(System& s, const Config& config, double radius, std::vector<uint8_t>& ghost);
+
+}  // namespace horizon
