@@ -306,6 +306,7 @@ std::string distributed_limits(const Config& c, const System& s, const RunOption
     return "only the unified models (pmb, lps) are split over ranks; other models need their own halo";
   if (s.heat.active() || !s.thermal_strain.empty() || !s.critical_stretch_factor.empty())
     return "heat conduction and thermal strain are not split over ranks";
+  if (s.fe) return "finite-element regions are not split over ranks";
   if (c.solver.adaptive_time_step) return "the adaptive time step is not split over ranks";
   if (c.solver.damping > 0) return "damping is not split over ranks";
   if (world_size() > 1 && (c.output.checkpoint_every > 0 || o.restart))
