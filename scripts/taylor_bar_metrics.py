@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Taylor-bar figures from the last frame of a run (standard library only).
 
-usage: taylor_bar_metrics.py RUN_DIR_OR_VTU [--axis z] [--length 0.0324] [--radius 0.0032] [--volume]
+usage: taylor_bar_metrics.py RUN_DIR_OR_VTU [--axis y] [--length 0.0324] [--radius 0.0032] [--volume]
 
 Reads the Horizon VTU (raw appended Float64 arrays; Points are reference positions, the
 current position is Points + displacement) and prints, for a bar along `axis` that hit a
@@ -53,7 +53,7 @@ def last_frame(path):
 
 def main():
     args = sys.argv[1:]
-    axis, length, radius = 2, 0.0324, 0.0032
+    axis, length, radius = 1, 0.0324, 0.0032
     if "--axis" in args:
         axis = "xyz".index(args[args.index("--axis") + 1])
     if "--length" in args:

@@ -55,16 +55,16 @@ TaylorResult run_taylor(Config c) {
   double zmin = 1e300, zmax = -1e300, Zmin = 1e300, Zmax = -1e300, R0 = 0;
   for (std::size_t i = 0; i < P.size(); ++i) {
     const Vec3 x = P.position(i);
-    zmin = std::min(zmin, x.z), zmax = std::max(zmax, x.z);
-    Zmin = std::min(Zmin, P.X[i].z), Zmax = std::max(Zmax, P.X[i].z);
-    R0 = std::max(R0, std::hypot(P.X[i].x, P.X[i].y));
+    zmin = std::min(zmin, x.y), zmax = std::max(zmax, x.y);  // the bar lies along y
+    Zmin = std::min(Zmin, P.X[i].y), Zmax = std::max(Zmax, P.X[i].y);
+    R0 = std::max(R0, std::hypot(P.X[i].x, P.X[i].z));
   }
   const double h = sim.config.spacing;
   r.length = zmax - zmin + (kLength - (Zmax - Zmin));
   double rf = 0, Jsum = 0, Vsum = 0;
   for (std::size_t i = 0; i < P.size(); ++i) {
     const Vec3 x = P.position(i);
-    if (x.z < zmin + h) rf = std::max(rf, std::hypot(x.x, x.y));
+    if (x.y < zmin + h) rf = std::max(rf, std::hypot(x.x, x.z));
     Eigen::Matrix3d K = Eigen::Matrix3d::Zero(), N = Eigen::Matrix3d::Zero();
     for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) {
       const uint32_t j = s.bonds.nbr[k];

@@ -86,9 +86,12 @@ class ExtendedCorrespondence final : public Model {
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
  private:
-  // Elastic energy released by a particle that fails in this step [J/m^3].
+  // Elastic energy released by a particle that fails in this step [J/m^3]: its damage
+  // passes D_c (omega_D drops its bonds) or reaches 1 (the law stops carrying stress,
+  // the only failure when D_c = 1).
+  bool failed_state(const StrainLawState& st) const { return st.damage > critical_ || st.damage >= 1.0; }
   double released(std::size_t l) const {
-    return committed_[l].damage <= critical_ && trial_[l].damage > critical_ ? energy_[l] : 0.0;
+    return !failed_state(committed_[l]) && failed_state(trial_[l]) ? energy_[l] : 0.0;
   }
   bool failed_committed(uint32_t i) const {
     const int32_t l = local_[i];
