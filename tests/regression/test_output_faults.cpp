@@ -271,3 +271,51 @@ TEST(OutputFaults, SigintWritesAFinalFrameAndExits130) {
   EXPECT_GE(expect_valid_output(d / "out"), 2u);
   fs::remove_all(d);
 }
+
+// The static and heat drivers keep the same promise as the explicit one: on a file-size
+// limit they stop with status 5, the frames the index lists read back whole, and the
+// summary says what happened.
+namespace {
+
+void expect_output_error_run(const std::string& name, const std::string& deck) {
+  const fs::path d = scratch(name);
+  std::ofstream(d / "bar.yaml") << deck;
+  const Ended e = run(d / "bar.yaml", d / "out", 16 << 10);
+  ASSERT_TRUE(e.exited) << "killed by signal " << e.signal;
+  EXPECT_EQ(e.code, 5) << e.log;
+  EXPECT_NE(e.log.find("File too large"), std::string::npos) << e.log;
+  const std::size_t frames = expect_valid_output(d / "out", 20);
+  EXPECT_GE(frames, 100u);
+  EXPECT_LT(frames, 401u);
+  EXPECT_NE(e.log.find("frames.pvd lists the " + std::to_string(frames) + " complete frames"), std::string::npos)
+      << e.log;
+  for (const auto& f : fs::directory_iterator(d / "out")) EXPECT_NE(f.path().extension(), ".tmp") << f.path();
+  std::ifstream js(d / "out" / "summary.json");
+  ASSERT_TRUE(js);
+  EXPECT_EQ(nlohmann::json::parse(js)["status"], "output error");
+  fs::remove_all(d);
+}
+
+}  // namespace
+
+TEST(OutputFaults, StaticRunOnAFileSizeLimitStopsWithStatus5AndValidFrames) {
+  expect_output_error_run("static",
+                          "dimension: 1\narea: 1.0e-6\nspacing: 1.0e-3\nhorizon_factor: 3\n"
+                          "materials:\n  steel: {model: pmb, density: 7800, youngs_modulus: 200.0e9}\n"
+                          "bodies:\n  - {name: bar, material: steel, shape: {box: {min: [0], max: [0.02]}}}\n"
+                          "regions:\n  left: {box: {min: [0], max: [0.0025]}}\n"
+                          "  right: {box: {min: [0.0175], max: [0.02]}}\n"
+                          "loads:\n  - {region: left, displacement: [0]}\n"
+                          "  - {region: right, displacement: [\"1e-6*t\"]}\n"
+                          "solver: {type: static, load_steps: 400}\noutput: {frames: 400}\n");
+}
+
+TEST(OutputFaults, HeatRunOnAFileSizeLimitStopsWithStatus5AndValidFrames) {
+  expect_output_error_run("heat",
+                          "dimension: 1\narea: 1.0e-6\nspacing: 1.0e-3\nhorizon_factor: 3\n"
+                          "materials:\n  steel:\n    model: pmb\n    density: 7800\n    youngs_modulus: 200.0e9\n"
+                          "    thermal: {conductivity: 45, specific_heat: 460, reference_temperature: 293}\n"
+                          "bodies:\n  - {name: bar, material: steel, shape: {box: {min: [0], max: [0.02]}}}\n"
+                          "thermal: {initial_temperature: \"293 + 50*x/0.02\", integration: implicit}\n"
+                          "solver: {type: heat, end_time: 0.4, time_step: 0.001}\noutput: {frames: 400}\n");
+}

@@ -556,12 +556,7 @@ int ExplicitRun::finish() {
   // After an output error, history and summary are tried once (they are small) and their
   // failure only reported.
   auto write_result = [&](const std::string& name, const std::string& text) {
-    try {
-      write_file_atomic((dir / name).string(), text);
-    } catch (const OutputError& e) {
-      if (r.exit_code != 5) throw;
-      fmt::print(stderr, "horizon: {}\n", e.what());
-    }
+    write_result_file((dir / name).string(), text, r.exit_code == 5);
   };
   write_result("history.csv", r.history.str());
 

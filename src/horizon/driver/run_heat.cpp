@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "horizon/core/error.hpp"
 #include "horizon/core/interrupt.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/driver/summary.hpp"
@@ -108,6 +109,8 @@ int run_heat_deck(Config config, const RunOptions& options) {
   std::string status = "completed";
   int exit_code = 0;
   int64_t step = 0;
+  std::string message;
+  try {
   while (step < total) {
     const double h = std::min(dt, config.solver.end_time - s.heat.time);
     solver.step(h > 0 ? h : dt);
@@ -120,19 +123,28 @@ int run_heat_deck(Config config, const RunOptions& options) {
     }
     if (options.handle_signals && interrupt_requested()) {
       status = "interrupted";
-      exit_code = 130;
+      exit_code = interrupt_exit_code();
+      message = fmt::format("{} at step {}; a final frame was written", interrupt_name(), step);
       write_frame(s.heat.time, step);
       break;
     }
   }
+  } catch (const OutputError& e) {
+    // The frames listed in frames.pvd are complete; the failed one is not listed.
+    status = "output error";
+    exit_code = 5;
+    message = fmt::format("output error: {}; stopped at step {}, frames.pvd lists the {} complete frames", e.what(),
+                          step, pvd.entries().size());
+  }
   if (options.handle_signals) clear_interrupt();
-  write_file_atomic((dir / "history.csv").string(), history.str());
-  nlohmann::ordered_json j = summary_header(config, s, status, "", step);
+  write_result_file((dir / "history.csv").string(), history.str(), exit_code == 5);
+  nlohmann::ordered_json j = summary_header(config, s, status, message, step);
   j["time"] = s.heat.time;
   j["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   j["thermal"] = heat_summary(s, dt, stable, initial_content);
-  write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+  write_result_file((dir / "summary.json").string(), j.dump(2) + "\n", exit_code == 5);
   if (!options.quiet) fmt::print(stderr, "{}: {} heat steps; output in {}\n", status, step, dir.string());
+  if (!message.empty()) fmt::print(stderr, "horizon: {}\n", message);
   return exit_code;
 }
 

@@ -202,6 +202,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   int next_frame = 1;
   int64_t steps = 0;
   double time = 0;
+  try {
   while (true) {
     Row row;
     if (is_static) {
@@ -250,11 +251,24 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       break;
     }
   }
+  } catch (const OutputError& e) {
+    // As in the explicit run: the frames listed in frames.pvd are complete, the failed one
+    // is not listed, and no final frame is tried.
+    status = "output error";
+    exit_code = 5;
+    message = fmt::format("output error: {}; stopped at step {}, frames.pvd lists the {} complete frames", e.what(),
+                          steps, pvd.entries().size());
+  }
   if (!options.quiet) progress.finish();
-  if (exit_code != 0) write_frame(time, steps);
+  if (exit_code != 0 && exit_code != 5) write_frame(time, steps);
   clear_interrupt();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  write_file_atomic((dir / "history.csv").string(), history.str());
+  // After an output error, history and summary are tried once (they are small) and their
+  // failure only reported.
+  auto write_result = [&](const std::string& name, const std::string& text) {
+    write_result_file((dir / name).string(), text, exit_code == 5);
+  };
+  write_result("history.csv", history.str());
 
   const Ledger& g = ledger();
   nlohmann::ordered_json j = summary_header(config, s, status, message, steps);
@@ -291,7 +305,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   j["solver"] = sj;
   const std::string energy_warning = energy_balance_warning(config, max_balance_error);
   if (!energy_warning.empty()) j["warnings"] = {energy_warning};
-  write_file_atomic((dir / "summary.json").string(), j.dump(2) + "\n");
+  write_result("summary.json", j.dump(2) + "\n");
   if (!energy_warning.empty()) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
 
   if (!options.quiet) {

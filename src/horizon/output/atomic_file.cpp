@@ -1,6 +1,7 @@
 #include "horizon/output/atomic_file.hpp"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -61,6 +62,15 @@ void write_file_atomic(const std::string& path,
     std::error_code ignored;
     fs::remove(tmp, ignored);
     throw OutputError("cannot rename '" + tmp.string() + "' to '" + path + "': " + ec.message());
+  }
+}
+
+void write_result_file(const std::string& path, const std::string& bytes, bool after_output_error) {
+  try {
+    write_file_atomic(path, bytes);
+  } catch (const OutputError& e) {
+    if (!after_output_error) throw;
+    std::fprintf(stderr, "horizon: %s\n", e.what());
   }
 }
 

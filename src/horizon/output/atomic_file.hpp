@@ -17,6 +17,12 @@ void write_file_atomic(const std::string& path, const std::string& bytes);
 void write_file_atomic(const std::string& path,
                        const std::function<void(std::ostream&)>& write);
 
+// A run's closing files (history, summary) after the run itself: written atomically; when
+// the run already stopped on an output error (`after_output_error`), a second failure is
+// only reported on standard error, so that the run still ends with its own message and
+// exit status; otherwise it throws as write_file_atomic does.
+void write_result_file(const std::string& path, const std::string& bytes, bool after_output_error);
+
 // Creates a run's output directory (and `sub` inside it) and proves it writable by
 // writing and removing a probe file, so that a run that could not save its results
 // fails before it starts. Throws horizon::OutputError.
