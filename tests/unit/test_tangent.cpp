@@ -2,7 +2,7 @@
 // LPS dilatation coupling up to two horizons) against central finite differences of
 // compute_forces on small randomly deformed blocks with some broken bonds, PMB, LPS and
 // a mixed PMB/LPS body, 2-D and 3-D; symmetry; the matrix-free product and diagonal;
-// the ADR stiffness bound against the assembled row sums.
+// the ADR stiffness bound against the assembled row sums; loose unknowns held.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +12,7 @@
 
 #include "horizon/solver/equilibrium.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/solver/linear.hpp"
 #include "horizon/solver/tangent.hpp"
 #include "test_helpers.hpp"
 
@@ -168,6 +169,31 @@ TEST(Tangent, MixedPmbLpsBodyMatchesFiniteDifferences) {
               BodyConfig{"right", pmb.name, Shape::box({3.5 * h, -0.5 * h, -0.5 * h}, {7.5 * h, 7.5 * h, 0.5 * h})}};
   System s = build_system(c);
   check(s, "mixed PMB/LPS 2-D");
+}
+
+}  // namespace
+}  // namespace horizon
+
+namespace horizon {
+namespace {
+
+// Unknowns without stiffness (a node no intact bond or pair holds): hold_loose_dofs
+// gives an empty row the mean diagonal, so that Cholesky is defined and the step there is
+// zero when nothing loads the node; rows with entries are left alone.
+TEST(Tangent, LooseUnknownsAreHeld) {
+  SparseMatrix K(3, 3);
+  std::vector<Eigen::Triplet<double, int>> t = {{0, 0, 2.0}, {0, 2, -1.0}, {2, 0, -1.0}, {2, 2, 4.0}};
+  K.setFromTriplets(t.begin(), t.end());
+  EXPECT_EQ(hold_loose_dofs(K), 1);
+  EXPECT_DOUBLE_EQ(K.coeff(1, 1), 3.0);  // mean of 2 and 4
+  EXPECT_DOUBLE_EQ(K.coeff(0, 0), 2.0);
+  EXPECT_DOUBLE_EQ(K.coeff(2, 0), -1.0);
+  EXPECT_EQ(hold_loose_dofs(K), 0);
+  LinearSolver cholesky(LinearSolverKind::cholesky);
+  Eigen::VectorXd r(3), x;
+  r << 1.0, 0.0, 2.0;
+  ASSERT_TRUE(cholesky.solve(K, Eigen::VectorXd(), r, x, 1e-12, 10).ok);
+  EXPECT_EQ(x[1], 0.0);
 }
 
 }  // namespace

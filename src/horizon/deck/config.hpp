@@ -249,6 +249,10 @@ struct SupportConfig {
 struct StructureConfig {
   StructureKind kind = StructureKind::none;
   std::vector<SupportConfig> supports;
+  // Shells: > 0 wraps the 2-D lattice around a cylinder of this radius about the x axis,
+  // (x, y) -> (x, R sin(y/R), R cos(y/R)): y is the arc length, and a lattice of
+  // 2 pi R / spacing nodes around closes the tube (docs/input.md, structure).
+  double cylinder_radius = 0;
 };
 
 struct Config {

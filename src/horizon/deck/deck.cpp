@@ -43,11 +43,12 @@ void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* k
   }
 }
 
-// structure: {type: beam | plate | shell, supports: [{axis, at, kind}]} (docs/input.md).
+// structure: {type: beam | plate | shell, supports: [{axis, at, kind}], cylinder_radius}
+// (docs/input.md).
 void read_structure(DeckContext& ctx, const MapReader& top, const Item& dim, Config& config) {
   const auto item = top.find("structure");
   if (!item) return;
-  MapReader m(ctx, *item, {"type", "supports"});
+  MapReader m(ctx, *item, {"type", "supports", "cylinder_radius"});
   const Item type = m.get("type", "beam (dimension 1), plate or shell (dimension 2)");
   StructureConfig& sc = config.structure;
   sc.kind = read_enum<StructureKind>(
@@ -80,6 +81,15 @@ void read_structure(DeckContext& ctx, const MapReader& top, const Item& dim, Con
           ctx.fail(i.mark, i.path + ": a second support at the same place");
       sc.supports.push_back(support);
     }
+  }
+  if (auto r = m.find("cylinder_radius")) {
+    if (sc.kind != StructureKind::shell)
+      ctx.fail(*r->key_mark, r->path + ": a curved surface is a shell; this structure is a " + type.node.Scalar());
+    sc.cylinder_radius = read_positive(ctx, *r);
+    ctx.cylinder = true;
+    if (!sc.supports.empty())
+      ctx.fail(*r->key_mark, r->path + ": supports on a cylinder are not implemented; hold its nodes with "
+                                       "displacement loads");
   }
   ctx.motion_components = 3;
   ctx.structure = true;

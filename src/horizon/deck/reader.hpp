@@ -34,6 +34,7 @@ struct DeckContext {
   // nodes move in 3-D space; 0 means the dimension.
   int motion_components = 0;
   bool structure = false;  // a beam, plate or shell (Config::structure)
+  bool cylinder = false;   // a shell wrapped around a cylinder: 2-D boxes reach through z
 
   [[noreturn]] void fail(const YAML::Mark& at, const std::string& message) const;
   void warn(const YAML::Mark& at, const std::string& message) const;

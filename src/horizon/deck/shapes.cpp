@@ -27,8 +27,14 @@ Shape read_box(const DeckContext& ctx, const Item& item) {
   MapReader m(ctx, item, {"min", "max"});
   const Item min_item = m.get("min", "the lowest corner, one coordinate per axis");
   const Item max_item = m.get("max", "the highest corner, one coordinate per axis");
-  const Vec3 min = read_vector(ctx, min_item);
-  const Vec3 max = read_vector(ctx, max_item);
+  Vec3 min = read_vector(ctx, min_item);
+  Vec3 max = read_vector(ctx, max_item);
+  if (ctx.cylinder) {
+    // A cylindrical shell's nodes leave the plane: a box of its deck selects by (x, y)
+    // of the wrapped positions, through any z (docs/input.md, structure).
+    min.z = -kThroughThickness;
+    max.z = kThroughThickness;
+  }
   for (int k = 0; k < ctx.dimension; ++k) {
     if (!(min[k] < max[k])) {
       ctx.fail(max_item.mark, max_item.path + ": a box needs min < max along every axis; along " + kAxisNames[k] +

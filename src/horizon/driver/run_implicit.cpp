@@ -109,8 +109,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     {
       FixedBonds fixed(s);
       compute_forces(s, false);
-      K = unified_form(s) && sc.tangent == TangentKind::analytic ? assemble_tangent(s, dofs)
-                                                                  : finite_difference_tangent(s, dofs);
+      K = solver_tangent(s, dofs, sc.tangent);
     }
     if (!is_static) {
       Eigen::VectorXd shift = (4.0 / (*sc.time_step * *sc.time_step)) * nodal_mass(s, dofs);

@@ -28,6 +28,7 @@
 //   - owns_force_pass(): the model computes the whole force pass itself and shares a run
 //     only with materials of its own model (Tupek's nonlinear solid, whose energy failure
 //     law couples the two ends of a bond).
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -113,6 +114,24 @@ struct ModelField {
   std::vector<double> values;  // one per particle; models fill their own, others stay 0
 };
 
+// Where a model that owns its force pass writes its tangent stiffness K = -dF/du (F the
+// nodal forces [N], u the displacements [m]) on a solver's unknowns (Model::stiffness).
+// Entries of one (row, column) may repeat: they are summed.
+struct StiffnessEntry {
+  int32_t row, col;
+  double value;
+};
+struct StiffnessSink {
+  const int32_t* dof = nullptr;  // 3 per particle: the unknown of component c, or -1 (prescribed, inactive)
+  std::vector<StiffnessEntry> entries;
+  // K(particle i component ci, particle j component cj) += v, when both are unknowns.
+  void add(uint32_t i, int ci, uint32_t j, int cj, double v) {
+    const int32_t r = dof[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(ci)];
+    const int32_t c = dof[3 * static_cast<std::size_t>(j) + static_cast<std::size_t>(cj)];
+    if (r >= 0 && c >= 0 && v != 0) entries.push_back({r, c, v});
+  }
+};
+
 class Model {
  public:
   virtual ~Model() = default;
@@ -152,6 +171,13 @@ class Model {
   virtual uint64_t force_pass(System& system, bool energy) {
     (void)system, (void)energy;
     return 0;
+  }
+  // The analytic tangent stiffness of a model that owns the force pass, at the state of
+  // the last force pass (bonds held as they were): true when written to `out`, false when
+  // the model has none (the static solvers then take finite differences of the forces).
+  virtual bool stiffness(const System& system, StiffnessSink& out) const {
+    (void)system, (void)out;
+    return false;
   }
   // A stable time step from the current state, or 0 to use the Silling-Askari bound of
   // the shared spring coefficients.

@@ -20,13 +20,13 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
 
   compute_forces(s, false);
   // Fictitious mass (eq. 21) from the tangent's row sums at the starting state.
-  // Models outside the unified bond form (the nonlinear solid): the row sums of the
-  // finite-difference tangent instead of the analytic bound.
+  // Models outside the unified bond form: the row sums of the model's own analytic
+  // tangent (Model::stiffness), or of the finite-difference one.
   Eigen::VectorXd bound;
   if (unified_form(s)) {
     bound = stiffness_row_bound(s, d, linearize(s));
   } else {
-    bound = row_abs_sums(s, d, finite_difference_tangent(s, d));
+    bound = row_abs_sums(s, d, solver_tangent(s, d, TangentKind::analytic));
   }
   Eigen::VectorXd lambda = 0.25 * bound;
   double floor = 0;

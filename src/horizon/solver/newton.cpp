@@ -88,8 +88,7 @@ SolveReport newton_solve(System& s, const DofMap& d, const NewtonOptions& o, Lin
       t0 = std::chrono::steady_clock::now();
       ls = linear.solve(K, shift, ev.R, du, eta, o.max_linear_iterations);
     } else {
-      SparseMatrix K = o.tangent == TangentKind::analytic && unified ? assemble_tangent(s, d)
-                                                                     : finite_difference_tangent(s, d);
+      SparseMatrix K = solver_tangent(s, d, o.tangent);
       if (!unified) floor = round_off_residual(s, d, K);
       rep.tangent_nonzeros = static_cast<std::size_t>(K.nonZeros());
       rep.tangent_bytes = rep.tangent_nonzeros * (sizeof(double) + sizeof(int)) + (d.size() + 1) * sizeof(int);

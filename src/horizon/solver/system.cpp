@@ -112,6 +112,11 @@ System build_system(const Config& config) {
     s.block_names.push_back(body.name);
   }
 
+  // A cylindrical shell: the lattice's (x, y) wrapped around the x axis, y the arc length
+  // (StructureConfig::cylinder_radius).
+  if (const double R = config.structure.cylinder_radius; R > 0)
+    for (auto& X : s.particles.X) X = Vec3{X.x, R * std::sin(X.y / R), R * std::cos(X.y / R)};
+
   for (const auto& name : config.no_fail_regions) {
     const Shape& region = config.regions.at(name);
     for (std::size_t i = 0; i < s.particles.size(); ++i)

@@ -513,3 +513,57 @@ double round_off_residual(const System& s, const DofMap& d, const SparseMatrix& 
 }
 
 }  // namespace horizon
+
+namespace horizon {
+
+bool model_tangent(const System& s, const DofMap& d, SparseMatrix& K) {
+  const Model* owner = s.models.owner();
+  if (!owner) return false;
+  StiffnessSink sink;
+  sink.dof = d.index.data();
+  if (!owner->stiffness(s, sink)) return false;
+  std::vector<Eigen::Triplet<double, int>> triplets;
+  triplets.reserve(sink.entries.size());
+  for (const StiffnessEntry& e : sink.entries) triplets.emplace_back(e.row, e.col, e.value);
+  K = SparseMatrix(static_cast<int>(d.size()), static_cast<int>(d.size()));
+  K.setFromTriplets(triplets.begin(), triplets.end());
+  return true;
+}
+
+int hold_loose_dofs(SparseMatrix& K) {
+  const Eigen::Index n = K.cols();
+  std::vector<uint8_t> stiff(static_cast<std::size_t>(n), 0);
+  double diag_sum = 0;
+  Eigen::Index diag_count = 0;
+  for (Eigen::Index c = 0; c < K.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(K, c); it; ++it) {
+      if (it.value() == 0) continue;
+      stiff[static_cast<std::size_t>(c)] = 1;
+      if (it.row() == c) {
+        diag_sum += std::abs(it.value());
+        ++diag_count;
+      }
+    }
+  const double fill = diag_count > 0 ? diag_sum / static_cast<double>(diag_count) : 1.0;
+  int loose = 0;
+  for (Eigen::Index c = 0; c < n; ++c)
+    if (!stiff[static_cast<std::size_t>(c)]) {
+      K.coeffRef(c, c) = fill;
+      ++loose;
+    }
+  if (loose) K.makeCompressed();
+  return loose;
+}
+
+SparseMatrix solver_tangent(System& s, const DofMap& d, TangentKind kind) {
+  SparseMatrix K;
+  if (kind == TangentKind::analytic && unified_form(s)) {
+    K = assemble_tangent(s, d);
+  } else if (!(kind == TangentKind::analytic && model_tangent(s, d, K))) {
+    K = finite_difference_tangent(s, d);
+  }
+  hold_loose_dofs(K);
+  return K;
+}
+
+}  // namespace horizon

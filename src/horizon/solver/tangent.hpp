@@ -57,6 +57,23 @@ int64_t tangent_nonzeros(const System& s, const DofMap& d, const Linearization& 
 // forces are restored. probe: the displacement step [m] (default 1e-6 spacing).
 SparseMatrix finite_difference_tangent(System& s, const DofMap& d, double probe = 0);
 
+// The analytic tangent of the model that owns the force pass (Model::stiffness), at the
+// state of the last compute_forces: false when there is no such model or it has none.
+bool model_tangent(const System& s, const DofMap& d, SparseMatrix& K);
+
+// The assembled tangent a static or implicit solver uses: the unified analytic one, the
+// owning model's analytic one, or finite differences (kind finite_difference, or a model
+// without an analytic tangent). Held loose dofs (hold_loose_dofs) in all cases.
+SparseMatrix solver_tangent(System& s, const DofMap& d, TangentKind kind);
+
+// Unknowns without stiffness: a dof whose tangent row is empty belongs to a node that no
+// intact bond or bond pair holds any more (a fragment cut loose by failure; in the
+// transverse mode of a plate, a node all of whose pairs failed). Such a row gets a
+// diagonal entry equal to the mean diagonal of K, so that the factorisation and CG stay
+// defined and the Newton step leaves the node where it is when nothing loads it.
+// Returns the number of such dofs.
+int hold_loose_dofs(SparseMatrix& K);
+
 // y = K x without assembling K: two passes over the bonds, like compute_forces.
 class TangentOperator {
  public:

@@ -51,6 +51,9 @@ struct Pair {
   double coef;        // 2 omega alpha Vk Vj [N m]: e = coef (1 + cos theta)
   double iso;         // (4 C/m0) omega_iso Vk Vj / |xi|^2 (bond-multiple correction, sec. 4.4)
   double inv_length;  // 1/|xi|
+  // Curved shells: the pair's reference angle theta0 (cos, sin); straight pairs have
+  // cos = -1, sin = 0, and e = coef (1 - cos(theta - theta0)) is then coef (1 + cos theta).
+  double c0 = -1, s0 = 0;
 };
 
 // One unordered bond (k, j) of the extension springs.
@@ -79,10 +82,12 @@ class BondPair final : public Model {
   double pending_dissipation(const System& s) const override;
   void hold_bonds(bool hold) override { held_ = hold; }
   double stable_time_step(const System& s) const override;
+  bool stiffness(const System& s, StiffnessSink& out) const override;
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
  private:
   void positions(const System& s);
+  std::vector<Vec3> current_positions(const System& s) const;
 
   std::size_t n_real_ = 0;
   std::vector<Vec3> X_;                 // reference positions, real nodes then ghosts
@@ -100,6 +105,7 @@ class BondPair final : public Model {
   // Per pair history.
   std::vector<double> theta_p_, theta_p_trial_;  // plastic offset (committed, trial)
   std::vector<uint8_t> failed_;                  // brittle failure (permanent)
+  std::vector<uint8_t> no_fail_;                 // a node of the pair lies in a no_fail region
   std::vector<double> pairs_at_;                 // pairs centred at each real node
   // Energy weight of a real node: 1/2 per support line it lies on. The forces on the real
   // nodes are -dE/du of E = sum_k weight_k e_k (e_k the energy of the pairs and half
@@ -167,11 +173,28 @@ void BondPair::setup(const ModelSetup& in) {
   // The lattice: every real node must be a lattice point (the pairs need exact opposites,
   // dissertation sec. 5.2: "the discretization must be absolutely regular").
   const Vec3 origin = n ? P.X[0] : Vec3{};
+  // A cylindrical shell (StructureConfig::cylinder_radius): the lattice is that of (x, arc
+  // length), periodic around with `around` nodes.
+  const double R = config.structure.cylinder_radius;
+  int64_t around = 0;
+  if (R > 0) {
+    const double f = 2 * kPiValue * R / dx;
+    around = static_cast<int64_t>(std::llround(f));
+    if (std::abs(f - static_cast<double>(around)) > 1e-6 * f || around < 3)
+      throw Error("structure.cylinder_radius: the circumference 2 pi R = " + std::to_string(2 * kPiValue * R) +
+                  " m must be a whole number of spacings (" + std::to_string(f) + ")");
+  }
+  auto wrap = [around](int64_t b) { return around > 0 ? ((b % around) + around) % around : b; };
   auto key_of = [&](const Vec3& x, bool& exact) {
-    const double fa = (x.x - origin.x) / dx, fb = dim_ == 2 ? (x.y - origin.y) / dx : 0.0;
+    double fa = (x.x - origin.x) / dx, fb = dim_ == 2 ? (x.y - origin.y) / dx : 0.0;
+    if (R > 0) {
+      double arc = R * std::atan2(x.y, x.z);
+      if (arc < 0) arc += 2 * kPiValue * R;
+      fb = arc / dx;
+    }
     const double ra = std::round(fa), rb = std::round(fb);
     exact = std::abs(fa - ra) < 1e-6 && std::abs(fb - rb) < 1e-6;
-    return LatticeKey{static_cast<int64_t>(ra), static_cast<int64_t>(rb)};
+    return LatticeKey{static_cast<int64_t>(ra), wrap(static_cast<int64_t>(rb))};
   };
   std::unordered_map<LatticeKey, uint32_t, LatticeHash> where;
   n_real_ = n;
@@ -181,9 +204,12 @@ void BondPair::setup(const ModelSetup& in) {
   for (std::size_t i = 0; i < n; ++i) {
     bool exact = false;
     const LatticeKey key = key_of(P.X[i], exact);
-    if (!exact || std::abs(P.X[i].z) > 1e-9 * dx || (dim_ == 1 && std::abs(P.X[i].y) > 1e-9 * dx))
+    const bool off = R > 0 ? std::abs(std::hypot(P.X[i].y, P.X[i].z) - R) > 1e-9 * dx : std::abs(P.X[i].z) > 1e-9 * dx;
+    if (!exact || off || (dim_ == 1 && std::abs(P.X[i].y) > 1e-9 * dx))
       throw Error("model bond_pair needs a regular lattice of nodes (one spacing, one body lattice)");
-    where.emplace(key, static_cast<uint32_t>(i));
+    if (!where.emplace(key, static_cast<uint32_t>(i)).second)
+      throw Error("model bond_pair: two nodes at one lattice point (a cylinder's lattice must not repeat the "
+                  "first row at arc length 2 pi R)");
     section_[i] = P.volume[i] / cellV;
   }
 
@@ -286,6 +312,9 @@ void BondPair::setup(const ModelSetup& in) {
   dil_coef_ = (dim_ == 2 && membrane && iso_C_ != 0) ? G * h * (3 * nu - 1) / (1 - nu) : 0.0;
   moment_factor_ = dim_ == 1 ? E * I : (E * h * h * h / (12 * (1 - nu * nu))) * (1 + nu);
 
+  if (R > 0 && iso_C_ != 0)
+    throw Error("material '" + mat.name + "': a curved shell takes nu = 1/3 only (the isotropic-curvature "
+                "correction of sec. 4.4 is not defined about a curved reference)");
   // Failure and plasticity: one critical kink for every pair (digest sec. 3.5).
   const double ey = Model::parameter(mat, "yield_strain"), ec = Model::parameter(mat, "critical_strain");
   theta_yield_ = ey > 0 ? critical_kink(delta, ey, depth) : 0.0;
@@ -309,13 +338,14 @@ void BondPair::setup(const ModelSetup& in) {
     bool exact = false;
     const LatticeKey kk = key_of(X_[k], exact);
     for (const auto& o : half) {
-      auto j = where.find({kk.a + o.a, kk.b + o.b});
-      auto jp = where.find({kk.a - o.a, kk.b - o.b});
+      auto j = where.find({kk.a + o.a, wrap(kk.b + o.b)});
+      auto jp = where.find({kk.a - o.a, wrap(kk.b - o.b)});
       if (j != where.end() && cut(k, j->second)) j = where.end();
       if (jp != where.end() && cut(k, jp->second)) jp = where.end();
       if (j != where.end() && (k < n || j->second < n)) {
         const double coef = beta * V_[k] * V_[j->second];
-        bonds_.push_back({static_cast<uint32_t>(k), j->second, o.length, coef, 2 * o.length / m_memb});
+        // The reference chord (= |xi| on a flat lattice).
+        bonds_.push_back({static_cast<uint32_t>(k), j->second, norm(X_[j->second] - X_[k]), coef, 2 * o.length / m_memb});
       }
       if (j == where.end() || jp == where.end()) continue;
       // Pairs of ghosts alone move no real node, but complete the isotropic curvature of a
@@ -324,6 +354,14 @@ void BondPair::setup(const ModelSetup& in) {
       const double w = by_length ? o.length : 1.0;
       Pair p{static_cast<uint32_t>(k), j->second, jp->second, 2 * w * alpha * V_[k] * V_[j->second],
              4 * iso_C_ / m0 * o.length * V_[k] * V_[j->second] / (o.length * o.length), 1 / o.length};
+      if (R > 0) {
+        // The reference angle of a pair on the curved surface (the dissertation's ch. 6
+        // proposal: the pairs not collinear at rest start with their own angle).
+        const Vec3 e = X_[p.j] - X_[k], ep = X_[p.jp] - X_[k];
+        p.c0 = std::clamp(dot(e, ep) / (norm(e) * norm(ep)), -1.0, 1.0);
+        p.s0 = std::sqrt(std::max(0.0, 1 - p.c0 * p.c0));
+        if (p.s0 < 1e-12) p.c0 = -1, p.s0 = 0;
+      }
       pairs_.push_back(p);
       if (k < n) pairs_at_[k] += 1;
     }
@@ -332,6 +370,11 @@ void BondPair::setup(const ModelSetup& in) {
   theta_p_.assign(pairs_.size(), 0);
   theta_p_trial_.assign(pairs_.size(), 0);
   failed_.assign(pairs_.size(), 0);
+  // no_fail_regions: a pair with a node in one never fails (loading points, supports).
+  no_fail_.assign(pairs_.size(), 0);
+  for (std::size_t q = 0; q < pairs_.size(); ++q)
+    for (uint32_t node : {pairs_[q].k, pairs_[q].j, pairs_[q].jp})
+      if (node < n && P.no_fail[node]) no_fail_[q] = 1;
   y_.assign(N, Vec3{});
   F_.assign(N, Vec3{});
   kbar_.assign(N, Vec3{});
@@ -345,9 +388,10 @@ void BondPair::setup(const ModelSetup& in) {
   iso_bound_ = 2 * std::abs(iso_C_) * g * g;
 }
 
-void BondPair::positions(const System& s) {
+std::vector<Vec3> BondPair::current_positions(const System& s) const {
   const auto& P = s.particles;
-  for (std::size_t i = 0; i < n_real_; ++i) y_[i] = P.X[i] + P.u[i];
+  std::vector<Vec3> y(X_.size());
+  for (std::size_t i = 0; i < n_real_; ++i) y[i] = P.X[i] + P.u[i];
   for (std::size_t g = 0; g + n_real_ < X_.size(); ++g) {
     Vec3 u{};
     for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t) {
@@ -355,9 +399,12 @@ void BondPair::positions(const System& s) {
       const Vec3& um = P.u[gt.node];
       u += Vec3{gt.coeff.x * um.x, gt.coeff.y * um.y, gt.coeff.z * um.z};
     }
-    y_[n_real_ + g] = X_[n_real_ + g] + u;
+    y[n_real_ + g] = X_[n_real_ + g] + u;
   }
+  return y;
 }
+
+void BondPair::positions(const System& s) { y_ = current_positions(s); }
 
 uint64_t BondPair::force_pass(System& s, bool energy) {
   auto& P = s.particles;
@@ -380,7 +427,7 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       // Transverse mode with plastic offsets: e = coef (1 - cos(s - theta_p)).
       const double sk = signed_kink(y_[p.j].z, y_[p.jp].z, y_[p.k].z, 1 / p.inv_length) -
                         (X_[p.j].z + X_[p.jp].z - 2 * X_[p.k].z) * p.inv_length;
-      if (theta_fail_ > 0 && std::abs(sk) >= theta_fail_) {
+      if (theta_fail_ > 0 && !no_fail_[q] && std::abs(sk) >= theta_fail_) {
         if (!held_) {
           failed_[q] = 1;
           ++newly_failed;
@@ -399,18 +446,19 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       continue;
     }
     const PairGradient gr = bond_pair_gradient(Y, Yp);
-    if (theta_fail_ > 0 && gr.one_plus_cos >= 1 - std::cos(theta_fail_)) {
+    const ReferencedPair rp = referenced_pair(gr.one_plus_cos - 1, p.c0, p.s0);
+    if (theta_fail_ > 0 && !no_fail_[q] && rp.energy >= 1 - std::cos(theta_fail_)) {
       if (!held_) {
         failed_[q] = 1;
         ++newly_failed;
         continue;
       }
     }
-    const Vec3 Fj = gr.dY * (-p.coef), Fjp = gr.dYp * (-p.coef);
+    const Vec3 Fj = gr.dY * (-p.coef * rp.dc), Fjp = gr.dYp * (-p.coef * rp.dc);
     F_[p.j] += Fj;
     F_[p.jp] += Fjp;
     F_[p.k] -= Fj + Fjp;
-    add_energy(p.k, p.coef * gr.one_plus_cos);
+    add_energy(p.k, p.coef * rp.energy);
   }
 
   // Isotropic-curvature (bond-multiple) correction for nu != 1/3 (eq. 4.14, digest sec. 4.4):
@@ -513,6 +561,222 @@ double BondPair::stable_time_step(const System& s) const {
     dt = std::min(dt, 2 / std::sqrt(bound / mass));
   }
   return dt;
+}
+
+namespace {
+// A 3x3 block of the stiffness.
+struct Block {
+  double a[3][3] = {};
+  static Block outer(const Vec3& u, const Vec3& v, double s = 1) {
+    Block b;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) b.a[r][c] = s * u[r] * v[c];
+    return b;
+  }
+  static Block identity(double s) {
+    Block b;
+    for (int r = 0; r < 3; ++r) b.a[r][r] = s;
+    return b;
+  }
+  Block& operator+=(const Block& o) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) a[r][c] += o.a[r][c];
+    return *this;
+  }
+  Block operator+(const Block& o) const { return Block(*this) += o; }
+  Block operator-() const {
+    Block b;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) b.a[r][c] = -a[r][c];
+    return b;
+  }
+  Block transpose() const {
+    Block b;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) b.a[r][c] = a[c][r];
+    return b;
+  }
+  Block scaled(double s) const {
+    Block b;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) b.a[r][c] = s * a[r][c];
+    return b;
+  }
+};
+}  // namespace
+
+// The tangent K = -dF/du of the force pass above, term by term (each term's energy e has
+// nodal forces -de/dy, so its blocks are the Hessian d2e/dy_a dy_b), rows of the real
+// nodes only (ghost forces are dropped by the force pass), columns of a ghost mapped to
+// its masters by its mirror coefficients (u_g = sum coeff o u_master):
+//   - bending pair, e = coef f(c), f = 1 + c (or 1 - cos(theta - theta0) on a curved
+//     shell), c = e.e', e = Y/a, e' = Y'/b (eq. 4.1 x 2): f'(c) d2c + f''(c) dc dc^T, with
+//     w = e' - c e, w' = e - c e', P = I - e e^T, P' = I - e' e'^T (differentiating
+//     bond_pair_gradient once more),
+//       d2c/dY2 = -(e w^T + w e^T + c P)/a^2,  d2c/dY'2 = -(e' w'^T + w' e'^T + c P')/b^2,
+//       d2c/dY dY' = (P' - e w'^T)/(a b),
+//     and Y = y_j - y_k, Y' = y_j' - y_k;
+//   - signed (plastic) pair, e = coef (1 - cos(s - theta_p)), s = (w_j + w_j' - 2 w_k)/|xi|:
+//     coef cos(s - theta_p) b b^T/|xi|^2, b = (1, 1, -2), while elastic, and 0 while the
+//     pair flows plastically (perfect plasticity, sec. 3.5: the force is capped);
+//   - isotropic-curvature correction (sec. 4.4), linear in y: per centre k,
+//     K += (sum_q iso_q b_q)(sum_q c_q b_q)^T I, c_q = 2 V_j/(|xi| m0);
+//   - extension springs, e = coef (|Y| - |xi|)^2 (+ dilatation): (t/|Y|)(I - n n^T) +
+//     2 coef n n^T per bond (t = dE/d|Y| as in the force pass), and for nu != 1/3 the
+//     dilatation term sum_c dil_coef V_c grad(theta_c) grad(theta_c)^T.
+bool BondPair::stiffness(const System& s, StiffnessSink& out) const {
+  const std::vector<Vec3> y = current_positions(s);
+  const int c0 = transverse_ ? 2 : 0;  // beams and plates: the z rows and columns only
+  const Vec3 one{1, 1, 1};
+  // K(a, b) += H, b real or a ghost.
+  auto add_block = [&](uint32_t a, uint32_t b, const Block& H) {
+    if (a >= n_real_) return;
+    auto put = [&](uint32_t node, const Vec3& coeff) {
+      for (int r = c0; r < 3; ++r)
+        for (int c = c0; c < 3; ++c) out.add(a, r, node, c, H.a[r][c] * coeff[c]);
+    };
+    if (b < n_real_) {
+      put(b, one);
+      return;
+    }
+    const std::size_t g = b - n_real_;
+    for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t) put(ghost_terms_[t].node, ghost_terms_[t].coeff);
+  };
+  // K(a, b) += v for the z component alone.
+  auto add_zz = [&](uint32_t a, uint32_t b, double v) {
+    if (a >= n_real_) return;
+    if (b < n_real_) {
+      out.add(a, 2, b, 2, v);
+      return;
+    }
+    const std::size_t g = b - n_real_;
+    for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t)
+      out.add(a, 2, ghost_terms_[t].node, 2, v * ghost_terms_[t].coeff.z);
+  };
+
+  // Bending pairs.
+  for (std::size_t q = 0; q < pairs_.size(); ++q) {
+    if (failed_[q]) continue;
+    const Pair& p = pairs_[q];
+    if (p.k >= n_real_ && p.j >= n_real_ && p.jp >= n_real_) continue;  // moves no real row
+    const uint32_t nodes[3] = {p.j, p.jp, p.k};
+    if (signed_mode_) {
+      const double sk = signed_kink(y[p.j].z, y[p.jp].z, y[p.k].z, 1 / p.inv_length) -
+                        (X_[p.j].z + X_[p.jp].z - 2 * X_[p.k].z) * p.inv_length;
+      const double trial = sk - theta_p_[q];
+      if (std::abs(trial) > theta_yield_) continue;  // flowing: the force is capped
+      const double k = p.coef * std::cos(trial) * p.inv_length * p.inv_length;
+      const double b[3] = {1, 1, -2};
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) add_zz(nodes[r], nodes[c], k * b[r] * b[c]);
+      continue;
+    }
+    const Vec3 Y = y[p.j] - y[p.k], Yp = y[p.jp] - y[p.k];
+    const double a = norm(Y), b = norm(Yp);
+    const Vec3 e = Y / a, ep = Yp / b;
+    const double c = dot(e, ep);
+    const Vec3 w = ep - c * e, wp = e - c * ep;
+    // e_pair = coef f(c): coef f'(c) d2c + coef f''(c) dc dc^T (referenced_pair).
+    const ReferencedPair rp = referenced_pair(c, p.c0, p.s0);
+    const double k1 = p.coef * rp.dc;
+    const Block P = Block::identity(1) + -Block::outer(e, e), Pp = Block::identity(1) + -Block::outer(ep, ep);
+    Block hYY = (Block::outer(e, w) + Block::outer(w, e) + P.scaled(c)).scaled(-k1 / (a * a));
+    Block hPP = (Block::outer(ep, wp) + Block::outer(wp, ep) + Pp.scaled(c)).scaled(-k1 / (b * b));
+    Block hYP = (Pp + -Block::outer(e, wp)).scaled(k1 / (a * b));
+    if (rp.dcc != 0) {
+      const Vec3 gY = w / a, gP = wp / b;  // dc/dY, dc/dY'
+      const double k2 = p.coef * rp.dcc;
+      hYY += Block::outer(gY, gY, k2);
+      hPP += Block::outer(gP, gP, k2);
+      hYP += Block::outer(gY, gP, k2);
+    }
+    const Block hPY = hYP.transpose();
+    const Block H[3][3] = {
+        {hYY, hYP, -(hYY + hYP)},
+        {hPY, hPP, -(hPY + hPP)},
+        {-(hYY + hPY), -(hYP + hPP), hYY + hYP + hPY + hPP},
+    };
+    for (int r = 0; r < 3; ++r)
+      for (int cc = 0; cc < 3; ++cc) add_block(nodes[r], nodes[cc], H[r][cc]);
+  }
+
+  // Isotropic-curvature correction, centre by centre (the pairs are stored by centre).
+  if (iso_C_ != 0) {
+    std::vector<std::pair<uint32_t, double>> A, C;
+    auto accumulate = [](std::vector<std::pair<uint32_t, double>>& v, uint32_t node, double x) {
+      for (auto& e : v)
+        if (e.first == node) {
+          e.second += x;
+          return;
+        }
+      v.emplace_back(node, x);
+    };
+    for (std::size_t q0 = 0; q0 < pairs_.size();) {
+      std::size_t q1 = q0;
+      while (q1 < pairs_.size() && pairs_[q1].k == pairs_[q0].k) ++q1;
+      A.clear();
+      C.clear();
+      for (std::size_t q = q0; q < q1; ++q) {
+        if (failed_[q]) continue;
+        const Pair& p = pairs_[q];
+        const double cq = 2 * p.inv_length * V_[p.j] * m0_inv_[p.k];
+        accumulate(A, p.j, p.iso);
+        accumulate(A, p.jp, p.iso);
+        accumulate(A, p.k, -2 * p.iso);
+        accumulate(C, p.j, cq);
+        accumulate(C, p.jp, cq);
+        accumulate(C, p.k, -2 * cq);
+      }
+      for (const auto& [ra, va] : A)
+        for (const auto& [cb, vc] : C) add_block(ra, cb, Block::identity(va * vc));
+      q0 = q1;
+    }
+  }
+
+  // Extension springs and the dilatation term.
+  if (!bonds_.empty() && bonds_[0].coef != 0) {
+    std::vector<double> theta(X_.size(), 0.0);
+    if (dil_coef_ != 0)
+      for (const Bond& b : bonds_) {
+        const double e = norm(y[b.j] - y[b.k]) - b.length;
+        theta[b.k] += b.dil * e * V_[b.j];
+        theta[b.j] += b.dil * e * V_[b.k];
+      }
+    // grad(theta_c) per centre c: (node, vector) terms.
+    std::vector<std::vector<std::pair<uint32_t, Vec3>>> grad(dil_coef_ != 0 ? X_.size() : 0);
+    for (const Bond& b : bonds_) {
+      const Vec3 Y = y[b.j] - y[b.k];
+      const double L = norm(Y), e = L - b.length;
+      double t = 2 * b.coef * e;
+      if (dil_coef_ != 0) t += dil_coef_ * (theta[b.k] * V_[b.k] * b.dil * V_[b.j] + theta[b.j] * V_[b.j] * b.dil * V_[b.k]);
+      const Vec3 n = Y / L;
+      const Block H = (Block::identity(t / L) + Block::outer(n, n, 2 * b.coef - t / L));
+      add_block(b.j, b.j, H);
+      add_block(b.k, b.k, H);
+      add_block(b.j, b.k, -H);
+      add_block(b.k, b.j, -H);
+      if (dil_coef_ != 0) {
+        auto accumulate = [](std::vector<std::pair<uint32_t, Vec3>>& v, uint32_t node, const Vec3& x) {
+          for (auto& term : v)
+            if (term.first == node) {
+              term.second += x;
+              return;
+            }
+          v.emplace_back(node, x);
+        };
+        accumulate(grad[b.k], b.j, n * (b.dil * V_[b.j]));
+        accumulate(grad[b.k], b.k, n * (-b.dil * V_[b.j]));
+        accumulate(grad[b.j], b.j, n * (b.dil * V_[b.k]));
+        accumulate(grad[b.j], b.k, n * (-b.dil * V_[b.k]));
+      }
+    }
+    for (std::size_t c = 0; c < grad.size(); ++c) {
+      const double f = dil_coef_ * V_[c];
+      for (const auto& [ra, ga] : grad[c])
+        for (const auto& [cb, gb] : grad[c]) add_block(ra, cb, Block::outer(ga, gb, f));
+    }
+  }
+  return true;
 }
 
 void BondPair::fields(const System& s, std::vector<ModelField>& out) const {

@@ -13,6 +13,7 @@
 // 2 G h^3 / (3 m) (plate, eq. 4.12), m = sum_j omega |xi|^2 V_j over a full family.
 // The nodal forces are -de/dy of the three nodes of the pair, which is the consistent
 // discretisation of digest sec. 4.2 (f_k = sum_j (T_k<xi_kj> - T_j<xi_jk>) V_j).
+#include <algorithm>
 #include <cmath>
 
 #include "horizon/core/vec3.hpp"
@@ -32,6 +33,21 @@ inline PairGradient bond_pair_gradient(const Vec3& Y, const Vec3& Yp) {
   const Vec3 e = Y / a, ep = Yp / b;
   const double c = dot(e, ep);
   return {(ep - c * e) / a, (e - c * ep) / b, 1 + c};
+}
+
+// A pair with a reference angle theta0 (a curved shell; the dissertation's ch. 6: "apply
+// initial plastic deformations to all bond pairs that are not initially collinear"):
+//   f = 1 - cos(theta - theta0) = 1 - c c0 - s s0,   c = cos theta, s = sin theta = sqrt(1 - c^2),
+// zero at rest, invariant under rigid motions and uniform scaling, 1 + c for a straight
+// pair (c0 = -1, s0 = 0). Returns f, f'(c) = -c0 + s0 c/s and f''(c) = s0/s^3 (s kept
+// above 1e-9: the angle of a pair folded flat or pulled straight has no direction).
+struct ReferencedPair {
+  double energy, dc, dcc;
+};
+inline ReferencedPair referenced_pair(double c, double c0, double s0) {
+  if (s0 == 0) return {1 + c, -c0, 0};
+  const double s = std::max(std::sqrt(std::max(0.0, 1 - c * c)), 1e-9);
+  return {1 - c * c0 - s * s0, -c0 + s0 * c / s, s0 / (s * s * s)};
 }
 
 // The signed kink of a pair in the transverse (z-only) mode: the deviation from straight
