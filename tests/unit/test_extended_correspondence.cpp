@@ -134,6 +134,83 @@ TEST(ExtendedCorrespondence, ForceStateIsEnergyDerivative) {
   EXPECT_LT(worst, 1e-6 * scale);
 }
 
+// The volumetric defect of E_(m) at finite deviatoric strain that made the first Taylor
+// bar collapse (docs/models/extended_correspondence.md, "strain measure"): an isochoric
+// homogeneous compression F = R diag(1/2, sqrt 2, sqrt 2) gives tr E_(0) far from 0 (the
+// continuum value is 0.37), while the `hencky` measure, ln of I + 2 E_(1), is ln U
+// exactly (to round-off), in the bulk and on a free surface.
+TEST(ExtendedCorrespondence, HenckyMeasureIsExactForFiniteIsochoricStrain) {
+  const Mat3 R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Mat3 Q = Eigen::AngleAxisd(-0.4, Eigen::Vector3d(2, -1, 1).normalized()).toRotationMatrix();
+  const double l = 0.5;
+  const Eigen::Vector3d stretches(l, 1 / std::sqrt(l), 1 / std::sqrt(l));
+  const Mat3 U = Q * stretches.asDiagonal() * Q.transpose();
+  Mat3 lnU = Q * Eigen::Vector3d(stretches.array().log()).asDiagonal() * Q.transpose();
+  for (bool half : {false, true}) {
+    const Mat3 E0 = nonlocal_strain(family(half), R * U, 0.0);
+    EXPECT_GT(E0.trace(), 0.2) << "Seth-Hill m = 0: spurious dilatation" << (half ? " (surface)" : "");
+    const Mat3 E1 = nonlocal_strain(family(half), R * U, 1.0);
+    const auto h = extended::hencky_of_green(E1);
+    EXPECT_LT((h.strain - lnU).norm(), 1e-12) << (half ? "surface" : "bulk");
+    EXPECT_LT(std::abs(h.strain.trace()), 1e-12);
+  }
+}
+
+// The hencky measure's force: T = dW/dY with W = psi(ln(I + 2 E_(1))) + W_s, by central
+// differences at a finite strain with distinct and with two equal stretches (the
+// Daleckii-Krein divided difference and its limit).
+TEST(ExtendedCorrespondence, HenckyForceStateIsEnergyDerivative) {
+  const auto fam = family(true);
+  classical::StrainLawParams p;
+  p.kappa = kKappa, p.mu = kMu;
+  const double ks = 0.3 * kMu;
+  for (int equal = 0; equal < 2; ++equal) {
+    const Mat3 F = equal ? Mat3(Eigen::Vector3d(0.6, 1.3, 1.3).asDiagonal())
+                         : Mat3(Eigen::Vector3d(0.6, 1.3, 1.1).asDiagonal());
+    std::vector<Vec3> Y(fam.size());
+    for (std::size_t j = 0; j < fam.size(); ++j)
+      Y[j] = mul(F, fam[j]) + (equal ? 0.0 : 0.01) * Vec3{std::sin(3.0 * j), std::cos(5.0 * j), std::sin(7.0 * j + 1)};
+    auto energy = [&](const std::vector<Vec3>& y, std::vector<Vec3>* T) {
+      NonlocalStrain E(3, 1.0);
+      std::vector<double> eps(fam.size());
+      for (std::size_t j = 0; j < fam.size(); ++j) eps[j] = E.add(fam[j], y[j], weight(fam[j]));
+      EXPECT_TRUE(E.finish());
+      const auto h = extended::hencky_of_green(E.strain());
+      classical::StrainLawState st, trial;
+      const auto out = classical::strain_law(p, st, h.strain, 0, trial);
+      Mat3 Rt = Mat3::Zero();
+      double Ws = 0;
+      std::vector<double> r(fam.size());
+      for (std::size_t j = 0; j < fam.size(); ++j) {
+        r[j] = E.residual(fam[j], eps[j]);
+        const Eigen::Vector3d n = Eigen::Vector3d(fam[j].x, fam[j].y, fam[j].z).normalized();
+        Rt += weight(fam[j]) * r[j] * n * n.transpose();
+        Ws += weight(fam[j]) * r[j] * r[j];
+      }
+      if (T) {
+        const auto a = E.dual(extended::green_stress_of_hencky(h, out.S)), b = E.dual(Rt);
+        T->resize(fam.size());
+        for (std::size_t j = 0; j < fam.size(); ++j)
+          (*T)[j] = extended::bond_force_state(a, b, ks, weight(fam[j]), 1.0, 3, fam[j], y[j], r[j]);
+      }
+      return out.W + ks * Ws;
+    };
+    std::vector<Vec3> T;
+    energy(Y, &T);
+    double worst = 0, scale = 0;
+    for (std::size_t j = 0; j < fam.size(); j += 5)
+      for (int c = 0; c < 3; ++c) {
+        const double dh = 1e-6;
+        auto yp = Y, ym = Y;
+        yp[j][c] += dh, ym[j][c] -= dh;
+        const double d = (energy(yp, nullptr) - energy(ym, nullptr)) / (2 * dh);
+        worst = std::max(worst, std::abs(T[j][c] - d));
+        scale = std::max(scale, std::abs(d));
+      }
+    EXPECT_LT(worst, 1e-6 * scale) << (equal ? "two equal stretches" : "distinct stretches");
+  }
+}
+
 // Ordinary: T parallel to Y; rigid rotation gives E = 0 and no force.
 TEST(ExtendedCorrespondence, RigidRotationGivesZeroStrain) {
   const Mat3 R = Eigen::AngleAxisd(1.1, Eigen::Vector3d(-1, 2, 0.5).normalized()).toRotationMatrix();

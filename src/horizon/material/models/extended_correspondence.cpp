@@ -35,6 +35,10 @@ const ModelTraits& traits() {
         {"seth_hill_m", "Seth-Hill parameter m of the bond strains (0: logarithmic, 1/2: engineering)", R::any, 0.0},
         {"stabilization", "bond-level stabilisation G_s: W_s = G_s mu_bar (d/sum w) sum w (eps - n.E n)^2; 0: off",
          R::non_negative, 0.0},
+        {"stabilization_yield",
+         "j2, johnson_cook: cap of the bond stabilisation stress 2 k_s (r - r_p) as a multiple of the current flow "
+         "stress; the excess flows into a per-bond plastic residual r_p (dissipated); 0: no cap",
+         R::non_negative, 0.0},
         {"yield_stress", "j2: initial yield stress [Pa]; johnson_cook: sigma_0 [Pa]", R::non_negative, 0.0},
         {"hardening_modulus", "j2: linear isotropic hardening modulus H [Pa]", R::non_negative, 0.0},
         {"hardening_coefficient", "johnson_cook: B [Pa] (eps_p0 = (sigma_0/B)^(1/n))", R::non_negative, 0.0},
@@ -59,6 +63,10 @@ const ModelTraits& traits() {
         {"stress_law", "law on the nonlocal strain E_(m): elastic (isotropic quadratic), j2 (linear hardening), "
                        "johnson_cook (Tupek's modified Johnson-Cook with damage)",
          {"elastic", "j2", "johnson_cook"}},
+        {"strain_measure",
+         "seth_hill: Tupek's E_(m) = sum w eps_(m) H (eq. 4.3); hencky: the logarithm of the nonlocal Cauchy-Green "
+         "tensor I + 2 E_(1) (Green bond strains, exact for homogeneous finite strain; seth_hill_m unused)",
+         {"seth_hill", "hencky"}},
     };
     return m;
   }();
@@ -94,9 +102,12 @@ class ExtendedCorrespondence final : public Model {
     if (a.loading()) acting_.assign(acting_.size(), UINT32_MAX);
   }
  private:
-  // Elastic energy released by a particle that fails in this step [J/m^3].
+  // Elastic energy released by a particle that fails in this step [J/m^3]: its damage
+  // passes D_c (omega_D drops its bonds) or reaches 1 (the law stops carrying stress,
+  // the only failure when D_c = 1).
+  bool failed_state(const StrainLawState& st) const { return st.damage > critical_ || st.damage >= 1.0; }
   double released(std::size_t l) const {
-    return committed_[l].damage <= critical_ && trial_[l].damage > critical_ ? energy_[l] : 0.0;
+    return !failed_state(committed_[l]) && failed_state(trial_[l]) ? energy_[l] : 0.0;
   }
   bool failed_committed(uint32_t i) const {
     const int32_t l = local_[i];
@@ -106,6 +117,10 @@ class ExtendedCorrespondence final : public Model {
   StrainLawParams law_;
   int dim_ = 3;
   double m_ = 0, critical_ = 0.99, tolerance_ = 1e-4;
+  bool hencky_ = false;  // strain_measure hencky (extended_correspondence.hpp, HenckyMap)
+  double stab_yield_ = 0;  // stabilization_yield (0: elastic stabilisation)
+  double gs_mu_bar_ = 0;   // G_s mu_bar [Pa]
+  std::vector<double> rp_committed_, rp_trial_;  // per bond: the plastic residual r_p
   std::vector<uint32_t> particles_;
   std::vector<int32_t> local_;   // particle index -> index in particles_ (-1: not ours)
   std::vector<double> ks_;       // stabilisation modulus per particle [Pa]
@@ -145,11 +160,15 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   if (law_.law == StrainLaw::johnson_cook && !(law_.B > 0))
     throw Error("material '" + mat.name + "': stress_law johnson_cook needs a positive hardening_coefficient [Pa]");
   m_ = parameter(mat, "seth_hill_m");
+  hencky_ = choice(mat, "strain_measure") == "hencky";
+  if (hencky_) m_ = 1.0;  // Green bond strains; the logarithm is taken of their average
   critical_ = parameter(mat, "critical_damage");
   tolerance_ = parameter(mat, "shape_tolerance");
   const double Gs = parameter(mat, "stabilization");
+  stab_yield_ = law_.law == StrainLaw::elastic ? 0.0 : parameter(mat, "stabilization_yield");
   // mu_bar of the nonlinear solid's bond-based term (digest sec. 13.2).
   const double mu_bar = (dim_ == 3 ? 2.5 : 2.0) * mat.shear_modulus;
+  gs_mu_bar_ = Gs * mu_bar;
 
   const System& s = in.system;
   const Bonds& B = s.bonds;
@@ -183,6 +202,10 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
   const Point4* y = pass.y;
   Vec3* T = pass.T;
   if (eps_.size() != B.size()) eps_.assign(B.size(), 0.0);
+  if (stab_yield_ > 0 && rp_committed_.size() != B.size()) {
+    rp_committed_.assign(B.size(), 0.0);
+    rp_trial_.assign(B.size(), 0.0);
+  }
   const std::size_t n = particles_.size();
 #pragma omp parallel for schedule(static) if (n > 512)
   for (std::size_t l = 0; l < n; ++l) {
@@ -227,9 +250,17 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       ok = E.finish(false);
     }
     classical::StrainLawOut out;
-    if (ok) {
+    Mat3 law_stress = Mat3::Zero();  // the law's stress (conjugate to its strain argument)
+    if (ok && hencky_) {
+      const extended::HenckyMap h = extended::hencky_of_green(E.strain());
+      out = classical::strain_law(law_, committed_[l], h.strain, pass.dt, trial_[l]);
+      ok = !out.failed;
+      law_stress = out.S;
+      if (ok) out.S = extended::green_stress_of_hencky(h, out.S);
+    } else if (ok) {
       out = classical::strain_law(law_, committed_[l], E.strain(), pass.dt, trial_[l]);
       ok = !out.failed;
+      law_stress = out.S;
     } else {
       trial_[l] = committed_[l];
     }
@@ -237,6 +268,8 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     work_[l] = ok ? out.plastic_work : 0.0;
     if (!ok) {
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) T[k] = {};
+      if (!rp_trial_.empty())
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_trial_[k] = rp_committed_[k];
       energy_[l] = von_mises_[l] = 0;
       if (pass.energy) pass.energy[i] = 0;
       continue;
@@ -245,13 +278,30 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     Vec6 b = Vec6::Zero();
     double W = out.W;
     const double ks = ks_[l];
+    // The capped (plastic) stabilisation. W_s is diagonal in the per-bond plastic residual
+    // r_p (dW_s/dr_p = -2 k_s w (r - r_p)), so the closest-point return is bond by bond. The
+    // bond's stabilisation stress, in the units of the law's, is tau = 2 G_s mu_bar (r - r_p)
+    // (k_s = G_s mu_bar d / sum w); |tau| <= stabilization_yield x the flow stress after the
+    // step, i.e. |r - r_p| <= r_c. Dissipation: 2 k_s r_c |Delta r_p| w per bond (backward
+    // Euler, as the law's Y Delta eps_p).
+    const bool capped = ks != 0 && stab_yield_ > 0;
+    const double r_c =
+        capped ? stab_yield_ * classical::flow_stress(law_, trial_[l].alpha, out.rate) / (2.0 * gs_mu_bar_) : 0.0;
+    auto plastic_residual = [&](uint64_t k, double r) {
+      if (!capped) return 0.0;
+      const double rp = rp_committed_[k];
+      rp_trial_[k] = std::abs(r - rp) > r_c ? r - std::copysign(r_c, r - rp) : rp;
+      return rp_trial_[k];
+    };
     if (ks != 0) {
       Mat3 R = Mat3::Zero();
       double Ws = 0;
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
         if (!acts(k)) continue;
         const Vec3 xi = X[B.nbr[k]] - X[i];
-        const double w = B.weight[k] * B.volume[k], r = E.residual(xi, eps_[k]);
+        const double w = B.weight[k] * B.volume[k], r0 = E.residual(xi, eps_[k]);
+        const double rp = plastic_residual(k, r0), r = r0 - rp;
+        if (capped) work_[l] += 2.0 * ks * r_c * std::abs(rp - rp_committed_[k]) * w;
         const Eigen::Vector3d nv = Eigen::Vector3d(xi.x, xi.y, xi.z).normalized();
         R.noalias() += (w * r) * nv * nv.transpose();
         Ws += w * r * r;
@@ -266,11 +316,11 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       }
       const uint32_t j = B.nbr[k];
       const Vec3 xi = X[j] - X[i], Y = deformed(j);
-      const double r = ks != 0 ? E.residual(xi, eps_[k]) : 0.0;
+      const double r = ks != 0 ? E.residual(xi, eps_[k]) - (capped ? rp_trial_[k] : 0.0) : 0.0;
       T[k] = extended::bond_force_state(a, b, ks, B.weight[k], m_, dim_, xi, Y, r);
     }
     energy_[l] = W;
-    const Mat3 dev = out.S - (out.S.trace() / 3.0) * Mat3::Identity();
+    const Mat3 dev = law_stress - (law_stress.trace() / 3.0) * Mat3::Identity();
     von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
     if (pass.energy) pass.energy[i] = W;
   }
@@ -282,6 +332,11 @@ void ExtendedCorrespondence::commit(System& s) {
     if (d != 0) s.dissipated_at[particles_[l]] += d * s.particles.volume[particles_[l]];
     committed_[l] = trial_[l];
     work_[l] = 0;
+  }
+  if (stab_yield_ > 0 && !rp_trial_.empty()) {
+    const Bonds& B = s.bonds;
+    for (uint32_t i : particles_)
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_committed_[k] = rp_trial_[k];
   }
 }
 

@@ -44,6 +44,7 @@
 // (material/nonlocal_gradient.hpp; the digest's guard "treat as fully failed"), carries no
 // stress and meets its neighbours through contact only.
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 #include "horizon/core/vec3.hpp"
@@ -177,6 +178,58 @@ inline Vec3 bond_force_state(const Vec6& a, const Vec6& b, double ks, double ome
   const Vec6 h = shape_state(xi, dimension);
   const double s = a.dot(h) + 2.0 * ks * (r - b.dot(h));
   return (omega * s * strain_gradient_factor(c, m, xi2)) * Y;
+}
+
+// The `hencky` strain measure (not in the thesis; departure documented in the model page).
+// Tupek's E_(m) of (4.3) averages the bond strains; for m != 1 the average of a nonlinear
+// function of the bond stretch is not that function of the deformation (Jensen): an
+// isochoric homogeneous compression to a stretch of 1/2 gives tr E_(0) = 0.37 instead of
+// 0 (docs/models/extended_correspondence.md), so under large plastic flow the bulk term
+// kappa tr E prescribes a spurious pressure and the body collapses in volume (the first
+// Taylor bar). With m = 1 the bond strain (c - 1)/2 is linear in C, so E_(1) = M^-1 sum w
+// eps H is the Green-Lagrange strain (C - I)/2 exactly for every homogeneous deformation
+// at any finite strain. The measure takes the logarithm of C = I + 2 E_(1):
+//   E_log = 1/2 ln C = sum_a 1/2 ln(l_a) N_a (x) N_a        (C = sum l_a N_a (x) N_a),
+// the material Hencky strain (Miehe, Apel and Lambrecht 2002, CMAME 191, 5383, eq. 2.5),
+// the law runs on E_log, and the stress conjugate to E_(1) (the force of (4.7) with m = 1)
+// is S = (d E_log / d E_(1))^T : T, T the law's stress, by the Daleckii-Krein formula for
+// the derivative of an isotropic tensor function (Miehe et al. 2002, eq. 2.8):
+//   S = sum_ab theta_ab (N_a . T N_b) N_a (x) N_b,
+//   theta_aa = 1/l_a,  theta_ab = (ln l_a - ln l_b)/(l_a - l_b).
+// Eigenvalues below `floor` (a locally inverted average) are clamped to it.
+struct HenckyMap {
+  Mat3 N;        // eigenvectors of C (columns)
+  double l[3];   // eigenvalues (clamped)
+  Mat3 strain;   // E_log
+};
+
+inline HenckyMap hencky_of_green(const Mat3& E1, double floor = 1e-6) {
+  const Mat3 C = Mat3::Identity() + 2.0 * E1;
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (C + C.transpose()));
+  HenckyMap h;
+  h.N = eig.eigenvectors();
+  Mat3 Lg = Mat3::Zero();
+  for (int a = 0; a < 3; ++a) {
+    h.l[a] = std::max(eig.eigenvalues()[a], floor);
+    Lg(a, a) = 0.5 * std::log(h.l[a]);
+  }
+  h.strain = h.N * Lg * h.N.transpose();
+  return h;
+}
+
+// (ln a - ln b)/(a - b), stable as b -> a (series in x = (a - b)/(a + b)).
+inline double log_divided_difference(double a, double b) {
+  const double x = (a - b) / (a + b);
+  if (std::abs(x) < 1e-4) return 2.0 / (a + b) * (1.0 + x * x / 3.0 + x * x * x * x / 5.0);
+  return (std::log(a) - std::log(b)) / (a - b);
+}
+
+inline Mat3 green_stress_of_hencky(const HenckyMap& h, const Mat3& T) {
+  const Mat3 Tt = h.N.transpose() * T * h.N;
+  Mat3 S;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) S(a, b) = (a == b ? 1.0 / h.l[a] : log_divided_difference(h.l[a], h.l[b])) * Tt(a, b);
+  return h.N * S * h.N.transpose();
 }
 
 }  // namespace extended

@@ -1,0 +1,140 @@
+// Taylor impact of a copper bar (Tupek thesis sec. 3.1.1, Table 3.1-3.2; seed 000 digest
+// sec. 2.2), reduced: examples/taylor_bar.yaml and examples/taylor_bar_extended.yaml at a
+// spacing of 1.0 mm (about 1,000 particles; the thesis's coarsest run has 2,394).
+// Figures: the final length (the particles' axial extent plus what the lattice leaves out
+// of the bar at its ends), the impact-face radius (the largest radial distance of the
+// particles within one spacing of the wall, plus what the lattice leaves out at the
+// mantle), the peak equivalent plastic strain, the energy ledger, and the particles' volume
+// ratio J = det F (F the classical nonlocal deformation gradient, all weights 1), whose
+// mean stays 1 in a plastic flow and falls when a model lets the bar collapse in volume.
+// Full-size figures: docs/verification.md ("Taylor bar").
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "horizon/material/model.hpp"
+#include "../single_thread.hpp"
+#include "verification_support.hpp"
+
+namespace horizon::verification {
+namespace {
+
+constexpr double kLength = 0.0324, kRadius = 0.0032, kSpacing = 1.0e-3;
+
+struct TaylorResult {
+  double length = 0, face_radius = 0, peak_plastic = 0, mean_J = 0, balance = 0, dissipated_fraction = 0;
+  int steps = 0;
+};
+
+Config taylor_deck(const std::string& example, const std::function<void(Config&)>& edit = {}) {
+  Config c = load_deck((std::filesystem::path(HORIZON_SOURCE_DIR) / "examples" / example).string());
+  RunOptions o;
+  o.coarsen = kSpacing / c.spacing;
+  apply_run_options(c, o);
+  // The examples take 0.25 of the stable step: with 0.5 the runs at 6,372 and more
+  // particles blow up at the wall (docs/verification.md). At this coarse spacing 0.5 is
+  // stable and halves the cost.
+  c.solver.safety_factor = 0.5;
+  if (edit) edit(c);
+  return c;
+}
+
+TaylorResult run_taylor(Config c) {
+  test::SingleThread one;
+  Simulation sim(std::move(c));
+  TaylorResult r;
+  while (sim.solver->time() < sim.config.solver.end_time * (1 - 1e-12)) {
+    sim.solver->step(true);
+    r.balance = std::max(r.balance, std::abs(sim.solver->ledger().balance_error()));
+    ++r.steps;
+  }
+  const System& s = sim.system;
+  const auto& P = s.particles;
+  double zmin = 1e300, zmax = -1e300, Zmin = 1e300, Zmax = -1e300, R0 = 0;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const Vec3 x = P.position(i);
+    zmin = std::min(zmin, x.y), zmax = std::max(zmax, x.y);  // the bar lies along y
+    Zmin = std::min(Zmin, P.X[i].y), Zmax = std::max(Zmax, P.X[i].y);
+    R0 = std::max(R0, std::hypot(P.X[i].x, P.X[i].z));
+  }
+  const double h = sim.config.spacing;
+  r.length = zmax - zmin + (kLength - (Zmax - Zmin));
+  double rf = 0, Jsum = 0, Vsum = 0;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const Vec3 x = P.position(i);
+    if (x.y < zmin + h) rf = std::max(rf, std::hypot(x.x, x.z));
+    Eigen::Matrix3d K = Eigen::Matrix3d::Zero(), N = Eigen::Matrix3d::Zero();
+    for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) {
+      const uint32_t j = s.bonds.nbr[k];
+      const Vec3 xi = P.X[j] - P.X[i], Y = P.position(j) - x;
+      const Eigen::Vector3d a(xi.x, xi.y, xi.z), b(Y.x, Y.y, Y.z);
+      K += a * a.transpose();
+      N += b * a.transpose();
+    }
+    Jsum += (N * K.inverse()).determinant() * P.volume[i];
+    Vsum += P.volume[i];
+  }
+  r.face_radius = rf + (kRadius - R0);
+  r.mean_J = Jsum / Vsum;
+  std::vector<ModelField> fields;
+  for (const auto& m : s.models) m->fields(s, fields);
+  for (const auto& f : fields)
+    if (f.name == "equivalent_plastic_strain")
+      for (double v : f.values) r.peak_plastic = std::max(r.peak_plastic, v);
+  const Ledger& L = sim.solver->ledger();
+  r.dissipated_fraction = L.dissipated / L.initial;
+  return r;
+}
+
+std::string describe(const TaylorResult& r) {
+  return fmt::format("final length {:.2f} mm, face radius {:.2f} mm, peak plastic strain {:.2f}, mean J {:.3f}, "
+                     "dissipated {:.1f} % of the impact energy, max |balance error| {:.1e} ({} steps)",
+                     r.length * 1e3, r.face_radius * 1e3, r.peak_plastic, r.mean_J, 100 * r.dissipated_fraction,
+                     r.balance, r.steps);
+}
+
+// The thesis's model (correspondence + J2, delta = 3.01 spacings, no stabilisation):
+// the shape of Table 3.2 within the band that this coarse lattice reaches, and the ledger
+// through plasticity (issue: within 2 %).
+TEST(TaylorBar, CorrespondenceJ2ReachesTheThesisShape) {
+  const TaylorResult r = run_taylor(taylor_deck("taylor_bar.yaml"));
+  report("taylor_corr_length", r.length, "Taylor bar, correspondence + J2, spacing 1 mm: " + describe(r));
+  EXPECT_GT(r.length, 20.5e-3);
+  EXPECT_LT(r.length, 23.0e-3);
+  EXPECT_GT(r.face_radius, 5.2e-3);  // 7.1 mm at the thesis's 2,394 particles
+  EXPECT_GT(r.peak_plastic, 1.5);
+  EXPECT_NEAR(r.mean_J, 1.0, 0.02);
+  EXPECT_GT(r.dissipated_fraction, 0.9);
+  EXPECT_LT(r.balance, 0.02);
+}
+
+// The extended model: Tupek's E_(0) (strain_measure seth_hill, m = 0) with a light
+// stabilisation loses volume under the large plastic flow (the first attempt's collapse;
+// the Jensen defect of the averaged log strains, docs/models/extended_correspondence.md);
+// the hencky measure with the capped stabilisation of the example keeps it.
+TEST(TaylorBar, ExtendedHenckyKeepsVolumeSethHillDoesNot) {
+  const TaylorResult hencky = run_taylor(taylor_deck("taylor_bar_extended.yaml"));
+  const TaylorResult seth_hill = run_taylor(taylor_deck("taylor_bar_extended.yaml", [](Config& c) {
+    auto& m = c.materials.front();
+    m.choices["strain_measure"] = "seth_hill";
+    m.parameters["seth_hill_m"] = 0.0;
+    m.parameters["stabilization"] = 0.05;
+    m.parameters["stabilization_yield"] = 0.0;
+  }));
+  report("taylor_ext_J", hencky.mean_J,
+         "Taylor bar, extended correspondence + J2, spacing 1 mm, hencky: " + describe(hencky) +
+             "; seth_hill m = 0, G_s = 0.05: " + describe(seth_hill));
+  EXPECT_NEAR(hencky.mean_J, 1.0, 0.02);
+  EXPECT_LT(seth_hill.mean_J, 0.9);
+  EXPECT_GT(hencky.length, 20.5e-3);
+  EXPECT_LT(hencky.balance, 0.02);
+}
+
+}  // namespace
+}  // namespace horizon::verification
