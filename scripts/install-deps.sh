@@ -7,9 +7,11 @@
 # libopenmpi-dev, openmpi-bin: the MPI program horizon-mpi (HORIZON_MPI; `make test` builds and tests it).
 # pybind11-dev, python3-dev, python3-numpy, python3-pytest: the Python module and its tests
 # (against /usr/bin/python3); python3-matplotlib: the examples in examples/python.
+# python3-vtk9: VTK's own XML reader opens every frame in the output-fault tests
+# (tests/python/test_vtk_frames.py; about 20 MB).
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libyaml-cpp-dev libeigen3-dev libmuparser-dev
-      pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+      pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib python3-vtk9
       libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev nlohmann-json3-dev
       libsuitesparse-dev libspectra-dev libopenblas0-pthread libexodusii-dev libopenmpi-dev openmpi-bin)
 missing=()
