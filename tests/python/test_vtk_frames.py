@@ -100,7 +100,7 @@ def test_file_size_limit_leaves_frames_vtk_opens(tmp_path):
 @pytest.mark.parametrize("delay", [0.15, 0.3, 0.6])
 def test_sigkill_while_writing_leaves_frames_vtk_opens(tmp_path, delay):
     out = tmp_path / "out"
-    p = subprocess.Popen([BINARY, "run", str(deck(tmp_path, end=1.0e-2, frames=5000)), "-o", str(out), "-q",
+    p = subprocess.Popen([BINARY, "run", str(deck(tmp_path, end=0.5, frames=20000)), "-o", str(out), "-q",
                           "--threads", "1"], stderr=subprocess.DEVNULL)
     for _ in range(400):  # wait for the first index
         if (out / "frames.pvd").exists():
@@ -114,7 +114,7 @@ def test_sigkill_while_writing_leaves_frames_vtk_opens(tmp_path, delay):
 
 def test_sigterm_final_frame_opens_in_vtk(tmp_path):
     out = tmp_path / "out"
-    p = subprocess.Popen([BINARY, "run", str(deck(tmp_path, end=1.0e-2, frames=200)), "-o", str(out), "-q",
+    p = subprocess.Popen([BINARY, "run", str(deck(tmp_path, end=0.5, frames=200)), "-o", str(out), "-q",
                           "--threads", "1"], stderr=subprocess.PIPE, text=True)
     for _ in range(400):
         if (out / "frames.pvd").exists():
