@@ -246,42 +246,39 @@ void apply_partial_volume(Bonds& bonds, double horizon, double spacing) {
   }
 }
 
-void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material) {
+namespace {
+
+// Gives every bond kind the per-particle labels `label` of its two ends in the fields
+// `end_i`, `end_j`, splitting a kind whose bonds join differently labelled particles;
+// a no-op when every kind already agrees.
+void split_kinds_by(Bonds& bonds, const std::vector<int32_t>& label, int32_t BondKind::*end_i,
+                    int32_t BondKind::*end_j) {
   const std::size_t n = bonds.particles();
   bool consistent = true;
 #pragma omp parallel for schedule(static) reduction(&& : consistent)
   for (std::size_t i = 0; i < n; ++i)
     for (uint64_t k = bonds.begin(i); k < bonds.end(i); ++k) {
       const BondKind& c = bonds.kinds[bonds.kind[k]];
-      consistent = consistent && c.material_i == material[i] && c.material_j == material[bonds.nbr[k]];
+      consistent = consistent && c.*end_i == label[i] && c.*end_j == label[bonds.nbr[k]];
     }
   if (consistent) return;
   const std::vector<BondKind> old = bonds.kinds;
   regroup(bonds, [&](std::size_t i, uint64_t k) {
     BondKind c = old[bonds.kind[k]];
-    c.material_i = material[i];
-    c.material_j = material[bonds.nbr[k]];
+    c.*end_i = label[i];
+    c.*end_j = label[bonds.nbr[k]];
     return c;
   });
 }
 
+}  // namespace
+
+void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material) {
+  split_kinds_by(bonds, material, &BondKind::material_i, &BondKind::material_j);
+}
+
 void split_kinds_by_class(Bonds& bonds, const std::vector<int32_t>& cls) {
-  const std::size_t n = bonds.particles();
-  bool consistent = true;
-#pragma omp parallel for schedule(static) reduction(&& : consistent)
-  for (std::size_t i = 0; i < n; ++i)
-    for (uint64_t k = bonds.begin(i); k < bonds.end(i); ++k) {
-      const BondKind& c = bonds.kinds[bonds.kind[k]];
-      consistent = consistent && c.class_i == cls[i] && c.class_j == cls[bonds.nbr[k]];
-    }
-  if (consistent) return;
-  const std::vector<BondKind> old = bonds.kinds;
-  regroup(bonds, [&](std::size_t i, uint64_t k) {
-    BondKind c = old[bonds.kind[k]];
-    c.class_i = cls[i];
-    c.class_j = cls[bonds.nbr[k]];
-    return c;
-  });
+  split_kinds_by(bonds, cls, &BondKind::class_i, &BondKind::class_j);
 }
 
 }  // namespace horizon
