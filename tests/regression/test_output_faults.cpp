@@ -239,42 +239,35 @@ TEST(OutputFaults, SigkillAtAnyMomentLeavesValidFrames) {
   fs::remove_all(d);
 }
 
-// SIGTERM (what a batch system sends at the end of a job's time): stop after the step,
-// a final frame, history and summary, exit 143 (128 + 15).
-TEST(OutputFaults, SigtermWritesAFinalFrameAndExits143) {
-  const fs::path d = scratch("sigterm");
+namespace {
+
+// A run stopped by `sig` after its first frames: it stops after the step, writes a final
+// frame, history and summary (status `interrupted`), names the signal and exits `code`.
+void expect_interrupted_run(const std::string& name, int sig, const std::string& sig_name, int code) {
+  const fs::path d = scratch(name);
   std::ofstream(d / "plate.yaml") << plate_deck(1.0, 5);
   const Child c = start(d / "plate.yaml", d / "out");
   wait_for_file(d / "out" / "frames.pvd");
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  kill(c.pid, SIGTERM);
+  kill(c.pid, sig);
   const Ended e = wait_for(c);
   ASSERT_TRUE(e.exited) << "killed by signal " << e.signal;
-  EXPECT_EQ(e.code, 143) << e.log;
-  EXPECT_NE(e.log.find("SIGTERM at step"), std::string::npos) << e.log;
+  EXPECT_EQ(e.code, code) << e.log;
+  EXPECT_NE(e.log.find(sig_name + " at step"), std::string::npos) << e.log;
   EXPECT_GE(expect_valid_output(d / "out"), 2u);
   std::ifstream js(d / "out" / "summary.json");
-  const auto j = nlohmann::json::parse(js);
-  EXPECT_EQ(j["status"], "interrupted");
+  ASSERT_TRUE(js);
+  EXPECT_EQ(nlohmann::json::parse(js)["status"], "interrupted");
   fs::remove_all(d);
 }
+
+}  // namespace
+
+// SIGTERM (what a batch system sends at the end of a job's time): exit 143 (128 + 15).
+TEST(OutputFaults, SigtermWritesAFinalFrameAndExits143) { expect_interrupted_run("sigterm", SIGTERM, "SIGTERM", 143); }
 
 // SIGINT (Ctrl-C): the same with 130.
-TEST(OutputFaults, SigintWritesAFinalFrameAndExits130) {
-  const fs::path d = scratch("sigint");
-  std::ofstream(d / "plate.yaml") << plate_deck(1.0, 5);
-  const Child c = start(d / "plate.yaml", d / "out");
-  wait_for_file(d / "out" / "frames.pvd");
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  kill(c.pid, SIGINT);
-  const Ended e = wait_for(c);
-  ASSERT_TRUE(e.exited) << "killed by signal " << e.signal;
-  EXPECT_EQ(e.code, 130) << e.log;
-  EXPECT_NE(e.log.find("SIGINT at step"), std::string::npos) << e.log;
-  EXPECT_GE(expect_valid_output(d / "out"), 2u);
-  fs::remove_all(d);
-}
-
+TEST(OutputFaults, SigintWritesAFinalFrameAndExits130) { expect_interrupted_run("sigint", SIGINT, "SIGINT", 130); }
 
 // The static and heat drivers keep the same promise as the explicit one.
 TEST(OutputFaults, StaticRunOnAFileSizeLimitStopsWithStatus5AndValidFrames) {
