@@ -3,7 +3,9 @@
 // distance r < R from the centre c(t) feels the force density
 //     K (R - r)^2 (y - c)/r,
 // pushing it out of the sphere. The body pushes back on the indenter with minus the
-// sum of these forces times the particle volumes.
+// sum of these forces times the particle volumes. The pass is contact/rigid_contact.hpp's
+// (law quadratic), shared with the free projectiles.
+#include "horizon/contact/rigid_contact.hpp"
 #include "horizon/deck/config.hpp"
 
 namespace horizon {
@@ -24,6 +26,7 @@ class Indenter {
 
  private:
   IndenterConfig config_;
+  RigidShape shape_;
 };
 
 }  // namespace horizon

@@ -194,9 +194,42 @@ struct IndenterConfig {
   double stiffness = 0;  // [N/m^5]: force density per m^2 of penetration
 };
 
+// The penalty law of a rigid body's contact (contact/rigid_contact.hpp): the force density
+// on a particle at penetration depth d is K d (linear, K in N/m^4) or K d^2 (quadratic, the
+// indenter's law, K in N/m^5), along the body's outward normal.
+enum class ContactLaw { linear, quadratic };
+
+// A rigid shape in its own frame (contact/rigid_contact.hpp): a sphere of `radius` about
+// its reference point, or a cylinder of `radius` with a tangent-ogive nose whose tip is the
+// reference point, the nose pointing along `axis` (a unit vector), the ogive's arc radius
+// crh x 2 radius (the caliber-radius-head), the cylindrical shank `length` long behind it.
+enum class RigidShapeKind { sphere, ogive };
+struct RigidShapeConfig {
+  RigidShapeKind kind = RigidShapeKind::sphere;
+  double radius = 0;
+  double length = 0;  // ogive: the shank behind the nose [m]
+  double crh = 0;     // ogive: arc radius / caliber
+  Vec3 axis{0, 0, -1};
+};
+
+// A rigid projectile (contact/projectile.hpp): translation only (3 degrees of freedom, no
+// spin), integrated by the explicit loop's velocity Verlet; penalty contact with every
+// particle (peridynamic particles and finite-element nodes alike).
+struct ProjectileConfig {
+  std::string name;
+  RigidShapeConfig shape;
+  double mass = 0;                 // [kg] (from the deck's mass, or density x the shape's volume)
+  Vec3 position, velocity;         // initial reference point (sphere centre, ogive tip) and velocity
+  ContactLaw law = ContactLaw::linear;
+  double stiffness = 0;            // K of the law
+  double max_penetration = 0;      // quadratic law: the depth whose stiffness 2 K d the stable step takes (0: spacing)
+  double filter_cutoff = 0;        // [Hz] Butterworth low-pass of the acceleration; 0: none
+};
+
 struct ContactConfig {
   ShortRangeContactConfig short_range;
   std::vector<IndenterConfig> indenters;
+  std::vector<ProjectileConfig> projectiles;
 };
 
 // Nonlocal heat conduction (thermal/heat.hpp, docs/models/heat.md).

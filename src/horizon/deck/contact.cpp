@@ -1,5 +1,7 @@
 #include "horizon/deck/contact.hpp"
 
+#include "horizon/contact/rigid_contact.hpp"
+
 #include <algorithm>
 #include <cctype>
 
@@ -51,10 +53,72 @@ IndenterConfig read_indenter(const DeckContext& ctx, const Item& item, std::size
   return c;
 }
 
+RigidShapeConfig read_rigid_shape(const DeckContext& ctx, const Item& item) {
+  MapReader m(ctx, item, {"sphere", "ogive"});
+  const std::string kind = *m.exactly_one({"sphere", "ogive"}, true);
+  const Item body = *m.find(kind);
+  RigidShapeConfig c;
+  if (kind == "sphere") {
+    MapReader s(ctx, body, {"radius"});
+    c.kind = RigidShapeKind::sphere;
+    c.radius = read_positive(ctx, s.get("radius", "the sphere's radius [m], > 0"));
+    return c;
+  }
+  MapReader o(ctx, body, {"radius", "length", "crh", "axis"});
+  c.kind = RigidShapeKind::ogive;
+  c.radius = read_positive(ctx, o.get("radius", "the shank's radius [m], > 0"));
+  c.length = read_non_negative(ctx, o.get("length", "the cylindrical shank's length behind the nose [m], >= 0"));
+  const Item crh = o.get("crh", "the caliber-radius-head: the ogive's arc radius over the caliber, >= 0.5");
+  c.crh = read_number(ctx, crh);
+  if (!(c.crh >= 0.5))
+    ctx.fail(crh.mark, crh.path + ": expected a caliber-radius-head >= 0.5 (0.5 is a hemispherical nose), found " +
+                           text_of(crh));
+  const Item axis = o.get("axis", "the direction the nose points to, e.g. [0, 0, -1]");
+  c.axis = read_vector(ctx, axis);
+  if (!(norm(c.axis) > 0)) fail_expected(ctx, axis, "a non-zero direction the nose points to");
+  c.axis = c.axis / norm(c.axis);
+  return c;
+}
+
+ProjectileConfig read_projectile(const DeckContext& ctx, const Item& item, std::size_t index) {
+  MapReader m(ctx, item, {"name", "shape", "mass", "density", "position", "velocity", "contact", "filter"});
+  ProjectileConfig c;
+  c.name = "projectile" + std::to_string(index + 1);
+  if (auto n = m.find("name")) c.name = read_string(ctx, *n);
+  c.shape = read_rigid_shape(ctx, m.get("shape", "the body's shape, {sphere: {radius}} or {ogive: {radius, length, "
+                                                  "crh, axis}}"));
+  const std::string mass = *m.exactly_one({"mass", "density"}, true);
+  if (mass == "mass") {
+    c.mass = read_positive(ctx, *m.find("mass"));
+  } else {
+    RigidShape shape(c.shape);
+    c.mass = read_positive(ctx, *m.find("density")) * shape.volume();
+  }
+  c.position = read_vector(ctx, m.get("position", "the initial position of the sphere's centre or the ogive's tip [m]"));
+  c.velocity = read_vector(ctx, m.get("velocity", "the initial velocity [m/s]"));
+  const Item law = m.get("contact", "the penalty contact, {law: linear | quadratic, stiffness: K}");
+  MapReader l(ctx, law, {"law", "stiffness", "max_penetration"});
+  if (auto w = l.find("law"))
+    c.law = read_enum<ContactLaw>(ctx, *w, {{"linear", ContactLaw::linear}, {"quadratic", ContactLaw::quadratic}});
+  c.stiffness = read_positive(ctx, l.get("stiffness", "K in the force density K d (linear) [N/m^4] or K d^2 "
+                                                      "(quadratic) [N/m^5], > 0"));
+  if (auto d = l.find("max_penetration")) {
+    if (c.law != ContactLaw::quadratic)
+      ctx.fail(d->key_mark ? *d->key_mark : d->mark,
+               d->path + ": applies to law quadratic only (the linear law's stiffness does not depend on the depth)");
+    c.max_penetration = read_positive(ctx, *d);
+  }
+  if (auto f = m.find("filter")) {
+    MapReader fm(ctx, *f, {"cutoff"});
+    c.filter_cutoff = read_positive(ctx, fm.get("cutoff", "the low-pass cutoff frequency [Hz], > 0"));
+  }
+  return c;
+}
+
 }  // namespace
 
 ContactConfig read_contact(const DeckContext& ctx, const Item& item) {
-  MapReader m(ctx, item, {"short_range", "indenters"});
+  MapReader m(ctx, item, {"short_range", "indenters", "projectiles"});
   ContactConfig c;
   if (auto s = m.find("short_range")) c.short_range = read_short_range(ctx, *s);
   if (auto l = m.find("indenters")) {
@@ -65,6 +129,19 @@ ContactConfig read_contact(const DeckContext& ctx, const Item& item) {
       for (std::size_t q = 0; q + 1 < c.indenters.size(); ++q)
         if (c.indenters[q].name == c.indenters.back().name)
           ctx.fail(items[i].mark, items[i].path + ": two indenters are named '" + c.indenters.back().name + "'");
+    }
+  }
+  if (auto l = m.find("projectiles")) {
+    if (ctx.dimension != 3 || ctx.structure)
+      ctx.fail(*l->key_mark, l->path + ": rigid projectiles move in 3-D solid decks only (dimension: 3, no structure)");
+    if (!l->node.IsSequence())
+      fail_expected(ctx, *l, "a list of projectiles, each {shape, mass, position, velocity, contact}");
+    const auto items = read_list(ctx, *l);
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      c.projectiles.push_back(read_projectile(ctx, items[i], i));
+      for (std::size_t q = 0; q + 1 < c.projectiles.size(); ++q)
+        if (c.projectiles[q].name == c.projectiles.back().name)
+          ctx.fail(items[i].mark, items[i].path + ": two projectiles are named '" + c.projectiles.back().name + "'");
     }
   }
   return c;

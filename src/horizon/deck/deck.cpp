@@ -516,6 +516,10 @@ Config read_config(DeckContext& ctx, const Item& root) {
     for (const auto& i : read_list(ctx, *l)) config.loads.push_back(read_load(ctx, i, regions));
   if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c);
   read_solver(ctx, m, config);
+  if (!config.contact.projectiles.empty() && config.solver.type != SolverType::explicit_dynamic) {
+    const Item p = *MapReader(ctx, *m.find("contact"), {"short_range", "indenters", "projectiles"}).find("projectiles");
+    ctx.fail(*p.key_mark, p.path + ": rigid projectiles run with solver type explicit only");
+  }
   if (config.solver.type != SolverType::explicit_dynamic || config.structure.kind != StructureKind::none) {
     const auto items = read_list(ctx, *m.find("bodies"));
     for (std::size_t i = 0; i < config.bodies.size(); ++i)

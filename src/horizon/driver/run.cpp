@@ -307,6 +307,7 @@ std::string distributed_limits(const Config& c, const System& s, const RunOption
   if (s.heat.active() || !s.thermal_strain.empty() || !s.critical_stretch_factor.empty())
     return "heat conduction and thermal strain are not split over ranks";
   if (s.fe) return "finite-element regions are not split over ranks";
+  if (!c.contact.projectiles.empty()) return "rigid projectiles are not split over ranks";
   if (c.solver.adaptive_time_step) return "the adaptive time step is not split over ranks";
   if (c.solver.damping > 0) return "damping is not split over ranks";
   if (world_size() > 1 && (c.output.checkpoint_every > 0 || o.restart))
@@ -406,6 +407,9 @@ struct ExplicitRun::State {
                            g.dissipated, g.damped, g.balance_error(), broken_fraction, dmax, dmean);
     for (const auto& L : loads->loads())
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
+    for (const auto& p : loads->projectiles())
+      for (const Vec3* q : {&p.x, &p.v, &p.a, &p.force, &p.a_filtered})
+        history << fmt::format(",{:.9e},{:.9e},{:.9e}", q->x, q->y, q->z);
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
   }
@@ -554,6 +558,12 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   r.history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
                "energy_balance_error,broken_bond_fraction,damage_max,damage_mean";
   for (const auto& L : r.loads->loads()) r.history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
+  // Each projectile: position, velocity, acceleration, the contact force on it, and the
+  // low-pass acceleration (the acceleration itself without a filter).
+  for (const auto& p : r.loads->projectiles())
+    for (const char* q : {"x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az", "fx", "fy", "fz", "ax_filtered",
+                          "ay_filtered", "az_filtered"})
+      r.history << "," << p.config().name << "_" << q;
   if (r.s.heat.active()) r.history << ",thermal_work,heat_time," << heat_history_header(r.s);
   r.history << "\n";
   r.crack = std::make_unique<CrackTracker>(c);
@@ -756,6 +766,26 @@ int ExplicitRun::finish() {
                {"shared_nodes", s.fe->shared_nodes()}};
   }
   summary_state(j, s, g, *r.loads, r.max_balance_error);
+  if (!r.loads->projectiles().empty()) {
+    nlohmann::ordered_json pj = nlohmann::ordered_json::object();
+    for (const auto& p : r.loads->projectiles()) {
+      const Vec3 v0 = p.config().velocity;
+      pj[p.config().name] = {{"mass", p.mass()},
+                             {"position", {p.x.x, p.x.y, p.x.z}},
+                             {"velocity", {p.v.x, p.v.y, p.v.z}},
+                             {"initial_speed", norm(v0)},
+                             {"final_speed", norm(p.v)},
+                             {"impulse", {p.impulse.x, p.impulse.y, p.impulse.z}},
+                             {"peak_force", p.peak_force},
+                             {"peak_acceleration", p.peak_acceleration},
+                             {"peak_filtered_acceleration", p.peak_filtered_acceleration},
+                             {"filter_cutoff", p.config().filter_cutoff},
+                             {"contact_start", p.contact_start},
+                             {"contact_end", p.contact_end},
+                             {"penalty_energy", p.penalty_energy}};
+    }
+    j["projectiles"] = pj;
+  }
   if (r.heat) {
     j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, r.heat_stable, r.heat_initial);
     j["energy"]["thermal_work"] = g.thermal_work;

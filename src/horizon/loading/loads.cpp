@@ -176,6 +176,7 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
     L.indenter = Indenter(ic);
     loads_.push_back(std::move(L));
   }
+  for (const auto& pc : config.contact.projectiles) projectiles_.emplace_back(pc);
 }
 
 bool Loads::is_constrained(std::size_t i, int component) const {
@@ -246,6 +247,7 @@ void Loads::apply_forces(System& s, double t) const {
         if (L.value[c]) P.b[i][c] += L.scale * (*L.value[c])(t, x.x, x.y, x.z);
     }
   }
+  for (auto& p : projectiles_) p.contact(s);
 }
 
 double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, const std::vector<Vec3>* v_before,

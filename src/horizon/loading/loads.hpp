@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "horizon/contact/indenter.hpp"
+#include "horizon/contact/projectile.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -55,8 +56,16 @@ class Loads {
       a.io("applied", L.applied);
       a.pop();
     }
+    if (!projectiles_.empty()) {
+      a.check("projectiles", projectiles_.size(), "projectiles");
+      for (auto& p : projectiles_) p.checkpoint(a);
+    }
   }
 
+  // Rigid projectiles (contact/projectile.hpp): apply_forces runs their contact pass; the
+  // explicit solver moves them (solver/explicit.cpp).
+  std::vector<Projectile>& projectiles() { return projectiles_; }
+  const std::vector<Projectile>& projectiles() const { return projectiles_; }
   std::vector<AppliedLoad>& loads() { return loads_; }
   const std::vector<AppliedLoad>& loads() const { return loads_; }
   bool is_constrained(std::size_t i, int component) const;
@@ -73,6 +82,7 @@ class Loads {
 
  private:
   std::vector<AppliedLoad> loads_;
+  mutable std::vector<Projectile> projectiles_;  // their contact force is set by apply_forces
   std::vector<uint8_t> constrained_;  // bit c set: component c prescribed
 };
 

@@ -45,13 +45,19 @@ ExplicitSolver::ExplicitSolver(System& s, Loads& loads, double dt, double dampin
     : s_(s), loads_(loads), dt_(dt), damping_(damping) {
   for (const auto& L : loads_.loads())
     if (L.kind != LoadKind::displacement && L.kind != LoadKind::velocity) has_forces_ = true;
+  if (!loads_.projectiles().empty()) has_forces_ = true;  // their contact force densities
 }
 
-void ExplicitSolver::update_kinetic() { ledger_.kinetic = kinetic_energy(s_); }
+// The particles' and the rigid projectiles' kinetic energy.
+void ExplicitSolver::update_kinetic() {
+  ledger_.kinetic = kinetic_energy(s_);
+  for (const auto& p : loads_.projectiles()) ledger_.kinetic += p.kinetic();
+}
 
 void ExplicitSolver::initialize() {
   loads_.apply_constraints(s_, 0.0, 0.0);
   loads_.apply_forces(s_, 0.0);
+  for (auto& p : loads_.projectiles()) p.finish_step(p.x, p.force, 0, 0);
   s_.time = 0;
   s_.dt = 0;
   compute_forces(s_, true);
@@ -73,6 +79,14 @@ void ExplicitSolver::step(bool energy) {
   u_before_ = P.u;
   v_before_ = P.v;
   if (has_forces_) b_before_ = P.b;
+  // Rigid projectiles: half kick and drift with the contact force of the last pass
+  // (contact/projectile.hpp); their state before the step, should it turn non-finite.
+  auto& bodies = loads_.projectiles();
+  const std::vector<Projectile> bodies_before = bodies;
+  for (auto& p : bodies) {
+    p.kick(half);
+    p.drift(dt);
+  }
 
   // Half kick and drift. a(n) = (f + b)/rho - gamma v.
 #pragma omp parallel for schedule(static)
@@ -124,11 +138,21 @@ void ExplicitSolver::step(bool energy) {
       }
     P.u = u_before_;
     P.v = v_before_;
+    bodies = bodies_before;
     time_ -= dt;
     --steps_;
     throw NonFiniteState(bad, P.X[bad], steps_ + 1);
   }
   loads_.apply_constraints(s_, time_, dt);
+
+  // The projectiles' second half kick with the new contact force. The work of the contact
+  // pair (on the particles through b, on the body here) enters external_work: it is minus
+  // the change of the penalty energy, and the body's kinetic energy is in the ledger's.
+  double body_work = 0;
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
+    bodies[k].kick(half);
+    body_work += bodies[k].finish_step(bodies_before[k].x, bodies_before[k].force, dt, time_);
+  }
 
   // Work of the applied force densities (trapezoidal in b) and of the constraints.
   double work = loads_.update_reactions(s_, u_before_, &v_before_, dt);
@@ -140,7 +164,7 @@ void ExplicitSolver::step(bool energy) {
     }
     work += w.totals()[0];
   }
-  ledger_.external_work += work;
+  ledger_.external_work += work + body_work;
   ledger_.damped += damped;
   ledger_.dissipated = s_.dissipated();
   if (energy) {

@@ -1,5 +1,7 @@
 #include "horizon/solver/system.hpp"
 
+#include "horizon/contact/rigid_contact.hpp"
+
 #include "horizon/parallel/decomposition.hpp"
 
 #include <fmt/format.h>
@@ -99,6 +101,10 @@ System build_system(const Config& config) {
   }
   s.horizon = config.horizon;
   s.spacing = config.spacing;
+  for (const auto& p : config.contact.projectiles)
+    s.contact_stiffness = std::max(
+        s.contact_stiffness,
+        penalty_stiffness(p.law, p.stiffness, p.max_penetration > 0 ? p.max_penetration : config.spacing));
 
   LatticeSpec spec{config.dimension, config.spacing, cell_volume(config), config.lattice_origin};
   for (std::size_t b = 0; b < config.bodies.size(); ++b) {
@@ -287,8 +293,21 @@ double System::dissipated() const {
 }
 
 double stable_time_step(const System& s) {
-  if (const Model* owner = s.models.owner()) return owner->stable_time_step(s);
+  // A particle in contact with a rigid projectile also has the penalty spring k = K_c V
+  // (contact/rigid_contact.hpp): its stiffness joins the bond sum of the Silling-Askari
+  // bound, dt = sqrt(2 rho / (sum c V_j/|xi| + K_c)) (Silling and Askari 2005, eq. 17 with
+  // the contact spring as one more term). Models that set their own step and the elements
+  // take it in the same way through 1/dt^2 = 1/dt_own^2 + K_c/(2 rho).
+  const double kc = s.contact_stiffness;
   const auto& P = s.particles;
+  auto with_contact = [&](double dt) {
+    if (!(kc > 0) || P.size() == 0) return dt;
+    double rho_min = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < P.size(); ++i) rho_min = std::min(rho_min, P.density[i]);
+    const double inv = (std::isfinite(dt) ? 1 / (dt * dt) : 0.0) + kc / (2 * rho_min);
+    return 1 / std::sqrt(inv);
+  };
+  if (const Model* owner = s.models.owner()) return with_contact(owner->stable_time_step(s));
   const auto& B = s.bonds;
   double dt = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static) reduction(min : dt)
@@ -298,9 +317,9 @@ double stable_time_step(const System& s) {
       const uint32_t j = B.nbr[k];
       sum += B.volume[k] * B.weight[k] * (s.model.spring[i] + s.model.spring[j]) / B.length[k];
     }
-    if (sum > 0) dt = std::min(dt, std::sqrt(2 * P.density[i] / sum));
+    if (sum > 0) dt = std::min(dt, std::sqrt(2 * P.density[i] / (sum + kc)));
   }
-  if (s.fe) dt = std::min(dt, s.fe->stable_time_step());
+  if (s.fe) dt = std::min(dt, with_contact(s.fe->stable_time_step()));
   return dt;
 }
 

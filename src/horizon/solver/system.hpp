@@ -110,6 +110,10 @@ struct System {
   bool active(int c) const { return active_components ? ((active_components >> c) & 1u) != 0 : c < dimension; }
   double horizon = 0;
   double spacing = 0;
+  // The largest particle-side penalty stiffness of the rigid projectiles' contact, d b / d d
+  // [N/m^4] (contact/rigid_contact.hpp penalty_stiffness): stable_time_step adds it to every
+  // particle's bond stiffness. 0 without projectiles.
+  double contact_stiffness = 0;
   Particles particles;
   Bonds bonds;
   ModelCoefficients model;

@@ -1,0 +1,269 @@
+// Rigid projectiles (contact/projectile.hpp, docs/verification.md "Rigid projectiles"):
+// the 2nd-order Butterworth filter against its analytic response; momentum of body plus
+// particles conserved to round-off; the energy ledger closing in an elastic impact; a
+// sphere on an elastic block against Hertz's impact theory; checkpoint and restart; deck
+// errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "horizon/contact/projectile.hpp"
+#include "horizon/core/error.hpp"
+#include "horizon/deck/deck.hpp"
+#include "horizon/driver/run.hpp"
+#include "horizon/solver/explicit.hpp"
+#include "verification_support.hpp"
+
+namespace horizon::verification {
+namespace {
+
+namespace fs = std::filesystem;
+
+RunOptions quiet_in(const std::string& name) {
+  RunOptions o;
+  o.quiet = true;
+  o.handle_signals = false;
+  o.output_dir = output_dir(name).string();
+  return o;
+}
+
+// ---------------------------------------------------------------------------------
+// The filter. A sinusoid of frequency f through the filter at step T: after the
+// transient, the output's amplitude over the input's is the gain. The digital filter's
+// response is 1/sqrt(1 + (tan(pi f T)/tan(pi fc T))^4) (projectile.hpp); the analogue
+// Butterworth's 1/sqrt(1 + (f/fc)^4), which it approaches for fc T << 1.
+
+double measured_gain(double fc, double f, double T) {
+  Butterworth2 b;
+  b.cutoff = fc;
+  const int n = static_cast<int>(std::ceil(40.0 / (f * T))) + 2000;  // 40 periods
+  double peak = 0;
+  for (int k = 0; k < n; ++k) {
+    const double y = b.filter(std::sin(2 * M_PI * f * k * T), T);
+    if (k > n / 2) peak = std::max(peak, std::abs(y));  // the second half: steady state
+  }
+  return peak;
+}
+
+TEST(Projectile, ButterworthGainIsOneAtDcAndOneOverRootTwoAtTheCutoff) {
+  const double fc = 20e3, T = 1e-7;  // 20 kHz at a 10 MHz step: the example's ratio
+  Butterworth2 dc;
+  dc.cutoff = fc;
+  double y = 0;
+  dc.filter(0.0, T);
+  for (int k = 0; k < 20000; ++k) y = dc.filter(3.5, T);  // a step from 0 to 3.5
+  EXPECT_NEAR(y / 3.5, 1.0, 1e-9);
+  // At the cutoff the pre-warped bilinear filter has exactly 1/sqrt(2).
+  EXPECT_NEAR(Butterworth2::gain(fc, fc, T), 1 / std::sqrt(2.0), 1e-14);
+  const double at_cutoff = measured_gain(fc, fc, T);
+  EXPECT_NEAR(at_cutoff, 1 / std::sqrt(2.0), 2e-3) << "sampled peak of the steady-state output";
+  for (double ratio : {0.1, 0.5, 2.0, 5.0}) {
+    const double f = ratio * fc;
+    const double measured = measured_gain(fc, f, T);
+    const double digital = Butterworth2::gain(fc, f, T), analogue = 1 / std::sqrt(1 + std::pow(ratio, 4));
+    EXPECT_NEAR(measured, digital, 2e-3 * std::max(digital, 0.05)) << "f/fc = " << ratio;
+    EXPECT_NEAR(digital / analogue, 1.0, 1e-2) << "f/fc = " << ratio;
+  }
+  // Pass-through without a cutoff.
+  Butterworth2 none;
+  EXPECT_EQ(none.filter(2.5, T), 2.5);
+}
+
+// ---------------------------------------------------------------------------------
+// A free PMB block (E = 1 GPa, nu = 1/4, rho = 1000) and a rigid body striking it.
+std::string block_deck(const std::string& size, const std::string& projectile, const std::string& solver,
+                       const std::string& output = "{frames: 1, history_every: 1}") {
+  return fmt::format(R"(dimension: 3
+spacing: 0.001
+horizon_factor: 3
+materials:
+  soft: {{model: pmb, density: 1000, youngs_modulus: 1.0e9, poissons_ratio: 0.25}}
+bodies:
+  - {{name: block, material: soft, shape: {{box: {{min: [0, 0, 0], max: {}}}}}}}
+contact:
+  projectiles:
+    - {}
+solver: {}
+output: {}
+)",
+                     size, projectile, solver, output);
+}
+
+// An ogive nose striking a small block obliquely: the total momentum, sum rho V v + M v_b,
+// stays M v_0 to round-off (F on the body is minus sum b V, bond forces cancel in pairs).
+TEST(Projectile, MomentumOfBodyAndParticlesIsConserved) {
+  const std::string deck = block_deck(
+      "[0.008, 0.008, 0.005]",
+      "{name: nose, shape: {ogive: {radius: 0.002, length: 0.004, crh: 2, axis: [0.3, 0, -1]}}, mass: 0.002, "
+      "position: [0.0035, 0.004, 0.0048], velocity: [40, -30, -200], contact: {law: quadratic, stiffness: 5.0e19}}",
+      "{end_time: 4.0e-6}");
+  const Config c = parse_deck(deck, "momentum.yaml");
+  ExplicitRun run(c, quiet_in("projectile_momentum"));
+  const Projectile& body = run.loads().projectiles().at(0);
+  const Vec3 p0 = c.contact.projectiles[0].velocity * body.mass();
+  run.advance(std::numeric_limits<int64_t>::max());
+  ASSERT_EQ(run.finish(), 0);
+  const auto& P = run.system().particles;
+  Vec3 p = body.v * body.mass();
+  for (std::size_t i = 0; i < P.size(); ++i) p += P.v[i] * (P.density[i] * P.volume[i]);
+  // The contact did act: the body lost a good part of its momentum to the block.
+  EXPECT_GT(norm(body.impulse), 0.01 * norm(p0));
+  EXPECT_GT(body.peak_force, 0);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(p[k], p0[k], 1e-12 * norm(p0)) << "component " << k;
+  report("projectile_momentum_error", norm(p - p0) / norm(p0),
+         fmt::format("ogive into a free block, {} steps: |p - p0|/|p0| = {:.2e}, impulse {:.3e} of {:.3e} N s",
+                     run.steps(), norm(p - p0) / norm(p0), norm(body.impulse), norm(p0)));
+}
+
+// ---------------------------------------------------------------------------------
+// Hertz (Johnson, Contact Mechanics, 1985, sec. 11.4, eq. 11.23-11.24): a rigid sphere of
+// radius R striking an elastic half-space (E* = E/(1 - nu^2)) at v0 with mass m:
+//   delta_max = (15 m v0^2 / (16 E* R^1/2))^(2/5),  F_max = 4/3 E* R^1/2 delta_max^(3/2),
+//   t_c = 2.868 (m^2 / (R E*^2 v0))^(1/5).
+// The block is free, so m is the reduced mass m M/(m + M) of sphere and block.
+// One run of the sphere at 50 m/s on a 24 x 24 x 12 mm block serves the Hertz and the
+// ledger tests.
+struct HertzRun {
+  nlohmann::json summary;
+  double mass = 0, block_mass = 0, v0 = 50, R = 0.01, E = 1.0e9, nu = 0.25;
+  double max_balance = 0, min_kinetic_fraction = 1, final_body_energy = 0, initial = 0;
+  double separated_speed = 0;
+};
+
+const HertzRun& hertz_run() {
+  static const HertzRun r = [] {
+    HertzRun h;
+    h.mass = 2.0e-3;
+    const std::string deck = block_deck(
+        "[0.024, 0.024, 0.012]",
+        fmt::format("{{name: ball, shape: {{sphere: {{radius: {}}}}}, mass: {}, position: [0.012, 0.012, 0.0205], "
+                    "velocity: [0, 0, -{}], contact: {{law: linear, stiffness: 3.0e15}}, filter: {{cutoff: 1.0e6}}}}",
+                    h.R, h.mass, h.v0),
+        "{end_time: 7.0e-5, safety_factor: 0.8}");
+    const Config c = parse_deck(deck, "hertz.yaml");
+    ExplicitRun run(c, quiet_in("projectile_hertz"));
+    const auto& P = run.system().particles;
+    for (std::size_t i = 0; i < P.size(); ++i) h.block_mass += P.density[i] * P.volume[i];
+    const Projectile& body = run.loads().projectiles().at(0);
+    h.initial = body.kinetic();
+    while (!run.done()) {
+      run.advance(1);
+      h.min_kinetic_fraction = std::min(h.min_kinetic_fraction, body.kinetic() / h.initial);
+    }
+    EXPECT_EQ(run.finish(), 0);
+    h.summary = run.summary();
+    h.max_balance = h.summary["energy"]["max_abs_balance_error"];
+    h.final_body_energy = body.kinetic();
+    h.separated_speed = -body.v.z;
+    return h;
+  }();
+  return r;
+}
+
+TEST(Projectile, EnergyLedgerClosesInAnElasticImpact) {
+  const HertzRun& h = hertz_run();
+  ASSERT_EQ(h.summary["status"], "completed");
+  // The body's kinetic energy is in the ledger: at t = 0 it is all of it.
+  EXPECT_NEAR(h.summary["energy"]["initial"].get<double>(), h.initial, 1e-12 * h.initial);
+  // The impact happened: the sphere gave most of its energy to the block at some point.
+  EXPECT_LT(h.min_kinetic_fraction, 0.5);
+  report("projectile_energy_balance", h.max_balance,
+         fmt::format("sphere on a block, linear penalty: max |balance error| {:.2e}, body energy at its lowest "
+                     "{:.1f} % of the initial",
+                     h.max_balance, 100 * h.min_kinetic_fraction));
+  EXPECT_LE(h.max_balance, 1e-2);
+}
+
+TEST(Projectile, SphereOnAnElasticBlockAgainstHertz) {
+  const HertzRun& h = hertz_run();
+  ASSERT_EQ(h.summary["status"], "completed");
+  const auto& b = h.summary["projectiles"]["ball"];
+  const double m = h.mass * h.block_mass / (h.mass + h.block_mass);
+  const double Es = h.E / (1 - h.nu * h.nu);
+  const double delta = std::pow(15 * m * h.v0 * h.v0 / (16 * Es * std::sqrt(h.R)), 0.4);
+  const double F = 4.0 / 3.0 * Es * std::sqrt(h.R) * std::pow(delta, 1.5);
+  const double tc = 2.868 * std::pow(m * m / (h.R * Es * Es * h.v0), 0.2);
+  const double peak = b["peak_force"], duration = b["contact_end"].get<double>() - b["contact_start"].get<double>();
+  report("projectile_hertz_peak_force", peak / F,
+         fmt::format("Hertz: F_max {:.1f} N, t_c {:.2f} us (delta_max {:.3f} mm, a = {:.2f} mm); PD: {:.1f} N, "
+                     "{:.2f} us; ratios {:.3f}, {:.3f}",
+                     F, 1e6 * tc, 1e3 * delta, 1e3 * std::sqrt(h.R * delta), peak, 1e6 * duration, peak / F,
+                     duration / tc));
+  EXPECT_NEAR(peak / F, 1.0, 0.25);
+  EXPECT_NEAR(duration / tc, 1.0, 0.25);
+}
+
+// ---------------------------------------------------------------------------------
+// Checkpoint and restart carry the body: a run restarted from its checkpoint ends with
+// the same history.csv bytes as the straight run.
+TEST(Projectile, RestartContinuesTheBodyBitForBit) {
+  const std::string deck = block_deck(
+      "[0.008, 0.008, 0.005]",
+      "{name: ball, shape: {sphere: {radius: 0.003}}, density: 7800, position: [0.004, 0.004, 0.0075], "
+      "velocity: [0, 0, -100], contact: {law: linear, stiffness: 3.0e15}, filter: {cutoff: 2.0e5}}",
+      "{end_time: 6.0e-6, time_step: 1.0e-7}", "{frames: 2, history_every: 5, checkpoint: {every: 30}}");
+  const Config c = parse_deck(deck, "restart.yaml");
+  RunOptions a = quiet_in("projectile_restart_straight");
+  ExplicitRun straight(c, a);
+  straight.advance(std::numeric_limits<int64_t>::max());
+  ASSERT_EQ(straight.finish(), 0);
+  EXPECT_GT(straight.loads().projectiles()[0].peak_force, 0) << "the ball must reach the block";
+  RunOptions b = quiet_in("projectile_restart");
+  {
+    ExplicitRun killed(c, b);
+    killed.advance(37);
+  }
+  b.restart = (fs::path(*b.output_dir) / "checkpoint.hzc").string();
+  ExplicitRun restarted(c, b);
+  EXPECT_EQ(restarted.steps(), 30);
+  restarted.advance(std::numeric_limits<int64_t>::max());
+  ASSERT_EQ(restarted.finish(), 0);
+  EXPECT_EQ(straight.history_csv(), restarted.history_csv());
+  EXPECT_EQ(straight.summary()["projectiles"].dump(), restarted.summary()["projectiles"].dump());
+}
+
+// ---------------------------------------------------------------------------------
+// Deck errors: name the deck, the line and column, and what was expected.
+std::string deck_error(const std::string& projectile, const std::string& solver = "{end_time: 1.0e-6}") {
+  try {
+    parse_deck(block_deck("[0.004, 0.004, 0.004]", projectile, solver), "bad.yaml");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Projectile, DeckErrorsNameTheLineAndWhatWasExpected) {
+  const std::string ok = "{shape: {sphere: {radius: 0.001}}, mass: 0.01, position: [0, 0, 0.006], velocity: [0, 0, -10], "
+                         "contact: {law: linear, stiffness: 1.0e15}}";
+  EXPECT_NO_THROW(parse_deck(block_deck("[0.004, 0.004, 0.004]", ok, "{end_time: 1.0e-6}"), "ok.yaml"));
+  auto expect = [](const std::string& message, const std::string& part) {
+    EXPECT_NE(message.find("bad.yaml:10:"), std::string::npos) << message;
+    EXPECT_NE(message.find(part), std::string::npos) << message;
+  };
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string s = ok;
+    s.replace(s.find(from), from.size(), to);
+    return deck_error(s);
+  };
+  expect(with("{sphere: {radius: 0.001}}", "{ogive: {radius: 0.001, length: 0.002, crh: 0.3, axis: [0, 0, -1]}}"),
+         "caliber-radius-head >= 0.5");
+  expect(with("law: linear, stiffness: 1.0e15", "law: linear"), "stiffness");
+  expect(with("law: linear", "law: hertz"), "linear");
+  expect(with("mass: 0.01", "mass: 0.01, density: 7800"), "density");
+  expect(with("mass: 0.01, ", ""), "mass");
+  expect(with("stiffness: 1.0e15", "stiffness: 1.0e15, max_penetration: 0.001"), "applies to law quadratic only");
+  expect(with("{sphere: {radius: 0.001}}", "{cube: {side: 0.001}}"), "sphere");
+  const std::string implicit = deck_error(ok, "{type: static, end_time: 1.0}");
+  expect(implicit, "rigid projectiles run with solver type explicit only");
+}
+
+}  // namespace
+}  // namespace horizon::verification
