@@ -77,6 +77,86 @@ TEST(Projectile, ButterworthGainIsOneAtDcAndOneOverRootTwoAtTheCutoff) {
 }
 
 // ---------------------------------------------------------------------------------
+// The ogive's geometry. With crh = 1/2 the tangent ogive is a hemisphere (arc radius a,
+// nose length a): the volume is 2/3 pi a^3 + pi a^2 L, and a point of the nose has the
+// depth and normal of the sphere about the nose's centre. For crh = 3 the nose length is
+// a sqrt(11) and the nose's volume the integral of pi r(z)^2 (a fine midpoint sum here).
+TEST(Projectile, OgiveShapeDepthNormalAndVolume) {
+  const double a = 0.01, L = 0.02;
+  RigidShapeConfig c;
+  c.kind = RigidShapeKind::ogive;
+  c.radius = a;
+  c.length = L;
+  c.crh = 0.5;
+  c.axis = {0, 0, -1};
+  const RigidShape hemi(c);
+  EXPECT_NEAR(hemi.nose_length(), a, 1e-15);
+  EXPECT_NEAR(hemi.volume(), 2.0 / 3.0 * M_PI * a * a * a + M_PI * a * a * L, 1e-9 * hemi.volume());
+  // The nose's centre is a above the tip (the body lies at z > 0 from the tip along -axis).
+  const Vec3 centre{0, 0, a};
+  for (const Vec3& q : {Vec3{0.003, 0.002, 0.004}, Vec3{-0.001, 0.005, 0.003}, Vec3{0.0, 0.0, 0.0005}}) {
+    Penetration p;
+    ASSERT_TRUE(hemi.penetration(q, p));
+    const Vec3 d = q - centre;
+    EXPECT_NEAR(p.depth, a - norm(d), 1e-14);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(p.normal[k], d[k] / norm(d), 1e-12);
+  }
+  Penetration p;
+  EXPECT_FALSE(hemi.penetration(Vec3{0.0, 0.0, -0.0001}, p));      // ahead of the tip
+  EXPECT_FALSE(hemi.penetration(Vec3{0.0099, 0.0, 0.002}, p));     // beside the nose
+  EXPECT_FALSE(hemi.penetration(Vec3{0.0, 0.0, a + L + 1e-6}, p));  // behind the rear face
+  // The shank: depth to the side or to the rear face, whichever is nearer.
+  ASSERT_TRUE(hemi.penetration(Vec3{0.008, 0.0, 0.02}, p));
+  EXPECT_NEAR(p.depth, 0.002, 1e-15);
+  EXPECT_NEAR(p.normal.x, 1.0, 1e-15);
+  ASSERT_TRUE(hemi.penetration(Vec3{0.0, 0.001, a + L - 0.0005}, p));
+  EXPECT_NEAR(p.depth, 0.0005, 1e-15);
+  EXPECT_NEAR(p.normal.z, 1.0, 1e-15);  // -axis: out of the rear face
+  // crh = 3: nose length a sqrt(11); the volume against a fine disc sum of pi r(z)^2.
+  c.crh = 3;
+  const RigidShape ogive(c);
+  EXPECT_NEAR(ogive.nose_length(), a * std::sqrt(11.0), 1e-15);
+  const double s = 6 * a, l = ogive.nose_length();
+  double v = 0;
+  const int n = 200000;
+  for (int k = 0; k < n; ++k) {
+    const double z = (k + 0.5) * l / n, r = std::sqrt(s * s - (l - z) * (l - z)) - (s - a);
+    v += M_PI * r * r * l / n;
+  }
+  EXPECT_NEAR(ogive.volume(), v + M_PI * a * a * L, 1e-8 * ogive.volume());
+  // A point just inside the nose's surface at z = l/2.
+  const double z = l / 2, r = std::sqrt(s * s - (l - z) * (l - z)) - (s - a);
+  ASSERT_TRUE(ogive.penetration(Vec3{r - 1e-5, 0, z}, p));
+  EXPECT_NEAR(p.depth, 1e-5 * (s - a + r) / s, 1e-8);  // 1e-5 along x times the normal's x part
+  EXPECT_FALSE(ogive.penetration(Vec3{r + 1e-5, 0, z}, p));
+}
+
+// A deck with a projectile runs on one MPI rank: more are refused with the reason.
+TEST(Projectile, MoreThanOneRankIsRefused) {
+  const std::string deck = R"(dimension: 3
+spacing: 0.001
+horizon_factor: 3
+materials:
+  soft: {model: pmb, density: 1000, youngs_modulus: 1.0e9, poissons_ratio: 0.25}
+bodies:
+  - {name: block, material: soft, shape: {box: {min: [0, 0, 0], max: [0.004, 0.004, 0.004]}}}
+contact:
+  projectiles:
+    - {shape: {sphere: {radius: 0.001}}, mass: 0.01, position: [0, 0, 0.006], velocity: [0, 0, -10], contact: {stiffness: 1.0e15}}
+solver: {end_time: 1.0e-6}
+)";
+  const Config c = parse_deck(deck, "ranks.yaml");
+  const System s = build_system(c);
+  EXPECT_EQ(distributed_limits(c, s, RunOptions{}), "rigid projectiles are not split over ranks");
+  // The stable step takes the penalty: K = 1e15 N/m^4 beside the bond sum.
+  Config no = c;
+  no.contact.projectiles.clear();
+  const double with = stable_time_step(s), without = stable_time_step(build_system(no));
+  EXPECT_LT(with, without);
+  EXPECT_GT(with, 0.5 * without);
+}
+
+// ---------------------------------------------------------------------------------
 // A free PMB block (E = 1 GPa, nu = 1/4, rho = 1000) and a rigid body striking it.
 std::string block_deck(const std::string& size, const std::string& projectile, const std::string& solver,
                        const std::string& output = "{frames: 1, history_every: 1}") {
