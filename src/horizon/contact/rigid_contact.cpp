@@ -1,5 +1,6 @@
 #include "horizon/contact/rigid_contact.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "horizon/parallel/decomposition.hpp"
