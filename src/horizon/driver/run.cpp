@@ -406,6 +406,8 @@ struct ExplicitRun::State {
                            g.dissipated, g.damped, g.balance_error(), broken_fraction, dmax, dmean);
     for (const auto& L : loads->loads())
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
+    if (s.block_names.size() > 1)
+      for (const Vec3& v : body_velocities(s)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
   }
@@ -554,6 +556,9 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   r.history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
                "energy_balance_error,broken_bond_fraction,damage_max,damage_mean";
   for (const auto& L : r.loads->loads()) r.history << "," << L.name << "_fx," << L.name << "_fy," << L.name << "_fz";
+  // With two or more bodies (a projectile and its target), each body's centre-of-mass velocity.
+  if (r.s.block_names.size() > 1)
+    for (const auto& name : r.s.block_names) r.history << "," << name << "_vx," << name << "_vy," << name << "_vz";
   if (r.s.heat.active()) r.history << ",thermal_work,heat_time," << heat_history_header(r.s);
   r.history << "\n";
   r.crack = std::make_unique<CrackTracker>(c);

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "horizon/core/version.hpp"
 #include "horizon/deck/config.hpp"
@@ -26,6 +27,25 @@ inline DamageStats damage_stats(const Particles& p) {
   }
   d.mean /= static_cast<double>(std::max<std::size_t>(1, p.size()));
   return d;
+}
+
+// Each body's centre-of-mass velocity, sum rho V v / sum rho V over its particles
+// (history.csv's NAME_vx... columns and summary.json's "bodies"; a projectile's residual
+// velocity). A body with no particles (an FE body) reads zero.
+inline std::vector<Vec3> body_velocities(const System& s) {
+  const Particles& p = s.particles;
+  std::vector<Vec3> momentum(s.block_names.size());
+  std::vector<double> mass(s.block_names.size(), 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto b = static_cast<std::size_t>(p.block[i]);
+    if (b >= mass.size()) continue;
+    const double m = p.density[i] * p.volume[i];
+    momentum[b] += p.v[i] * m;
+    mass[b] += m;
+  }
+  for (std::size_t b = 0; b < mass.size(); ++b)
+    if (mass[b] > 0) momentum[b] = momentum[b] * (1.0 / mass[b]);
+  return momentum;
 }
 
 inline nlohmann::ordered_json summary_header(const Config& config, const System& s, const std::string& status,
@@ -56,6 +76,12 @@ inline void summary_state(nlohmann::ordered_json& j, const System& s, const Ledg
   nlohmann::ordered_json reactions = nlohmann::ordered_json::object();
   for (const auto& L : loads.loads()) reactions[L.name] = {L.reaction.x, L.reaction.y, L.reaction.z};
   j["loads"] = reactions;
+  if (s.block_names.size() > 1) {
+    nlohmann::ordered_json bodies = nlohmann::ordered_json::object();
+    const std::vector<Vec3> v = body_velocities(s);
+    for (std::size_t b = 0; b < v.size(); ++b) bodies[s.block_names[b]] = {{"velocity", {v[b].x, v[b].y, v[b].z}}};
+    j["bodies"] = bodies;
+  }
 }
 
 // The warning of a run whose largest |energy balance error| (Ledger::balance_error, a
