@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Residual velocity against impact velocity, and the ballistic limit (standard library only).
 
-usage: ballistic_limit.py [--deck examples/ballistic_plate.yaml] [--speeds 200,300,400,600,800]
+usage: ballistic_limit.py [--deck examples/ballistic_plate.yaml] [--speeds 200,350,500,650,800]
                           [--coarsen F] [--threads N] [--out out/ballistic] [--png docs/images/ballistic_plate.png]
                           [--horizon build/horizon] [--body sphere] [--axis z]
 
@@ -68,7 +68,7 @@ def lambert_jonas(data):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--deck", default="examples/ballistic_plate.yaml")
-    ap.add_argument("--speeds", default="200,300,400,600,800")
+    ap.add_argument("--speeds", default="200,350,500,650,800")
     ap.add_argument("--coarsen", type=float, default=1.0)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--out", default="out/ballistic")
