@@ -7,13 +7,15 @@
 // stopped (it rebounds: its centre-of-mass velocity along the impact ends <= 0), well
 // above it (1000 m/s) it perforates and leaves at a steady residual velocity. Both runs
 // keep the energy ledger (plastic work and the energy of failed particles booked as
-// dissipated) within 2 %. The projectile's velocity is the history.csv column sphere_vy
+// dissipated, reported apart in summary.json energy.dissipated_parts) within 2 %. The
+// projectile's velocity is the history.csv column sphere_vy
 // and summary.json's bodies.sphere.velocity (driver/summary.hpp body_velocities).
 // Full 3-D figures: docs/verification.md ("Ballistic impact"), scripts/ballistic_limit.py.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -30,6 +32,7 @@ struct Impact {
   double final_velocity = 0;   // along the impact (> 0: still moving through the plate)
   double velocity_20us_before = 0;
   double max_balance = 0, dissipated = 0;
+  double plastic_work = 0, failure_energy = 0;  // summary.json energy.dissipated_parts
 };
 
 Impact strike(double speed) {
@@ -75,6 +78,8 @@ output: {{frames: 1, history_every: 10}}
   r.final_velocity = -j["bodies"]["sphere"]["velocity"][1].get<double>();
   r.max_balance = j["energy"]["max_abs_balance_error"].get<double>();
   r.dissipated = j["energy"]["dissipated"].get<double>();
+  r.plastic_work = j["energy"]["dissipated_parts"]["plastic_work"].get<double>();
+  r.failure_energy = j["energy"]["dissipated_parts"]["failure_energy"].get<double>();
   // history.csv: the projectile's velocity 20 us before the end (a steady exit velocity).
   std::ifstream in(dir / "history.csv");
   std::string line;
@@ -102,8 +107,10 @@ TEST(BallisticPlate, StoppedWellBelowTheLimitPerforatedWellAbove) {
                      "balance {:.2e}",
                      slow.final_velocity, slow.max_balance));
   report("ballistic_fast_residual", fast.final_velocity,
-         fmt::format("2-D ballistic plate at 1000 m/s: residual {:.1f} m/s (80 us: {:.1f}); balance {:.2e}",
-                     fast.final_velocity, fast.velocity_20us_before, fast.max_balance));
+         fmt::format("2-D ballistic plate at 1000 m/s: residual {:.1f} m/s (80 us: {:.1f}); balance {:.2e}; "
+                     "plastic work {:.3g} J, failure energy {:.3g} J of {:.3g} J dissipated",
+                     fast.final_velocity, fast.velocity_20us_before, fast.max_balance, fast.plastic_work,
+                     fast.failure_energy, fast.dissipated));
   // Stopped: it no longer moves into the plate (it rebounds).
   EXPECT_LE(slow.final_velocity, 0.0);
   // Perforated: it keeps a good share of its speed and flies free (steady to 1 %).
@@ -112,6 +119,12 @@ TEST(BallisticPlate, StoppedWellBelowTheLimitPerforatedWellAbove) {
   // Plastic work and failure dissipate energy, and the ledger balances within 2 %.
   EXPECT_GT(slow.dissipated, 0.0);
   EXPECT_GT(fast.dissipated, 0.0);
+  // The ledger's dissipation is the plastic work plus the energy of the failed particles
+  // (no bond of this model breaks): the two parts account for all of it.
+  for (const Impact* r : {&slow, &fast})
+    EXPECT_NEAR(r->plastic_work + r->failure_energy, r->dissipated, 1e-9 * r->dissipated);
+  EXPECT_GT(fast.plastic_work, 0.0);
+  EXPECT_GT(fast.failure_energy, 0.0);
   EXPECT_LT(slow.max_balance, 0.02);
   EXPECT_LT(fast.max_balance, 0.02);
 }
