@@ -11,6 +11,10 @@ wall at `wall` from above:
   face radius   = max radial distance of the particles within one spacing of the lowest
                   one, plus what the lattice leaves out at the mantle (radius - largest
                   reference radial distance) [mm]
+  attached face radius = the same over the bar's body alone: the largest set of particles
+                  connected through current distances <= 1.5 spacings; particles the rim
+                  ejects (detached, further than 1.5 spacings from every particle of the
+                  body) are left out [mm]
   peak plastic  = max equivalent_plastic_strain (and its 99th percentile)
   --volume: the volume ratio J = det F of each particle (F the classical nonlocal
             deformation gradient over its lattice neighbours within 3.01 spacings, all
@@ -78,15 +82,48 @@ def main():
     r_gap = radius - max(rad(p) for p in ref)
     l_gap = length - (max(p[axis] for p in ref) - min(p[axis] for p in ref))
     r_face = max(rad(p) for p in face) + r_gap
+    body = attached(cur, 1.5 * h)
+    blow = min(cur[i][axis] for i in body)
+    r_att = max(rad(cur[i]) for i in body if cur[i][axis] < blow + h) + r_gap
     ep = a.get("equivalent_plastic_strain", (1, [0.0]))[1]
     eps = sorted(ep)
     print("frame %s: %d particles, spacing %.4g mm" % (path, n, h * 1e3))
     print("final length %.2f mm" % ((top - low + l_gap) * 1e3))
     print("impact-face radius %.2f mm" % (r_face * 1e3))
+    print("attached face radius %.2f mm (%d detached particles left out)" % (r_att * 1e3, n - len(body)))
     print("peak equivalent plastic strain %.3f (99th percentile %.3f)" % (eps[-1], eps[int(0.99 * (len(eps) - 1))]))
 
     if "--volume" in args:
         volume_ratio(ref, cur, h, axis, low)
+
+
+def attached(cur, link):
+    """Indices of the largest set of particles joined by current distances <= link."""
+    cell = lambda p: tuple(int(c // link) for c in p)
+    cells = {}
+    for i, p in enumerate(cur):
+        cells.setdefault(cell(p), []).append(i)
+    seen = [False] * len(cur)
+    best = []
+    for s0 in range(len(cur)):
+        if seen[s0]:
+            continue
+        seen[s0] = True
+        comp, stack = [], [s0]
+        while stack:
+            i = stack.pop()
+            comp.append(i)
+            c = cell(cur[i])
+            for a in (-1, 0, 1):
+                for b in (-1, 0, 1):
+                    for d in (-1, 0, 1):
+                        for j in cells.get((c[0] + a, c[1] + b, c[2] + d), ()):
+                            if not seen[j] and sum((cur[j][k] - cur[i][k]) ** 2 for k in range(3)) <= link * link:
+                                seen[j] = True
+                                stack.append(j)
+        if len(comp) > len(best):
+            best = comp
+    return best
 
 
 def det3(m):

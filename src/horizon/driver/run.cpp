@@ -410,6 +410,8 @@ struct ExplicitRun::State {
     for (const auto& p : loads->projectiles())
       for (const Vec3* q : {&p.x, &p.v, &p.a, &p.force, &p.a_filtered})
         history << fmt::format(",{:.9e},{:.9e},{:.9e}", q->x, q->y, q->z);
+    if (s.block_names.size() > 1)
+      for (const Vec3& v : body_velocities(s)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
   }
@@ -564,6 +566,9 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
     for (const char* q : {"x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az", "fx", "fy", "fz", "ax_filtered",
                           "ay_filtered", "az_filtered"})
       r.history << "," << p.config().name << "_" << q;
+  // With two or more bodies (a projectile and its target), each body's centre-of-mass velocity.
+  if (r.s.block_names.size() > 1)
+    for (const auto& name : r.s.block_names) r.history << "," << name << "_vx," << name << "_vy," << name << "_vz";
   if (r.s.heat.active()) r.history << ",thermal_work,heat_time," << heat_history_header(r.s);
   r.history << "\n";
   r.crack = std::make_unique<CrackTracker>(c);

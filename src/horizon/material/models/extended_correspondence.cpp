@@ -99,6 +99,8 @@ class ExtendedCorrespondence final : public Model {
     a.io("von_mises", von_mises_);
     a.io("inactive", inactive_);
     a.io("map_ok", map_ok_);
+    a.io("plastic_total", plastic_total_);
+    a.io("failure_total", failure_total_);
     if (a.loading()) acting_.assign(acting_.size(), UINT32_MAX);
   }
  private:
@@ -126,6 +128,10 @@ class ExtendedCorrespondence final : public Model {
   std::vector<double> ks_;       // stabilisation modulus per particle [Pa]
   std::vector<StrainLawState> committed_, trial_;
   std::vector<double> work_, energy_, von_mises_;
+  // The dissipation booked so far [J/m^3], split: plastic work (the law's and the capped
+  // stabilisation's) and the elastic energy of particles that failed (output fields
+  // plastic_work and failure_energy; summary.json energy.dissipated_parts).
+  std::vector<double> plastic_total_, failure_total_;
   std::vector<uint8_t> inactive_;  // 1: carried no stress at the last pass (failed or singular)
   std::vector<double> eps_;        // per bond: the bond strain of the pass (scratch)
   std::vector<extended::MomentMap> maps_;  // per particle: the kept moment map
@@ -187,6 +193,8 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   committed_.assign(n, StrainLawState{});
   trial_.assign(n, StrainLawState{});
   work_.assign(n, 0.0);
+  plastic_total_.assign(n, 0.0);
+  failure_total_.assign(n, 0.0);
   energy_.assign(n, 0.0);
   von_mises_.assign(n, 0.0);
   inactive_.assign(n, 0);
@@ -330,6 +338,8 @@ void ExtendedCorrespondence::commit(System& s) {
   for (std::size_t l = 0; l < particles_.size(); ++l) {
     const double d = work_[l] + released(l);
     if (d != 0) s.dissipated_at[particles_[l]] += d * s.particles.volume[particles_[l]];
+    plastic_total_[l] += work_[l];
+    failure_total_[l] += released(l);
     committed_[l] = trial_[l];
     work_[l] = 0;
   }
@@ -346,6 +356,8 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
   ModelField ep{"equivalent_plastic_strain", std::vector<double>(n, 0.0)};
   ModelField dm{"ductile_damage", std::vector<double>(n, 0.0)};
   ModelField in{"carries_no_stress", std::vector<double>(n, 0.0)};
+  ModelField pw{"plastic_work", std::vector<double>(n, 0.0)};
+  ModelField fe{"failure_energy", std::vector<double>(n, 0.0)};
   for (const auto& model : s.models) {
     const auto* c = dynamic_cast<const ExtendedCorrespondence*>(model.get());
     if (!c) continue;
@@ -355,12 +367,16 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
       ep.values[i] = c->committed_[l].alpha;
       dm.values[i] = c->committed_[l].damage;
       in.values[i] = c->inactive_[l];
+      pw.values[i] = c->plastic_total_[l];
+      fe.values[i] = c->failure_total_[l];
     }
   }
   out.push_back(std::move(vm));
   out.push_back(std::move(ep));
   out.push_back(std::move(dm));
   out.push_back(std::move(in));
+  out.push_back(std::move(pw));
+  out.push_back(std::move(fe));
 }
 
 }  // namespace
