@@ -81,5 +81,28 @@ TEST(SurfaceCorrection, ThinPmbPlateRecoversYoungsModulus) {
   EXPECT_GT(std::abs(E0 / E - 1), 0.10) << "the uncorrected plate shows the surface effect";
 }
 
+// The models that take the key are named when another model is given it, with the deck's
+// line and column; a value that is not a boolean is refused.
+TEST(SurfaceCorrection, DeckErrors) {
+  auto fails_with = [](const std::string& material, const std::string& expected) {
+    const std::string deck = "dimension: 3\nspacing: 1.0e-3\nhorizon: 3.0e-3\nmaterials:\n  m: {" + material +
+                             "}\nbodies:\n  - {name: b, material: m, shape: {box: {min: [0,0,0], max: [4e-3,4e-3,4e-3]}}}\n"
+                             "solver: {end_time: 1e-6}\n";
+    try {
+      (void)parse_deck(deck, "bad.yaml");
+      ADD_FAILURE() << "accepted: " << material;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  fails_with("model: nonlinear_solid, density: 8000, youngs_modulus: 2e11, poissons_ratio: 0.3, surface_correction: true",
+             "bad.yaml:5:");
+  fails_with("model: nonlinear_solid, density: 8000, youngs_modulus: 2e11, poissons_ratio: 0.3, surface_correction: true",
+             "surface_correction: applies to model pmb, lps only");
+  fails_with("model: correspondence, density: 8000, youngs_modulus: 2e11, poissons_ratio: 0.3, surface_correction: true",
+             "applies to model pmb, lps only");
+  fails_with("model: pmb, density: 8000, youngs_modulus: 2e11, surface_correction: 2", "surface_correction");
+}
+
 }  // namespace
 }  // namespace horizon::verification
