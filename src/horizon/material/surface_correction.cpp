@@ -140,7 +140,12 @@ std::vector<Vec3> axis_factors(const ModelSetup& in, const AxisEnergy& energy, i
       if (f.xi.empty()) continue;
       for (int a = 0; a < dim; ++a) {
         const double w = energy(f, a);
-        if (w > 0) next[i][a] = factor[i][a] * w_inf[a] / w;
+        // Rounded to 1e-4: particles in the same place relative to the surfaces get the
+        // same factors whatever the order of their sums, and the passes, which carry the
+        // surface's factors one horizon deeper each, leave the deep particles at the
+        // interior's value; otherwise every particle near a surface would get bond kinds
+        // of its own (docs/benchmarks.md, "Surface correction").
+        if (w > 0) next[i][a] = std::round(1e4 * factor[i][a] * w_inf[a] / w) * 1e-4;
       }
     }
     factor = std::move(next);
