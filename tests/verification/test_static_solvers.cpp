@@ -236,8 +236,12 @@ TEST(StaticSolvers, PlateWithHoleStressConcentration) {
   EXPECT_NEAR(plate_hole_kt(load_deck(source_path("examples/plate_with_hole.yaml")), "plate_hole_kt"), 1.0, 0.05);
 }
 
-// The same with the PMB surface correction (material/models/pmb.cpp): K_t stays in its band.
-TEST(StaticSolvers, PlateWithHoleStressConcentrationWithSurfaceCorrection) {
+// The same with the PMB surface correction (material/models/pmb.cpp): K_t stays in its band
+// (3.018, docs/verification.md). Out of `make test` (it costs what the plate above costs,
+// the largest static test of the suite); run it with
+//   build/tests/test_verification --gtest_also_run_disabled_tests \
+//     --gtest_filter='StaticSolvers.DISABLED_PlateWithHole*'
+TEST(StaticSolvers, DISABLED_PlateWithHoleStressConcentrationWithSurfaceCorrection) {
   Config deck = load_deck(source_path("examples/plate_with_hole.yaml"));
   deck.materials.at(0).parameters["surface_correction"] = 1;
   EXPECT_NEAR(plate_hole_kt(deck, "plate_hole_kt_corrected"), 1.0, 0.05);
