@@ -4,7 +4,9 @@
 // 2018, "Surface corrections for peridynamic models in elasticity and fracture", Comput.
 // Mech. 61:499-518): a particle near a free surface has a truncated family and stores
 // less (PMB) or more (LPS) energy under a uniform strain than an interior particle of the
-// same lattice. For each axis d a uniform strain along d gives a factor per particle,
+// same lattice. For each axis d a model-given measure W of a uniform deformation along d
+// (the PMB: its energy under a uniaxial stress; the LPS: its dilatation) gives a factor
+// per particle,
 //   G_i^d = W_inf^d / W_i^d,
 // a bond takes the mean of its ends per axis and the ellipse rule between the axes along
 // its direction n (Madenci and Oterkus sec. 4.2),
@@ -14,6 +16,7 @@
 // once per kind (family/bonds.hpp), so the bonds are regrouped into kinds by weight.
 // docs/models.md "Surface correction".
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
@@ -28,8 +31,8 @@ struct FamilyView {
   std::vector<double> wv;
 };
 
-// The energy density (any constant factor) of a family under the uniform strain of unit
-// size along `axis` (0, 1, 2): what the model stores.
+// The model's measure (any constant factor) of a family under a uniform deformation of
+// unit size along `axis` (0, 1, 2): an energy density, or the LPS's dilatation.
 using AxisEnergy = std::function<double(const FamilyView& family, int axis)>;
 
 // The family of an interior particle of a lattice with the deck's spacing, family radius,
