@@ -238,9 +238,8 @@ TEST(StaticSolvers, PlateWithHoleStressConcentration) {
 
 // The same with the PMB surface correction (material/models/pmb.cpp): K_t stays in its band
 // (3.018, docs/verification.md). Out of `make test` (it costs what the plate above costs,
-// the largest static test of the suite); run it with
-//   build/tests/test_verification --gtest_also_run_disabled_tests \
-//     --gtest_filter='StaticSolvers.DISABLED_PlateWithHole*'
+// the largest static test of the suite); run it with build/tests/test_verification
+// --gtest_also_run_disabled_tests --gtest_filter='StaticSolvers.DISABLED_PlateWithHole*'.
 TEST(StaticSolvers, DISABLED_PlateWithHoleStressConcentrationWithSurfaceCorrection) {
   Config deck = load_deck(source_path("examples/plate_with_hole.yaml"));
   deck.materials.at(0).parameters["surface_correction"] = 1;
