@@ -23,7 +23,11 @@ namespace {
 
 using namespace horizon;
 
-Config block_config(int n, const std::string& model, bool damage) {
+// `model` may end in "+sc": the material's surface_correction on (more bond kinds, the
+// same loops: docs/benchmarks.md "Surface correction").
+Config block_config(int n, const std::string& model_key, bool damage) {
+  const bool corrected = model_key.size() > 3 && model_key.ends_with("+sc");
+  const std::string model = corrected ? model_key.substr(0, model_key.size() - 3) : model_key;
   Config c;
   c.dimension = 3;
   c.spacing = 1e-3;
@@ -38,6 +42,7 @@ Config block_config(int n, const std::string& model, bool damage) {
   m.shear_modulus = m.youngs_modulus / (2 * (1 + m.poissons_ratio));
   m.damage.enabled = damage;
   m.damage.critical_stretch = 1.0;  // never reached: measures the check, not the breaking
+  if (corrected) m.parameters["surface_correction"] = 1;
   c.materials.push_back(m);
   const double L = n * c.spacing;
   c.bodies.push_back({"block", "m", Shape::box({0, 0, 0}, {L, L, L})});
@@ -61,6 +66,7 @@ System& block(int n, const std::string& model) {
 void report(benchmark::State& state, const System& s) {
   state.counters["particles"] = static_cast<double>(s.particles.size());
   state.counters["bonds"] = static_cast<double>(s.bonds.size());
+  state.counters["kinds"] = static_cast<double>(s.bonds.kinds.size());
   state.counters["bonds_per_s"] = benchmark::Counter(static_cast<double>(s.bonds.size()) *
                                                          static_cast<double>(state.iterations()),
                                                      benchmark::Counter::kIsRate);
@@ -159,6 +165,28 @@ void BM_LpsForce(benchmark::State& state) {
   report(state, s);
 }
 
+// The PMB force pass and both LPS passes with the surface correction on (the same loops,
+// more bond kinds: material/surface_correction.hpp).
+void BM_PmbForceCorrected(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  System& s = block(static_cast<int>(state.range(0)), "pmb+sc");
+  for (auto _ : state) {
+    compute_forces(s, false);
+    benchmark::DoNotOptimize(s.particles.f.data());
+  }
+  report(state, s);
+}
+
+void BM_LpsStepCorrected(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  System& s = block(static_cast<int>(state.range(0)), "lps+sc");
+  for (auto _ : state) {
+    compute_forces(s, false);
+    benchmark::DoNotOptimize(s.particles.f.data());
+  }
+  report(state, s);
+}
+
 // Both LPS passes, as compute_forces runs them.
 void BM_LpsStep(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
@@ -220,6 +248,8 @@ BENCHMARK(BM_PmbHalfBonds)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillis
 BENCHMARK(BM_LpsDilatation)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LpsForce)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LpsStep)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PmbForceCorrected)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LpsStepCorrected)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_NeighborSearch)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Triad)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 

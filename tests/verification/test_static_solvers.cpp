@@ -55,6 +55,36 @@ double max_abs_u(const System& s) {
   return m;
 }
 
+// The interior moduli of the block of examples/block_tension_static.yaml: strains from
+// the displacement gradient of the particles more than a horizon from every surface,
+// stress from the force flux through the interior square of the mid-plane (as
+// test_uniaxial_tension.cpp). Reports both under `name`.
+std::pair<double, double> interior_moduli(const System& s, const Config& deck, const std::string& name) {
+  const double E = deck.materials.at(0).youngs_modulus, nu = deck.materials.at(0).poissons_ratio;
+  const auto& P = s.particles;
+  const Box3 box = deck.bodies.at(0).shape.bounds();
+  const double d = s.horizon;
+  std::vector<std::size_t> interior;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) inside = inside && P.X[i][k] > box.min[k] + d && P.X[i][k] < box.max[k] - d;
+    if (inside) interior.push_back(i);
+  }
+  EXPECT_EQ(interior.size(), 14u * 4u * 4u);
+  const Eigen::Matrix3d G = displacement_gradient(P, interior);
+  const double lo = box.min.y + d, hi = box.max.y - d;
+  const Vec3 F = force_through_patch(s, 0, 0.5 * (box.min.x + box.max.x), lo, hi);
+  const double stress = F.x / ((hi - lo) * (hi - lo));
+  const double E_int = stress / G(0, 0);
+  const double nu_int = -0.5 * (G(1, 1) + G(2, 2)) / G(0, 0);
+  report(name + "_youngs", E_int,
+         fmt::format("LPS block ({}): interior E = {:.2f} GPa ({:+.2f} %), interior stress {:.2f} MPa", name,
+                     E_int / 1e9, 100 * (E_int / E - 1), stress / 1e6));
+  report(name + "_poisson", nu_int,
+         fmt::format("LPS block ({}): interior nu = {:.4f} ({:+.2f} %)", name, nu_int, 100 * (nu_int / nu - 1)));
+  return {E_int, nu_int};
+}
+
 TEST(StaticSolvers, LpsBlockNewtonAndAdrAgreeAndRecoverModuli) {
   const Config deck = load_deck(source_path("examples/block_tension_static.yaml"));
   const double E = deck.materials.at(0).youngs_modulus, nu = deck.materials.at(0).poissons_ratio;
@@ -89,32 +119,35 @@ TEST(StaticSolvers, LpsBlockNewtonAndAdrAgreeAndRecoverModuli) {
   for (const char* name : {"pin:displacement", "roller:displacement", "guide:displacement"})
     EXPECT_LT(norm(newton.reaction(name)), 1e-7 * end) << name;
 
-  // The interior: strains from the displacement gradient, stress from the force flux
-  // through the interior square of the mid-plane (as test_uniaxial_tension.cpp).
-  const System& s = newton.system;
-  const auto& P = s.particles;
-  const Box3 box = deck.bodies.at(0).shape.bounds();
-  const double d = s.horizon;
-  std::vector<std::size_t> interior;
-  for (std::size_t i = 0; i < P.size(); ++i) {
-    bool inside = true;
-    for (int k = 0; k < 3; ++k) inside = inside && P.X[i][k] > box.min[k] + d && P.X[i][k] < box.max[k] - d;
-    if (inside) interior.push_back(i);
-  }
-  EXPECT_EQ(interior.size(), 14u * 4u * 4u);
-  const Eigen::Matrix3d G = displacement_gradient(P, interior);
-  const double lo = box.min.y + d, hi = box.max.y - d;
-  const Vec3 F = force_through_patch(s, 0, 0.5 * (box.min.x + box.max.x), lo, hi);
-  const double stress = F.x / ((hi - lo) * (hi - lo));
-  const double E_int = stress / G(0, 0);
-  const double nu_int = -0.5 * (G(1, 1) + G(2, 2)) / G(0, 0);
-  report("block_static_youngs", E_int,
-         fmt::format("LPS block, static: interior E = {:.2f} GPa ({:+.2f} %), interior stress {:.2f} MPa",
-                     E_int / 1e9, 100 * (E_int / E - 1), stress / 1e6));
-  report("block_static_poisson", nu_int,
-         fmt::format("LPS block, static: interior nu = {:.4f} ({:+.2f} %)", nu_int, 100 * (nu_int / nu - 1)));
+  const auto [E_int, nu_int] = interior_moduli(newton.system, deck, "block_static");
   EXPECT_NEAR(E_int / E, 1.0, 0.02);
   EXPECT_NEAR(nu_int / nu, 1.0, 0.02);
+}
+
+// The same block with the LPS surface correction (material/models/lps.cpp): the end
+// traction over the section's mean strain (the block's modulus as a whole, +18 %
+// uncorrected: docs/verification.md check 2) comes within 2 % of E; the interior moduli
+// move by about 1 % (the interior particles' bonds to the corrected layers): measured
+// +2.22 % and -2.12 %, just outside the 2 % band of the uncorrected block, asserted at 3 %.
+TEST(StaticSolvers, SurfaceCorrectedLpsBlockKeepsItsInteriorModuli) {
+  Config deck = load_deck(source_path("examples/block_tension_static.yaml"));
+  deck.materials.at(0).parameters["surface_correction"] = 1;
+  const double E = deck.materials.at(0).youngs_modulus, nu = deck.materials.at(0).poissons_ratio;
+  StaticRun run(deck);
+  ASSERT_TRUE(run.run()) << run.solver.failure();
+  const auto [E_int, nu_int] = interior_moduli(run.system, deck, "block_corrected");
+  const auto& P = run.system.particles;
+  std::vector<std::size_t> middle;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.X[i].x > 0.005 && P.X[i].x < 0.015) middle.push_back(i);
+  const Eigen::Matrix3d G = displacement_gradient(P, middle);
+  const double E_section = 2.0e7 / G(0, 0);
+  report("block_corrected_section", E_section,
+         fmt::format("LPS block, surface_correction: true: traction / section strain = {:.2f} GPa ({:+.2f} %)",
+                     E_section / 1e9, 100 * (E_section / E - 1)));
+  EXPECT_NEAR(E_section / E, 1.0, 0.02);
+  EXPECT_NEAR(E_int / E, 1.0, 0.03);
+  EXPECT_NEAR(nu_int / nu, 1.0, 0.03);
 }
 
 // Newton on the elastic problem: with the exact tangent and exact (Cholesky) solves, the
@@ -163,16 +196,16 @@ TEST(StaticSolvers, NewtonConvergesQuadratically) {
 // extrapolation of the classical Kirsch field gives 3.014 instead of 3.032: -0.6 %). The
 // reference is 3.03 for d/W = 0.1 in a strip (Howland 1930; Pilkey, Peterson's Stress
 // Concentration Factors, chart 4.1), 3.032 by Heywood's formula 2 + (1 - d/W)^3 over 1 - d/W.
-TEST(StaticSolvers, PlateWithHoleStressConcentration) {
-  const Config deck = load_deck(source_path("examples/plate_with_hole.yaml"));
+// K_t of examples/plate_with_hole.yaml (as described above), reported under `name`.
+double plate_hole_kt(const Config& deck, const std::string& name) {
   const double E = deck.materials.at(0).youngs_modulus, h = deck.spacing;
   const double sigma = (*deck.loads.at(0).value[1])(0);
   const double R = 0.0025, W = 0.0502;
   StaticRun run(deck);
-  ASSERT_TRUE(run.run()) << run.solver.failure();
+  EXPECT_TRUE(run.run()) << run.solver.failure();
   const System& s = run.system;
-  for (const char* name : {"x_mirror:displacement", "y_mirror:displacement"})
-    EXPECT_LT(norm(run.reaction(name)), 1e-6 * sigma * W * deck.thickness) << name;
+  for (const char* load : {"x_mirror:displacement", "y_mirror:displacement"})
+    EXPECT_LT(norm(run.reaction(load)), 1e-6 * sigma * W * deck.thickness) << load;
 
   auto find = [&](double x, double y) {
     for (std::size_t i = 0; i < s.particles.size(); ++i)
@@ -191,12 +224,26 @@ TEST(StaticSolvers, PlateWithHoleStressConcentration) {
   // Quadratic through r = R + h/2, 3h/2, 5h/2, evaluated at r = R (Newton's forward form at -1/2).
   const double kt = k[0] - 0.5 * (k[1] - k[0]) + 0.375 * (k[0] - 2 * k[1] + k[2]);
   const double reference = 3.03;
-  report("plate_hole_kt", kt,
-         fmt::format("plate with hole (d/W = {:.4f}): Kt = {:.3f} at the edge ({:+.2f} % from {}); E eps_yy / sigma at "
-                     "R + h/2, 3h/2, 5h/2: {:.3f}, {:.3f}, {:.3f}; {} Newton iterations",
-                     2 * R / W, kt, 100 * (kt / reference - 1), reference, k[0], k[1], k[2],
-                     run.solver.total_iterations()));
-  EXPECT_NEAR(kt / reference, 1.0, 0.05);
+  report(name, kt,
+         fmt::format("plate with hole (d/W = {:.4f}{}): Kt = {:.3f} at the edge ({:+.2f} % from {}); E eps_yy / sigma "
+                     "at R + h/2, 3h/2, 5h/2: {:.3f}, {:.3f}, {:.3f}; {} Newton iterations",
+                     2 * R / W, name == "plate_hole_kt" ? "" : ", surface_correction: true", kt,
+                     100 * (kt / reference - 1), reference, k[0], k[1], k[2], run.solver.total_iterations()));
+  return kt / reference;
+}
+
+TEST(StaticSolvers, PlateWithHoleStressConcentration) {
+  EXPECT_NEAR(plate_hole_kt(load_deck(source_path("examples/plate_with_hole.yaml")), "plate_hole_kt"), 1.0, 0.05);
+}
+
+// The same with the PMB surface correction (material/models/pmb.cpp): K_t stays in its band
+// (3.018, docs/verification.md). Out of `make test` (it costs what the plate above costs,
+// the largest static test of the suite); run it with build/tests/test_verification
+// --gtest_also_run_disabled_tests --gtest_filter='StaticSolvers.DISABLED_PlateWithHole*'.
+TEST(StaticSolvers, DISABLED_PlateWithHoleStressConcentrationWithSurfaceCorrection) {
+  Config deck = load_deck(source_path("examples/plate_with_hole.yaml"));
+  deck.materials.at(0).parameters["surface_correction"] = 1;
+  EXPECT_NEAR(plate_hole_kt(deck, "plate_hole_kt_corrected"), 1.0, 0.05);
 }
 
 // A small edge-notched plate (2-D PMB, 40 x 20 particles) pulled apart under displacement

@@ -168,13 +168,13 @@ TEST(WaveSpeed, PeridynamicDispersionMatchesTheLatticeAndVanishesAtLongWavelengt
 //   can get right or wrong);
 // - against sqrt(E/rho), within 10 %: the surface effect at this section (the real figure
 //   is printed and written in docs/verification.md).
-TEST(WaveSpeed, PulseInASlender3DLpsBarRunsAtTheBarSpeedOfItsSection) {
-  const Config config = load_deck(source_path("examples/wave_in_bar.yaml"));
-  const double E = config.materials.at(0).youngs_modulus, rho = config.materials.at(0).density;
-  const double c0 = std::sqrt(E / rho);
-  ASSERT_NEAR(c0, kBarSpeed, 1e-9);
-
-  // A 20-spacing piece of the bar, pulled by 1 MPa at its end layers and damped to rest.
+// The section modulus of a 20-spacing piece of the bar of `config`, pulled by 1 MPa at
+// its end layers and damped to rest, and the pulse speed in the whole bar.
+struct BarFigures {
+  double speed = 0, section_modulus = 0, balance_error = 0, dt = 0;
+};
+BarFigures bar_figures(const Config& config, bool section = true) {
+  const double c0 = std::sqrt(config.materials.at(0).youngs_modulus / config.materials.at(0).density);
   Config piece = config;
   const Box3 bar = config.bodies.at(0).shape.bounds();
   const double h = config.spacing, length = 20 * h;
@@ -193,20 +193,52 @@ TEST(WaveSpeed, PulseInASlender3DLpsBarRunsAtTheBarSpeedOfItsSection) {
   }
   piece.solver.damping = 2 * std::numbers::pi * c0 / length;  // twice the lowest axial frequency
   piece.solver.end_time = 60 / piece.solver.damping;
-  const TensionResult section = measure_tension(piece);
-  const double c_section = std::sqrt(section.youngs_section / rho);
+  BarFigures out;
+  if (section) out.section_modulus = measure_tension(piece).youngs_section;
 
   Simulation sim{Config(config)};
-  const double c = measured_speed(sim, 0.09, 0.19, 3.4e-5);
+  out.dt = sim.solver->dt();
+  out.speed = measured_speed(sim, 0.09, 0.19, 3.4e-5);
+  // An elastic pulse without damping keeps its energy (the ledger, check 3).
+  sim.solver->step(true);
+  out.balance_error = sim.solver->ledger().balance_error();
+  return out;
+}
+
+TEST(WaveSpeed, PulseInASlender3DLpsBarRunsAtTheBarSpeedOfItsSection) {
+  const Config config = load_deck(source_path("examples/wave_in_bar.yaml"));
+  const double E = config.materials.at(0).youngs_modulus, rho = config.materials.at(0).density;
+  const double c0 = std::sqrt(E / rho);
+  ASSERT_NEAR(c0, kBarSpeed, 1e-9);
+  const BarFigures f = bar_figures(config);
+  const double c = f.speed, c_section = std::sqrt(f.section_modulus / rho);
   report("speed_3d", c,
          fmt::format("3-D LPS bar (nu 0.25, 10 x 10 section): c = {:.1f} m/s; sqrt(E/rho) = {:.0f} m/s ({:+.2f} %); "
                      "sqrt(E_section/rho) = {:.1f} m/s ({:+.2f} %), E_section = {:.1f} GPa",
-                     c, c0, 100 * (c / c0 - 1), c_section, 100 * (c / c_section - 1), section.youngs_section / 1e9));
+                     c, c0, 100 * (c / c0 - 1), c_section, 100 * (c / c_section - 1), f.section_modulus / 1e9));
   EXPECT_NEAR(c / c_section, 1.0, 0.02);
   EXPECT_NEAR(c / c0, 1.0, 0.10);
-  // An elastic pulse without damping keeps its energy (the ledger, check 3).
-  sim.solver->step(true);
-  EXPECT_LT(std::abs(sim.solver->ledger().balance_error()), 5e-3);
+  EXPECT_LT(std::abs(f.balance_error), 5e-3);
+}
+
+// The same bar with the LPS surface correction (material/models/lps.cpp): the issue's
+// target is the speed within 2 % of sqrt(E/rho) (docs/verification.md "Surface correction").
+TEST(WaveSpeed, SurfaceCorrectedLpsBarRunsAtSqrtEOverRho) {
+  Config config = load_deck(source_path("examples/wave_in_bar.yaml"));
+  const double E = config.materials.at(0).youngs_modulus, rho = config.materials.at(0).density;
+  const double c0 = std::sqrt(E / rho);
+  const double dt_plain = Simulation(Config(config)).solver->dt();
+  config.materials.at(0).parameters["surface_correction"] = 1;
+  // The section modulus of the corrected bar (200.8 GPa, docs/verification.md) is left out
+  // here to keep the test short: the speed is the figure.
+  const BarFigures f = bar_figures(config, false);
+  const double c = f.speed;
+  report("speed_3d_corrected", c,
+         fmt::format("3-D LPS bar, surface_correction: true: c = {:.1f} m/s; sqrt(E/rho) = {:.0f} m/s ({:+.2f} %); "
+                     "stable step {:.3f} of the uncorrected bar's",
+                     c, c0, 100 * (c / c0 - 1), f.dt / dt_plain));
+  EXPECT_NEAR(c / c0, 1.0, 0.02);
+  EXPECT_LT(std::abs(f.balance_error), 5e-3);
 }
 
 // Without partial volumes the same bar runs at sqrt(E/rho) within 2 %, but only because

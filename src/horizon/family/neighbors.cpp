@@ -281,4 +281,13 @@ void split_kinds_by_class(Bonds& bonds, const std::vector<int32_t>& cls) {
   split_kinds_by(bonds, cls, &BondKind::class_i, &BondKind::class_j);
 }
 
+void scale_bond_weights(Bonds& bonds, const std::vector<double>& factor) {
+  const std::vector<BondKind> old = bonds.kinds;
+  regroup(bonds, [&](std::size_t, uint64_t k) {
+    BondKind c = old[bonds.kind[k]];
+    c.weight *= factor[k];
+    return c;
+  });
+}
+
 }  // namespace horizon

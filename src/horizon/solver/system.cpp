@@ -179,16 +179,6 @@ System build_system(const Config& config) {
   check_precracks_cut(s, config);
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
   s.initial_bonds = s.bonds.size();
-  if (s.fe) {
-    // A per-particle surface correction would read the FE nodes' partial families as
-    // surfaces and stiffen the particles' bonds to them without bound.
-    for (const auto& m : config.materials) {
-      const auto it = m.parameters.find("surface_correction");
-      if (it != m.parameters.end() && it->second != 0)
-        throw Error("material '" + m.name + "': surface_correction cannot be used in a deck with finite-element bodies "
-                    "(the FE nodes near the particles have partial families)");
-    }
-  }
   setup_model(s, config.materials, config);
   if (s.fe && (s.model.state_based || s.models.owner()))
     throw Error("finite-element bodies couple to bond-based peridynamic models only (a state-based model's force on a "
