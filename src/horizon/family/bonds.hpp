@@ -32,9 +32,6 @@ struct BondKind {
   double fraction = 1;  // partial-volume factor: the bond uses fraction * volume
   double weight = 1;    // influence function omega_ij
   int32_t material_i = 0, material_j = 0;  // materials of the two ends (for weight and coefficients)
-  // Coefficient classes of the two ends, where a model's per-particle coefficients vary
-  // within a material (the PMB's surface correction): bonds of one kind share them.
-  int32_t class_i = 0, class_j = 0;
 };
 
 struct Bonds;

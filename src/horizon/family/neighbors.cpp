@@ -37,22 +37,21 @@ CellGrid make_grid(const std::vector<Vec3>& points, double radius) {
 // The data that make a kind, compared bit for bit.
 struct KindKey {
   uint64_t length, volume, fraction, weight;
-  int32_t mi, mj, ci, cj;
+  int32_t mi, mj;
   bool operator==(const KindKey&) const = default;
-  auto tie() const { return std::tie(length, volume, fraction, weight, mi, mj, ci, cj); }
+  auto tie() const { return std::tie(length, volume, fraction, weight, mi, mj); }
   bool operator<(const KindKey& o) const { return tie() < o.tie(); }
 };
 
 KindKey key_of(const BondKind& c) {
   return {std::bit_cast<uint64_t>(c.length), std::bit_cast<uint64_t>(c.volume), std::bit_cast<uint64_t>(c.fraction),
-          std::bit_cast<uint64_t>(c.weight), c.material_i, c.material_j, c.class_i, c.class_j};
+          std::bit_cast<uint64_t>(c.weight), c.material_i, c.material_j};
 }
 
 uint64_t hash_of(const KindKey& k) {
   uint64_t h = 0x9e3779b97f4a7c15ull;
   for (uint64_t v : {k.length, k.volume, k.fraction, k.weight,
-                     (static_cast<uint64_t>(static_cast<uint32_t>(k.mi)) << 32) | static_cast<uint32_t>(k.mj),
-                     (static_cast<uint64_t>(static_cast<uint32_t>(k.ci)) << 32) | static_cast<uint32_t>(k.cj)}) {
+                     (static_cast<uint64_t>(static_cast<uint32_t>(k.mi)) << 32) | static_cast<uint32_t>(k.mj)}) {
     h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
     h *= 0xff51afd7ed558ccdull;
   }
@@ -275,10 +274,6 @@ void split_kinds_by(Bonds& bonds, const std::vector<int32_t>& label, int32_t Bon
 
 void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material) {
   split_kinds_by(bonds, material, &BondKind::material_i, &BondKind::material_j);
-}
-
-void split_kinds_by_class(Bonds& bonds, const std::vector<int32_t>& cls) {
-  split_kinds_by(bonds, cls, &BondKind::class_i, &BondKind::class_j);
 }
 
 void scale_bond_weights(Bonds& bonds, const std::vector<double>& factor) {

@@ -39,8 +39,6 @@ inline double family_radius(double horizon, double spacing, bool partial_volume)
 // and nbr[k]), splitting kinds where bonds of one kind join different materials. A
 // no-op when find_neighbors was given the materials.
 void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material);
-// The same for coefficient classes (BondKind::class_i, class_j; one per particle).
-void split_kinds_by_class(Bonds& bonds, const std::vector<int32_t>& cls);
 // Multiplies the influence weight of bond k by factor[k] (one per directed bond; bonds
 // i->j and j->i must carry the same factor, so that omega_ij = omega_ji), regrouping the
 // kinds so that each kind's bonds share one weight (the surface correction,
