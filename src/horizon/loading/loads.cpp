@@ -165,8 +165,21 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
     for (std::size_t i = 0; i < s.particles.size(); ++i)
       if (std::abs(s.particles.X[i][sup.axis] - sup.at) < 1e-6 * s.spacing) L.particles.push_back(static_cast<uint32_t>(i));
     L.reaction_old.assign(L.particles.size(), Vec3{});
+    L.support = static_cast<int>(q);
     for (uint32_t i : L.particles) constrained_[i] |= 4u;
     loads_.push_back(std::move(L));
+  }
+  // A node on two support lines (a corner) gives half its reaction to each.
+  {
+    std::vector<uint8_t> lines(s.particles.size(), 0);
+    for (const auto& L : loads_)
+      if (L.support >= 0)
+        for (uint32_t i : L.particles) ++lines[i];
+    for (auto& L : loads_)
+      if (L.support >= 0) {
+        L.share.resize(L.particles.size());
+        for (std::size_t n = 0; n < L.particles.size(); ++n) L.share[n] = 1.0 / lines[L.particles[n]];
+      }
   }
   for (const auto& ic : config.contact.indenters) {
     // A body force whose density the sphere computes from the current positions.
@@ -257,6 +270,10 @@ double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, con
   // adds its own particles and GridSum makes the totals independent of the split.
   const Decomposition* dd = s.decomposition;
   GridSum sums(s, 1 + 3 * static_cast<int>(loads_.size()));
+  // A structure's supports also take the forces of the model's ghost nodes beyond them
+  // (Model::support_reactions; models that own the force pass never run decomposed).
+  std::vector<Vec3> beyond;
+  if (const Model* m = s.models.owner()) m->support_reactions(s, beyond);
   for (std::size_t l = 0; l < loads_.size(); ++l) {
     auto& L = loads_[l];
     const int q = 1 + 3 * static_cast<int>(l);
@@ -276,11 +293,13 @@ double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, con
       Vec3 r = -(P.f[i] + P.b[i]) * P.volume[i];
       for (int c = 0; c < 3; ++c)
         if (!L.value[c]) r[c] = 0;
+      const double share = L.share.empty() ? 1.0 : L.share[n];  // a node on two supports: half each
+      r = r * share;
       const Vec3 du = P.u[i] - u_before[i];
       sums.add(0, 0.5 * dot(L.reaction_old[n] + r, du));
       L.reaction_old[n] = r;
       if (v_before && dt > 0) {
-        const double mass = P.density[i] * P.volume[i];
+        const double mass = share * P.density[i] * P.volume[i];
         const Vec3& v0 = (*v_before)[i];
         for (int c = 0; c < 3; ++c)
           if (L.value[c]) {
@@ -288,6 +307,12 @@ double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, con
             sums.add(0, 0.5 * mass * (P.v[i][c] * P.v[i][c] - v0[c] * v0[c]));
           }
       }
+      sums.add(q, r);
+    }
+    if (L.support >= 0 && static_cast<std::size_t>(L.support) < beyond.size()) {
+      Vec3 r = beyond[static_cast<std::size_t>(L.support)];
+      for (int c = 0; c < 3; ++c)
+        if (!L.value[c]) r[c] = 0;
       sums.add(q, r);
     }
   }

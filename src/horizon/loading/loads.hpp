@@ -20,6 +20,10 @@ struct AppliedLoad {
   Vec3 reaction;                    // total force the load applies to the body [N]
   std::optional<Indenter> indenter;  // a rigid indenter (kind body_force, no particles, no value)
   mutable Vec3 applied;             // indenter: the force it applied at the last apply_forces
+  // A support of a thin structure (deck structure.supports): its index, and per node the
+  // share of the node's reaction it takes (1 / the number of supports through the node).
+  int support = -1;
+  std::vector<double> share;
 };
 
 class Loads {

@@ -180,6 +180,15 @@ class Model {
     (void)system, (void)out;
     return false;
   }
+  // A thin structure's supports (deck structure.supports, in order): the part of each
+  // support's reaction [N] that the model's own off-body nodes carry at the state of the
+  // last force pass (the ghost nodes that mirror the body across a support: their forces
+  // act on no particle, so the support takes them). Loads adds it to the reactions of
+  // the nodes on the support line. False (and `out` untouched) for a model without.
+  virtual bool support_reactions(const System& system, std::vector<Vec3>& out) const {
+    (void)system, (void)out;
+    return false;
+  }
   // A stable time step from the current state, or 0 to use the Silling-Askari bound of
   // the shared spring coefficients.
   virtual double stable_time_step(const System& system) const {

@@ -80,6 +80,7 @@ class BondPair final : public Model {
   uint64_t force_pass(System& s, bool energy) override;
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override;
+  bool support_reactions(const System& s, std::vector<Vec3>& out) const override;
   void hold_bonds(bool hold) override { held_ = hold; }
   double stable_time_step(const System& s) const override;
   bool stiffness(const System& s, StiffnessSink& out) const override;
@@ -100,6 +101,16 @@ class BondPair final : public Model {
   std::vector<double> V_;               // node length (beam) or area (plate) [m or m^2]
   std::vector<uint64_t> ghost_offset_;  // per ghost, into ghost_terms_
   std::vector<GhostTerm> ghost_terms_;
+  // The supports a ghost's force goes to (its reaction, Model::support_reactions): the
+  // support it mirrors across, or each of the two (weight 1/2) for a ghost of a ghost
+  // beyond a corner. Per ghost, into ghost_share_.
+  struct GhostShare {
+    uint32_t support;
+    double weight;
+  };
+  std::vector<uint64_t> share_offset_;
+  std::vector<GhostShare> ghost_share_;
+  std::vector<Vec3> support_force_;  // per support, at the last force pass [N]
   std::vector<Pair> pairs_;
   std::vector<Bond> bonds_;
   std::vector<double> section_;  // per real node: particle volume / V (area of a beam, thickness of a plate)
@@ -228,8 +239,10 @@ void BondPair::setup(const ModelSetup& in) {
     for (std::size_t i = 0; i < n; ++i)
       if (std::abs(P.X[i][sup.axis] - sup.at) < 1e-6 * dx) energy_weight_[i] *= 0.5;
   std::vector<std::vector<GhostTerm>> terms(n);
+  std::vector<std::vector<uint32_t>> across(n);  // the supports a node is the mirror image across (none: real)
   for (std::size_t i = 0; i < n; ++i) terms[i] = {GhostTerm{static_cast<uint32_t>(i), Vec3{1, 1, 1}}};
-  for (const auto& sup : config.structure.supports) {
+  for (std::size_t si = 0; si < config.structure.supports.size(); ++si) {
+    const SupportConfig& sup = config.structure.supports[si];
     const int a = sup.axis;
     double mean = 0;
     for (std::size_t i = 0; i < n; ++i) mean += P.X[i][a] - sup.at;
@@ -267,14 +280,23 @@ void BondPair::setup(const ModelSetup& in) {
       X_.push_back(xg);
       V_.push_back(V_[i]);
       terms.push_back(std::move(t));
+      std::vector<uint32_t> sides = across[i];
+      if (std::find(sides.begin(), sides.end(), static_cast<uint32_t>(si)) == sides.end())
+        sides.push_back(static_cast<uint32_t>(si));
+      across.push_back(std::move(sides));
     }
   }
   ghost_offset_.assign(1, 0);
   ghost_terms_.clear();
+  share_offset_.assign(1, 0);
+  ghost_share_.clear();
   for (std::size_t g = n; g < X_.size(); ++g) {
     for (const auto& t : terms[g]) ghost_terms_.push_back(t);
     ghost_offset_.push_back(ghost_terms_.size());
+    for (uint32_t q : across[g]) ghost_share_.push_back({q, 1.0 / static_cast<double>(across[g].size())});
+    share_offset_.push_back(ghost_share_.size());
   }
+  support_force_.assign(config.structure.supports.size(), Vec3{});
   const std::size_t N = X_.size();
 
   // Lattice offsets of a full family, |xi| <= delta, and the bulk normalisations
@@ -517,6 +539,13 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       for (std::size_t k = 0; k < n_real_; ++k) P.energy[k] += 0.5 * dil_coef_ * theta_[k] * theta_[k] * V_[k];
   }
 
+  // The ghosts' forces act on no particle: the supports take them (their reactions,
+  // support_reactions). The forces of every pair and bond sum to zero, so the reactions
+  // of the support nodes plus these balance the load at equilibrium.
+  std::fill(support_force_.begin(), support_force_.end(), Vec3{});
+  for (std::size_t g = 0; g + n_real_ < N; ++g)
+    for (uint64_t t = share_offset_[g]; t < share_offset_[g + 1]; ++t)
+      support_force_[ghost_share_[t].support] -= F_[n_real_ + g] * ghost_share_[t].weight;
   // Force densities of the real nodes (ghost forces are dropped: the ghosts only complete
   // the stencils near the supports); beams and plates move in z only.
   for (std::size_t i = 0; i < n_real_; ++i) {
@@ -554,6 +583,12 @@ double BondPair::pending_dissipation(const System& s) const {
   for (std::size_t q = 0; q < pairs_.size(); ++q)
     if (pairs_[q].k < n_real_) sum += pairs_[q].coef * std::sin(theta_yield_) * std::abs(theta_p_trial_[q] - theta_p_[q]);
   return sum;
+}
+
+bool BondPair::support_reactions(const System& s, std::vector<Vec3>& out) const {
+  (void)s;
+  out = support_force_;
+  return true;
 }
 
 double BondPair::stable_time_step(const System& s) const {
