@@ -12,6 +12,7 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--serial", default="build/horizon")
 ap.add_argument("--mpi", default="build/horizon-mpi")
 ap.add_argument("--deck", default="bench/mpi/lammps_fine.yaml")
+ap.add_argument("--mpi-base", default="", help="another horizon-mpi (e.g. the main branch's) to run beside, under mpirun -n 1")
 ap.add_argument("--reps", type=int, default=5)
 ap.add_argument("--part", default="all", choices=["all", "cost", "scaling", "halo"])
 a = ap.parse_args()
@@ -41,6 +42,8 @@ if a.part in ("all", "cost"):
                 ("MPI program alone (singleton)", [a.mpi]),
                 ("mpirun -n 1 (bound to a core)", ["mpirun", "-n", "1", a.mpi]),
                 ("mpirun -n 1 --bind-to none", ["mpirun", "-n", "1", "--bind-to", "none", a.mpi]))
+    if a.mpi_base:
+        variants += (("mpirun -n 1, " + a.mpi_base, ["mpirun", "-n", "1", a.mpi_base]),)
     res = {name: [] for name, _ in variants}
     for _ in range(a.reps):
         for name, cmd in variants:
