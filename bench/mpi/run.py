@@ -12,6 +12,7 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--serial", default="build/horizon")
 ap.add_argument("--mpi", default="build/horizon-mpi")
 ap.add_argument("--deck", default="bench/mpi/lammps_fine.yaml")
+ap.add_argument("--mpi-base", default="", help="another horizon-mpi (e.g. the main branch's) to run beside, under mpirun -n 1")
 ap.add_argument("--reps", type=int, default=5)
 ap.add_argument("--part", default="all", choices=["all", "cost", "scaling", "halo"])
 a = ap.parse_args()
@@ -34,11 +35,26 @@ def med(xs):
 
 
 if a.part in ("all", "cost"):
-    print("| build | loop wall [s] (median of %d) | loop CPU [s] |" % a.reps)
-    print("|---|---|---|")
-    for name, cmd in (("serial", [a.serial]), ("MPI, 1 rank", ["mpirun", "-n", "1", a.mpi])):
-        r = [run(cmd, ["--threads", "1"]) for _ in range(a.reps)]
-        print("| %s | %.3f | %.3f |" % (name, med([x["loop_time_s"] for x in r]), med([x["loop_cpu_time_s"] for x in r])))
+    # The variants run in turn, rep after rep, so that the machine's load drifts over all
+    # of them alike. "bound" is mpirun's default for 1-2 ranks (each rank bound to one
+    # core); "--bind-to none" lets the kernel move the rank to an idle core.
+    variants = (("serial", [a.serial]),
+                ("MPI program alone (singleton)", [a.mpi]),
+                ("mpirun -n 1 (bound to a core)", ["mpirun", "-n", "1", a.mpi]),
+                ("mpirun -n 1 --bind-to none", ["mpirun", "-n", "1", "--bind-to", "none", a.mpi]))
+    if a.mpi_base:
+        variants += (("mpirun -n 1, " + a.mpi_base, ["mpirun", "-n", "1", a.mpi_base]),)
+    res = {name: [] for name, _ in variants}
+    for _ in range(a.reps):
+        for name, cmd in variants:
+            res[name].append(run(cmd, ["--threads", "1"]))
+    base = med([x["loop_cpu_time_s"] for x in res["serial"]])
+    print("| program | loop wall [s] (median of %d) | loop CPU [s] | CPU vs serial |" % a.reps)
+    print("|---|---|---|---|")
+    for name, _ in variants:
+        r = res[name]
+        cpu = med([x["loop_cpu_time_s"] for x in r])
+        print("| %s | %.3f | %.3f | %+.1f %% |" % (name, med([x["loop_time_s"] for x in r]), cpu, 100 * (cpu / base - 1)))
 
 if a.part in ("all", "scaling"):
     print("\n| ranks x threads | loop wall [s] (median of %d) | speed-up |" % a.reps)

@@ -23,16 +23,25 @@ namespace horizon {
 template <class T>
 struct plain_data : std::is_trivially_copyable<T> {};
 
+// What the entries of an array belong to. A run split over MPI ranks (parallel/
+// decomposition.hpp) keeps each particle's entries current on the rank that owns it, and
+// each bond's on the rank that owns the bond's row (its first particle): before rank 0
+// writes the checkpoint, gather_checkpoint takes every entry of a per-particle or
+// per-bond array from its owner. `global` values are the same on every rank (or rank 0's
+// are the ones to keep). A per-particle array holds k entries per particle (k = its size
+// over the particle count; 0 when empty), and likewise per bond.
+enum class Extent : uint8_t { global, particles, bonds };
+
 class StateArchive {
  public:
   virtual ~StateArchive() = default;
   bool loading() const { return loading_; }
 
   template <class T>
-  void io(const std::string& name, std::vector<T>& v) {
+  void io(const std::string& name, std::vector<T>& v, Extent extent = Extent::global) {
     static_assert(plain_data<T>::value, "a checkpoint holds plain data only");
     if (!loading_) {
-      put(name, v.data(), sizeof(T), v.size());
+      put(name, v.data(), sizeof(T), v.size(), extent);
       return;
     }
     const Record r = get(name, sizeof(T));
@@ -46,7 +55,7 @@ class StateArchive {
   void io(const std::string& name, T& x) {
     static_assert(plain_data<T>::value, "a checkpoint holds plain data only");
     if (!loading_) {
-      put(name, &x, sizeof(T), 1);
+      put(name, &x, sizeof(T), 1, Extent::global);
       return;
     }
     const Record r = get(name, sizeof(T));
@@ -56,7 +65,7 @@ class StateArchive {
 
   void io(const std::string& name, std::string& s) {
     if (!loading_) {
-      put(name, s.data(), 1, s.size());
+      put(name, s.data(), 1, s.size(), Extent::global);
       return;
     }
     const Record r = get(name, 1);
@@ -65,15 +74,24 @@ class StateArchive {
 
   // A vector whose length the run fixes (per particle, per bond): loading checks it.
   template <class T>
-  void io_sized(const std::string& name, std::vector<T>& v, std::size_t expected) {
+  void io_sized(const std::string& name, std::vector<T>& v, std::size_t expected, Extent extent = Extent::global) {
     if (loading_) {
       std::vector<T> tmp;
       io(name, tmp);
       expect_count(name, tmp.size(), expected);
       v = std::move(tmp);
     } else {
-      io(name, v);
+      io(name, v, extent);
     }
+  }
+  // Per-particle and per-bond arrays (Extent above).
+  template <class T>
+  void io_particles(const std::string& name, std::vector<T>& v) {
+    io(name, v, Extent::particles);
+  }
+  template <class T>
+  void io_bonds(const std::string& name, std::vector<T>& v) {
+    io(name, v, Extent::bonds);
   }
 
   // Saves x; on load, reads the saved value and, when it differs from x (what the deck
@@ -108,7 +126,8 @@ class StateArchive {
     for (const auto& p : prefix_) s += p + "/";
     return s + name;
   }
-  virtual void put(const std::string& name, const void* bytes, std::size_t element_size, std::size_t count) = 0;
+  virtual void put(const std::string& name, const void* bytes, std::size_t element_size, std::size_t count,
+                   Extent extent) = 0;
   virtual Record get(const std::string& name, std::size_t element_size) = 0;
   // Throws horizon::Error naming the record and both counts.
   virtual void expect_count(const std::string& name, uint64_t found, uint64_t expected) = 0;

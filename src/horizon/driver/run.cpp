@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <omp.h>
+#include <sched.h>
 #include <sys/resource.h>
 #include <zlib.h>
 
@@ -302,17 +303,33 @@ nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
 }  // namespace
 
 std::string distributed_limits(const Config& c, const System& s, const RunOptions& o) {
-  if (!s.models.all_unified() || s.models.owner())
-    return "only the unified models (pmb, lps) are split over ranks; other models need their own halo";
+  auto rows_local_models = [] {
+    std::string names;
+    for (const ModelEntry& e : model_registry())
+      if (e.traits.rows_local) names += (names.empty() ? "" : ", ") + e.traits.name;
+    return names;
+  };
+  if (s.models.owner()) return "a model that owns the force pass is not split over ranks";
+  for (const auto& m : s.models)
+    if (!m->unified() && !m->traits().rows_local)
+      return "model " + m->traits().name +
+             " is not split over ranks (only pmb, lps and the models whose rows are local: " + rows_local_models() + ")";
   if (s.heat.active() || !s.thermal_strain.empty() || !s.critical_stretch_factor.empty())
     return "heat conduction and thermal strain are not split over ranks";
   if (s.fe) return "finite-element regions are not split over ranks";
   if (!c.contact.projectiles.empty()) return "rigid projectiles are not split over ranks";
   if (c.solver.adaptive_time_step) return "the adaptive time step is not split over ranks";
   if (c.solver.damping > 0) return "damping is not split over ranks";
-  if (world_size() > 1 && (c.output.checkpoint_every > 0 || o.restart))
-    return "checkpoint and restart run on one rank only";
+  (void)o;
   return "";
+}
+
+// The cores in this process's CPU affinity mask (0 when unknown).
+static int affinity_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) != 0) return 0;
+  return CPU_COUNT(&set);
 }
 
 uint32_t state_digest(const System& s) {
@@ -485,11 +502,28 @@ struct ExplicitRun::State {
     for (std::size_t k = 0; k + 1 < crack_rows.size(); k += 2) crack->history.emplace_back(crack_rows[k], crack_rows[k + 1]);
   }
   std::string checkpoint_path() const { return (dir / "checkpoint.hzc").string(); }
+  // Also rewrites history.csv with the rows so far, so that a run killed later keeps on
+  // disk what its checkpoint holds. On several ranks every rank lists the same records;
+  // the per-particle and per-bond ones are gathered from their owners onto rank 0
+  // (gather_checkpoint), which alone writes: one file of the global state, in index
+  // order, the same bytes a run on any rank count would restart from.
   void write_checkpoint() {
-    if (!lead) return;
+    sync();  // the global broken-bond count (and every particle's state) on every rank
     CheckpointWriter w;
     checkpoint(w);
-    w.write(checkpoint_path());
+    if (dd) gather_checkpoint(s, *dd, w);
+    std::string failure;
+    if (lead) {
+      try {
+        w.write(checkpoint_path());
+        write_file_atomic((dir / "history.csv").string(), history.str());
+      } catch (const OutputError& e) {
+        failure = e.what();
+      }
+    }
+    // Every rank stops on rank 0's output error (the loop's collectives stay matched).
+    if (dd ? any_rank(*dd, !failure.empty()) : !failure.empty())
+      throw OutputError(lead ? failure : "rank 0 could not write the checkpoint");
   }
   void read_checkpoint(const std::string& path) {
     try {
@@ -515,6 +549,13 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   if (!r.lead) r.options.quiet = true;
   apply_run_options(c, options);
   if (options.threads > 0) omp_set_num_threads(options.threads);
+  // More threads than the cores this process may run on (mpirun binds each of 1 or 2
+  // ranks to one core by default): the threads would share them. Said once, by rank 0.
+  if (const int cores = affinity_cores(); r.lead && cores > 0 && omp_get_max_threads() > cores)
+    fmt::print(stderr,
+               "horizon: warning: {} threads but this process may run on {} core(s) only (CPU affinity); under "
+               "mpirun give each rank its cores (--map-by slot:PE={} or --bind-to none)\n",
+               omp_get_max_threads(), cores, omp_get_max_threads());
   r.wall_start = std::chrono::steady_clock::now();
   r.dir = c.output.directory;
   prepare_output_directory(r.dir.string(), "frames");  // before the (long) set-up
@@ -587,7 +628,9 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
     // The state of the checkpoint replaces the initial one; the index lists the frames
     // written before it (later ones, from an interrupted run, are written again).
     r.read_checkpoint(*options.restart);
-    r.pvd->write();
+    // Every rank holds the whole state now: the ghosts follow the loaded positions.
+    if (r.dd) refresh_ghosts(r.s, *r.dd);
+    if (r.lead) r.pvd->write();
     if (!options.quiet)
       fmt::print(stderr, "restart         from {} at step {}, t = {:.4e} s\n", *options.restart, r.solver->steps(),
                  r.solver->time());

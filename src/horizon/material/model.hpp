@@ -81,6 +81,13 @@ struct ModelTraits {
   // take it in the general force pass; a model with its own force_state takes it there.
   bool thermal_strain = false;
   bool structural = false;           // models the nodes of a beam, plate or shell (deck structure: ...), not a solid
+  // The force state of particle i's bonds reads only the current positions of i's family,
+  // i's own history and the shared per-particle constants (no other particle's state of
+  // the same pass), and force_state and commit skip the rows with !System::computes_row(i).
+  // Then a run split over MPI ranks computes the rows of its particles' bond neighbours
+  // too (their T_ji enter f_i), from the positions one horizon further out, and each rank
+  // keeps their history itself: no model state crosses ranks (parallel/decomposition.hpp).
+  bool rows_local = false;
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
                                         InfluenceKind::gaussian};
   InfluenceKind default_influence = InfluenceKind::constant;

@@ -44,12 +44,14 @@ T read_at(const std::string& s, std::size_t at) {
 
 }  // namespace
 
-void CheckpointWriter::put(const std::string& name, const void* bytes, std::size_t element_size, std::size_t count) {
+void CheckpointWriter::put(const std::string& name, const void* bytes, std::size_t element_size, std::size_t count,
+                           Extent extent) {
   const std::string full = full_name(name);
   append(payload_, static_cast<uint32_t>(full.size()));
   payload_ += full;
   append(payload_, static_cast<uint32_t>(element_size));
   append(payload_, static_cast<uint64_t>(count));
+  if (extent != Extent::global && count) spread_.push_back({full, extent, element_size, count, payload_.size()});
   if (count) payload_.append(static_cast<const char*>(bytes), element_size * count);
 }
 

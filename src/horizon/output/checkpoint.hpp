@@ -18,6 +18,7 @@
 // renamed (output/atomic_file.hpp), so a run killed while writing leaves the previous one.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "horizon/core/state_archive.hpp"
 
@@ -33,14 +34,27 @@ class CheckpointWriter : public StateArchive {
   void write(const std::string& path) const;
   const std::string& payload() const { return payload_; }
 
+  // The per-particle and per-bond records (Extent, core/state_archive.hpp) and where their
+  // bytes lie in the payload: a run split over MPI ranks overwrites them with every
+  // owner's entries (parallel/decomposition.hpp gather_checkpoint) before rank 0 writes.
+  struct Spread {
+    std::string name;
+    Extent extent = Extent::global;
+    std::size_t element_size = 0, count = 0, offset = 0;
+  };
+  const std::vector<Spread>& spread() const { return spread_; }
+  char* bytes(const Spread& r) { return payload_.data() + r.offset; }
+
  protected:
-  void put(const std::string& name, const void* bytes, std::size_t element_size, std::size_t count) override;
+  void put(const std::string& name, const void* bytes, std::size_t element_size, std::size_t count,
+           Extent extent) override;
   Record get(const std::string&, std::size_t) override { return {}; }
   void expect_count(const std::string&, uint64_t, uint64_t) override {}
   void mismatch(const std::string&) override {}
 
  private:
   std::string payload_;
+  std::vector<Spread> spread_;
 };
 
 // Reads and checks a whole file at construction (magic, version, byte order, size,
@@ -56,7 +70,7 @@ class CheckpointReader : public StateArchive {
   [[noreturn]] void fail(const std::string& what) const;
 
  protected:
-  void put(const std::string&, const void*, std::size_t, std::size_t) override {}
+  void put(const std::string&, const void*, std::size_t, std::size_t, Extent) override {}
   Record get(const std::string& name, std::size_t element_size) override;
   void expect_count(const std::string& name, uint64_t found, uint64_t expected) override;
   void mismatch(const std::string& what) override { fail(what); }

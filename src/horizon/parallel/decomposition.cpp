@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <unordered_map>
 
 #include "horizon/core/cell_key.hpp"
 #include "horizon/core/error.hpp"
+#include "horizon/output/checkpoint.hpp"
 #include "horizon/solver/system.hpp"
 
 #if defined(HORIZON_MPI)
@@ -187,7 +189,9 @@ void decompose(System& s, Decomposition& d, double skin) {
   // neighbours' rows are computed here too, from the positions one horizon further out.
   bool alpha = false;
   for (double a : s.model.alpha) alpha = alpha || a != 0;
-  d.state_based = s.model.state_based || alpha;
+  // The general force pass (models that are not unified, ModelTraits::rows_local) sums
+  // T_ij - T_ji: the neighbours' rows are computed here too.
+  d.state_based = s.model.state_based || alpha || !s.models.all_unified();
   const std::size_t n = s.particles.size();
   d.owner = rcb_owners(s.particles.X, d.size);
   d.owned.clear();
@@ -205,8 +209,67 @@ void decompose(System& s, Decomposition& d, double skin) {
   } else {
     s.active_rows = d.owned;
   }
+  s.row_active.assign(n, 0);
+  for (uint32_t i : s.active_rows) s.row_active[i] = 1;
   s.decomposition = &d;
   choose_ghosts(s, d);
+}
+
+void refresh_ghosts(System& s, Decomposition& d) { choose_ghosts(s, d); }
+
+void gather_checkpoint(const System& s, const Decomposition& d, CheckpointWriter& w) {
+  if (d.size == 1) return;
+  const std::size_t n = s.particles.size(), nb = s.bonds.size();
+  const auto& B = s.bonds;
+  for (const CheckpointWriter::Spread& r : w.spread()) {
+    const bool bonds = r.extent == Extent::bonds;
+    const std::size_t units = bonds ? nb : n;  // entries of the array's first index
+    if (units == 0 || r.count % units != 0)
+      throw Error("checkpoint: record '" + r.name + "' has " + std::to_string(r.count) + " entries, not a multiple of the " +
+                  std::to_string(units) + (bonds ? " bonds" : " particles"));
+    const std::size_t per = r.element_size * (r.count / units);  // bytes per particle or bond
+    char* data = w.bytes(r);
+    // This rank's entries in index order: its particles, or the bonds of their rows.
+    std::string mine;
+    for (uint32_t i : d.owned) {
+      const std::size_t a = bonds ? B.begin(i) : i, b = bonds ? B.end(i) : i + 1;
+      mine.append(data + a * per, (b - a) * per);
+    }
+#if defined(HORIZON_MPI)
+    // Counted in entries of `per` bytes (a contiguous type), so that int counts reach far.
+    MPI_Datatype entry;
+    MPI_Type_contiguous(static_cast<int>(per), MPI_BYTE, &entry);
+    MPI_Type_commit(&entry);
+    const int count = static_cast<int>(mine.size() / per);
+    std::vector<int> counts(static_cast<std::size_t>(d.size)), displs(static_cast<std::size_t>(d.size));
+    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    std::string all;
+    if (d.rank == 0) {
+      std::size_t at = 0;
+      for (int q = 0; q < d.size; ++q) {
+        if (at > static_cast<std::size_t>(INT_MAX)) throw Error("checkpoint: record '" + r.name + "' is too large to gather");
+        displs[static_cast<std::size_t>(q)] = static_cast<int>(at);
+        at += static_cast<std::size_t>(counts[static_cast<std::size_t>(q)]);
+      }
+      all.resize(at * per);
+    }
+    MPI_Gatherv(mine.data(), count, entry, all.data(), counts.data(), displs.data(), entry, 0, MPI_COMM_WORLD);
+    MPI_Type_free(&entry);
+    if (d.rank != 0) continue;
+    // Each owner's entries come in its index order: walk the particles in index order.
+    std::vector<std::size_t> next(static_cast<std::size_t>(d.size));
+    for (int q = 0; q < d.size; ++q)
+      next[static_cast<std::size_t>(q)] = static_cast<std::size_t>(displs[static_cast<std::size_t>(q)]) * per;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t a = bonds ? B.begin(i) : i, b = bonds ? B.end(i) : i + 1;
+      std::size_t& at = next[static_cast<std::size_t>(d.owner[i])];
+      std::memcpy(data + a * per, all.data() + at, (b - a) * per);
+      at += (b - a) * per;
+    }
+#else
+    (void)data;
+#endif
+  }
 }
 
 bool any_rank(const Decomposition& d, bool flag) {
@@ -275,6 +338,10 @@ void gather_state(System& s, Decomposition& d) {
   for (uint32_t i : d.owned)
     for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) broken += s.bonds.intact[k] != 1 ? 1 : 0;
 #if defined(HORIZON_MPI)
+  if (d.size == 1) {  // one rank owns every particle: nothing to gather
+    s.broken = broken;
+    return;
+  }
   allgather_owned(
       s, d, 15,
       [&](uint32_t i, std::vector<double>& o) {
@@ -341,14 +408,20 @@ std::vector<double> GridSum::totals() const {
   std::vector<int64_t> parts(2 * nq);
   for (std::size_t q = 0; q < nq; ++q) {
     __int128 sum = 0;
-    if (emax[q] > INT_MIN / 2)
+    if (emax[q] > INT_MIN / 2) {
+      // x = t 2^(100 - E) by one multiplication by an exact power of two (the same bits as
+      // ldexp while the factor is a normal number, and a few times faster per term).
+      const int shift = 100 - emax[q];
+      const bool exact_scale = shift > -1000 && shift < 1000;
+      const double scale = exact_scale ? std::ldexp(1.0, shift) : 0.0;
       for (double t : terms_[q]) {
-        const double x = std::ldexp(t, 100 - emax[q]);
-        const double hi = std::trunc(std::ldexp(x, -50));
-        const double rem = x - std::ldexp(hi, 50);
+        const double x = exact_scale ? t * scale : std::ldexp(t, shift);
+        const double hi = std::trunc(x * 0x1p-50);
+        const double rem = x - hi * 0x1p50;
         sum += static_cast<__int128>(static_cast<int64_t>(hi)) * (static_cast<__int128>(1) << 50) +
                static_cast<__int128>(std::llround(rem));
       }
+    }
     const auto bits = static_cast<unsigned __int128>(sum);
     parts[2 * q] = static_cast<int64_t>(static_cast<uint64_t>(bits >> 64));
     parts[2 * q + 1] = static_cast<int64_t>(static_cast<uint64_t>(bits));

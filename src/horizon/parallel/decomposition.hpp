@@ -79,6 +79,14 @@ void halo_exchange(System& s, Decomposition& d);
 // Gathers u, v, f, b, damage, energy and dissipated_at of every particle from its owner
 // onto every rank, and the count of broken bonds. Collective.
 void gather_state(System& s, Decomposition& d);
+// After a restart has loaded the whole state on every rank: the ghosts chosen again from
+// the loaded positions. Collective.
+void refresh_ghosts(System& s, Decomposition& d);
+// Before rank 0 writes a checkpoint: every per-particle and per-bond record of `w`
+// (CheckpointWriter::spread) is overwritten on rank 0 with each entry from the rank that
+// owns the particle (the bond's row), in index order, so that the file holds the global
+// state as a serial run would. Collective; other ranks' writers are left as they were.
+void gather_checkpoint(const System& s, const Decomposition& d, class CheckpointWriter& w);
 // Any rank's flag (logical or). Collective.
 bool any_rank(const Decomposition& d, bool flag);
 // The halo statistics of every rank, on rank 0 (others get an empty vector). Collective.

@@ -13,27 +13,29 @@ void checkpoint_system(System& s, StateArchive& a) {
   for (std::size_t m = 0; m < s.models.size(); ++m)
     a.check("model " + std::to_string(m), s.models[m].traits().name, "for material " + std::to_string(m) + " the model");
 
-  a.io_sized("u", P.u, n);
-  a.io_sized("v", P.v, n);
-  a.io_sized("f", P.f, n);
-  a.io_sized("b", P.b, n);
-  a.io_sized("damage", P.damage, n);
-  a.io_sized("energy", P.energy, n);
-  a.io_sized("intact", s.bonds.intact, nb);
+  a.io_sized("u", P.u, n, Extent::particles);
+  a.io_sized("v", P.v, n, Extent::particles);
+  a.io_sized("f", P.f, n, Extent::particles);
+  a.io_sized("b", P.b, n, Extent::particles);
+  a.io_sized("damage", P.damage, n, Extent::particles);
+  a.io_sized("energy", P.energy, n, Extent::particles);
+  a.io_sized("intact", s.bonds.intact, nb, Extent::bonds);
 
   // The shared model arrays that the force passes change (the rest is set up from the deck).
-  a.io("min_stretch", M.min_stretch);
-  a.io("theta", M.theta);
-  a.io("P", M.P);
-  a.io("damage_total", M.damage_total);
-  a.io("intact_weight", M.intact_weight);
-  a.io("deformed_length", M.deformed_length);
-  a.io("force_state", M.force_state);
+  a.io_particles("min_stretch", M.min_stretch);
+  a.io_particles("theta", M.theta);
+  a.io_particles("P", M.P);
+  a.io_particles("damage_total", M.damage_total);
+  a.io_particles("intact_weight", M.intact_weight);
+  a.io_bonds("deformed_length", M.deformed_length);
+  a.io_bonds("force_state", M.force_state);
 
   a.io("time", s.time);
   a.io("dt", s.dt);
-  a.io_sized("dissipated_at", s.dissipated_at, s.dissipated_at.size());
+  a.io_sized("dissipated_at", s.dissipated_at, s.dissipated_at.size(), Extent::particles);
   a.io("broken", s.broken);
+  // Heat and the thermal strain are not split over ranks (driver/run.cpp distributed_limits):
+  // rank 0 holds them whole.
   a.io("thermal_strain", s.thermal_strain);
   a.io("critical_stretch_factor", s.critical_stretch_factor);
 

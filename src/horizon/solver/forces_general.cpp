@@ -71,11 +71,14 @@ void unified_force_states(System& s, bool energy) {
   auto& M = s.model;
   const Point4* pt = M.packed.data();
   const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
-  const std::size_t n = P.size();
+  // A decomposed run computes the rows of its active particles alone (solver/system.hpp).
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t n = act ? act->size() : P.size();
   std::vector<uint8_t> mine(s.models.size());
   for (std::size_t m = 0; m < s.models.size(); ++m) mine[m] = s.models[m].unified() ? 1 : 0;
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     if (!mine[P.material[i]]) continue;
     const Point4 pi = pt[i];
     double Pi = 0;
@@ -122,10 +125,15 @@ uint64_t general_forces(System& s, bool energy) {
   if (M.force_state.size() != nb) M.force_state.assign(nb, Vec3{});
   pack_positions(s);
   const bool after = M.break_after_force;
+  // A decomposed run computes the rows of its active particles alone: its own and their
+  // bond neighbours', whose T_ji enter f_i (parallel/decomposition.hpp).
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t rows = act ? act->size() : n;
 
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t a = 0; a < rows; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     const BreakOut o = break_row(s, i, after);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
@@ -143,7 +151,8 @@ uint64_t general_forces(System& s, bool energy) {
   const Point4* pt = M.packed.data();
   const Vec3* T = M.force_state.data();
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t a = 0; a < rows; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     const Point4 pi = pt[i];
     Vec3 f;
     double w = 0;

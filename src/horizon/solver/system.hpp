@@ -147,6 +147,10 @@ struct System {
   // it computes (the force passes and the contact loop run over them alone).
   Decomposition* decomposition = nullptr;
   std::vector<uint32_t> owned, active_rows;
+  // The same as a flag per particle (empty when not decomposed): a model whose traits say
+  // rows_local computes and commits the rows of the particles with computes_row(i) alone.
+  std::vector<uint8_t> row_active;
+  bool computes_row(std::size_t i) const { return row_active.empty() || row_active[i] != 0; }
 
   // Sum of dissipated_at in a fixed order: the same figure on any thread count (over
   // the owned particles, by parallel/decomposition.hpp GridSum, when decomposed).

@@ -26,6 +26,7 @@ const ModelTraits& traits() {
          ParameterSpec::Range::non_negative, 0.0},
     };
     m.thermal_strain = true;  // force_state subtracts eps_ij |xi| from e (docs/models/heat.md)
+    m.rows_local = true;      // row i reads i's family, eps_p_i and e^dp of i's bonds alone
     return m;
   }();
   return t;
@@ -48,10 +49,10 @@ class ElasticPlastic final : public Model {
   }
 
   void checkpoint(StateArchive& a) override {
-    a.io("eps_p", eps_p_);
-    a.io("eps_p_trial", eps_p_trial_);
-    a.io("ep", ep_);
-    a.io("ep_trial", ep_trial_);
+    a.io_particles("eps_p", eps_p_);
+    a.io_particles("eps_p_trial", eps_p_trial_);
+    a.io_bonds("ep", ep_);
+    a.io_bonds("ep_trial", ep_trial_);
     ledger_.checkpoint(a);
   }
  private:
@@ -125,6 +126,7 @@ void ElasticPlastic::force_state(ForcePass& pass) {
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
+    if (!s.computes_row(i)) continue;  // another rank's row (ModelTraits::rows_local)
     const Point4 pi = y[i];
     const uint64_t first = B.begin(i), last = B.end(i);
     const double m = M.weighted_volume[i];
@@ -210,6 +212,7 @@ void ElasticPlastic::commit(System& s) {
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
+    if (!s.computes_row(i)) continue;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       ep_[k] = ep_trial_[k];
       ledger_.commit_bond(k);

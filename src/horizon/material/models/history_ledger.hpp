@@ -74,12 +74,12 @@ struct HistoryLedger {
 
   // Checkpoint and restart (core/state_archive.hpp).
   void checkpoint(StateArchive& a) {
-    a.io("ledger_bond", bond);
-    a.io("ledger_bond_trial", bond_trial);
-    a.io("ledger_pending", pending);
-    a.io("ledger_stored", stored);
-    a.io("ledger_stored_trial", stored_trial);
-    a.io("ledger_loss_trial", loss_trial);
+    a.io_bonds("ledger_bond", bond);
+    a.io_bonds("ledger_bond_trial", bond_trial);
+    a.io_bonds("ledger_pending", pending);
+    a.io_particles("ledger_stored", stored);
+    a.io_particles("ledger_stored_trial", stored_trial);
+    a.io_particles("ledger_loss_trial", loss_trial);
   }
 
   void size_particles(std::size_t n) {
