@@ -18,6 +18,7 @@
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/solver/explicit.hpp"
+#include "../test_paths.hpp"
 
 namespace fs = std::filesystem;
 using namespace horizon;

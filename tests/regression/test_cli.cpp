@@ -16,6 +16,7 @@
 
 #include "horizon/output/pvd.hpp"
 #include "horizon/output/vtu.hpp"
+#include "../test_paths.hpp"
 
 namespace fs = std::filesystem;
 

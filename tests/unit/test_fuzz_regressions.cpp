@@ -18,6 +18,7 @@
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
 #include "../single_thread.hpp"
+#include "../test_paths.hpp"
 
 namespace fs = std::filesystem;
 

@@ -28,6 +28,7 @@
 #include "horizon/solver/static_driver.hpp"
 #include "../single_thread.hpp"
 #include "verification_support.hpp"
+#include "../test_paths.hpp"
 
 namespace horizon::verification {
 namespace {

@@ -23,6 +23,7 @@
 #include "horizon/fe/fe_region.hpp"
 #include "horizon/solver/forces.hpp"
 #include "verification_support.hpp"
+#include "../test_paths.hpp"
 
 namespace horizon::verification {
 namespace {

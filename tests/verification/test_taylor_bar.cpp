@@ -21,6 +21,7 @@
 #include "horizon/material/model.hpp"
 #include "../single_thread.hpp"
 #include "verification_support.hpp"
+#include "../test_paths.hpp"
 
 namespace horizon::verification {
 namespace {

@@ -25,6 +25,7 @@
 #include "horizon/loading/loads.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/system.hpp"
+#include "../test_paths.hpp"
 
 namespace horizon::verification {
 
