@@ -21,6 +21,7 @@
 #include "horizon/output/atomic_file.hpp"
 #include "horizon/output/pvd.hpp"
 #include "horizon/output/vtu.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/conditioning.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/newmark.hpp"
@@ -50,6 +51,23 @@ struct Row {
 
 }  // namespace
 
+// Why this implicit deck cannot be split over ranks beyond distributed_limits (run.hpp); empty when it can.
+static std::string implicit_distributed_limits(const Config& c, const System& s) {
+  const SolverConfig& sc = c.solver;
+  if (sc.type != SolverType::static_equilibrium)
+    return "the implicit dynamic solver (Newmark) is not split over ranks (solver.type static with method adr, or "
+           "newton with linear_solver matrix_free, is; or use solver.type explicit)";
+  if (sc.method == StaticMethod::newton && sc.linear_solver != LinearSolverKind::matrix_free)
+    return fmt::format("solver.linear_solver {} assembles the whole tangent on one rank; on several ranks use "
+                       "linear_solver: matrix_free (or method: adr)",
+                       linear_name(sc.linear_solver));
+  if (!unified_form(s))
+    return "a static solve is split over ranks for the unified models only (pmb, lps: `horizon models`), whose "
+           "tangent is applied row by row";
+  if (sc.condition_number) return "solver.condition_number assembles the whole tangent on one rank";
+  return "";
+}
+
 int run_implicit_deck(Config config, const RunOptions& options) {
   apply_run_options(config, options);
   if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -66,7 +84,29 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   System s = build_system(config);
   Loads loads(config, s);
   loads.apply_initial_conditions(config, s);
-  if (!options.quiet) {
+  // An MPI build splits a static solve over its ranks when it can (docs/design.md,
+  // "Static solves on several ranks"), on one rank too, so that any rank count gives the
+  // same bits; rank 0 alone writes the output, from every particle's state gathered.
+  std::unique_ptr<Decomposition> dd;
+  const bool lead = world_rank() == 0;
+  RunOptions opts = options;
+  if (!lead) opts.quiet = true;
+  if (mpi_built()) {
+    std::string why = distributed_limits(config, s, options);
+    if (why.empty()) why = implicit_distributed_limits(config, s);
+    if (why.empty()) {
+      dd = std::make_unique<Decomposition>();
+      decompose(s, *dd, config.spacing);
+    } else if (world_size() > 1) {
+      throw Error(fmt::format("{}: this deck cannot run on {} MPI ranks yet: {}; run it on one rank",
+                              config.deck_file, world_size(), why));
+    }
+  }
+  // Every particle's state on this rank, before anything reads the whole body.
+  auto sync = [&] {
+    if (dd) gather_state(s, *dd);
+  };
+  if (!opts.quiet) {
     fmt::print(stderr, "deck            {}\n", config.deck_file);
     fmt::print(stderr, "particles       {}\n", s.particles.size());
     fmt::print(stderr, "bonds           {} directed\n", s.bonds.size());
@@ -122,7 +162,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     condition["condition_number"] = c.condition;
     condition["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!c.message.empty()) condition["message"] = c.message;
-    if (!options.quiet) {
+    if (!opts.quiet) {
       if (c.converged)
         fmt::print(stderr, "condition       {:.4e} (lambda {:.4e} .. {:.4e})\n", c.condition, c.lambda_min,
                    c.lambda_max);
@@ -190,8 +230,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     pvd.write();
   };
 
+  sync();
   record_history(Row{});
-  write_frame(0, 0);
+  if (lead) write_frame(0, 0);
   install_interrupt_handler();
   const int frames = std::max(1, config.output.frames);
   const int64_t total = is_static ? sc.load_steps : step_count(config, *sc.time_step);
@@ -216,12 +257,13 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       time = statics->time();
       row = {time, statics->increment() * sc.end_time, statics->lambda(), statics->last_report().residual, steps,
              statics->last_iterations(), statics->last_linear_iterations(), statics->last_break_rounds()};
+      sync();
       record_history(row);
       if (statics->lambda() * frames >= next_frame - 1e-9) {
-        write_frame(time, steps);
+        if (lead) write_frame(time, steps);
         while (statics->lambda() * frames >= next_frame - 1e-9) ++next_frame;
       }
-      if (!options.quiet) progress.update(static_cast<int64_t>(std::lround(statics->lambda() * sc.load_steps)), time);
+      if (!opts.quiet) progress.update(static_cast<int64_t>(std::lround(statics->lambda() * sc.load_steps)), time);
     } else {
       if (dynamics->steps() >= total) break;
       const SolveReport rep = dynamics->step();
@@ -241,9 +283,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
         write_frame(time, steps);
         ++next_frame;
       }
-      if (!options.quiet) progress.update(steps, time);
+      if (!opts.quiet) progress.update(steps, time);
     }
-    if (interrupt_requested()) {
+    if (dd ? any_rank(*dd, interrupt_requested()) : interrupt_requested()) {
       status = "interrupted";
       exit_code = interrupt_exit_code();
       message = fmt::format("{} at step {}; a final frame was written", interrupt_name(), steps);
@@ -258,13 +300,15 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     message = fmt::format("output error: {}; stopped at step {}, frames.pvd lists the {} complete frames", e.what(),
                           steps, pvd.entries().size());
   }
-  if (!options.quiet) progress.finish();
-  if (exit_code != 0 && exit_code != 5) write_frame(time, steps);
+  if (!opts.quiet) progress.finish();
+  sync();
+  if (exit_code != 0 && exit_code != 5 && lead) write_frame(time, steps);
   clear_interrupt();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   // After an output error, history and summary are tried once (they are small) and their
   // failure only reported.
   auto write_result = [&](const std::string& name, const std::string& text) {
+    if (!lead) return;
     write_result_file((dir / name).string(), text, exit_code == 5);
   };
   write_result("history.csv", history.str());
@@ -274,6 +318,8 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   j["time_step"] = is_static ? sc.end_time / sc.load_steps : *sc.time_step;
   j["time"] = time;
   j["threads"] = omp_get_max_threads();
+  j["ranks"] = dd ? dd->size : 1;
+  j["state_crc32"] = state_digest(s);
   j["wall_time_s"] = wall;
   j["loop_time_s"] = progress.elapsed();
   j["peak_memory_bytes"] = peak_memory_bytes();
@@ -305,13 +351,13 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   const std::string energy_warning = energy_balance_warning(config, max_balance_error);
   if (!energy_warning.empty()) j["warnings"] = {energy_warning};
   write_result("summary.json", j.dump(2) + "\n");
-  if (!energy_warning.empty()) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
+  if (!energy_warning.empty() && lead) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);
 
-  if (!options.quiet) {
+  if (!opts.quiet) {
     fmt::print(stderr, "{} in {} ({} {}); output in {}\n", status, format_duration(wall), steps,
                is_static ? "load increments" : "steps", dir.string());
   }
-  if (!message.empty()) fmt::print(stderr, "horizon: {}\n", message);
+  if (!message.empty() && lead) fmt::print(stderr, "horizon: {}\n", message);
   return exit_code;
 }
 

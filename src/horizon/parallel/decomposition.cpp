@@ -301,6 +301,11 @@ void halo_exchange(System& s, Decomposition& d) {
     choose_ghosts(s, d);
   }
   ++d.stats.steps;
+  exchange_ghost_values(d, u);
+}
+
+void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a) {
+  if (d.size == 1) return;
 #if defined(HORIZON_MPI)
   std::vector<std::vector<double>> out(static_cast<std::size_t>(d.size)), in(static_cast<std::size_t>(d.size));
   std::vector<MPI_Request> req;
@@ -316,7 +321,7 @@ void halo_exchange(System& s, Decomposition& d) {
     const auto& sl = d.send[static_cast<std::size_t>(r)];
     if (r == d.rank || sl.empty()) continue;
     auto& o = out[static_cast<std::size_t>(r)];
-    for (uint32_t i : sl) o.insert(o.end(), {u[i].x, u[i].y, u[i].z});
+    for (uint32_t i : sl) o.insert(o.end(), {a[i].x, a[i].y, a[i].z});
     req.emplace_back();
     MPI_Isend(o.data(), static_cast<int>(o.size()), MPI_DOUBLE, r, 7, MPI_COMM_WORLD, &req.back());
     ++d.stats.messages;
@@ -327,8 +332,10 @@ void halo_exchange(System& s, Decomposition& d) {
     const auto& rl = d.recv[static_cast<std::size_t>(r)];
     if (r == d.rank || rl.empty()) continue;
     const double* p = in[static_cast<std::size_t>(r)].data();
-    for (std::size_t k = 0; k < rl.size(); ++k) u[rl[k]] = {p[3 * k], p[3 * k + 1], p[3 * k + 2]};
+    for (std::size_t k = 0; k < rl.size(); ++k) a[rl[k]] = {p[3 * k], p[3 * k + 1], p[3 * k + 2]};
   }
+#else
+  (void)a;
 #endif
 }
 

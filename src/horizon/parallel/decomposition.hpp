@@ -76,6 +76,10 @@ void decompose(System& s, Decomposition& d, double skin);
 // Before a force pass: re-chooses the ghosts when needed, then sends the displacements of
 // owned particles to the ranks that hold them as ghosts. Collective.
 void halo_exchange(System& s, Decomposition& d);
+// The same exchange for any per-particle vector field `a` (the ghosts chosen as they are):
+// each ghost entry receives its owner's value. The distributed Krylov solvers send their
+// search direction this way before a tangent product (solver/linear.hpp). Collective.
+void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a);
 // Gathers u, v, f, b, damage, energy and dissipated_at of every particle from its owner
 // onto every rank, and the count of broken bonds. Collective.
 void gather_state(System& s, Decomposition& d);

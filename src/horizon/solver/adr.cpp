@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/tangent.hpp"
 
@@ -18,7 +19,7 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
   Eigen::VectorXd volume(n);
   for (Eigen::Index k = 0; k < n; ++k) volume[k] = s.particles.volume[d.particle[static_cast<std::size_t>(k)]];
 
-  compute_forces(s, false);
+  equilibrium_forces(s, false);  // split over ranks: after the ghosts' displacements
   // Fictitious mass (eq. 21) from the tangent's row sums at the starting state.
   // Models outside the unified bond form: the row sums of the model's own analytic
   // tangent (Model::stiffness), or of the finite-difference one.
@@ -31,10 +32,15 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
   Eigen::VectorXd lambda = 0.25 * bound;
   double floor = 0;
   {
-    double xmax = 0, sum = 0;
+    double xmax = 0;
     for (const auto& x : s.particles.X) xmax = std::max({xmax, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
-    for (Eigen::Index k = 0; k < n; ++k) sum += std::pow(bound[k] * volume[k], 2);
-    floor = std::numeric_limits<double>::epsilon() * xmax * std::sqrt(sum);  // as round_off_residual
+    if (s.decomposition) {
+      floor = std::numeric_limits<double>::epsilon() * xmax * dof_norm(s, d, bound.cwiseProduct(volume));
+    } else {
+      double sum = 0;
+      for (Eigen::Index k = 0; k < n; ++k) sum += std::pow(bound[k] * volume[k], 2);
+      floor = std::numeric_limits<double>::epsilon() * xmax * std::sqrt(sum);  // as round_off_residual
+    }
   }
   for (Eigen::Index k = 0; k < n; ++k)
     if (!(lambda[k] > 0)) lambda[k] = 1;  // a dof without bonds: no stiffness, no force
@@ -42,7 +48,7 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
 
   auto relative = [&](const Eigen::VectorXd& R) {
     const double ref = load_norms(s, d).reference();
-    const double r = R.norm();
+    const double r = dof_norm(s, d, R);
     return ref > 0 ? r / ref : (r > 0 ? 1.0 : 0.0);
   };
   // Stagnation below the round-off bound of the forces (tangent.hpp) is convergence: the
@@ -50,7 +56,10 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
   const int patience = 500;
   double best_abs = std::numeric_limits<double>::infinity();
   int best_at = 0;
+  // Split over ranks: distributed vectors (equilibrium.hpp), the owned dofs alone are
+  // updated; every sum is a GridSum, so the iterates are the same on any rank count.
   Eigen::VectorXd R = gather_residual(s, d);
+  keep_owned(s, d, R);
   Eigen::VectorXd F = R.cwiseQuotient(volume);  // force density
   Eigen::VectorXd u = gather_displacement(s, d);
   Eigen::VectorXd v = 0.5 * F.cwiseQuotient(lambda);  // eq. 18
@@ -62,9 +71,10 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
     if (rep.residual <= o.tolerance) break;
     u += v;
     scatter_displacement(s, d, u);
-    compute_forces(s, false);
+    equilibrium_forces(s, false);
     F_old = F;
     R = gather_residual(s, d);
+    keep_owned(s, d, R);
     F = R.cwiseQuotient(volume);
     rep.iterations = it;
     rep.residual = relative(R);
@@ -74,7 +84,7 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
       return rep;
     }
     if (rep.residual <= o.tolerance) break;
-    const double r_abs = R.norm();
+    const double r_abs = dof_norm(s, d, R);
     if (r_abs < best_abs) {
       best_abs = r_abs;
       best_at = it;
@@ -84,9 +94,21 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
     }
     // Damping from the Rayleigh quotient of the local diagonal stiffness (eq. 19-20).
     double num = 0, den = 0;
-    for (Eigen::Index k = 0; k < n; ++k) {
-      den += u[k] * u[k];
-      if (v[k] != 0) num += u[k] * u[k] * (-(F[k] - F_old[k]) / (lambda[k] * v[k]));
+    if (s.decomposition) {
+      GridSum g(s, 2);
+      for (Eigen::Index k = 0; k < n; ++k) {
+        if (!s.decomposition->owns(d.particle[static_cast<std::size_t>(k)])) continue;
+        g.add(1, u[k] * u[k]);
+        if (v[k] != 0) g.add(0, u[k] * u[k] * (-(F[k] - F_old[k]) / (lambda[k] * v[k])));
+      }
+      const std::vector<double> t = g.totals();
+      num = t[0];
+      den = t[1];
+    } else {
+      for (Eigen::Index k = 0; k < n; ++k) {
+        den += u[k] * u[k];
+        if (v[k] != 0) num += u[k] * u[k] * (-(F[k] - F_old[k]) / (lambda[k] * v[k]));
+      }
     }
     const double c = (den > 0 && num > 0) ? std::min(2.0 * std::sqrt(num / den), 1.99) : 0.0;
     v = ((2 - c) * v + 2 * F.cwiseQuotient(lambda)) / (2 + c);  // eq. 16

@@ -72,6 +72,24 @@ struct LoadNorms {
 };
 LoadNorms load_norms(const System& s, const DofMap& d);
 
+// Distributed vectors (a run split over MPI ranks, parallel/decomposition.hpp): every rank
+// holds vectors over all dofs but computes and updates only the dofs of the particles it
+// owns; the other entries stay 0 (their ghosts' values travel by exchange_ghost_values).
+// Dot products and norms over the owned dofs are GridSum totals, the same bits however
+// the dofs are split between ranks. Not split: the plain Eigen products (serial bits).
+// The dofs this rank owns, in dof order; empty when the run is not split.
+std::vector<Eigen::Index> owned_dofs(const System& s, const DofMap& d);
+// a . b over the free dofs (GridSum over the owned dofs when split). Collective when split.
+double dof_dot(const System& s, const DofMap& d, const Eigen::VectorXd& a, const Eigen::VectorXd& b);
+// |a| over the free dofs (sqrt of dof_dot when split, Eigen's norm otherwise).
+double dof_norm(const System& s, const DofMap& d, const Eigen::VectorXd& a);
+// Sets the entries of dofs this rank does not own to 0 (nothing when not split).
+void keep_owned(const System& s, const DofMap& d, Eigen::VectorXd& a);
+// The forces of the current displacements as the solvers need them: when split, the
+// ghosts' displacements are received first (halo_exchange); then compute_forces.
+// True when a bond broke in the pass (on any rank when split). Collective when split.
+bool equilibrium_forces(System& s, bool energy);
+
 // Nodal mass rho V per dof.
 Eigen::VectorXd nodal_mass(const System& s, const DofMap& d);
 

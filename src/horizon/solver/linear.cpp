@@ -36,36 +36,62 @@ uint64_t pattern_checksum(const SparseMatrix& K) {
 }
 
 // Preconditioned conjugate gradient (Hestenes-Stiefel) with a Jacobi preconditioner.
+// dot: the inner product (a GridSum over the owned dofs when the run is split over ranks,
+// equilibrium.hpp); rows: then the owned dofs, the only entries updated (the others stay
+// 0), else null and every entry is (Eigen's vector operations, the serial bits).
 LinearStats pcg(const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& apply,
-                const Eigen::VectorXd& diag, const Eigen::VectorXd& r, Eigen::VectorXd& x, double tol,
-                int max_iterations) {
+                const std::function<double(const Eigen::VectorXd&, const Eigen::VectorXd&)>& dot,
+                const std::vector<Eigen::Index>* rows, const Eigen::VectorXd& diag, const Eigen::VectorXd& r,
+                Eigen::VectorXd& x, double tol, int max_iterations) {
   LinearStats st;
   const Eigen::Index n = r.size();
   x = Eigen::VectorXd::Zero(n);
-  const double rnorm = r.norm();
+  auto norm = [&](const Eigen::VectorXd& v) { return rows ? std::sqrt(dot(v, v)) : v.norm(); };
+  const double rnorm = norm(r);
   if (rnorm == 0) {
     st.ok = true;
     return st;
   }
   Eigen::VectorXd inv = diag.unaryExpr([](double v) { return v > 0 ? 1.0 / v : 1.0; });
   Eigen::VectorXd res = r, z = inv.cwiseProduct(res), p = z, q(n);
-  double rz = res.dot(z);
+  if (rows) {  // the entries of other ranks' dofs stay 0
+    z.setZero();
+    for (Eigen::Index k : *rows) z[k] = inv[k] * res[k];
+    p = z;
+  }
+  double rz = rows ? dot(res, z) : res.dot(z);
   for (int it = 1; it <= max_iterations; ++it) {
     apply(p, q);
-    const double pq = p.dot(q);
+    const double pq = rows ? dot(p, q) : p.dot(q);
     if (!(pq > 0)) break;  // not positive definite along p
     const double alpha = rz / pq;
-    x += alpha * p;
-    res -= alpha * q;
+    if (rows) {
+      for (Eigen::Index k : *rows) {
+        x[k] += alpha * p[k];
+        res[k] -= alpha * q[k];
+      }
+    } else {
+      x += alpha * p;
+      res -= alpha * q;
+    }
     st.iterations = it;
-    st.residual = res.norm() / rnorm;
+    st.residual = norm(res) / rnorm;
     if (st.residual <= tol) {
       st.ok = true;
       return st;
     }
-    z = inv.cwiseProduct(res);
-    const double rz_new = res.dot(z);
-    p = z + (rz_new / rz) * p;
+    if (rows) {
+      for (Eigen::Index k : *rows) z[k] = inv[k] * res[k];
+    } else {
+      z = inv.cwiseProduct(res);
+    }
+    const double rz_new = rows ? dot(res, z) : res.dot(z);
+    const double beta = rz_new / rz;
+    if (rows) {
+      for (Eigen::Index k : *rows) p[k] = z[k] + beta * p[k];
+    } else {
+      p = z + beta * p;
+    }
     rz = rz_new;
   }
   st.ok = std::isfinite(st.residual) && st.residual <= tol;
@@ -115,7 +141,11 @@ LinearStats LinearSolver::solve(const TangentOperator& K, const Eigen::VectorXd&
     K.apply(p, q);
     if (shift.size()) q += shift.cwiseProduct(p);
   };
-  return pcg(apply, diag, r, x, tol, max_iterations);
+  // Split over ranks: distributed vectors (equilibrium.hpp), the same iterates on any
+  // number of ranks.
+  const std::vector<Eigen::Index> rows = owned_dofs(K.system(), K.dofs());
+  auto dot = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return dof_dot(K.system(), K.dofs(), a, b); };
+  return pcg(apply, dot, K.system().decomposition ? &rows : nullptr, diag, r, x, tol, max_iterations);
 }
 
 }  // namespace horizon

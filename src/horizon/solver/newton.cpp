@@ -23,17 +23,20 @@ struct Evaluation {
 };
 
 Evaluation evaluate(System& s, const DofMap& d, const InertiaTerm* inertia) {
-  compute_forces(s, false);
+  equilibrium_forces(s, false);  // split over ranks: after the ghosts' displacements
   Evaluation e;
   e.R = gather_residual(s, d);
+  keep_owned(s, d, e.R);  // split over ranks: a distributed vector (equilibrium.hpp)
   e.reference = load_norms(s, d).reference();
   if (inertia) {
-    const Eigen::VectorXd u = gather_displacement(s, d);
-    const Eigen::VectorXd m_a = inertia->mass.cwiseProduct(inertia->kappa * (u - inertia->u_hat) + inertia->g);
+    Eigen::VectorXd u = gather_displacement(s, d);
+    keep_owned(s, d, u);
+    Eigen::VectorXd m_a = inertia->mass.cwiseProduct(inertia->kappa * (u - inertia->u_hat) + inertia->g);
+    keep_owned(s, d, m_a);
     e.R -= m_a;
-    e.reference = std::max(e.reference, m_a.norm());
+    e.reference = std::max(e.reference, dof_norm(s, d, m_a));
   }
-  e.norm = e.R.norm();
+  e.norm = dof_norm(s, d, e.R);
   if (!std::isfinite(e.norm)) e.norm = std::numeric_limits<double>::infinity();
   return e;
 }
@@ -116,7 +119,7 @@ SolveReport newton_solve(System& s, const DofMap& d, const NewtonOptions& o, Lin
       if (floor < 0) floor = round_off_residual(s, d, linearize(s));
       if (ev.norm <= floor) {
         add_displacement(s, d, du, -alpha);
-        compute_forces(s, false);
+        equilibrium_forces(s, false);
         rep.converged = true;
         return rep;
       }
@@ -143,7 +146,7 @@ SolveReport newton_solve(System& s, const DofMap& d, const NewtonOptions& o, Lin
       // the forces that is convergence (a tiny load, a tight tolerance); above, failure.
       // Either way the state goes back to the better iterate.
       add_displacement(s, d, du, -alpha);
-      compute_forces(s, false);
+      equilibrium_forces(s, false);
       if (floor < 0) floor = round_off_residual(s, d, linearize(s));
       if (ev.norm <= floor) {
         rep.converged = true;

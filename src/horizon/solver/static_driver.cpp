@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 
 namespace horizon {
@@ -66,7 +67,7 @@ void StaticSolver::initialize() {
     FixedBonds fixed(s_);
     s_.time = 0;
     s_.dt = 0;
-    compute_forces(s_, true);
+    equilibrium_forces(s_, true);
   }
   commit_history(s_);
   loads_.update_reactions(s_, P.u);
@@ -77,14 +78,21 @@ void StaticSolver::initialize() {
 
 namespace {
 // Work of the applied force densities over u0 -> u1 (trapezoidal in b).
-double dead_load_work(const Particles& P, const std::vector<Vec3>& b0, const std::vector<Vec3>& u0) {
+// Split over ranks: the owned particles' terms, a GridSum total (parallel/decomposition.hpp).
+double dead_load_work(const System& s, const std::vector<Vec3>& b0, const std::vector<Vec3>& u0) {
+  const Particles& P = s.particles;
+  if (s.decomposition) {
+    GridSum g(s, 1);
+    for (uint32_t i : s.owned) g.add(0, 0.5 * P.volume[i] * dot(P.b[i] + b0[i], P.u[i] - u0[i]));
+    return g.totals()[0];
+  }
   double w = 0;
   for (std::size_t i = 0; i < P.size(); ++i) w += 0.5 * P.volume[i] * dot(P.b[i] + b0[i], P.u[i] - u0[i]);
   return w;
 }
 double current_strain_energy(System& s) {
   FixedBonds fixed(s);
-  compute_forces(s, true);
+  equilibrium_forces(s, true);
   return strain_energy(s);
 }
 // What the history models would add to the ledger at a commit now (material/model.hpp).
@@ -137,13 +145,13 @@ bool StaticSolver::solve_increment(double lambda, const std::vector<Vec3>& u_bef
     if (round == 0) {
       // The loading path of the increment, elastic up to its end: the work of the
       // constraints (trapezoidal in the reactions) and of the applied force densities.
-      pending_work_ = loads_.update_reactions(s_, u_before) + dead_load_work(P, b_before, u_before);
+      pending_work_ = loads_.update_reactions(s_, u_before) + dead_load_work(s_, b_before, u_before);
     } else {
       // Re-equilibration at fixed load after bonds broke: the constraints do not move;
       // the force densities work on the relaxation. The strain energy it releases beyond
       // what the broken bonds held is lost to the quasi-static idealisation (in the
       // experiment it becomes kinetic energy and then heat): the ledger's damped energy.
-      const double w = dead_load_work(P, P.b, u_prev) + loads_.update_reactions(s_, u_prev);
+      const double w = dead_load_work(s_, P.b, u_prev) + loads_.update_reactions(s_, u_prev);
       pending_work_ += w;
       // A history model's plastic or viscous work in this re-settling is its own to
       // dissipate at the commit: not released energy as well.
@@ -155,7 +163,7 @@ bool StaticSolver::solve_increment(double lambda, const std::vector<Vec3>& u_bef
     // Quasi-static bond breaking: break what the equilibrium overstretches, re-solve.
     u_prev = P.u;
     const double D0 = s_.dissipated();
-    if (compute_forces(s_, false).broken == 0) return true;
+    if (!equilibrium_forces(s_, false)) return true;
     U -= s_.dissipated() - D0;  // the broken bonds' energy went to the dissipated energy
     last_break_rounds_ = round + 1;
   }

@@ -9,9 +9,27 @@
 #include <numeric>
 
 #include "horizon/core/error.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 
 namespace horizon {
+
+namespace {
+// The rows a product computes (parallel/decomposition.hpp): when the run is split over
+// ranks, the owned particles' rows, and for the inputs of those rows the active ones
+// (owned + bond neighbours); otherwise every row, in index order.
+struct RowSet {
+  const std::vector<uint32_t>* list = nullptr;
+  std::size_t count = 0;
+  std::size_t operator[](std::size_t r) const { return list ? (*list)[r] : r; }
+};
+RowSet active_rowset(const System& s) {
+  return s.decomposition ? RowSet{&s.active_rows, s.active_rows.size()} : RowSet{nullptr, s.particles.size()};
+}
+RowSet owned_rowset(const System& s) {
+  return s.decomposition ? RowSet{&s.owned, s.owned.size()} : RowSet{nullptr, s.particles.size()};
+}
+}  // namespace
 
 std::size_t Linearization::bytes() const {
   return n.size() * sizeof(Vec3) + (transverse.size() + axial.size() + weight.size()) * sizeof(double) +
@@ -31,12 +49,16 @@ Linearization linearize(const System& s) {
   lin.b.assign(n, Vec3{});
   lin.coupling.assign(n, 0);
   lin.state_based = M.state_based;
+  // Split over ranks: the active rows (owned and their bond neighbours), enough for the
+  // owned rows of the product and of the diagonal (TangentOperator).
+  const RowSet rows_a = active_rowset(s);
 
   // P_i = a_i theta_i from the current displacements over the intact bonds, exactly as
   // the force pass computes it (seed 003 eq. 113; solver/forces.cpp).
   std::vector<double> Pc(n, 0);
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t ra = 0; ra < rows_a.count; ++ra) {
+    const std::size_t i = rows_a[ra];
     if (M.dilatation_coef[i] == 0) continue;
     const Vec3 yi = P.X[i] + P.u[i];
     double sum = 0;
@@ -52,7 +74,8 @@ Linearization linearize(const System& s) {
   }
 
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t ra = 0; ra < rows_a.count; ++ra) {
+    const std::size_t i = rows_a[ra];
     const Vec3 yi = P.X[i] + P.u[i];
     Vec3 bi;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
@@ -376,12 +399,15 @@ TangentOperator::TangentOperator(const System& s, const DofMap& d)
 void TangentOperator::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   const auto& P = s_.particles;
   const auto& B = s_.bonds;
-  const std::size_t n = P.size();
+  const RowSet rows_a = active_rowset(s_), rows_o = owned_rowset(s_);
   std::fill(x3_.begin(), x3_.end(), Vec3{});
   for (std::size_t k = 0; k < d_.size(); ++k) x3_[d_.particle[k]][d_.component[k]] = x[static_cast<Eigen::Index>(k)];
+  // Split over ranks: x holds the owned dofs; the ghosts' entries come from their owners.
+  if (s_.decomposition) exchange_ghost_values(*s_.decomposition, x3_);
   if (lin_.state_based) {
 #pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t ra = 0; ra < rows_a.count; ++ra) {
+      const std::size_t i = rows_a[ra];
       const double ci = lin_.coupling[i];
       if (ci == 0) {
         dP_[i] = 0;
@@ -394,8 +420,10 @@ void TangentOperator::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const 
     }
   }
   y.resize(static_cast<Eigen::Index>(d_.size()));
+  if (s_.decomposition) y.setZero();  // the dofs of other ranks' particles
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t ra = 0; ra < rows_o.count; ++ra) {
+    const std::size_t i = rows_o[ra];
     const int32_t d0 = d_.dof(i, 0), d1 = d_.dof(i, 1), d2 = d_.dof(i, 2);
     if (d0 < 0 && d1 < 0 && d2 < 0) continue;
     Vec3 f;
@@ -418,12 +446,13 @@ void TangentOperator::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const 
 Eigen::VectorXd TangentOperator::diagonal() const {
   const auto& P = s_.particles;
   const auto& B = s_.bonds;
-  const std::size_t n = P.size();
+  const RowSet rows_o = owned_rowset(s_);
   std::vector<uint64_t> rev;
   if (lin_.state_based) rev = reverse_bonds(B);
   Eigen::VectorXd diag = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(d_.size()));
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t ra = 0; ra < rows_o.count; ++ra) {
+    const std::size_t i = rows_o[ra];
     Vec3 g;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       const Vec3& nk = lin_.n[k];
@@ -449,11 +478,13 @@ Eigen::VectorXd stiffness_row_bound(const System& s, const DofMap& d, const Line
     for (int c = 0; c < dim; ++c) a += std::abs(v[c]);
     return a;
   };
+  const RowSet rows_a = active_rowset(s), rows_o = owned_rowset(s);
   // G_j bounds sum_l |dP_j/du_l| (all components).
   std::vector<double> G(n, 0);
   if (lin.state_based) {
 #pragma omp parallel for schedule(static)
-    for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t ra = 0; ra < rows_a.count; ++ra) {
+      const std::size_t j = rows_a[ra];
       if (lin.coupling[j] == 0) continue;
       double sum = norm1(lin.b[j]);
       for (uint64_t q = B.begin(j); q < B.end(j); ++q) sum += lin.weight[q] * norm1(lin.n[q]);
@@ -462,7 +493,8 @@ Eigen::VectorXd stiffness_row_bound(const System& s, const DofMap& d, const Line
   }
   Eigen::VectorXd bound = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(d.size()));
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t ra = 0; ra < rows_o.count; ++ra) {
+    const std::size_t i = rows_o[ra];
     double row[3] = {0, 0, 0};
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       const Vec3& nk = lin.n[k];
@@ -495,6 +527,12 @@ namespace {
 double round_off_from_bound(const System& s, const DofMap& d, const Eigen::VectorXd& bound) {
   double xmax = 0;
   for (const auto& x : s.particles.X) xmax = std::max({xmax, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
+  if (s.decomposition) {  // the owned dofs' bounds (the others are not computed here)
+    Eigen::VectorXd r(static_cast<Eigen::Index>(d.size()));
+    for (std::size_t k = 0; k < d.size(); ++k)
+      r[static_cast<Eigen::Index>(k)] = bound[static_cast<Eigen::Index>(k)] * s.particles.volume[d.particle[k]];
+    return std::numeric_limits<double>::epsilon() * xmax * dof_norm(s, d, r);
+  }
   double sum = 0;
   for (std::size_t k = 0; k < d.size(); ++k) {
     const double r = bound[static_cast<Eigen::Index>(k)] * s.particles.volume[d.particle[k]];

@@ -74,7 +74,10 @@ SparseMatrix solver_tangent(System& s, const DofMap& d, TangentKind kind);
 // Returns the number of such dofs.
 int hold_loose_dofs(SparseMatrix& K);
 
-// y = K x without assembling K: two passes over the bonds, like compute_forces.
+// y = K x without assembling K: two passes over the bonds, like compute_forces. Split
+// over MPI ranks (parallel/decomposition.hpp), x holds the owned dofs, the ghosts'
+// entries are exchanged first and y gets the owned rows (the others 0), each row with
+// the serial row's bits.
 class TangentOperator {
  public:
   TangentOperator(const System& s, const DofMap& d);
@@ -83,6 +86,8 @@ class TangentOperator {
   // Diagonal of K (for a Jacobi preconditioner).
   Eigen::VectorXd diagonal() const;
   std::size_t bytes() const { return lin_.bytes(); }
+  const System& system() const { return s_; }
+  const DofMap& dofs() const { return d_; }
 
  private:
   const System& s_;
