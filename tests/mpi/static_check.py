@@ -9,7 +9,7 @@ Prints the figures and exits 1 on a miss:
     held particle): the strain between x = 20.5 and 79.5 mm (more than a horizon from
     the ends) is sigma / E within 1e-6 (Newton) or 1e-4 (ADR, tolerance 1e-6) of it,
     and the tip displacement is sigma (99 mm) / E within 3 % (the softer end layers).
-  - MODE block: no analytic check here (see tests/verification/test_static_solvers.cpp)."""
+  - MODE field: the two checks above only."""
 import re
 import struct
 import sys

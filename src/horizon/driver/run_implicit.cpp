@@ -54,15 +54,13 @@ struct Row {
 // Why this implicit deck cannot be split over ranks beyond distributed_limits (run.hpp); empty when it can.
 static std::string implicit_distributed_limits(const Config& c, const System& s) {
   const SolverConfig& sc = c.solver;
-  if (sc.type != SolverType::static_equilibrium)
-    return "the implicit dynamic solver (Newmark) is not split over ranks (solver.type static with method adr, or "
-           "newton with linear_solver matrix_free, is; or use solver.type explicit)";
-  if (sc.method == StaticMethod::newton && sc.linear_solver != LinearSolverKind::matrix_free)
+  const bool newton = sc.type == SolverType::implicit_dynamic || sc.method == StaticMethod::newton;
+  if (newton && sc.linear_solver != LinearSolverKind::matrix_free)
     return fmt::format("solver.linear_solver {} assembles the whole tangent on one rank; on several ranks use "
-                       "linear_solver: matrix_free (or method: adr)",
-                       linear_name(sc.linear_solver));
+                       "linear_solver: matrix_free{}",
+                       linear_name(sc.linear_solver), sc.type == SolverType::static_equilibrium ? " (or method: adr)" : "");
   if (!unified_form(s))
-    return "a static solve is split over ranks for the unified models only (pmb, lps: `horizon models`), whose "
+    return "static and implicit solves are split over ranks for the unified models only (pmb, lps: `horizon models`), whose "
            "tangent is applied row by row";
   if (sc.condition_number) return "solver.condition_number assembles the whole tangent on one rank";
   return "";
@@ -278,9 +276,12 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       time = dynamics->time();
       row = {time, dynamics->dt(), 0, rep.residual, steps, rep.iterations, rep.linear_iterations, 0};
       const int64_t every = std::max(1, config.output.history_every);
-      if (steps % every == 0 || steps == total) record_history(row);
-      if (steps * frames >= static_cast<int64_t>(next_frame) * total) {
-        write_frame(time, steps);
+      const bool history_due = steps % every == 0 || steps == total;
+      const bool frame_due = steps * frames >= static_cast<int64_t>(next_frame) * total;
+      if (history_due || frame_due) sync();
+      if (history_due) record_history(row);
+      if (frame_due) {
+        if (lead) write_frame(time, steps);
         ++next_frame;
       }
       if (!opts.quiet) progress.update(steps, time);

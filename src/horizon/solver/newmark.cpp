@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 
 namespace horizon {
@@ -35,7 +36,7 @@ void NewmarkSolver::initialize() {
   loads_.apply_forces(s_, 0.0);
   s_.time = 0;
   s_.dt = 0;
-  compute_forces(s_, true);
+  equilibrium_forces(s_, true);  // split over ranks: after the ghosts' displacements
   commit_history(s_);
   loads_.update_reactions(s_, P.u);
   a_.resize(static_cast<Eigen::Index>(dofs_.size()));
@@ -44,6 +45,9 @@ void NewmarkSolver::initialize() {
     const int c = dofs_.component[k];
     a_[static_cast<Eigen::Index>(k)] = (P.f[i][c] + P.b[i][c]) / P.density[i] - damping_ * P.v[i][c];
   }
+  // Split over ranks: distributed vectors (equilibrium.hpp), other ranks' dofs 0, so that
+  // their displacements stay as they are and their velocities are not integrated here.
+  keep_owned(s_, dofs_, a_);
   ledger_.strain = strain_energy(s_);
   ledger_.kinetic = kinetic_energy(s_);
   ledger_.dissipated = s_.dissipated();
@@ -66,6 +70,7 @@ SolveReport NewmarkSolver::step() {
   Eigen::VectorXd v_n(u_n.size());
   for (std::size_t k = 0; k < dofs_.size(); ++k)
     v_n[static_cast<Eigen::Index>(k)] = v_before[dofs_.particle[k]][dofs_.component[k]];
+  keep_owned(s_, dofs_, v_n);
 
   const double alpha = 4.0 / (dt * dt);
   InertiaTerm inertia;
@@ -85,7 +90,7 @@ SolveReport NewmarkSolver::step() {
     linear_iterations_ += rep.linear_iterations;
     if (!rep.converged) break;
     // Break the bonds the converged state overstretches; re-solve until none breaks.
-    if (compute_forces(s_, false).broken == 0) break;
+    if (!equilibrium_forces(s_, false)) break;
     if (round + 1 >= max_break_rounds_) break;
   }
   if (!rep.converged || !finite_state(s_)) {
@@ -97,7 +102,7 @@ SolveReport NewmarkSolver::step() {
     s_.broken = broken_before;
     {
       FixedBonds fixed(s_);
-      compute_forces(s_, true);
+      equilibrium_forces(s_, true);
     }
     if (rep.converged) rep.failure = "the state turned non-finite";
     rep.converged = false;
@@ -111,7 +116,7 @@ SolveReport NewmarkSolver::step() {
   for (std::size_t k = 0; k < dofs_.size(); ++k) P.v[dofs_.particle[k]][dofs_.component[k]] = v1[static_cast<Eigen::Index>(k)];
   {
     FixedBonds fixed(s_);
-    compute_forces(s_, true);
+    equilibrium_forces(s_, true);
   }
   commit_history(s_);
   time_ = t1;
@@ -121,11 +126,24 @@ SolveReport NewmarkSolver::step() {
   // energy taken by the damping (trapezoidal in gamma M v^2).
   double work = loads_.update_reactions(s_, u_before, &v_before, dt);
   double damped = 0;
-  for (std::size_t i = 0; i < P.size(); ++i) {
-    work += 0.5 * P.volume[i] * dot(P.b[i] + b_before[i], P.u[i] - u_before[i]);
-    if (damping_ > 0)
-      damped += 0.5 * dt * damping_ * P.density[i] * P.volume[i] *
-                (loads_.free_speed2(i, P.v[i]) + loads_.free_speed2(i, v_before[i]));
+  if (s_.decomposition) {  // the owned particles' terms, GridSum totals
+    GridSum g(s_, 2);
+    for (uint32_t i : s_.owned) {
+      g.add(0, 0.5 * P.volume[i] * dot(P.b[i] + b_before[i], P.u[i] - u_before[i]));
+      if (damping_ > 0)
+        g.add(1, 0.5 * dt * damping_ * P.density[i] * P.volume[i] *
+                     (loads_.free_speed2(i, P.v[i]) + loads_.free_speed2(i, v_before[i])));
+    }
+    const std::vector<double> t = g.totals();
+    work += t[0];
+    damped = t[1];
+  } else {
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      work += 0.5 * P.volume[i] * dot(P.b[i] + b_before[i], P.u[i] - u_before[i]);
+      if (damping_ > 0)
+        damped += 0.5 * dt * damping_ * P.density[i] * P.volume[i] *
+                  (loads_.free_speed2(i, P.v[i]) + loads_.free_speed2(i, v_before[i]));
+    }
   }
   ledger_.external_work += work;
   ledger_.damped += damped;
