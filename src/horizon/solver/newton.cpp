@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 
 namespace horizon {
@@ -102,7 +103,12 @@ SolveReport newton_solve(System& s, const DofMap& d, const NewtonOptions& o, Lin
     }
     rep.solve_seconds += seconds_since(t0);
     rep.linear_iterations += ls.iterations;
-    if (!ls.ok && !(du.size() && du.allFinite() && ls.iterations > 0)) {
+    // Split over ranks, every rank takes the same branch: the finiteness of du is global.
+    auto du_finite = [&] {
+      const bool finite = du.allFinite();
+      return s.decomposition ? !any_rank(*s.decomposition, !finite) : finite;
+    };
+    if (!ls.ok && !(du.size() && du_finite() && ls.iterations > 0)) {
       rep.failure = linear.kind() == LinearSolverKind::cholesky
                         ? "the tangent is not positive definite (Cholesky failed): is every rigid motion constrained?"
                         : "the linear solve failed";
