@@ -1,5 +1,5 @@
-# Static and implicit solves split over MPI ranks (docs/design.md "Static solves on
-# several ranks"), each deck on several ranks and with the serial program:
+# Static and implicit solves split over MPI ranks (docs/design.md "Static and implicit
+# solves on several ranks"), each deck on several ranks and with the serial program:
 #   - tests/mpi/static.yaml: 3-D LPS block, 2,000 particles, Newton with the matrix-free
 #     CG on distributed vectors;
 #   - tests/mpi/static_bar.yaml: 1-D PMB bar in tension, the same solver, against the

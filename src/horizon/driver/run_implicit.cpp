@@ -82,9 +82,10 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   System s = build_system(config);
   Loads loads(config, s);
   loads.apply_initial_conditions(config, s);
-  // An MPI build splits a static solve over its ranks when it can (docs/design.md,
-  // "Static solves on several ranks"), on one rank too, so that any rank count gives the
-  // same bits; rank 0 alone writes the output, from every particle's state gathered.
+  // An MPI build splits a static or implicit solve over its ranks when it can
+  // (docs/design.md, "Static and implicit solves on several ranks"), on one rank too, so
+  // that any rank count gives the same bits; rank 0 alone writes the output, from every
+  // particle's state gathered.
   std::unique_ptr<Decomposition> dd;
   const bool lead = world_rank() == 0;
   RunOptions opts = options;
