@@ -106,7 +106,7 @@ TEST(BadInput, HugeSizesAreRefusedBeforeAllocation) {
   EXPECT_SAYS(error_of(with("spacing: 5.0e-4", "spacing: 1.0e-9")),
               "bad.yaml: the deck would make about 2e+14 particles (spacing 1e-09 m), more than the 4e9 a run can index");
   const std::string m = error_of(with("horizon_factor: 3", "horizon_factor: 100000"));
-  EXPECT_SAYS(m, "GiB (989 particles, 3.11e+13 bonds at spacing 0.0005 m, horizon 50 m), more than the");
+  EXPECT_SAYS(m, "GiB (800 particles, 2.51e+13 bonds at spacing 0.0005 m, horizon 50 m), more than the");
   EXPECT_SAYS(m, "raise the limit with --max-memory <GiB>");
   EXPECT_SAYS(error_of(with("end_time: 1e-6", "end_time: 1e6")),
               "the run would take 1.22e+13 steps of 8.213e-08 s to end_time 1e+06 s, more than the 1e+12");
@@ -117,11 +117,11 @@ TEST(BadInput, HugeSizesAreRefusedBeforeAllocation) {
               "a body lies more than 1e15 spacings from the lattice origin");
 }
 
-// The limit is the option's (--max-memory): the same deck is refused under 1 MiB and
+// The limit is the option's (--max-memory): the same deck is refused under 0.5 MiB and
 // accepted under the machine's memory.
 TEST(BadInput, TheMemoryLimitIsAnOption) {
-  const std::string m = error_of(kDeck, 1024.0 * 1024.0);
-  EXPECT_SAYS(m, "more than the 0.000977 GiB allowed by --max-memory");
+  const std::string m = error_of(kDeck, 0.5 * 1024.0 * 1024.0);
+  EXPECT_SAYS(m, "more than the 0.000488 GiB allowed by --max-memory");
   EXPECT_EQ(error_of(kDeck, 0), "");
 }
 

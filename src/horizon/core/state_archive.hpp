@@ -29,8 +29,10 @@ struct plain_data : std::is_trivially_copyable<T> {};
 // writes the checkpoint, gather_checkpoint takes every entry of a per-particle or
 // per-bond array from its owner. `global` values are the same on every rank (or rank 0's
 // are the ones to keep). A per-particle array holds k entries per particle (k = its size
-// over the particle count; 0 when empty), and likewise per bond.
-enum class Extent : uint8_t { global, particles, bonds };
+// over the particle count; 0 when empty), and likewise per bond. A `listed` array holds k
+// entries per particle of a list the model keeps (its material's particles, in order):
+// entry l belongs to particle list[l].
+enum class Extent : uint8_t { global, particles, bonds, listed };
 
 class StateArchive {
  public:
@@ -93,6 +95,14 @@ class StateArchive {
   void io_bonds(const std::string& name, std::vector<T>& v) {
     io(name, v, Extent::bonds);
   }
+  // An array indexed by the position in `list` (particle indices): entry l belongs to
+  // particle list[l] (Extent::listed). `list` must outlive the archive.
+  template <class T>
+  void io_listed(const std::string& name, std::vector<T>& v, const std::vector<uint32_t>& list) {
+    list_ = &list;
+    io(name, v, Extent::listed);
+    list_ = nullptr;
+  }
 
   // Saves x; on load, reads the saved value and, when it differs from x (what the deck
   // built), fails with "the checkpoint has <what> <saved>, the deck <x>".
@@ -110,6 +120,9 @@ class StateArchive {
       mismatch("it holds " + what + " '" + saved + "', the deck has '" + x +
                "': the checkpoint does not belong to this deck");
   }
+
+  // The particle list of the record being saved with Extent::listed (io_listed).
+  const std::vector<uint32_t>* list() const { return list_; }
 
   // Names of nested parts ("model 2/plastic_strain"): push a prefix, pop it after.
   void push(const std::string& prefix) { prefix_.push_back(prefix); }
@@ -136,6 +149,7 @@ class StateArchive {
 
  private:
   bool loading_;
+  const std::vector<uint32_t>* list_ = nullptr;
   std::vector<std::string> prefix_;
 };
 

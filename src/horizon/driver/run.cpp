@@ -303,17 +303,17 @@ nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
 }  // namespace
 
 std::string distributed_limits(const Config& c, const System& s, const RunOptions& o) {
-  auto rows_local_models = [] {
+  // The models a decomposed run can split (ModelTraits::unified or rows_local), from the
+  // registry: no model is named here.
+  auto split_models = [] {
     std::string names;
     for (const ModelEntry& e : model_registry())
-      if (e.traits.rows_local) names += (names.empty() ? "" : ", ") + e.traits.name;
+      if (e.traits.unified || e.traits.rows_local) names += (names.empty() ? "" : ", ") + e.traits.name;
     return names;
   };
-  if (s.models.owner()) return "a model that owns the force pass is not split over ranks";
   for (const auto& m : s.models)
-    if (!m->unified() && !m->traits().rows_local)
-      return "model " + m->traits().name +
-             " is not split over ranks (only pmb, lps and the models whose rows are local: " + rows_local_models() + ")";
+    if (m->owns_force_pass() || (!m->unified() && !m->traits().rows_local))
+      return "model " + m->traits().name + " is not split over ranks (the models that are: " + split_models() + ")";
   if (s.heat.active() || !s.thermal_strain.empty() || !s.critical_stretch_factor.empty())
     return "heat conduction and thermal strain are not split over ranks";
   if (s.fe) return "finite-element regions are not split over ranks";

@@ -88,6 +88,10 @@ struct ModelTraits {
   // too (their T_ji enter f_i), from the positions one horizon further out, and each rank
   // keeps their history itself: no model state crosses ranks (parallel/decomposition.hpp).
   bool rows_local = false;
+  // The model writes its forces in the unified form t = omega (P_i |xi| + Q_i e + R_i e/|xi|)
+  // of solver/system.hpp (Model::unified, above): the fast loops, the analytic tangent, and
+  // a run split over MPI ranks without any model code.
+  bool unified = false;
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
                                         InfluenceKind::gaussian};
   InfluenceKind default_influence = InfluenceKind::constant;
@@ -149,9 +153,10 @@ class Model {
   // Once, after the bonds, the influence weights and the weighted volumes exist.
   virtual void setup(const ModelSetup& setup) = 0;
 
-  // The fast path (see above). A unified model's setup fills pair_coef,
-  // dilatation_coef, deviatoric_coef (and sets state_based when it uses the dilatation).
-  virtual bool unified() const { return false; }
+  // The fast path (see above; ModelTraits::unified). A unified model's setup fills
+  // pair_coef, dilatation_coef, deviatoric_coef (and sets state_based when it uses the
+  // dilatation).
+  bool unified() const { return traits().unified; }
 
   // General path: T of every bond of this model's particles; W_i when pass.energy is set.
   virtual void force_state(ForcePass& pass) { (void)pass; }

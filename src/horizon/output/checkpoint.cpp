@@ -51,7 +51,7 @@ void CheckpointWriter::put(const std::string& name, const void* bytes, std::size
   payload_ += full;
   append(payload_, static_cast<uint32_t>(element_size));
   append(payload_, static_cast<uint64_t>(count));
-  if (extent != Extent::global && count) spread_.push_back({full, extent, element_size, count, payload_.size()});
+  if (extent != Extent::global && count) spread_.push_back({full, extent, element_size, count, payload_.size(), list()});
   if (count) payload_.append(static_cast<const char*>(bytes), element_size * count);
 }
 

@@ -41,6 +41,7 @@ class CheckpointWriter : public StateArchive {
     std::string name;
     Extent extent = Extent::global;
     std::size_t element_size = 0, count = 0, offset = 0;
+    const std::vector<uint32_t>* list = nullptr;  // Extent::listed: the particle of each entry group
   };
   const std::vector<Spread>& spread() const { return spread_; }
   char* bytes(const Spread& r) { return payload_.data() + r.offset; }

@@ -223,17 +223,25 @@ void gather_checkpoint(const System& s, const Decomposition& d, CheckpointWriter
   const auto& B = s.bonds;
   for (const CheckpointWriter::Spread& r : w.spread()) {
     const bool bonds = r.extent == Extent::bonds;
-    const std::size_t units = bonds ? nb : n;  // entries of the array's first index
+    // Extent::listed: entry group l belongs to particle (*list)[l].
+    const std::vector<uint32_t>* list = r.extent == Extent::listed ? r.list : nullptr;
+    if (r.extent == Extent::listed && !list) throw Error("checkpoint: record '" + r.name + "' has no particle list");
+    const std::size_t units = bonds ? nb : list ? list->size() : n;  // entries of the array's first index
     if (units == 0 || r.count % units != 0)
       throw Error("checkpoint: record '" + r.name + "' has " + std::to_string(r.count) + " entries, not a multiple of the " +
-                  std::to_string(units) + (bonds ? " bonds" : " particles"));
+                  std::to_string(units) + (bonds ? " bonds" : list ? " listed particles" : " particles"));
     const std::size_t per = r.element_size * (r.count / units);  // bytes per particle or bond
     char* data = w.bytes(r);
     // This rank's entries in index order: its particles, or the bonds of their rows.
     std::string mine;
-    for (uint32_t i : d.owned) {
-      const std::size_t a = bonds ? B.begin(i) : i, b = bonds ? B.end(i) : i + 1;
-      mine.append(data + a * per, (b - a) * per);
+    if (list) {
+      for (std::size_t l = 0; l < list->size(); ++l)
+        if (d.owns((*list)[l])) mine.append(data + l * per, per);
+    } else {
+      for (uint32_t i : d.owned) {
+        const std::size_t a = bonds ? B.begin(i) : i, b = bonds ? B.end(i) : i + 1;
+        mine.append(data + a * per, (b - a) * per);
+      }
     }
 #if defined(HORIZON_MPI)
     // Counted in entries of `per` bytes (a contiguous type), so that int counts reach far.
@@ -260,11 +268,19 @@ void gather_checkpoint(const System& s, const Decomposition& d, CheckpointWriter
     std::vector<std::size_t> next(static_cast<std::size_t>(d.size));
     for (int q = 0; q < d.size; ++q)
       next[static_cast<std::size_t>(q)] = static_cast<std::size_t>(displs[static_cast<std::size_t>(q)]) * per;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t a = bonds ? B.begin(i) : i, b = bonds ? B.end(i) : i + 1;
-      std::size_t& at = next[static_cast<std::size_t>(d.owner[i])];
-      std::memcpy(data + a * per, all.data() + at, (b - a) * per);
-      at += (b - a) * per;
+    if (list) {
+      for (std::size_t l = 0; l < list->size(); ++l) {
+        std::size_t& at = next[static_cast<std::size_t>(d.owner[(*list)[l]])];
+        std::memcpy(data + l * per, all.data() + at, per);
+        at += per;
+      }
+    } else {
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t a = bonds ? B.begin(i) : i, b = bonds ? B.end(i) : i + 1;
+        std::size_t& at = next[static_cast<std::size_t>(d.owner[i])];
+        std::memcpy(data + a * per, all.data() + at, (b - a) * per);
+        at += (b - a) * per;
+      }
     }
 #else
     (void)data;

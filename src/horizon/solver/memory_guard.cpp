@@ -4,41 +4,114 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 
 #include "horizon/core/error.hpp"
 #include "horizon/family/neighbors.hpp"
+#include "horizon/material/model.hpp"
 
 namespace horizon {
 
 namespace {
-// Bytes per particle and per directed bond of the largest run layout: the particle
-// arrays, model arrays and force scratch (memory_estimate in system.cpp counts ~320 per
-// particle), and per bond the neighbour, kind and intact flag (9), the general force
-// pass's force state and reverse bond (32), a state-based |Y| (8), with room for a
-// model's per-bond history. Generous on purpose: the guard is an upper bound.
+// Bytes per particle: the particle arrays, model arrays and force scratch
+// (memory_estimate in system.cpp counts ~320), with room for a model's own per-particle
+// state. Per directed bond (family/bonds.hpp): neighbour, kind and intact flag (9 bytes)
+// and a state-based model's |Y| (8), which is all the unified models keep; a model on the
+// general force pass adds the force state and reverse bond (32) and its own per-bond
+// history (elastic_plastic 56, viscoelastic up to 104): 128 leaves room.
 constexpr double kBytesPerParticle = 512;
-constexpr double kBytesPerBond = 64;
+constexpr double kBytesPerUnifiedBond = 17;
+constexpr double kBytesPerBond = 128;
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+// Family offsets are counted one by one up to this radius [spacings]; beyond it the
+// count is the ball's volume over the cell (its error is below 1 % there).
+constexpr double kCountedRadius = 24;
+
+// Lattice points of x = origin + m h within [lo, hi] (at least one).
+double points_between(double lo, double hi, double origin, double h) {
+  const double a = std::ceil((lo - origin) / h - 1e-9), b = std::floor((hi - origin) / h + 1e-9);
+  return std::max(1.0, b - a + 1);
+}
 }  // namespace
+
+std::vector<LatticeOffset> family_offsets(int dimension, double radius) {
+  std::vector<LatticeOffset> out;
+  // The neighbour search's acceptance, |xi|^2 <= r^2 (1 + 2e-10) (family/neighbors.cpp).
+  const double r2 = radius * radius * (1 + 2e-10);
+  const auto m = static_cast<int64_t>(std::floor(radius));
+  const int64_t my = dimension > 1 ? m : 0, mz = dimension > 2 ? m : 0;
+  for (int64_t z = -mz; z <= mz; ++z)
+    for (int64_t y = -my; y <= my; ++y)
+      for (int64_t x = -m; x <= m; ++x) {
+        if (x == 0 && y == 0 && z == 0) continue;
+        if (static_cast<double>(x * x + y * y + z * z) <= r2) out.push_back({x, y, z});
+      }
+  return out;
+}
+
+// The neighbours of an interior particle: counted, or for a large family the ball's
+// volume over the cell.
+static double interior_family(int dimension, double r) {
+  if (r <= kCountedRadius) return static_cast<double>(family_offsets(dimension, r).size());
+  return dimension == 1 ? 2 * r : dimension == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
+}
+
+double box_bonds(const double n[3], int dimension, double radius) {
+  if (radius > kCountedRadius) {  // every particle with an interior family (an upper bound)
+    double p = 1;
+    for (int k = 0; k < dimension; ++k) p *= n[k];
+    return p * interior_family(dimension, radius);
+  }
+  double bonds = 0;
+  for (const LatticeOffset& o : family_offsets(dimension, radius)) {
+    // The pairs (p, p + o) with both ends in the n[0] x n[1] x n[2] block.
+    const int64_t c[3] = {o.x, o.y, o.z};
+    double pairs = 1;
+    for (int k = 0; k < dimension; ++k) pairs *= std::max(0.0, n[k] - static_cast<double>(std::llabs(c[k])));
+    bonds += pairs;
+  }
+  return bonds;
+}
 
 MemoryEstimate estimate_memory(const Config& c) {
   MemoryEstimate e;
   const int d = c.dimension;
   const double h = c.spacing;
+  // The family in spacings (family/neighbors.hpp: with the linear partial-volume rule it
+  // reaches half a spacing beyond the horizon).
+  const double radius = family_radius(c.horizon, h, c.partial_volume.rule) / h;
   for (const auto& body : c.bodies) {
+    if (body.shape.kind() == Shape::Kind::points) {
+      // Listed particles, off any lattice: each with a full interior family.
+      const double np = static_cast<double>(body.shape.point_list().size());
+      e.particles += np;
+      e.bonds += np * interior_family(d, radius);
+      continue;
+    }
+    // The lattice points of the body's bounding box (geometry/lattice.cpp: the default
+    // origin puts them at cell centres from the box minimum) and the bonds among them:
+    // for each lattice offset o of the family, prod_k (n_k - |o_k|) pairs. Exact for a box,
+    // an upper bound for any other shape (its particles are a subset of the box's).
     const Box3 box = body.shape.bounds();
-    double points = 1;
-    for (int k = 0; k < d; ++k) points *= std::max(0.0, (box.max[k] - box.min[k]) / h) + 3;
+    const Vec3 origin = c.lattice_origin ? *c.lattice_origin : box.min + Vec3{0.5 * h, 0.5 * h, 0.5 * h};
+    double n[3] = {1, 1, 1}, points = 1;
+    for (int k = 0; k < d; ++k) {
+      const double span = (box.max[k] - box.min[k]) / h;
+      n[k] = std::abs(span) < 1e15 ? points_between(box.min[k], box.max[k], origin[k], h) : HUGE_VAL;
+      points *= n[k];
+    }
     e.particles += points;
+    e.bonds += std::isfinite(points) ? box_bonds(n, d, radius) : HUGE_VAL;
   }
-  // Lattice points within the family radius of one particle: the volume of the 1-, 2-
-  // or 3-ball over the cell.
-  const double r = family_radius(c.horizon, h, c.partial_volume.rule) / h + 1;
-  const double family = d == 1 ? 2 * r : d == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
-  e.bonds = e.particles * family;
-  e.bytes = e.particles * kBytesPerParticle + e.bonds * kBytesPerBond;
+  bool unified = true;
+  for (const auto& m : c.materials) {
+    const ModelEntry* entry = find_model(m.model);
+    unified = unified && entry && entry->traits.unified;
+  }
+  e.bytes = e.particles * kBytesPerParticle + e.bonds * (unified ? kBytesPerUnifiedBond : kBytesPerBond);
   if (!std::isfinite(e.bytes)) e.bytes = e.particles = e.bonds = HUGE_VAL;
   return e;
 }

@@ -48,6 +48,7 @@ const ModelTraits& traits() {
         {"stress_law", "classical stress law: linear_elastic (small strain), neo_hookean, j2 (plasticity)",
          {"linear_elastic", "neo_hookean", "j2"}},
     };
+    m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
     return m;
   }();
   return t;
@@ -69,11 +70,11 @@ class Correspondence final : public Model {
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
   void checkpoint(StateArchive& a) override {
-    a.io("committed", committed_);
-    a.io("trial", trial_);
-    a.io("work", work_);
-    a.io("von_mises", von_mises_);
-    a.io("singular", singular_);
+    a.io_listed("committed", committed_, particles_);
+    a.io_listed("trial", trial_, particles_);
+    a.io_listed("work", work_, particles_);
+    a.io_listed("von_mises", von_mises_, particles_);
+    a.io_listed("singular", singular_, particles_);
   }
  private:
   LawSettings law_;
@@ -135,6 +136,7 @@ void Correspondence::force_state(ForcePass& pass) {
 #pragma omp parallel for schedule(static) if (n > 512)
   for (std::size_t l = 0; l < n; ++l) {
     const uint32_t i = particles_[l];
+    if (!s.computes_row(i)) continue;  // another rank's row (ModelTraits::rows_local)
     const Point4 yi = y[i];
     auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
     // K_i and F_i over the acting bonds (seed 003 eq. 17, 134).
@@ -178,6 +180,7 @@ void Correspondence::force_state(ForcePass& pass) {
 
 void Correspondence::commit(System& s) {
   for (std::size_t l = 0; l < particles_.size(); ++l) {
+    if (!s.computes_row(particles_[l])) continue;
     committed_[l] = trial_[l];
     if (work_[l] != 0) s.dissipated_at[particles_[l]] += work_[l] * s.particles.volume[particles_[l]];
     work_[l] = 0;  // a second commit without a force pass dissipates nothing more

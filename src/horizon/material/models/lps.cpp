@@ -24,6 +24,7 @@ const ModelTraits& traits() {
          ParameterSpec::Range::boolean, 0.0},
     };
     m.thermal_strain = true;  // in the general force pass (solver/forces_general.cpp)
+    m.unified = true;  // its force state has the unified form (Model::unified)
     return m;
   }();
   return t;
@@ -73,7 +74,6 @@ class Lps final : public Model {
  public:
   std::unique_ptr<Model> clone() const override { return std::make_unique<Lps>(*this); }
   const ModelTraits& traits() const override { return horizon::traits(); }
-  bool unified() const override { return true; }
 
   void setup(const ModelSetup& in) override {
     const MaterialConfig& mat = in.material;

@@ -23,6 +23,7 @@ const ModelTraits& traits() {
          "sigma_ut/(2 E) (eq. 50)",
          ParameterSpec::Range::positive, std::nullopt},
     };
+    m.rows_local = true;  // row i reads i's family and the plastic stretch of i's bonds alone
     return m;
   }();
   return t;
@@ -68,6 +69,7 @@ class Microplastic final : public Model {
 #pragma omp parallel for schedule(static)
     for (std::size_t q = 0; q < count; ++q) {
       const uint32_t i = particles_[q];
+      if (!s.computes_row(i)) continue;  // another rank's row (ModelTraits::rows_local)
       const Point4 pi = y[i];
       double W = 0, work = 0, booked = 0;
       bool inelastic = false;
@@ -118,6 +120,7 @@ class Microplastic final : public Model {
 #pragma omp parallel for schedule(static)
     for (std::size_t q = 0; q < count; ++q) {
       const uint32_t i = particles_[q];
+      if (!s.computes_row(i)) continue;
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
         sbar_[k] = sbar_trial_[k];
         ledger_.commit_bond(k);
@@ -142,8 +145,8 @@ class Microplastic final : public Model {
   }
 
   void checkpoint(StateArchive& a) override {
-    a.io("sbar", sbar_);
-    a.io("sbar_trial", sbar_trial_);
+    a.io_bonds("sbar", sbar_);
+    a.io_bonds("sbar_trial", sbar_trial_);
     ledger_.checkpoint(a);
   }
  private:

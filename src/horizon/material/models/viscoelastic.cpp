@@ -30,6 +30,7 @@ const ModelTraits& traits() {
         {"tau_3", "decay time of Maxwell branch 3 [s]", ParameterSpec::Range::non_negative, 0.0},
     };
     m.thermal_strain = true;  // force_state subtracts eps_ij |xi| from e (docs/models/heat.md)
+    m.rows_local = true;      // row i reads i's family, i's theta/back dilatations and its bonds' e^d, back extensions
     return m;
   }();
   return t;
@@ -51,16 +52,16 @@ class Viscoelastic final : public Model {
   }
 
   void checkpoint(StateArchive& a) override {
-    a.io("theta", theta_);
-    a.io("theta_trial", theta_trial_);
-    a.io("dissipated", dissipated_);
-    a.io("ed", ed_);
-    a.io("ed_trial", ed_trial_);
+    a.io_particles("theta", theta_);
+    a.io_particles("theta_trial", theta_trial_);
+    a.io_particles("dissipated", dissipated_);
+    a.io_bonds("ed", ed_);
+    a.io_bonds("ed_trial", ed_trial_);
     for (std::size_t b = 0; b < kMaxViscousBranches; ++b) {
-      a.io("theta_back_" + std::to_string(b), theta_back_[b]);
-      a.io("theta_back_trial_" + std::to_string(b), theta_back_trial_[b]);
-      a.io("back_" + std::to_string(b), back_[b]);
-      a.io("back_trial_" + std::to_string(b), back_trial_[b]);
+      a.io_particles("theta_back_" + std::to_string(b), theta_back_[b]);
+      a.io_particles("theta_back_trial_" + std::to_string(b), theta_back_trial_[b]);
+      a.io_bonds("back_" + std::to_string(b), back_[b]);
+      a.io_bonds("back_trial_" + std::to_string(b), back_trial_[b]);
     }
     ledger_.checkpoint(a);
   }
@@ -170,6 +171,7 @@ void Viscoelastic::force_state(ForcePass& pass) {
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
+    if (!s.computes_row(i)) continue;  // another rank's row (ModelTraits::rows_local)
     const Point4 pi = y[i];
     const uint64_t first = B.begin(i), last = B.end(i);
     const double m = M.weighted_volume[i];
@@ -256,6 +258,7 @@ void Viscoelastic::commit(System& s) {
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
+    if (!s.computes_row(i)) continue;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       ed_[k] = ed_trial_[k];
       ledger_.commit_bond(k);
