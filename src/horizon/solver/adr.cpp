@@ -59,7 +59,7 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
       // w2' <= 4, attained by the alternating mode of a bending stencil (1 -4 6 -4 1),
       // which then oscillates undamped (characteristic root -1). The mass is scaled up
       // by 4 / (2 + sqrt(4 - c^2)) (a fraction c^2/16 for a small c) to keep it damped.
-      double c = std::min(2.0 * std::sqrt(w2), 1.99);
+      const double c = std::min(2.0 * std::sqrt(w2), 1.99);
       const double scale = 4 / (2 + std::sqrt(4 - c * c));
       lambda *= scale;
       fixed_damping = std::min(2.0 * std::sqrt(w2 / scale), 1.99);
