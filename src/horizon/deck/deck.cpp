@@ -337,10 +337,6 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
 
   if (auto me = s.find("method")) {
     sc.method = read_enum<StaticMethod>(ctx, *me, {{"newton", StaticMethod::newton}, {"adr", StaticMethod::adr}});
-    if (sc.method == StaticMethod::adr && ctx.structure) {
-      ctx.warn(me->mark, me->path + ": ADR's damping estimate stalls on the fourth-order bending operator of a "
-                                    "structure (docs/models/bond_pair.md, Solvers); method: newton converges");
-    }
   }
   const bool newton = !is_static || sc.method == StaticMethod::newton;
   only_for(ctx, s, "linear_solver", newton, "method: newton", "static with method: adr");

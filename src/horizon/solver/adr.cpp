@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "horizon/parallel/decomposition.hpp"
+#include "horizon/solver/conditioning.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/tangent.hpp"
 
@@ -24,10 +25,14 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
   // Models outside the unified bond form: the row sums of the model's own analytic
   // tangent (Model::stiffness), or of the finite-difference one.
   Eigen::VectorXd bound;
+  bool structure = false;
+  for (std::size_t m = 0; m < s.models.size(); ++m) structure = structure || s.models[m].traits().structural;
+  SparseMatrix K;
   if (unified_form(s)) {
     bound = stiffness_row_bound(s, d, linearize(s));
   } else {
-    bound = row_abs_sums(s, d, solver_tangent(s, d, TangentKind::analytic));
+    K = solver_tangent(s, d, TangentKind::analytic);
+    bound = row_abs_sums(s, d, K);
   }
   Eigen::VectorXd lambda = 0.25 * bound;
   double floor = 0;
@@ -44,6 +49,28 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
   }
   for (Eigen::Index k = 0; k < n; ++k)
     if (!(lambda[k] > 0)) lambda[k] = 1;  // a dof without bonds: no stiffness, no force
+  // Structures (beams, plates, shells): the local estimate below saturates on the
+  // fourth-order bending operator (its highest modes dominate the local quotient), so the
+  // damping is fixed for the solve at critical damping of the lowest mode of the
+  // fictitious dynamics, c = 2 sqrt(omega_min^2), omega_min^2 the lowest eigenvalue of
+  // K x = omega^2 Lambda V x (Underwood 1983, "Dynamic relaxation", in Computational
+  // Methods for Transient Analysis, ch. 5, eq. for the optimal damping c = 2 omega_0;
+  // Kilic and Madenci 2010 eq. 19 estimate the same omega_0 by the Rayleigh quotient).
+  double fixed_damping = -1;
+  if (structure && K.rows() > 0) {
+    const double w2 = lowest_generalized_eigenvalue(K, lambda.cwiseProduct(volume));
+    if (w2 > 0) {
+      // With a unit step the central-difference scheme damps a mode of frequency^2 w2'
+      // at the rate c/2 only while w2' <= 2 + sqrt(4 - c^2); the Gerschgorin mass leaves
+      // w2' <= 4, attained by the alternating mode of a bending stencil (1 -4 6 -4 1),
+      // which then oscillates undamped (characteristic root -1). The mass is scaled up
+      // by 4 / (2 + sqrt(4 - c^2)) (a fraction c^2/16 for a small c) to keep it damped.
+      const double c = std::min(2.0 * std::sqrt(w2), 1.99);
+      const double scale = 4 / (2 + std::sqrt(4 - c * c));
+      lambda *= scale;
+      fixed_damping = std::min(2.0 * std::sqrt(w2 / scale), 1.99);
+    }
+  }
   rep.tangent_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   auto relative = [&](const Eigen::VectorXd& R) {
@@ -94,7 +121,9 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
     }
     // Damping from the Rayleigh quotient of the local diagonal stiffness (eq. 19-20).
     double num = 0, den = 0;
-    if (s.decomposition) {
+    if (fixed_damping >= 0) {
+      // a fixed damping needs no estimate
+    } else if (s.decomposition) {
       GridSum g(s, 2);
       for (Eigen::Index k = 0; k < n; ++k) {
         if (!s.decomposition->owns(d.particle[static_cast<std::size_t>(k)])) continue;
@@ -110,7 +139,9 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
         if (v[k] != 0) num += u[k] * u[k] * (-(F[k] - F_old[k]) / (lambda[k] * v[k]));
       }
     }
-    const double c = (den > 0 && num > 0) ? std::min(2.0 * std::sqrt(num / den), 1.99) : 0.0;
+    const double c = fixed_damping >= 0                ? fixed_damping
+                     : (den > 0 && num > 0) ? std::min(2.0 * std::sqrt(num / den), 1.99)
+                                            : 0.0;
     v = ((2 - c) * v + 2 * F.cwiseQuotient(lambda)) / (2 + c);  // eq. 16
   }
   rep.residuals.push_back(rep.residual);

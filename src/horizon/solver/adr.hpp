@@ -11,7 +11,16 @@
 // taken from stiffness_row_bound (tangent.hpp) at the start of each solve. Damping from
 // the Rayleigh quotient of the local diagonal stiffness (eq. 19-20):
 //   c_n = 2 sqrt( u^T 1K u / u^T u ),  1K_ii = -(F_i^n - F_i^{n-1}) / (lambda_ii u'_i^{n-1/2}),
-// set to 0 when the quotient is negative. Converged when |R| <= tolerance |R_ref|
+// set to 0 when the quotient is negative. Structures (a model with
+// ModelTraits::structural: beams, plates, shells): that local quotient is dominated by the
+// highest modes of the fourth-order bending operator and saturates, so the damping is
+// fixed per solve (per load increment) at critical damping of the lowest mode,
+// c = 2 omega_0, omega_0^2 the lowest eigenvalue of K x = omega^2 Lambda V x from a
+// shift-invert Lanczos estimate on the model's analytic tangent (Underwood 1983, "Dynamic
+// relaxation", Computational Methods for Transient Analysis, ch. 5: c = 2 omega_0 is the
+// optimal damping), and Lambda is scaled up by 4/(2 + sqrt(4 - c^2)) so that the
+// alternating mode the Gerschgorin bound admits at omega^2 = 4 is damped (adr.cpp). The
+// local estimate is kept when the scaled tangent is not positive definite. Converged when |R| <= tolerance |R_ref|
 // (equilibrium.hpp), R = F V on the free dofs.
 #include "horizon/solver/newton.hpp"
 

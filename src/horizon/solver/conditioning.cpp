@@ -1,6 +1,7 @@
 #include "horizon/solver/conditioning.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
 #include <Spectra/SymEigsShiftSolver.h>
 #include <Spectra/SymEigsSolver.h>
 #include <algorithm>
@@ -96,6 +97,29 @@ ConditionEstimate estimate_condition(const SparseMatrix& K, double tol) {
   est.condition = est.lambda_min > 0 ? est.lambda_max / est.lambda_min : std::numeric_limits<double>::infinity();
   est.converged = true;
   return est;
+}
+
+double lowest_generalized_eigenvalue(const SparseMatrix& K, const Eigen::VectorXd& mass, double tol) {
+  const Eigen::Index n = K.rows();
+  if (n < 1 || mass.size() != n) return -1;
+  const Eigen::VectorXd scale = mass.cwiseSqrt().cwiseInverse();
+  SparseMatrix Kt = K.transpose();
+  SparseMatrix S = 0.5 * (K + Kt);
+  S = scale.asDiagonal() * S * scale.asDiagonal();
+  if (n < 3) {
+    const Eigen::MatrixXd dense(S);
+    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense, Eigen::EigenvaluesOnly).eigenvalues()[0];
+  }
+  try {
+    ShiftInvertOp op(S);
+    Spectra::SymEigsShiftSolver<ShiftInvertOp> eigs(op, 1, std::min<Eigen::Index>(n, 20), 0.0);
+    eigs.init();
+    eigs.compute(Spectra::SortRule::LargestMagn, 1000, tol);
+    if (eigs.info() != Spectra::CompInfo::Successful) return -1;
+    return eigs.eigenvalues()[0];
+  } catch (const std::invalid_argument&) {
+    return -1;
+  }
 }
 
 }  // namespace horizon

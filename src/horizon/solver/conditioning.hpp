@@ -25,4 +25,11 @@ struct ConditionEstimate {
 // of the Ritz values.
 ConditionEstimate estimate_condition(const SparseMatrix& K, double tol = 1e-6);
 
+// The lowest eigenvalue of the generalised problem K x = lambda M x, M = diag(mass) > 0,
+// i.e. of the symmetric M^-1/2 K_s M^-1/2 with K_s = (K + K^T)/2, by Lanczos with
+// shift-invert at 0 (a CHOLMOD factorisation of the scaled matrix). ADR's damping on
+// structures uses it (adr.hpp). Returns a negative value when the scaled matrix is not
+// positive definite or Lanczos does not converge.
+double lowest_generalized_eigenvalue(const SparseMatrix& K, const Eigen::VectorXd& mass, double tol = 1e-4);
+
 }  // namespace horizon

@@ -94,7 +94,7 @@ class BondPair final : public Model {
   }
  private:
   void positions(const System& s);
-  std::vector<Vec3> current_positions(const System& s) const;
+  void current_positions(const System& s, std::vector<Vec3>& y) const;
 
   std::size_t n_real_ = 0;
   std::vector<Vec3> X_;                 // reference positions, real nodes then ghosts
@@ -124,6 +124,7 @@ class BondPair final : public Model {
   std::vector<uint8_t> failed_;                  // brittle failure (permanent)
   std::vector<uint8_t> no_fail_;                 // a node of the pair lies in a no_fail region
   std::vector<double> pairs_at_;                 // pairs centred at each real node
+  std::vector<double> failed_at_;                // failed pairs centred at each real node (damage; scratch)
   // Energy weight of a real node: 1/2 per support line it lies on. The forces on the real
   // nodes are -dE/du of E = sum_k weight_k e_k (e_k the energy of the pairs and half
   // bonds centred at k, ghosts following their masters): a ghost centre's terms are the
@@ -416,9 +417,11 @@ void BondPair::setup(const ModelSetup& in) {
   iso_bound_ = 2 * std::abs(iso_C_) * g * g;
 }
 
-std::vector<Vec3> BondPair::current_positions(const System& s) const {
+// Current positions of the real nodes and the ghosts, into y (resized; the force pass
+// reuses its own buffer, so an explicit step allocates nothing).
+void BondPair::current_positions(const System& s, std::vector<Vec3>& y) const {
   const auto& P = s.particles;
-  std::vector<Vec3> y(X_.size());
+  y.resize(X_.size());
   for (std::size_t i = 0; i < n_real_; ++i) y[i] = P.X[i] + P.u[i];
   for (std::size_t g = 0; g + n_real_ < X_.size(); ++g) {
     Vec3 u{};
@@ -429,10 +432,9 @@ std::vector<Vec3> BondPair::current_positions(const System& s) const {
     }
     y[n_real_ + g] = X_[n_real_ + g] + u;
   }
-  return y;
 }
 
-void BondPair::positions(const System& s) { y_ = current_positions(s); }
+void BondPair::positions(const System& s) { current_positions(s, y_); }
 
 uint64_t BondPair::force_pass(System& s, bool energy) {
   auto& P = s.particles;
@@ -556,10 +558,10 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   }
   // Damage: the fraction of failed pairs about each node (dissertation Fig. 5.16).
   if (theta_fail_ > 0) {
-    std::vector<double> failed_at(n_real_, 0);
+    failed_at_.assign(n_real_, 0.0);
     for (std::size_t q = 0; q < pairs_.size(); ++q)
-      if (failed_[q] && pairs_[q].k < n_real_) failed_at[pairs_[q].k] += 1;
-    for (std::size_t i = 0; i < n_real_; ++i) P.damage[i] = pairs_at_[i] > 0 ? failed_at[i] / pairs_at_[i] : 0.0;
+      if (failed_[q] && pairs_[q].k < n_real_) failed_at_[pairs_[q].k] += 1;
+    for (std::size_t i = 0; i < n_real_; ++i) P.damage[i] = pairs_at_[i] > 0 ? failed_at_[i] / pairs_at_[i] : 0.0;
   }
   (void)N;
   return newly_failed;
@@ -666,7 +668,8 @@ struct Block {
 //     2 coef n n^T per bond (t = dE/d|Y| as in the force pass), and for nu != 1/3 the
 //     dilatation term sum_c dil_coef V_c grad(theta_c) grad(theta_c)^T.
 bool BondPair::stiffness(const System& s, StiffnessSink& out) const {
-  const std::vector<Vec3> y = current_positions(s);
+  std::vector<Vec3> y;
+  current_positions(s, y);
   const int c0 = transverse_ ? 2 : 0;  // beams and plates: the z rows and columns only
   const Vec3 one{1, 1, 1};
   // K(a, b) += H, b real or a ghost.

@@ -28,11 +28,13 @@ struct PairGradient {
   Vec3 dY, dYp;
   double one_plus_cos = 0;
 };
+// Written with one square root and two divisions (the explicit pass is bound by their
+// latency): with r = 1/(|Y||Y'|), cos theta = (Y.Y') r and
+//   (Yhat' - cos theta Yhat)/|Y| = (Y' - (Y.Y'/|Y|^2) Y) r,   and symmetrically.
 inline PairGradient bond_pair_gradient(const Vec3& Y, const Vec3& Yp) {
-  const double a = norm(Y), b = norm(Yp);
-  const Vec3 e = Y / a, ep = Yp / b;
-  const double c = dot(e, ep);
-  return {(ep - c * e) / a, (e - c * ep) / b, 1 + c};
+  const double ia2 = 1 / dot(Y, Y), ib2 = 1 / dot(Yp, Yp), d = dot(Y, Yp);
+  const double r = std::sqrt(ia2 * ib2);
+  return {(Yp - Y * (d * ia2)) * r, (Y - Yp * (d * ib2)) * r, 1 + d * r};
 }
 
 // A pair with a reference angle theta0 (a curved shell; the dissertation's ch. 6: "apply
