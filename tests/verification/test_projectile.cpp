@@ -156,6 +156,30 @@ solver: {end_time: 1.0e-6}
   EXPECT_GT(with, 0.5 * without);
 }
 
+// An indenter's quadratic penalty (force density K d^2, stiffness 2 K d) joins the
+// Silling-Askari sum of the stable step as a projectile's does: 1/dt^2 grows by exactly
+// 2 K d / (2 rho), d = one spacing.
+TEST(Projectile, IndenterPenaltyEntersTheStableStep) {
+  const std::string deck = R"(dimension: 3
+spacing: 0.001
+horizon_factor: 3
+materials:
+  soft: {model: pmb, density: 1000, youngs_modulus: 1.0e9, poissons_ratio: 0.25}
+bodies:
+  - {name: block, material: soft, shape: {box: {min: [0, 0, 0], max: [0.004, 0.004, 0.004]}}}
+contact:
+  indenters:
+    - {name: wall, center: [0, -10, 0], radius: 10, stiffness: 1.0e18}
+solver: {end_time: 1.0e-6}
+)";
+  const Config c = parse_deck(deck, "indenter.yaml");
+  Config no = c;
+  no.contact.indenters.clear();
+  const double with = stable_time_step(build_system(c)), without = stable_time_step(build_system(no));
+  const double added = 1 / (with * with) - 1 / (without * without), expected = 2 * 1e18 * 0.001 / (2 * 1000.0);
+  EXPECT_NEAR(added, expected, 1e-9 * expected);
+}
+
 // ---------------------------------------------------------------------------------
 // A free PMB block (E = 1 GPa, nu = 1/4, rho = 1000) and a rigid body striking it.
 std::string block_deck(const std::string& size, const std::string& projectile, const std::string& solver,

@@ -134,8 +134,10 @@ std::string format_check(const Config& c, const CheckReport& r) {
                      c.solver.tolerance);
     return o.str();
   }
-  o << fmt::format("stable step     {:.4e} s ({})\n", r.stable_dt,
-                   r.fe_elements ? "Silling-Askari bound and the elements'" : "Silling-Askari bound");
+  const bool penalty = !c.contact.indenters.empty() || !c.contact.projectiles.empty();
+  o << fmt::format("stable step     {:.4e} s ({}{})\n", r.stable_dt,
+                   r.fe_elements ? "Silling-Askari bound and the elements'" : "Silling-Askari bound",
+                   penalty ? ", with the contact penalty" : "");
   if (c.solver.type == SolverType::implicit_dynamic)
     o << fmt::format("time step       {:.4e} s (implicit Newmark, {:.1f} x the stable step)\n", r.dt,
                      r.dt / r.stable_dt);

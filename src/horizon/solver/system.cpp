@@ -105,6 +105,14 @@ System build_system(const Config& config) {
     s.contact_stiffness = std::max(
         s.contact_stiffness,
         penalty_stiffness(p.law, p.stiffness, p.max_penetration > 0 ? p.max_penetration : config.spacing));
+  // The indenters push with the same quadratic penalty (contact/indenter.hpp): a particle
+  // pressed into one has the spring 2 K d too, and the explicit step must know it (a stiff
+  // wall with a step from the bonds alone gains energy once a particle is deep in it).
+  // As for a projectile without max_penetration, the stiffness is taken at a depth of one
+  // spacing (contact/rigid_contact.hpp penalty_stiffness).
+  for (const auto& p : config.contact.indenters)
+    s.contact_stiffness =
+        std::max(s.contact_stiffness, penalty_stiffness(ContactLaw::quadratic, p.stiffness, config.spacing));
 
   LatticeSpec spec{config.dimension, config.spacing, cell_volume(config), config.lattice_origin};
   for (std::size_t b = 0; b < config.bodies.size(); ++b) {
@@ -283,7 +291,7 @@ double System::dissipated() const {
 }
 
 double stable_time_step(const System& s) {
-  // A particle in contact with a rigid projectile also has the penalty spring k = K_c V
+  // A particle in contact with a rigid projectile or an indenter also has the penalty spring k = K_c V
   // (contact/rigid_contact.hpp): its stiffness joins the bond sum of the Silling-Askari
   // bound, dt = sqrt(2 rho / (sum c V_j/|xi| + K_c)) (Silling and Askari 2005, eq. 17 with
   // the contact spring as one more term). Models that set their own step and the elements

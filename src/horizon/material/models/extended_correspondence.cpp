@@ -58,6 +58,11 @@ const ModelTraits& traits() {
         {"shape_tolerance",
          "smallest reciprocal condition number of the shape tensor; below it the particle carries no stress",
          R::fraction, 1e-4},
+        {"min_acting_fraction",
+         "smallest share of the family's influence weight sum w V that may still act (omega_D drops bonds); below it "
+         "the particle carries no stress (its stiffness grows as the inverse of the share: the step would not hold); "
+         "0: off",
+         R::fraction, 0.0},
     };
     m.choices = {
         {"stress_law", "law on the nonlocal strain E_(m): elastic (isotropic quadratic), j2 (linear hardening), "
@@ -118,7 +123,9 @@ class ExtendedCorrespondence final : public Model {
 
   StrainLawParams law_;
   int dim_ = 3;
-  double m_ = 0, critical_ = 0.99, tolerance_ = 1e-4;
+  double m_ = 0, critical_ = 0.99, tolerance_ = 1e-4, min_acting_ = 0;
+  std::vector<double> family_weight_;  // per particle: sum of w V over its reference family
+  std::vector<double> acting_share_;   // per particle: the acting set's share of it (output field)
   bool hencky_ = false;  // strain_measure hencky (extended_correspondence.hpp, HenckyMap)
   double stab_yield_ = 0;  // stabilization_yield (0: elastic stabilisation)
   double gs_mu_bar_ = 0;   // G_s mu_bar [Pa]
@@ -170,6 +177,7 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   if (hencky_) m_ = 1.0;  // Green bond strains; the logarithm is taken of their average
   critical_ = parameter(mat, "critical_damage");
   tolerance_ = parameter(mat, "shape_tolerance");
+  min_acting_ = parameter(mat, "min_acting_fraction");
   const double Gs = parameter(mat, "stabilization");
   stab_yield_ = law_.law == StrainLaw::elastic ? 0.0 : parameter(mat, "stabilization_yield");
   // mu_bar of the nonlinear solid's bond-based term (digest sec. 13.2).
@@ -181,11 +189,15 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   particles_ = in.particles;
   local_.assign(s.particles.size(), -1);
   ks_.assign(particles_.size(), 0.0);
+  family_weight_.assign(particles_.size(), 0.0);
+  acting_share_.clear();
   for (std::size_t l = 0; l < particles_.size(); ++l) {
     const uint32_t i = particles_[l];
     local_[i] = static_cast<int32_t>(l);
     double w = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) w += B.weight[k] * B.volume[k];
+    family_weight_[l] = w;
+    acting_share_.push_back(1.0);
     ks_[l] = w > 0 ? Gs * mu_bar * dim_ / w : 0.0;
   }
   fill_state_based_coefficients(in, 1.0 + Gs);
@@ -234,15 +246,23 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
         NonlocalGradient K;  // the shape tensor, for the conditioning guard only
         extended::MomentMap map;
         map.reset(dim_);
+        double acting_weight = 0;
         for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
           if (!acts(k)) continue;
           const Vec3 xi = X[B.nbr[k]] - X[i];
           const double w = B.weight[k] * B.volume[k];
           map.add(xi, w, dim_);
           K.add(xi, xi, w);
+          acting_weight += w;
         }
+        // The moment map M = sum w H (x) n n of a family that omega_D has thinned to a
+        // share s of its weight is ~ s M_full: E = M^-1 sum w eps H and the force of
+        // (4.7) both scale as 1/s, so the particle's stiffness grows as 1/s while the
+        // stable step was taken from the full family. min_acting_fraction bounds 1/s.
+        const bool enough = acting_weight >= min_acting_ * family_weight_[l];
+        acting_share_[l] = family_weight_[l] > 0 ? acting_weight / family_weight_[l] : 0.0;
         Mat3 Kinv, F;
-        map_ok_[l] = K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
+        map_ok_[l] = enough && K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
         maps_[l] = map;
         acting_[l] = count;
       }
@@ -358,6 +378,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
   ModelField in{"carries_no_stress", std::vector<double>(n, 0.0)};
   ModelField pw{"plastic_work", std::vector<double>(n, 0.0)};
   ModelField fe{"failure_energy", std::vector<double>(n, 0.0)};
+  ModelField as{"acting_share", std::vector<double>(n, 0.0)};
   for (const auto& model : s.models) {
     const auto* c = dynamic_cast<const ExtendedCorrespondence*>(model.get());
     if (!c) continue;
@@ -369,6 +390,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
       in.values[i] = c->inactive_[l];
       pw.values[i] = c->plastic_total_[l];
       fe.values[i] = c->failure_total_[l];
+      as.values[i] = c->acting_share_[l];
     }
   }
   out.push_back(std::move(vm));
@@ -377,6 +399,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
   out.push_back(std::move(in));
   out.push_back(std::move(pw));
   out.push_back(std::move(fe));
+  out.push_back(std::move(as));
 }
 
 }  // namespace
