@@ -1,5 +1,5 @@
 #pragma once
-// Classical finite-element regions (linear elastic 8-node hexahedra with one-point
+// Classical finite-element regions (linear elastic or J2-plastic 8-node hexahedra with one-point
 // integration and hourglass control, or 4-node tetrahedra) advanced by the explicit
 // loop together with the peridynamic particles, and their coupling to peridynamic
 // bodies (seed 002 digest sec. 7; docs/design.md, "Finite-element regions").
