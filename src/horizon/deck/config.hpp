@@ -91,6 +91,9 @@ struct BodyConfig {
   Discretization discretization = Discretization::peridynamic;
   FeElement element = FeElement::hex8;  // fe only
   double hourglass = 0.1;               // fe hex8 only: hourglass stiffness coefficient kappa
+  // fe only: J2 plasticity of the elements (fe/fe_region.hpp); yield_stress 0: elastic.
+  double fe_yield_stress = 0;      // sigma_y [Pa]
+  double fe_hardening_modulus = 0; // H [Pa]: sigma_y + H eps_p
 };
 
 // A polygon (3-D) or a segment (2-D: two points, extruded through the thickness).

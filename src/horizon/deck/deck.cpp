@@ -228,7 +228,7 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
   std::vector<std::string> materials;
   for (const auto& mat : config.materials) materials.push_back(mat.name);
   for (std::size_t i = 0; i < items.size(); ++i) {
-    MapReader b(ctx, items[i], {"name", "material", "shape", "discretization", "element", "hourglass"});
+    MapReader b(ctx, items[i], {"name", "material", "shape", "discretization", "element", "hourglass", "j2"});
     BodyConfig body;
     body.name = "body" + std::to_string(i + 1);
     if (auto n = b.find("name")) {
@@ -253,7 +253,7 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
       body.discretization = read_enum<Discretization>(ctx, *d, {{"peridynamic", Discretization::peridynamic},
                                                                 {"fe", Discretization::fe}});
     const bool fe = body.discretization == Discretization::fe;
-    for (const char* key : {"element", "hourglass"})
+    for (const char* key : {"element", "hourglass", "j2"})
       if (auto k = b.find(key); k && !fe)
         ctx.fail(*k->key_mark, k->path + ": applies to finite-element bodies only (discretization: fe)");
     if (auto e = b.find("element"))
@@ -263,6 +263,12 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
         ctx.fail(*hg->key_mark, hg->path + ": hourglass control applies to hex8 elements only");
       body.hourglass = read_non_negative(ctx, *hg);
       if (body.hourglass > 1) ctx.fail(hg->mark, hg->path + ": expected a coefficient in [0, 1] (typically 0.05 to 0.15)");
+    }
+    if (auto j = b.find("j2")) {
+      // J2 plasticity of the elements (classical/strain_laws.hpp, small strain).
+      MapReader jm(ctx, *j, {"yield_stress", "hardening_modulus"});
+      body.fe_yield_stress = read_positive(ctx, jm.get("yield_stress", "the initial yield stress sigma_y [Pa]"));
+      if (auto hm = jm.find("hardening_modulus")) body.fe_hardening_modulus = read_non_negative(ctx, *hm);
     }
     if (fe && body.shape.kind() != Shape::Kind::box)
       ctx.fail(shape.mark, shape.path + ": a finite-element body's shape is a box (its elements fill the box on the "
@@ -521,7 +527,7 @@ Config read_config(DeckContext& ctx, const Item& root) {
     for (std::size_t i = 0; i < config.bodies.size(); ++i)
       if (config.bodies[i].discretization == Discretization::fe) {
         const Item d = *MapReader(ctx, items[i], {"name", "material", "shape", "discretization", "element",
-                                                  "hourglass"}).find("discretization");
+                                                  "hourglass", "j2"}).find("discretization");
         ctx.fail(d.mark, d.path + ": finite-element bodies run with solver type explicit, in solid decks (no "
                                   "structure)");
       }

@@ -8,7 +8,9 @@
 #include <unordered_map>
 
 #include "horizon/core/error.hpp"
+#include "horizon/core/state_archive.hpp"
 #include "horizon/deck/config.hpp"
+#include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -137,12 +139,41 @@ void FeRegion::apply(System& s, bool energy) {
       for (int j = 0; j < 3; ++j) eps[i][j] = 0.5 * (H[i][j] + H[j][i]);
     const double tr = eps[0][0] + eps[1][1] + eps[2][2];
     double w = 0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        sig[i][j] = 2 * mu[e] * eps[i][j] + (i == j ? lambda[e] * tr : 0.0);
-        w += 0.5 * sig[i][j] * eps[i][j];
-      }
     const double V = volume[e];
+    if (plastic() && yield_stress[e] > 0) {
+      // J2 plasticity at the integration point (classical/strain_laws.hpp, j2: radial
+      // return of Simo and Hughes 1998, box 3.2) on the small strain eps; w is the
+      // elastic energy kappa/2 tr(E_e)^2 + mu |dev E_e|^2, the step's plastic work
+      // Y(eps_p,n+1) Delta eps_p goes to the ledger at commit.
+      classical::StrainLawParams law;
+      law.law = classical::StrainLaw::j2;
+      law.kappa = lambda[e] + 2.0 * mu[e] / 3.0;
+      law.mu = mu[e];
+      law.yield_stress = yield_stress[e];
+      law.hardening_modulus = hardening[e];
+      classical::StrainLawState committed, trial;
+      const double* hc = &history[e * kHistory];
+      committed.plastic_strain = Eigen::Map<const Eigen::Matrix3d>(hc);
+      committed.alpha = hc[9];
+      Eigen::Matrix3d E;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) E(i, j) = eps[i][j];
+      const classical::StrainLawOut out = classical::strain_law(law, committed, E, s.dt, trial);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) sig[i][j] = out.S(i, j);
+      w = out.W;
+      double* ht = &history_trial[e * kHistory];
+      Eigen::Map<Eigen::Matrix3d> plastic_strain(ht);
+      plastic_strain = trial.plastic_strain;
+      ht[9] = trial.alpha;
+      elem_work[e] = out.plastic_work * V;
+    } else {
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          sig[i][j] = 2 * mu[e] * eps[i][j] + (i == j ? lambda[e] * tr : 0.0);
+          w += 0.5 * sig[i][j] * eps[i][j];
+        }
+    }
     Vec3* F = &elem_force[e * static_cast<std::size_t>(n)];
     for (int I = 0; I < n; ++I) {
       Vec3 f;
@@ -180,6 +211,27 @@ void FeRegion::apply(System& s, bool energy) {
     P.damage[p] = 0;
     if (energy) P.energy[p] = w / P.volume[p];
   }
+}
+
+void FeRegion::commit(System& s) {
+  if (!plastic()) return;
+  history = history_trial;
+  const int n = nodes_per_element;
+  for (std::size_t a = 0; a < nodes(); ++a) {
+    if (!node_owned[a]) continue;
+    double w = 0;
+    for (uint64_t k = node_offset[a]; k < node_offset[a + 1]; ++k) w += elem_work[node_elem[k] / static_cast<uint32_t>(n)];
+    if (w != 0) s.dissipated_at[node_particle[a]] += w / n;
+  }
+  // A second commit without a force pass dissipates nothing more.
+  std::fill(elem_work.begin(), elem_work.end(), 0.0);
+}
+
+void FeRegion::checkpoint(StateArchive& a) {
+  a.check("fe elements", elements(), "finite elements");
+  a.io("fe_history", history);
+  a.io("fe_history_trial", history_trial);
+  a.io("fe_plastic_work", elem_work);
 }
 
 double FeRegion::element_energy(const System&) const {
@@ -365,6 +417,8 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
       fe.mu.push_back(mu);
       fe.density.push_back(rho);
       fe.hourglass_k.push_back(body.hourglass);  // scaled below, once the geometry is known
+      fe.yield_stress.push_back(body.fe_yield_stress);
+      fe.hardening.push_back(body.fe_hardening_modulus);
     }
     // The FE-owned nodes become particles at their lattice points (the element geometry
     // keeps node_X); the volume is set to the lumped one below.
@@ -382,6 +436,11 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
   if (config.dimension != 3) throw Error("finite-element bodies are three-dimensional (dimension: 3)");
   fe.setup_geometry();
   const std::size_t ne = fe.elements();
+  if (std::any_of(fe.yield_stress.begin(), fe.yield_stress.end(), [](double y) { return y > 0; })) {
+    fe.history.assign(ne * FeRegion::kHistory, 0.0);
+    fe.history_trial = fe.history;
+    fe.elem_work.assign(ne, 0.0);
+  }
   const int npe = fe.nodes_per_element;
   // Hourglass stiffness k = kappa (lambda + 2 mu) V sum_I |b_I|^2 / 8: kappa times the
   // one-point element's stiffness scale for a mode of unit hourglass vector norm^2 / 8

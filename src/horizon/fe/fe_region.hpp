@@ -1,5 +1,5 @@
 #pragma once
-// Classical finite-element regions (linear elastic 8-node hexahedra with one-point
+// Classical finite-element regions (linear elastic or J2-plastic 8-node hexahedra with one-point
 // integration and hourglass control, or 4-node tetrahedra) advanced by the explicit
 // loop together with the peridynamic particles, and their coupling to peridynamic
 // bodies (seed 002 digest sec. 7; docs/design.md, "Finite-element regions").
@@ -36,6 +36,7 @@ namespace horizon {
 struct Config;
 struct System;
 struct Particles;
+class StateArchive;
 
 struct FeRegion {
   int nodes_per_element = 8;  // 8: hex8, 4: tet4 (one kind per run's FE bodies)
@@ -59,6 +60,19 @@ struct FeRegion {
   // Node -> (element, local node) lists, for a race-free assembly.
   std::vector<uint64_t> node_offset;
   std::vector<uint32_t> node_elem;  // element * nodes_per_element + local
+  // J2 plasticity (the classical small-strain law of classical/strain_laws.hpp, the one
+  // the extended correspondence model uses, with the element's strain eps = sym H as its
+  // strain: Simo and Hughes 1998, "Computational Inelasticity", box 3.1-3.2): per element
+  // the yield stress (0: linear elastic) and the hardening modulus H of
+  // sigma_y + H eps_p. History per element (one integration point: hex8's centre, tet4's
+  // only one), kHistory numbers: the plastic strain E_p (3 x 3, column-major) and the
+  // equivalent plastic strain eps_p; committed after each step (commit), the trial one
+  // written by apply. Empty without plastic elements.
+  static constexpr int kHistory = 10;
+  std::vector<double> yield_stress, hardening;
+  std::vector<double> history, history_trial;
+  // Plastic work of the element in the last apply [J] (elements without plasticity: 0).
+  std::vector<double> elem_work;
   // Scratch: element nodal forces and energies.
   std::vector<Vec3> elem_force;
   std::vector<double> elem_energy;
@@ -71,6 +85,15 @@ struct FeRegion {
   // Overwrites the force density and the energy density of every FE-owned particle
   // with the element assembly (F_I / V_I, the FE-owned share of element energies / V_I).
   void apply(System& s, bool energy);
+  // Accepts the trial history of the last apply and adds its plastic work to the ledger
+  // (System::dissipated_at): each FE-owned node takes 1/n of its elements' work, as it
+  // takes their energy (a node a peridynamic particle holds takes none, as for the energy).
+  void commit(System& s);
+  bool plastic() const { return !history.empty(); }
+  // The plastic history for checkpoints (global extent: FE regions are not split over ranks).
+  void checkpoint(StateArchive& a);
+  // Equivalent plastic strain per element (0 for elastic elements).
+  double plastic_strain(std::size_t e) const { return plastic() ? history[e * kHistory + 9] : 0.0; }
   // Strain energy of all the elements (not only the FE-owned share) [J].
   double element_energy(const System& s) const;
   // Stable step of the elements with lumped mass (Flanagan and Belytschko 1981, sec. 7:

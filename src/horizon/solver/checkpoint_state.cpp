@@ -1,6 +1,8 @@
 // The system's part of a checkpoint (solver/system.hpp checkpoint_system).
 #include "horizon/solver/system.hpp"
 
+#include "horizon/fe/fe_region.hpp"
+
 namespace horizon {
 
 void checkpoint_system(System& s, StateArchive& a) {
@@ -47,6 +49,12 @@ void checkpoint_system(System& s, StateArchive& a) {
   a.io("heat_plastic", H.plastic_heat);
   a.io("heat_time", H.time);
 
+  // The elements' plastic history (fe/fe_region.hpp; only a deck with J2 elements has it).
+  if (s.fe && s.fe->plastic()) {
+    a.push("fe");
+    s.fe->checkpoint(a);
+    a.pop();
+  }
   for (std::size_t m = 0; m < s.models.size(); ++m) {
     a.push("model " + std::to_string(m));
     s.models[m].checkpoint(a);

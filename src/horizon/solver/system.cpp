@@ -277,6 +277,7 @@ void setup_model(System& s, const std::vector<MaterialConfig>& given, const Conf
 
 void commit_history(System& s) {
   for (std::size_t m = 0; m < s.models.size(); ++m) s.models[m].commit(s);
+  if (s.fe) s.fe->commit(s);  // the elements' plastic history (fe/fe_region.hpp)
 }
 
 double System::dissipated() const {
