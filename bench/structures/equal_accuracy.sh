@@ -21,60 +21,12 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 py() { python3 -c "print($1)"; }
 a=0.5; h=0.05; q=1.0e5; E=200.0e9
+source "$(dirname "${BASH_SOURCE[0]}")/plate_decks.sh"
 bp_deck() {  # $1 n, $2 solver, $3 out
-  local dx; dx=$(py "$a/$1")
-  cat <<DECK
-dimension: 2
-structure:
-  type: plate
-  supports:
-    - {axis: x, at: 0.0, kind: simply_supported}
-    - {axis: x, at: $a, kind: simply_supported}
-    - {axis: y, at: 0.0, kind: simply_supported}
-    - {axis: y, at: $a, kind: simply_supported}
-thickness: $h
-spacing: $dx
-horizon_factor: 3
-lattice_origin: [0.0, 0.0]
-materials:
-  steel: {model: bond_pair, density: 7800, youngs_modulus: $E, poissons_ratio: 0.3333333333333333}
-bodies:
-  - {name: plate, material: steel, shape: {box: {min: [0.0, 0.0], max: [$a, $a]}}}
-loads:
-  - {region: all, pressure: [0, 0, -$q]}
-solver: $2
-output: {directory: $3, frames: 1}
-DECK
+  plate_bp_deck "$a" "$h" "$(py "$a/$1")" "$E" "$q" "$2" "$3"
 }
 lps_deck() {  # $1 layers, $2 solver, $3 out
-  local dx; dx=$(py "$h/$1")
-  cat <<DECK
-dimension: 3
-spacing: $dx
-horizon_factor: 3
-materials:
-  steel: {model: lps, density: 7800, youngs_modulus: $E, poissons_ratio: 0.3333333333333333}
-bodies:
-  - {name: plate, material: steel, shape: {box: {min: [0.0, 0.0, 0.0], max: [$a, $a, $h]}}}
-regions:
-  top: {box: {min: [-1, -1, $(py "$h-$dx")], max: [$(py "$a+1"), $(py "$a+1"), $h]}}
-  edge_x0: {box: {min: [-1, -1, -1], max: [$dx, $(py "$a+1"), $dx]}}
-  edge_x1: {box: {min: [$(py "$a-$dx"), -1, -1], max: [$(py "$a+1"), $(py "$a+1"), $dx]}}
-  edge_y0: {box: {min: [-1, -1, -1], max: [$(py "$a+1"), $dx, $dx]}}
-  edge_y1: {box: {min: [-1, $(py "$a-$dx"), -1], max: [$(py "$a+1"), $(py "$a+1"), $dx]}}
-  corner: {box: {min: [-1, -1, -1], max: [$dx, $dx, $dx]}}
-  corner_x: {box: {min: [$(py "$a-$dx"), -1, -1], max: [$(py "$a+1"), $dx, $dx]}}
-loads:
-  - {region: top, traction: [0, 0, -$q], normal: z}
-  - {region: edge_x0, displacement: [null, null, 0]}
-  - {region: edge_x1, displacement: [null, null, 0]}
-  - {region: edge_y0, displacement: [null, null, 0]}
-  - {region: edge_y1, displacement: [null, null, 0]}
-  - {region: corner, displacement: [0, 0, null]}
-  - {region: corner_x, displacement: [null, 0, null]}
-solver: $2
-output: {directory: $3, frames: 1}
-DECK
+  plate_lps_deck "$a" "$h" "$(py "$h/$1")" "$E" "$q" "$2" "$3"
 }
 cpu_run() {  # args: horizon arguments; prints CPU seconds
   python3 - "$bin" "$@" <<'PY'

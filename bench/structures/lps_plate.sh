@@ -19,62 +19,9 @@ trap 'rm -rf "$work"' EXIT
 py() { python3 -c "print($1)"; }
 a=$(py "40*$dx"); h=$(py "4*$dx"); q=1.0e5
 E=200.0e9
-bp_deck() {  # $1 solver map, $2 output directory
-cat <<DECK
-dimension: 2
-structure:
-  type: plate
-  supports:
-    - {axis: x, at: 0.0, kind: simply_supported}
-    - {axis: x, at: $a, kind: simply_supported}
-    - {axis: y, at: 0.0, kind: simply_supported}
-    - {axis: y, at: $a, kind: simply_supported}
-thickness: $h
-spacing: $dx
-horizon_factor: 3
-lattice_origin: [0.0, 0.0]
-materials:
-  steel: {model: bond_pair, density: 7800, youngs_modulus: $E, poissons_ratio: 0.3333333333333333}
-bodies:
-  - {name: plate, material: steel, shape: {box: {min: [0.0, 0.0], max: [$a, $a]}}}
-loads:
-  - {region: all, pressure: [0, 0, -$q]}
-solver: $1
-output: {directory: $2, frames: 1}
-DECK
-}
-# The 3-D plate: particles at cell centres, 4 layers through h; simply supported along
-# the bottom edges (w = 0 on the bottom layer's edge rows), pressure as a traction on
-# the top layer; in-plane rigid motions held at a corner (3-2-1).
-lps_deck() {
-cat <<DECK
-dimension: 3
-spacing: $dx
-horizon_factor: 3
-materials:
-  steel: {model: lps, density: 7800, youngs_modulus: $E, poissons_ratio: 0.3333333333333333}
-bodies:
-  - {name: plate, material: steel, shape: {box: {min: [0.0, 0.0, 0.0], max: [$a, $a, $h]}}}
-regions:
-  top: {box: {min: [-1, -1, $(py "$h-$dx")], max: [$(py "$a+1"), $(py "$a+1"), $h]}}
-  edge_x0: {box: {min: [-1, -1, -1], max: [$dx, $(py "$a+1"), $dx]}}
-  edge_x1: {box: {min: [$(py "$a-$dx"), -1, -1], max: [$(py "$a+1"), $(py "$a+1"), $dx]}}
-  edge_y0: {box: {min: [-1, -1, -1], max: [$(py "$a+1"), $dx, $dx]}}
-  edge_y1: {box: {min: [-1, $(py "$a-$dx"), -1], max: [$(py "$a+1"), $(py "$a+1"), $dx]}}
-  corner: {box: {min: [-1, -1, -1], max: [$dx, $dx, $dx]}}
-  corner_x: {box: {min: [$(py "$a-$dx"), -1, -1], max: [$(py "$a+1"), $dx, $dx]}}
-loads:
-  - {region: top, traction: [0, 0, -$q], normal: z}
-  - {region: edge_x0, displacement: [null, null, 0]}
-  - {region: edge_x1, displacement: [null, null, 0]}
-  - {region: edge_y0, displacement: [null, null, 0]}
-  - {region: edge_y1, displacement: [null, null, 0]}
-  - {region: corner, displacement: [0, 0, null]}
-  - {region: corner_x, displacement: [null, 0, null]}
-solver: $1
-output: {directory: $2, frames: 1}
-DECK
-}
+source "$(dirname "${BASH_SOURCE[0]}")/plate_decks.sh"
+bp_deck() { plate_bp_deck "$a" "$h" "$dx" "$E" "$q" "$1" "$2"; }  # $1 solver map, $2 output directory
+lps_deck() { plate_lps_deck "$a" "$h" "$dx" "$E" "$q" "$1" "$2"; }
 bp_deck "{type: static, method: newton, linear_solver: cholesky, tolerance: 1.0e-8}" "$work/bp_static" > "$work/bp_static.yaml"
 lps_deck "{type: static, method: newton, linear_solver: $lps_solver, tolerance: 1.0e-6, max_iterations: 10}" "$work/lps_static" > "$work/lps_static.yaml"
 bp_deck "{type: explicit, end_time: 1.0, safety_factor: 0.8}" "$work/bp_explicit" > "$work/bp_explicit.yaml"
