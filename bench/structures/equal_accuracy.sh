@@ -54,7 +54,7 @@ case_run() {  # $1 kind (bp | lps), $2 n or layers
   for l in $layers; do case_run lps "$l"; done
 } > "$work/rows.txt"
 python3 - "$work" "$a" "$h" "$q" "$E" <<'PY'
-import json, sys, math, glob, re, struct
+import json, math, os, sys
 work, a, h, q, E = sys.argv[1], *map(float, sys.argv[2:])
 nu = 1/3; D = E*h**3/(12*(1-nu*nu)); G = E/(2*(1+nu)); k = 5/6
 navier = 0.00406235*q*a**4/D
@@ -64,20 +64,10 @@ for m in range(1, 400, 2):
         al2 = math.pi**2*(m*m + n*n)/a**2
         s = math.sin(m*math.pi/2)*math.sin(n*math.pi/2)
         mindlin += 16*q/(math.pi**2*m*n)*s*(1/(D*al2*al2) + 1/(k*G*h*al2))
+sys.path.insert(0, os.environ["PLATE_DECKS_DIR"])
+from plate_centre import centre_w as centre_w_of
 def centre_w(out):
-    f = sorted(glob.glob(out + "/frames/*.vtu"))[-1]
-    data = open(f, "rb").read()
-    he = data.index(b"<AppendedData"); start = data.index(b"_", he) + 1; head = data[:he].decode()
-    def arr(name, nc):
-        mm = re.search(r'Name="%s" NumberOfComponents="%d"[^>]*offset="(\d+)"' % (name, nc), head)
-        off = int(mm.group(1)); nb = struct.unpack_from("<Q", data, start + off)[0]
-        v = struct.unpack_from("<%dd" % (nb // 8), data, start + off + 8)
-        return [v[i:i+nc] for i in range(0, len(v), nc)]
-    X = arr("Points", 3); u = arr("displacement", 3)
-    best = min(range(len(X)), key=lambda i: (X[i][0]-a/2)**2 + (X[i][1]-a/2)**2)
-    xc, yc = X[best][0], X[best][1]
-    ws = [u[i][2] for i in range(len(X)) if abs(X[i][0]-xc) < 1e-9 and abs(X[i][1]-yc) < 1e-9]
-    return -sum(ws)/len(ws)
+    return centre_w_of(out, a)
 print(f"a = {a} m, h = {h} m, q = {q} Pa: Kirchhoff (Navier) w_c = {navier:.4e} m, Mindlin w_c = {mindlin:.4e} m ({mindlin/navier:.4f} of Navier)")
 for line in open(work + "/rows.txt"):
     kind, size, ts, per, dt = line.split()

@@ -32,25 +32,15 @@ for c in bp lps; do
   OMP_NUM_THREADS=1 "$bin" run -q --end-time "$(py "($steps-0.5)*$dt")" "$work/${c}_explicit.yaml" > /dev/null
 done
 python3 - "$work" "$a" "$h" "$q" "$E" <<'PY'
-import json, sys, math, glob, re, struct
+import json, math, os, sys
 work, a, h, q, E = sys.argv[1], *map(float, sys.argv[2:])
 nu = 1/3
 D = E*h**3/(12*(1-nu*nu))
 navier = 0.00406235*q*a**4/D
+sys.path.insert(0, os.environ["PLATE_DECKS_DIR"])
+from plate_centre import centre_w as centre_w_of
 def centre_w(out):
-    f = sorted(glob.glob(out + "/frames/*.vtu"))[-1]
-    data = open(f, "rb").read()
-    he = data.index(b"<AppendedData"); start = data.index(b"_", he) + 1; head = data[:he].decode()
-    def arr(name, nc):
-        m = re.search(r'Name="%s" NumberOfComponents="%d"[^>]*offset="(\d+)"' % (name, nc), head)
-        off = int(m.group(1)); nb = struct.unpack_from("<Q", data, start + off)[0]
-        v = struct.unpack_from("<%dd" % (nb // 8), data, start + off + 8)
-        return [v[i:i+nc] for i in range(0, len(v), nc)]
-    X = arr("Points", 3); u = arr("displacement", 3)
-    best = min(range(len(X)), key=lambda i: (X[i][0]-a/2)**2 + (X[i][1]-a/2)**2)
-    xc, yc = X[best][0], X[best][1]
-    ws = [u[i][2] for i in range(len(X)) if abs(X[i][0]-xc) < 1e-9 and abs(X[i][1]-yc) < 1e-9]
-    return -sum(ws)/len(ws)
+    return centre_w_of(out, a)
 print(f"plate a = {a} m, h = {h} m (a/h = {a/h:.0f}), q = {q} Pa; Navier w_c = {navier:.4e} m")
 for c, name in (("bp", "bond_pair plate"), ("lps", "3-D LPS, 4 layers")):
     s = json.load(open(f"{work}/{c}_static/summary.json"))

@@ -2,6 +2,8 @@
 # equal_accuracy.sh), sourced by them: a simply supported square steel plate of side a and
 # thickness h under a uniform pressure q, nu = 1/3, horizon 3 spacings.
 # Both print a deck; arguments: a h dx E q solver-map output-directory.
+PLATE_DECKS_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+export PLATE_DECKS_DIR  # plate_centre.py, for the scripts' Python
 plate_py() { python3 -c "print($1)"; }
 
 # O'Grady's bond-pair plate (model bond_pair), one node through the thickness.
