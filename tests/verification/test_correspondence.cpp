@@ -355,6 +355,8 @@ TEST(Correspondence, RigidMotionAndMomentum) {
 
 // --- static solves: neo-Hookean and J2 uniaxial stress --------------------------------
 
+}  // namespace
+
 // A 2-D plane-stress strip, 27 x 7 particles (h = 1 mm, horizon 3h, partial volumes),
 // its first and last six columns (two horizons) held in x at u = eps_end * X (ramped over
 // the load steps), its middle row held in y, free laterally; static Newton with the
@@ -388,6 +390,8 @@ solver: {{type: static, method: newton, linear_solver: cholesky, tolerance: 1.0e
 )",
                      material, end_strain, end_strain, load_steps);
 }
+
+namespace {
 
 struct StripResult {
   double nominal = 0;  // right reaction / reference section [Pa]

@@ -162,30 +162,11 @@ TEST(FePlasticity, Tet4BarFollowsTheJ2CurveAndUnloadsElastically) { check_bar("t
 // stress, 27 x 7 mm, h = 1 mm, delta = 3h, static Newton) stretched to `strain`: the
 // nominal stress (right reaction / section).
 double correspondence_strip(double strain) {
-  const std::string deck = fmt::format(R"(dimension: 2
-plane: stress
-thickness: 1.0e-3
-spacing: 1.0e-3
-horizon_factor: 3
-partial_volume: true
-lattice_origin: [0, 0]
-materials:
-  m: {{model: correspondence, stress_law: j2, stabilization: 0.1, density: 2700, youngs_modulus: {E},
-       poissons_ratio: {nu}, yield_stress: {sy}, hardening_modulus: {H}}}
-bodies:
-  - {{name: strip, material: m, shape: {{box: {{min: [-0.0005, -0.0035], max: [0.0265, 0.0035]}}}}}}
-regions:
-  left:   {{box: {{min: [-0.0005, -0.0035], max: [0.0055, 0.0035]}}}}
-  right:  {{box: {{min: [0.0205, -0.0035], max: [0.0265, 0.0035]}}}}
-  middle: {{box: {{min: [-0.0005, -0.0001], max: [0.0265, 0.0001]}}}}
-loads:
-  - {{region: left,   displacement: ["{e}*x", null]}}
-  - {{region: right,  displacement: ["{e}*x", null]}}
-  - {{region: middle, displacement: [null, 0]}}
-solver: {{type: static, method: newton, linear_solver: cholesky, tolerance: 1.0e-9, load_steps: 4}}
-)",
-                                       fmt::arg("E", kE), fmt::arg("nu", kNu), fmt::arg("sy", kSy),
-                                       fmt::arg("H", kH), fmt::arg("e", strain));
+  const std::string deck = strip_deck(
+      fmt::format("model: correspondence, stress_law: j2, stabilization: 0.1, density: 2700, youngs_modulus: {}, "
+                  "poissons_ratio: {}, yield_stress: {}, hardening_modulus: {}",
+                  kE, kNu, kSy, kH),
+      strain, 4);
   const Config config = parse_deck(deck, "strip.yaml");
   System system = build_system(config);
   Loads loads(config, system);

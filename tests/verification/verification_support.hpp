@@ -29,6 +29,11 @@
 
 namespace horizon::verification {
 
+// A 2-D plane-stress strip under uniaxial stress, the deck of the correspondence J2 and
+// neo-Hookean checks (defined and described in test_correspondence.cpp); `material` is the
+// material map's inside.
+std::string strip_deck(const std::string& material, double end_strain, int load_steps);
+
 inline std::string source_path(const std::string& relative) { return std::string(HORIZON_SOURCE_DIR) + "/" + relative; }
 
 inline std::string read_text(const std::string& path) {
