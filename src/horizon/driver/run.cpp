@@ -1,4 +1,5 @@
 #include "horizon/driver/run.hpp"
+#include "horizon/driver/model_list.hpp"
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -304,15 +305,17 @@ nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
 
 }  // namespace
 
+std::string model_list(bool (*keep)(const ModelTraits&)) {
+  std::string names;
+  for (const ModelEntry& e : model_registry())
+    if (keep(e.traits)) names += (names.empty() ? "" : ", ") + e.traits.name;
+  return names;
+}
+
 std::string distributed_limits(const Config& c, const System& s, const RunOptions& o) {
   // The models a decomposed run can split (ModelTraits::unified or rows_local), from the
   // registry: no model is named here.
-  auto split_models = [] {
-    std::string names;
-    for (const ModelEntry& e : model_registry())
-      if (e.traits.unified || e.traits.rows_local) names += (names.empty() ? "" : ", ") + e.traits.name;
-    return names;
-  };
+  auto split_models = [] { return model_list([](const ModelTraits& t) { return t.unified || t.rows_local; }); };
   for (const auto& m : s.models)
     if (m->owns_force_pass() || (!m->unified() && !m->traits().rows_local))
       return "model " + m->traits().name + " is not split over ranks (the models that are: " + split_models() + ")";

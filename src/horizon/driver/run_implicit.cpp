@@ -16,6 +16,7 @@
 #include "horizon/core/version.hpp"
 #include "horizon/driver/summary.hpp"
 #include "horizon/driver/run.hpp"
+#include "horizon/driver/model_list.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/material/stress_field.hpp"
 #include "horizon/output/atomic_file.hpp"
@@ -60,8 +61,8 @@ static std::string implicit_distributed_limits(const Config& c, const System& s)
                        "linear_solver: matrix_free{}",
                        linear_name(sc.linear_solver), sc.type == SolverType::static_equilibrium ? " (or method: adr)" : "");
   if (!unified_form(s))
-    return "static and implicit solves are split over ranks for the unified models only (pmb, lps: `horizon models`), whose "
-           "tangent is applied row by row";
+    return "static and implicit solves are split over ranks for the unified models only (" +
+           model_list([](const ModelTraits& t) { return t.unified; }) + "), whose tangent is applied row by row";
   if (sc.condition_number) return "solver.condition_number assembles the whole tangent on one rank";
   return "";
 }
