@@ -190,14 +190,13 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   local_.assign(s.particles.size(), -1);
   ks_.assign(particles_.size(), 0.0);
   family_weight_.assign(particles_.size(), 0.0);
-  acting_share_.clear();
+  acting_share_.assign(particles_.size(), 1.0);
   for (std::size_t l = 0; l < particles_.size(); ++l) {
     const uint32_t i = particles_[l];
     local_[i] = static_cast<int32_t>(l);
     double w = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) w += B.weight[k] * B.volume[k];
     family_weight_[l] = w;
-    acting_share_.push_back(1.0);
     ks_[l] = w > 0 ? Gs * mu_bar * dim_ / w : 0.0;
   }
   fill_state_based_coefficients(in, 1.0 + Gs);
