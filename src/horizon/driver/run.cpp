@@ -520,8 +520,9 @@ struct ExplicitRun::State {
     std::string failure;
     if (lead) {
       try {
-        w.write(checkpoint_path());
+        // history.csv first: once the checkpoint file is on disk, so are its rows.
         write_file_atomic((dir / "history.csv").string(), history.str());
+        w.write(checkpoint_path());
       } catch (const OutputError& e) {
         failure = e.what();
       }
