@@ -714,6 +714,10 @@ struct Block {
 //   - signed (plastic) pair, e = coef (1 - cos(s - theta_p)), s = (w_j + w_j' - 2 w_k)/|xi|:
 //     coef cos(s - theta_p) b b^T/|xi|^2, b = (1, 1, -2), while elastic, and 0 while the
 //     pair flows plastically (perfect plasticity, sec. 3.5: the force is capped);
+//   - plastic pair of a flat shell, e = coef (1 - cos |d - p|), d the kink vector (Kink):
+//     b b^T/|xi|^2 (x) T H T^T, T = [z, z x xi/|xi|], H = coef (cos r h h^T + sin r/r
+//     (I - h h^T)) while elastic, coef sin theta_c (I - h h^T)/r while flowing (the
+//     consistent tangent of the radial return), h = (d - p)/r, r = |d - p|;
 //   - isotropic-curvature correction (sec. 4.4), linear in y: per centre k,
 //     K += (sum_q iso_q b_q)(sum_q c_q b_q)^T I, c_q = 2 V_j/(|xi| m0);
 //   - extension springs, e = coef (|Y| - |xi|)^2 (+ dilatation): (t/|Y|)(I - n n^T) +
