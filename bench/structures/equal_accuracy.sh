@@ -10,6 +10,7 @@
 # lacks (5 % at a/h = 10). Static: Newton (bond-pair Cholesky on the analytic tangent; LPS
 # matrix-free CG, tolerance 1e-6), CPU seconds of the whole run. Explicit: CPU per step
 # from the difference of a 10- and a 110-step run, and the stable step.
+# The thickness may be set by PLATE_H (m; default 0.05, a/h = 10).
 # One thread. Usage, from the repository root after a build:
 #   bench/structures/equal_accuracy.sh "bond-pair n list" "LPS layer list" [horizon binary]
 #   e.g. bench/structures/equal_accuracy.sh "40 80" "4 6"
@@ -20,7 +21,7 @@ bin=${3:-build/horizon}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 py() { python3 -c "print($1)"; }
-a=0.5; h=0.05; q=1.0e5; E=200.0e9
+a=0.5; h=${PLATE_H:-0.05}; q=1.0e5; E=200.0e9
 source "$(dirname "${BASH_SOURCE[0]}")/plate_decks.sh"
 bp_deck() {  # $1 n, $2 solver, $3 out
   plate_bp_deck "$a" "$h" "$(py "$a/$1")" "$E" "$q" "$2" "$3"

@@ -20,11 +20,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "horizon/family/precrack.hpp"
+#include "horizon/material/models/bond_pair.hpp"
 #include "horizon/solver/static_driver.hpp"
 #include "../single_thread.hpp"
 #include "verification_support.hpp"
@@ -314,7 +319,7 @@ TEST(BondPair, AdrAgreesWithNewtonOnBeamsAndPlate) {
 // root and a residual deflection stays. Returns {peak, residual} tip deflections and
 // the number of nodes with plastic pairs.
 struct PlasticCycle {
-  double peak = 0, residual = 0;
+  double peak = 0, residual = 0, balance = 0;
   int plastic_nodes = 0;
 };
 PlasticCycle plastic_cycle(double ratio) {
@@ -351,6 +356,7 @@ solver: {{type: static, end_time: 2, load_steps: 20, tangent: finite_difference,
     out.peak = std::max(out.peak, -run.w_at({kLength, 0, 0}));
   }
   out.residual = -run.w_at({kLength, 0, 0});
+  out.balance = run.solver.ledger().balance_error();
   std::vector<ModelField> fields;
   run.system.models[0].fields(run.system, fields);
   for (const auto& f : fields)
@@ -367,14 +373,154 @@ TEST(BondPair, PlasticCantileverLoadUnload) {
          fmt::format("plastic cantilever at P L = 0.8 M_y: peak/elastic = {:.4f}, residual/peak = {:.2e}",
                      elastic.peak / w_elastic, elastic.residual / elastic.peak));
   report("plastic_residual", plastic.residual / plastic.peak,
-         fmt::format("plastic cantilever at P L = 1.2 M_y: residual/peak = {:.4f}, {} nodes with plastic pairs",
-                     plastic.residual / plastic.peak, plastic.plastic_nodes));
+         fmt::format("plastic cantilever at P L = 1.2 M_y: residual/peak = {:.4f}, {} nodes with plastic pairs, "
+                     "ledger {:.1e}",
+                     plastic.residual / plastic.peak, plastic.plastic_nodes, plastic.balance));
   EXPECT_NEAR(elastic.peak / w_elastic, 1.0, 0.02);
   EXPECT_LT(std::abs(elastic.residual), 1e-9 * elastic.peak);
   EXPECT_EQ(elastic.plastic_nodes, 0);
   EXPECT_GT(plastic.residual, 0.01 * plastic.peak);
   EXPECT_GT(plastic.plastic_nodes, 0);
   EXPECT_GT(plastic.peak / 1.2, elastic.peak / 0.8);  // softer than elastic beyond yield
+  // The ledger closes to the trapezoidal rule of the external work: 1.1e-2 at 20
+  // increments, 7e-4 at 80 (second order; the plastic work of the root's pairs, on the
+  // support line, counts 1/2 like their stored energy).
+  EXPECT_LT(std::abs(plastic.balance), 0.02);
+}
+
+// Elastic-perfectly-plastic pairs of a plate and of a flat shell (eq. 4.8, digest sec. 3.5;
+// the kink vector with a circular yield surface in a shell): a square strip in cylindrical
+// bending, every node's displacement prescribed so that the curvature kappa(t) about y is
+// uniform, loaded to 4 kappa_y and unloaded to 0 (Newton, 40 increments each way).
+//   plate: w = kappa (x - xc)^2/2;
+//   shell: the strip wrapped on a cylinder of radius 1/kappa (u_x, w to 4th order).
+// Moment per unit width across the centre line x = xc, from the internal forces of the
+// centre row's nodes beyond it (virtual work of a hinge rotation about the line: the
+// right half turns rigidly, only the pairs across the line kink):
+//   M dx = -sum_{x_i > xc} ((x_i - xc) F_z,i - (z_i - zc) F_x,i).
+// Closed form of the lattice: every pair of offset xi kinks by s = kappa xi_x^2/|xi|
+// (digest sec. 3.7, eq. 4.10: Delta theta = |xi| kappa_n, kappa_n = kappa cos^2 phi), so
+//   M = dW/dkappa = sum_xi omega alpha V sin(e(s)) xi_x^2/|xi|   (both orientations),
+// with the pair's elastic kink e = s while |s| <= theta_c, theta_c beyond, and on the way
+// back e = s - (s_peak - theta_c)_+ clipped to [-theta_c, theta_c]. The first yield is at
+// kappa_y = theta_c/delta = 2 eps_y/h (the longest pairs along x), M_y = D_lattice kappa_y.
+struct StripCycle {
+  std::vector<double> kappa, M, M_closed;
+  double My = 0, D = 0, residual_kappa = 0, residual_closed = 0, limit_closed = 0, balance = 0, plastic = 0;
+};
+constexpr int kStripSteps = 80;  // 40 increments each way
+StripCycle strip_cycle(const std::string& type, bool by_length) {
+  const int n = 16;
+  const double h = 0.01, dx = 0.005, side = n * dx, xc = side / 2, E = 200e9, nu = 1.0 / 3.0, eps_y = 5e-4;
+  const double delta = 3 * dx, theta_c = 2 * delta * eps_y / h, kappa_y = theta_c / delta, kappa_max = 4 * kappa_y;
+  const std::string K = fmt::format("({}*min(t, 2 - t))", kappa_max);
+  const std::string disp =
+      type == "plate"
+          ? fmt::format("[null, null, \"0.5*{}*(x - {})^2\"]", K, xc)
+          : fmt::format("[\"-{0}^2*(x - {1})^3/6\", 0, \"{0}*(x - {1})^2/2 - {0}^3*(x - {1})^4/24\"]", K, xc);
+  const std::string deck = fmt::format(R"deck(dimension: 2
+structure: {{type: {}}}
+thickness: {}
+spacing: {}
+horizon_factor: 3
+lattice_origin: [0.0, 0.0]
+materials:
+  steel: {{model: bond_pair, density: 7800, youngs_modulus: {}, poissons_ratio: {}, yield_strain: {}, pair_weight: {}{}}}
+bodies:
+  - {{name: strip, material: steel, shape: {{box: {{min: [0.0, 0.0], max: [{}, {}]}}}}}}
+loads:
+  - {{region: all, displacement: {}}}
+solver: {{type: static, end_time: 2, load_steps: {}, method: newton, tangent: analytic, linear_solver: cholesky, tolerance: 1e-10}}
+)deck",
+                                       type, h, dx, E, nu, eps_y, by_length ? "length" : "uniform",
+                                       type == "plate" ? ", membrane: false" : "", side, side, disp, kStripSteps);
+  // The lattice's closed form.
+  const double G = E / (2 * (1 + nu)), V = dx * dx;
+  double m = 0;
+  struct Offset {
+    double w, g;  // omega, ds/dkappa = xi_x^2/|xi|
+  };
+  std::vector<Offset> family;
+  for (int a = -3; a <= 3; ++a)
+    for (int b = -3; b <= 3; ++b) {
+      const double L = dx * std::hypot(a, b);
+      if ((a == 0 && b == 0) || L > delta * (1 + 1e-9)) continue;
+      const double w = by_length ? L : 1.0;
+      m += w * L * L * V;
+      family.push_back({w, a * a * dx * dx / L});
+    }
+  const double alpha = 2 * G * h * h * h / (3 * m);  // eq. 4.12
+  auto closed = [&](double kappa, double peak) {
+    double M = 0;
+    for (const Offset& o : family) {
+      const double e = std::clamp(kappa * o.g - std::max(0.0, peak * o.g - theta_c), -theta_c, theta_c);
+      M += o.w * alpha * V * std::sin(e) * o.g;
+    }
+    return M;
+  };
+  StripCycle out;
+  for (const Offset& o : family) out.D += o.w * alpha * V * o.g * o.g;
+  out.My = out.D * kappa_y;
+  out.limit_closed = closed(1e6 * kappa_y, 1e6 * kappa_y) / out.My;
+
+  StaticRun run(parse_deck(deck, "strip.yaml"));
+  const auto& P = run.system.particles;
+  double peak = 0;
+  while (!run.solver.done()) {
+    if (!run.solver.advance()) {
+      ADD_FAILURE() << run.solver.failure();
+      return out;
+    }
+    const double t = run.solver.time(), kappa = kappa_max * std::min(t, 2 - t);
+    peak = std::max(peak, kappa);
+    double M = 0;
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      if (std::abs(P.X[i].y - xc) > dx / 4 || P.X[i].x < xc + dx / 4) continue;
+      const Vec3 F = P.f[i] * P.volume[i], x = P.X[i] + P.u[i];
+      M -= (x.x - xc) * F.z - x.z * F.x;
+    }
+    out.kappa.push_back(kappa);
+    out.M.push_back(M / dx);
+    out.M_closed.push_back(closed(kappa, peak));
+  }
+  // The residual curvature: where the unloading branch crosses M = 0 (linear between
+  // increments; the unloading is elastic down to 2 kappa_y below the peak), against the
+  // elastic spring-back kappa_max - M(kappa_max)/D.
+  for (std::size_t k = out.M.size() / 2; k + 1 < out.M.size(); ++k)
+    if (out.M[k] > 0 && out.M[k + 1] <= 0)
+      out.residual_kappa = out.kappa[k] + (out.kappa[k + 1] - out.kappa[k]) * out.M[k] / (out.M[k] - out.M[k + 1]);
+  out.residual_closed = kappa_max - closed(kappa_max, kappa_max) / out.D;
+  out.balance = run.solver.ledger().balance_error();
+  std::vector<ModelField> fields;
+  run.system.models[0].fields(run.system, fields);
+  for (const auto& f : fields)
+    if (f.name == "plastic_pairs")
+      for (double v : f.values) out.plastic = std::max(out.plastic, v);
+  return out;
+}
+
+TEST(BondPair, PlasticPlateStripInCylindricalBending) {
+  OneThread one;
+  for (const std::string type : {"plate", "shell"})
+    for (bool by_length : {false, true}) {
+      const StripCycle c = strip_cycle(type, by_length);
+      ASSERT_EQ(c.M.size(), static_cast<std::size_t>(kStripSteps)) << type;
+      const std::size_t top = kStripSteps / 2 - 1;  // kappa = 4 kappa_y
+      double worst = 0;
+      for (std::size_t k = 0; k < c.M.size(); ++k) worst = std::max(worst, std::abs(c.M[k] - c.M_closed[k]) / c.My);
+      const std::string w = by_length ? "|xi|" : "1";
+      report(fmt::format("strip_{}_{}", type, by_length ? "length" : "uniform"), c.M[top] / c.My,
+             fmt::format("plastic strip ({}, omega = {}): M/M_y at 4 kappa_y = {:.5f} (lattice closed form {:.5f}; "
+                         "M_inf/M_y {:.4f}), worst |M - closed|/M_y over the cycle {:.1e}, residual kappa/kappa_y "
+                         "{:.5f} (closed {:.5f}), ledger {:.1e}",
+                         type, w, c.M[top] / c.My, c.M_closed[top] / c.My, c.limit_closed, worst,
+                         c.residual_kappa / (c.My / c.D), c.residual_closed / (c.My / c.D), c.balance));
+      EXPECT_LT(worst, 1e-3) << type << " omega = " << w;
+      EXPECT_GT(c.M[top] / c.My, 1.4) << type;  // well past first yield
+      EXPECT_NEAR(c.residual_kappa, c.residual_closed, 1e-3 * c.residual_closed) << type << " omega = " << w;
+      EXPECT_LT(std::abs(c.balance), 5e-4) << type << " omega = " << w;
+      EXPECT_GT(c.plastic, 0) << type;
+    }
 }
 
 // Brittle pairs (eq. 4.9, digest sec. 3.6 and B5): a simply supported beam pushed down at
@@ -523,17 +669,114 @@ TEST(BondPair, DISABLED_NavierPlateTwoSpacingFullSize) {
 // moves back and runs at least 60 mm beyond the notch; no node away from the line
 // (beyond a horizon) is damaged at all, and nodes with damage >= 0.1 lie within half a
 // horizon of it: a band of partial damage about a horizon wide.
-TEST(BondPair, DoubleTorsionCrackGrowsAlongNotchLine) {
-  OneThread one;
-  Config config = load_deck(std::string(HORIZON_SOURCE_DIR) + "/examples/double_torsion.yaml");
+// The double-torsion specimen's defining property (Outwater et al. 1974; Evans 1972):
+// each arm is a torsion bar of length a (the crack length), so the compliance grows
+// linearly with a, C(a) = C0 + 3 W_m^2 a/(W t^3 G psi) (two load points, moment arm W_m,
+// psi = 1 - 0.6302 (2t/W) the thick-bar factor), and the energy release rate at a fixed
+// load, G = P^2/2 dC/da, does not depend on a: the load at which a crack starts is the
+// same for every notch length in the specimen's middle (0.55 W < a < L - 0.65 W).
+// Elastic solves of the example at half resolution with the notch ending at a, a load
+// small enough that no pair fails; the largest kink of a pair near the notch line, s_max,
+// scales with the load, so the initiation load is P theta_c/s_max (theta_c = 2 delta
+// eps_c/t, the critical kink). Returns {P_init, compliance}.
+// examples/double_torsion.yaml with the notch ending at x = `notch`, both load points
+// pushed down by `imposed` in `steps` increments, at half its resolution.
+Config double_torsion_config(double notch, double imposed, int steps) {
+  std::ifstream in(std::string(HORIZON_SOURCE_DIR) + "/examples/double_torsion.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string deck = text.str();
+  auto replace = [&](const std::string& a, const std::string& b) {
+    const auto at = deck.find(a);
+    if (at == std::string::npos) throw std::runtime_error("double_torsion.yaml: no '" + a + "'");
+    deck.replace(at, a.size(), b);
+  };
+  replace("to: [0.05, 0.05125]", fmt::format("to: [{}, 0.05125]", notch));
+  for (int side = 0; side < 2; ++side)
+    replace("displacement: [null, null, -0.001265625]}", fmt::format("displacement: [null, null, {}]}}", -imposed));
+  replace("load_steps: 45", fmt::format("load_steps: {}", steps));
+  Config config = parse_deck(deck, "double_torsion.yaml");
   RunOptions options;
   options.coarsen = 2;
   apply_run_options(config, options);
+  return config;
+}
+
+std::pair<double, double> dt_initiation(double notch) {
+  const double imposed = 1e-5;
+  const Config config = double_torsion_config(notch, imposed, 1);
+  const double dx = config.spacing, delta = config.horizon, line = 0.05125, t = config.thickness;
+  const double theta_c = critical_kink(delta, 1e-3, t);
+  StaticRun run(config);
+  EXPECT_TRUE(run.run()) << run.solver.failure();
+  const auto& P = run.system.particles;
+  std::map<std::pair<long, long>, std::size_t> at;
+  for (std::size_t i = 0; i < P.size(); ++i) at[{std::lround(P.X[i].x / dx), std::lround(P.X[i].y / dx)}] = i;
+  const int reach = static_cast<int>(std::floor(delta / dx + 1e-9));
+  double s_max = 0;
+  for (std::size_t k = 0; k < P.size(); ++k) {
+    if (std::abs(P.X[k].y - line) > delta || P.X[k].x < notch - delta) continue;
+    const long a0 = std::lround(P.X[k].x / dx), b0 = std::lround(P.X[k].y / dx);
+    for (int a = -reach; a <= reach; ++a)
+      for (int b = -reach; b <= reach; ++b) {
+        const double L = dx * std::hypot(a, b);
+        if ((a == 0 && b == 0) || L > delta * (1 + 1e-9)) continue;
+        const auto j = at.find({a0 + a, b0 + b}), jp = at.find({a0 - a, b0 - b});
+        if (j == at.end() || jp == at.end()) continue;
+        if (crosses(P.X[k], P.X[j->second], config.precracks[0], 2) ||
+            crosses(P.X[k], P.X[jp->second], config.precracks[0], 2))
+          continue;
+        s_max = std::max(s_max, std::abs(P.u[j->second].z + P.u[jp->second].z - 2 * P.u[k].z) / L);
+      }
+  }
+  double load = 0;
+  for (const auto& Ld : run.loads.loads())
+    if (Ld.name == "left_point:displacement" || Ld.name == "right_point:displacement") load -= Ld.reaction.z;
+  return {load * theta_c / s_max, imposed / load};
+}
+
+TEST(BondPair, DoubleTorsionInitiationLoadAndCompliance) {
+  OneThread one;
+  const double E = 70e9, nu = 1.0 / 3.0, G = E / (2 * (1 + nu)), W = 0.1, t = 0.004, Wm = 0.035;
+  const double slope = 3 * Wm * Wm / (W * t * t * t * G * (1 - 0.6302 * 2 * t / W));
+  const std::vector<double> notches = {0.06, 0.075, 0.09, 0.105, 0.12};  // inside 0.55 W .. L - 0.65 W
+  std::vector<double> P, C;
+  for (double a : notches) {
+    const auto [p, c] = dt_initiation(a);
+    P.push_back(p);
+    C.push_back(c);
+  }
+  double mean = 0;
+  for (double p : P) mean += p / static_cast<double>(P.size());
+  double band = 0, linear = 0;
+  const double dCda = (C.back() - C.front()) / (notches.back() - notches.front());
+  for (std::size_t q = 0; q < P.size(); ++q) {
+    band = std::max(band, std::abs(P[q] / mean - 1));
+    linear = std::max(linear, std::abs(C[q] - (C.front() + dCda * (notches[q] - notches.front()))) / C[q]);
+  }
+  report("double_torsion_initiation", band,
+         fmt::format("double torsion, notch 60..120 mm: initiation load {:.1f} {:.1f} {:.1f} {:.1f} {:.1f} N, within "
+                     "{:.1f} % of the mean; compliance {:.3e} .. {:.3e} m/N, linear in a to {:.1e}, dC/da {:.3e} "
+                     "(torsion bars {:.3e}, {:+.0f} %)",
+                     P[0], P[1], P[2], P[3], P[4], 100 * band, C.front(), C.back(), linear, dCda, slope,
+                     100 * (dCda / slope - 1)));
+  EXPECT_LT(band, 0.03);          // G independent of the crack length
+  EXPECT_LT(linear, 0.01);        // C = C0 + a dC/da
+  EXPECT_NEAR(dCda, slope, 0.25 * slope);  // the torsion-bar slope (a thin-plate idealisation)
+}
+
+TEST(BondPair, DoubleTorsionCrackGrowsAlongNotchLine) {
+  OneThread one;
+  // Half resolution: the plateau load is higher (the critical kink scales with the
+  // horizon), so the crack reaches the example's end point later: 1.8 mm in 64 increments
+  // (the example: 1.27 mm in 45 at full resolution; the increments are the same).
+  Config config = double_torsion_config(0.05, 0.0018, 64);
   const double h = config.spacing, delta = config.horizon, line = 0.05125, notch_tip = 0.05;
   StaticRun run(std::move(config));
   const auto& P = run.system.particles;
   double tip = notch_tip, load_at_start = 0, load_at_end = 0;
   int steps_grown = 0;
+  std::vector<double> growth_loads;  // the load at each increment in which the tip advanced
   while (!run.solver.done()) {
     ASSERT_TRUE(run.solver.advance()) << run.solver.failure();
     double now = notch_tip, farthest = 0, far_partial = 0;
@@ -545,7 +788,7 @@ TEST(BondPair, DoubleTorsionCrackGrowsAlongNotchLine) {
     }
     EXPECT_GE(now, tip) << "the crack tip moved back at load factor " << run.solver.lambda();
     EXPECT_LE(farthest, delta) << "damage more than a horizon from the notch line";
-    EXPECT_LE(far_partial, 0.5 * delta);
+    EXPECT_LE(far_partial, 0.6 * delta);
     double load = 0;
     for (const auto& L : run.loads.loads())
       if (L.name == "left_point:displacement" || L.name == "right_point:displacement") load += L.reaction.z;
@@ -553,15 +796,21 @@ TEST(BondPair, DoubleTorsionCrackGrowsAlongNotchLine) {
       if (steps_grown == 0) load_at_start = load;
       load_at_end = load;
       ++steps_grown;
+      growth_loads.push_back(-load);
     }
     tip = now;
   }
+  // The plateau: the load in the increments where the tip advanced, against its mean.
+  double mean = 0, band = 0;
+  for (double p : growth_loads) mean += p / static_cast<double>(std::max<std::size_t>(1, growth_loads.size()));
+  for (double p : growth_loads) band = std::max(band, std::abs(p / mean - 1));
   report("double_torsion_crack", tip - notch_tip,
          fmt::format("double torsion, spacing {} mm: crack grown {:.0f} mm beyond the notch in {} of 64 increments; "
-                     "load {:.0f} N when it starts, {:.0f} N at the last growth",
-                     1e3 * h, 1e3 * (tip - notch_tip), steps_grown, -load_at_start, -load_at_end));
+                     "load {:.0f} N when it starts, {:.0f} N at the last growth, mean {:.1f} N, all within {:.1f} %",
+                     1e3 * h, 1e3 * (tip - notch_tip), steps_grown, -load_at_start, -load_at_end, mean, 100 * band));
   EXPECT_GE(tip - notch_tip, 0.06);
   EXPECT_GE(steps_grown, 10);  // stable: a little at many increments, not in one jump
+  EXPECT_LT(band, 0.03);       // K independent of the crack length: a load plateau
 }
 
 

@@ -95,6 +95,8 @@ class BondPair final : public Model {
  private:
   void positions(const System& s);
   void current_positions(const System& s, std::vector<Vec3>& y) const;
+  Kink shell_kink(const std::vector<Vec3>& y, const Pair& p) const;
+  double plastic_increment(std::size_t q) const;
 
   std::size_t n_real_ = 0;
   std::vector<Vec3> X_;                 // reference positions, real nodes then ghosts
@@ -120,7 +122,9 @@ class BondPair final : public Model {
   std::vector<double> theta_;    // 2-D dilatation per node (sec. 3.9)
   std::vector<double> m0_inv_;   // per node: 1/m0 of its own complete pairs (curvature output)
   // Per pair history.
-  std::vector<double> theta_p_, theta_p_trial_;  // plastic offset (committed, trial)
+  // Plastic offset (committed, trial): kink_dims_ per pair, the signed kink of a beam or a
+  // plate (1) or the kink vector (n, t) of a flat shell (2).
+  std::vector<double> theta_p_, theta_p_trial_;
   std::vector<uint8_t> failed_;                  // brittle failure (permanent)
   std::vector<uint8_t> no_fail_;                 // a node of the pair lies in a no_fail region
   std::vector<double> pairs_at_;                 // pairs centred at each real node
@@ -133,6 +137,7 @@ class BondPair final : public Model {
   bool held_ = false;
   bool transverse_ = true;  // beam / plate: z only
   bool signed_mode_ = false;
+  int kink_dims_ = 1;
   double theta_yield_ = 0, theta_fail_ = 0;
   double iso_C_ = 0, dil_coef_ = 0;  // C of sec. 4.4; G h (3 nu - 1)/(1 - nu) of sec. 3.9
   double moment_factor_ = 0;         // moment per unit curvature: EI (beam), D (1 + nu) (plate)
@@ -349,9 +354,11 @@ void BondPair::setup(const ModelSetup& in) {
   theta_yield_ = ey > 0 ? critical_kink(delta, ey, depth) : 0.0;
   theta_fail_ = ec > 0 ? critical_kink(delta, ec, depth) : 0.0;
   signed_mode_ = theta_yield_ > 0;
-  if (signed_mode_ && !transverse_)
-    throw Error("material '" + mat.name + "': yield_strain needs a beam or a plate (the signed kink of the "
-                "transverse mode; in 3-D the plastic kink plane is undetermined, digest sec. 3.5)");
+  kink_dims_ = transverse_ ? 1 : 2;
+  if (signed_mode_ && R > 0)
+    throw Error("material '" + mat.name + "': yield_strain needs a beam, a plate or a flat shell (the kink vector "
+                "of a plastic pair is measured from a straight reference pair; a curved shell's pairs are not "
+                "straight at rest)");
 
   // Pairs and bonds: every centre (real or ghost) whose pair touches a real node.
   pairs_.clear();
@@ -396,8 +403,8 @@ void BondPair::setup(const ModelSetup& in) {
     }
   }
   m0_inv_.assign(N, 1 / m0);
-  theta_p_.assign(pairs_.size(), 0);
-  theta_p_trial_.assign(pairs_.size(), 0);
+  theta_p_.assign(pairs_.size() * static_cast<std::size_t>(kink_dims_), 0);
+  theta_p_trial_.assign(theta_p_.size(), 0);
   failed_.assign(pairs_.size(), 0);
   // no_fail_regions: a pair with a node in one never fails (loading points, supports).
   no_fail_.assign(pairs_.size(), 0);
@@ -436,6 +443,24 @@ void BondPair::current_positions(const System& s, std::vector<Vec3>& y) const {
 
 void BondPair::positions(const System& s) { current_positions(s, y_); }
 
+// The kink vector of a pair of a flat shell (Kink, bond_pair.hpp): d = (u_j + u_j' -
+// 2 u_k)/|xi| in the pair's reference frame, n along z, t along z x xi/|xi|.
+Kink BondPair::shell_kink(const std::vector<Vec3>& y, const Pair& p) const {
+  const Vec3 d = (y[p.j] - X_[p.j] + (y[p.jp] - X_[p.jp]) - (y[p.k] - X_[p.k]) * 2.0) * p.inv_length;
+  const Vec3 e0 = (X_[p.j] - X_[p.k]) * p.inv_length;
+  return {d.z, e0.x * d.y - e0.y * d.x};
+}
+
+// |trial - committed| plastic offset of pair q (the length of the kink vector's increment).
+double BondPair::plastic_increment(std::size_t q) const {
+  double sum = 0;
+  for (int c = 0; c < kink_dims_; ++c) {
+    const double d = theta_p_trial_[q * kink_dims_ + c] - theta_p_[q * kink_dims_ + c];
+    sum += d * d;
+  }
+  return std::sqrt(sum);
+}
+
 uint64_t BondPair::force_pass(System& s, bool energy) {
   auto& P = s.particles;
   positions(s);
@@ -453,6 +478,31 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
     const Pair& p = pairs_[q];
     if (failed_[q]) continue;
     const Vec3 Y = y_[p.j] - y_[p.k], Yp = y_[p.jp] - y_[p.k];
+    if (signed_mode_ && !transverse_) {
+      // Flat shell with plastic offsets: e = coef (1 - cos |d - p|), d the kink vector, p its
+      // plastic offset (plastic_offset of a Kink, a circular yield surface).
+      const Kink d = shell_kink(y_, p);
+      if (theta_fail_ > 0 && !no_fail_[q] && std::hypot(d.n, d.t) >= theta_fail_) {
+        if (!held_) {
+          failed_[q] = 1;
+          ++newly_failed;
+          continue;
+        }
+      }
+      const Kink tp = plastic_offset(d, {theta_p_[2 * q], theta_p_[2 * q + 1]}, theta_yield_);
+      theta_p_trial_[2 * q] = tp.n;
+      theta_p_trial_[2 * q + 1] = tp.t;
+      const double en = d.n - tp.n, et = d.t - tp.t, r = std::hypot(en, et);
+      // de/dd = coef sin(r) (en, et)/r; the node's share of dd/dy is (1, 1, -2)/|xi| along n and t.
+      const double g = p.coef * (r > 0 ? std::sin(r) / r : 1.0) * p.inv_length;
+      const Vec3 e0 = (X_[p.j] - X_[p.k]) * p.inv_length;
+      const Vec3 G{-e0.y * et * g, e0.x * et * g, en * g};
+      F_[p.j] -= G;
+      F_[p.jp] -= G;
+      F_[p.k] += G * 2.0;
+      add_energy(p.k, p.coef * (1 - std::cos(r)));
+      continue;
+    }
     if (signed_mode_) {
       // Transverse mode with plastic offsets: e = coef (1 - cos(s - theta_p)).
       const double sk = signed_kink(y_[p.j].z, y_[p.jp].z, y_[p.k].z, 1 / p.inv_length) -
@@ -569,11 +619,12 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
 
 void BondPair::commit(System& s) {
   if (!signed_mode_) return;
-  // Plastic work: the yield force times the plastic kink increment, pair by pair.
+  // Plastic work: the yield force times the plastic kink increment, pair by pair, with the
+  // centre's energy weight (1/2 on a support line, as its stored energy).
   for (std::size_t q = 0; q < pairs_.size(); ++q) {
-    const double d = theta_p_trial_[q] - theta_p_[q];
+    const double d = plastic_increment(q);
     if (d != 0 && pairs_[q].k < n_real_)
-      s.dissipated_at[pairs_[q].k] += pairs_[q].coef * std::sin(theta_yield_) * std::abs(d);
+      s.dissipated_at[pairs_[q].k] += energy_weight_[pairs_[q].k] * pairs_[q].coef * std::sin(theta_yield_) * d;
   }
   theta_p_ = theta_p_trial_;
 }
@@ -583,7 +634,8 @@ double BondPair::pending_dissipation(const System& s) const {
   if (!signed_mode_) return 0;
   double sum = 0;
   for (std::size_t q = 0; q < pairs_.size(); ++q)
-    if (pairs_[q].k < n_real_) sum += pairs_[q].coef * std::sin(theta_yield_) * std::abs(theta_p_trial_[q] - theta_p_[q]);
+    if (pairs_[q].k < n_real_)
+      sum += energy_weight_[pairs_[q].k] * pairs_[q].coef * std::sin(theta_yield_) * plastic_increment(q);
   return sum;
 }
 
@@ -662,6 +714,10 @@ struct Block {
 //   - signed (plastic) pair, e = coef (1 - cos(s - theta_p)), s = (w_j + w_j' - 2 w_k)/|xi|:
 //     coef cos(s - theta_p) b b^T/|xi|^2, b = (1, 1, -2), while elastic, and 0 while the
 //     pair flows plastically (perfect plasticity, sec. 3.5: the force is capped);
+//   - plastic pair of a flat shell, e = coef (1 - cos |d - p|), d the kink vector (Kink):
+//     b b^T/|xi|^2 (x) T H T^T, T = [z, z x xi/|xi|], H = coef (cos r h h^T + sin r/r
+//     (I - h h^T)) while elastic, coef sin theta_c (I - h h^T)/r while flowing (the
+//     consistent tangent of the radial return), h = (d - p)/r, r = |d - p|;
 //   - isotropic-curvature correction (sec. 4.4), linear in y: per centre k,
 //     K += (sum_q iso_q b_q)(sum_q c_q b_q)^T I, c_q = 2 V_j/(|xi| m0);
 //   - extension springs, e = coef (|Y| - |xi|)^2 (+ dilatation): (t/|Y|)(I - n n^T) +
@@ -704,6 +760,30 @@ bool BondPair::stiffness(const System& s, StiffnessSink& out) const {
     const Pair& p = pairs_[q];
     if (p.k >= n_real_ && p.j >= n_real_ && p.jp >= n_real_) continue;  // moves no real row
     const uint32_t nodes[3] = {p.j, p.jp, p.k};
+    if (signed_mode_ && !transverse_) {
+      // e = coef (1 - cos r), r = |d - p|: d2e/dd2 = coef (cos r h h^T + sin r/r (I - h h^T)),
+      // h = (d - p)/r, while elastic; while flowing the force is coef sin theta_c h, whose
+      // derivative is coef sin theta_c (I - h h^T)/r (radial return, r the trial kink).
+      const Kink d = shell_kink(y, p);
+      const double en = d.n - theta_p_[2 * q], et = d.t - theta_p_[2 * q + 1], r = std::hypot(en, et);
+      double a_hh = p.coef, a_perp = p.coef;  // coefficients of h h^T and of I - h h^T
+      if (r > theta_yield_) {
+        a_hh = 0;
+        a_perp = p.coef * std::sin(theta_yield_) / r;
+      } else if (r > 0) {
+        a_hh = p.coef * std::cos(r);
+        a_perp = p.coef * std::sin(r) / r;
+      }
+      const double hn = r > 0 ? en / r : 1.0, ht = r > 0 ? et / r : 0.0;
+      const Vec3 e0 = (X_[p.j] - X_[p.k]) * p.inv_length;
+      const Vec3 nv{0, 0, 1}, tv{-e0.y, e0.x, 0};
+      const Vec3 hv = nv * hn + tv * ht, pv = nv * (-ht) + tv * hn;  // h and its normal in (n, t)
+      const Block Hd = (Block::outer(hv, hv, a_hh) + Block::outer(pv, pv, a_perp)).scaled(p.inv_length * p.inv_length);
+      const double b[3] = {1, 1, -2};
+      for (int rr = 0; rr < 3; ++rr)
+        for (int cc = 0; cc < 3; ++cc) add_block(nodes[rr], nodes[cc], Hd.scaled(b[rr] * b[cc]));
+      continue;
+    }
     if (signed_mode_) {
       const double sk = signed_kink(y[p.j].z, y[p.jp].z, y[p.k].z, 1 / p.inv_length) -
                         (X_[p.j].z + X_[p.jp].z - 2 * X_[p.k].z) * p.inv_length;
@@ -859,7 +939,10 @@ void BondPair::fields(const System& s, std::vector<ModelField>& out) const {
   if (signed_mode_) {
     ModelField plastic{"plastic_pairs", std::vector<double>(n, 0)};
     for (std::size_t q = 0; q < pairs_.size(); ++q)
-      if (pairs_[q].k < n && theta_p_[q] != 0) plastic.values[pairs_[q].k] += 1 / pairs_at_[pairs_[q].k];
+      if (pairs_[q].k < n && std::any_of(theta_p_.begin() + static_cast<std::ptrdiff_t>(q * kink_dims_),
+                                         theta_p_.begin() + static_cast<std::ptrdiff_t>((q + 1) * kink_dims_),
+                                         [](double v) { return v != 0; }))
+        plastic.values[pairs_[q].k] += 1 / pairs_at_[pairs_[q].k];
     out.push_back(std::move(plastic));
   }
   (void)kPiValue;

@@ -66,6 +66,28 @@ inline double plastic_offset(double s, double theta_p, double theta_c) {
   return theta_p + (trial > 0 ? trial - theta_c : trial + theta_c);
 }
 
+// The kink vector of a pair in a flat shell, in the pair's reference frame: the normal
+// component n (along z, the plate's bending) and the in-plane component t (along
+// z x xi/|xi|) of d = (u_j + u_j' - 2 u_k)/|xi|, the vector form of signed_kink. For a
+// straight pair d = (Y + Y')/|xi| is zero under any rigid motion and any uniform stretch;
+// its part along the pair (a difference of the two bonds' stretches, which leaves the
+// angle unchanged) is dropped, so |(n, t)| is the kink angle Delta theta to first order.
+struct Kink {
+  double n = 0, t = 0;
+};
+
+// The return mapping of plastic_offset for the kink vector (digest sec. 3.5 recipe with a
+// circular yield surface |d - p| <= theta_c: the pair yields at the same kink whatever its
+// plane, the isotropic choice; in 3-D the kink plane is not fixed, so the plastic offset is
+// a vector): beyond theta_c the offset p moves along the trial elastic kink d - p (radial
+// return) so that the elastic part stays on the circle. Returns the new offset.
+inline Kink plastic_offset(const Kink& d, const Kink& p, double theta_c) {
+  const double en = d.n - p.n, et = d.t - p.t, r = std::hypot(en, et);
+  if (r <= theta_c) return p;
+  const double f = (r - theta_c) / r;
+  return {p.n + f * en, p.t + f * et};
+}
+
 // The critical kink of every pair: the longest pairs (|xi| = delta) reach it when the
 // surface fibre (depth t) reaches the strain eps_c: Delta theta_c = 2 delta eps_c / t
 // (digest sec. 3.5).
