@@ -86,8 +86,8 @@ struct FeRegion {
   //   exact for a quadratic energy),
   // updated at every force pass with energies (U from strain_energy, D the dissipated).
   // A conservative model has W_c = 0 to the trapezoid's error; the ledger's balance less
-  // W_c is the work-energy theorem's residual (velocity Verlet's error). Not checkpointed
-  // (a restart starts the account afresh).
+  // W_c is the work-energy theorem's residual (velocity Verlet's error). Written to
+  // history.csv (fe_coupling_work) and summary.json; checkpointed (checkpoint_account).
   double internal_work = 0;
   double coupling_work = 0;
   double stored_at_start = 0;
