@@ -6,10 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 
 #include <fmt/format.h>
 
+#include "horizon/fe/fe_region.hpp"
 #include "horizon/solver/static_driver.hpp"
 #include "../single_thread.hpp"
 #include "verification_support.hpp"
@@ -102,6 +105,63 @@ TEST(SurfaceCorrection, DeckErrors) {
   fails_with("model: correspondence, density: 8000, youngs_modulus: 2e11, poissons_ratio: 0.3, surface_correction: true",
              "applies to model pmb, lps only");
   fails_with("model: pmb, density: 8000, youngs_modulus: 2e11, surface_correction: 2", "surface_correction");
+}
+
+
+// A thin plate's factors vary through its thickness, so a bond from a particle to a
+// finite-element node takes the node's factors from its proxy, the nearest particle
+// (material/surface_correction.cpp). Checked: in a PMB core coupled to hexahedra, every
+// bond of a particle near the interface, to a particle or to a node, has the weight of
+// the bond between the same two points of the pure-PD plate (which the coupled plate's
+// core must reproduce for the two to break at the same stress: docs/verification.md,
+// "Centre-cracked aluminium plate").
+std::string coupled_plate_deck(bool coupled) {
+  const std::string bodies =
+      coupled ? "  - {name: core, material: al, shape: {box: {min: [0, 0.050, 0], max: [0.040, 0.070, 0.010]}}}\n"
+                "  - {name: outer, material: al, discretization: fe, shape: {box: {min: [0, 0, 0], max: [0.040, 0.120, "
+                "0.010]}}}\n"
+              : "  - {name: plate, material: al, shape: {box: {min: [0, 0, 0], max: [0.040, 0.120, 0.010]}}}\n";
+  return "dimension: 3\nspacing: 2.0e-3\nhorizon: 6.0e-3\nmaterials:\n"
+         "  al: {model: pmb, density: 2700, youngs_modulus: 68.9e9, surface_correction: true}\nbodies:\n" +
+         bodies + "solver: {end_time: 1.0e-6}\n";
+}
+
+TEST(SurfaceCorrection, BondsToFiniteElementNodesMatchThePurePdPlate) {
+  test::SingleThread one;
+  const System pure = build_system(parse_deck(coupled_plate_deck(false), "plate.yaml"));
+  const System coupled = build_system(parse_deck(coupled_plate_deck(true), "coupled.yaml"));
+  ASSERT_TRUE(coupled.fe);
+  std::map<std::array<long, 3>, uint32_t> at;
+  auto key = [](const Vec3& x) {
+    return std::array<long, 3>{std::lround(x.x * 1e7), std::lround(x.y * 1e7), std::lround(x.z * 1e7)};
+  };
+  for (uint32_t i = 0; i < pure.particles.size(); ++i) at[key(pure.particles.X[i])] = i;
+  double worst = 0, lo = 1e300, hi = 0;
+  std::size_t compared = 0, to_nodes = 0;
+  const auto& P = coupled.particles;
+  for (uint32_t i = 0; i < P.size(); ++i) {
+    if (coupled.fe->owned_particle[i] || P.X[i].y > 0.057) continue;  // within a horizon of y = 50 mm
+    const uint32_t pi = at.at(key(P.X[i]));
+    std::map<std::array<long, 3>, double> w;
+    for (uint64_t k = pure.bonds.begin(pi); k < pure.bonds.end(pi); ++k)
+      w[key(pure.particles.X[pure.bonds.nbr[k]])] = pure.bonds.kind_of(k).weight;
+    for (uint64_t k = coupled.bonds.begin(i); k < coupled.bonds.end(i); ++k) {
+      const uint32_t j = coupled.bonds.nbr[k];
+      const double wc = coupled.bonds.kind_of(k).weight, wp = w.at(key(P.X[j]));
+      worst = std::max(worst, std::abs(wc / wp - 1));
+      lo = std::min(lo, wp), hi = std::max(hi, wp);
+      ++compared;
+      to_nodes += coupled.fe->owned_particle[j];
+    }
+  }
+  report("surface_correction_fe_bonds", worst,
+         fmt::format("PMB plate 40 x 120 x 10 mm (5 layers), core y 50-70 mm + hex8: {} bonds of the particles within a "
+                     "horizon of the interface ({} to nodes), weights {:.3f} ... {:.3f} in the pure-PD plate; largest "
+                     "relative difference coupled vs pure {:.2e}",
+                     compared, to_nodes, lo, hi, worst));
+  EXPECT_GT(to_nodes, 1000u);
+  EXPECT_GT(hi / lo, 1.5) << "the plate's factors vary through its thickness";
+  EXPECT_LT(worst, 0.01);  // the factors' rounding (1e-4) and the weights' log grid (0.4 %)
 }
 
 }  // namespace

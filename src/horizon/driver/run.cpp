@@ -434,6 +434,7 @@ struct ExplicitRun::State {
         history << fmt::format(",{:.9e},{:.9e},{:.9e}", q->x, q->y, q->z);
     if (s.block_names.size() > 1)
       for (const Vec3& v : body_velocities(s)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
+    if (s.fe) history << fmt::format(",{:.9e}", s.fe->coupling_work);
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
   }
@@ -616,6 +617,8 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   // With two or more bodies (a projectile and its target), each body's centre-of-mass velocity.
   if (r.s.block_names.size() > 1)
     for (const auto& name : r.s.block_names) r.history << "," << name << "_vx," << name << "_vy," << name << "_vz";
+  // Finite-element regions: the work of the force-based coupling (fe/fe_region.hpp).
+  if (r.s.fe) r.history << ",fe_coupling_work";
   if (r.s.heat.active()) r.history << ",thermal_work,heat_time," << heat_history_header(r.s);
   r.history << "\n";
   r.crack = std::make_unique<CrackTracker>(c);
@@ -817,7 +820,8 @@ int ExplicitRun::finish() {
     j["fe"] = {{"elements", s.fe->elements()},
                {"element", s.fe->nodes_per_element == 8 ? "hex8" : "tet4"},
                {"nodes", s.fe->nodes()},
-               {"shared_nodes", s.fe->shared_nodes()}};
+               {"shared_nodes", s.fe->shared_nodes()},
+               {"coupling_work", s.fe->coupling_work}};
   }
   summary_state(j, s, g, *r.loads, r.max_balance_error);
   if (!r.loads->projectiles().empty()) {

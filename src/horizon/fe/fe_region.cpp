@@ -11,6 +11,7 @@
 #include "horizon/core/state_archive.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
+#include "horizon/solver/forces.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -211,6 +212,29 @@ void FeRegion::apply(System& s, bool energy) {
     P.damage[p] = 0;
     if (energy) P.energy[p] = w / P.volume[p];
   }
+  update_coupling_account(s, energy);
+}
+
+void FeRegion::update_coupling_account(System& s, bool energy) {
+  // This pass is the last of compute_forces (solver/forces.cpp), so P.f is every
+  // particle's final internal force density (bonds, contact, elements).
+  const auto& P = s.particles;
+  const std::size_t np = P.size();
+  if (!account_started) {
+    if (!energy) return;
+    account_started = 1;
+    stored_at_start = strain_energy(s) + s.dissipated();
+  } else {
+    double w = 0;
+#pragma omp parallel for schedule(static) reduction(+ : w)
+    for (std::size_t i = 0; i < np; ++i)
+      w += 0.5 * dot(account_F[i] + P.f[i] * P.volume[i], P.u[i] - account_u[i]);
+    internal_work += w;
+    if (energy) coupling_work = internal_work + strain_energy(s) + s.dissipated() - stored_at_start;
+  }
+  account_F.resize(np);
+  account_u = P.u;
+  for (std::size_t i = 0; i < np; ++i) account_F[i] = P.f[i] * P.volume[i];
 }
 
 void FeRegion::commit(System& s) {
@@ -232,6 +256,15 @@ void FeRegion::checkpoint(StateArchive& a) {
   a.io("fe_history", history);
   a.io("fe_history_trial", history_trial);
   a.io("fe_plastic_work", elem_work);
+}
+
+void FeRegion::checkpoint_account(StateArchive& a) {
+  a.io("fe_internal_work", internal_work);
+  a.io("fe_coupling_work", coupling_work);
+  a.io("fe_stored_at_start", stored_at_start);
+  a.io("fe_account_started", account_started);
+  a.io("fe_account_force", account_F);
+  a.io("fe_account_u", account_u);
 }
 
 double FeRegion::element_energy(const System&) const {

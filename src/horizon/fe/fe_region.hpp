@@ -77,6 +77,23 @@ struct FeRegion {
   std::vector<Vec3> elem_force;
   std::vector<double> elem_energy;
 
+  // The coupling's energy account. Force-based coupling derives from no potential, so the
+  // ledger's stored energy (particles' bond energies + FE-owned nodes' element shares)
+  // changes by more or less than the internal forces' work. `coupling_work` is the work
+  // the coupling put in since the first force pass with energies:
+  //   W_c = W_int + (U + D) - (U + D)_start,  W_int = sum over steps and particles of
+  //   1/2 (F_n + F_n+1) . (u_n+1 - u_n)  (F = f V, the internal force; the trapezoid is
+  //   exact for a quadratic energy),
+  // updated at every force pass with energies (U from strain_energy, D the dissipated).
+  // A conservative model has W_c = 0 to the trapezoid's error; the ledger's balance less
+  // W_c is the work-energy theorem's residual (velocity Verlet's error). Written to
+  // history.csv (fe_coupling_work) and summary.json; checkpointed (checkpoint_account).
+  double internal_work = 0;
+  double coupling_work = 0;
+  double stored_at_start = 0;
+  uint8_t account_started = 0;
+  std::vector<Vec3> account_F, account_u;
+
   std::size_t elements() const { return volume.size(); }
   std::size_t nodes() const { return node_particle.size(); }
   std::size_t owned_nodes() const;
@@ -85,6 +102,8 @@ struct FeRegion {
   // Overwrites the force density and the energy density of every FE-owned particle
   // with the element assembly (F_I / V_I, the FE-owned share of element energies / V_I).
   void apply(System& s, bool energy);
+  // Adds this pass's internal work to the coupling account (above); called by apply.
+  void update_coupling_account(System& s, bool energy);
   // Accepts the trial history of the last apply and adds its plastic work to the ledger
   // (System::dissipated_at): each FE-owned node takes 1/n of its elements' work, as it
   // takes their energy (a node a peridynamic particle holds takes none, as for the energy).
@@ -92,6 +111,8 @@ struct FeRegion {
   bool plastic() const { return !history.empty(); }
   // The plastic history for checkpoints (global extent: FE regions are not split over ranks).
   void checkpoint(StateArchive& a);
+  // The coupling's energy account (above), for checkpoints of every deck with elements.
+  void checkpoint_account(StateArchive& a);
   // Equivalent plastic strain per element (0 for elastic elements).
   double plastic_strain(std::size_t e) const { return plastic() ? history[e * kHistory + 9] : 0.0; }
   // Strain energy of all the elements (not only the FE-owned share) [J].

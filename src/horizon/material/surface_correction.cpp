@@ -54,6 +54,33 @@ namespace {
 
 constexpr double kFactorStep = 0.004;
 
+// Per particle of `in`: itself, or for a finite-element node its nearest bonded particle
+// (not a node) of `in`, the lower index on a tie. Before the proxies, a bond to a node took
+// the other end's factors for both ends; in a thin plate whose factors vary through the
+// thickness (surface 1.36, middle 0.91 in-plane) that made the bonds from a surface particle
+// to the nodes of the middle layer stiffer than the same bonds in the pure-PD plate and
+// the reverse ones softer (docs/verification.md, "Finite elements and PD-FE coupling").
+std::vector<uint32_t> node_proxies(const ModelSetup& in, const std::vector<uint8_t>& member) {
+  const System& s = in.system;
+  const auto& B = s.bonds;
+  const auto& X = s.particles.X;
+  std::vector<uint32_t> proxy(X.size());
+  for (uint32_t i = 0; i < proxy.size(); ++i) proxy[i] = i;
+  if (!s.fe) return proxy;
+  const auto& fe = s.fe->owned_particle;
+  for (uint32_t i : in.particles) {
+    if (!fe[i]) continue;
+    double best = std::numeric_limits<double>::infinity();
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const uint32_t j = B.nbr[k];
+      if (!member[j] || fe[j]) continue;
+      const double d = norm2(X[j] - X[i]);
+      if (d < best || (d == best && j < proxy[i])) best = d, proxy[i] = j;
+    }
+  }
+  return proxy;
+}
+
 // g_ij of every bond whose ends are both particles of `in` (1 for the others). The same
 // operations from either end (sums commute, n_d^2 is even in n): g_ij == g_ji bit for bit.
 std::vector<double> bond_factors(const ModelSetup& in, const std::vector<Vec3>& factor) {
@@ -63,17 +90,18 @@ std::vector<double> bond_factors(const ModelSetup& in, const std::vector<Vec3>& 
   const int dim = in.config.dimension;
   std::vector<uint8_t> member(X.size(), 0);
   for (uint32_t i : in.particles) member[i] = 1;
-  const std::vector<uint8_t>* fe = s.fe ? &s.fe->owned_particle : nullptr;
-  auto fe_owned = [&](uint32_t p) { return fe && (*fe)[p] != 0; };
+  const std::vector<uint32_t> proxy = node_proxies(in, member);
   std::vector<double> g(B.size(), 1.0);
   for (uint32_t i : in.particles)
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       const uint32_t j = B.nbr[k];
       if (!member[j]) continue;
-      // A bond to a finite-element node (fe/fe_region.hpp) takes the particle's factor:
-      // a node's family is cut where the elements take over, not by a surface.
-      const Vec3& Gi = fe_owned(i) ? factor[j] : factor[i];
-      const Vec3& Gj = fe_owned(j) ? factor[i] : factor[j];
+      // A finite-element node (fe/fe_region.hpp) enters with the factors of its proxy, the
+      // nearest particle: its own family is cut where the elements take over, not by a
+      // surface, and it lies where a particle of the body would have the proxy's surfaces
+      // (the same distances to the faces the interface crosses).
+      const Vec3& Gi = factor[proxy[i]];
+      const Vec3& Gj = factor[proxy[j]];
       const Vec3 xi = X[j] - X[i];
       const double L2 = dot(xi, xi);
       double sum = 0;

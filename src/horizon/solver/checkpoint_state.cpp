@@ -49,10 +49,12 @@ void checkpoint_system(System& s, StateArchive& a) {
   a.io("heat_plastic", H.plastic_heat);
   a.io("heat_time", H.time);
 
-  // The elements' plastic history (fe/fe_region.hpp; only a deck with J2 elements has it).
-  if (s.fe && s.fe->plastic()) {
+  // The elements' plastic history (fe/fe_region.hpp; only a deck with J2 elements has it)
+  // and the coupling's energy account (every deck with elements).
+  if (s.fe) {
     a.push("fe");
-    s.fe->checkpoint(a);
+    if (s.fe->plastic()) s.fe->checkpoint(a);
+    s.fe->checkpoint_account(a);
     a.pop();
   }
   for (std::size_t m = 0; m < s.models.size(); ++m) {
