@@ -89,7 +89,7 @@ class ExtendedCorrespondence final : public Model {
   double pending_dissipation(const System& s) const override {
     double sum = 0;
     for (std::size_t l = 0; l < particles_.size(); ++l)
-      sum += (work_[l] + released(l)) * s.particles.volume[particles_[l]];
+      sum += (work_[l] + released(l) + switched_[l] + thinned_[l]) * s.particles.volume[particles_[l]];
     return sum;
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
@@ -106,6 +106,7 @@ class ExtendedCorrespondence final : public Model {
     a.io("map_ok", map_ok_);
     a.io("plastic_total", plastic_total_);
     a.io("failure_total", failure_total_);
+    a.io("acting_set_total", thinned_total_);
     if (a.loading()) acting_.assign(acting_.size(), UINT32_MAX);
   }
  private:
@@ -115,6 +116,49 @@ class ExtendedCorrespondence final : public Model {
   bool failed_state(const StrainLawState& st) const { return st.damage > critical_ || st.damage >= 1.0; }
   double released(std::size_t l) const {
     return !failed_state(committed_[l]) && failed_state(trial_[l]) ? energy_[l] : 0.0;
+  }
+  // The energy density plus the step's plastic work [J/m^3] of particle l at the pass's
+  // positions over the bonds `acts` selects, with the moment map `map`, from the committed
+  // state (the trial state is discarded): the same sums as force_state. It prices a change
+  // of the acting set (below, switched_).
+  template <class Acts>
+  double energy_with(const ForcePass& pass, std::size_t l, const extended::MomentMap& map, Acts acts) const {
+    const Bonds& B = pass.system.bonds;
+    const std::vector<Vec3>& X = pass.system.particles.X;
+    const uint32_t i = particles_[l];
+    const Point4 yi = pass.y[i];
+    auto deformed = [&](uint32_t j) { return Vec3{pass.y[j].x - yi.x, pass.y[j].y - yi.y, pass.y[j].z - yi.z}; };
+    extended::NonlocalStrain E(dim_, m_);
+    E.use(map);
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+      if (acts(k)) E.add_strain(X[B.nbr[k]] - X[i], deformed(B.nbr[k]), B.weight[k] * B.volume[k]);
+    if (!E.finish(false)) return 0.0;
+    StrainLawState scratch;
+    const classical::StrainLawOut out =
+        hencky_ ? classical::strain_law(law_, committed_[l], extended::hencky_of_green(E.strain()).strain, pass.dt,
+                                        scratch)
+                : classical::strain_law(law_, committed_[l], E.strain(), pass.dt, scratch);
+    if (out.failed) return 0.0;
+    double W = out.W + out.plastic_work;
+    const double ks = ks_[l];
+    if (ks == 0) return W;
+    const bool capped = stab_yield_ > 0 && !rp_committed_.empty();
+    const double r_c =
+        capped ? stab_yield_ * classical::flow_stress(law_, scratch.alpha, out.rate) / (2.0 * gs_mu_bar_) : 0.0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!acts(k)) continue;
+      const Vec3 xi = X[B.nbr[k]] - X[i], Y = deformed(B.nbr[k]);
+      const double w = B.weight[k] * B.volume[k];
+      const double r0 = E.residual(xi, seth_hill_strain(dot(Y, Y) / dot(xi, xi), m_));
+      double rp = 0;
+      if (capped) {
+        const double rc = rp_committed_[k];
+        rp = std::abs(r0 - rc) > r_c ? r0 - std::copysign(r_c, r0 - rc) : rc;
+        W += 2.0 * ks * r_c * std::abs(rp - rc) * w;
+      }
+      W += ks * w * (r0 - rp) * (r0 - rp);
+    }
+    return W;
   }
   bool failed_committed(uint32_t i) const {
     const int32_t l = local_[i];
@@ -135,6 +179,16 @@ class ExtendedCorrespondence final : public Model {
   std::vector<double> ks_;       // stabilisation modulus per particle [Pa]
   std::vector<StrainLawState> committed_, trial_;
   std::vector<double> work_, energy_, von_mises_;
+  // Per particle, the energy [J/m^3] a change of its acting set in this step released
+  // (> 0) or added (< 0) at fixed positions: (W + plastic work) over the old set minus
+  // over the new one. omega_D drops the bonds to a failed neighbour and M^-1 renormalises
+  // the family; without this the jump leaves the strain energy and enters no account of
+  // the ledger. switched_: a particle the guards (min_acting_fraction, shape tensor)
+  // switch off, its whole energy (booked with the failure energy); thinned_: a particle
+  // that keeps acting on fewer bonds, signed (output field acting_set_energy).
+  std::vector<double> switched_, thinned_;
+  std::vector<double> thinned_total_;  // accumulated thinned_ [J/m^3]
+  std::vector<uint8_t> acted_;  // per bond: 1 when it acted at the last pass
   // The dissipation booked so far [J/m^3], split: plastic work (the law's and the capped
   // stabilisation's) and the elastic energy of particles that failed (output fields
   // plastic_work and failure_energy; summary.json energy.dissipated_parts).
@@ -207,6 +261,9 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   plastic_total_.assign(n, 0.0);
   failure_total_.assign(n, 0.0);
   energy_.assign(n, 0.0);
+  switched_.assign(n, 0.0);
+  thinned_.assign(n, 0.0);
+  thinned_total_.assign(n, 0.0);
   von_mises_.assign(n, 0.0);
   inactive_.assign(n, 0);
   maps_.assign(n, extended::MomentMap{});
@@ -221,6 +278,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
   const Point4* y = pass.y;
   Vec3* T = pass.T;
   if (eps_.size() != B.size()) eps_.assign(B.size(), 0.0);
+  if (acted_.size() != B.size()) acted_.assign(B.size(), 0);
   if (stab_yield_ > 0 && rp_committed_.size() != B.size()) {
     rp_committed_.assign(B.size(), 0.0);
     rp_trial_.assign(B.size(), 0.0);
@@ -236,12 +294,18 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     auto acts = [&](uint64_t k) { return B.intact[k] && !self_failed && !failed_committed(B.nbr[k]); };
     extended::NonlocalStrain E(dim_, m_);
     bool ok = !self_failed;
+    bool changed = false;  // the acting set of an active particle changed in this pass
+    double before = 0;     // its energy + plastic work over the old set, at these positions
     if (ok) {
       // The moment map and the shape-tensor guard depend on the acting set only, which
       // only shrinks (bonds break, neighbours fail): its size identifies it.
       uint32_t count = 0;
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) count += acts(k) ? 1 : 0;
       if (count != acting_[l]) {
+        if (acting_[l] != UINT32_MAX && map_ok_[l]) {
+          changed = true;
+          before = energy_with(pass, l, maps_[l], [&](uint64_t k) { return acted_[k] != 0; });
+        }
         NonlocalGradient K;  // the shape tensor, for the conditioning guard only
         extended::MomentMap map;
         map.reset(dim_);
@@ -299,6 +363,8 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
         for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_trial_[k] = rp_committed_[k];
       energy_[l] = von_mises_[l] = 0;
       if (pass.energy) pass.energy[i] = 0;
+      if (changed) switched_[l] += before;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = 0;
       continue;
     }
     const Vec6 a = E.dual(out.S);
@@ -347,6 +413,8 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       T[k] = extended::bond_force_state(a, b, ks, B.weight[k], m_, dim_, xi, Y, r);
     }
     energy_[l] = W;
+    if (changed) thinned_[l] += before - (W + work_[l]);
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = acts(k) ? 1 : 0;
     const Mat3 dev = law_stress - (law_stress.trace() / 3.0) * Mat3::Identity();
     von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
     if (pass.energy) pass.energy[i] = W;
@@ -355,10 +423,13 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
 
 void ExtendedCorrespondence::commit(System& s) {
   for (std::size_t l = 0; l < particles_.size(); ++l) {
-    const double d = work_[l] + released(l);
+    const double lost = released(l) + switched_[l];
+    const double d = work_[l] + lost + thinned_[l];
     if (d != 0) s.dissipated_at[particles_[l]] += d * s.particles.volume[particles_[l]];
     plastic_total_[l] += work_[l];
-    failure_total_[l] += released(l);
+    failure_total_[l] += lost;
+    thinned_total_[l] += thinned_[l];
+    switched_[l] = thinned_[l] = 0;
     committed_[l] = trial_[l];
     work_[l] = 0;
   }
@@ -378,6 +449,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
   ModelField pw{"plastic_work", std::vector<double>(n, 0.0)};
   ModelField fe{"failure_energy", std::vector<double>(n, 0.0)};
   ModelField as{"acting_share", std::vector<double>(n, 0.0)};
+  ModelField ae{"acting_set_energy", std::vector<double>(n, 0.0)};
   for (const auto& model : s.models) {
     const auto* c = dynamic_cast<const ExtendedCorrespondence*>(model.get());
     if (!c) continue;
@@ -390,6 +462,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
       pw.values[i] = c->plastic_total_[l];
       fe.values[i] = c->failure_total_[l];
       as.values[i] = c->acting_share_[l];
+      ae.values[i] = c->thinned_total_[l];
     }
   }
   out.push_back(std::move(vm));
@@ -399,6 +472,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
   out.push_back(std::move(pw));
   out.push_back(std::move(fe));
   out.push_back(std::move(as));
+  out.push_back(std::move(ae));
 }
 
 }  // namespace
