@@ -33,6 +33,8 @@ struct Impact {
   double velocity_20us_before = 0;
   double max_balance = 0, dissipated = 0;
   double plastic_work = 0, failure_energy = 0;  // summary.json energy.dissipated_parts
+  double acting_set_energy = 0;                 // (signed: < 0 when thinned families gain energy)
+  double initial = 0;                           // the projectile's kinetic energy
 };
 
 // `replace`: pairs of text in the materials block and what replaces it (variants).
@@ -89,6 +91,8 @@ output: {{frames: 1, history_every: 10}}
   r.dissipated = j["energy"]["dissipated"].get<double>();
   r.plastic_work = j["energy"]["dissipated_parts"]["plastic_work"].get<double>();
   r.failure_energy = j["energy"]["dissipated_parts"]["failure_energy"].get<double>();
+  r.acting_set_energy = j["energy"]["dissipated_parts"]["acting_set_energy"].get<double>();
+  r.initial = j["energy"]["initial"].get<double>();
   // history.csv: the projectile's velocity 20 us before the end (a steady exit velocity).
   std::ifstream in(dir / "history.csv");
   std::string line;
@@ -131,7 +135,7 @@ TEST(BallisticPlate, StoppedWellBelowTheLimitPerforatedWellAbove) {
   // The ledger's dissipation is the plastic work plus the energy of the failed particles
   // (no bond of this model breaks): the two parts account for all of it.
   for (const Impact* r : {&slow, &fast})
-    EXPECT_NEAR(r->plastic_work + r->failure_energy, r->dissipated, 1e-9 * r->dissipated);
+    EXPECT_NEAR(r->plastic_work + r->failure_energy + r->acting_set_energy, r->dissipated, 1e-9 * r->dissipated);
   EXPECT_GT(fast.plastic_work, 0.0);
   EXPECT_GT(fast.failure_energy, 0.0);
   EXPECT_LT(slow.max_balance, 0.02);
@@ -140,20 +144,30 @@ TEST(BallisticPlate, StoppedWellBelowTheLimitPerforatedWellAbove) {
 
 // The thesis's D_c = 0.99 (omega_D drops the bonds of a failed particle). A particle
 // whose family is thinned to a share s of its weight has a moment map ~ s M_full, so its
-// strain and force scale as 1/s and its stiffness grows as 1/s beyond what the step was
-// taken for: at 1000 m/s the ledger drifts past 2 % (4.1e-2 measured; in 3-D at 600 m/s
-// the run blows up, docs/verification.md). min_acting_fraction 0.5 switches such
-// particles off and the ledger holds (1.3e-2), the perforation unchanged.
+// strain and force scale as 1/s: at fixed positions its energy jumps when the set
+// shrinks (in 3-D at 600 m/s the run blows up, docs/verification.md). The model books
+// every such jump (acting_set_energy, signed; the energy of a particle the guard switches
+// off goes to failure_energy), so the ledger closes with and without the guard; the
+// energy the thinned families gain (acting_set_energy < 0) is the witness: min_acting_fraction
+// 0.5 switches the thinnest families off and the gain falls (-5.1 J to -1.9 J of 125 J),
+// the perforation unchanged.
 TEST(BallisticPlate, ThinnedFamiliesNeedTheActingShareGuard) {
   const Impact bare = strike(1000, {{"critical_damage: 1.0", "critical_damage: 0.99"}});
   const Impact guarded =
       strike(1000, {{"critical_damage: 1.0", "critical_damage: 0.99\n    min_acting_fraction: 0.5"}});
   report("ballistic_dc099_balance", guarded.max_balance,
          fmt::format("2-D ballistic plate at 1000 m/s, D_c = 0.99: balance {:.2e} without the guard, {:.2e} with "
-                     "min_acting_fraction 0.5; residual {:.1f} / {:.1f} m/s",
-                     bare.max_balance, guarded.max_balance, bare.final_velocity, guarded.final_velocity));
-  EXPECT_GT(bare.max_balance, 0.02);
-  EXPECT_LT(guarded.max_balance, 0.02);
+                     "min_acting_fraction 0.5; energy of the thinned families {:.3g} / {:.3g} J, failure energy "
+                     "{:.3g} / {:.3g} J (impact {:.3g} J); residual {:.1f} / {:.1f} m/s",
+                     bare.max_balance, guarded.max_balance, bare.acting_set_energy, guarded.acting_set_energy,
+                     bare.failure_energy, guarded.failure_energy, bare.initial, bare.final_velocity,
+                     guarded.final_velocity));
+  for (const Impact* r : {&bare, &guarded}) {
+    EXPECT_LT(r->max_balance, 0.01);
+    EXPECT_NEAR(r->plastic_work + r->failure_energy + r->acting_set_energy, r->dissipated, 1e-9 * r->dissipated);
+  }
+  EXPECT_LT(bare.acting_set_energy, -0.02 * bare.initial);
+  EXPECT_LT(std::abs(guarded.acting_set_energy), 0.5 * std::abs(bare.acting_set_energy));
   EXPECT_GT(guarded.final_velocity, 0.3 * 1000);
 }
 

@@ -72,6 +72,19 @@ const ModelTraits& traits() {
          "seth_hill: Tupek's E_(m) = sum w eps_(m) H (eq. 4.3); hencky: the logarithm of the nonlocal Cauchy-Green "
          "tensor I + 2 E_(1) (Green bond strains, exact for homogeneous finite strain; seth_hill_m unused)",
          {"seth_hill", "hencky"}},
+        {"stabilization_residual",
+         "the bond residual the stabilisation acts on: full, r = eps - n.E_i n; midpoint, r = eps - n.(E_i + E_j)/2 n "
+         "(E at both ends of the bond: a smooth strain gradient leaves only O(h^2), a zero-energy mode all of it)",
+         {"full", "midpoint"}},
+        {"stabilization_softening",
+         "none: the stabilisation modulus k_s = G_s mu_bar d/sum w stays; secant: k_s x s_f/(s_f + 3 mu eps_p) (s_f the "
+         "flow stress at the committed plastic strain eps_p: the secant shear modulus of the flow curve over mu), "
+         "updated at each commit, the stabilisation energy it releases booked as plastic work",
+         {"none", "secant"}},
+        {"volumetric_strain",
+         "the trace of the strain the law sees: average (that of the nonlocal strain E) or gradient (ln det F of the "
+         "classical nonlocal deformation gradient over the same bonds: no Jensen bias across a deformation gradient)",
+         {"average", "gradient"}},
     };
     return m;
   }();
@@ -89,7 +102,7 @@ class ExtendedCorrespondence final : public Model {
   double pending_dissipation(const System& s) const override {
     double sum = 0;
     for (std::size_t l = 0; l < particles_.size(); ++l)
-      sum += (work_[l] + released(l)) * s.particles.volume[particles_[l]];
+      sum += (work_[l] + released(l) + switched_[l] + thinned_[l]) * s.particles.volume[particles_[l]];
     return sum;
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
@@ -106,6 +119,8 @@ class ExtendedCorrespondence final : public Model {
     a.io("map_ok", map_ok_);
     a.io("plastic_total", plastic_total_);
     a.io("failure_total", failure_total_);
+    a.io("acting_set_total", thinned_total_);
+    a.io("stabilization_modulus", ks_);
     if (a.loading()) acting_.assign(acting_.size(), UINT32_MAX);
   }
  private:
@@ -115,6 +130,146 @@ class ExtendedCorrespondence final : public Model {
   bool failed_state(const StrainLawState& st) const { return st.damage > critical_ || st.damage >= 1.0; }
   double released(std::size_t l) const {
     return !failed_state(committed_[l]) && failed_state(trial_[l]) ? energy_[l] : 0.0;
+  }
+  // The law at the nonlocal strain E of particle l from its committed state. strain
+  // (hencky: E_log = ln(I + 2E)/2; seth_hill: E itself) is what the law sees, except with
+  // volumetric_strain gradient (Fbar set): its trace is replaced by ln det Fbar, Fbar the
+  // classical nonlocal deformation gradient over the same bonds (material/nonlocal_gradient.hpp),
+  //   E' = E_log + ((ln J - I_d : E_log)/d) I_d   (I_d the identity of the d in-plane axes),
+  // which is E_log for every homogeneous deformation. Why: E averages the Green bond
+  // strains, and across a deformation gradient the average of C is more than C of the
+  // average deformation (the variance of F adds to it: Jensen), a positive trace that
+  // the bulk modulus prices elastically and that never yields; ln det Fbar is linear in
+  // the bonds (no such bias). The law's stress T splits accordingly:
+  //   T : dE' = (T - p I_d) : dE_log + p d(ln J),  p = (I_d : T)/d,
+  // the first part through the central force (4.7), the second as the classical
+  // correspondence force of p Fbar^-T (d ln J = Fbar^-T : dFbar): T_k += omega p Fbar^-T K^-1 xi.
+  struct LawPoint {
+    classical::StrainLawOut out;  // out.S: the stress conjugate to E (the deviatoric part with Fbar)
+    Mat3 law_stress = Mat3::Zero();  // the law's own stress (conjugate to its strain argument)
+    Mat3 pressure_map = Mat3::Zero();  // with Fbar: p Fbar^-T
+    bool ok = false;
+  };
+  LawPoint run_law(std::size_t l, const extended::NonlocalStrain& E, const Mat3* Fbar, double dt,
+                   StrainLawState& trial) const {
+    LawPoint r;
+    extended::HenckyMap h;
+    Mat3 strain = E.strain();
+    if (hencky_) {
+      h = extended::hencky_of_green(strain);
+      strain = h.strain;
+    }
+    Mat3 Id = Mat3::Identity();
+    if (dim_ == 2) Id(2, 2) = 0.0;
+    double J = 1;
+    if (Fbar) {
+      J = std::max(Fbar->determinant(), 1e-6);
+      strain += ((std::log(J) - (Id.array() * strain.array()).sum()) / dim_) * Id;
+    }
+    r.out = classical::strain_law(law_, committed_[l], strain, dt, trial);
+    if (r.out.failed) return r;
+    r.ok = true;
+    r.law_stress = r.out.S;
+    Mat3 T = r.out.S;
+    if (Fbar) {
+      const double p = (Id.array() * T.array()).sum() / dim_;
+      T -= p * Id;
+      r.pressure_map = p * Fbar->inverse().transpose();
+    }
+    r.out.S = hencky_ ? extended::green_stress_of_hencky(h, T) : T;
+    return r;
+  }
+
+  // The energy density plus the step's plastic work [J/m^3] of particle l at the pass's
+  // positions over the bonds `acts` selects, with the moment map `map`, from the committed
+  // state (the trial state is discarded): the same sums as force_state. It prices a change
+  // of the acting set (below, switched_).
+  template <class Acts>
+  double energy_with(const ForcePass& pass, std::size_t l, const extended::MomentMap& map, const Mat3& Kinv,
+                     Acts acts) {
+    const Bonds& B = pass.system.bonds;
+    const std::vector<Vec3>& X = pass.system.particles.X;
+    const uint32_t i = particles_[l];
+    const Point4 yi = pass.y[i];
+    auto deformed = [&](uint32_t j) { return Vec3{pass.y[j].x - yi.x, pass.y[j].y - yi.y, pass.y[j].z - yi.z}; };
+    extended::NonlocalStrain E(dim_, m_);
+    E.use(map);
+    Mat3 N = Mat3::Zero();
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!acts(k)) continue;
+      const Vec3 xi = X[B.nbr[k]] - X[i], Y = deformed(B.nbr[k]);
+      const double w = B.weight[k] * B.volume[k];
+      eps_[k] = E.add_strain(xi, Y, w);
+      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+    }
+    if (!E.finish(false)) return 0.0;
+    Mat3 Fbar = N * Kinv;
+    if (dim_ == 2) Fbar(2, 2) = 1.0;
+    StrainLawState scratch;
+    const LawPoint lp = run_law(l, E, vol_gradient_ ? &Fbar : nullptr, pass.dt, scratch);
+    if (!lp.ok) return 0.0;
+    const classical::StrainLawOut& out = lp.out;
+    if (ks_[l] == 0) return out.W + out.plastic_work;
+    const Stabilisation st = stabilisation(B, X, i, l, E, acts, scratch.alpha, out.rate, false);
+    return out.W + out.plastic_work + st.W + st.work;
+  }
+
+  // The bond-level stabilisation of particle i (local index l) at the strain E (eps_ holds
+  // the acting bonds' strains): W_s,i = sum_k k_k w_k r_k^2 with
+  //   stabilization_residual full: r_k = eps_k - n_k . E_i n_k - r_p,k, k_k = k_s,i;
+  //   midpoint: r_k = eps_k - n_k . (E_i + E_j)/2 n_k - r_p,k, k_k = (k_s,i + k_s,j)/2, E_j
+  //     the strain of the bond's other end in this pass (Ej_; an end that carries no stress,
+  //     or of another model: the full residual with k_s,i),
+  // r_p the capped stabilisation's plastic residual (stabilization_yield). The midpoint
+  // residual appears in both ends' W_s with the same value (symmetric families, w_ij =
+  // w_ji); summed over both, dW_s = sum_i 2 sum_k k_k w_k r_k (d eps_k - n_k . dE_i n_k),
+  // the form (**) with r -> r_force = k_k r / k_s,i (written to rforce_) and R = sum w
+  // r_force n n. write: the trial r_p is written (a force pass) or not (energy_with).
+  struct Stabilisation {
+    Mat3 R = Mat3::Zero();  // sum_k w_k r_force_k n n
+    double W = 0, work = 0;  // W_s [J/m^3] and the capped part's dissipation in the step
+  };
+  template <class Acts>
+  Stabilisation stabilisation(const Bonds& B, const std::vector<Vec3>& X, uint32_t i, std::size_t l,
+                              const extended::NonlocalStrain& E, Acts acts, double alpha, double rate, bool write) {
+    Stabilisation out;
+    const double ks = ks_[l];
+    const bool capped = stab_yield_ > 0 && !rp_committed_.empty();
+    const double r_c = capped ? stab_yield_ * classical::flow_stress(law_, alpha, rate) / (2.0 * gs_mu_bar_) : 0.0;
+    const Vec6& Ei = E.strain_vector();
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!acts(k)) continue;
+      const uint32_t j = B.nbr[k];
+      const Vec3 xi = X[j] - X[i];
+      double r0, coef = ks;
+      const int32_t lj = midpoint_ ? local_[j] : -1;
+      if (lj >= 0 && e_ok_[lj]) {
+        r0 = eps_[k] - extended::normal_projector(xi).dot(0.5 * (Ei + e_vec_[lj]));
+        coef = 0.5 * (ks + ks_[lj]);
+      } else {
+        r0 = E.residual(xi, eps_[k]);
+      }
+      const double w = B.weight[k] * B.volume[k];
+      // The capped (plastic) stabilisation. W_s is diagonal in the per-bond plastic residual
+      // r_p (dW_s/dr_p = -2 k w (r0 - r_p)), so the closest-point return is bond by bond.
+      // The bond's stabilisation stress, in the units of the law's, is tau = 2 G_s mu_bar
+      // (r0 - r_p) (k_s = G_s mu_bar d / sum w); |tau| <= stabilization_yield x the flow
+      // stress after the step, i.e. |r0 - r_p| <= r_c. Dissipation: 2 k r_c |Delta r_p| w
+      // per bond (backward Euler, as the law's Y Delta eps_p).
+      double rp = 0;
+      if (capped) {
+        const double rc = rp_committed_[k];
+        rp = std::abs(r0 - rc) > r_c ? r0 - std::copysign(r_c, r0 - rc) : rc;
+        out.work += 2.0 * coef * r_c * std::abs(rp - rc) * w;
+        if (write) rp_trial_[k] = rp;
+      }
+      const double r = r0 - rp;
+      rforce_[k] = r * coef / ks;
+      const Eigen::Vector3d nv = Eigen::Vector3d(xi.x, xi.y, xi.z).normalized();
+      out.R.noalias() += (w * rforce_[k]) * nv * nv.transpose();
+      out.W += coef * w * r * r;
+    }
+    return out;
   }
   bool failed_committed(uint32_t i) const {
     const int32_t l = local_[i];
@@ -132,16 +287,38 @@ class ExtendedCorrespondence final : public Model {
   std::vector<double> rp_committed_, rp_trial_;  // per bond: the plastic residual r_p
   std::vector<uint32_t> particles_;
   std::vector<int32_t> local_;   // particle index -> index in particles_ (-1: not ours)
-  std::vector<double> ks_;       // stabilisation modulus per particle [Pa]
+  std::vector<double> ks_;       // stabilisation modulus per particle [Pa] (softened: stabilization_softening)
+  std::vector<double> ks0_;      // its unsoftened value
+  std::vector<double> ws_;       // per particle: the stabilisation energy W_s of the last pass [J/m^3]
+  bool secant_ = false;          // stabilization_softening secant
   std::vector<StrainLawState> committed_, trial_;
   std::vector<double> work_, energy_, von_mises_;
+  // Per particle, the energy [J/m^3] a change of its acting set in this step released
+  // (> 0) or added (< 0) at fixed positions: (W + plastic work) over the old set minus
+  // over the new one. omega_D drops the bonds to a failed neighbour and M^-1 renormalises
+  // the family; without this the jump leaves the strain energy and enters no account of
+  // the ledger. switched_: a particle the guards (min_acting_fraction, shape tensor)
+  // switch off, its whole energy (booked with the failure energy); thinned_: a particle
+  // that keeps acting on fewer bonds, signed (output field acting_set_energy).
+  std::vector<double> switched_, thinned_;
+  std::vector<double> thinned_total_;  // accumulated thinned_ [J/m^3]
+  std::vector<uint8_t> acted_;  // per bond: 1 when it acted at the last pass
   // The dissipation booked so far [J/m^3], split: plastic work (the law's and the capped
   // stabilisation's) and the elastic energy of particles that failed (output fields
   // plastic_work and failure_energy; summary.json energy.dissipated_parts).
   std::vector<double> plastic_total_, failure_total_;
   std::vector<uint8_t> inactive_;  // 1: carried no stress at the last pass (failed or singular)
   std::vector<double> eps_;        // per bond: the bond strain of the pass (scratch)
+  std::vector<double> rforce_;  // per bond: the force's r (scratch, stabilisation())
+  bool midpoint_ = false;       // stabilization_residual midpoint
+  std::vector<Vec6> e_vec_;     // per particle: E of this pass (midpoint; first sweep)
+  std::vector<uint8_t> e_ok_;   // 1: it carries stress in this pass
+  std::vector<uint8_t> changed_;  // 1: its acting set changed in this pass (first sweep)
+  std::vector<extended::MomentMap> old_maps_;  // the map and K^-1 before the change
+  std::vector<Mat3> old_kinv_;
   std::vector<extended::MomentMap> maps_;  // per particle: the kept moment map
+  std::vector<Mat3> kinv_;                 // per particle: K^-1 of the acting set (volumetric_strain gradient)
+  bool vol_gradient_ = false;              // volumetric_strain gradient
   std::vector<uint32_t> acting_;           // its acting-set size (UINT32_MAX: not built)
   std::vector<uint8_t> map_ok_;            // 1: the map and the shape tensor passed the guard
 };
@@ -200,6 +377,10 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
     ks_[l] = w > 0 ? Gs * mu_bar * dim_ / w : 0.0;
   }
   fill_state_based_coefficients(in, 1.0 + Gs);
+  midpoint_ = choice(mat, "stabilization_residual") == "midpoint";
+  secant_ = choice(mat, "stabilization_softening") == "secant" && law_.law != StrainLaw::elastic;
+  ks0_ = ks_;
+  ws_.assign(particles_.size(), 0.0);
   const std::size_t n = particles_.size();
   committed_.assign(n, StrainLawState{});
   trial_.assign(n, StrainLawState{});
@@ -207,9 +388,19 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   plastic_total_.assign(n, 0.0);
   failure_total_.assign(n, 0.0);
   energy_.assign(n, 0.0);
+  switched_.assign(n, 0.0);
+  thinned_.assign(n, 0.0);
+  thinned_total_.assign(n, 0.0);
   von_mises_.assign(n, 0.0);
   inactive_.assign(n, 0);
   maps_.assign(n, extended::MomentMap{});
+  kinv_.assign(n, Mat3::Zero());
+  e_vec_.assign(n, Vec6::Zero());
+  e_ok_.assign(n, 0);
+  changed_.assign(n, 0);
+  old_maps_.assign(n, extended::MomentMap{});
+  old_kinv_.assign(n, Mat3::Zero());
+  vol_gradient_ = choice(mat, "volumetric_strain") == "gradient";
   acting_.assign(n, UINT32_MAX);
   map_ok_.assign(n, 0);
 }
@@ -221,11 +412,15 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
   const Point4* y = pass.y;
   Vec3* T = pass.T;
   if (eps_.size() != B.size()) eps_.assign(B.size(), 0.0);
+  if (rforce_.size() != B.size()) rforce_.assign(B.size(), 0.0);
+  if (acted_.size() != B.size()) acted_.assign(B.size(), 0);
   if (stab_yield_ > 0 && rp_committed_.size() != B.size()) {
     rp_committed_.assign(B.size(), 0.0);
     rp_trial_.assign(B.size(), 0.0);
   }
   const std::size_t n = particles_.size();
+  // Sweep 1: the acting sets and moment maps, and (midpoint residual) every particle's E,
+  // which sweep 2's stabilisation reads at both ends of a bond.
 #pragma omp parallel for schedule(static) if (n > 512)
   for (std::size_t l = 0; l < n; ++l) {
     const uint32_t i = particles_[l];
@@ -234,14 +429,20 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     // omega_D (thesis eq. 7.2): a bond acts while neither end has D > D_c.
     const bool self_failed = committed_[l].damage > critical_;
     auto acts = [&](uint64_t k) { return B.intact[k] && !self_failed && !failed_committed(B.nbr[k]); };
-    extended::NonlocalStrain E(dim_, m_);
-    bool ok = !self_failed;
-    if (ok) {
+    changed_[l] = 0;
+    e_ok_[l] = 0;
+    if (self_failed) continue;
+    {
       // The moment map and the shape-tensor guard depend on the acting set only, which
       // only shrinks (bonds break, neighbours fail): its size identifies it.
       uint32_t count = 0;
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) count += acts(k) ? 1 : 0;
       if (count != acting_[l]) {
+        if (acting_[l] != UINT32_MAX && map_ok_[l]) {
+          changed_[l] = 1;
+          old_maps_[l] = maps_[l];
+          old_kinv_[l] = kinv_[l];
+        }
         NonlocalGradient K;  // the shape tensor, for the conditioning guard only
         extended::MomentMap map;
         map.reset(dim_);
@@ -263,31 +464,62 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
         Mat3 Kinv, F;
         map_ok_[l] = enough && K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
         maps_[l] = map;
+        kinv_[l] = Kinv;
         acting_[l] = count;
       }
-      ok = map_ok_[l] != 0;
     }
+    if (!midpoint_ || !map_ok_[l] || committed_[l].damage >= 1.0) continue;
+    extended::NonlocalStrain E(dim_, m_);
+    E.use(maps_[l]);
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+      if (acts(k)) E.add_strain(X[B.nbr[k]] - X[i], deformed(B.nbr[k]), B.weight[k] * B.volume[k]);
+    if (E.finish(false)) {
+      e_vec_[l] = E.strain_vector();
+      e_ok_[l] = 1;
+    }
+  }
+  // Sweep 2: the law, the stabilisation and the force states.
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    const Point4 yi = y[i];
+    auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
+    const bool self_failed = committed_[l].damage > critical_;
+    auto acts = [&](uint64_t k) { return B.intact[k] && !self_failed && !failed_committed(B.nbr[k]); };
+    extended::NonlocalStrain E(dim_, m_);
+    bool ok = !self_failed && map_ok_[l] != 0;
+    const bool changed = changed_[l] != 0;  // the acting set of an active particle changed in this pass
+    // its energy + plastic work over the old set, at these positions
+    const double before = changed ? energy_with(pass, l, old_maps_[l], old_kinv_[l],
+                                                [&](uint64_t k) { return acted_[k] != 0; })
+                                  : 0.0;
+    Mat3 Fbar = Mat3::Identity();  // volumetric_strain gradient: the classical nonlocal F
     if (ok) {
       E.use(maps_[l]);
+      Mat3 N = Mat3::Zero();
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
         if (!acts(k)) continue;
         const uint32_t j = B.nbr[k];
-        eps_[k] = E.add_strain(X[j] - X[i], deformed(j), B.weight[k] * B.volume[k]);
+        const Vec3 xi = X[j] - X[i], Y = deformed(j);
+        const double w = B.weight[k] * B.volume[k];
+        eps_[k] = E.add_strain(xi, Y, w);
+        if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
       }
       ok = E.finish(false);
+      if (vol_gradient_) {
+        Fbar = N * kinv_[l];
+        if (dim_ == 2) Fbar(2, 2) = 1.0;
+      }
     }
     classical::StrainLawOut out;
     Mat3 law_stress = Mat3::Zero();  // the law's stress (conjugate to its strain argument)
-    if (ok && hencky_) {
-      const extended::HenckyMap h = extended::hencky_of_green(E.strain());
-      out = classical::strain_law(law_, committed_[l], h.strain, pass.dt, trial_[l]);
-      ok = !out.failed;
-      law_stress = out.S;
-      if (ok) out.S = extended::green_stress_of_hencky(h, out.S);
-    } else if (ok) {
-      out = classical::strain_law(law_, committed_[l], E.strain(), pass.dt, trial_[l]);
-      ok = !out.failed;
-      law_stress = out.S;
+    Mat3 PK = Mat3::Zero();          // p Fbar^-T (volumetric_strain gradient)
+    if (ok) {
+      const LawPoint lp = run_law(l, E, vol_gradient_ ? &Fbar : nullptr, pass.dt, trial_[l]);
+      ok = lp.ok;
+      out = lp.out;
+      law_stress = lp.law_stress;
+      PK = lp.pressure_map * kinv_[l];
     } else {
       trial_[l] = committed_[l];
     }
@@ -299,42 +531,20 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
         for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_trial_[k] = rp_committed_[k];
       energy_[l] = von_mises_[l] = 0;
       if (pass.energy) pass.energy[i] = 0;
+      if (changed) switched_[l] += before;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = 0;
       continue;
     }
     const Vec6 a = E.dual(out.S);
     Vec6 b = Vec6::Zero();
     double W = out.W;
     const double ks = ks_[l];
-    // The capped (plastic) stabilisation. W_s is diagonal in the per-bond plastic residual
-    // r_p (dW_s/dr_p = -2 k_s w (r - r_p)), so the closest-point return is bond by bond. The
-    // bond's stabilisation stress, in the units of the law's, is tau = 2 G_s mu_bar (r - r_p)
-    // (k_s = G_s mu_bar d / sum w); |tau| <= stabilization_yield x the flow stress after the
-    // step, i.e. |r - r_p| <= r_c. Dissipation: 2 k_s r_c |Delta r_p| w per bond (backward
-    // Euler, as the law's Y Delta eps_p).
-    const bool capped = ks != 0 && stab_yield_ > 0;
-    const double r_c =
-        capped ? stab_yield_ * classical::flow_stress(law_, trial_[l].alpha, out.rate) / (2.0 * gs_mu_bar_) : 0.0;
-    auto plastic_residual = [&](uint64_t k, double r) {
-      if (!capped) return 0.0;
-      const double rp = rp_committed_[k];
-      rp_trial_[k] = std::abs(r - rp) > r_c ? r - std::copysign(r_c, r - rp) : rp;
-      return rp_trial_[k];
-    };
     if (ks != 0) {
-      Mat3 R = Mat3::Zero();
-      double Ws = 0;
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-        if (!acts(k)) continue;
-        const Vec3 xi = X[B.nbr[k]] - X[i];
-        const double w = B.weight[k] * B.volume[k], r0 = E.residual(xi, eps_[k]);
-        const double rp = plastic_residual(k, r0), r = r0 - rp;
-        if (capped) work_[l] += 2.0 * ks * r_c * std::abs(rp - rp_committed_[k]) * w;
-        const Eigen::Vector3d nv = Eigen::Vector3d(xi.x, xi.y, xi.z).normalized();
-        R.noalias() += (w * r) * nv * nv.transpose();
-        Ws += w * r * r;
-      }
-      b = E.dual(R);
-      W += ks * Ws;
+      const Stabilisation st = stabilisation(B, X, i, l, E, acts, trial_[l].alpha, out.rate, true);
+      work_[l] += st.work;
+      b = E.dual(st.R);
+      W += st.W;
+      ws_[l] = st.W;
     }
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!acts(k)) {
@@ -343,10 +553,16 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       }
       const uint32_t j = B.nbr[k];
       const Vec3 xi = X[j] - X[i], Y = deformed(j);
-      const double r = ks != 0 ? E.residual(xi, eps_[k]) - (capped ? rp_trial_[k] : 0.0) : 0.0;
+      const double r = ks != 0 ? rforce_[k] : 0.0;
       T[k] = extended::bond_force_state(a, b, ks, B.weight[k], m_, dim_, xi, Y, r);
+      if (vol_gradient_) {
+        const Eigen::Vector3d t = B.weight[k] * (PK * Eigen::Vector3d(xi.x, xi.y, xi.z));
+        T[k] = T[k] + Vec3{t[0], t[1], t[2]};
+      }
     }
     energy_[l] = W;
+    if (changed) thinned_[l] += before - (W + work_[l]);
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = acts(k) ? 1 : 0;
     const Mat3 dev = law_stress - (law_stress.trace() / 3.0) * Mat3::Identity();
     von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
     if (pass.energy) pass.energy[i] = W;
@@ -355,10 +571,27 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
 
 void ExtendedCorrespondence::commit(System& s) {
   for (std::size_t l = 0; l < particles_.size(); ++l) {
-    const double d = work_[l] + released(l);
+    // stabilization_softening secant: k_s follows the committed plastic strain (thesis
+    // sec. 8 suggests the plastic part of the bond strain state, after Mitchell; this is
+    // the scalar version): k_s = k_s0 s_f/(s_f + 3 mu eps_p), the secant of the flow curve
+    // sigma = s_f, total shear strain s_f/(3 mu) + eps_p, over mu. It only falls; the
+    // energy W_s (k_old - k_new)/k_old it releases at fixed positions is booked as plastic
+    // work (exact for the full residual; the midpoint one shares k between the ends).
+    if (secant_ && ks0_[l] > 0 && !inactive_[l]) {
+      const double sf = classical::flow_stress(law_, trial_[l].alpha, 0.0);
+      const double k_new = ks0_[l] * sf / (sf + 3.0 * law_.mu * trial_[l].alpha);
+      if (k_new < ks_[l]) {
+        work_[l] += ws_[l] * (ks_[l] - k_new) / ks_[l];
+        ks_[l] = k_new;
+      }
+    }
+    const double lost = released(l) + switched_[l];
+    const double d = work_[l] + lost + thinned_[l];
     if (d != 0) s.dissipated_at[particles_[l]] += d * s.particles.volume[particles_[l]];
     plastic_total_[l] += work_[l];
-    failure_total_[l] += released(l);
+    failure_total_[l] += lost;
+    thinned_total_[l] += thinned_[l];
+    switched_[l] = thinned_[l] = 0;
     committed_[l] = trial_[l];
     work_[l] = 0;
   }
@@ -378,6 +611,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
   ModelField pw{"plastic_work", std::vector<double>(n, 0.0)};
   ModelField fe{"failure_energy", std::vector<double>(n, 0.0)};
   ModelField as{"acting_share", std::vector<double>(n, 0.0)};
+  ModelField ae{"acting_set_energy", std::vector<double>(n, 0.0)};
   for (const auto& model : s.models) {
     const auto* c = dynamic_cast<const ExtendedCorrespondence*>(model.get());
     if (!c) continue;
@@ -390,6 +624,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
       pw.values[i] = c->plastic_total_[l];
       fe.values[i] = c->failure_total_[l];
       as.values[i] = c->acting_share_[l];
+      ae.values[i] = c->thinned_total_[l];
     }
   }
   out.push_back(std::move(vm));
@@ -399,6 +634,7 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
   out.push_back(std::move(pw));
   out.push_back(std::move(fe));
   out.push_back(std::move(as));
+  out.push_back(std::move(ae));
 }
 
 }  // namespace

@@ -158,6 +158,7 @@ class NonlocalStrain {
     return E_.allFinite();
   }
   Mat3 strain() const { return to_mat3(E_); }
+  const Vec6& strain_vector() const { return E_; }
   Vec6 dual(const Mat3& sigma) const { return map_.dual(sigma); }
   // r_j = eps_j - n . E n.
   double residual(const Vec3& xi, double eps) const { return eps - normal_projector(xi).dot(E_); }
