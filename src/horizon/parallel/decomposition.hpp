@@ -106,6 +106,15 @@ bool local_rows_allowed(const Config& config);
 // bond-based run keeps its owned rows only), counts the global bonds (s.initial_bonds
 // becomes the whole system's) and where each row lies in the serial order. Collective.
 void decompose(System& s, Decomposition& d, double skin);
+// What the busiest of `ranks` ranks would hold with local rows, from the whole system
+// `s` (horizon check --ranks; solver/system.cpp): its bonds (owned rows, and the bond
+// neighbours' rows where decompose() keeps them) and its memory estimate (every particle,
+// those bonds).
+struct RankShare {
+  uint64_t bonds = 0;
+  std::size_t bytes = 0;
+};
+RankShare largest_rank_share(const System& s, int ranks);
 // Sum over ranks and minimum over ranks (the value itself without MPI). Collective.
 uint64_t sum_over_ranks(uint64_t x);
 double min_over_ranks(double x);

@@ -374,17 +374,56 @@ double stable_time_step(const System& s) {
   return dt;
 }
 
-std::size_t memory_estimate(const System& s) {
-  const std::size_t n = s.particles.size(), nb = s.bonds.size();
-  // Particles, model arrays (12 doubles), the force pass's scratch (4 + 1 doubles).
-  const std::size_t per_particle = 5 * sizeof(Vec3) + 4 * sizeof(double) + 2 * sizeof(int32_t) + sizeof(int64_t) + 1 +
-                                   17 * sizeof(double) + sizeof(uint64_t);
+namespace {
+// Bytes a bond costs (memory_estimate).
+std::size_t bytes_per_bond(const System& s) {
   // Neighbour, kind, intact flag; reference data per kind (family/bonds.hpp).
   // State-based models keep each bond's |Y| between their two passes (8 bytes more).
   std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t) + (s.model.state_based ? sizeof(double) : 0);
   // The general force pass keeps each bond's force state and its reverse bond
   // (solver/forces_general.hpp); models keep their own history on top.
   if (!s.models.all_unified() && !s.models.owner()) per_bond += sizeof(Vec3) + sizeof(uint64_t);
+  return per_bond;
+}
+}  // namespace
+
+RankShare largest_rank_share(const System& s, int ranks) {
+  const std::size_t n = s.particles.size();
+  const auto& B = s.bonds;
+  const std::vector<int32_t> owner = rcb_owners(s.particles.X, ranks);
+  // The rule of decompose(): the neighbours' rows are computed (and held) too when a row
+  // reads what its neighbours compute in the same pass.
+  bool alpha = false;
+  for (double a : s.model.alpha) alpha = alpha || a != 0;
+  const bool neighbours = s.model.state_based || alpha || !s.models.all_unified();
+  std::vector<std::vector<uint32_t>> owned(static_cast<std::size_t>(std::max(1, ranks)));
+  for (std::size_t i = 0; i < n; ++i) owned[static_cast<std::size_t>(owner[i])].push_back(static_cast<uint32_t>(i));
+  std::vector<int32_t> counted(n, -1);  // the last rank that counted the row
+  RankShare best;
+  for (std::size_t r = 0; r < owned.size(); ++r) {
+    uint64_t held = 0;
+    auto add = [&](uint32_t i) {
+      if (counted[i] == static_cast<int32_t>(r)) return;
+      counted[i] = static_cast<int32_t>(r);
+      held += B.end(i) - B.begin(i);
+    };
+    for (uint32_t i : owned[r]) {
+      add(i);
+      if (neighbours)
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) add(B.nbr[k]);
+    }
+    best.bonds = std::max(best.bonds, held);
+  }
+  best.bytes = memory_estimate(s) - B.size() * bytes_per_bond(s) + best.bonds * bytes_per_bond(s);
+  return best;
+}
+
+std::size_t memory_estimate(const System& s) {
+  const std::size_t n = s.particles.size(), nb = s.bonds.size();
+  // Particles, model arrays (12 doubles), the force pass's scratch (4 + 1 doubles).
+  const std::size_t per_particle = 5 * sizeof(Vec3) + 4 * sizeof(double) + 2 * sizeof(int32_t) + sizeof(int64_t) + 1 +
+                                   17 * sizeof(double) + sizeof(uint64_t);
+  const std::size_t per_bond = bytes_per_bond(s);
   const std::size_t kinds = s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
   return n * per_particle + nb * per_bond + kinds;
 }
