@@ -6,7 +6,9 @@
 #  - the same deck with HORIZON_MPI_WHOLE_SYSTEM=1 (every rank builds the whole system,
 #    as before local rows): every rank holds every bond;
 #  - impact.yaml itself (alpha: the neighbours' rows are computed and held too) on 2
-#    ranks: each rank holds fewer bonds than the whole system.
+#    ranks: each rank holds fewer bonds than the whole system;
+#  - the bond-based deck with two precracks (one keeps its bonds as broken): the count
+#    of cut bonds the run prints equals the serial program's.
 # Every run ends in the serial program's state_crc32.
 # cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P local_bonds.cmake
 file(REMOVE_RECURSE ${WORK})
@@ -80,3 +82,38 @@ endif()
 run(alpha_serial ${SOURCE}/tests/mpi/impact.yaml 0)
 run(alpha_2 ${SOURCE}/tests/mpi/impact.yaml 2)
 check(alpha_2 alpha_serial 99 FALSE)
+
+# Precracks on local rows: one keeps its bonds as broken, one removes them. The count of
+# cut bonds (printed by the run) and the final state equal the serial program's.
+string(CONCAT cracked "${bond_based}" "precracks:\n"
+       "  - {polygon: [[0.0005, -0.006, 0], [0.0005, 0.001, 0], [0.0005, 0.001, 0.006], [0.0005, -0.006, 0.006]], "
+       "bonds: broken}\n"
+       "  - {polygon: [[-0.0005, -0.006, -0.006], [-0.0005, 0.001, -0.006], [-0.0005, 0.001, 0], [-0.0005, -0.006, 0]]}\n")
+file(WRITE ${WORK}/cracked.yaml "${cracked}")
+set(cut_lines "")
+foreach(ranks 0 2)
+  if(ranks EQUAL 0)
+    set(command ${SERIAL} run ${WORK}/cracked.yaml -o ${WORK}/cracked_${ranks} --threads 1)
+  else()
+    set(command ${MPIEXEC} --oversubscribe -n ${ranks} ${HORIZON} run ${WORK}/cracked.yaml -o ${WORK}/cracked_${ranks}
+                --threads 1)
+  endif()
+  execute_process(COMMAND ${command} RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "cracked, ${ranks} ranks: exit ${rc}\n${log}")
+  endif()
+  string(REGEX MATCH "bonds +[0-9]+ directed \\([0-9.]+ per particle\\), [0-9]+ cut by precracks" line "${log}")
+  string(REGEX MATCH "[0-9]+ cut" cut "${line}")
+  if(cut STREQUAL "" OR cut STREQUAL "0 cut")
+    message(FATAL_ERROR "cracked, ${ranks} ranks: no bonds cut by the precracks in its report:\n${log}")
+  endif()
+  file(READ ${WORK}/cracked_${ranks}/summary.json summary)
+  string(JSON crc GET "${summary}" state_crc32)
+  list(APPEND cut_lines "${line} / state_crc32 ${crc}")
+endforeach()
+list(GET cut_lines 0 serial_line)
+list(GET cut_lines 1 split_line)
+if(NOT serial_line STREQUAL split_line)
+  message(FATAL_ERROR "precracks on 2 ranks: '${split_line}', the serial program '${serial_line}'")
+endif()
+message(STATUS "precracks: ${split_line} = serial")

@@ -204,15 +204,17 @@ System build(const Config& config, bool split) {
   }
   if (config.partial_volume) apply_partial_volume(s.bonds, config.horizon, config.spacing);
   check_precracks_cut(s, config, split);
-  auto owned_bonds = [&] {
-    uint64_t held = 0;
+  // The owned rows' intact bonds: cut_bonds drops a bond or keeps it broken (keep_broken).
+  auto owned_intact = [&] {
+    uint64_t intact = 0;
     for (std::size_t i = 0; i < owned.size(); ++i)
-      if (owned[i]) held += s.bonds.end(i) - s.bonds.begin(i);
-    return held;
+      if (owned[i])
+        for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) intact += s.bonds.intact[k] ? 1 : 0;
+    return intact;
   };
-  const uint64_t owned_before = split ? owned_bonds() : 0;
+  const uint64_t owned_before = split ? owned_intact() : 0;
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
-  if (split) s.precrack_bonds = sum_over_ranks(owned_before - owned_bonds());  // each bond cut once, by its row's owner
+  if (split) s.precrack_bonds = sum_over_ranks(owned_before - owned_intact());  // each bond cut once, by its row's owner
   s.initial_bonds = s.bonds.size();  // split: the whole system's count is set by decompose
   // Split: the models' set-up checks the rows built here alone (the rest are empty).
   if (split) s.row_active = built;
