@@ -20,6 +20,7 @@
 #include "horizon/output/truss.hpp"
 #include "horizon/output/resolve_frame.hpp"
 #include "horizon/output/vtu.hpp"
+#include "horizon/parallel/decomposition.hpp"
 
 namespace {
 int horizon_main(int argc, char** argv) {
@@ -51,6 +52,9 @@ int horizon_main(int argc, char** argv) {
   check->add_option("deck", deck_path, "the deck (YAML)")->required();
   check->add_option("--coarsen", run_opts.coarsen, "as for run")->check(CLI::PositiveNumber);
   check->add_option("--max-memory", run_opts.max_memory_gib, "as for run")->check(CLI::PositiveNumber);
+  int check_ranks = 0;
+  check->add_option("--ranks", check_ranks, "also the bonds and memory of one of N MPI ranks (horizon-mpi)")
+      ->check(CLI::Range(1, 1 << 20));
 
   std::string truss_path = "trusses.txt";
   auto* export_truss = app.add_subcommand(
@@ -111,6 +115,20 @@ int horizon_main(int argc, char** argv) {
       apply_run_options(config, run_opts);
       const PreparedRun u = prepare_run(config);
       fmt::print("{}", format_check(config, u.check));
+      if (check_ranks > 1) {
+        // Each rank of horizon-mpi holds every particle and its own bond rows
+        // (parallel/decomposition.hpp, local rows), or the whole system where those do not apply.
+        if (local_rows_allowed(config)) {
+          const RankShare r = largest_rank_share(u.system, check_ranks);
+          fmt::print("on {} ranks     at most {} bonds on a rank ({:.1f} %), memory {:.1f} MiB a rank (estimate)\n",
+                     check_ranks, r.bonds,
+                     u.check.bonds ? 100.0 * static_cast<double>(r.bonds) / static_cast<double>(u.check.bonds) : 0.0,
+                     static_cast<double>(r.bytes) / (1 << 20));
+        } else {
+          fmt::print("on {} ranks     every rank holds the whole system (this deck is not split by bond rows)\n",
+                     check_ranks);
+        }
+      }
       fmt::print("deck is valid\n");
       return 0;
     }

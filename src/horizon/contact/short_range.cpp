@@ -79,6 +79,13 @@ void ShortRangeContact::update(const System& s, const Point4* y) {
           for (uint32_t j : it->second) {
             if (j == m || norm2(y_built_[j] - p) > reach2) continue;
             if (std::binary_search(first_bond, last_bond, j)) continue;
+            // A row this rank does not hold (a run split over ranks with local rows,
+            // parallel/decomposition.hpp) is empty: the family test then reads j's row
+            // (families are symmetric; serially an empty row has no family at all).
+            if (first_bond == last_bond && B.end(j) > B.begin(j) &&
+                std::binary_search(B.nbr.begin() + static_cast<std::ptrdiff_t>(B.begin(j)),
+                                   B.nbr.begin() + static_cast<std::ptrdiff_t>(B.end(j)), m))
+              continue;
             rows_[m].push_back(j);
             if (!is_mover_[j]) {
               rows_[j].push_back(m);

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -47,8 +48,17 @@ void apply_run_options(Config& c, const RunOptions& o) {
   }
 }
 
+namespace {
+// The stable step of the whole system: with local rows (parallel/decomposition.hpp) each
+// rank sees its rows alone, and the minimum over ranks is the serial figure, bit for bit.
+double whole_stable_step(const System& s) {
+  const double dt = stable_time_step(s);
+  return s.decomposition && s.decomposition->local_rows ? min_over_ranks(dt) : dt;
+}
+}  // namespace
+
 double run_time_step(const Config& c, const System& s) {
-  return c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * stable_time_step(s);
+  return c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * whole_stable_step(s);
 }
 
 int64_t step_count(const Config& c, double dt) {
@@ -70,10 +80,10 @@ int64_t step_count(const Config& c, double dt) {
 CheckReport check_system(const Config& c, const System& s) {
   CheckReport r;
   r.particles = s.particles.size();
-  r.bonds = s.bonds.size();
+  r.bonds = checkpoint_bond_count(s);  // the whole system's, also with local rows
   r.precrack_bonds = s.precrack_bonds;
-  r.memory_bytes = memory_estimate(s);
-  r.stable_dt = stable_time_step(s);
+  r.memory_bytes = memory_estimate(s);  // with local rows: this rank's
+  r.stable_dt = whole_stable_step(s);
   if (s.fe) {
     r.fe_elements = s.fe->elements();
     r.fe_nodes = s.fe->nodes();
@@ -535,6 +545,12 @@ struct ExplicitRun::State {
   void read_checkpoint(const std::string& path) {
     try {
       CheckpointReader in(path);
+      if (dd && dd->local_rows) {
+        // The file holds the whole system's bonds: each rank keeps its own rows.
+        CheckpointWriter mine;
+        checkpoint(mine);
+        keep_local_bonds(s, *dd, mine.bond_records(), in);
+      }
       checkpoint(in);
       in.finish();
     } catch (const Error& e) {
@@ -567,7 +583,22 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   r.dir = c.output.directory;
   prepare_output_directory(r.dir.string(), "frames");  // before the (long) set-up
 
-  r.s = build_system(c);
+  // An MPI build holds on each rank only the bond rows it computes when the deck allows
+  // it (local_rows_allowed): the split is decided before the families are built, and the
+  // run decomposed before any pass over the rows. Other decks are built whole on every
+  // rank and decomposed below.
+  // HORIZON_MPI_WHOLE_SYSTEM=1 builds the whole system on every rank as before local rows
+  // existed (the same bits; for the memory comparison of docs/benchmarks.md).
+  const char* whole = std::getenv("HORIZON_MPI_WHOLE_SYSTEM");
+  const bool local_rows = mpi_built() && local_rows_allowed(c) && !(whole && std::string(whole) == "1");
+  r.s = local_rows ? build_system_split(c) : build_system(c);
+  if (local_rows) {
+    if (const std::string why = distributed_limits(c, r.s, options); !why.empty())
+      throw Error(fmt::format("{}: internal error: a deck built with local rows cannot be split: {}", c.deck_file, why));
+    r.dd = std::make_unique<Decomposition>();
+    r.dd->local_rows = true;
+    decompose(r.s, *r.dd, c.spacing);
+  }
   r.loads = std::make_unique<Loads>(c, r.s);
   r.loads->apply_initial_conditions(c, r.s);
   r.check = check_system(c, r.s);
@@ -577,7 +608,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();
-  if (mpi_built()) {
+  if (mpi_built() && !r.dd) {
     // An MPI build decomposes every run it can, on one rank too, so that one rank and
     // many give the same bits (parallel/decomposition.hpp); a deck it cannot split runs
     // serially on one rank and is refused on more.
@@ -652,8 +683,9 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   if (options.handle_signals) install_interrupt_handler();
   r.progress = std::make_unique<Progress>(r.total, static_cast<double>(r.s.bonds.size()), c.output.progress_every);
   if (!r.options.quiet && r.dd && r.dd->size > 1)
-    fmt::print(stderr, "ranks           {} (recursive coordinate bisection; {} particles on rank 0)\n", r.dd->size,
-               r.dd->owned.size());
+    fmt::print(stderr, "ranks           {} (recursive coordinate bisection; {} particles on rank 0, {} bonds held {})\n",
+               r.dd->size, r.dd->owned.size(), r.s.bonds.size(),
+               r.dd->local_rows ? "(its rows)" : "(the whole system on every rank)");
   r.cpu_start = cpu_seconds();
   r.stopped = r.at_end();
 }
@@ -799,22 +831,28 @@ int ExplicitRun::finish() {
   if (r.dd) {
     // Halo traffic per rank and step (docs/benchmarks.md), from every rank.
     const std::vector<HaloStats> hs = gather_halo_stats(*r.dd);
+    // The bond rows each rank holds and its peak resident memory.
+    const std::vector<uint64_t> held = gather_on_lead(s.bonds.size());
+    const std::vector<uint64_t> rss = gather_on_lead(static_cast<uint64_t>(peak_memory_bytes()));
     nlohmann::ordered_json h = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < hs.size(); ++k) {
       const double steps = static_cast<double>(std::max<uint64_t>(1, hs[k].steps));
       h.push_back({{"rank", k},
                    {"particles", std::count(r.dd->owner.begin(), r.dd->owner.end(), static_cast<int32_t>(k))},
+                   {"bonds_held", held[k]},
+                   {"peak_memory_bytes", rss[k]},
                    {"messages_per_step", static_cast<double>(hs[k].messages) / steps},
                    {"bytes_per_step", static_cast<double>(hs[k].bytes) / steps},
                    {"ghost_rebuilds", hs[k].rebuilds}});
     }
     j["halo"] = h;
+    j["bonds_local"] = r.dd->local_rows;
   }
   j["wall_time_s"] = wall;
   j["loop_time_s"] = loop_time;
   j["loop_cpu_time_s"] = loop_cpu_time;
   j["bond_updates_per_second"] =
-      loop_time > 0 ? static_cast<double>(s.bonds.size()) * static_cast<double>(solver.steps() - r.steps_at_start) / loop_time : 0.0;
+      loop_time > 0 ? static_cast<double>(checkpoint_bond_count(s)) * static_cast<double>(solver.steps() - r.steps_at_start) / loop_time : 0.0;
   j["peak_memory_bytes"] = peak_memory_bytes();
   if (s.fe) {
     j["fe"] = {{"elements", s.fe->elements()},

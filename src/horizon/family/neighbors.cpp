@@ -156,7 +156,7 @@ void fill_reference_data(Bonds& b, const std::vector<Vec3>& points, const std::v
 }  // namespace
 
 Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>& volume, double radius,
-                     const std::vector<int32_t>* material) {
+                     const std::vector<int32_t>* material, const std::vector<uint8_t>* rows) {
   if (points.size() >= (1ull << 32)) throw Error("more than 2^32 particles on one process");
   const double r2 = radius * radius * (1 + 2 * kRadiusTolerance);
   const CellGrid g = make_grid(points, radius);
@@ -167,6 +167,10 @@ Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>&
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::size_t i = 0; i < n; ++i) {
     uint64_t count = 0;
+    if (rows && !(*rows)[i]) {
+      b.offset[i + 1] = 0;
+      continue;
+    }
     for_each_neighbor(g, points, i, r2, [&](uint32_t) { ++count; });
     b.offset[i + 1] = count;
   }
@@ -187,6 +191,7 @@ Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>&
     KindTable table;
     const auto [first, last] = range(t);
     for (std::size_t i = first; i < last; ++i) {
+      if (rows && !(*rows)[i]) continue;
       uint64_t k = b.offset[i];
       for_each_neighbor(g, points, i, r2, [&](uint32_t j) { b.nbr[k++] = j; });
       std::sort(b.nbr.begin() + static_cast<int64_t>(b.offset[i]), b.nbr.begin() + static_cast<int64_t>(k));

@@ -13,8 +13,11 @@ namespace horizon {
 // the kinds by the materials of the two ends; without it every point is material 0.
 // The kinds are numbered in sorted order, so the result does not depend on the
 // number of threads.
+// `rows` (optional, one flag per point): only the rows of the flagged points are built,
+// the others left empty (a run split over MPI ranks, parallel/decomposition.hpp); every
+// built row is the one a full search gives (the kinds' numbering may differ).
 Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>& volume, double radius,
-                     const std::vector<int32_t>* material = nullptr);
+                     const std::vector<int32_t>* material = nullptr, const std::vector<uint8_t>* rows = nullptr);
 
 // The same by brute force, O(N^2): the reference the cell list is tested against.
 Bonds find_neighbors_brute_force(const std::vector<Vec3>& points, const std::vector<double>& volume,

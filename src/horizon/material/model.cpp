@@ -51,7 +51,8 @@ void fill_state_based_coefficients(const ModelSetup& in, double spring_factor) {
              ? *mat.damage.critical_stretch
              : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, in.dims);
   for (uint32_t i : in.particles) {
-    if (M.weighted_volume[i] <= 0)
+    // A row another MPI rank holds is empty here (local rows, parallel/decomposition.hpp).
+    if (M.weighted_volume[i] <= 0 && in.system.computes_row(i))
       throw Error("particle " + std::to_string(i) + " has no neighbours: the horizon is smaller than the spacing");
     M.spring[i] = spring;
     M.contact_micromodulus[i] = contact_c;

@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -52,7 +53,20 @@ void CheckpointWriter::put(const std::string& name, const void* bytes, std::size
   append(payload_, static_cast<uint32_t>(element_size));
   append(payload_, static_cast<uint64_t>(count));
   if (extent != Extent::global && count) spread_.push_back({full, extent, element_size, count, payload_.size(), list()});
+  if (extent == Extent::bonds) bond_records_.push_back(full);
   if (count) payload_.append(static_cast<const char*>(bytes), element_size * count);
+}
+
+void CheckpointWriter::replace(std::size_t index, const std::string& data) {
+  Spread& r = spread_.at(index);
+  if (data.size() % r.element_size != 0)
+    throw Error("checkpoint: record '" + r.name + "' replaced by a partial element");
+  const std::size_t old_bytes = r.count * r.element_size;
+  payload_.replace(r.offset, old_bytes, data);
+  const uint64_t count = data.size() / r.element_size;
+  std::memcpy(payload_.data() + r.offset - sizeof(uint64_t), &count, sizeof(count));  // the record's count field
+  r.count = count;
+  for (std::size_t q = index + 1; q < spread_.size(); ++q) spread_[q].offset = spread_[q].offset + data.size() - old_bytes;
 }
 
 void CheckpointWriter::write(const std::string& path) const {
@@ -127,7 +141,28 @@ StateArchive::Record CheckpointReader::get(const std::string& name, std::size_t 
   if (count > (data_.size() - pos_) / std::max<std::size_t>(1, esize)) fail("the state ends inside record '" + full + "'");
   Record r{data_.data() + pos_, count};
   pos_ += static_cast<std::size_t>(count) * esize;
+  if (count && !bond_records_.empty() &&
+      std::find(bond_records_.begin(), bond_records_.end(), full) != bond_records_.end()) {
+    // The whole system's bonds in serial order: keep this rank's rows.
+    if (global_bonds_ == 0 || count % global_bonds_ != 0)
+      fail("record '" + full + "' holds " + std::to_string(count) + " values, not a multiple of the " +
+           std::to_string(global_bonds_) + " bonds: the checkpoint does not belong to this deck");
+    const std::size_t per = static_cast<std::size_t>(count / global_bonds_) * esize;  // bytes per bond
+    kept_.clear();
+    for (const auto& [first, n] : bond_rows_) {
+      if (first + n > global_bonds_) fail("record '" + full + "': a bond row reaches past its end");
+      kept_.append(static_cast<const char*>(r.bytes) + first * per, n * per);
+    }
+    r = Record{kept_.data(), kept_.size() / esize};
+  }
   return r;
+}
+
+void CheckpointReader::keep_bond_rows(std::vector<std::string> records, std::vector<std::pair<uint64_t, uint64_t>> rows,
+                                      uint64_t global_bonds) {
+  bond_records_ = std::move(records);
+  bond_rows_ = std::move(rows);
+  global_bonds_ = global_bonds;
 }
 
 void CheckpointReader::expect_count(const std::string& name, uint64_t found, uint64_t expected) {

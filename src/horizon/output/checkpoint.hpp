@@ -18,6 +18,7 @@
 // renamed (output/atomic_file.hpp), so a run killed while writing leaves the previous one.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "horizon/core/state_archive.hpp"
@@ -45,6 +46,13 @@ class CheckpointWriter : public StateArchive {
   };
   const std::vector<Spread>& spread() const { return spread_; }
   char* bytes(const Spread& r) { return payload_.data() + r.offset; }
+  // Replaces the data of record spread()[index] by `data` (a whole number of its
+  // elements; its count becomes data.size() / element_size), moving the records after it:
+  // a run whose ranks hold only their own bond rows puts the global per-bond arrays in
+  // place of rank 0's own (gather_checkpoint).
+  void replace(std::size_t index, const std::string& data);
+  // The names of every per-bond record (Extent::bonds), empty ones included.
+  const std::vector<std::string>& bond_records() const { return bond_records_; }
 
  protected:
   void put(const std::string& name, const void* bytes, std::size_t element_size, std::size_t count,
@@ -56,6 +64,7 @@ class CheckpointWriter : public StateArchive {
  private:
   std::string payload_;
   std::vector<Spread> spread_;
+  std::vector<std::string> bond_records_;
 };
 
 // Reads and checks a whole file at construction (magic, version, byte order, size,
@@ -67,6 +76,12 @@ class CheckpointReader : public StateArchive {
   // After the last io(): every record was read (a longer file is an error too).
   void finish() const;
   const std::string& path() const { return path_; }
+  // A run whose ranks hold only some bond rows (parallel/decomposition.hpp, local rows):
+  // each per-bond record named in `records` holds the `global_bonds` bonds of the whole
+  // system in serial order; reading it hands out only the bonds [first, first + count) of
+  // each pair of `rows`, one after the other (this rank's rows, in its order).
+  void keep_bond_rows(std::vector<std::string> records, std::vector<std::pair<uint64_t, uint64_t>> rows,
+                      uint64_t global_bonds);
   // "checkpoint 'PATH': " + what.
   [[noreturn]] void fail(const std::string& what) const;
 
@@ -80,6 +95,10 @@ class CheckpointReader : public StateArchive {
   std::string path_;
   std::string data_;     // the payload
   std::size_t pos_ = 0;  // next record
+  std::vector<std::string> bond_records_;                // keep_bond_rows
+  std::vector<std::pair<uint64_t, uint64_t>> bond_rows_;
+  uint64_t global_bonds_ = 0;
+  std::string kept_;  // the last per-bond record's kept entries
 };
 
 }  // namespace horizon

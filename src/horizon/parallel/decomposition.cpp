@@ -138,6 +138,36 @@ void choose_ghosts(System& s, Decomposition& d) {
   ++d.stats.rebuilds;
 }
 
+// Local rows: drops the rows this rank does not compute (a bond-based run holds only
+// its owned rows; a state-based one keeps its neighbours' rows as built), then finds
+// where each row lies in the serial CSR and the whole system's bond count.
+void keep_computed_rows(System& s, Decomposition& d) {
+  auto& B = s.bonds;
+  const std::size_t n = s.particles.size();
+  if (!d.state_based) {
+    // Before any force pass: no per-bond array exists yet beside the rows themselves (a
+    // bond-based run has only unified models, which keep no per-bond state).
+    const auto& M = s.model;
+    if (!M.deformed_length.empty() || !M.force_state.empty() || !M.reverse.empty())
+      throw Error("internal error: per-bond arrays exist before the rows another rank computes are dropped");
+    rewrite_bonds(B, [&](std::size_t i, uint64_t) { return s.row_active[i] ? BondAction::keep : BondAction::drop; });
+    B.nbr.shrink_to_fit();
+    B.kind.shrink_to_fit();
+    B.intact.shrink_to_fit();
+  }
+  d.global_offset.assign(n + 1, 0);
+  for (uint32_t i : d.owned) d.global_offset[i + 1] = B.end(i) - B.begin(i);
+#if defined(HORIZON_MPI)
+  if (d.size > 1)
+    allgather_owned(
+        s, d, 1, [&](uint32_t i, std::vector<double>& o) { o.push_back(static_cast<double>(d.global_offset[i + 1])); },
+        [&](std::size_t i, const double* p) { d.global_offset[i + 1] = static_cast<uint64_t>(p[0]); });
+#endif
+  for (std::size_t i = 0; i < n; ++i) d.global_offset[i + 1] += d.global_offset[i];
+  d.global_bonds = d.global_offset[n];
+  s.initial_bonds = d.global_bonds;  // the bonds after the precracks, of the whole system
+}
+
 }  // namespace
 
 std::vector<int32_t> rcb_owners(const std::vector<Vec3>& x, int ranks) {
@@ -211,8 +241,63 @@ void decompose(System& s, Decomposition& d, double skin) {
   }
   s.row_active.assign(n, 0);
   for (uint32_t i : s.active_rows) s.row_active[i] = 1;
+  if (d.local_rows) keep_computed_rows(s, d);
   s.decomposition = &d;
   choose_ghosts(s, d);
+}
+
+uint64_t sum_over_ranks(uint64_t x) {
+#if defined(HORIZON_MPI)
+  if (world_size() > 1) {
+    uint64_t all = 0;
+    MPI_Allreduce(&x, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    return all;
+  }
+#endif
+  return x;
+}
+
+double min_over_ranks(double x) {
+#if defined(HORIZON_MPI)
+  if (world_size() > 1) {
+    double all = 0;
+    MPI_Allreduce(&x, &all, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+    return all;
+  }
+#endif
+  return x;
+}
+
+std::vector<uint64_t> gather_on_lead(uint64_t mine) {
+#if defined(HORIZON_MPI)
+  if (world_size() > 1) {
+    std::vector<uint64_t> all(static_cast<std::size_t>(world_size()));
+    MPI_Gather(&mine, 1, MPI_UINT64_T, all.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+    if (world_rank() != 0) all.clear();
+    return all;
+  }
+#endif
+  return {mine};
+}
+
+uint64_t checkpoint_bond_count(const System& s) {
+  return s.decomposition && s.decomposition->local_rows ? s.decomposition->global_bonds : s.bonds.size();
+}
+
+void keep_local_bonds(const System& s, const Decomposition& d, const std::vector<std::string>& records,
+                      CheckpointReader& in) {
+  if (!d.local_rows) return;
+  const auto& B = s.bonds;
+  std::vector<std::pair<uint64_t, uint64_t>> rows;
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    const uint64_t held = B.end(i) - B.begin(i);
+    if (held == 0) continue;
+    if (held != d.global_offset[i + 1] - d.global_offset[i])
+      throw Error("internal error: bond row " + std::to_string(i) + " holds " + std::to_string(held) +
+                  " bonds here and " + std::to_string(d.global_offset[i + 1] - d.global_offset[i]) + " in the whole system");
+    rows.emplace_back(d.global_offset[i], held);
+  }
+  in.keep_bond_rows(records, std::move(rows), d.global_bonds);
 }
 
 void refresh_ghosts(System& s, Decomposition& d) { choose_ghosts(s, d); }
@@ -221,7 +306,8 @@ void gather_checkpoint(const System& s, const Decomposition& d, CheckpointWriter
   if (d.size == 1) return;
   const std::size_t n = s.particles.size(), nb = s.bonds.size();
   const auto& B = s.bonds;
-  for (const CheckpointWriter::Spread& r : w.spread()) {
+  for (std::size_t index = 0; index < w.spread().size(); ++index) {
+    const CheckpointWriter::Spread& r = w.spread()[index];
     const bool bonds = r.extent == Extent::bonds;
     // Extent::listed: entry group l belongs to particle (*list)[l].
     const std::vector<uint32_t>* list = r.extent == Extent::listed ? r.list : nullptr;
@@ -274,6 +360,17 @@ void gather_checkpoint(const System& s, const Decomposition& d, CheckpointWriter
         std::memcpy(data + l * per, all.data() + at, per);
         at += per;
       }
+    } else if (bonds && d.local_rows) {
+      // Rank 0 holds some rows only: the whole system's array, row i from its owner at
+      // its place in the serial order, replaces rank 0's own.
+      std::string whole(static_cast<std::size_t>(d.global_bonds) * per, '\0');
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t bytes = static_cast<std::size_t>(d.global_offset[i + 1] - d.global_offset[i]) * per;
+        std::size_t& at = next[static_cast<std::size_t>(d.owner[i])];
+        std::memcpy(whole.data() + static_cast<std::size_t>(d.global_offset[i]) * per, all.data() + at, bytes);
+        at += bytes;
+      }
+      w.replace(index, whole);
     } else {
       for (std::size_t i = 0; i < n; ++i) {
         const std::size_t a = bonds ? B.begin(i) : i, b = bonds ? B.end(i) : i + 1;

@@ -2,11 +2,19 @@
 // Domain decomposition of an explicit run over MPI ranks (docs/design.md, "Running on
 // several ranks"; built with -DHORIZON_MPI=ON).
 //
-// What is distributed is the work, not yet the memory: every rank builds the whole system
-// from the deck (the same particles, bonds and model constants in the same order: the
-// serial indices are the global ids), then
+// What is distributed is the work and the bonds; the particles are replicated: every rank
+// builds every particle from the deck (positions, velocities, per-particle model constants
+// in the serial order: the serial indices are the global ids), then
 //   - owns the particles of its box of a recursive coordinate bisection of the reference
 //     positions (rcb_owners: the same split at any thread count, ties by global id);
+//   - holds the bond rows it computes alone (local rows, build_system_split): the owners
+//     are decided before the families are built, and only the owned particles' rows and
+//     their bond neighbours' are searched, each the same bonds in the same order as
+//     serially; the other rows are empty, so every per-bond array (the models' history
+//     included) covers the rows held. decompose() drops the neighbours' rows when only the
+//     owned ones are computed. Decks outside local_rows_allowed() (static and implicit
+//     solves, the surface correction, decks the split refuses) build the whole system on
+//     every rank, and only the work is split;
 //   - integrates only its own particles, and computes the bond rows of its own and, for
 //     state-based models and the critical stretch with a compression factor, also of
 //     their bond neighbours (the dilatation or the lowered critical stretch of a
@@ -25,7 +33,11 @@
 //     are split between ranks or on their order;
 //   - before a history row, a frame or the summary, the state of every particle is
 //     gathered on every rank (gather_state), so damage statistics, crack tracking and
-//     summary figures are computed as in a serial run.
+//     summary figures are computed as in a serial run; a bond count (broken bonds,
+//     precrack cuts, the whole system's bonds) is summed over the owned rows of each rank;
+//   - a checkpoint holds the whole system in serial order: gather_checkpoint takes every
+//     per-particle entry from its owner and every per-bond entry from the owner of its
+//     row; a restart with local rows keeps the rows it holds (keep_local_bonds).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,6 +47,8 @@
 namespace horizon {
 
 struct System;
+struct Config;
+class CheckpointReader;
 
 // Owner rank of each particle: recursive coordinate bisection of `x` into `ranks` boxes
 // (a box of p ranks is cut across its longest side, at the particle that gives its two
@@ -60,6 +74,11 @@ struct Decomposition {
   std::vector<uint8_t> bond_ghosts;  // per particle: a bond neighbour of a computed row (or such a row) not owned
   std::vector<Vec3> y_built;         // positions when the ghosts were chosen (owned entries)
   HaloStats stats;
+  // Local rows (build_system_split): this rank holds the bond rows it computes alone, the
+  // others are empty. Set before decompose(), which fills in the rest.
+  bool local_rows = false;
+  uint64_t global_bonds = 0;             // bonds of the whole system (the serial count)
+  std::vector<uint64_t> global_offset;   // per particle + 1: where its row starts in the serial CSR
 
   bool owns(std::size_t i) const { return is_owned[i] != 0; }
 };
@@ -70,9 +89,43 @@ bool mpi_built();
 int world_rank();
 int world_size();
 
+// The system of this rank for a run split over world_size() ranks with local rows
+// (solver/system.cpp): particles and every per-particle array whole, but bond rows only
+// for the particles this rank owns (rcb_owners of the reference positions) and their
+// bond neighbours; the other rows are empty, so the global indices and the serial order
+// of every row stay. Each built row holds the same bonds in the same order as serially.
+// The precrack check and count are global. Collective.
+System build_system_split(const Config& config);
+// Whether a deck may be built with local rows: an explicit run whose every model is split
+// over ranks row by row and that uses nothing that reads rows further out (surface
+// correction) or is not split (heat, FE, projectiles, damping, adaptive step). Otherwise
+// every rank builds the whole system (the old way) and decompose() splits the work only.
+bool local_rows_allowed(const Config& config);
 // Splits the system over the ranks, chooses the ghosts and sets s.active, s.owned and
-// s.decomposition. Collective.
+// s.decomposition. With d.local_rows: drops the rows this rank does not compute (a
+// bond-based run keeps its owned rows only), counts the global bonds (s.initial_bonds
+// becomes the whole system's) and where each row lies in the serial order. Collective.
 void decompose(System& s, Decomposition& d, double skin);
+// What the busiest of `ranks` ranks would hold with local rows, from the whole system
+// `s` (horizon check --ranks; solver/system.cpp): its bonds (owned rows, and the bond
+// neighbours' rows where decompose() keeps them) and its memory estimate (every particle,
+// those bonds).
+struct RankShare {
+  uint64_t bonds = 0;
+  std::size_t bytes = 0;
+};
+RankShare largest_rank_share(const System& s, int ranks);
+// Sum over ranks and minimum over ranks (the value itself without MPI). Collective.
+uint64_t sum_over_ranks(uint64_t x);
+double min_over_ranks(double x);
+// Every rank's x, on rank 0 (others get an empty vector). Collective.
+std::vector<uint64_t> gather_on_lead(uint64_t x);
+// The bonds a checkpoint holds: the whole system's (d.global_bonds with local rows).
+uint64_t checkpoint_bond_count(const System& s);
+// Before a restart with local rows reads a checkpoint: the per-bond records of `records`
+// (CheckpointWriter::bond_records of this rank's state) are cut to this rank's rows.
+void keep_local_bonds(const System& s, const Decomposition& d, const std::vector<std::string>& records,
+                      CheckpointReader& in);
 // Before a force pass: re-chooses the ghosts when needed, then sends the displacements of
 // owned particles to the ranks that hold them as ghosts. Collective.
 void halo_exchange(System& s, Decomposition& d);

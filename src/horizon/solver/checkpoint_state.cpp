@@ -2,6 +2,7 @@
 #include "horizon/solver/system.hpp"
 
 #include "horizon/fe/fe_region.hpp"
+#include "horizon/parallel/decomposition.hpp"
 
 namespace horizon {
 
@@ -10,7 +11,9 @@ void checkpoint_system(System& s, StateArchive& a) {
   auto& M = s.model;
   const std::size_t n = P.size(), nb = s.bonds.size();
   a.check("particles", n, "particles");
-  a.check("bonds", nb, "bonds");
+  // The whole system's count: a run with local rows (parallel/decomposition.hpp) holds
+  // fewer here, and the file the whole system's bonds (gather_checkpoint).
+  a.check("bonds", checkpoint_bond_count(s), "bonds");
   a.check("materials", s.models.size(), "materials");
   for (std::size_t m = 0; m < s.models.size(); ++m)
     a.check("model " + std::to_string(m), s.models[m].traits().name, "for material " + std::to_string(m) + " the model");

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/tangent.hpp"
 
@@ -121,7 +122,7 @@ uint64_t general_forces(System& s, bool energy) {
   auto& B = s.bonds;
   auto& M = s.model;
   const std::size_t n = P.size(), nb = B.size();
-  if (M.reverse.size() != nb) M.reverse = reverse_bonds(B);
+  if (M.reverse.size() != nb) M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
   if (M.force_state.size() != nb) M.force_state.assign(nb, Vec3{});
   pack_positions(s);
   const bool after = M.break_after_force;

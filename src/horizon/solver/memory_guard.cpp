@@ -127,11 +127,16 @@ double machine_memory_bytes() {
   return bytes;
 }
 
-void check_memory(const Config& c, double limit_bytes) {
+void check_memory(const Config& c, double limit_bytes, int ranks) {
   const bool machine = limit_bytes <= 0;
   const double limit = machine ? machine_memory_bytes() : limit_bytes;
   if (limit <= 0) return;  // the machine does not say
-  const MemoryEstimate e = estimate_memory(c);
+  MemoryEstimate e = estimate_memory(c);
+  if (ranks > 1 && std::isfinite(e.bytes)) {
+    const double bond_bytes = e.bytes - e.particles * kBytesPerParticle;
+    e.bonds /= ranks;
+    e.bytes = e.particles * kBytesPerParticle + bond_bytes / ranks;
+  }
   // Particle indices are 32-bit (family/bonds.hpp): more particles cannot be built at all.
   if (e.particles >= 4.0e9) {
     throw Error(fmt::format("{}: the deck would make about {:.3g} particles (spacing {:g} m), more than the 4e9 a "
@@ -140,10 +145,10 @@ void check_memory(const Config& c, double limit_bytes) {
   }
   if (e.bytes <= limit) return;
   throw Error(fmt::format(
-      "{}: the deck needs about {:.3g} GiB ({:.3g} particles, {:.3g} bonds at spacing {:g} m, horizon {:g} m), "
+      "{}: the deck needs about {:.3g} GiB{} ({:.3g} particles, {:.3g} bonds at spacing {:g} m, horizon {:g} m), "
       "more than the {:.3g} GiB {}; coarsen it (a larger spacing, smaller bodies, --coarsen) or, if the "
       "estimate is too pessimistic, raise the limit with --max-memory <GiB>",
-      c.deck_file, e.bytes / kGiB, e.particles, e.bonds, c.spacing, c.horizon, limit / kGiB,
+      c.deck_file, e.bytes / kGiB, ranks > 1 ? fmt::format(" per rank on {} ranks", ranks) : std::string(), e.particles, e.bonds, c.spacing, c.horizon, limit / kGiB,
       machine ? "of this machine's memory" : "allowed by --max-memory"));
 }
 

@@ -37,7 +37,10 @@ double box_bonds(const double n[3], int dimension, double radius);
 double machine_memory_bytes();
 
 // Throws horizon::Error with the estimate and the limit when the estimate exceeds
-// `limit_bytes` (0: machine_memory_bytes()).
-void check_memory(const Config& config, double limit_bytes);
+// `limit_bytes` (0: machine_memory_bytes()). `ranks` > 1: the figure of one of that many
+// MPI ranks that hold their own bond rows only (parallel/decomposition.hpp, local rows):
+// every particle, and the bonds / ranks (the neighbours' rows a state-based rank also
+// holds are not counted).
+void check_memory(const Config& config, double limit_bytes, int ranks = 1);
 
 }  // namespace horizon

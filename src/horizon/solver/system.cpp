@@ -61,7 +61,9 @@ std::string point_text(const Vec3& p, int d) {
 // A precrack that crosses no bond (outside every body, or shorter than a bond and between
 // two lattice lines) changes nothing: a mistake in the deck, reported as such. Only the
 // particles within a horizon of the crack's bounding box are tried.
-void check_precracks_cut(const System& s, const Config& config) {
+// `global` (a system with local rows, parallel/decomposition.hpp): a precrack counts as
+// cutting when it crosses a bond of any rank's rows. Collective then.
+void check_precracks_cut(const System& s, const Config& config, bool global) {
   const auto& X = s.particles.X;
   const int d = config.dimension;
   for (std::size_t c = 0; c < config.precracks.size(); ++c) {
@@ -77,6 +79,7 @@ void check_precracks_cut(const System& s, const Config& config) {
       for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i) && !cuts; ++k)
         cuts = crosses(X[i], X[s.bonds.nbr[k]], pc, d);
     }
+    if (global) cuts = sum_over_ranks(cuts ? 1 : 0) > 0;
     if (!cuts) {
       std::string where;
       for (const Vec3& p : pc.points) where += (where.empty() ? "" : " - ") + point_text(p, d);
@@ -87,10 +90,9 @@ void check_precracks_cut(const System& s, const Config& config) {
   }
 }
 
-}  // namespace
-
-System build_system(const Config& config) {
-  check_memory(config, config.memory_limit_bytes);  // before anything is allocated
+// `split`: the rows of this rank alone (build_system_split, parallel/decomposition.hpp).
+System build(const Config& config, bool split) {
+  check_memory(config, config.memory_limit_bytes, split ? world_size() : 1);  // before anything is allocated
   System s;
   s.dimension = config.dimension;
   switch (config.structure.kind) {
@@ -147,7 +149,24 @@ System build_system(const Config& config) {
   const double radius = family_radius(config.horizon, config.spacing, config.partial_volume.rule);
   std::vector<uint8_t> ghost;
   build_fe_regions(s, config, radius, ghost);  // fe/fe_region.hpp: no-op without FE bodies
-  if (!s.fe) {
+  std::vector<uint8_t> owned, built;  // split: the rows this rank owns, and those it builds
+  if (split) {
+    if (s.fe) throw Error("internal error: finite-element regions are built whole on every rank");
+    const auto& P = s.particles;
+    const std::vector<int32_t> owner = rcb_owners(P.X, world_size());
+    const int rank = world_rank();
+    owned.assign(P.size(), 0);
+    for (std::size_t i = 0; i < P.size(); ++i) owned[i] = owner[i] == rank ? 1 : 0;
+    // The owned rows and the rows of their bond neighbours: state-based models and the
+    // general force pass compute those too (decompose drops them for a bond-based run).
+    built = owned;
+    {
+      const Bonds own = find_neighbors(P.X, P.volume, radius, &P.material, &owned);
+      for (std::size_t i = 0; i < P.size(); ++i)
+        for (uint64_t k = own.begin(i); k < own.end(i); ++k) built[own.nbr[k]] = 1;
+    }
+    s.bonds = find_neighbors(P.X, P.volume, radius, &P.material, &built);
+  } else if (!s.fe) {
     s.bonds = find_neighbors(s.particles.X, s.particles.volume, radius, &s.particles.material);
   } else {
     // Families of the peridynamic particles and of the FE nodes within a horizon of them
@@ -184,9 +203,21 @@ System build_system(const Config& config) {
     b.intact.assign(b.nbr.size(), 1);
   }
   if (config.partial_volume) apply_partial_volume(s.bonds, config.horizon, config.spacing);
-  check_precracks_cut(s, config);
+  check_precracks_cut(s, config, split);
+  // The owned rows' intact bonds: cut_bonds drops a bond or keeps it broken (keep_broken).
+  auto owned_intact = [&] {
+    uint64_t intact = 0;
+    for (std::size_t i = 0; i < owned.size(); ++i)
+      if (owned[i])
+        for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) intact += s.bonds.intact[k] ? 1 : 0;
+    return intact;
+  };
+  const uint64_t owned_before = split ? owned_intact() : 0;
   s.precrack_bonds = cut_bonds(s.bonds, s.particles.X, config.precracks, config.dimension);
-  s.initial_bonds = s.bonds.size();
+  if (split) s.precrack_bonds = sum_over_ranks(owned_before - owned_intact());  // each bond cut once, by its row's owner
+  s.initial_bonds = s.bonds.size();  // split: the whole system's count is set by decompose
+  // Split: the models' set-up checks the rows built here alone (the rest are empty).
+  if (split) s.row_active = built;
   setup_model(s, config.materials, config);
   if (s.fe && (s.model.state_based || s.models.owner()))
     throw Error("finite-element bodies couple to bond-based peridynamic models only (a state-based model's force on a "
@@ -213,6 +244,29 @@ System build_system(const Config& config) {
       }
   }
   return s;
+}
+
+}  // namespace
+
+System build_system(const Config& config) { return build(config, false); }
+
+System build_system_split(const Config& config) { return build(config, true); }
+
+bool local_rows_allowed(const Config& c) {
+  if (c.solver.type != SolverType::explicit_dynamic) return false;  // the static solvers build the whole system
+  if (c.thermal.enabled || !c.contact.projectiles.empty() || c.solver.adaptive_time_step || c.solver.damping > 0)
+    return false;
+  if (c.structure.kind != StructureKind::none) return false;
+  for (const auto& body : c.bodies)
+    if (body.discretization == Discretization::fe) return false;
+  for (const auto& mat : c.materials) {
+    const ModelEntry* e = find_model(mat.model);
+    if (!e || !(e->traits.unified || e->traits.rows_local) || e->traits.exclusive) return false;
+    // The surface correction of a bond reads both ends' families (rows further out).
+    if (const auto it = mat.parameters.find("surface_correction"); it != mat.parameters.end() && it->second != 0)
+      return false;
+  }
+  return true;
 }
 
 void setup_model(System& s, const std::vector<MaterialConfig>& given, const Config& config) {
@@ -322,17 +376,56 @@ double stable_time_step(const System& s) {
   return dt;
 }
 
-std::size_t memory_estimate(const System& s) {
-  const std::size_t n = s.particles.size(), nb = s.bonds.size();
-  // Particles, model arrays (12 doubles), the force pass's scratch (4 + 1 doubles).
-  const std::size_t per_particle = 5 * sizeof(Vec3) + 4 * sizeof(double) + 2 * sizeof(int32_t) + sizeof(int64_t) + 1 +
-                                   17 * sizeof(double) + sizeof(uint64_t);
+namespace {
+// Bytes a bond costs (memory_estimate).
+std::size_t bytes_per_bond(const System& s) {
   // Neighbour, kind, intact flag; reference data per kind (family/bonds.hpp).
   // State-based models keep each bond's |Y| between their two passes (8 bytes more).
   std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t) + (s.model.state_based ? sizeof(double) : 0);
   // The general force pass keeps each bond's force state and its reverse bond
   // (solver/forces_general.hpp); models keep their own history on top.
   if (!s.models.all_unified() && !s.models.owner()) per_bond += sizeof(Vec3) + sizeof(uint64_t);
+  return per_bond;
+}
+}  // namespace
+
+RankShare largest_rank_share(const System& s, int ranks) {
+  const std::size_t n = s.particles.size();
+  const auto& B = s.bonds;
+  const std::vector<int32_t> owner = rcb_owners(s.particles.X, ranks);
+  // The rule of decompose(): the neighbours' rows are computed (and held) too when a row
+  // reads what its neighbours compute in the same pass.
+  bool alpha = false;
+  for (double a : s.model.alpha) alpha = alpha || a != 0;
+  const bool neighbours = s.model.state_based || alpha || !s.models.all_unified();
+  std::vector<std::vector<uint32_t>> owned(static_cast<std::size_t>(std::max(1, ranks)));
+  for (std::size_t i = 0; i < n; ++i) owned[static_cast<std::size_t>(owner[i])].push_back(static_cast<uint32_t>(i));
+  std::vector<int32_t> counted(n, -1);  // the last rank that counted the row
+  RankShare best;
+  for (std::size_t r = 0; r < owned.size(); ++r) {
+    uint64_t held = 0;
+    auto add = [&](uint32_t i) {
+      if (counted[i] == static_cast<int32_t>(r)) return;
+      counted[i] = static_cast<int32_t>(r);
+      held += B.end(i) - B.begin(i);
+    };
+    for (uint32_t i : owned[r]) {
+      add(i);
+      if (neighbours)
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) add(B.nbr[k]);
+    }
+    best.bonds = std::max(best.bonds, held);
+  }
+  best.bytes = memory_estimate(s) - B.size() * bytes_per_bond(s) + best.bonds * bytes_per_bond(s);
+  return best;
+}
+
+std::size_t memory_estimate(const System& s) {
+  const std::size_t n = s.particles.size(), nb = s.bonds.size();
+  // Particles, model arrays (12 doubles), the force pass's scratch (4 + 1 doubles).
+  const std::size_t per_particle = 5 * sizeof(Vec3) + 4 * sizeof(double) + 2 * sizeof(int32_t) + sizeof(int64_t) + 1 +
+                                   17 * sizeof(double) + sizeof(uint64_t);
+  const std::size_t per_bond = bytes_per_bond(s);
   const std::size_t kinds = s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
   return n * per_particle + nb * per_bond + kinds;
 }

@@ -98,7 +98,7 @@ Linearization linearize(const System& s) {
   return lin;
 }
 
-std::vector<uint64_t> reverse_bonds(const Bonds& B) {
+std::vector<uint64_t> reverse_bonds(const Bonds& B, bool partial) {
   std::vector<uint64_t> rev(B.size());
   const std::size_t n = B.particles();
 #pragma omp parallel for schedule(static)
@@ -107,6 +107,10 @@ std::vector<uint64_t> reverse_bonds(const Bonds& B) {
       const uint32_t j = B.nbr[k];
       const auto first = B.nbr.begin() + static_cast<std::ptrdiff_t>(B.begin(j));
       const auto last = B.nbr.begin() + static_cast<std::ptrdiff_t>(B.end(j));
+      if (partial && first == last) {
+        rev[k] = k;
+        continue;
+      }
       const auto it = std::lower_bound(first, last, static_cast<uint32_t>(i));
       if (it == last || *it != i) throw Error("bond list is not symmetric: particle " + std::to_string(i));
       rev[k] = static_cast<uint64_t>(it - B.nbr.begin());

@@ -40,8 +40,10 @@ struct Linearization {
 };
 Linearization linearize(const System& s);
 
-// Index of bond j->i for every bond i->j (rows are sorted by neighbour).
-std::vector<uint64_t> reverse_bonds(const Bonds& B);
+// Index of bond j->i for every bond i->j (rows are sorted by neighbour). `partial`: rows
+// another MPI rank holds are empty here (local rows, parallel/decomposition.hpp); a bond
+// into such a row gets itself as its reverse (its row is never summed on this rank).
+std::vector<uint64_t> reverse_bonds(const Bonds& B, bool partial = false);
 
 // The assembled tangent on the free dofs. Row-block i is computed from i's bonds (and,
 // for state-based particles, their neighbours' bonds) and stored as column i of a

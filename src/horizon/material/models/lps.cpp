@@ -92,8 +92,10 @@ class Lps final : public Model {
         const double w = deviatoric_energy(family_of(in.system, i), dim);
         if (w > 0) factor = dev_inf / w;
       }
-      M.dilatation_coef[i] = dim * kk / M.weighted_volume[i];
-      M.deviatoric_coef[i] = factor * alpha_mu / M.weighted_volume[i];
+      // m_i = 0: a row another MPI rank holds (local rows), never computed here.
+      const double m = M.weighted_volume[i];
+      M.dilatation_coef[i] = m > 0 ? dim * kk / m : 0.0;
+      M.deviatoric_coef[i] = m > 0 ? factor * alpha_mu / m : 0.0;
     }
   }
 };
