@@ -229,22 +229,26 @@ void read_fe_mesh(const DeckContext& ctx, const MeshSelection& sel, const MapRea
   if (sel.set)
     ctx.fail(sel.mark, sel.path + ": a finite-element body takes a block of the mesh " + sel.file +
                            " (or all of it), not a set: sets select regions");
+  auto name = [](CellType t) -> std::string {
+    return t == CellType::hex8 ? "hex8" : t == CellType::tet4 ? "tet4" : cell_type_name(t);
+  };
+  if (sel.cells.empty()) ctx.fail(sel.mark, sel.path + ": the block of the mesh " + sel.file + " holds no element");
   const CellType type = mesh.cell_type[sel.cells.front()];
   for (uint32_t e : sel.cells) {
     const CellType t = mesh.cell_type[e];
     if (t != CellType::hex8 && t != CellType::tet4)
       ctx.fail(sel.mark, fmt::format("{}: element {} of the mesh {} is a {}; finite-element bodies take 8-node "
                                      "hexahedra (hex8) and 4-node tetrahedra (tet4) only",
-                                     sel.path, e + 1, sel.file, cell_type_name(t)));
+                                     sel.path, e + 1, sel.file, name(t)));
     if (t != type)
       ctx.fail(sel.mark, fmt::format("{}: the mesh {} mixes {} and {} elements; a deck's finite elements are of one "
                                      "type (choose one block with block:)",
-                                     sel.path, sel.file, cell_type_name(type), cell_type_name(t)));
+                                     sel.path, sel.file, name(type), name(t)));
   }
   const FeElement element = type == CellType::hex8 ? FeElement::hex8 : FeElement::tet4;
   if (auto e = b.find("element"); e && body.element != element)
     ctx.fail(e->mark, fmt::format("{}: the mesh {} holds {} elements; leave element out or write element: {}", e->path,
-                                  sel.file, cell_type_name(type), element == FeElement::hex8 ? "hex8" : "tet4"));
+                                  sel.file, name(type), name(type)));
   if (auto hg = b.find("hourglass"); hg && element != FeElement::hex8)
     ctx.fail(*hg->key_mark, hg->path + ": hourglass control applies to hex8 elements only (the mesh " + sel.file +
                                  " holds tetrahedra)");
@@ -269,7 +273,7 @@ void read_fe_mesh(const DeckContext& ctx, const MeshSelection& sel, const MapRea
     if (bad)
       ctx.fail(sel.mark, fmt::format("{}: element {} ({}) of the mesh {} is inverted or degenerate (a corner with a "
                                      "non-positive Jacobian: its nodes are not in the {} order)",
-                                     sel.path, e + 1, cell_type_name(type), sel.file,
+                                     sel.path, e + 1, name(type), sel.file,
                                      type == CellType::hex8 ? "Gmsh/Exodus hexahedron" : "Gmsh/Exodus tetrahedron"));
   }
   body.fe_mesh = sel.mesh;
