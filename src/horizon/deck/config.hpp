@@ -3,6 +3,7 @@
 // these structs, never YAML. Every field is documented in docs/input.md.
 #include <array>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +15,8 @@
 #include "horizon/geometry/shape.hpp"
 
 namespace horizon {
+
+struct Mesh;  // geometry/mesh.hpp
 
 enum class PlaneMode { none, stress, strain };
 // tupek: the normalised (6.6)/(6.7) functions (nonlinear_solid only).
@@ -94,6 +97,12 @@ struct BodyConfig {
   // fe only: J2 plasticity of the elements (fe/fe_region.hpp); yield_stress 0: elastic.
   double fe_yield_stress = 0;      // sigma_y [Pa]
   double fe_hardening_modulus = 0; // H [Pa]: sigma_y + H eps_p
+  // fe only, a body whose shape is a mesh (shape: {mesh: ...}): the mesh, the cells it
+  // takes (all hex8 or all tet4) and the coordinate scale; the mesh's nodes are the FE
+  // nodes (fe/fe_region.hpp). Null for a box FE body.
+  std::shared_ptr<const Mesh> fe_mesh{};
+  std::vector<uint32_t> fe_cells{};
+  double fe_mesh_scale = 1;
 };
 
 // A polygon (3-D) or a segment (2-D: two points, extruded through the thickness).

@@ -220,6 +220,67 @@ std::vector<std::string> read_regions(const DeckContext& ctx, const MapReader& m
   return names;
 }
 
+// A finite-element body made of a mesh's elements (fe/fe_region.hpp): all hex8 or all
+// tet4, none inverted (the Jacobian at every corner of a hexahedron, the signed volume of
+// a tetrahedron, > 0 with the mesh's node order: Gmsh reference manual sec. 10.2 and the
+// Exodus II manual share it); `element`, when given, names that type.
+void read_fe_mesh(const DeckContext& ctx, const MeshSelection& sel, const MapReader& b, BodyConfig& body) {
+  const Mesh& mesh = *sel.mesh;
+  if (sel.set)
+    ctx.fail(sel.mark, sel.path + ": a finite-element body takes a block of the mesh " + sel.file +
+                           " (or all of it), not a set: sets select regions");
+  auto name = [](CellType t) -> std::string {
+    return t == CellType::hex8 ? "hex8" : t == CellType::tet4 ? "tet4" : cell_type_name(t);
+  };
+  if (sel.cells.empty()) ctx.fail(sel.mark, sel.path + ": the block of the mesh " + sel.file + " holds no element");
+  const CellType type = mesh.cell_type[sel.cells.front()];
+  for (uint32_t e : sel.cells) {
+    const CellType t = mesh.cell_type[e];
+    if (t != CellType::hex8 && t != CellType::tet4)
+      ctx.fail(sel.mark, fmt::format("{}: element {} of the mesh {} is a {}; finite-element bodies take 8-node "
+                                     "hexahedra (hex8) and 4-node tetrahedra (tet4) only",
+                                     sel.path, e + 1, sel.file, name(t)));
+    if (t != type)
+      ctx.fail(sel.mark, fmt::format("{}: the mesh {} mixes {} and {} elements; a deck's finite elements are of one "
+                                     "type (choose one block with block:)",
+                                     sel.path, sel.file, name(type), name(t)));
+  }
+  const FeElement element = type == CellType::hex8 ? FeElement::hex8 : FeElement::tet4;
+  if (auto e = b.find("element"); e && body.element != element)
+    ctx.fail(e->mark, fmt::format("{}: the mesh {} holds {} elements; leave element out or write element: {}", e->path,
+                                  sel.file, name(type), name(type)));
+  if (auto hg = b.find("hourglass"); hg && element != FeElement::hex8)
+    ctx.fail(*hg->key_mark, hg->path + ": hourglass control applies to hex8 elements only (the mesh " + sel.file +
+                                 " holds tetrahedra)");
+  body.element = element;
+  // Inverted elements: a corner whose edges form a left-handed triple (hex8: each corner's
+  // three edges in the parent cube's axis order; tet4: corner 0).
+  static constexpr int kHexCorner[8][4] = {{0, 1, 3, 4}, {1, 0, 5, 2}, {2, 3, 1, 6}, {3, 2, 7, 0},
+                                           {4, 5, 0, 7}, {5, 4, 6, 1}, {6, 7, 2, 5}, {7, 6, 4, 3}};
+  for (uint32_t e : sel.cells) {
+    const auto& c = mesh.cell_nodes[e];
+    auto triple = [&](int o, int a, int bb, int d) {
+      const Vec3& x0 = mesh.nodes[c[static_cast<std::size_t>(o)]];
+      return dot(mesh.nodes[c[static_cast<std::size_t>(a)]] - x0,
+                 cross(mesh.nodes[c[static_cast<std::size_t>(bb)]] - x0, mesh.nodes[c[static_cast<std::size_t>(d)]] - x0));
+    };
+    bool bad = false;
+    if (type == CellType::tet4) {
+      bad = !(triple(0, 1, 2, 3) > 0);
+    } else {
+      for (const auto& k : kHexCorner) bad = bad || !(triple(k[0], k[1], k[2], k[3]) > 0);
+    }
+    if (bad)
+      ctx.fail(sel.mark, fmt::format("{}: element {} ({}) of the mesh {} is inverted or degenerate (a corner with a "
+                                     "non-positive Jacobian: its nodes are not in the {} order)",
+                                     sel.path, e + 1, name(type), sel.file,
+                                     type == CellType::hex8 ? "Gmsh/Exodus hexahedron" : "Gmsh/Exodus tetrahedron"));
+  }
+  body.fe_mesh = sel.mesh;
+  body.fe_cells = sel.cells;
+  body.fe_mesh_scale = sel.scale;
+}
+
 void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
   const Item item = m.get("bodies", "a list of bodies, each {name, material, shape}");
   if (!item.node.IsSequence()) fail_expected(ctx, item, "a list of bodies (lines starting with '- ')");
@@ -270,9 +331,14 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
       body.fe_yield_stress = read_positive(ctx, jm.get("yield_stress", "the initial yield stress sigma_y [Pa]"));
       if (auto hm = jm.find("hardening_modulus")) body.fe_hardening_modulus = read_non_negative(ctx, *hm);
     }
-    if (fe && body.shape.kind() != Shape::Kind::box)
-      ctx.fail(shape.mark, shape.path + ": a finite-element body's shape is a box (its elements fill the box on the "
-                                        "lattice's grid)");
+    if (fe) {
+      if (auto sel = read_mesh_selection(ctx, shape)) {
+        read_fe_mesh(ctx, *sel, b, body);
+      } else if (body.shape.kind() != Shape::Kind::box) {
+        ctx.fail(shape.mark, shape.path + ": a finite-element body's shape is a box (its elements fill the box on the "
+                                          "lattice's grid) or a mesh ({mesh: {file, block}}: its hex8 or tet4 elements)");
+      }
+    }
     if (fe && ctx.dimension != 3)
       ctx.fail(b.find("discretization")->mark, "discretization: fe needs a 3-D deck (dimension: 3)");
     config.bodies.push_back(std::move(body));

@@ -105,57 +105,74 @@ std::string group_names(const std::vector<MeshGroup>& groups) {
   return out.empty() ? "none" : out;
 }
 
-// A mesh file's elements as particles (geometry/mesh.hpp): all of them, one block's, or
-// (regions) those touching a node or side set.
-Shape read_mesh_shape(const DeckContext& ctx, const Item& item, const YAML::Mark& key_mark) {
+// A mesh shape's file, scale and cells: all of them, one block's, or (regions) those
+// touching a node or side set.
+MeshSelection select_mesh(const DeckContext& ctx, const Item& item, const YAML::Mark& key_mark) {
   if (ctx.dimension == 1) ctx.fail(key_mark, item.path + ": a mesh needs a 2-D or 3-D deck");
+  MeshSelection sel;
+  sel.mark = item.mark;
+  sel.path = item.path;
   MapReader m(ctx, item, {"file", "block", "set", "scale"});
   const Item file_item = m.get("file", "the mesh file: .msh (Gmsh 4.1) or .exo, .e, .g (Exodus II), relative to the deck");
   std::filesystem::path file = read_string(ctx, file_item);
   if (file.is_relative()) file = std::filesystem::path(ctx.file).parent_path() / file;
-  const std::string key = file.lexically_normal().string() + "#" + std::to_string(ctx.dimension);
-  std::shared_ptr<const Mesh> mesh;
+  sel.file = file.lexically_normal().string();
+  const std::string key = sel.file + "#" + std::to_string(ctx.dimension);
   if (auto it = ctx.meshes->find(key); it != ctx.meshes->end()) {
-    mesh = it->second;
+    sel.mesh = it->second;
   } else {
     try {
-      mesh = std::make_shared<const Mesh>(read_mesh(file.lexically_normal().string(), ctx.dimension));
+      sel.mesh = std::make_shared<const Mesh>(read_mesh(sel.file, ctx.dimension));
     } catch (const Error& e) {
       ctx.fail(file_item.mark, file_item.path + ": " + e.what());
     }
-    ctx.meshes->emplace(key, mesh);
+    ctx.meshes->emplace(key, sel.mesh);
   }
-  double scale = 1;
-  if (auto sc = m.find("scale")) scale = read_positive(ctx, *sc);
-  std::vector<uint32_t> cells;
-  bool with_measures = true;
+  const Mesh& mesh = *sel.mesh;
+  if (auto sc = m.find("scale")) sel.scale = read_positive(ctx, *sc);
   const auto which = m.exactly_one({"block", "set"}, false);
   if (which == "block") {
     const Item b = *m.find("block");
     const std::string name = read_string(ctx, b);
-    const MeshGroup* g = mesh->find_block(name);
-    if (!g) ctx.fail(b.mark, b.path + ": the mesh has no block '" + name + "'; its blocks: " + group_names(mesh->blocks));
-    cells = g->members;
+    const MeshGroup* g = mesh.find_block(name);
+    if (!g)
+      ctx.fail(b.mark, b.path + ": the mesh " + sel.file + " has no block '" + name + "'; its blocks: " +
+                           group_names(mesh.blocks));
+    sel.cells = g->members;
   } else if (which == "set") {
     const Item st = *m.find("set");
     const std::string name = read_string(ctx, st);
-    const MeshGroup* g = mesh->find_set(name);
-    if (!g) ctx.fail(st.mark, st.path + ": the mesh has no set '" + name + "'; its sets: " + group_names(mesh->sets));
-    cells = mesh->cells_touching(*g);
-    if (cells.empty()) ctx.fail(st.mark, st.path + ": no element of the mesh touches set '" + name + "'");
-    with_measures = false;
+    sel.set = mesh.find_set(name);
+    if (!sel.set)
+      ctx.fail(st.mark, st.path + ": the mesh " + sel.file + " has no set '" + name + "'; its sets: " +
+                            group_names(mesh.sets));
+    sel.cells = mesh.cells_touching(*sel.set);
+    if (sel.cells.empty()) ctx.fail(st.mark, st.path + ": no element of the mesh touches set '" + name + "'");
   } else {
-    cells.resize(mesh->cell_nodes.size());
-    for (uint32_t e = 0; e < cells.size(); ++e) cells[e] = e;
+    sel.cells.resize(mesh.cell_nodes.size());
+    for (uint32_t e = 0; e < sel.cells.size(); ++e) sel.cells[e] = e;
   }
+  return sel;
+}
+
+// A mesh file's elements as particles (geometry/mesh.hpp). A set's region also holds the
+// set's nodes themselves: the finite-element nodes of a body made from the same mesh
+// (fe/fe_region.hpp) sit there.
+Shape read_mesh_shape(const DeckContext& ctx, const Item& item, const YAML::Mark& key_mark) {
+  const MeshSelection sel = select_mesh(ctx, item, key_mark);
+  const Mesh& mesh = *sel.mesh;
+  const double scale = sel.scale;
   std::vector<Vec3> points;
   std::vector<double> measures;
+  const bool with_measures = sel.set == nullptr;
   // Full volumes, as a body of listed points carries: 2-D areas times the thickness.
   const double measure_scale = std::pow(scale, ctx.dimension) * (ctx.dimension == 2 ? ctx.thickness : 1.0);
-  for (uint32_t e : cells) {
-    points.push_back(scale == 1 ? mesh->centroid[e] : mesh->centroid[e] * scale);
-    if (with_measures) measures.push_back(mesh->measure[e] * measure_scale);
+  for (uint32_t e : sel.cells) {
+    points.push_back(scale == 1 ? mesh.centroid[e] : mesh.centroid[e] * scale);
+    if (with_measures) measures.push_back(mesh.measure[e] * measure_scale);
   }
+  if (sel.set)
+    for (uint32_t n : sel.set->members) points.push_back(scale == 1 ? mesh.nodes[n] : mesh.nodes[n] * scale);
   return Shape::points(std::move(points), std::move(measures));
 }
 
@@ -238,6 +255,13 @@ std::vector<Shape> read_parts(const DeckContext& ctx, const Item& item, std::siz
 }
 
 }  // namespace
+
+std::optional<MeshSelection> read_mesh_selection(const DeckContext& ctx, const Item& item) {
+  if (!item.node.IsDefined() || !item.node.IsMap() || item.node.size() != 1) return std::nullopt;
+  const auto entries = map_entries(ctx, item);
+  if (entries.front().key != "mesh") return std::nullopt;
+  return select_mesh(ctx, entries.front().value, *entries.front().value.key_mark);
+}
 
 Shape read_shape(const DeckContext& ctx, const Item& item) {
   const std::string expected =

@@ -10,6 +10,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/core/state_archive.hpp"
 #include "horizon/deck/config.hpp"
+#include "horizon/geometry/mesh.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/system.hpp"
@@ -45,6 +46,124 @@ void inv3(const double J[3][3], double d, double I[3][3]) {
   I[2][2] = (J[0][0] * J[1][1] - J[0][1] * J[1][0]) / d;
 }
 
+
+// Barycentric coordinates of x in the tetrahedron (a, b, c, d) (lambda_0 first); false
+// for a flat one.
+bool barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& x, double l[4]) {
+  const double v = dot(b - a, cross(c - a, d - a));
+  if (!(std::abs(v) > 0)) return false;
+  l[1] = dot(x - a, cross(c - a, d - a)) / v;
+  l[2] = dot(b - a, cross(x - a, d - a)) / v;
+  l[3] = dot(b - a, cross(c - a, x - a)) / v;
+  l[0] = 1 - l[1] - l[2] - l[3];
+  return true;
+}
+
+// Peridynamic particles by position: a cell list of side h over the first n particles.
+struct PointGrid {
+  double h;
+  std::unordered_map<int64_t, std::vector<uint32_t>> cells;
+  static int64_t key(int64_t i, int64_t j, int64_t k) { return (i * 73856093) ^ (j * 19349663) ^ (k * 83492791); }
+  int64_t index(double v) const { return static_cast<int64_t>(std::floor(v / h)); }
+  PointGrid(const std::vector<Vec3>& X, std::size_t n, double side) : h(side) {
+    for (std::size_t p = 0; p < n; ++p) cells[key(index(X[p].x), index(X[p].y), index(X[p].z))].push_back(static_cast<uint32_t>(p));
+  }
+  // Calls f(p) for the particles in the cells that meet the box [lo, hi].
+  template <class F>
+  void visit(const Vec3& lo, const Vec3& hi, F&& f) const {
+    for (int64_t k = index(lo.z); k <= index(hi.z); ++k)
+      for (int64_t j = index(lo.y); j <= index(hi.y); ++j)
+        for (int64_t i = index(lo.x); i <= index(hi.x); ++i) {
+          auto it = cells.find(key(i, j, k));
+          if (it != cells.end())
+            for (uint32_t p : it->second) f(p);
+        }
+  }
+};
+
+// The nodes and elements of a body made of a mesh's hex8 or tet4 cells (BodyConfig::fe_mesh,
+// checked by the deck: one type, none inverted). The mesh's nodes are the FE nodes; a node
+// at a peridynamic particle (to 1e-6 spacings) is that particle (shared, as the lattice
+// points of a box body inside a peridynamic body are); cells whose nodes are all
+// particles are left out. A particle inside a kept cell but at none of its nodes cannot
+// be coupled by coincident nodes: an error. FE-owned nodes become particles (volume set
+// with the lumped one later).
+void add_mesh_elements(FeRegion& fe, System& s, const BodyConfig& body, std::size_t n_pd, double h, int32_t block,
+                       int mat, double rho) {
+  auto& P = s.particles;
+  const Mesh& mesh = *body.fe_mesh;
+  const double sc = body.fe_mesh_scale;
+  const int npe = fe.nodes_per_element;
+  const PointGrid grid(P.X, n_pd, h);
+  const double tol = 1e-6 * h;
+  std::vector<int64_t> pd_of(mesh.nodes.size(), -2);  // -2: not looked up, -1: no particle
+  auto particle_at = [&](uint32_t n) {
+    if (pd_of[n] != -2) return pd_of[n];
+    const Vec3 x = mesh.nodes[n] * sc;
+    int64_t found = -1;
+    const Vec3 d{tol, tol, tol};
+    grid.visit(x - d, x + d, [&](uint32_t p) {
+      if (found < 0 && norm(P.X[p] - x) <= tol) found = p;
+    });
+    return pd_of[n] = found;
+  };
+  std::vector<uint32_t> kept;
+  for (uint32_t e : body.fe_cells) {
+    bool free_node = false;
+    for (uint32_t n : mesh.cell_nodes[e]) free_node = free_node || particle_at(n) < 0;
+    if (free_node) kept.push_back(e);
+  }
+  // Particles inside a kept cell (closed, to 1e-9 in barycentric coordinates; a hexahedron
+  // by its six Kuhn tetrahedra, exact for plane faces) other than at its nodes.
+  if (n_pd > 0)
+    for (uint32_t e : kept) {
+      const auto& cn = mesh.cell_nodes[e];
+      std::vector<Vec3> x;
+      Vec3 lo = mesh.nodes[cn[0]] * sc, hi = lo;
+      for (uint32_t n : cn) {
+        x.push_back(mesh.nodes[n] * sc);
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], x.back()[k]), hi[k] = std::max(hi[k], x.back()[k]);
+      }
+      grid.visit(lo, hi, [&](uint32_t p) {
+        const Vec3& X = P.X[p];
+        for (const Vec3& xn : x)
+          if (norm(X - xn) <= tol) return;
+        bool inside = false;
+        double l[4];
+        if (npe == 4) {
+          inside = barycentric(x[0], x[1], x[2], x[3], X, l) && *std::min_element(l, l + 4) >= -1e-9;
+        } else {
+          for (const auto& t : kTets)
+            inside = inside || (barycentric(x[static_cast<std::size_t>(t[0])], x[static_cast<std::size_t>(t[1])],
+                                            x[static_cast<std::size_t>(t[2])], x[static_cast<std::size_t>(t[3])], X, l) &&
+                                *std::min_element(l, l + 4) >= -1e-9);
+        }
+        if (inside)
+          throw Error(fmt::format(
+              "body '{}' (finite elements from the mesh {}): the particle at ({:g}, {:g}, {:g}) of body '{}' lies in "
+              "element {} of the mesh but at none of its nodes; a peridynamic body couples to a mesh through "
+              "coincident nodes: give the mesh nodes at the particles where the two overlap (the lattice of spacing "
+              "{:g} m), or keep the peridynamic body out of the mesh",
+              body.name, mesh.file, X.x, X.y, X.z, s.block_names[static_cast<std::size_t>(P.block[p])], e + 1, h));
+      });
+    }
+  std::vector<int64_t> node_id(mesh.nodes.size(), -1);
+  for (uint32_t e : kept) {
+    for (uint32_t n : mesh.cell_nodes[e]) {
+      if (node_id[n] < 0) {
+        node_id[n] = static_cast<int64_t>(fe.node_particle.size());
+        const Vec3 x = mesh.nodes[n] * sc;
+        const int64_t p = particle_at(n);
+        fe.node_X.push_back(p >= 0 ? P.X[static_cast<std::size_t>(p)] : x);
+        fe.node_owned.push_back(p >= 0 ? 0 : 1);
+        fe.node_particle.push_back(p >= 0 ? static_cast<uint32_t>(p) : static_cast<uint32_t>(P.size()));
+        if (p < 0) P.add(x, 0.0, rho, block, mat);
+      }
+      fe.conn.push_back(static_cast<uint32_t>(node_id[n]));
+    }
+    fe.volume_scale.push_back(1.0);
+  }
+}
 }  // namespace
 
 std::size_t FeRegion::owned_nodes() const {
@@ -63,23 +182,43 @@ void FeRegion::setup_geometry() {
     const uint32_t* c = &conn[e * static_cast<std::size_t>(n)];
     double* b = &grad[e * static_cast<std::size_t>(3 * n)];
     if (n == 8) {
-      // One-point (centre) integration: J = sum_I x_I (x) dN_I/dxi at xi = 0, with
-      // dN_I/dxi_k = s_Ik / 8; b_I = J^-T dN_I/dxi; V = 8 det J (exact for parallelepipeds).
-      double J[3][3] = {};
-      for (int I = 0; I < 8; ++I)
-        for (int i = 0; i < 3; ++i)
-          for (int k = 0; k < 3; ++k) J[i][k] += node_X[c[I]][i] * kHexSign[I][k] / 8.0;
-      const double d = det3(J);
-      if (!(d > 0)) throw Error(fmt::format("finite element {} is inverted or flat (Jacobian {:.3g})", e, d));
-      double Ji[3][3];
-      inv3(J, d, Ji);
-      for (int I = 0; I < 8; ++I)
-        for (int i = 0; i < 3; ++i) {
-          double s = 0;
-          for (int k = 0; k < 3; ++k) s += Ji[k][i] * kHexSign[I][k] / 8.0;
-          b[3 * I + i] = s;
+      // One-point integration with the uniform gradient of Flanagan and Belytschko (1981,
+      // eq. 16): b_I = (1/V) int dN_I/dx dV and V = int det J, both by 2 x 2 x 2 Gauss
+      // points, which integrate them exactly for the trilinear map (det J and the cofactors
+      // of J times dN_I/dxi are at most quadratic in each natural coordinate). On a
+      // parallelepiped these are the centre values (J constant); on a distorted hexahedron
+      // of a mesh the uniform gradient keeps sum_I x_I (x) b_I = I (linear fields exact)
+      // and sum over a node's elements of V b_I = 0 (the patch test).
+      const double gp = 1.0 / std::sqrt(3.0);
+      double V = 0;
+      for (int q = 0; q < 8; ++q) {
+        const double xi[3] = {kHexSign[q][0] * gp, kHexSign[q][1] * gp, kHexSign[q][2] * gp};
+        double dN[8][3];  // dN_I/dxi_k at the point
+        for (int I = 0; I < 8; ++I) {
+          const double f[3] = {1 + kHexSign[I][0] * xi[0], 1 + kHexSign[I][1] * xi[1], 1 + kHexSign[I][2] * xi[2]};
+          dN[I][0] = kHexSign[I][0] * f[1] * f[2] / 8;
+          dN[I][1] = f[0] * kHexSign[I][1] * f[2] / 8;
+          dN[I][2] = f[0] * f[1] * kHexSign[I][2] / 8;
         }
-      volume[e] = 8 * d * (e < volume_scale.size() ? volume_scale[e] : 1.0);
+        double J[3][3] = {};
+        for (int I = 0; I < 8; ++I)
+          for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) J[i][k] += node_X[c[I]][i] * dN[I][k];
+        const double d = det3(J);
+        if (!(d > 0)) throw Error(fmt::format("finite element {} is inverted or flat (Jacobian {:.3g})", e, d));
+        double Ji[3][3];
+        inv3(J, d, Ji);
+        // dN_I/dx det J (weight 1 per point).
+        for (int I = 0; I < 8; ++I)
+          for (int i = 0; i < 3; ++i) {
+            double sum = 0;
+            for (int k = 0; k < 3; ++k) sum += Ji[k][i] * dN[I][k];
+            b[3 * I + i] += sum * d;
+          }
+        V += d;
+      }
+      for (int q = 0; q < 24; ++q) b[q] /= V;
+      volume[e] = V * (e < volume_scale.size() ? volume_scale[e] : 1.0);
       // Hourglass vectors (Flanagan and Belytschko 1981, eq. 35 with their B_iI = V b_iI):
       // gamma_aI = h_aI - (sum_J h_aJ x_J) . b_I, with h_1..4 = xi eta, eta zeta, zeta xi,
       // xi eta zeta at the nodes. gamma is orthogonal to every linear field.
@@ -321,7 +460,7 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
   const std::size_t n_pd = P.size();
   const double h = config.spacing;
   FeRegion fe;
-  bool any = false;
+  bool any = false, any_mesh = false;
   for (std::size_t b = 0; b < config.bodies.size(); ++b) {
     const BodyConfig& body = config.bodies[b];
     if (body.discretization != Discretization::fe) continue;
@@ -341,6 +480,28 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
                               "ratio in (-1, 0.5) and a density > 0 (it has E = {}, nu = {}, density = {})",
                               body.name, mc.name, E, nu, rho));
     const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+    const std::size_t elem_before = fe.conn.size() / static_cast<std::size_t>(npe);
+    // Per element of this body: its material and plasticity.
+    auto add_element_data = [&] {
+      const std::size_t added = fe.conn.size() / static_cast<std::size_t>(npe) - elem_before;
+      if (added == 0)
+        throw Error("body '" + body.name + "' (finite elements): every node of its " +
+                    (body.fe_mesh ? "mesh" : "box") + " is a particle of a peridynamic body, so it has no element");
+      for (std::size_t e = elem_before; e < elem_before + added; ++e) {
+        fe.lambda.push_back(lam);
+        fe.mu.push_back(mu);
+        fe.density.push_back(rho);
+        fe.hourglass_k.push_back(body.hourglass);  // scaled below, once the geometry is known
+        fe.yield_stress.push_back(body.fe_yield_stress);
+        fe.hardening.push_back(body.fe_hardening_modulus);
+      }
+    };
+    if (body.fe_mesh) {
+      any_mesh = true;
+      add_mesh_elements(fe, s, body, n_pd, h, static_cast<int32_t>(b), mat, rho);
+      add_element_data();
+      continue;
+    }
     const Box3 box = body.shape.bounds();
     const Vec3 origin = config.lattice_origin ? *config.lattice_origin : box.min + Vec3{0.5 * h, 0.5 * h, 0.5 * h};
     // Per axis: the lattice indices inside the box and their coordinates.
@@ -394,7 +555,6 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
     for (const auto& [k, p] : pd) is_pd[static_cast<std::size_t>(k)] = 1;
     // Elements: the grid cells (or their six tetrahedra) with at least one node that no
     // peridynamic particle takes.
-    const std::size_t elem_before = fe.conn.size() / static_cast<std::size_t>(npe);
     std::vector<std::size_t> new_nodes;
     auto node_of = [&](int64_t g) -> uint32_t {
       auto& id = node_id[static_cast<std::size_t>(g)];
@@ -441,18 +601,7 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
             }
           }
         }
-    const std::size_t added = fe.conn.size() / static_cast<std::size_t>(npe) - elem_before;
-    if (added == 0)
-      throw Error("body '" + body.name + "' (finite elements): every node of its box is a particle of a peridynamic "
-                  "body, so it has no element");
-    for (std::size_t e = elem_before; e < elem_before + added; ++e) {
-      fe.lambda.push_back(lam);
-      fe.mu.push_back(mu);
-      fe.density.push_back(rho);
-      fe.hourglass_k.push_back(body.hourglass);  // scaled below, once the geometry is known
-      fe.yield_stress.push_back(body.fe_yield_stress);
-      fe.hardening.push_back(body.fe_hardening_modulus);
-    }
+    add_element_data();
     // The FE-owned nodes become particles at their lattice points (the element geometry
     // keeps node_X); the volume is set to the lumped one below.
     for (std::size_t g : new_nodes) {
@@ -524,6 +673,12 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
           }
     }
   }
+  // A mesh body next to a peridynamic body without a shared node would see the particles
+  // only through their bonds to its nodes, never through its elements: refused.
+  if (any_mesh && fe.shared_nodes() == 0 && std::any_of(ghost.begin(), ghost.end(), [](uint8_t g) { return g != 0; }))
+    throw Error("a finite-element body from a mesh lies within a horizon of a peridynamic body but none of its nodes "
+                "is a particle: the coupling needs an overlap of at least one element whose nodes include the "
+                "particles there (mesh nodes on the peridynamic lattice; docs/input.md, \"Finite-element bodies\")");
   s.fe = std::make_shared<FeRegion>(std::move(fe));
 }
 
