@@ -275,6 +275,11 @@ class ExtendedCorrespondence final : public Model {
     const int32_t l = local_[i];
     return l >= 0 && committed_[l].damage > critical_;
   }
+  // omega_D (thesis eq. 7.2): bond k of particle l acts while it is intact and neither end
+  // has D > D_c.
+  bool bond_acts(const Bonds& B, std::size_t l, uint64_t k) const {
+    return B.intact[k] && !(committed_[l].damage > critical_) && !failed_committed(B.nbr[k]);
+  }
 
   StrainLawParams law_;
   int dim_ = 3;
@@ -426,9 +431,8 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     const uint32_t i = particles_[l];
     const Point4 yi = y[i];
     auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
-    // omega_D (thesis eq. 7.2): a bond acts while neither end has D > D_c.
     const bool self_failed = committed_[l].damage > critical_;
-    auto acts = [&](uint64_t k) { return B.intact[k] && !self_failed && !failed_committed(B.nbr[k]); };
+    auto acts = [&](uint64_t k) { return bond_acts(B, l, k); };
     changed_[l] = 0;
     e_ok_[l] = 0;
     if (self_failed) continue;
@@ -485,7 +489,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     const Point4 yi = y[i];
     auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
     const bool self_failed = committed_[l].damage > critical_;
-    auto acts = [&](uint64_t k) { return B.intact[k] && !self_failed && !failed_committed(B.nbr[k]); };
+    auto acts = [&](uint64_t k) { return bond_acts(B, l, k); };
     extended::NonlocalStrain E(dim_, m_);
     bool ok = !self_failed && map_ok_[l] != 0;
     const bool changed = changed_[l] != 0;  // the acting set of an active particle changed in this pass
