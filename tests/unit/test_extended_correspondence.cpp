@@ -60,6 +60,16 @@ Mat3 nonlocal_strain(const std::vector<Vec3>& fam, const Mat3& F, double m) {
 // Digest sec. 3.3: E = eps exactly for uniform small strain (here at every particle,
 // bulk or free surface, by the moment map); the error left is the O(eps^2) of the
 // nonlinear bond strain.
+// The checkerboard (zero-energy) mode: +a e and -a e on alternate lattice points.
+void checkerboard(System& s, double spacing, double a) {
+  const Vec3 e{0.6, -0.8, 0.0};
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    const Vec3& X = s.particles.X[i];
+    const int parity = static_cast<int>(std::lround(X.x / spacing + X.y / spacing + X.z / spacing));
+    s.particles.u[i] = (parity % 2 == 0 ? a : -a) * e;
+  }
+}
+
 TEST(ExtendedCorrespondence, UniformSmallStrainIsExact) {
   const double e = 1e-7;
   const double g[3][3] = {{0.3, 0.7, -0.2}, {0.7, -1.1, 0.4}, {-0.2, 0.4, 0.5}};
@@ -234,12 +244,7 @@ TEST(ExtendedCorrespondence, CheckerboardZeroEnergyWitness) {
     mat.parameters["stabilization"] = stab;
     fill_model_defaults(mat);
     System s = test::make_block(b, mat);
-    const Vec3 e{0.6, -0.8, 0.0};
-    for (std::size_t i = 0; i < s.particles.size(); ++i) {
-      const Vec3& X = s.particles.X[i];
-      const int parity = static_cast<int>(std::lround(X.x / b.spacing + X.y / b.spacing + X.z / b.spacing));
-      s.particles.u[i] = (parity % 2 == 0 ? a : -a) * e;
-    }
+    checkerboard(s, b.spacing, a);
     compute_forces(s, true);
     const auto ids = test::interior_particles(s, b);
     EXPECT_FALSE(ids.empty());
@@ -342,12 +347,7 @@ TEST(ExtendedCorrespondence, CheckerboardMidpointResidualWitness) {
     mat.choices["volumetric_strain"] = "gradient";
     fill_model_defaults(mat);
     System s = test::make_block(b, mat);
-    const Vec3 e{0.6, -0.8, 0.0};
-    for (std::size_t i = 0; i < s.particles.size(); ++i) {
-      const Vec3& X = s.particles.X[i];
-      const int parity = static_cast<int>(std::lround(X.x / b.spacing + X.y / b.spacing + X.z / b.spacing));
-      s.particles.u[i] = (parity % 2 == 0 ? a : -a) * e;
-    }
+    checkerboard(s, b.spacing, a);
     compute_forces(s, true);
     const auto ids = test::interior_particles(s, b);
     double W = 0;
