@@ -70,17 +70,14 @@ inline void summary_state(nlohmann::ordered_json& j, const System& s, const Ledg
                  {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
                  {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};
   // The parts of the dissipated energy that models report as fields of accumulated
-  // density [J/m^3] (plastic_work, failure_energy, acting_set_energy (signed);
-  // extended_correspondence), in J.
+  // density [J/m^3] (ModelField::dissipation_part), in J.
   {
     std::vector<ModelField> fields;
     for (const auto& m : s.models) m->fields(s, fields);
     nlohmann::ordered_json parts = nlohmann::ordered_json::object();
     for (const auto& f : fields) {
       // Once per name (as the frames): each field holds every particle of its model.
-      if ((f.name != "plastic_work" && f.name != "failure_energy" && f.name != "acting_set_energy") ||
-          parts.contains(f.name))
-        continue;
+      if (!f.dissipation_part || parts.contains(f.name)) continue;
       double sum = 0.0;
       for (std::size_t i = 0; i < f.values.size() && i < s.particles.size(); ++i)
         sum += f.values[i] * s.particles.volume[i];

@@ -124,6 +124,9 @@ struct ForcePass {
 struct ModelField {
   std::string name;
   std::vector<double> values;  // one per particle; models fill their own, others stay 0
+  // A density of dissipated energy [J/m^3] (plastic work, failure energy, ...): the summary
+  // integrates it over the volume into energy.dissipated_parts.
+  bool dissipation_part = false;
 };
 
 // Where a model that owns its force pass writes its tangent stiffness K = -dF/du (F the

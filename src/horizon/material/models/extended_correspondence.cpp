@@ -612,10 +612,10 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
   ModelField ep{"equivalent_plastic_strain", std::vector<double>(n, 0.0)};
   ModelField dm{"ductile_damage", std::vector<double>(n, 0.0)};
   ModelField in{"carries_no_stress", std::vector<double>(n, 0.0)};
-  ModelField pw{"plastic_work", std::vector<double>(n, 0.0)};
-  ModelField fe{"failure_energy", std::vector<double>(n, 0.0)};
+  ModelField pw{"plastic_work", std::vector<double>(n, 0.0), true};  // a dissipation part
+  ModelField fe{"failure_energy", std::vector<double>(n, 0.0), true};  // a dissipation part
   ModelField as{"acting_share", std::vector<double>(n, 0.0)};
-  ModelField ae{"acting_set_energy", std::vector<double>(n, 0.0)};
+  ModelField ae{"acting_set_energy", std::vector<double>(n, 0.0), true};  // a dissipation part
   for (const auto& model : s.models) {
     const auto* c = dynamic_cast<const ExtendedCorrespondence*>(model.get());
     if (!c) continue;
