@@ -1,5 +1,7 @@
 #include "horizon/contact/rigid_contact.hpp"
 
+#include "horizon/core/parallel_select.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -96,14 +98,22 @@ Vec3 push_particles(System& s, const RigidShape& shape, const Vec3& at, ContactL
   const double reach2 = shape.reach() * shape.reach();
   const std::vector<uint32_t>* own = s.owned.empty() ? nullptr : &s.owned;
   const std::size_t n = own ? own->size() : P.size();
-  // One pass in particle order: the force densities and their total, the same on any
-  // thread count (the loop is cheap next to the bond loops).
-  GridSum total(s, 4);
-  Penetration p;
-  for (std::size_t k = 0; k < n; ++k) {
+  // The threads find the particles inside the shape; one pass over those in particle
+  // order then adds the force densities and their total, the same on any thread count.
+  auto inside = [&](std::size_t k, Penetration& p) {
     const std::size_t i = own ? (*own)[k] : k;
     const Vec3 d = P.X[i] + P.u[i] - at;
-    if (!(norm2(d) < reach2) || !shape.penetration(d, p)) continue;
+    return norm2(d) < reach2 && shape.penetration(d, p);
+  };
+  const std::vector<uint32_t> touching = parallel_select(n, [&](std::size_t k) {
+    Penetration p;
+    return inside(k, p);
+  });
+  GridSum total(s, 4);
+  Penetration p;
+  for (uint32_t k : touching) {
+    const std::size_t i = own ? (*own)[k] : k;
+    inside(k, p);
     const double mag = law == ContactLaw::linear ? stiffness * p.depth : stiffness * p.depth * p.depth;
     const Vec3 b = p.normal * mag;
     P.b[i] += b;

@@ -1,5 +1,6 @@
 #include "horizon/loading/loads.hpp"
 
+#include "horizon/core/parallel_select.hpp"
 #include "horizon/parallel/decomposition.hpp"
 
 #include <algorithm>
@@ -247,7 +248,7 @@ void Loads::prescribe_velocity(System& s, double t) const {
 
 void Loads::apply_forces(System& s, double t) const {
   auto& P = s.particles;
-  std::fill(P.b.begin(), P.b.end(), Vec3{});
+  parallel_fill(P.b, Vec3{});
   for (const auto& L : loads_) {
     if (is_constraint(L.kind)) continue;
     if (L.indenter) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "horizon/core/parallel_select.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/thermal/heat.hpp"
@@ -77,9 +78,9 @@ void ExplicitSolver::step(bool energy) {
   const std::vector<uint32_t>* own = s_.owned.empty() ? nullptr : &s_.owned;
   const std::size_t n = own ? own->size() : P.size();
   const double dt = dt_, half = 0.5 * dt;
-  u_before_ = P.u;
-  v_before_ = P.v;
-  if (has_forces_) b_before_ = P.b;
+  parallel_copy(u_before_, P.u);
+  parallel_copy(v_before_, P.v);
+  if (has_forces_) parallel_copy(b_before_, P.b);
   // Rigid projectiles: half kick and drift with the contact force of the last pass
   // (contact/projectile.hpp); their state before the step, should it turn non-finite.
   auto& bodies = loads_.projectiles();
@@ -158,8 +159,15 @@ void ExplicitSolver::step(bool energy) {
   // Work of the applied force densities (trapezoidal in b) and of the constraints.
   double work = loads_.update_reactions(s_, u_before_, &v_before_, dt);
   if (has_forces_) {
+    // Only the loaded particles add work; the threads find them (the others' terms are
+    // zeros, which leave the serial sum's bits as they are).
+    auto nonzero = [](const Vec3& a) { return a.x != 0 || a.y != 0 || a.z != 0; };
+    const std::vector<uint32_t> loaded = parallel_select(n, [&](std::size_t k) {
+      const std::size_t i = own ? (*own)[k] : k;
+      return nonzero(P.b[i]) || nonzero(b_before_[i]);
+    });
     GridSum w(s_, 1);
-    for (std::size_t k = 0; k < n; ++k) {
+    for (uint32_t k : loaded) {
       const std::size_t i = own ? (*own)[k] : k;
       w.add(0, 0.5 * P.volume[i] * dot(P.b[i] + b_before_[i], P.u[i] - u_before_[i]));
     }
