@@ -45,8 +45,14 @@ inline std::string read_text(const std::string& path) {
 
 // A fresh directory for a test's output, under the build tree (beside the horizon
 // executable), so that runs never write into the source tree.
+// The directory is named after the running test too: ctest runs each test in its own
+// process, two at a time, and two tests that share a run (a cached function) would
+// otherwise write, and wipe, the same directory at once.
 inline std::filesystem::path output_dir(const std::string& name) {
-  const auto dir = std::filesystem::path(HORIZON_BINARY).parent_path() / "test-output" / name;
+  std::string leaf = name;
+  if (const auto* test = ::testing::UnitTest::GetInstance()->current_test_info())
+    leaf += std::string(".") + test->test_suite_name() + "." + test->name();
+  const auto dir = std::filesystem::path(HORIZON_BINARY).parent_path() / "test-output" / leaf;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
