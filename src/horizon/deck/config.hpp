@@ -94,6 +94,10 @@ struct BodyConfig {
   Discretization discretization = Discretization::peridynamic;
   FeElement element = FeElement::hex8;  // fe only
   double hourglass = 0.1;               // fe hex8 only: hourglass stiffness coefficient kappa
+  // fe box bodies only: elements of about this many spacings (nodes on every n-th lattice
+  // point; 1: every lattice point). Particles of the overlap band off the nodes follow
+  // the element interpolation (fe/fe_region.hpp).
+  int fe_element_size = 1;
   // fe only: J2 plasticity of the elements (fe/fe_region.hpp); yield_stress 0: elastic.
   double fe_yield_stress = 0;      // sigma_y [Pa]
   double fe_hardening_modulus = 0; // H [Pa]: sigma_y + H eps_p

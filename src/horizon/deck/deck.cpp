@@ -289,7 +289,8 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
   std::vector<std::string> materials;
   for (const auto& mat : config.materials) materials.push_back(mat.name);
   for (std::size_t i = 0; i < items.size(); ++i) {
-    MapReader b(ctx, items[i], {"name", "material", "shape", "discretization", "element", "hourglass", "j2"});
+    MapReader b(ctx, items[i],
+                {"name", "material", "shape", "discretization", "element", "hourglass", "j2", "element_size"});
     BodyConfig body;
     body.name = "body" + std::to_string(i + 1);
     if (auto n = b.find("name")) {
@@ -314,7 +315,7 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
       body.discretization = read_enum<Discretization>(ctx, *d, {{"peridynamic", Discretization::peridynamic},
                                                                 {"fe", Discretization::fe}});
     const bool fe = body.discretization == Discretization::fe;
-    for (const char* key : {"element", "hourglass", "j2"})
+    for (const char* key : {"element", "hourglass", "j2", "element_size"})
       if (auto k = b.find(key); k && !fe)
         ctx.fail(*k->key_mark, k->path + ": applies to finite-element bodies only (discretization: fe)");
     if (auto e = b.find("element"))
@@ -331,8 +332,17 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
       body.fe_yield_stress = read_positive(ctx, jm.get("yield_stress", "the initial yield stress sigma_y [Pa]"));
       if (auto hm = jm.find("hardening_modulus")) body.fe_hardening_modulus = read_non_negative(ctx, *hm);
     }
+    if (auto es = b.find("element_size")) {
+      body.fe_element_size = read_int(ctx, *es);
+      if (body.fe_element_size < 1 || body.fe_element_size > 16)
+        ctx.fail(es->mark, es->path + ": expected a whole number of spacings from 1 to 16 (the elements' edge: nodes "
+                                      "on every n-th lattice point)");
+    }
     if (fe) {
       if (auto sel = read_mesh_selection(ctx, shape)) {
+        if (auto es = b.find("element_size"))
+          ctx.fail(*es->key_mark, es->path + ": applies to box finite-element bodies only (a mesh body's elements "
+                                             "are the mesh's)");
         read_fe_mesh(ctx, *sel, b, body);
       } else if (body.shape.kind() != Shape::Kind::box) {
         ctx.fail(shape.mark, shape.path + ": a finite-element body's shape is a box (its elements fill the box on the "
@@ -593,7 +603,7 @@ Config read_config(DeckContext& ctx, const Item& root) {
     for (std::size_t i = 0; i < config.bodies.size(); ++i)
       if (config.bodies[i].discretization == Discretization::fe) {
         const Item d = *MapReader(ctx, items[i], {"name", "material", "shape", "discretization", "element",
-                                                  "hourglass", "j2"}).find("discretization");
+                                                  "hourglass", "j2", "element_size"}).find("discretization");
         ctx.fail(d.mark, d.path + ": finite-element bodies run with solver type explicit, in solid decks (no "
                                   "structure)");
       }

@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <array>
+#include <map>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/state_archive.hpp"
@@ -57,6 +60,42 @@ bool barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, con
   l[3] = dot(b - a, cross(c - a, x - a)) / v;
   l[0] = 1 - l[1] - l[2] - l[3];
   return true;
+}
+
+// The trilinear shape functions of the hexahedron (x[8], parent cube [-1, 1]^3) at the
+// point p: natural coordinates by Newton's method on x(xi) = sum_I N_I(xi) x_I (one step
+// on a parallelepiped), N_I = (1 + s_I xi)(1 + t_I eta)(1 + u_I zeta) / 8. False when p is
+// outside (a natural coordinate beyond 1 + 1e-9) or the iteration fails.
+bool hex_weights(const Vec3 x[8], const Vec3& p, double N[8]) {
+  double xi[3] = {0, 0, 0};
+  const double size = norm(x[6] - x[0]);
+  for (int it = 0; it < 40; ++it) {
+    double dN[8][3];
+    Vec3 r = -1.0 * p;
+    for (int I = 0; I < 8; ++I) {
+      const double f[3] = {1 + kHexSign[I][0] * xi[0], 1 + kHexSign[I][1] * xi[1], 1 + kHexSign[I][2] * xi[2]};
+      N[I] = f[0] * f[1] * f[2] / 8;
+      dN[I][0] = kHexSign[I][0] * f[1] * f[2] / 8;
+      dN[I][1] = f[0] * kHexSign[I][1] * f[2] / 8;
+      dN[I][2] = f[0] * f[1] * kHexSign[I][2] / 8;
+      r += N[I] * x[I];
+    }
+    if (norm(r) <= 1e-13 * size)
+      return std::abs(xi[0]) <= 1 + 1e-9 && std::abs(xi[1]) <= 1 + 1e-9 && std::abs(xi[2]) <= 1 + 1e-9;
+    double J[3][3] = {};
+    for (int I = 0; I < 8; ++I)
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) J[i][k] += x[I][i] * dN[I][k];
+    const double d = det3(J);
+    if (!(d > 0)) return false;
+    double Ji[3][3];
+    inv3(J, d, Ji);
+    for (int k = 0; k < 3; ++k) {
+      xi[k] -= Ji[k][0] * r.x + Ji[k][1] * r.y + Ji[k][2] * r.z;
+      if (!(std::abs(xi[k]) < 4)) return false;
+    }
+  }
+  return false;
 }
 
 // Peridynamic particles by position: a cell list of side h over the first n particles.
@@ -351,7 +390,31 @@ void FeRegion::apply(System& s, bool energy) {
     P.damage[p] = 0;
     if (energy) P.energy[p] = w / P.volume[p];
   }
+  // Interpolated particles: their motion is the elements' (interpolate), their own bond
+  // forces are not integrated.
+  for (uint32_t p : slave_particle) {
+    P.f[p] = Vec3{};
+    P.damage[p] = 0;
+    if (energy) P.energy[p] = 0;
+  }
   update_coupling_account(s, energy);
+}
+
+void FeRegion::interpolate(System& s) const {
+  auto& P = s.particles;
+  const std::size_t n = static_cast<std::size_t>(nodes_per_element);
+  const std::size_t ns = slave_particle.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t q = 0; q < ns; ++q) {
+    Vec3 u, v;
+    for (std::size_t I = 0; I < n; ++I) {
+      const uint32_t p = node_particle[slave_node[q * n + I]];
+      u += slave_weight[q * n + I] * P.u[p];
+      v += slave_weight[q * n + I] * P.v[p];
+    }
+    P.u[slave_particle[q]] = u;
+    P.v[slave_particle[q]] = v;
+  }
 }
 
 void FeRegion::update_coupling_account(System& s, bool energy) {
@@ -461,6 +524,7 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
   const double h = config.spacing;
   FeRegion fe;
   bool any = false, any_mesh = false;
+  std::vector<int32_t> elem_block, elem_material;  // per element: its body and material
   for (std::size_t b = 0; b < config.bodies.size(); ++b) {
     const BodyConfig& body = config.bodies[b];
     if (body.discretization != Discretization::fe) continue;
@@ -494,6 +558,8 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
         fe.hourglass_k.push_back(body.hourglass);  // scaled below, once the geometry is known
         fe.yield_stress.push_back(body.fe_yield_stress);
         fe.hardening.push_back(body.fe_hardening_modulus);
+        elem_block.push_back(static_cast<int32_t>(b));
+        elem_material.push_back(mat);
       }
     };
     if (body.fe_mesh) {
@@ -522,8 +588,10 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
       ext_lo[k] = std::max(0.0, coord[k].front() - box.min[k]);
       ext_hi[k] = std::max(0.0, box.max[k] - coord[k].back());
     }
-    // The peridynamic particles on this lattice (by index), which take their points.
+    // The peridynamic particles on this lattice (by index), which take their points, and
+    // per peridynamic body the range of lattice indices its particles take (per axis).
     std::unordered_map<int64_t, uint32_t> pd;
+    std::map<int32_t, std::array<std::array<int64_t, 2>, 3>> pd_range;
     auto key = [&](int64_t i, int64_t j, int64_t k) { return (k * count[1] + j) * count[0] + i; };
     for (std::size_t p = 0; p < n_pd; ++p) {
       int64_t idx[3];
@@ -537,6 +605,12 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
       }
       if (on) {
         pd.emplace(key(idx[0], idx[1], idx[2]), static_cast<uint32_t>(p));
+        auto [it, fresh] = pd_range.try_emplace(P.block[p]);
+        for (int k = 0; k < 3; ++k) {
+          auto& r = it->second[static_cast<std::size_t>(k)];
+          if (fresh) r = {idx[k], idx[k]};
+          r = {std::min(r[0], idx[k]), std::max(r[1], idx[k])};
+        }
       } else {
         bool inside = true;
         for (int k = 0; k < 3; ++k) inside = inside && P.X[p][k] > box.min[k] && P.X[p][k] < box.max[k];
@@ -549,10 +623,47 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
               origin.x, origin.y, origin.z));
       }
     }
-    const std::size_t nodes = static_cast<std::size_t>(count[0] * count[1] * count[2]);
-    std::vector<int64_t> node_id(nodes, -1);  // FE node id per grid point (when used)
+    // The grid lines (lattice indices of the nodes) per axis. element_size 1: every lattice
+    // point. n > 1: the box's outermost points and each peridynamic body's outermost
+    // particles are lines (so the interface lies on element faces), and each gap between
+    // two of them of G spacings is cut into max(1, G / n) elements of floor or ceil of
+    // G / that (n to 2n - 1 spacings; a gap under n spacings is one element).
+    const int64_t es = body.fe_element_size;
+    std::vector<int64_t> lines[3];
+    for (int k = 0; k < 3; ++k) {
+      if (es == 1) {
+        for (int64_t i = 0; i < count[k]; ++i) lines[k].push_back(i);
+        continue;
+      }
+      std::vector<int64_t> must{0, count[k] - 1};
+      for (const auto& [blk, r] : pd_range) must.insert(must.end(), r[static_cast<std::size_t>(k)].begin(), r[static_cast<std::size_t>(k)].end());
+      std::sort(must.begin(), must.end());
+      must.erase(std::unique(must.begin(), must.end()), must.end());
+      lines[k].push_back(must[0]);
+      for (std::size_t q = 1; q < must.size(); ++q) {
+        const int64_t G = must[q] - must[q - 1], parts = std::max<int64_t>(1, G / es);
+        int64_t at = must[q - 1];
+        for (int64_t e = 0; e < parts; ++e) {
+          at += G / parts + (e < G % parts ? 1 : 0);
+          lines[k].push_back(at);
+        }
+      }
+    }
+    const int64_t cn[3] = {static_cast<int64_t>(lines[0].size()), static_cast<int64_t>(lines[1].size()),
+                           static_cast<int64_t>(lines[2].size())};
+    // Node g of the grid of lines and the lattice point it sits on.
+    auto fine_of = [&](int64_t g) {
+      return key(lines[0][static_cast<std::size_t>(g % cn[0])], lines[1][static_cast<std::size_t>((g / cn[0]) % cn[1])],
+                 lines[2][static_cast<std::size_t>(g / (cn[0] * cn[1]))]);
+    };
+    auto pd_at = [&](int64_t g) -> int64_t {
+      auto it = pd.find(fine_of(g));
+      return it == pd.end() ? -1 : static_cast<int64_t>(it->second);
+    };
+    const std::size_t nodes = static_cast<std::size_t>(cn[0] * cn[1] * cn[2]);
+    std::vector<int64_t> node_id(nodes, -1);  // FE node id per grid node (when used)
     std::vector<uint8_t> is_pd(nodes, 0);
-    for (const auto& [k, p] : pd) is_pd[static_cast<std::size_t>(k)] = 1;
+    for (std::size_t g = 0; g < nodes; ++g) is_pd[g] = pd_at(static_cast<int64_t>(g)) >= 0 ? 1 : 0;
     // Elements: the grid cells (or their six tetrahedra) with at least one node that no
     // peridynamic particle takes.
     std::vector<std::size_t> new_nodes;
@@ -560,34 +671,41 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
       auto& id = node_id[static_cast<std::size_t>(g)];
       if (id < 0) {
         id = static_cast<int64_t>(fe.node_particle.size());
-        const int64_t i = g % count[0], j = (g / count[0]) % count[1], k = g / (count[0] * count[1]);
-        fe.node_X.push_back({coord[0][static_cast<std::size_t>(i)], coord[1][static_cast<std::size_t>(j)],
-                             coord[2][static_cast<std::size_t>(k)]});
+        const int64_t i = g % cn[0], j = (g / cn[0]) % cn[1], k = g / (cn[0] * cn[1]);
+        fe.node_X.push_back({coord[0][static_cast<std::size_t>(lines[0][static_cast<std::size_t>(i)])],
+                             coord[1][static_cast<std::size_t>(lines[1][static_cast<std::size_t>(j)])],
+                             coord[2][static_cast<std::size_t>(lines[2][static_cast<std::size_t>(k)])]});
         fe.node_owned.push_back(is_pd[static_cast<std::size_t>(g)] ? 0 : 1);
-        fe.node_particle.push_back(is_pd[static_cast<std::size_t>(g)] ? pd.at(g) : 0);
+        fe.node_particle.push_back(is_pd[static_cast<std::size_t>(g)] ? static_cast<uint32_t>(pd_at(g)) : 0);
         if (!is_pd[static_cast<std::size_t>(g)]) new_nodes.push_back(static_cast<std::size_t>(g));
       }
       return static_cast<uint32_t>(id);
     };
-    for (int64_t k = 0; k + 1 < count[2]; ++k)
-      for (int64_t j = 0; j + 1 < count[1]; ++j)
-        for (int64_t i = 0; i + 1 < count[0]; ++i) {
+    auto gkey = [&](int64_t i, int64_t j, int64_t k) { return (k * cn[1] + j) * cn[0] + i; };
+    std::vector<uint8_t> kept_cell(static_cast<std::size_t>(std::max<int64_t>(0, (cn[0] - 1) * (cn[1] - 1) * (cn[2] - 1))), 0);
+    for (int64_t k = 0; k + 1 < cn[2]; ++k)
+      for (int64_t j = 0; j + 1 < cn[1]; ++j)
+        for (int64_t i = 0; i + 1 < cn[0]; ++i) {
           int64_t g[8];
           bool free_node = false;
           for (int I = 0; I < 8; ++I) {
-            g[I] = key(i + (kHexSign[I][0] > 0), j + (kHexSign[I][1] > 0), k + (kHexSign[I][2] > 0));
+            g[I] = gkey(i + (kHexSign[I][0] > 0), j + (kHexSign[I][1] > 0), k + (kHexSign[I][2] > 0));
             free_node = free_node || !is_pd[static_cast<std::size_t>(g[I])];
           }
           if (!free_node) continue;
+          kept_cell[static_cast<std::size_t>((k * (cn[1] - 1) + j) * (cn[0] - 1) + i)] = 1;
           // The cells of the outermost layers also stand for the material between the
           // outermost lattice points and the box faces (half a spacing by default): their
-          // volume (mass and stiffness) is scaled by (h + that distance) / h per axis,
-          // their kinematics stay on the lattice, so every node coincides with its
-          // lattice point (fe_region.hpp).
+          // volume (mass and stiffness) is scaled by (L + that distance) / L per axis (L
+          // the cell's edge), their kinematics stay on the lattice, so every node
+          // coincides with its lattice point (fe_region.hpp).
           const int64_t ijk[3] = {i, j, k};
           double scale = 1;
-          for (int a = 0; a < 3; ++a)
-            scale *= (h + (ijk[a] == 0 ? ext_lo[a] : 0.0) + (ijk[a] + 2 == count[a] ? ext_hi[a] : 0.0)) / h;
+          for (int a = 0; a < 3; ++a) {
+            const double L = static_cast<double>(lines[a][static_cast<std::size_t>(ijk[a] + 1)] -
+                                                 lines[a][static_cast<std::size_t>(ijk[a])]) * h;
+            scale *= (L + (ijk[a] == 0 ? ext_lo[a] : 0.0) + (ijk[a] + 2 == cn[a] ? ext_hi[a] : 0.0)) / L;
+          }
           if (npe == 8) {
             for (int I = 0; I < 8; ++I) fe.conn.push_back(node_of(g[I]));
             fe.volume_scale.push_back(scale);
@@ -601,12 +719,33 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
             }
           }
         }
+    // Coarse elements: a peridynamic particle strictly inside a kept cell would overlap
+    // the element (the interface is on element faces for box-shaped peridynamic bodies).
+    if (es > 1)
+      for (const auto& [fk, p] : pd) {
+        const int64_t f[3] = {fk % count[0], (fk / count[0]) % count[1], fk / (count[0] * count[1])};
+        int64_t c[3];
+        bool interior = true;
+        for (int a = 0; a < 3 && interior; ++a) {
+          const auto& L = lines[a];
+          const auto it = std::upper_bound(L.begin(), L.end(), f[a]);
+          c[a] = static_cast<int64_t>(it - L.begin()) - 1;
+          interior = c[a] >= 0 && it != L.end() && *(it - 1) < f[a];
+        }
+        if (interior && kept_cell[static_cast<std::size_t>((c[2] * (cn[1] - 1) + c[1]) * (cn[0] - 1) + c[0])])
+          throw Error(fmt::format(
+              "body '{}' (finite elements, element_size {}): the particle at ({:g}, {:g}, {:g}) of body '{}' lies "
+              "inside an element that the peridynamic particles do not fill; with elements coarser than the spacing "
+              "the peridynamic bodies inside a finite-element box are boxes (their faces become element faces): "
+              "use element_size: 1 or a box-shaped peridynamic body",
+              body.name, es, P.X[p].x, P.X[p].y, P.X[p].z, s.block_names[static_cast<std::size_t>(P.block[p])]));
+      }
     add_element_data();
     // The FE-owned nodes become particles at their lattice points (the element geometry
     // keeps node_X); the volume is set to the lumped one below.
     for (std::size_t g : new_nodes) {
-      const int64_t gi = static_cast<int64_t>(g);
-      const int64_t i = gi % count[0], j = (gi / count[0]) % count[1], k = gi / (count[0] * count[1]);
+      const int64_t fg = fine_of(static_cast<int64_t>(g));
+      const int64_t i = fg % count[0], j = (fg / count[0]) % count[1], k = fg / (count[0] * count[1]);
       const Vec3 x{origin.x + static_cast<double>(first[0] + i) * h, origin.y + static_cast<double>(first[1] + j) * h,
                    origin.z + static_cast<double>(first[2] + k) * h};
       const uint32_t id = static_cast<uint32_t>(node_id[g]);
@@ -646,33 +785,91 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
     for (uint64_t k = fe.node_offset[a]; k < fe.node_offset[a + 1]; ++k) v += fe.volume[fe.node_elem[k] / static_cast<uint32_t>(npe)] / npe;
     P.volume[fe.node_particle[a]] = v;
   }
-  fe.owned_particle.assign(P.size(), 0);
-  for (std::size_t a = 0; a < nn; ++a)
-    if (fe.node_owned[a]) fe.owned_particle[fe.node_particle[a]] = 1;
-  // Ghosts: FE-owned nodes within `radius` of a peridynamic particle (a cell list of the
-  // peridynamic particles, cells of side `radius`).
-  ghost.assign(P.size(), 0);
+  // The overlap band: the lattice points within `radius` of a peridynamic particle (on
+  // each particle's own lattice: offsets by whole spacings) that no peridynamic particle
+  // takes. One at an FE-owned node is that node (a ghost: the neighbour search sees it);
+  // one inside a kept element but at none of its nodes becomes an interpolated particle
+  // of that element's body (u, v = sum_I N_I(X) u_I, v_I at its reference point X; no
+  // mass, no force of its own; fe_region.hpp); one outside every element lies outside the
+  // finite-element bodies (a free surface of the peridynamic body).
+  std::vector<uint8_t> band_node(nn, 0);
   if (n_pd > 0) {
-    std::unordered_map<int64_t, std::vector<uint32_t>> cells;
-    auto cell = [&](const Vec3& x, int k) { return static_cast<int64_t>(std::floor(x[k] / radius)); };
-    auto ckey = [](int64_t i, int64_t j, int64_t k) { return (i * 73856093) ^ (j * 19349663) ^ (k * 83492791); };
-    for (std::size_t p = 0; p < n_pd; ++p) cells[ckey(cell(P.X[p], 0), cell(P.X[p], 1), cell(P.X[p], 2))].push_back(static_cast<uint32_t>(p));
-    const double r2 = radius * radius * (1 + 2e-10);
-    for (std::size_t p = n_pd; p < P.size(); ++p) {
-      const int64_t ci = cell(P.X[p], 0), cj = cell(P.X[p], 1), ck = cell(P.X[p], 2);
-      for (int64_t di = -1; di <= 1 && !ghost[p]; ++di)
-        for (int64_t dj = -1; dj <= 1 && !ghost[p]; ++dj)
-          for (int64_t dk = -1; dk <= 1 && !ghost[p]; ++dk) {
-            auto it = cells.find(ckey(ci + di, cj + dj, ck + dk));
-            if (it == cells.end()) continue;
-            for (uint32_t q : it->second)
-              if (norm2(P.X[q] - P.X[p]) <= r2) {
-                ghost[p] = 1;
-                break;
-              }
-          }
+    const PointGrid pd_grid(P.X, n_pd, h);
+    const PointGrid node_grid(fe.node_X, nn, h);
+    const double tol = 1e-6 * h;
+    const Vec3 d{tol, tol, tol};
+    // Elements by their bounding boxes, cells of side 2h.
+    const double side = 2 * h;
+    auto cidx = [&](double v) { return static_cast<int64_t>(std::floor(v / side)); };
+    std::unordered_map<int64_t, std::vector<uint32_t>> elem_cells;
+    for (std::size_t e = 0; e < ne; ++e) {
+      const uint32_t* c = &fe.conn[e * static_cast<std::size_t>(npe)];
+      Vec3 lo = fe.node_X[c[0]], hi = lo;
+      for (int I = 1; I < npe; ++I)
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], fe.node_X[c[I]][k]), hi[k] = std::max(hi[k], fe.node_X[c[I]][k]);
+      for (int64_t k = cidx(lo.z - tol); k <= cidx(hi.z + tol); ++k)
+        for (int64_t j = cidx(lo.y - tol); j <= cidx(hi.y + tol); ++j)
+          for (int64_t i = cidx(lo.x - tol); i <= cidx(hi.x + tol); ++i)
+            elem_cells[PointGrid::key(i, j, k)].push_back(static_cast<uint32_t>(e));
     }
+    const int R = static_cast<int>(std::floor(radius / h + 1e-9));
+    const double r2 = radius * radius * (1 + 2e-10);
+    std::vector<std::array<int, 3>> offsets;
+    for (int k = -R; k <= R; ++k)
+      for (int j = -R; j <= R; ++j)
+        for (int i = -R; i <= R; ++i)
+          if ((i != 0 || j != 0 || k != 0) && static_cast<double>(i * i + j * j + k * k) * h * h <= r2) offsets.push_back({i, j, k});
+    struct KeyHash {
+      std::size_t operator()(const std::array<int64_t, 3>& a) const {
+        return static_cast<std::size_t>(PointGrid::key(a[0], a[1], a[2]));
+      }
+    };
+    std::unordered_set<std::array<int64_t, 3>, KeyHash> seen;
+    const double quantum = 1e-3 * h;
+    double N[8];
+    for (std::size_t p = 0; p < n_pd; ++p)
+      for (const auto& o : offsets) {
+        const Vec3 x = P.X[p] + Vec3{o[0] * h, o[1] * h, o[2] * h};
+        if (!seen.insert({std::llround(x.x / quantum), std::llround(x.y / quantum), std::llround(x.z / quantum)}).second)
+          continue;
+        bool taken = false;
+        pd_grid.visit(x - d, x + d, [&](uint32_t q) { taken = taken || norm(P.X[q] - x) <= tol; });
+        if (taken) continue;
+        int64_t node = -1;
+        node_grid.visit(x - d, x + d, [&](uint32_t a) {
+          if (node < 0 && norm(fe.node_X[a] - x) <= tol) node = a;
+        });
+        if (node >= 0) {
+          band_node[static_cast<std::size_t>(node)] = 1;
+          continue;
+        }
+        auto it = elem_cells.find(PointGrid::key(cidx(x.x), cidx(x.y), cidx(x.z)));
+        if (it == elem_cells.end()) continue;
+        for (uint32_t e : it->second) {
+          const uint32_t* c = &fe.conn[static_cast<std::size_t>(e) * static_cast<std::size_t>(npe)];
+          Vec3 xn[8];
+          for (int I = 0; I < npe; ++I) xn[I] = fe.node_X[c[I]];
+          const bool in = npe == 8 ? hex_weights(xn, x, N)
+                                   : barycentric(xn[0], xn[1], xn[2], xn[3], x, N) && *std::min_element(N, N + 4) >= -1e-9;
+          if (!in) continue;
+          fe.slave_particle.push_back(static_cast<uint32_t>(P.size()));
+          for (int I = 0; I < npe; ++I) {
+            fe.slave_node.push_back(c[I]);
+            fe.slave_weight.push_back(N[I]);
+          }
+          P.add(x, 0.0, fe.density[e], elem_block[e], elem_material[e]);
+          break;
+        }
+      }
   }
+  fe.owned_particle.assign(P.size(), 0);
+  ghost.assign(P.size(), 0);
+  for (std::size_t a = 0; a < nn; ++a)
+    if (fe.node_owned[a]) {
+      fe.owned_particle[fe.node_particle[a]] = 1;
+      ghost[fe.node_particle[a]] = band_node[a];
+    }
+  for (uint32_t p : fe.slave_particle) fe.owned_particle[p] = ghost[p] = 1;
   // A mesh body next to a peridynamic body without a shared node would see the particles
   // only through their bonds to its nodes, never through its elements: refused.
   if (any_mesh && fe.shared_nodes() == 0 && std::any_of(ghost.begin(), ghost.end(), [](uint8_t g) { return g != 0; }))

@@ -6,25 +6,37 @@
 //
 // Nodes are particles. An FE body's nodes sit on the lattice of the deck's spacing (the
 // cells of the outermost layers stand for the material out to the box faces: their
-// volume is scaled, their nodes stay on the lattice), so where a peridynamic
-// body lies inside the FE body's box its particles are the nodes there. Every degree of
+// volume is scaled, their nodes stay on the lattice), every lattice point
+// (element_size 1) or every n-th (element_size n: grid lines n to 2n - 1 spacings apart,
+// with a line through the outermost particles of each peridynamic body inside the box, so
+// the interface lies on element faces), or they are a mesh's nodes. Where a peridynamic
+// body lies inside the FE body its particles are the nodes there. Every degree of
 // freedom has one owner:
 //   - a particle of a peridynamic body is owned by the peridynamics: its force is the
-//     bond sum, over a full family (the FE nodes within a horizon of it, "ghosts", are
-//     its neighbours like any particle);
+//     bond sum, over a full family (below);
 //   - every other node is owned by the FE: its force is the element assembly, over all
-//     the elements around it (the elements that reach into the peridynamic body by one
-//     layer carry the peridynamic particles' displacements).
-// The coupling is therefore the interpolation constraint u_p = N u_h of the seed's
-// eq. 46 with coincident points (N = 1 at the node) over an overlap of one horizon on
-// the FE side and one element on the peridynamic side, and force-based: each owner
-// takes its force from its own model only. A linear displacement field gives zero force
-// on every owned degree of freedom (the peridynamic family is complete and symmetric,
-// the FE node has all its elements), so a uniform strain crosses the interface with no
-// spurious force: the patch test holds to round-off (tests/verification/test_fe.cpp).
+//     the elements around it (elements whose nodes are all particles are left out, so
+//     the elements reach to the peridynamic body's outermost particles and carry their
+//     displacements).
+// The overlap band: the lattice points within a horizon of a peridynamic particle that no
+// particle takes complete the particles' families. One at an FE-owned node is that node
+// (a "ghost" of the neighbour search); any other one inside an element is an
+// interpolated particle, slaved to the element: its displacement and velocity (hence its
+// current position) are u = sum_I N_I(X) u_I, v = sum_I N_I(X) v_I at its reference point
+// X (trilinear N for hex8, barycentric for tet4), its own bond forces are not integrated
+// (force zero, no volume: the elements carry the mass). This is the seed's interpolation
+// constraint u_p = N u_h (eq. 46), imposed on the FE side of an overlap of one horizon;
+// on the peridynamic side the overlap is the layer of elements that reach the particles
+// (their nodes there follow the particles: N = 1 at a node). It is force-based: each
+// owner takes its force from its own model only. A linear displacement field gives zero
+// force on every owned degree of freedom (the peridynamic family is the complete,
+// symmetric lattice family and N reproduces linear fields exactly; an FE-owned node has
+// all its elements), so a uniform strain crosses the interface with no spurious force:
+// the patch test holds to round-off with coincident, coarser and distorted elements
+// (tests/verification/test_fe.cpp, test_fe_interpolation.cpp).
 // The price is that the coupling forces derive from no energy: the ledger (each owner's
 // energy: the particles' bond energies and the FE-owned nodes' share of the element
-// energies) closes to the error the wave test measures, not to round-off.
+// energies) closes only with the coupling's work booked (coupling_work below).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -55,8 +67,18 @@ struct FeRegion {
   std::vector<double> volume_scale;
   std::vector<double> grad;
   std::vector<double> gamma;
-  // Per particle: 1 where the FE owns it (its force and energy come from the elements).
+  // Per particle: 1 where the FE owns it: an FE-owned node (its force and energy come
+  // from the elements) or an interpolated particle (below).
   std::vector<uint8_t> owned_particle;
+  // Interpolated particles of the overlap band (lattice points within a horizon of a
+  // peridynamic particle that lie inside an element but at none of its nodes): per
+  // interpolated particle its index, and nodes_per_element (FE node, weight N_I(X)) pairs
+  // of the element that holds it. Their displacement and velocity are sum_I N_I u_I,
+  // sum_I N_I v_I (interpolate); they have no volume (no mass: the elements carry it)
+  // and no force (apply zeroes it); they are the peridynamic particles' neighbours there.
+  std::vector<uint32_t> slave_particle;
+  std::vector<uint32_t> slave_node;
+  std::vector<double> slave_weight;
   // Node -> (element, local node) lists, for a race-free assembly.
   std::vector<uint64_t> node_offset;
   std::vector<uint32_t> node_elem;  // element * nodes_per_element + local
@@ -98,9 +120,15 @@ struct FeRegion {
   std::size_t nodes() const { return node_particle.size(); }
   std::size_t owned_nodes() const;
   std::size_t shared_nodes() const { return nodes() - owned_nodes(); }
+  std::size_t interpolated() const { return slave_particle.size(); }
 
+  // Sets the interpolated particles' displacement and velocity from the element
+  // interpolation u = N u_h (seed 002 digest eq. 46). Called by compute_forces before
+  // the bond loops, so their current positions X + u enter the bonds.
+  void interpolate(System& s) const;
   // Overwrites the force density and the energy density of every FE-owned particle
-  // with the element assembly (F_I / V_I, the FE-owned share of element energies / V_I).
+  // with the element assembly (F_I / V_I, the FE-owned share of element energies / V_I);
+  // an interpolated particle's are set to zero.
   void apply(System& s, bool energy);
   // Adds this pass's internal work to the coupling account (above); called by apply.
   void update_coupling_account(System& s, bool energy);

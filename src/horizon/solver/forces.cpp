@@ -986,6 +986,7 @@ ForceStats compute_forces(System& s, bool energy) {
     s.broken += stats.broken;
     return stats;
   }
+  if (s.fe) s.fe->interpolate(s);  // the interpolated particles follow the elements (fe/fe_region.hpp)
   auto& M = s.model;
   if (M.kind.size() != s.bonds.kinds.size() || M.intact_weight.size() != s.particles.size())
     build_kind_coefficients(s, DamageMeasure::weighted);
