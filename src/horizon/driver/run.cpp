@@ -50,10 +50,13 @@ void apply_run_options(Config& c, const RunOptions& o) {
 
 namespace {
 // The stable step of the whole system: with local rows (parallel/decomposition.hpp) each
-// rank sees its rows alone, and the minimum over ranks is the serial figure, bit for bit.
+// rank sees its rows alone, and a model that owns its force pass its owned rows alone
+// (nonlinear_solid); the minimum over ranks is the serial figure, bit for bit (a rank
+// that holds every row finds it itself). Collective when decomposed: every rank calls it
+// (the set-up's check, each adaptive step).
 double whole_stable_step(const System& s) {
   const double dt = stable_time_step(s);
-  return s.decomposition && s.decomposition->local_rows ? min_over_ranks(dt) : dt;
+  return s.decomposition ? min_over_ranks(dt) : dt;
 }
 }  // namespace
 
@@ -325,16 +328,16 @@ std::string model_list(bool (*keep)(const ModelTraits&)) {
 std::string distributed_limits(const Config& c, const System& s, const RunOptions& o) {
   // The models a decomposed run can split (ModelTraits::unified or rows_local), from the
   // registry: no model is named here.
+  // A model that owns its force pass sets rows_local when its pass computes the owned
+  // rows alone and exchanges what they read of the neighbours (nonlinear_solid).
   auto split_models = [] { return model_list([](const ModelTraits& t) { return t.unified || t.rows_local; }); };
   for (const auto& m : s.models)
-    if (m->owns_force_pass() || (!m->unified() && !m->traits().rows_local))
+    if (!m->unified() && !m->traits().rows_local)
       return "model " + m->traits().name + " is not split over ranks (the models that are: " + split_models() + ")";
   if (s.heat.active() || !s.thermal_strain.empty() || !s.critical_stretch_factor.empty())
     return "heat conduction and thermal strain are not split over ranks";
   if (s.fe) return "finite-element regions are not split over ranks";
   if (!c.contact.projectiles.empty()) return "rigid projectiles are not split over ranks";
-  if (c.solver.adaptive_time_step) return "the adaptive time step is not split over ranks";
-  if (c.solver.damping > 0) return "damping is not split over ranks";
   (void)o;
   return "";
 }
@@ -703,7 +706,7 @@ int64_t ExplicitRun::advance(int64_t n) {
       const int64_t step = solver.steps() + 1;
       bool last = step == r.total;
       if (r.adaptive) {
-        if (solver.steps() % r.adaptive_every == 0) r.dt_nominal = c.solver.safety_factor * stable_time_step(r.s);
+        if (solver.steps() % r.adaptive_every == 0) r.dt_nominal = c.solver.safety_factor * whole_stable_step(r.s);
         double dt = r.dt_nominal;
         if (solver.time() + dt >= r.end_time * (1 - 1e-12)) dt = r.end_time - solver.time(), last = true;
         solver.set_dt(dt);

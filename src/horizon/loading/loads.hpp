@@ -55,7 +55,10 @@ class Loads {
     a.check("loads", loads_.size(), "loads");
     for (auto& L : loads_) {
       a.push(L.name);
-      a.io("reaction_old", L.reaction_old);
+      // Per particle of the load, kept by the particle's owner in a decomposed run (an
+      // indenter's load lists none).
+      if (L.particles.empty()) a.io("reaction_old", L.reaction_old);
+      else a.io_listed("reaction_old", L.reaction_old, L.particles);
       a.io("reaction", L.reaction);
       a.io("applied", L.applied);
       a.pop();

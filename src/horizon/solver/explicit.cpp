@@ -118,16 +118,28 @@ void ExplicitSolver::step(bool energy) {
   const double damp = 1.0 / (1.0 + damping_ * half);
   double damped = 0;
   bool finite = true;
+  // A decomposed run keeps each owned particle's damped energy and sums them through
+  // GridSum (the same total at any rank and thread count); the serial sum is a reduction.
+  const bool grid_damped = damping_ > 0 && s_.decomposition;
+  if (grid_damped) damped_terms_.assign(n, 0.0);
 #pragma omp parallel for schedule(static) reduction(&& : finite) reduction(+ : damped)
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = own ? (*own)[k] : k;
     const Vec3 vh = P.v[i];
     const Vec3 v = (vh + (P.f[i] + P.b[i]) * (half / P.density[i])) * damp;
-    if (damping_ > 0)
-      damped += P.density[i] * P.volume[i] * damping_ * half *
-                (loads_.free_speed2(i, v) + loads_.free_speed2(i, v_before_[i]));
+    if (damping_ > 0) {
+      const double term = P.density[i] * P.volume[i] * damping_ * half *
+                          (loads_.free_speed2(i, v) + loads_.free_speed2(i, v_before_[i]));
+      if (grid_damped) damped_terms_[k] = term;
+      else damped += term;
+    }
     P.v[i] = v;
     finite = finite && std::isfinite(v.x + v.y + v.z + P.u[i].x + P.u[i].y + P.u[i].z);
+  }
+  if (grid_damped) {
+    GridSum g(s_, 1);
+    for (double t : damped_terms_) g.add(0, t);
+    damped = g.totals()[0];
   }
   if (s_.decomposition) finite = !any_rank(*s_.decomposition, !finite);
   if (!finite) {

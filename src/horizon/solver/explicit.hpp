@@ -69,6 +69,7 @@ class ExplicitSolver {
   int64_t steps_ = 0;
   Ledger ledger_;
   std::vector<Vec3> u_before_, v_before_, b_before_;
+  std::vector<double> damped_terms_;  // per owned particle, a decomposed run with damping (step)
   bool has_forces_ = false;
 };
 

@@ -254,14 +254,15 @@ System build_system_split(const Config& config) { return build(config, true); }
 
 bool local_rows_allowed(const Config& c) {
   if (c.solver.type != SolverType::explicit_dynamic) return false;  // the static solvers build the whole system
-  if (c.thermal.enabled || !c.contact.projectiles.empty() || c.solver.adaptive_time_step || c.solver.damping > 0)
-    return false;
+  if (c.thermal.enabled || !c.contact.projectiles.empty()) return false;
   if (c.structure.kind != StructureKind::none) return false;
   for (const auto& body : c.bodies)
     if (body.discretization == Discretization::fe) return false;
   for (const auto& mat : c.materials) {
     const ModelEntry* e = find_model(mat.model);
-    if (!e || !(e->traits.unified || e->traits.rows_local) || e->traits.exclusive) return false;
+    // An exclusive model owns its force pass: split when it computes the owned rows alone
+    // (rows_local, nonlinear_solid), whole on every rank otherwise (bond_pair).
+    if (!e || !(e->traits.unified || e->traits.rows_local)) return false;
     // The surface correction of a bond reads both ends' families (rows further out).
     if (const auto it = mat.parameters.find("surface_correction"); it != mat.parameters.end() && it->second != 0)
       return false;

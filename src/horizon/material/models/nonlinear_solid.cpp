@@ -8,6 +8,7 @@
 #include "horizon/family/neighbors.hpp"
 #include "horizon/material/constants.hpp"
 #include "horizon/material/model.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -25,6 +26,32 @@ std::size_t drop_bonds_between_bodies(Bonds& b, const std::vector<int32_t>& bloc
   });
 }
 
+// The rows a pass computes: every particle's serially, the owned ones on a rank of a
+// decomposed run (parallel/decomposition.hpp). The model owns its force pass, so it
+// does not compute the bond neighbours' rows that System::active_rows adds for the
+// general pass: the one thing row i reads of a neighbour j beyond positions, theta_j
+// (and S_j of the stable step), is computed by j's owner from j's own row and sent to
+// the ranks that hold j as a ghost. Each bond's flag is decided by the row that holds it
+// from both ends' theta, the same bits on every rank, so no per-bond state crosses ranks.
+struct Rows {
+  const std::vector<uint32_t>* own = nullptr;
+  std::size_t count = 0;
+  explicit Rows(const System& s)
+      : own(s.decomposition ? &s.owned : nullptr), count(own ? own->size() : s.particles.size()) {}
+  std::size_t operator[](std::size_t k) const { return own ? (*own)[k] : k; }
+};
+
+// The owners' values of the per-particle scalar `a` at this rank's ghosts (the halo of
+// the displacements, parallel/decomposition.hpp exchange_ghost_values, one component
+// used). Collective in a decomposed run; nothing serially.
+void exchange_ghost_scalars(const System& s, std::vector<double>& a, std::vector<Vec3>& scratch) {
+  if (!s.decomposition || s.decomposition->size == 1) return;
+  scratch.resize(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) scratch[i] = {a[i], 0.0, 0.0};
+  exchange_ghost_values(*s.decomposition, scratch);
+  for (std::size_t i = 0; i < a.size(); ++i) a[i] = scratch[i].x;
+}
+
 // phi of eq. 6.9: an intact bond acts; a broken one acts in compression only, or never
 // (the Kalthoff variant).
 inline bool acts(uint8_t intact, bool compression_only, double eps) { return intact || (compression_only && eps < 0); }
@@ -40,6 +67,9 @@ const ModelTraits& traits() {
     m.energy_law = true;
     m.exclusive = true;
     m.adaptive_time_step = true;
+    // Split over MPI ranks by its own pass (force_pass below): each rank computes the rows
+    // of the particles it owns and receives its ghosts' theta from their owners.
+    m.rows_local = true;
     m.influences = {InfluenceKind::tupek};
     m.default_influence = InfluenceKind::tupek;
     m.parameters = {
@@ -75,18 +105,22 @@ class NonlinearSolid final : public Model {
   }
   NonlinearState N;
 
+  // theta, the nonlocal damage and the contact springs are per particle, computed by the
+  // particle's owner in a decomposed run; the bond strains belong to the rows (a
+  // checkpoint gathers both from their owners, output/checkpoint.hpp).
   void checkpoint(StateArchive& a) override {
     a.io("compression_only", N.compression_only);
-    a.io("theta", N.theta);
-    a.io("nonlocal_damage", N.nonlocal_damage);
-    a.io("bond_strain", N.bond_strain);
-    a.io("contact_stiffness", N.contact_stiffness);
+    a.io_particles("theta", N.theta);
+    a.io_particles("nonlocal_damage", N.nonlocal_damage);
+    a.io_bonds("bond_strain", N.bond_strain);
+    a.io_particles("contact_stiffness", N.contact_stiffness);
     a.io("last_stable_dt", N.last_stable_dt);
     a.io("saved_beta", saved_beta_);
     a.io("beta", N.beta);
   }
  private:
   std::vector<double> saved_beta_;
+  mutable std::vector<Vec3> scratch_;  // exchange_ghost_scalars
 };
 
 }  // namespace
@@ -212,9 +246,11 @@ uint64_t NonlinearSolid::force_pass(System& s, bool energy) {
   double* eps_of = N.bond_strain.data();
   const bool contact = s.contact.enabled();
 
+  const Rows rows(s);
   // Sweep 1: strains and theta_phi (eq. 6.8).
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t r = 0; r < rows.count; ++r) {
+    const std::size_t i = rows[r];
     const Point4 pi = pt[i];
     const double m = N.m[i];
     const bool comp = N.compression_only[i];
@@ -231,6 +267,7 @@ uint64_t NonlinearSolid::force_pass(System& s, bool energy) {
     }
     N.theta[i] = theta;
   }
+  exchange_ghost_scalars(s, N.theta, scratch_);  // theta_j of the ghosts, from their owners
 
   // Sweep 2: the pair criterion, then the force with the flags at the start of the pass.
   uint64_t broken = 0;
@@ -238,7 +275,8 @@ uint64_t NonlinearSolid::force_pass(System& s, bool energy) {
   const bool exponent_two = N.failure_exponent_two;
   const double* failure_scale = N.failure_scale.data();
 #pragma omp parallel for schedule(static) reduction(+ : broken)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t r = 0; r < rows.count; ++r) {
+    const std::size_t i = rows[r];
     const Point4 pi = pt[i];
     const double m = N.m[i], li = N.lambda_bar[i], mi = N.mu_bar[i], ti = N.theta[i], bi = N.beta[i];
     const bool comp = N.compression_only[i];
@@ -304,6 +342,14 @@ uint64_t NonlinearSolid::force_pass(System& s, bool energy) {
     N.nonlocal_damage[i] = 1.0 - intact_w / dim;  // eq. 6.12
     M.intact_weight[i] = intact_w;
   }
+  // The rows of System::active_rows this pass does not compute (a decomposed run's bond
+  // neighbours): no force, so that the contact below adds to zero there (nothing reads it).
+  if (rows.own)
+    for (uint32_t i : s.active_rows)
+      if (!s.decomposition->owns(i)) {
+        P.f[i] = {};
+        if (energy) P.energy[i] = 0;
+      }
   s.contact.add_forces(s, pt, P.f.data(), energy ? P.energy.data() : nullptr);
   return broken;
 }
@@ -315,10 +361,14 @@ double NonlinearSolid::stable_time_step(const System& s) const {
   const std::size_t n = P.size();
   const bool have_strain = N.bond_strain.size() == B.size();
   // S_i = sum_k omega V_k |d eps_ik/d|Y||: the dilatation coupling of row i (Gershgorin).
+  // A decomposed run: the owned rows, S_j of the ghosts from their owners, and the
+  // minimum over ranks taken by the caller (driver/run.cpp whole_stable_step).
   std::vector<double> S(n, 0);
   auto strain = [&](uint64_t k) { return have_strain ? N.bond_strain[k] : 0.0; };
+  const Rows rows(s);
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t r = 0; r < rows.count; ++r) {
+    const std::size_t i = rows[r];
     const double m = N.m[i];
     double sum = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
@@ -332,9 +382,11 @@ double NonlinearSolid::stable_time_step(const System& s) const {
     }
     S[i] = sum;
   }
+  exchange_ghost_scalars(s, S, scratch_);
   double dt = kInf;
 #pragma omp parallel for schedule(static) reduction(min : dt)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t r = 0; r < rows.count; ++r) {
+    const std::size_t i = rows[r];
     const double m = N.m[i], li = N.lambda_bar[i], mi = N.mu_bar[i], ti = N.theta[i];
     double K = N.contact_stiffness[i];
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {

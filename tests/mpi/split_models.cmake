@@ -1,0 +1,58 @@
+# The decks that owned their own path through a run and were refused on more than one
+# rank, now split (docs/design.md "Running on several ranks"), each with the same bytes
+# at any rank count (tests/mpi/same_bytes.cmake: history.csv, state_crc32 and the
+# summary's energy, damage and loads, between the MPI runs on 1, 2, 3 ranks and 2 ranks
+# x 2 threads; state_crc32 equal to the serial program's):
+#  - Tupek's nonlinear solid (tests/mpi/kalthoff.yaml: its own force pass, the energy
+#    failure law, the adaptive time step as the minimum over ranks, mass damping with
+#    its damped energy summed on the grid, the crack faces' contact). It must break
+#    bonds, damp energy and change its step; its 2-rank checkpoint restarted on 3 ranks
+#    gives the uninterrupted run's history.csv and state_crc32 (theta, the bond strains
+#    and the nonlocal damage gathered from their owners).
+# cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P split_models.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/same_bytes.cmake)
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+
+# A 2-rank checkpoint restarted on 3 ranks must continue as the uninterrupted 2-rank run.
+function(restart_on_three label deck)
+  set(out ${WORK}/${label}_restart)
+  file(COPY ${WORK}/${label}_2x1/checkpoint.hzc DESTINATION ${out})
+  execute_process(COMMAND ${MPIEXEC} --oversubscribe -n 3 ${HORIZON} run ${deck} -q -o ${out} --threads 1
+                          --restart ${out}/checkpoint.hzc
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${label}: restart on 3 ranks: exit ${rc}\n${log}")
+  endif()
+  file(READ ${WORK}/${label}_2x1/history.csv expected)
+  file(READ ${out}/history.csv found)
+  if(NOT found STREQUAL expected)
+    message(FATAL_ERROR "${label}: the 2-rank checkpoint restarted on 3 ranks: history.csv differs from the "
+                        "uninterrupted run (${WORK}/${label}_2x1, ${out})")
+  endif()
+  file(READ ${out}/summary.json summary)
+  string(JSON crc GET "${summary}" state_crc32)
+  file(READ ${WORK}/${label}_2x1/summary.json summary)
+  string(JSON expected GET "${summary}" state_crc32)
+  if(NOT crc EQUAL expected)
+    message(FATAL_ERROR "${label}: the 2-rank checkpoint restarted on 3 ranks: state_crc32 ${crc}, uninterrupted ${expected}")
+  endif()
+  message(STATUS "${label}: the 2-rank checkpoint restarted on 3 ranks is identical")
+endfunction()
+
+# Tupek's nonlinear solid, with a checkpoint every 100 steps.
+file(READ ${SOURCE}/tests/mpi/kalthoff.yaml text)
+string(REPLACE "history_every: 20}" "history_every: 20, checkpoint: {every: 100}}" text "${text}")
+file(WRITE ${WORK}/kalthoff.yaml "${text}")
+same_bytes(kalthoff ${WORK}/kalthoff.yaml 1x1 2x1 3x1 2x2)
+string(JSON broken GET "${kalthoff_summary}" damage broken_bonds)
+string(JSON damped GET "${kalthoff_summary}" energy damped)
+string(JSON dt_min GET "${kalthoff_summary}" time_step_range 0)
+string(JSON dt_max GET "${kalthoff_summary}" time_step_range 1)
+if(broken LESS 100 OR NOT damped GREATER 0 OR NOT dt_max GREATER dt_min)
+  message(FATAL_ERROR "the nonlinear solid deck must break bonds (${broken}), damp energy (${damped} J) and change "
+                      "its step (${dt_min} to ${dt_max} s)")
+endif()
+message(STATUS "kalthoff: ${broken} broken bonds, damped ${damped} J, step ${dt_min} to ${dt_max} s")
+restart_on_three(kalthoff ${WORK}/kalthoff.yaml)
+file(REMOVE_RECURSE ${WORK})
