@@ -210,6 +210,15 @@ class Model {
     (void)system;
     return 0;
   }
+  // The current state's stiffening of a model that shares the Silling-Askari bound
+  // (solver/system.cpp stable_time_step, with solver.adaptive_time_step): for each of the
+  // model's particles i, the factor g_i on its shared spring (ModelCoefficients::spring)
+  // in the bound's bond sum; `g` holds one entry per particle of the system, 1 on entry.
+  // False (g untouched) for a model whose stiffness the reference spring holds.
+  virtual bool spring_factors(const System& system, std::vector<double>& g) const {
+    (void)system, (void)g;
+    return false;
+  }
 
   // Checkpoint and restart (output/checkpoint.hpp): the model lists, with a.io(name, x),
   // every array and number of its state that a run changes (committed and trial history,

@@ -363,13 +363,28 @@ double stable_time_step(const System& s) {
   };
   if (const Model* owner = s.models.owner()) return with_contact(owner->stable_time_step(s));
   const auto& B = s.bonds;
+  // Models whose stiffness grows with the deformation scale their particles' springs by
+  // the current state (Model::spring_factors; the correspondence model under
+  // solver.adaptive_time_step): each half spring of a bond carries its particle's factor.
+  std::vector<double> g(P.size(), 1.0);
+  bool scaled = false;
+  for (const auto& m : s.models) scaled = m->spring_factors(s, g) || scaled;
+  const double* gp = scaled ? g.data() : nullptr;
   double dt = std::numeric_limits<double>::infinity();
+  // A decomposed run takes its own particles (the caller takes the minimum over the
+  // ranks): a neighbour's row held here may read a ghost whose state (its factor) this
+  // rank does not compute.
+  const std::vector<uint32_t>* own = s.decomposition && !s.owned.empty() ? &s.owned : nullptr;
+  const std::size_t n = own ? own->size() : P.size();
 #pragma omp parallel for schedule(static) reduction(min : dt)
-  for (std::size_t i = 0; i < P.size(); ++i) {
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t i = own ? (*own)[a] : a;
     double sum = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       const uint32_t j = B.nbr[k];
-      sum += B.volume[k] * B.weight[k] * (s.model.spring[i] + s.model.spring[j]) / B.length[k];
+      const double spring = gp ? s.model.spring[i] * gp[i] + s.model.spring[j] * gp[j]
+                               : s.model.spring[i] + s.model.spring[j];
+      sum += B.volume[k] * B.weight[k] * spring / B.length[k];
     }
     if (sum > 0) dt = std::min(dt, std::sqrt(2 * P.density[i] / (sum + kc)));
   }

@@ -1,5 +1,6 @@
 #include "horizon/material/models/correspondence.hpp"
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -49,6 +50,7 @@ const ModelTraits& traits() {
          {"linear_elastic", "neo_hookean", "j2"}},
     };
     m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
+    m.adaptive_time_step = true;  // spring_factors: the stable step from the current F_i
     return m;
   }();
   return t;
@@ -68,6 +70,7 @@ class Correspondence final : public Model {
     return sum;
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
+  bool spring_factors(const System& s, std::vector<double>& g) const override;
 
   void checkpoint(StateArchive& a) override {
     a.io_listed("committed", committed_, particles_);
@@ -80,6 +83,7 @@ class Correspondence final : public Model {
   LawSettings law_;
   double G_ = 0;          // stabilisation modulus G_s c / delta [N/m^7]
   double tolerance_ = 0;  // shape_tolerance
+  bool adaptive_ = false;  // solver.adaptive_time_step: spring_factors from the current state
   std::vector<uint32_t> particles_;
   std::vector<History> committed_, trial_;
   std::vector<double> work_;       // plastic work of the trial step [J/m^3]
@@ -101,6 +105,7 @@ void Correspondence::setup(const ModelSetup& in) {
   if (law_.law == StressLaw::j2 && !(law_.j2.yield_stress > 0))
     throw Error("material '" + mat.name + "': stress_law j2 needs a positive yield_stress [Pa]");
   tolerance_ = parameter(mat, "shape_tolerance");
+  adaptive_ = in.config.solver.adaptive_time_step;
 
   // The bond-based micromodulus of the same bulk modulus with omega = 1 (18k/(pi delta^4)
   // in 3-D): the scale of the stabilisation and of the short-range contact, as the LPS.
@@ -185,6 +190,50 @@ void Correspondence::commit(System& s) {
     if (work_[l] != 0) s.dissipated_at[particles_[l]] += work_[l] * s.particles.volume[particles_[l]];
     work_[l] = 0;  // a second commit without a force pass dissipates nothing more
   }
+}
+
+// The stable step from the current state (solver.adaptive_time_step). The force state
+// omega P K^-1 xi is written on the reference bonds, and the law's Kirchhoff stress
+// tau = c : (ln V - E_p) (classical/stress_laws.hpp) gives P = tau F^-T, so the reference
+// tangent dP/dF is, up to the small geometric term tau, c acting on (dF F^-1) F^-T: a
+// reference bond of direction n sees the acoustic stiffness of c along F^-T n, |F^-T n|^2
+// times the undeformed one. A compression to the stretch lambda along n stiffens the bonds
+// along n by 1/lambda^2 (digest 000 sec. 10, pitfall 14), while the Silling-Askari bound of
+// the shared spring (Silling and Askari 2005, eq. 17) is taken once from the reference
+// state. The factor of particle i is the mean of |F_i^-T n|^2 over its bonds with the
+// bound's weights omega V / |xi|: 1 in the reference state, the stiffening of the
+// compressed direction weighted by how many bonds lie along it (tr(F^-1 F^-T)/3 for a full
+// isotropic family). A particle that carries no stress (refused shape tensor, det F <= 0)
+// keeps 1.
+bool Correspondence::spring_factors(const System& s, std::vector<double>& g) const {
+  if (!adaptive_) return false;
+  const Bonds& B = s.bonds;
+  const Particles& P = s.particles;
+  const int dim = law_.dimension;
+  const std::size_t n = particles_.size();
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    if (B.begin(i) == B.end(i)) continue;  // another rank's row
+    const Vec3 yi = P.position(i);
+    NonlocalGradient grad;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+      if (B.intact[k]) grad.add(P.X[B.nbr[k]] - P.X[i], P.position(B.nbr[k]) - yi, B.weight[k] * B.volume[k]);
+    Mat3 Kinv, F;
+    if (!grad.finish(dim, tolerance_, Kinv, F) || !(F.determinant() > 0)) continue;
+    const Mat3 FinvT = F.inverse().transpose();
+    double num = 0, den = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const Vec3 xi = P.X[B.nbr[k]] - P.X[i];
+      const double L = B.length[k];
+      const Eigen::Vector3d m = FinvT * Eigen::Vector3d(xi.x / L, xi.y / L, xi.z / L);
+      const double w = B.weight[k] * B.volume[k] / L;
+      num += w * m.squaredNorm();
+      den += w;
+    }
+    if (den > 0 && std::isfinite(num)) g[i] = num / den;
+  }
+  return true;
 }
 
 // One field per name for every correspondence material of the run (the run keeps the
