@@ -58,7 +58,10 @@ std::vector<uint32_t> region_particles(const Config& config, const System& s, co
   if (it == config.regions.end()) throw Error("unknown region '" + region + "'");
   for (std::size_t i = 0; i < s.particles.size(); ++i)
     if (it->second.contains(s.particles.X[i])) ids.push_back(static_cast<uint32_t>(i));
-  if (ids.empty()) {
+  // A rank with local particles (parallel/decomposition.hpp) holds part of the bodies: the
+  // region is empty when it is on every rank (collective then).
+  const bool local = s.decomposition && s.decomposition->local_particles;
+  if (local ? sum_over_ranks(ids.size()) == 0 : ids.empty()) {
     const Box3 r = it->second.bounds();
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const Vec3& x : s.particles.X)

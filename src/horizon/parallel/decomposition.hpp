@@ -80,6 +80,14 @@ struct Decomposition {
   uint64_t global_bonds = 0;             // bonds of the whole system (the serial count)
   std::vector<uint64_t> global_offset;   // per particle + 1: where its row starts in the serial CSR
 
+  // Local particles (build_system_split with a Decomposition): this rank holds only the
+  // particles it reads, in a local numbering in ascending global id (Particles::id), so
+  // every per-particle array is local-sized; `owner`, `owned`, `is_owned`, the send and
+  // receive lists and every System index are local then. Set by the build.
+  bool local_particles = false;
+  uint64_t global_particles = 0;         // particles of the whole system
+  bool reference_gathered = false;       // gather_state has put X, volume... in rank 0's view
+
   bool owns(std::size_t i) const { return is_owned[i] != 0; }
 };
 
@@ -96,6 +104,20 @@ int world_size();
 // of every row stay. Each built row holds the same bonds in the same order as serially.
 // The precrack check and count are global. Collective.
 System build_system_split(const Config& config);
+// The same with local particles (local_particles_allowed): every rank generates the whole
+// lattice transiently (positions, volumes, materials: ~170 B a particle), computes
+// rcb_owners, and keeps only the rows it computes (its owned particles', and for
+// state-based models, the compression factor alpha or the general force pass also their
+// bond neighbours') and the particles those rows read, renumbered in ascending global
+// id; the models are set up on that local system alone. Fills d.owner (per local
+// particle), d.local_particles and d.global_particles; d.local_rows is set too.
+// Collective.
+System build_system_split(const Config& config, Decomposition& d);
+// Whether a deck may be built with local particles: local_rows_allowed, and nothing that
+// still reads every particle on every rank: short-range contact (its ghosts would come
+// from anywhere), checkpoints (written and read in the whole system's numbering), loads
+// whose scale sums over a whole region (traction, force).
+bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface
 // correction) or is not split (heat, FE, projectiles, damping, adaptive step). Otherwise
@@ -135,7 +157,15 @@ void halo_exchange(System& s, Decomposition& d);
 void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a);
 // Gathers u, v, f, b, damage, energy and dissipated_at of every particle from its owner
 // onto every rank, and the count of broken bonds. Collective.
-void gather_state(System& s, Decomposition& d);
+// With local particles the state goes to rank 0 alone, into `view` (the whole system's
+// particles in global order, its broken and initial bond counts, its block names; the
+// reference fields X, volume, density, block, material are gathered once): O(N) on rank
+// 0, for the history rows, crack tracking and the summary. Other ranks' `view` is left
+// empty.
+void gather_state(System& s, Decomposition& d, System* view = nullptr);
+// Local particles: every owned particle's value of `local` (one per local particle) on
+// rank 0 in global order (others get an empty vector). Collective.
+std::vector<double> gather_on_lead(const System& s, const Decomposition& d, const std::vector<double>& local);
 // After a restart has loaded the whole state on every rank: the ghosts chosen again from
 // the loaded positions. Collective.
 void refresh_ghosts(System& s, Decomposition& d);
