@@ -9,8 +9,11 @@
 #  - the same bar with the state-based LPS model (the neighbours' rows and their
 #    neighbours are held too; the build tries the owned rows first and builds again) on
 #    3 ranks: the serial state_crc32, fewer particles than the whole on every rank.
-# Not covered here: short-range contact, checkpoints and traction or force loads, which
-# keep every particle on every rank (local_particles_allowed).
+#  - the bar under a traction and a total force (scales from the whole region) on 3
+#    ranks: the serial state_crc32; tests/mpi/glass.cmake runs its traction deck this
+#    way on 2 to 4 ranks.
+# Not covered: short-range contact and checkpoints, which keep every particle on every
+# rank (local_particles_allowed).
 # cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P local_particles.cmake
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
@@ -100,4 +103,18 @@ file(WRITE ${WORK}/lps.yaml "${text}")
 run(lps_serial ${WORK}/lps.yaml 0)
 run(lps_3 ${WORK}/lps.yaml 3)
 check(lps_3 lps_serial 3 80)
+
+# Loads whose scale reads a whole region (a traction's normal and layer depth, a force's
+# region volume): from every rank, the serial bits.
+file(READ ${deck} text)
+string(REPLACE "velocity: [-1, 0, 0]" "traction: [-3.0e6, 0, 0]" text "${text}")
+string(REPLACE "velocity: [1, 0, 0]" "force: [80, 0, 0]" text "${text}")
+file(WRITE ${WORK}/loads.yaml "${text}")
+run(loads_serial ${WORK}/loads.yaml 0)
+run(loads_3 ${WORK}/loads.yaml 3)
+check(loads_3 loads_serial 3 60)
+string(JSON broken GET "${loads_serial_summary}" damage broken_bonds)
+if(broken LESS 100)
+  message(FATAL_ERROR "the bar under traction and force must break bonds: ${broken}")
+endif()
 file(REMOVE_RECURSE ${WORK})

@@ -303,6 +303,23 @@ std::vector<uint64_t> gather_on_lead(uint64_t mine) {
   return {mine};
 }
 
+std::vector<double> allgather_values(const std::vector<double>& mine) {
+#if defined(HORIZON_MPI)
+  if (world_size() > 1) {
+    const int size = world_size();
+    const int count = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(size)), displs(static_cast<std::size_t>(size));
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    int at = 0;
+    for (int r = 0; r < size; ++r) displs[static_cast<std::size_t>(r)] = at, at += counts[static_cast<std::size_t>(r)];
+    std::vector<double> all(static_cast<std::size_t>(at));
+    MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+    return all;
+  }
+#endif
+  return mine;
+}
+
 uint64_t checkpoint_bond_count(const System& s) {
   return s.decomposition && s.decomposition->local_rows ? s.decomposition->global_bonds : s.bonds.size();
 }

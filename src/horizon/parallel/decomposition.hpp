@@ -2,9 +2,17 @@
 // Domain decomposition of an explicit run over MPI ranks (docs/design.md, "Running on
 // several ranks"; built with -DHORIZON_MPI=ON).
 //
-// What is distributed is the work and the bonds; the particles are replicated: every rank
-// builds every particle from the deck (positions, velocities, per-particle model constants
-// in the serial order: the serial indices are the global ids), then
+// What is distributed is the work and the bonds, and where the deck allows it
+// (local_particles_allowed: no short-range contact, no checkpoints) the particles: a rank then holds only its owned particles and the particles its
+// rows read, in a local numbering in ascending global id (Particles::id holds the global
+// id), and every index below (owner, owned, the ghost lists, loads, reactions) is local;
+// the build generates the whole lattice transiently (positions, volumes, materials) to
+// decide owners and families, then keeps the local set and sets the models up on it
+// alone; what reads every particle (history rows' damage figures, crack tracking, the
+// summary) reads rank 0's view, gathered by gather_state (O(N) on rank 0 only).
+// Otherwise the particles are replicated: every rank builds every particle from the deck
+// (positions, velocities, per-particle model constants in the serial order: the serial
+// indices are the global ids), then
 //   - owns the particles of its box of a recursive coordinate bisection of the reference
 //     positions (rcb_owners: the same split at any thread count, ties by global id);
 //   - holds the bond rows it computes alone (local rows, build_system_split): the owners
@@ -115,8 +123,7 @@ System build_system_split(const Config& config);
 System build_system_split(const Config& config, Decomposition& d);
 // Whether a deck may be built with local particles: local_rows_allowed, and nothing that
 // still reads every particle on every rank: short-range contact (its ghosts would come
-// from anywhere), checkpoints (written and read in the whole system's numbering), loads
-// whose scale sums over a whole region (traction, force).
+// from anywhere), checkpoints (written and read in the whole system's numbering).
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface
@@ -130,18 +137,21 @@ bool local_rows_allowed(const Config& config);
 void decompose(System& s, Decomposition& d, double skin);
 // What the busiest of `ranks` ranks would hold with local rows, from the whole system
 // `s` (horizon check --ranks; solver/system.cpp): its bonds (owned rows, and the bond
-// neighbours' rows where decompose() keeps them) and its memory estimate (every particle,
-// those bonds).
+// neighbours' rows where decompose() keeps them), its particles (with local particles
+// those rows and the particles they read, else every particle) and its memory estimate.
 struct RankShare {
   uint64_t bonds = 0;
+  uint64_t particles = 0;
   std::size_t bytes = 0;
 };
-RankShare largest_rank_share(const System& s, int ranks);
+RankShare largest_rank_share(const System& s, int ranks, bool local_particles);
 // Sum over ranks and minimum over ranks (the value itself without MPI). Collective.
 uint64_t sum_over_ranks(uint64_t x);
 double min_over_ranks(double x);
 // Every rank's x, on rank 0 (others get an empty vector). Collective.
 std::vector<uint64_t> gather_on_lead(uint64_t x);
+// Every rank's values, one after the other in rank order, on every rank. Collective.
+std::vector<double> allgather_values(const std::vector<double>& mine);
 // The bonds a checkpoint holds: the whole system's (d.global_bonds with local rows).
 uint64_t checkpoint_bond_count(const System& s);
 // Before a restart with local rows reads a checkpoint: the per-bond records of `records`

@@ -340,10 +340,7 @@ System build_system_split(const Config& config, Decomposition& d) {
 }
 
 bool local_particles_allowed(const Config& c) {
-  if (!local_rows_allowed(c) || c.contact.short_range.enabled || c.output.checkpoint_every > 0) return false;
-  for (const auto& L : c.loads)
-    if (L.kind == LoadKind::traction || L.kind == LoadKind::force) return false;
-  return true;
+  return local_rows_allowed(c) && !c.contact.short_range.enabled && c.output.checkpoint_every <= 0;
 }
 
 bool local_rows_allowed(const Config& c) {
@@ -483,7 +480,7 @@ std::size_t bytes_per_bond(const System& s) {
 }
 }  // namespace
 
-RankShare largest_rank_share(const System& s, int ranks) {
+RankShare largest_rank_share(const System& s, int ranks, bool local_particles) {
   const std::size_t n = s.particles.size();
   const auto& B = s.bonds;
   const std::vector<int32_t> owner = rcb_owners(s.particles.X, ranks);
@@ -495,22 +492,38 @@ RankShare largest_rank_share(const System& s, int ranks) {
   std::vector<std::vector<uint32_t>> owned(static_cast<std::size_t>(std::max(1, ranks)));
   for (std::size_t i = 0; i < n; ++i) owned[static_cast<std::size_t>(owner[i])].push_back(static_cast<uint32_t>(i));
   std::vector<int32_t> counted(n, -1);  // the last rank that counted the row
+  std::vector<int32_t> read(n, -1);     // the last rank that counted the particle (local particles)
   RankShare best;
   for (std::size_t r = 0; r < owned.size(); ++r) {
-    uint64_t held = 0;
+    uint64_t held = 0, particles = 0;
+    std::vector<uint32_t> rows;
     auto add = [&](uint32_t i) {
       if (counted[i] == static_cast<int32_t>(r)) return;
       counted[i] = static_cast<int32_t>(r);
       held += B.end(i) - B.begin(i);
+      rows.push_back(i);
     };
     for (uint32_t i : owned[r]) {
       add(i);
       if (neighbours)
         for (uint64_t k = B.begin(i); k < B.end(i); ++k) add(B.nbr[k]);
     }
+    // Local particles: the rows held and the particles they read.
+    auto mark = [&](uint32_t i) {
+      if (read[i] == static_cast<int32_t>(r)) return;
+      read[i] = static_cast<int32_t>(r);
+      ++particles;
+    };
+    for (uint32_t i : rows) {
+      mark(i);
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) mark(B.nbr[k]);
+    }
     best.bonds = std::max(best.bonds, held);
+    best.particles = std::max(best.particles, local_particles ? particles : static_cast<uint64_t>(n));
   }
-  best.bytes = memory_estimate(s) - B.size() * bytes_per_bond(s) + best.bonds * bytes_per_bond(s);
+  const std::size_t kinds = B.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
+  const std::size_t particle_bytes = memory_estimate(s) - B.size() * bytes_per_bond(s) - kinds;
+  best.bytes = (n ? particle_bytes / n : 0) * best.particles + best.bonds * bytes_per_bond(s) + kinds;
   return best;
 }
 
