@@ -703,8 +703,11 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   if (options.handle_signals) install_interrupt_handler();
   r.progress = std::make_unique<Progress>(r.total, static_cast<double>(r.s.bonds.size()), c.output.progress_every);
   if (!r.options.quiet && r.dd && r.dd->size > 1)
-    fmt::print(stderr, "ranks           {} (recursive coordinate bisection; {} particles on rank 0, {} bonds held {})\n",
-               r.dd->size, r.dd->owned.size(), r.s.bonds.size(),
+    fmt::print(stderr,
+               "ranks           {} (recursive coordinate bisection; {} particles on rank 0, {} held {}, {} bonds held "
+               "{})\n",
+               r.dd->size, r.dd->owned.size(), r.s.particles.size(),
+               r.dd->local_particles ? "(with its ghosts)" : "(every particle)", r.s.bonds.size(),
                r.dd->local_rows ? "(its rows)" : "(the whole system on every rank)");
   r.cpu_start = cpu_seconds();
   r.stopped = r.at_end();

@@ -108,11 +108,14 @@ void keep_local_particles(System& s, std::vector<uint8_t>& built, std::vector<ui
     if (keep[i]) local[i] = m++;
   const Particles& P = s.particles;
   Particles Q;
-  Bonds L;
-  L.offset.assign(static_cast<std::size_t>(m) + 1, 0);
+  // The rows are moved down in place (a kept particle's local index is at most its
+  // global one, so each bond is written at or before where it is read): no second copy
+  // of the bonds, which would double the peak of the build.
+  Bonds& L = s.bonds;
   std::vector<uint8_t> built_l, owned_l;
   std::vector<int32_t> owner_l;
   built_l.reserve(m), owned_l.reserve(m), owner_l.reserve(m);
+  uint64_t w = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!keep[i]) continue;
     Q.add(P.X[i], P.volume[i], P.density[i], P.block[i], P.material[i]);
@@ -123,16 +126,22 @@ void keep_local_particles(System& s, std::vector<uint8_t>& built, std::vector<ui
     built_l.push_back(built[i]);
     owned_l.push_back(owned[i]);
     owner_l.push_back(owner[i]);
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      L.nbr.push_back(local[B.nbr[k]]);
-      L.kind.push_back(B.kind[k]);
-      L.intact.push_back(B.intact[k]);
+    const uint64_t a = L.offset[i], b = L.offset[i + 1];
+    L.offset[Q.size() - 1] = w;
+    for (uint64_t k = a; k < b; ++k, ++w) {
+      L.nbr[w] = local[L.nbr[k]];
+      L.kind[w] = L.kind[k];
+      L.intact[w] = L.intact[k];
     }
-    L.offset[Q.size()] = L.nbr.size();
   }
-  L.kinds = B.kinds;
+  L.offset[Q.size()] = w;
+  L.offset.resize(Q.size() + 1);
+  L.offset.shrink_to_fit();
+  if (w != L.nbr.size()) {  // rows dropped (not built here): release their storage
+    L.nbr.resize(w), L.kind.resize(w), L.intact.resize(w);
+    L.nbr.shrink_to_fit(), L.kind.shrink_to_fit(), L.intact.shrink_to_fit();
+  }
   s.particles = std::move(Q);
-  s.bonds = std::move(L);
   built = std::move(built_l);
   owned = std::move(owned_l);
   owner = std::move(owner_l);
