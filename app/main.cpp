@@ -116,13 +116,19 @@ int horizon_main(int argc, char** argv) {
       const PreparedRun u = prepare_run(config);
       fmt::print("{}", format_check(config, u.check));
       if (check_ranks > 1) {
-        // Each rank of horizon-mpi holds every particle and its own bond rows
-        // (parallel/decomposition.hpp, local rows), or the whole system where those do not apply.
+        // Each rank of horizon-mpi holds its own bond rows and, where the deck allows it,
+        // only the particles they read (parallel/decomposition.hpp, local rows and local
+        // particles), or the whole system where those do not apply.
         if (local_rows_allowed(config)) {
-          const RankShare r = largest_rank_share(u.system, check_ranks);
-          fmt::print("on {} ranks     at most {} bonds on a rank ({:.1f} %), memory {:.1f} MiB a rank (estimate)\n",
-                     check_ranks, r.bonds,
-                     u.check.bonds ? 100.0 * static_cast<double>(r.bonds) / static_cast<double>(u.check.bonds) : 0.0,
+          const bool local = local_particles_allowed(config);
+          const RankShare r = largest_rank_share(u.system, check_ranks, local);
+          auto pct = [](uint64_t part, uint64_t whole) {
+            return whole ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
+          };
+          fmt::print("on {} ranks     at most {} particles ({:.1f} %{}) and {} bonds ({:.1f} %) on a rank, memory {:.1f} "
+                     "MiB a rank (estimate)\n",
+                     check_ranks, r.particles, pct(r.particles, u.check.particles),
+                     local ? "" : ": every particle on every rank", r.bonds, pct(r.bonds, u.check.bonds),
                      static_cast<double>(r.bytes) / (1 << 20));
         } else {
           fmt::print("on {} ranks     every rank holds the whole system (this deck is not split by bond rows)\n",

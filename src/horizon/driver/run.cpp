@@ -7,6 +7,7 @@
 #include <sys/resource.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -82,7 +83,9 @@ int64_t step_count(const Config& c, double dt) {
 
 CheckReport check_system(const Config& c, const System& s) {
   CheckReport r;
-  r.particles = s.particles.size();
+  // With local particles (parallel/decomposition.hpp) a rank holds part of them.
+  r.particles = s.decomposition && s.decomposition->local_particles ? s.decomposition->global_particles
+                                                                    : s.particles.size();
   r.bonds = checkpoint_bond_count(s);  // the whole system's, also with local rows
   r.precrack_bonds = s.precrack_bonds;
   r.memory_bytes = memory_estimate(s);  // with local rows: this rank's
@@ -412,10 +415,18 @@ struct ExplicitRun::State {
   // rank writes its own piece of every frame.
   std::unique_ptr<Decomposition> dd;
   bool lead = true;
-  // Every particle's state on this rank, before anything reads the whole body.
+  // With local particles (each rank holds only the particles it reads): the whole
+  // system's particles, on rank 0 alone, gathered by sync() for the history rows, the
+  // crack tracking and the summary; empty on the other ranks.
+  System view;
+  // Every particle's state on this rank (on rank 0 in `view` with local particles),
+  // before anything reads the whole body.
   void sync() {
-    if (dd) gather_state(s, *dd);
+    if (dd) gather_state(s, *dd, &view);
   }
+  // The system that holds every particle's state after sync(): rank 0's view with local
+  // particles (other ranks' figures from their own particles are never written).
+  const System& out() const { return dd && dd->local_particles && dd->size > 1 && lead ? view : s; }
 
   void advance_heat() {
     if (!heat) return;
@@ -432,10 +443,11 @@ struct ExplicitRun::State {
 
   void record_history() {
     const Ledger& g = solver->ledger();
-    const DamageStats dstat = damage_stats(s.particles);
+    const System& o = out();
+    const DamageStats dstat = damage_stats(o.particles);
     const double dmax = dstat.max, dmean = dstat.mean;
     const double broken_fraction =
-        s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0;
+        o.initial_bonds ? static_cast<double>(o.broken) / static_cast<double>(o.initial_bonds) : 0.0;
     max_balance_error = std::max(max_balance_error, std::abs(g.balance_error()));
     history << fmt::format("{:.9e},{},{:.6e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6f},{:.9f}",
                            solver->time(), solver->steps(), solver->dt(), g.kinetic, g.strain, g.external_work,
@@ -446,7 +458,7 @@ struct ExplicitRun::State {
       for (const Vec3* q : {&p.x, &p.v, &p.a, &p.force, &p.a_filtered})
         history << fmt::format(",{:.9e},{:.9e},{:.9e}", q->x, q->y, q->z);
     if (s.block_names.size() > 1)
-      for (const Vec3& v : body_velocities(s)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
+      for (const Vec3& v : body_velocities(o)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
     if (s.fe) history << fmt::format(",{:.9e}", s.fe->coupling_work);
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
@@ -592,13 +604,21 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   // rank and decomposed below.
   // HORIZON_MPI_WHOLE_SYSTEM=1 builds the whole system on every rank as before local rows
   // existed (the same bits; for the memory comparison of docs/benchmarks.md).
+  // On more than one rank, a deck that local_particles_allowed also holds only the
+  // particles it reads (local particles; not for a restart, which reads the checkpoint
+  // in the whole system's numbering); HORIZON_MPI_LOCAL_PARTICLES=0 keeps every particle
+  // on every rank with local rows (the comparison of docs/benchmarks.md).
   const char* whole = std::getenv("HORIZON_MPI_WHOLE_SYSTEM");
+  const char* particles_env = std::getenv("HORIZON_MPI_LOCAL_PARTICLES");
   const bool local_rows = mpi_built() && local_rows_allowed(c) && !(whole && std::string(whole) == "1");
-  r.s = local_rows ? build_system_split(c) : build_system(c);
+  const bool local_particles = local_rows && world_size() > 1 && local_particles_allowed(c) && !options.restart &&
+                               !(particles_env && std::string(particles_env) == "0");
+  if (local_particles) r.dd = std::make_unique<Decomposition>();
+  r.s = local_particles ? build_system_split(c, *r.dd) : local_rows ? build_system_split(c) : build_system(c);
   if (local_rows) {
     if (const std::string why = distributed_limits(c, r.s, options); !why.empty())
       throw Error(fmt::format("{}: internal error: a deck built with local rows cannot be split: {}", c.deck_file, why));
-    r.dd = std::make_unique<Decomposition>();
+    if (!r.dd) r.dd = std::make_unique<Decomposition>();
     r.dd->local_rows = true;
     decompose(r.s, *r.dd, c.spacing);
   }
@@ -680,14 +700,17 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   } else {
     r.record_history();
     r.write_frame();
-    r.crack->record(r.s, 0);
+    r.crack->record(r.out(), 0);
   }
 
   if (options.handle_signals) install_interrupt_handler();
   r.progress = std::make_unique<Progress>(r.total, static_cast<double>(r.s.bonds.size()), c.output.progress_every);
   if (!r.options.quiet && r.dd && r.dd->size > 1)
-    fmt::print(stderr, "ranks           {} (recursive coordinate bisection; {} particles on rank 0, {} bonds held {})\n",
-               r.dd->size, r.dd->owned.size(), r.s.bonds.size(),
+    fmt::print(stderr,
+               "ranks           {} (recursive coordinate bisection; {} particles on rank 0, {} held {}, {} bonds held "
+               "{})\n",
+               r.dd->size, r.dd->owned.size(), r.s.particles.size(),
+               r.dd->local_particles ? "(with its ghosts)" : "(every particle)", r.s.bonds.size(),
                r.dd->local_rows ? "(its rows)" : "(the whole system on every rank)");
   r.cpu_start = cpu_seconds();
   r.stopped = r.at_end();
@@ -723,7 +746,7 @@ int64_t ExplicitRun::advance(int64_t n) {
       if (history_due || frame_due) r.sync();
       if (history_due) {
         r.record_history();
-        r.crack->record(r.s, solver.time());
+        r.crack->record(r.out(), solver.time());
       }
       if (frame_due) {
         r.write_frame();
@@ -824,24 +847,29 @@ int ExplicitRun::finish() {
 
   // Summary: final figures and run statistics.
   const Ledger& g = solver.ledger();
-  nlohmann::ordered_json j = summary_header(config, s, status, message, solver.steps());
+  const System& o = r.out();  // every particle (rank 0's view with local particles)
+  nlohmann::ordered_json j = summary_header(config, o, status, message, solver.steps());
   j["time_step"] = solver.dt();
   if (r.adaptive) j["time_step_range"] = {r.dt_min, r.dt_max};
   j["time"] = solver.time();
   j["threads"] = omp_get_max_threads();
   j["ranks"] = r.dd ? r.dd->size : 1;
-  j["state_crc32"] = state_digest(s);
+  j["state_crc32"] = state_digest(o);
   if (r.dd) {
     // Halo traffic per rank and step (docs/benchmarks.md), from every rank.
     const std::vector<HaloStats> hs = gather_halo_stats(*r.dd);
     // The bond rows each rank holds and its peak resident memory.
     const std::vector<uint64_t> held = gather_on_lead(s.bonds.size());
+    // The particles each rank integrates and those it holds (with its ghosts).
+    const std::vector<uint64_t> owned = gather_on_lead(r.dd->owned.size());
+    const std::vector<uint64_t> particles_held = gather_on_lead(s.particles.size());
     const std::vector<uint64_t> rss = gather_on_lead(static_cast<uint64_t>(peak_memory_bytes()));
     nlohmann::ordered_json h = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < hs.size(); ++k) {
       const double steps = static_cast<double>(std::max<uint64_t>(1, hs[k].steps));
       h.push_back({{"rank", k},
-                   {"particles", std::count(r.dd->owner.begin(), r.dd->owner.end(), static_cast<int32_t>(k))},
+                   {"particles", owned[k]},
+                   {"particles_held", particles_held[k]},
                    {"bonds_held", held[k]},
                    {"peak_memory_bytes", rss[k]},
                    {"messages_per_step", static_cast<double>(hs[k].messages) / steps},
@@ -850,6 +878,7 @@ int ExplicitRun::finish() {
     }
     j["halo"] = h;
     j["bonds_local"] = r.dd->local_rows;
+    j["particles_local"] = r.dd->local_particles;
   }
   j["wall_time_s"] = wall;
   j["loop_time_s"] = loop_time;
@@ -864,7 +893,24 @@ int ExplicitRun::finish() {
                {"shared_nodes", s.fe->shared_nodes()},
                {"coupling_work", s.fe->coupling_work}};
   }
-  summary_state(j, s, g, *r.loads, r.max_balance_error);
+  summary_state(j, o, g, *r.loads, r.max_balance_error);
+  if (&o != &s || (r.dd && r.dd->local_particles)) {
+    // Local particles: the models' dissipation parts (summary_state's sum, in the same
+    // global order) from every owner's field values gathered on rank 0.
+    std::vector<ModelField> fields;
+    for (const auto& m : s.models) m->fields(s, fields);
+    nlohmann::ordered_json parts = nlohmann::ordered_json::object();
+    std::vector<std::string> done;
+    for (const auto& f : fields) {
+      if (!f.dissipation_part || std::find(done.begin(), done.end(), f.name) != done.end()) continue;
+      done.push_back(f.name);
+      const std::vector<double> whole = gather_on_lead(s, *r.dd, f.values);
+      double sum = 0.0;
+      for (std::size_t i = 0; i < whole.size() && i < o.particles.size(); ++i) sum += whole[i] * o.particles.volume[i];
+      parts[f.name] = sum;
+    }
+    if (!parts.empty()) j["energy"]["dissipated_parts"] = parts;
+  }
   if (!r.loads->projectiles().empty()) {
     nlohmann::ordered_json pj = nlohmann::ordered_json::object();
     for (const auto& p : r.loads->projectiles()) {
@@ -891,10 +937,10 @@ int ExplicitRun::finish() {
     if (config.dimension == 2 && s.initial_bonds > 0) j["thermal"]["edge_cracks"] = edge_cracks(config, s);
   }
   // The crack path and front at the end, for the crack and fracture figures below.
-  const std::vector<uint8_t> on = crack.active ? crack.path(s) : std::vector<uint8_t>{};
-  const CrackFront f = crack.active ? crack.front(s, on) : CrackFront{};
+  const std::vector<uint8_t> on = crack.active ? crack.path(o) : std::vector<uint8_t>{};
+  const CrackFront f = crack.active ? crack.front(o, on) : CrackFront{};
   if (crack.active) {
-    const auto branch = branch_distance(s.particles, crack.origin, crack.direction, kCrackDamage, config.spacing,
+    const auto branch = branch_distance(o.particles, crack.origin, crack.direction, kCrackDamage, config.spacing,
                                         2.0 * config.horizon, &on);
     nlohmann::ordered_json cj;
     cj["origin"] = {crack.origin.x, crack.origin.y, crack.origin.z};
@@ -944,7 +990,7 @@ int ExplicitRun::finish() {
       Vec3 d = pc.points[1] - pc.points[0];
       d.z = 0;
       if (norm(d) == 0) continue;
-      const CrackAngle a = crack_angle(s.particles, pc.points[1], d / norm(d), kCrackDamage, 2 * config.horizon,
+      const CrackAngle a = crack_angle(o.particles, pc.points[1], d / norm(d), kCrackDamage, 2 * config.horizon,
                                        8 * config.horizon, config.spacing, config.horizon);
       angles.push_back(a.found ? nlohmann::ordered_json(std::abs(a.degrees)) : nlohmann::ordered_json(nullptr));
       signed_angles.push_back(a.found ? nlohmann::ordered_json(a.degrees) : nlohmann::ordered_json(nullptr));

@@ -59,7 +59,10 @@ std::vector<uint32_t> region_particles(const Config& config, const System& s, co
   if (it == config.regions.end()) throw Error("unknown region '" + region + "'");
   for (std::size_t i = 0; i < s.particles.size(); ++i)
     if (it->second.contains(s.particles.X[i])) ids.push_back(static_cast<uint32_t>(i));
-  if (ids.empty()) {
+  // A rank with local particles (parallel/decomposition.hpp) holds part of the bodies: the
+  // region is empty when it is on every rank (collective then).
+  const bool local = s.decomposition && s.decomposition->local_particles;
+  if (local ? sum_over_ranks(ids.size()) == 0 : ids.empty()) {
     const Box3 r = it->second.bounds();
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const Vec3& x : s.particles.X)
@@ -80,6 +83,12 @@ std::vector<uint32_t> region_particles(const Config& config, const System& s, co
 double layer_depth(const System& s, const std::vector<uint32_t>& ids, int axis) {
   std::set<int64_t> layers;
   for (uint32_t i : ids) layers.insert(std::llround(s.particles.X[i][axis] / s.spacing));
+  if (s.decomposition && s.decomposition->local_particles) {
+    // Local particles (parallel/decomposition.hpp): the layers of every rank (collective).
+    std::vector<double> mine;
+    for (int64_t l : layers) mine.push_back(static_cast<double>(l));
+    for (double l : allgather_values(mine)) layers.insert(static_cast<int64_t>(l));
+  }
   return static_cast<double>(layers.size()) * s.spacing;
 }
 
@@ -87,6 +96,9 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
   // The load that constrains each component of each particle (index into loads_), to
   // name both when a second one conflicts.
   std::vector<std::array<int32_t, 3>> owner(s.particles.size(), {-1, -1, -1});
+  // A rank with local particles (parallel/decomposition.hpp) holds part of each region:
+  // the figures of a whole region come from every rank.
+  const bool local = s.decomposition && s.decomposition->local_particles;
   for (const auto& lc : config.loads) {
     AppliedLoad L;
     L.kind = lc.kind;
@@ -104,6 +116,7 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
             lo = std::min(lo, s.particles.X[i][k]);
             hi = std::max(hi, s.particles.X[i][k]);
           }
+          if (local) lo = min_over_ranks(lo), hi = -min_over_ranks(-hi);  // the whole region's extent
           if (hi - lo < best) {
             best = hi - lo;
             axis = k;
@@ -121,7 +134,20 @@ Loads::Loads(const Config& config, const System& s) : constrained_(s.particles.s
       // A total force spread evenly over the region: the density F / sum V (seed 001
       // digest sec. 4.7: a point load over the nodes of a patch about one horizon wide).
       double volume = 0;
-      for (uint32_t i : L.particles) volume += s.particles.volume[i];
+      if (local) {
+        // Local particles: every owner's (global id, volume), summed in global order as
+        // serially (collective).
+        std::vector<double> mine;
+        for (uint32_t i : L.particles)
+          if (s.decomposition->owns(i)) mine.insert(mine.end(), {static_cast<double>(s.particles.id[i]), s.particles.volume[i]});
+        const std::vector<double> all = allgather_values(mine);
+        std::vector<std::pair<double, double>> by_id;
+        for (std::size_t k = 0; k + 1 < all.size(); k += 2) by_id.emplace_back(all[k], all[k + 1]);
+        std::sort(by_id.begin(), by_id.end());
+        for (const auto& [g, v] : by_id) volume += v;
+      } else {
+        for (uint32_t i : L.particles) volume += s.particles.volume[i];
+      }
       L.scale = 1.0 / volume;
     }
     if (lc.kind == LoadKind::pressure) {

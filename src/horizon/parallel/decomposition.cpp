@@ -111,6 +111,9 @@ void choose_ghosts(System& s, Decomposition& d) {
   d.recv.assign(static_cast<std::size_t>(d.size), {});
   for (std::size_t j = 0; j < n; ++j)
     if (need[j] && !d.owns(j)) d.recv[static_cast<std::size_t>(d.owner[j])].push_back(static_cast<uint32_t>(j));
+  // Local particles: the owners are asked by global id (Particles::id) and answer with
+  // their local index.
+  [[maybe_unused]] const auto& id = s.particles.id;
   d.send.assign(static_cast<std::size_t>(d.size), {});
 #if defined(HORIZON_MPI)
   std::vector<int> want(static_cast<std::size_t>(d.size)), give(static_cast<std::size_t>(d.size));
@@ -122,13 +125,20 @@ void choose_ghosts(System& s, Decomposition& d) {
   for (int r = 0; r < d.size; ++r) {
     rd[static_cast<std::size_t>(r)] = a;
     a += want[static_cast<std::size_t>(r)];
-    for (uint32_t j : d.recv[static_cast<std::size_t>(r)]) flat.push_back(j);
+    for (uint32_t j : d.recv[static_cast<std::size_t>(r)]) flat.push_back(d.local_particles ? static_cast<uint32_t>(id[j]) : j);
     sd[static_cast<std::size_t>(r)] = b;
     b += give[static_cast<std::size_t>(r)];
   }
   asked.resize(static_cast<std::size_t>(b));
   MPI_Alltoallv(flat.data(), want.data(), rd.data(), MPI_UINT32_T, asked.data(), give.data(), sd.data(), MPI_UINT32_T,
                 MPI_COMM_WORLD);
+  if (d.local_particles)
+    for (uint32_t& g : asked) {
+      const auto it = std::lower_bound(id.begin(), id.end(), static_cast<int64_t>(g));
+      if (it == id.end() || *it != static_cast<int64_t>(g) || !d.owns(static_cast<std::size_t>(it - id.begin())))
+        throw Error("internal error: a rank asks for particle " + std::to_string(g) + ", which this rank does not own");
+      g = static_cast<uint32_t>(it - id.begin());
+    }
   for (int r = 0; r < d.size; ++r)
     d.send[static_cast<std::size_t>(r)].assign(asked.begin() + sd[static_cast<std::size_t>(r)],
                                               asked.begin() + sd[static_cast<std::size_t>(r)] + give[static_cast<std::size_t>(r)]);
@@ -154,6 +164,16 @@ void keep_computed_rows(System& s, Decomposition& d) {
     B.nbr.shrink_to_fit();
     B.kind.shrink_to_fit();
     B.intact.shrink_to_fit();
+  }
+  if (d.local_particles) {
+    // No per-particle offsets of the whole system here (they would be O(N)): the bond
+    // count alone. Checkpoints, which need them, are built the old way.
+    uint64_t mine = 0;
+    for (uint32_t i : d.owned) mine += B.end(i) - B.begin(i);
+    d.global_offset.clear();
+    d.global_bonds = sum_over_ranks(mine);
+    s.initial_bonds = d.global_bonds;
+    return;
   }
   d.global_offset.assign(n + 1, 0);
   for (uint32_t i : d.owned) d.global_offset[i + 1] = B.end(i) - B.begin(i);
@@ -223,7 +243,10 @@ void decompose(System& s, Decomposition& d, double skin) {
   // T_ij - T_ji: the neighbours' rows are computed here too.
   d.state_based = s.model.state_based || alpha || !s.models.all_unified();
   const std::size_t n = s.particles.size();
-  d.owner = rcb_owners(s.particles.X, d.size);
+  // Local particles: the owners were decided on the whole lattice by the build.
+  if (!d.local_particles) d.owner = rcb_owners(s.particles.X, d.size);
+  if (d.local_particles && (d.owner.size() != n || d.contact_reach > 0))
+    throw Error("internal error: local particles without their owners, or with short-range contact");
   d.owned.clear();
   d.is_owned.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i)
@@ -280,6 +303,23 @@ std::vector<uint64_t> gather_on_lead(uint64_t mine) {
   return {mine};
 }
 
+std::vector<double> allgather_values(const std::vector<double>& mine) {
+#if defined(HORIZON_MPI)
+  if (world_size() > 1) {
+    const int size = world_size();
+    const int count = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(size)), displs(static_cast<std::size_t>(size));
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    int at = 0;
+    for (int r = 0; r < size; ++r) displs[static_cast<std::size_t>(r)] = at, at += counts[static_cast<std::size_t>(r)];
+    std::vector<double> all(static_cast<std::size_t>(at));
+    MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+    return all;
+  }
+#endif
+  return mine;
+}
+
 uint64_t checkpoint_bond_count(const System& s) {
   return s.decomposition && s.decomposition->local_rows ? s.decomposition->global_bonds : s.bonds.size();
 }
@@ -287,6 +327,7 @@ uint64_t checkpoint_bond_count(const System& s) {
 void keep_local_bonds(const System& s, const Decomposition& d, const std::vector<std::string>& records,
                       CheckpointReader& in) {
   if (!d.local_rows) return;
+  if (d.local_particles) throw Error("internal error: a restart is built with the whole particle set");
   const auto& B = s.bonds;
   std::vector<std::pair<uint64_t, uint64_t>> rows;
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
@@ -304,6 +345,7 @@ void refresh_ghosts(System& s, Decomposition& d) { choose_ghosts(s, d); }
 
 void gather_checkpoint(const System& s, const Decomposition& d, CheckpointWriter& w) {
   if (d.size == 1) return;
+  if (d.local_particles) throw Error("internal error: a run with checkpoints is built with the whole particle set");
   const std::size_t n = s.particles.size(), nb = s.bonds.size();
   const auto& B = s.bonds;
   for (std::size_t index = 0; index < w.spread().size(); ++index) {
@@ -402,6 +444,13 @@ void halo_exchange(System& s, Decomposition& d) {
     ++d.stats.steps;
     return;
   }
+  // Local particles (no short-range contact): the ghosts are the bond neighbours of the
+  // rows computed here, which never change.
+  if (d.local_particles) {
+    ++d.stats.steps;
+    exchange_ghost_values(d, u);
+    return;
+  }
   const double half2 = 0.25 * d.skin * d.skin;
   bool moved = false;
   for (uint32_t i : d.owned) moved = moved || norm2(position(s, i) - d.y_built[i]) > half2;
@@ -452,11 +501,117 @@ void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a) {
 #endif
 }
 
-void gather_state(System& s, Decomposition& d) {
+#if defined(HORIZON_MPI)
+namespace {
+// Local particles: each rank's owned entries (k doubles each, packed by `pack`) onto rank
+// 0, where `unpack` gets each with its global id. Collective.
+template <class Pack, class Unpack>
+void gather_owned_on_lead(const System& s, const Decomposition& d, int k, Pack pack, Unpack unpack) {
+  std::vector<double> mine;
+  mine.reserve(d.owned.size() * static_cast<std::size_t>(k + 1));
+  for (uint32_t i : d.owned) {
+    mine.push_back(static_cast<double>(s.particles.id[i]));  // exact below 2^53
+    pack(i, mine);
+  }
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(d.size)), displs(static_cast<std::size_t>(d.size));
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<double> all;
+  if (d.rank == 0) {
+    std::size_t at = 0;
+    for (int r = 0; r < d.size; ++r) {
+      if (at > static_cast<std::size_t>(INT_MAX)) throw Error("gather: the whole state is too large to gather on rank 0");
+      displs[static_cast<std::size_t>(r)] = static_cast<int>(at);
+      at += static_cast<std::size_t>(counts[static_cast<std::size_t>(r)]);
+    }
+    all.resize(at);
+  }
+  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  if (d.rank != 0) return;
+  const std::size_t per = static_cast<std::size_t>(k + 1);
+  for (std::size_t at = 0; at + per <= all.size(); at += per)
+    unpack(static_cast<std::size_t>(all[at]), all.data() + at + 1);
+}
+}  // namespace
+#endif
+
+std::vector<double> gather_on_lead(const System& s, const Decomposition& d, const std::vector<double>& local) {
+  std::vector<double> whole;
+#if defined(HORIZON_MPI)
+  if (d.rank == 0) whole.assign(d.global_particles, 0.0);
+  gather_owned_on_lead(
+      s, d, 1, [&](uint32_t i, std::vector<double>& o) { o.push_back(i < local.size() ? local[i] : 0.0); },
+      [&](std::size_t g, const double* p) { whole[g] = p[0]; });
+#else
+  (void)s, (void)d;
+  whole = local;
+#endif
+  return whole;
+}
+
+void gather_state(System& s, Decomposition& d, System* view) {
   [[maybe_unused]] auto& P = s.particles;
   uint64_t broken = 0;
   for (uint32_t i : d.owned)
     for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) broken += s.bonds.intact[k] != 1 ? 1 : 0;
+#if defined(HORIZON_MPI)
+  if (d.local_particles && d.size > 1) {
+    if (!view) throw Error("internal error: a run with local particles gathers its state into a view");
+    Particles& W = view->particles;
+    const std::size_t n = d.global_particles;
+    if (!d.reference_gathered && d.rank == 0) {
+      // The reference fields, once.
+      W = Particles();
+      for (std::size_t g = 0; g < n; ++g) W.add({}, 0, 0, 0, 0);
+      view->dissipated_at.assign(n, 0);
+      view->block_names = s.block_names;
+      view->dimension = s.dimension;
+      view->spacing = s.spacing;
+      view->horizon = s.horizon;
+    }
+    if (!d.reference_gathered) {
+      // Collective: every rank takes part; rank 0 alone fills its view.
+      d.reference_gathered = true;
+      gather_owned_on_lead(
+          s, d, 7,
+          [&](uint32_t i, std::vector<double>& o) {
+            o.insert(o.end(), {P.X[i].x, P.X[i].y, P.X[i].z, P.volume[i], P.density[i], static_cast<double>(P.block[i]),
+                               static_cast<double>(P.material[i])});
+          },
+          [&](std::size_t g, const double* p) {
+            W.X[g] = {p[0], p[1], p[2]};
+            W.volume[g] = p[3];
+            W.density[g] = p[4];
+            W.block[g] = static_cast<int32_t>(p[5]);
+            W.material[g] = static_cast<int32_t>(p[6]);
+          });
+    }
+    gather_owned_on_lead(
+        s, d, 15,
+        [&](uint32_t i, std::vector<double>& o) {
+          o.insert(o.end(), {P.u[i].x, P.u[i].y, P.u[i].z, P.v[i].x, P.v[i].y, P.v[i].z, P.f[i].x, P.f[i].y, P.f[i].z,
+                             P.b[i].x, P.b[i].y, P.b[i].z, P.damage[i], P.energy[i], s.dissipated_at[i]});
+        },
+        [&](std::size_t g, const double* p) {
+          W.u[g] = {p[0], p[1], p[2]};
+          W.v[g] = {p[3], p[4], p[5]};
+          W.f[g] = {p[6], p[7], p[8]};
+          W.b[g] = {p[9], p[10], p[11]};
+          W.damage[g] = p[12];
+          W.energy[g] = p[13];
+          view->dissipated_at[g] = p[14];
+        });
+    uint64_t all = 0;
+    MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    s.broken = all;
+    view->broken = all;
+    view->initial_bonds = s.initial_bonds;
+    view->precrack_bonds = s.precrack_bonds;
+    return;
+  }
+#else
+  (void)view;
+#endif
 #if defined(HORIZON_MPI)
   if (d.size == 1) {  // one rank owns every particle: nothing to gather
     s.broken = broken;

@@ -2,9 +2,17 @@
 // Domain decomposition of an explicit run over MPI ranks (docs/design.md, "Running on
 // several ranks"; built with -DHORIZON_MPI=ON).
 //
-// What is distributed is the work and the bonds; the particles are replicated: every rank
-// builds every particle from the deck (positions, velocities, per-particle model constants
-// in the serial order: the serial indices are the global ids), then
+// What is distributed is the work and the bonds, and where the deck allows it
+// (local_particles_allowed: no short-range contact, no checkpoints) the particles: a rank then holds only its owned particles and the particles its
+// rows read, in a local numbering in ascending global id (Particles::id holds the global
+// id), and every index below (owner, owned, the ghost lists, loads, reactions) is local;
+// the build generates the whole lattice transiently (positions, volumes, materials) to
+// decide owners and families, then keeps the local set and sets the models up on it
+// alone; what reads every particle (history rows' damage figures, crack tracking, the
+// summary) reads rank 0's view, gathered by gather_state (O(N) on rank 0 only).
+// Otherwise the particles are replicated: every rank builds every particle from the deck
+// (positions, velocities, per-particle model constants in the serial order: the serial
+// indices are the global ids), then
 //   - owns the particles of its box of a recursive coordinate bisection of the reference
 //     positions (rcb_owners: the same split at any thread count, ties by global id);
 //   - holds the bond rows it computes alone (local rows, build_system_split): the owners
@@ -80,6 +88,14 @@ struct Decomposition {
   uint64_t global_bonds = 0;             // bonds of the whole system (the serial count)
   std::vector<uint64_t> global_offset;   // per particle + 1: where its row starts in the serial CSR
 
+  // Local particles (build_system_split with a Decomposition): this rank holds only the
+  // particles it reads, in a local numbering in ascending global id (Particles::id), so
+  // every per-particle array is local-sized; `owner`, `owned`, `is_owned`, the send and
+  // receive lists and every System index are local then. Set by the build.
+  bool local_particles = false;
+  uint64_t global_particles = 0;         // particles of the whole system
+  bool reference_gathered = false;       // gather_state has put X, volume... in rank 0's view
+
   bool owns(std::size_t i) const { return is_owned[i] != 0; }
 };
 
@@ -96,6 +112,19 @@ int world_size();
 // of every row stay. Each built row holds the same bonds in the same order as serially.
 // The precrack check and count are global. Collective.
 System build_system_split(const Config& config);
+// The same with local particles (local_particles_allowed): every rank generates the whole
+// lattice transiently (positions, volumes, materials: ~170 B a particle), computes
+// rcb_owners, and keeps only the rows it computes (its owned particles', and for
+// state-based models, the compression factor alpha or the general force pass also their
+// bond neighbours') and the particles those rows read, renumbered in ascending global
+// id; the models are set up on that local system alone. Fills d.owner (per local
+// particle), d.local_particles and d.global_particles; d.local_rows is set too.
+// Collective.
+System build_system_split(const Config& config, Decomposition& d);
+// Whether a deck may be built with local particles: local_rows_allowed, and nothing that
+// still reads every particle on every rank: short-range contact (its ghosts would come
+// from anywhere), checkpoints (written and read in the whole system's numbering).
+bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface
 // correction) or is not split (heat, FE, projectiles, damping, adaptive step). Otherwise
@@ -108,18 +137,21 @@ bool local_rows_allowed(const Config& config);
 void decompose(System& s, Decomposition& d, double skin);
 // What the busiest of `ranks` ranks would hold with local rows, from the whole system
 // `s` (horizon check --ranks; solver/system.cpp): its bonds (owned rows, and the bond
-// neighbours' rows where decompose() keeps them) and its memory estimate (every particle,
-// those bonds).
+// neighbours' rows where decompose() keeps them), its particles (with local particles
+// those rows and the particles they read, else every particle) and its memory estimate.
 struct RankShare {
   uint64_t bonds = 0;
+  uint64_t particles = 0;
   std::size_t bytes = 0;
 };
-RankShare largest_rank_share(const System& s, int ranks);
+RankShare largest_rank_share(const System& s, int ranks, bool local_particles);
 // Sum over ranks and minimum over ranks (the value itself without MPI). Collective.
 uint64_t sum_over_ranks(uint64_t x);
 double min_over_ranks(double x);
 // Every rank's x, on rank 0 (others get an empty vector). Collective.
 std::vector<uint64_t> gather_on_lead(uint64_t x);
+// Every rank's values, one after the other in rank order, on every rank. Collective.
+std::vector<double> allgather_values(const std::vector<double>& mine);
 // The bonds a checkpoint holds: the whole system's (d.global_bonds with local rows).
 uint64_t checkpoint_bond_count(const System& s);
 // Before a restart with local rows reads a checkpoint: the per-bond records of `records`
@@ -135,7 +167,15 @@ void halo_exchange(System& s, Decomposition& d);
 void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a);
 // Gathers u, v, f, b, damage, energy and dissipated_at of every particle from its owner
 // onto every rank, and the count of broken bonds. Collective.
-void gather_state(System& s, Decomposition& d);
+// With local particles the state goes to rank 0 alone, into `view` (the whole system's
+// particles in global order, its broken and initial bond counts, its block names; the
+// reference fields X, volume, density, block, material are gathered once): O(N) on rank
+// 0, for the history rows, crack tracking and the summary. Other ranks' `view` is left
+// empty.
+void gather_state(System& s, Decomposition& d, System* view = nullptr);
+// Local particles: every owned particle's value of `local` (one per local particle) on
+// rank 0 in global order (others get an empty vector). Collective.
+std::vector<double> gather_on_lead(const System& s, const Decomposition& d, const std::vector<double>& local);
 // After a restart has loaded the whole state on every rank: the ghosts chosen again from
 // the loaded positions. Collective.
 void refresh_ghosts(System& s, Decomposition& d);

@@ -90,8 +90,67 @@ void check_precracks_cut(const System& s, const Config& config, bool global) {
   }
 }
 
+// Local particles (build_system_split with a Decomposition): keeps the rows flagged in
+// `built` and the particles they read, renumbered in ascending global index (so that
+// every row keeps its serial order); `built`, `owned` and `owner` follow. The bond
+// kinds are kept as they are.
+void keep_local_particles(System& s, std::vector<uint8_t>& built, std::vector<uint8_t>& owned,
+                          std::vector<int32_t>& owner) {
+  const std::size_t n = s.particles.size();
+  const Bonds& B = s.bonds;
+  std::vector<uint8_t> keep = built;
+  for (std::size_t i = 0; i < n; ++i)
+    if (built[i])
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) keep[B.nbr[k]] = 1;
+  std::vector<uint32_t> local(n, 0);
+  uint32_t m = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (keep[i]) local[i] = m++;
+  const Particles& P = s.particles;
+  Particles Q;
+  // The rows are moved down in place (a kept particle's local index is at most its
+  // global one, so each bond is written at or before where it is read): no second copy
+  // of the bonds, which would double the peak of the build.
+  Bonds& L = s.bonds;
+  std::vector<uint8_t> built_l, owned_l;
+  std::vector<int32_t> owner_l;
+  built_l.reserve(m), owned_l.reserve(m), owner_l.reserve(m);
+  uint64_t w = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
+    Q.add(P.X[i], P.volume[i], P.density[i], P.block[i], P.material[i]);
+    Q.u.back() = P.u[i];
+    Q.v.back() = P.v[i];
+    Q.id.back() = P.id[i];
+    Q.no_fail.back() = P.no_fail[i];
+    built_l.push_back(built[i]);
+    owned_l.push_back(owned[i]);
+    owner_l.push_back(owner[i]);
+    const uint64_t a = L.offset[i], b = L.offset[i + 1];
+    L.offset[Q.size() - 1] = w;
+    for (uint64_t k = a; k < b; ++k, ++w) {
+      L.nbr[w] = local[L.nbr[k]];
+      L.kind[w] = L.kind[k];
+      L.intact[w] = L.intact[k];
+    }
+  }
+  L.offset[Q.size()] = w;
+  L.offset.resize(Q.size() + 1);
+  L.offset.shrink_to_fit();
+  if (w != L.nbr.size()) {  // rows dropped (not built here): release their storage
+    L.nbr.resize(w), L.kind.resize(w), L.intact.resize(w);
+    L.nbr.shrink_to_fit(), L.kind.shrink_to_fit(), L.intact.shrink_to_fit();
+  }
+  s.particles = std::move(Q);
+  built = std::move(built_l);
+  owned = std::move(owned_l);
+  owner = std::move(owner_l);
+}
+
 // `split`: the rows of this rank alone (build_system_split, parallel/decomposition.hpp).
-System build(const Config& config, bool split) {
+// `local` (with split): the particles those rows read alone (local particles), and the
+// neighbours' rows only with `neighbour_rows`; d.owner and the rest filled.
+System build(const Config& config, bool split, Decomposition* local = nullptr, bool neighbour_rows = true) {
   check_memory(config, config.memory_limit_bytes, split ? world_size() : 1);  // before anything is allocated
   System s;
   s.dimension = config.dimension;
@@ -153,7 +212,7 @@ System build(const Config& config, bool split) {
   if (split) {
     if (s.fe) throw Error("internal error: finite-element regions are built whole on every rank");
     const auto& P = s.particles;
-    const std::vector<int32_t> owner = rcb_owners(P.X, world_size());
+    std::vector<int32_t> owner = rcb_owners(P.X, world_size());
     const int rank = world_rank();
     owned.assign(P.size(), 0);
     for (std::size_t i = 0; i < P.size(); ++i) owned[i] = owner[i] == rank ? 1 : 0;
@@ -161,11 +220,22 @@ System build(const Config& config, bool split) {
     // general force pass compute those too (decompose drops them for a bond-based run).
     built = owned;
     {
-      const Bonds own = find_neighbors(P.X, P.volume, radius, &P.material, &owned);
-      for (std::size_t i = 0; i < P.size(); ++i)
-        for (uint64_t k = own.begin(i); k < own.end(i); ++k) built[own.nbr[k]] = 1;
+      Bonds own = find_neighbors(P.X, P.volume, radius, &P.material, &owned);
+      if (local && !neighbour_rows) {
+        s.bonds = std::move(own);  // a bond-based run with local particles: its owned rows alone
+      } else {
+        for (std::size_t i = 0; i < P.size(); ++i)
+          for (uint64_t k = own.begin(i); k < own.end(i); ++k) built[own.nbr[k]] = 1;
+      }
     }
-    s.bonds = find_neighbors(P.X, P.volume, radius, &P.material, &built);
+    if (!local || neighbour_rows) s.bonds = find_neighbors(P.X, P.volume, radius, &P.material, &built);
+    if (local) {
+      local->global_particles = P.size();
+      keep_local_particles(s, built, owned, owner);
+      local->owner = std::move(owner);
+      local->local_particles = true;
+      local->local_rows = true;
+    }
   } else if (!s.fe) {
     s.bonds = find_neighbors(s.particles.X, s.particles.volume, radius, &s.particles.material);
   } else {
@@ -251,6 +321,36 @@ System build(const Config& config, bool split) {
 System build_system(const Config& config) { return build(config, false); }
 
 System build_system_split(const Config& config) { return build(config, true); }
+
+System build_system_split(const Config& config, Decomposition& d) {
+  // Whether the rows read their neighbours' rows of the same pass (decompose's rule):
+  // the general force pass and the compression factor tell from the deck; a unified
+  // model tells whether it is state-based once set up, so a deck of unified models
+  // without alpha is built with the owned rows first, and again with the neighbours'
+  // rows when any rank's models turn out state-based.
+  bool neighbour_rows = false;
+  for (const auto& mat : config.materials) {
+    const ModelEntry* e = find_model(mat.model);
+    neighbour_rows = neighbour_rows || !e || !e->traits.unified || (mat.damage.enabled && mat.damage.alpha != 0);
+  }
+  if (!neighbour_rows) {
+    Decomposition first;
+    System s = build(config, true, &first, false);
+    const bool state_based = s.model.state_based || !s.models.all_unified();
+    if (sum_over_ranks(state_based ? 1 : 0) == 0) {
+      d.owner = std::move(first.owner);
+      d.local_particles = true;
+      d.local_rows = true;
+      d.global_particles = first.global_particles;
+      return s;
+    }
+  }
+  return build(config, true, &d, true);
+}
+
+bool local_particles_allowed(const Config& c) {
+  return local_rows_allowed(c) && !c.contact.short_range.enabled && c.output.checkpoint_every <= 0;
+}
 
 bool local_rows_allowed(const Config& c) {
   if (c.solver.type != SolverType::explicit_dynamic) return false;  // the static solvers build the whole system
@@ -405,7 +505,7 @@ std::size_t bytes_per_bond(const System& s) {
 }
 }  // namespace
 
-RankShare largest_rank_share(const System& s, int ranks) {
+RankShare largest_rank_share(const System& s, int ranks, bool local_particles) {
   const std::size_t n = s.particles.size();
   const auto& B = s.bonds;
   const std::vector<int32_t> owner = rcb_owners(s.particles.X, ranks);
@@ -417,22 +517,38 @@ RankShare largest_rank_share(const System& s, int ranks) {
   std::vector<std::vector<uint32_t>> owned(static_cast<std::size_t>(std::max(1, ranks)));
   for (std::size_t i = 0; i < n; ++i) owned[static_cast<std::size_t>(owner[i])].push_back(static_cast<uint32_t>(i));
   std::vector<int32_t> counted(n, -1);  // the last rank that counted the row
+  std::vector<int32_t> read(n, -1);     // the last rank that counted the particle (local particles)
   RankShare best;
   for (std::size_t r = 0; r < owned.size(); ++r) {
-    uint64_t held = 0;
+    uint64_t held = 0, particles = 0;
+    std::vector<uint32_t> rows;
     auto add = [&](uint32_t i) {
       if (counted[i] == static_cast<int32_t>(r)) return;
       counted[i] = static_cast<int32_t>(r);
       held += B.end(i) - B.begin(i);
+      rows.push_back(i);
     };
     for (uint32_t i : owned[r]) {
       add(i);
       if (neighbours)
         for (uint64_t k = B.begin(i); k < B.end(i); ++k) add(B.nbr[k]);
     }
+    // Local particles: the rows held and the particles they read.
+    auto mark = [&](uint32_t i) {
+      if (read[i] == static_cast<int32_t>(r)) return;
+      read[i] = static_cast<int32_t>(r);
+      ++particles;
+    };
+    for (uint32_t i : rows) {
+      mark(i);
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) mark(B.nbr[k]);
+    }
     best.bonds = std::max(best.bonds, held);
+    best.particles = std::max(best.particles, local_particles ? particles : static_cast<uint64_t>(n));
   }
-  best.bytes = memory_estimate(s) - B.size() * bytes_per_bond(s) + best.bonds * bytes_per_bond(s);
+  const std::size_t kinds = B.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
+  const std::size_t particle_bytes = memory_estimate(s) - B.size() * bytes_per_bond(s) - kinds;
+  best.bytes = (n ? particle_bytes / n : 0) * best.particles + best.bonds * bytes_per_bond(s) + kinds;
   return best;
 }
 

@@ -1,0 +1,120 @@
+# Each rank holds only the particles it reads (parallel/decomposition.hpp, local
+# particles), with the serial program's result:
+#  - tests/mpi/bar_local.yaml (PMB, bond-based, a notch that cracks) on 4 ranks:
+#    state_crc32 equal to the serial program's; each rank holds at most 40 % of the
+#    particles (its own and the bond neighbours of its rows), the ranks own every
+#    particle once; history.csv the same bytes as with HORIZON_MPI_LOCAL_PARTICLES=0
+#    (every particle on every rank); the crack and damage figures of the summary
+#    (computed on rank 0 from its gathered view) equal the serial program's;
+#  - the same bar with the state-based LPS model (the neighbours' rows and their
+#    neighbours are held too; the build tries the owned rows first and builds again) on
+#    3 ranks: the serial state_crc32, fewer particles than the whole on every rank.
+#  - the bar under a traction and a total force (scales from the whole region) on 3
+#    ranks: the serial state_crc32; tests/mpi/glass.cmake runs its traction deck this
+#    way on 2 to 4 ranks.
+# Not covered: short-range contact and checkpoints, which keep every particle on every
+# rank (local_particles_allowed).
+# cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P local_particles.cmake
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+set(deck ${SOURCE}/tests/mpi/bar_local.yaml)
+
+# run(label deck ranks [ENV...]): runs it; sets ${label}_summary and ${label}_history.
+function(run label deck ranks)
+  set(out ${WORK}/${label})
+  if(ranks EQUAL 0)
+    set(command ${SERIAL} run ${deck} -q -o ${out} --threads 1)
+  else()
+    set(command ${CMAKE_COMMAND} -E env ${ARGN} ${MPIEXEC} --oversubscribe -n ${ranks} ${HORIZON} run ${deck} -q -o
+                ${out} --threads 1)
+  endif()
+  execute_process(COMMAND ${command} RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${label}: exit ${rc}\n${log}")
+  endif()
+  file(READ ${out}/summary.json summary)
+  file(READ ${out}/history.csv history)
+  set(${label}_summary "${summary}" PARENT_SCOPE)
+  set(${label}_history "${history}" PARENT_SCOPE)
+endfunction()
+
+# check(label serial ranks limit_percent): the serial state_crc32; local particles; each
+# rank holds at most limit_percent of the particles; each particle owned once.
+function(check label serial ranks limit)
+  string(JSON crc GET "${${label}_summary}" state_crc32)
+  string(JSON serial_crc GET "${${serial}_summary}" state_crc32)
+  string(JSON total GET "${${serial}_summary}" particles)
+  string(JSON reported GET "${${label}_summary}" particles)
+  string(JSON local GET "${${label}_summary}" particles_local)
+  if(NOT crc EQUAL serial_crc)
+    message(FATAL_ERROR "${label}: state_crc32 ${crc}, the serial program ${serial_crc}")
+  endif()
+  if(NOT reported EQUAL total OR NOT local)
+    message(FATAL_ERROR "${label}: summary.json counts ${reported} particles (serial ${total}), particles_local ${local}")
+  endif()
+  set(owned_sum 0)
+  set(shares "")
+  math(EXPR last "${ranks} - 1")
+  foreach(k RANGE ${last})
+    string(JSON held GET "${${label}_summary}" halo ${k} particles_held)
+    string(JSON owned GET "${${label}_summary}" halo ${k} particles)
+    math(EXPR percent "100 * ${held} / ${total}")
+    math(EXPR owned_sum "${owned_sum} + ${owned}")
+    string(APPEND shares " ${held} (${percent} %)")
+    if(percent GREATER limit)
+      message(FATAL_ERROR "${label}: rank ${k} holds ${held} of the ${total} particles (${percent} %), more than ${limit} %")
+    endif()
+  endforeach()
+  if(NOT owned_sum EQUAL total)
+    message(FATAL_ERROR "${label}: the ranks own ${owned_sum} particles together, the whole system has ${total}")
+  endif()
+  message(STATUS "${label}: state_crc32 ${crc} = serial; particles held per rank of ${total}:${shares}")
+endfunction()
+
+run(bar_serial ${deck} 0)
+run(bar_4 ${deck} 4)
+check(bar_4 bar_serial 4 40)
+run(bar_4_whole ${deck} 4 HORIZON_MPI_LOCAL_PARTICLES=0)
+string(JSON local GET "${bar_4_whole_summary}" particles_local)
+if(local)
+  message(FATAL_ERROR "HORIZON_MPI_LOCAL_PARTICLES=0: the run still holds local particles")
+endif()
+if(NOT bar_4_history STREQUAL bar_4_whole_history)
+  message(FATAL_ERROR "history.csv on 4 ranks with local particles differs from every particle on every rank")
+endif()
+# The figures rank 0 computes from its gathered view: the crack and the damage.
+foreach(key "crack;length" "crack;tip" "damage;broken_bonds" "damage;mean")
+  string(JSON expected GET "${bar_serial_summary}" ${key})
+  string(JSON found GET "${bar_4_summary}" ${key})
+  if(NOT found STREQUAL expected)
+    message(FATAL_ERROR "summary ${key}: ${found} on 4 ranks, ${expected} serially")
+  endif()
+endforeach()
+string(JSON length GET "${bar_serial_summary}" crack length)
+if(length LESS_EQUAL 0.002)
+  message(FATAL_ERROR "the bar must crack from its notch: crack length ${length} m")
+endif()
+
+# State-based: LPS.
+file(READ ${deck} text)
+string(REPLACE "model: pmb" "model: lps" text "${text}")
+string(REPLACE "    micromodulus: 2.1e21\n" "    youngs_modulus: 30.0e9\n    poissons_ratio: 0.25\n" text "${text}")
+file(WRITE ${WORK}/lps.yaml "${text}")
+run(lps_serial ${WORK}/lps.yaml 0)
+run(lps_3 ${WORK}/lps.yaml 3)
+check(lps_3 lps_serial 3 80)
+
+# Loads whose scale reads a whole region (a traction's normal and layer depth, a force's
+# region volume): from every rank, the serial bits.
+file(READ ${deck} text)
+string(REPLACE "velocity: [-1, 0, 0]" "traction: [-3.0e6, 0, 0]" text "${text}")
+string(REPLACE "velocity: [1, 0, 0]" "force: [80, 0, 0]" text "${text}")
+file(WRITE ${WORK}/loads.yaml "${text}")
+run(loads_serial ${WORK}/loads.yaml 0)
+run(loads_3 ${WORK}/loads.yaml 3)
+check(loads_3 loads_serial 3 60)
+string(JSON broken GET "${loads_serial_summary}" damage broken_bonds)
+if(broken LESS 100)
+  message(FATAL_ERROR "the bar under traction and force must break bonds: ${broken}")
+endif()
+file(REMOVE_RECURSE ${WORK})
