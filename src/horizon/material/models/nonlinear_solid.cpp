@@ -7,8 +7,10 @@
 #include "horizon/core/error.hpp"
 #include "horizon/family/neighbors.hpp"
 #include "horizon/material/constants.hpp"
+#include "horizon/material/influence.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/parallel/decomposition.hpp"
+#include "horizon/material/surface_correction.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -76,10 +78,66 @@ const ModelTraits& traits() {
         {"seth_hill_m", "Seth-Hill parameter m of the bond strain (thesis eq. 4.2); 0: the log strain",
          ParameterSpec::Range::any, 0.0},
         {"fracture", "false: bonds of this material never break (a projectile)", ParameterSpec::Range::boolean, 1.0},
+        {"surface_correction",
+         "true: correction near free surfaces: bond influence weights from per-axis factors that make the "
+         "mu_bar energy of uniaxial stresses that of the continuum (the energy method's ellipse rule, Madenci "
+         "and Oterkus 2014 sec. 4.2), and a per-particle factor on lambda_bar for the dilatation energy",
+         ParameterSpec::Range::boolean, 0.0},
     };
     return m;
   }();
   return t;
+}
+
+// The surface correction of the nonlinear solid (docs/models.md "Surface correction"). Its
+// small-strain energy (thesis eq. 5.1 with eq. 6.8) is
+//   W_i = lambda_bar_i theta_i^2 / 2 + mu_bar_i sum_j omega eps^2 V_j,  theta_i = sum_j omega eps V_j,
+// with the influence function normalised in the bulk (int omega = 3, or 2 in 2-D) and NOT
+// renormalised near surfaces (thesis sec. 6.1.3): a truncated family stores less energy,
+// like a PMB particle (it is not the LPS, whose theta is normalised by each particle's own
+// weighted volume and whose surface layers are stiffer). The two terms scale differently
+// with the weights (mu_bar: linearly; lambda_bar: as their square), so the correction has
+// two steps, as the LPS's (Madenci and Oterkus 2014 sec. 4.2, the energy method; Le and
+// Bobaru 2018 compare such corrections):
+//   1. bond factors g_ij (material/surface_correction.hpp) from the mu_bar term's energy
+//      of a uniaxial stress along each axis, sum_j omega g s^2 V_j, s = n_d^2 - nu' (1 -
+//      n_d^2) the small-strain bond strain (eps = e/|xi| for every Seth-Hill m), against
+//      the continuum's (the integrals that calibrate mu_bar, thesis sec. 5.1): the PMB's
+//      measure with this model's weights;
+//   2. a per-particle factor on lambda_bar, the continuum's dilatation energy over the
+//      particle's, sum_d theta_d^2 over the uniaxial stresses along the axes, with the
+//      corrected weights (theta enters the energy squared, so a factor on lambda_bar is
+//      the energy-consistent way to scale it per particle).
+// At nu = 1/4 in 3-D, lambda_bar = lambda - mu = 0 and step 2 does nothing.
+
+// The small-strain bond strain of a uniaxial stress along `axis` (strain 1 along it, -nu'
+// across), n the bond direction.
+inline double uniaxial_bond_strain(const Vec3& xi, int axis, double nu) {
+  const double n2 = xi[axis] * xi[axis] / dot(xi, xi);
+  return n2 - nu * (1 - n2);
+}
+
+// mu_bar's term of W over mu_bar: sum omega V eps^2.
+double mu_term(const FamilyView& f, int axis, double nu) {
+  double w = 0;
+  for (std::size_t k = 0; k < f.xi.size(); ++k) {
+    const double e = uniaxial_bond_strain(f.xi[k], axis, nu);
+    w += f.wv[k] * e * e;
+  }
+  return w;
+}
+
+// theta of the same deformation: sum omega V eps.
+double dilatation(const FamilyView& f, int axis, double nu) {
+  double t = 0;
+  for (std::size_t k = 0; k < f.xi.size(); ++k) t += f.wv[k] * uniaxial_bond_strain(f.xi[k], axis, nu);
+  return t;
+}
+
+double dilatation_energy(const FamilyView& f, int dim, double nu) {
+  double w = 0;
+  for (int a = 0; a < dim; ++a) w += dilatation(f, a, nu) * dilatation(f, a, nu);
+  return w;
 }
 
 class NonlinearSolid final : public Model {
@@ -158,12 +216,42 @@ void NonlinearSolid::setup(const ModelSetup& in) {
   split_kinds_by_material(B, P.material);
   // omega V_j must integrate over the area in 2-D: V_j = A_j t, so the weight is omega/t.
   const double per = dim == 2 ? 1.0 / config.thickness : 1.0;
-  for (auto& c : B.kinds) c.weight = tupek_influence(c.length, config.horizon, dim) * per;
+  // The normalisation of (6.6)/(6.7) over the shape that influence() gives (the one the
+  // surface correction's reference families use), a constant.
+  const double half = 0.5 * config.horizon;
+  const double normalisation =
+      tupek_influence(half, config.horizon, dim) / influence(InfluenceKind::tupek, half, config.horizon) * per;
+  for (auto& c : B.kinds) c.weight = influence(InfluenceKind::tupek, c.length, config.horizon);
 
   // The generic model arrays, neutral (other code reads their sizes).
   M.dim = dim;
   M.weighted_volume.assign(n, 0);
   reset_model_arrays(M, n);
+
+  // Surface correction, per material that asks for it (the measures are ratios to the
+  // continuum's, so the shape's constant cancels; the weights are normalised after).
+  const Dimensioning dims{config.dimension, config.plane, config.thickness, config.area, config.horizon};
+  std::vector<double> lambda_factor(n, 1.0);
+  for (std::size_t q = 0; q < materials.size(); ++q) {
+    const MaterialConfig& mat = materials[q];
+    if (Model::parameter(mat, "surface_correction") == 0) continue;
+    // The lateral strain of a uniaxial stress: -nu, or -nu/(1 - nu) in plane strain.
+    const double nu = dim == 2 && config.plane == PlaneMode::strain ? mat.poissons_ratio / (1 - mat.poissons_ratio)
+                                                                     : mat.poissons_ratio;
+    std::vector<uint32_t> members;
+    for (uint32_t i = 0; i < n; ++i)
+      if (P.material[i] == static_cast<int>(q)) members.push_back(i);
+    const ModelSetup sub{s, config, mat, static_cast<int>(q), members, dims};
+    const AxisEnergy energy = [nu](const FamilyView& f, int axis) { return mu_term(f, axis, nu); };
+    apply_axis_factors(sub, axis_factors(sub, energy, kSurfacePasses, Reference::continuum));
+    const double w_inf = dilatation_energy(continuum_family(config, mat), dim, nu);
+    for (uint32_t i : members) {
+      const double w = dilatation_energy(family_of(s, i), dim, nu);
+      if (w > 0) lambda_factor[i] = w_inf / w;
+    }
+  }
+  for (auto& c : B.kinds) c.weight *= normalisation;
+  M.weighted_volume.assign(n, 0);  // apply_axis_factors filled it; the model does not use it
   M.state_based = true;  // forces reach two horizons (through theta_j): the tangent probes that far
   s.dissipated_at.assign(n, 0);
 
@@ -197,11 +285,10 @@ void NonlinearSolid::setup(const ModelSetup& in) {
   N.failure_scale.assign(B.kinds.size(), 0);
   for (std::size_t q = 0; q < B.kinds.size(); ++q) N.failure_scale[q] = std::pow(B.kinds[q].length, -exponent);
 
-  const Dimensioning dims{config.dimension, config.plane, config.thickness, config.area, config.horizon};
   for (std::size_t i = 0; i < n; ++i) {
     const MaterialConfig& mat = materials[P.material[i]];
     const TupekLame l = tupek_lame(mat.youngs_modulus, mat.poissons_ratio, dim, config.plane == PlaneMode::stress);
-    N.lambda_bar[i] = l.lambda_bar;
+    N.lambda_bar[i] = l.lambda_bar * lambda_factor[i];
     N.mu_bar[i] = l.mu_bar;
     N.m[i] = Model::parameter(mat, "seth_hill_m");
     if (fracture(mat) && mat.damage.enabled && mat.damage.fracture_energy && !P.no_fail[i])
