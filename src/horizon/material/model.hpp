@@ -87,6 +87,8 @@ struct ModelTraits {
   // Then a run split over MPI ranks computes the rows of its particles' bond neighbours
   // too (their T_ji enter f_i), from the positions one horizon further out, and each rank
   // keeps their history itself: no model state crosses ranks (parallel/decomposition.hpp).
+  // A model that owns the force pass (exclusive) sets it to say that its pass splits
+  // itself over ranks (docs/design.md, "A model that owns its force pass").
   bool rows_local = false;
   // The model writes its forces in the unified form t = omega (P_i |xi| + Q_i e + R_i e/|xi|)
   // of solver/system.hpp (Model::unified, above): the fast loops, the analytic tangent, and
