@@ -70,7 +70,9 @@ std::pair<double, double> interior_moduli(const System& s, const Config& deck, c
     for (int k = 0; k < 3; ++k) inside = inside && P.X[i][k] > box.min[k] + d && P.X[i][k] < box.max[k] - d;
     if (inside) interior.push_back(i);
   }
-  EXPECT_EQ(interior.size(), 14u * 4u * 4u);
+  std::size_t expected = 1;  // 14 x 4 x 4 in the example's block
+  for (int k = 0; k < 3; ++k) expected *= static_cast<std::size_t>(std::lround((box.max[k] - box.min[k] - 2 * d) / s.spacing));
+  EXPECT_EQ(interior.size(), expected);
   const Eigen::Matrix3d G = displacement_gradient(P, interior);
   const double lo = box.min.y + d, hi = box.max.y - d;
   const Vec3 F = force_through_patch(s, 0, 0.5 * (box.min.x + box.max.x), lo, hi);
@@ -126,9 +128,9 @@ TEST(StaticSolvers, LpsBlockNewtonAndAdrAgreeAndRecoverModuli) {
 
 // The same block with the LPS surface correction (material/models/lps.cpp): the end
 // traction over the section's mean strain (the block's modulus as a whole, +18 %
-// uncorrected: docs/verification.md check 2) comes within 2 % of E; the interior moduli
-// move by about 1 % (the interior particles' bonds to the corrected layers): measured
-// +2.22 % and -2.12 %, just outside the 2 % band of the uncorrected block, asserted at 3 %.
+// uncorrected: docs/verification.md check 2) comes within 2 % of E, and so do the interior
+// moduli: measured +0.75 % and -1.19 % (with the lattice's interior particle as the
+// reference of the deviatoric factor, before 2026-11-26: +2.22 % and -2.12 %).
 TEST(StaticSolvers, SurfaceCorrectedLpsBlockKeepsItsInteriorModuli) {
   Config deck = load_deck(source_path("examples/block_tension_static.yaml"));
   deck.materials.at(0).parameters["surface_correction"] = 1;
@@ -146,8 +148,45 @@ TEST(StaticSolvers, SurfaceCorrectedLpsBlockKeepsItsInteriorModuli) {
          fmt::format("LPS block, surface_correction: true: traction / section strain = {:.2f} GPa ({:+.2f} %)",
                      E_section / 1e9, 100 * (E_section / E - 1)));
   EXPECT_NEAR(E_section / E, 1.0, 0.02);
-  EXPECT_NEAR(E_int / E, 1.0, 0.03);
-  EXPECT_NEAR(nu_int / nu, 1.0, 0.03);
+  EXPECT_NEAR(E_int / E, 1.0, 0.02);
+  EXPECT_NEAR(nu_int / nu, 1.0, 0.02);
+}
+
+// The block of examples/block_tension_static.yaml resized to nx x ny x ny spacings, the
+// supports and loaded end layers moved with it.
+Config resized_block(int nx, int ny) {
+  Config c = load_deck(source_path("examples/block_tension_static.yaml"));
+  const double h = c.spacing, X = nx * h, Y = ny * h;
+  c.bodies.at(0).shape = Shape::box({0, 0, 0}, {X, Y, Y});
+  c.regions.at("left") = Shape::box({0, 0, 0}, {1.2 * h, Y, Y});
+  c.regions.at("right") = Shape::box({X - 1.2 * h, 0, 0}, {X, Y, Y});
+  c.regions.at("roller") = Shape::box({X - h, 0, 0}, {X, h, h});
+  c.regions.at("guide") = Shape::box({0, Y - h, 0}, {h, Y, h});
+  return c;
+}
+
+// Is the interior measurement of the 20 x 10 x 10 block biased by the block's size? Its
+// interior box (14 x 4 x 4) lies within one horizon of the surface layers. The same
+// measurement on a 40 x 20 x 20 block (16,000 particles; about 40 s per run on the shared
+// machine, so out of `make test`: --gtest_also_run_disabled_tests
+// --gtest_filter='StaticSolvers.DISABLED_LpsBlockInterior*'). Measured 2026-11-26
+// (docs/verification.md "Surface correction"): plain +0.55 %, +0.68 % (the stiff surface
+// layers still pull the interior: the lattice's own interior is +1.46 %, -0.97 %, test
+// SurfaceCorrection.LpsLatticeInteriorModuli); corrected +0.18 %, -0.36 %.
+TEST(StaticSolvers, DISABLED_LpsBlockInteriorModuliOnALargerBlock) {
+  OneThread one;
+  for (const bool corrected : {false, true}) {
+    Config deck = resized_block(40, 20);
+    deck.materials.at(0).parameters["surface_correction"] = corrected ? 1 : 0;
+    const double E = deck.materials.at(0).youngs_modulus, nu = deck.materials.at(0).poissons_ratio;
+    StaticRun run(deck);
+    ASSERT_TRUE(run.run()) << run.solver.failure();
+    const auto [E_int, nu_int] = interior_moduli(run.system, deck, corrected ? "block40_corrected" : "block40_plain");
+    if (corrected) {
+      EXPECT_NEAR(E_int / E, 1.0, 0.01);
+      EXPECT_NEAR(nu_int / nu, 1.0, 0.01);
+    }
+  }
 }
 
 // Newton on the elastic problem: with the exact tangent and exact (Cholesky) solves, the

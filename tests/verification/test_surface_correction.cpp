@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "horizon/fe/fe_region.hpp"
+#include "horizon/material/surface_correction.hpp"
 #include "horizon/solver/static_driver.hpp"
 #include "../single_thread.hpp"
 #include "verification_support.hpp"
@@ -214,6 +215,80 @@ TEST(SurfaceCorrection, BondsToFiniteElementNodesMatchThePurePdPlate) {
   EXPECT_GT(to_nodes, 1000u);
   EXPECT_GT(hi / lo, 1.5) << "the plate's factors vary through its thickness";
   EXPECT_LT(worst, 0.01);  // the factors' rounding (1e-4) and the weights' log grid (0.4 %)
+}
+
+// The LPS energy density of a uniform strain eps over one family (Silling et al. 2007,
+// sec. 15; seed 003 eq. 112 in 3-D): W = (k/2) theta^2 + (15 mu / 2m) f sum omega V (e^d)^2,
+// e = |xi| n.eps.n, theta = (3/m) sum omega V |xi| e, e^d = e - theta |xi| / 3; f is the
+// deviatoric coefficient's factor.
+double lps_energy(const FamilyView& fam, const Eigen::Matrix3d& eps, double k, double mu, double f) {
+  double m = 0, theta = 0;
+  std::vector<double> e(fam.xi.size());
+  for (std::size_t j = 0; j < fam.xi.size(); ++j) {
+    const Eigen::Vector3d x(fam.xi[j].x, fam.xi[j].y, fam.xi[j].z);
+    const double L = x.norm();
+    e[j] = x.dot(eps * x) / L;
+    m += fam.wv[j] * L * L;
+    theta += fam.wv[j] * L * e[j];
+  }
+  theta *= 3 / m;
+  double dev = 0;
+  for (std::size_t j = 0; j < fam.xi.size(); ++j) {
+    const double ed = e[j] - theta * norm(fam.xi[j]) / 3;
+    dev += fam.wv[j] * ed * ed;
+  }
+  return 0.5 * k * theta * theta + 7.5 * mu / m * f * dev;
+}
+
+// Young's modulus along x and Poisson's ratio of a family's LPS energy: a cubic stiffness
+// (the lattice's symmetry) C11 = W''(eps_xx), C12 = d2W/deps_xx deps_yy, and uniaxial
+// stress along a cube axis: nu = C12/(C11 + C12), E = (C11 - C12)(C11 + 2 C12)/(C11 + C12)
+// (e.g. Nye 1957, Physical Properties of Crystals, ch. VIII).
+std::pair<double, double> cubic_moduli(const FamilyView& fam, double k, double mu, double f) {
+  Eigen::Matrix3d xx = Eigen::Matrix3d::Zero(), yy = Eigen::Matrix3d::Zero();
+  xx(0, 0) = 1;
+  yy(1, 1) = 1;
+  const double C11 = 2 * lps_energy(fam, xx, k, mu, f);
+  const double C12 = lps_energy(fam, xx + yy, k, mu, f) - lps_energy(fam, xx, k, mu, f) - lps_energy(fam, yy, k, mu, f);
+  return {(C11 - C12) * (C11 + 2 * C12) / (C11 + C12), C12 / (C11 + C12)};
+}
+
+// The reference of the LPS correction's deviatoric factor (material/models/lps.cpp, step 2):
+// the interior particle of the lattice of examples/block_tension_static.yaml (delta = 3h,
+// partial volumes) is itself cubic, E_x +1.46 %, nu -0.97 %: what the corrected block's
+// interior measured with that particle as reference. The continuum family
+// (surface_correction.hpp) gives E and nu (the quadrature of the calibrating integrals),
+// and the lattice's interior particle with the factor step 2 gives it, the continuum's
+// deviatoric energy of unit axial strains over its own, recovers them too.
+TEST(SurfaceCorrection, LpsLatticeInteriorModuli) {
+  const Config deck = load_deck(source_path("examples/block_tension_static.yaml"));
+  const MaterialConfig& mat = deck.materials.at(0);
+  const double E = mat.youngs_modulus, nu = mat.poissons_ratio, k = mat.bulk_modulus, mu = mat.shear_modulus;
+  const FamilyView lattice = interior_family(deck, mat), continuum = continuum_family(deck, mat);
+  // Step 2's measure (lps.cpp): sum over unit axial strains of sum omega V (e^d)^2 / m.
+  auto axial_dev = [&](const FamilyView& fam) {
+    double w = 0;
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Matrix3d eps = Eigen::Matrix3d::Zero();
+      eps(a, a) = 1;
+      w += lps_energy(fam, eps, 0, mu, 1);  // k = 0: the deviatoric part alone
+    }
+    return w;
+  };
+  const double factor = axial_dev(continuum) / axial_dev(lattice);
+  const auto [E_c, nu_c] = cubic_moduli(continuum, k, mu, 1);
+  const auto [E_l, nu_l] = cubic_moduli(lattice, k, mu, 1);
+  const auto [E_f, nu_f] = cubic_moduli(lattice, k, mu, factor);
+  report("lps_lattice_youngs", E_l,
+         fmt::format("LPS interior particle (delta = 3h, partial volumes): E_x {:+.3f} %, nu {:+.3f} %; continuum "
+                     "family {:+.3f} %, {:+.3f} %; lattice with the deviatoric factor {:.4f}: {:+.3f} %, {:+.3f} %",
+                     100 * (E_l / E - 1), 100 * (nu_l / nu - 1), 100 * (E_c / E - 1), 100 * (nu_c / nu - 1), factor,
+                     100 * (E_f / E - 1), 100 * (nu_f / nu - 1)));
+  EXPECT_NEAR(E_c / E, 1.0, 2e-3);
+  EXPECT_NEAR(nu_c / nu, 1.0, 2e-3);
+  EXPECT_NEAR(E_f / E, 1.0, 2e-3);
+  EXPECT_NEAR(nu_f / nu, 1.0, 2e-3);
+  EXPECT_GT(E_l / E - 1, 0.01);  // the lattice's own error, which the continuum reference removes
 }
 
 }  // namespace
