@@ -39,8 +39,10 @@ const ModelTraits& traits() {
 // of an interior particle (surface_correction.hpp); step 2: a per-particle factor on the
 // deviatoric coefficient, the continuum's deviatoric energy over the particle's, summed
 // over unit uniform strains along the axes (the energy method, Madenci and Oterkus 2014
-// sec. 4.2, with the continuum reference as the PMB's: Le and Bobaru 2018 sec. 3).
-// The continuum reference of step 2 also corrects the lattice's own error inside: with
+// sec. 4.2). Its reference is the continuum family (surface_correction.hpp), as the PMB's,
+// not an interior particle of the same lattice (seed 002 digest sec. 4, so that the
+// lattice's error cancels): that error is what the reference would keep. The continuum
+// reference of step 2 corrects the lattice's own error inside: with
 // delta = 3h and partial volumes an interior particle's LPS energy is cubic, not
 // isotropic (sum omega V |xi|^2 n_x^4 / m = 0.2015 against 1/5), so E_x is 1.46 % high
 // and nu 0.97 % low there; the continuum's deviatoric energy of the axial strains scales
