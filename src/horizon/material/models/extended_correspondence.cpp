@@ -40,6 +40,7 @@ const ModelTraits& traits() {
     // rows read of particles further out, the committed damage (omega_D), the stabilisation
     // modulus and the midpoint residual's E (force_state, exchange_to_ghosts).
     m.rows_local = true;
+    m.adaptive_time_step = true;  // spring_factors: the stable step from the current state
     using R = ParameterSpec::Range;
     m.parameters = {
         {"seth_hill_m", "Seth-Hill parameter m of the bond strains (0: logarithmic, 1/2: engineering)", R::any, 0.0},
@@ -116,6 +117,7 @@ class ExtendedCorrespondence final : public Model {
     return sum;
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
+  bool spring_factors(const System& s, std::vector<double>& g) const override;
 
   // Every per-particle array is indexed by the material's particle list (io_listed: a
   // checkpoint of a decomposed run takes each entry from the particle's owner, the bonds'
@@ -355,6 +357,7 @@ class ExtendedCorrespondence final : public Model {
   std::vector<double> ks0_;      // its unsoftened value
   std::vector<double> ws_;       // per particle: the stabilisation energy W_s of the last pass [J/m^3]
   bool secant_ = false;          // stabilization_softening secant
+  bool adaptive_ = false;        // solver.adaptive_time_step: spring_factors from the current state
   std::vector<StrainLawState> committed_, trial_;
   std::vector<double> work_, energy_, von_mises_;
   // Per particle, the energy [J/m^3] a change of its acting set in this step released
@@ -465,6 +468,7 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   old_maps_.assign(n, extended::MomentMap{});
   old_kinv_.assign(n, Mat3::Zero());
   vol_gradient_ = choice(mat, "volumetric_strain") == "gradient";
+  adaptive_ = in.config.solver.adaptive_time_step;
   acting_.assign(n, UINT32_MAX);
   map_ok_.assign(n, 0);
 }
@@ -683,6 +687,53 @@ void ExtendedCorrespondence::commit(System& s) {
       if (s.computes_row(i))
         for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_committed_[k] = rp_trial_[k];
   }
+}
+
+// The stable step from the current state (solver.adaptive_time_step), as the classical
+// correspondence model's (correspondence.cpp spring_factors): the law's Kirchhoff stress
+// on a logarithmic strain (the Hencky measure, or E_(0)) gives a reference tangent that a
+// bond of direction n sees |F^-T n|^2 times stiffer than undeformed (a compression to the
+// stretch lambda along n: 1/lambda^2; digest 000 sec. 10, pitfall 14), while the
+// Silling-Askari bound of the shared spring (Silling and Askari 2005, eq. 17) is taken from
+// the reference state. F is the classical nonlocal deformation gradient over the bonds
+// that acted at the last force pass, with their shape tensor's inverse kept by that pass
+// (kinv_; material/nonlocal_gradient.hpp), so every rank that computes the row finds the
+// same factor (the acting set reads the neighbours' damage as the pass had it). The factor
+// of particle i is the mean of |F^-T n|^2 over its bonds with the bound's weights
+// omega V/|xi|: 1 in the reference state. A particle that carried no stress at the last
+// pass, or with det F <= 0, keeps 1; before the first pass every particle keeps 1.
+bool ExtendedCorrespondence::spring_factors(const System& s, std::vector<double>& g) const {
+  if (!adaptive_) return false;
+  const Bonds& B = s.bonds;
+  const Particles& P = s.particles;
+  if (acted_.size() != B.size()) return true;
+  const std::size_t n = particles_.size();
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    if (!s.computes_row(i) || inactive_[l] || B.begin(i) == B.end(i)) continue;  // another rank's row
+    const Vec3 yi = P.position(i);
+    Mat3 N = Mat3::Zero();
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!acted_[k]) continue;
+      const Vec3 xi = P.X[B.nbr[k]] - P.X[i], Y = P.position(B.nbr[k]) - yi;
+      N.noalias() += (B.weight[k] * B.volume[k]) * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+    }
+    Mat3 F = N * kinv_[l];
+    if (dim_ == 2) F(2, 2) = 1.0;
+    if (!(F.determinant() > 0)) continue;
+    const Mat3 FinvT = F.inverse().transpose();
+    double num = 0, den = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const Vec3 xi = P.X[B.nbr[k]] - P.X[i];
+      const double L = B.length[k];
+      const double w = B.weight[k] * B.volume[k] / L;
+      num += w * (FinvT * Eigen::Vector3d(xi.x / L, xi.y / L, xi.z / L)).squaredNorm();
+      den += w;
+    }
+    if (den > 0 && std::isfinite(num)) g[i] = num / den;
+  }
+  return true;
 }
 
 void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& out) const {
