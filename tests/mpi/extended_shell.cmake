@@ -8,7 +8,8 @@
 #    damage-dependent influence, their stabilisation modulus and midpoint strain E sent
 #    by their owners between the sweeps; contact; the adaptive step from its spring
 #    factors). Particles must fail (failure energy and the acting-set energy of omega_D)
-#    and the step must change; its 2-rank checkpoint restarted on 3 ranks is identical.
+#    and the step must change; its 2-rank checkpoint restarted on 3 ranks is identical;
+#    without contact, on 3 ranks with local particles, the serial program's state.
 #  - O'Grady's bond-pair shell (tests/mpi/shell.yaml: its own pair pass split by the
 #    nodes each rank owns, the support ghosts' forces gathered in the serial order, the
 #    supports' reactions added once). Pairs must yield and fail; its 2-rank checkpoint
@@ -33,6 +34,16 @@ if(NOT failure GREATER 0 OR acting EQUAL 0 OR NOT dt_max GREATER dt_min)
 endif()
 message(STATUS "extended: failure energy ${failure} J, acting-set energy ${acting} J, step ${dt_min} to ${dt_max} s")
 restart_on_three(extended ${WORK}/extended.yaml)
+# Without contact and checkpoints each rank holds only the particles it reads (local
+# particles, local numbering): the same exchange, the serial program's state.
+file(READ ${SOURCE}/tests/mpi/extended.yaml text)
+string(REPLACE "contact: {short_range: {max_distance: 0.9}}\n" "" text "${text}")
+file(WRITE ${WORK}/extended_local.yaml "${text}")
+same_bytes(extended_local ${WORK}/extended_local.yaml 3x1)
+string(JSON local GET "${extended_local_summary}" particles_local)
+if(NOT local)
+  message(FATAL_ERROR "the extended correspondence deck without contact must hold local particles on 3 ranks")
+endif()
 
 # O'Grady's bond-pair shell, with a checkpoint every 120 steps (the last at 120 of 210).
 file(READ ${SOURCE}/tests/mpi/shell.yaml text)
