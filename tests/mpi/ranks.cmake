@@ -10,7 +10,7 @@
 #    breaking bonds; and its 2-rank checkpoint of step 250 restarted on 3 ranks, equal
 #    to the uninterrupted run (each model's per-particle, per-bond and per-material
 #    records gathered from their owners);
-#  - a clear error for a model the decomposition does not split (extended_correspondence).
+#  - a clear error for a deck the decomposition does not split (finite-element regions).
 # cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P ranks.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/same_bytes.cmake)
 set(deck ${SOURCE}/tests/mpi/impact.yaml)
@@ -84,16 +84,17 @@ foreach(model IN LISTS models)
   message(STATUS "${name}: dissipated ${dissipated} J, broken fraction ${broken}; 2 -> 3 ranks restart identical")
 endforeach()
 
-# A model the decomposition does not split (extended_correspondence: its row reads the
-# neighbours' committed damage): a clear error on 2 ranks that lists the models it does
-# split, from the registry (nonlinear_solid among them: tests/mpi/split_models.cmake).
-string(REPLACE "model: pmb" "model: extended_correspondence${elastic}" text "${impact}")
-string(REPLACE "    damage: {critical_stretch: 0.002}\n" "" text "${text}")
-file(WRITE ${WORK}/ec.yaml "${text}")
-execute_process(COMMAND ${MPIEXEC} --oversubscribe -n 2 ${HORIZON} run ${WORK}/ec.yaml -q -o ${WORK}/ec
+# A deck the decomposition does not split (finite elements: the impact deck with a block
+# of hex8 elements beside its cylinder): a clear error on 2 ranks that says why.
+file(READ ${deck} text)
+string(REPLACE "    micromodulus: 2.1e21" "    youngs_modulus: 30.0e9" text "${text}")
+string(REPLACE "\ncontact:" "
+  - {name: block, material: target, discretization: fe, shape: {box: {min: [0.007, -0.005, -0.002], max: [0.010, -0.002, 0.002]}}}
+contact:" text "${text}")
+file(WRITE ${WORK}/fe.yaml "${text}")
+execute_process(COMMAND ${MPIEXEC} --oversubscribe -n 2 ${HORIZON} run ${WORK}/fe.yaml -q -o ${WORK}/fe
                 RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
-if(rc EQUAL 0 OR NOT log MATCHES "cannot run on 2 MPI ranks yet: model extended_correspondence is not split over ranks \\(the models that are: pmb, lps, [a-z_, ]*correspondence"
-   OR NOT log MATCHES "nonlinear_solid")
-  message(FATAL_ERROR "an extended_correspondence deck on 2 ranks: exit ${rc}, expected a clear error:\n${log}")
+if(rc EQUAL 0 OR NOT log MATCHES "cannot run on 2 MPI ranks yet: finite-element regions are not split over ranks")
+  message(FATAL_ERROR "a deck with a finite-element body on 2 ranks: exit ${rc}, expected a clear error:\n${log}")
 endif()
 file(REMOVE_RECURSE ${WORK})

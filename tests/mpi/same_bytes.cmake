@@ -75,3 +75,31 @@ function(same_bytes label deck)
   endforeach()
   set(${label}_summary "${summary}" PARENT_SCOPE)
 endfunction()
+
+# restart_on_three(label deck): the checkpoint of the run ${WORK}/${label}_2x1 (same_bytes)
+# restarted on 3 ranks must continue as the uninterrupted 2-rank run: the same history.csv
+# and state_crc32.
+function(restart_on_three label deck)
+  set(out ${WORK}/${label}_restart)
+  file(COPY ${WORK}/${label}_2x1/checkpoint.hzc DESTINATION ${out})
+  execute_process(COMMAND ${MPIEXEC} --oversubscribe -n 3 ${HORIZON} run ${deck} -q -o ${out} --threads 1
+                          --restart ${out}/checkpoint.hzc
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${label}: restart on 3 ranks: exit ${rc}\n${log}")
+  endif()
+  file(READ ${WORK}/${label}_2x1/history.csv expected)
+  file(READ ${out}/history.csv found)
+  if(NOT found STREQUAL expected)
+    message(FATAL_ERROR "${label}: the 2-rank checkpoint restarted on 3 ranks: history.csv differs from the "
+                        "uninterrupted run (${WORK}/${label}_2x1, ${out})")
+  endif()
+  file(READ ${out}/summary.json summary)
+  string(JSON crc GET "${summary}" state_crc32)
+  file(READ ${WORK}/${label}_2x1/summary.json summary)
+  string(JSON expected GET "${summary}" state_crc32)
+  if(NOT crc EQUAL expected)
+    message(FATAL_ERROR "${label}: the 2-rank checkpoint restarted on 3 ranks: state_crc32 ${crc}, uninterrupted ${expected}")
+  endif()
+  message(STATUS "${label}: the 2-rank checkpoint restarted on 3 ranks is identical")
+endfunction()

@@ -90,3 +90,11 @@ if(rc EQUAL 0 OR NOT log MATCHES "cannot run on 2 MPI ranks yet" OR NOT log MATC
   message(FATAL_ERROR "cholesky on 2 ranks: expected the error '${expected}', got exit ${rc}\n${log}")
 endif()
 message(STATUS "cholesky on 2 ranks refused as expected")
+# A structure solved statically (examples/plate_navier.yaml, model bond_pair): its tangent
+# is not the unified form's, so no solver setting splits it; the error says so first.
+execute_process(COMMAND ${MPIEXEC} --oversubscribe -n 2 ${HORIZON} run ${SOURCE}/examples/plate_navier.yaml -q
+                        -o ${WORK}/plate RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+if(rc EQUAL 0 OR NOT log MATCHES "cannot run on 2 MPI ranks yet: static and implicit solves are split over ranks for the unified models only")
+  message(FATAL_ERROR "a static structure on 2 ranks: expected the unified-models error, got exit ${rc}\n${log}")
+endif()
+message(STATUS "a static structure on 2 ranks refused as expected")

@@ -126,5 +126,44 @@ TEST(ExtendedCorrespondenceModel, ImpactMomentumThreadsAndLedger) {
   EXPECT_LT(damaged.max_balance_error, 0.02);
 }
 
+// The stable step of a compressed state (solver.adaptive_time_step, Model::spring_factors;
+// the Taylor bar's face, digest 000 sec. 10 pitfall 14): a J2 block (8^3, horizon 3
+// spacings, Hencky strains) given the isochoric compression F = diag(lambda^-1/2, lambda,
+// lambda^-1/2), lambda = 0.1, and one force pass. Each particle's half spring is scaled by
+// the mean of |F^-T n|^2 over its bonds, which for a family with cubic symmetry is
+// (lambda^-2 + 2 lambda)/3 = 33.4: the current bound is 1/sqrt(33.4) = 0.173 of the
+// reference one (the classical correspondence model's block gives 0.172). Without
+// adaptive_time_step the step stays the reference one.
+TEST(ExtendedCorrespondenceModel, CompressedStateNeedsTheCurrentStableStep) {
+  test::SingleThread one;
+  MaterialConfig mat = model_material("extended_correspondence", kE, kNu, kRho,
+                                      {{"yield_stress", 250e6}, {"hardening_modulus", 1e9}});
+  mat.choices["stress_law"] = "j2";
+  mat.choices["strain_measure"] = "hencky";
+  test::BlockSpec b;
+  b.n = {8, 8, 8};
+  double ratio[2] = {0, 0};
+  for (int adaptive = 0; adaptive < 2; ++adaptive) {
+    Config c = test::block_config(b, mat);
+    c.solver.adaptive_time_step = adaptive == 1;
+    System s = build_system(c);
+    const double reference = stable_time_step(s);
+    const double lambda = 0.1, a = 1 / std::sqrt(lambda);
+    for (std::size_t i = 0; i < s.particles.size(); ++i) {
+      const Vec3& X = s.particles.X[i];
+      s.particles.u[i] = {(a - 1) * X.x, (lambda - 1) * X.y, (a - 1) * X.z};
+    }
+    compute_forces(s, false);
+    ratio[adaptive] = stable_time_step(s) / reference;
+  }
+  const double expected = 1 / std::sqrt((1 / (0.1 * 0.1) + 2 * 0.1) / 3);
+  report("ext_compressed_dt_ratio", ratio[1],
+         fmt::format("extended correspondence, compressed J2 block (lambda 0.1): current/reference stable step {:.3f} "
+                     "(the cubic family's 1/sqrt((lambda^-2 + 2 lambda)/3) = {:.3f}; fixed step: {:.3f})",
+                     ratio[1], expected, ratio[0]));
+  EXPECT_EQ(ratio[0], 1.0);
+  EXPECT_NEAR(ratio[1], expected, 0.1 * expected);
+}
+
 }  // namespace
 }  // namespace horizon::verification

@@ -468,7 +468,8 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
     for (const auto& mat : config.materials) nonlinear = nonlinear && find_model(mat.model)->traits.adaptive_time_step;
     if (sc.adaptive_time_step && !nonlinear) {
       ctx.fail(a->mark, a->path + ": the adaptive time step follows the current stiffness of the models "
-                                  "nonlinear_solid and correspondence; the other models keep the step fixed at the start");
+                                  "nonlinear_solid, correspondence and extended_correspondence; the other models keep the step "
+                                  "fixed at the start");
     }
     if (sc.adaptive_time_step && sc.time_step) {
       ctx.fail(a->mark, a->path + ": give either time_step (fixed) or adaptive_time_step: true, not both");

@@ -894,9 +894,10 @@ int ExplicitRun::finish() {
                {"coupling_work", s.fe->coupling_work}};
   }
   summary_state(j, o, g, *r.loads, r.max_balance_error);
-  if (&o != &s || (r.dd && r.dd->local_particles)) {
-    // Local particles: the models' dissipation parts (summary_state's sum, in the same
-    // global order) from every owner's field values gathered on rank 0.
+  if (&o != &s || (r.dd && (r.dd->local_particles || r.dd->size > 1))) {
+    // Local particles, or a run on several ranks (a model's fields hold its owned
+    // particles' values only): the models' dissipation parts (summary_state's sum, in the
+    // same global order) from every owner's field values gathered on rank 0.
     std::vector<ModelField> fields;
     for (const auto& m : s.models) m->fields(s, fields);
     nlohmann::ordered_json parts = nlohmann::ordered_json::object();

@@ -55,14 +55,15 @@ struct Row {
 // Why this implicit deck cannot be split over ranks beyond distributed_limits (run.hpp); empty when it can.
 static std::string implicit_distributed_limits(const Config& c, const System& s) {
   const SolverConfig& sc = c.solver;
+  // The models first: no solver setting splits a model outside the unified form.
+  if (!unified_form(s))
+    return "static and implicit solves are split over ranks for the unified models only (" +
+           model_list([](const ModelTraits& t) { return t.unified; }) + "), whose tangent is applied row by row";
   const bool newton = sc.type == SolverType::implicit_dynamic || sc.method == StaticMethod::newton;
   if (newton && sc.linear_solver != LinearSolverKind::matrix_free)
     return fmt::format("solver.linear_solver {} assembles the whole tangent on one rank; on several ranks use "
                        "linear_solver: matrix_free{}",
                        linear_name(sc.linear_solver), sc.type == SolverType::static_equilibrium ? " (or method: adr)" : "");
-  if (!unified_form(s))
-    return "static and implicit solves are split over ranks for the unified models only (" +
-           model_list([](const ModelTraits& t) { return t.unified; }) + "), whose tangent is applied row by row";
   if (sc.condition_number) return "solver.condition_number assembles the whole tangent on one rank";
   return "";
 }

@@ -298,9 +298,10 @@ double Loads::update_reactions(System& s, const std::vector<Vec3>& u_before, con
   const Decomposition* dd = s.decomposition;
   GridSum sums(s, 1 + 3 * static_cast<int>(loads_.size()));
   // A structure's supports also take the forces of the model's ghost nodes beyond them
-  // (Model::support_reactions; models that own the force pass never run decomposed).
+  // (Model::support_reactions: the whole support's, the same on every rank of a
+  // decomposed run, where rank 0 adds them).
   std::vector<Vec3> beyond;
-  if (const Model* m = s.models.owner()) m->support_reactions(s, beyond);
+  if (const Model* m = s.models.owner(); m && (!dd || dd->rank == 0)) m->support_reactions(s, beyond);
   for (std::size_t l = 0; l < loads_.size(); ++l) {
     auto& L = loads_[l];
     const int q = 1 + 3 * static_cast<int>(l);

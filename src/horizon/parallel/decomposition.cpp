@@ -538,7 +538,8 @@ void gather_owned_on_lead(const System& s, const Decomposition& d, int k, Pack p
 std::vector<double> gather_on_lead(const System& s, const Decomposition& d, const std::vector<double>& local) {
   std::vector<double> whole;
 #if defined(HORIZON_MPI)
-  if (d.rank == 0) whole.assign(d.global_particles, 0.0);
+  // Without local particles the indices are the global ids (Particles::id).
+  if (d.rank == 0) whole.assign(d.local_particles ? d.global_particles : s.particles.size(), 0.0);
   gather_owned_on_lead(
       s, d, 1, [&](uint32_t i, std::vector<double>& o) { o.push_back(i < local.size() ? local[i] : 0.0); },
       [&](std::size_t g, const double* p) { whole[g] = p[0]; });

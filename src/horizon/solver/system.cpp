@@ -361,7 +361,8 @@ bool local_rows_allowed(const Config& c) {
   for (const auto& mat : c.materials) {
     const ModelEntry* e = find_model(mat.model);
     // An exclusive model owns its force pass: split when it computes the owned rows alone
-    // (rows_local, nonlinear_solid), whole on every rank otherwise (bond_pair).
+    // (rows_local), whole on every rank otherwise. Structures keep
+    // every particle (above): their pass reads the ghost nodes' masters near the supports.
     if (!e || !(e->traits.unified || e->traits.rows_local)) return false;
     // The surface correction of a bond reads both ends' families (rows further out).
     if (const auto it = mat.parameters.find("surface_correction"); it != mat.parameters.end() && it->second != 0)

@@ -7,6 +7,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/family/precrack.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -25,6 +26,10 @@ const ModelTraits& traits() {
     m.critical_stretch_law = false;
     m.exclusive = true;
     m.structural = true;
+    // Split over MPI ranks by its own pass (force_pass, split()): each rank evaluates the
+    // pairs and bonds that reach its owned nodes (and the ghost nodes whose support force
+    // it sums), in the serial order, from the positions of the particles they read.
+    m.rows_local = true;
     m.influences = {InfluenceKind::constant};
     m.parameters = {
         {"depth", "beam: depth t of the rectangular section [m], I = area t^2/12; 0: a square section",
@@ -86,13 +91,30 @@ class BondPair final : public Model {
   bool stiffness(const System& s, StiffnessSink& out) const override;
   void fields(const System& s, std::vector<ModelField>& out) const override;
 
+  // The per-pair history belongs to the pair's keeper (keeper_: a rank that evaluates the
+  // pair owns it), so a checkpoint of a decomposed run takes each pair's entries from there.
   void checkpoint(StateArchive& a) override {
-    a.io("theta_p", theta_p_);
-    a.io("theta_p_trial", theta_p_trial_);
-    a.io("failed", failed_);
+    a.io_listed("theta_p", theta_p_, keeper_);
+    a.io_listed("theta_p_trial", theta_p_trial_, keeper_);
+    a.io_listed("failed", failed_, keeper_);
     a.io("held", held_);
   }
  private:
+  // Run split over ranks (s.decomposition with more than one rank): chooses, once per
+  // decomposition, the pairs and bonds this rank evaluates and makes their particles its
+  // ghosts (split()). `part_` false: every pair and bond (serially, and on one rank).
+  void split(System& s);
+  bool part_ = false;
+  const Decomposition* split_for_ = nullptr;
+  std::vector<uint32_t> my_pairs_, my_bonds_;  // ascending: the serial order of every sum
+  std::vector<int32_t> ghost_rank_;            // per ghost node: the rank that sums its force
+  std::vector<double> ghost_force_;            // exchange buffer of the ghosts' forces
+  // Per pair: the real particle whose owner keeps its history (checkpoint) and counts its
+  // failure: the centre, or a ghost centre's first master.
+  std::vector<uint32_t> keeper_;
+  uint32_t master(uint32_t node) const {
+    return node < n_real_ ? node : ghost_terms_[ghost_offset_[node - n_real_]].node;
+  }
   void positions(const System& s);
   void current_positions(const System& s, std::vector<Vec3>& y) const;
   Kink shell_kink(const std::vector<Vec3>& y, const Pair& p) const;
@@ -403,6 +425,10 @@ void BondPair::setup(const ModelSetup& in) {
     }
   }
   m0_inv_.assign(N, 1 / m0);
+  keeper_.resize(pairs_.size());
+  for (std::size_t q = 0; q < pairs_.size(); ++q) keeper_[q] = master(pairs_[q].k);
+  split_for_ = nullptr;
+  part_ = false;
   theta_p_.assign(pairs_.size() * static_cast<std::size_t>(kink_dims_), 0);
   theta_p_trial_.assign(theta_p_.size(), 0);
   failed_.assign(pairs_.size(), 0);
@@ -461,8 +487,63 @@ double BondPair::plastic_increment(std::size_t q) const {
   return std::sqrt(sum);
 }
 
+// The pairs and bonds this rank evaluates in a decomposed run. Its targets: its owned
+// nodes and the ghost nodes it sums the support force of (those whose first master it
+// owns). A target's force sums the pairs that touch it, the isotropic-curvature terms of
+// their centres (each needs every pair of its centre) and the bonds that touch it (each
+// needs the 2-D dilatation of both ends: every bond of a node bonded to a target). Every
+// such sum runs over the same terms in the same order as serially, so the target's force
+// has the serial bits. The particles these terms read (a ghost node: its masters) become
+// the rank's ghosts (parallel/decomposition.hpp refresh_ghosts): two horizons and more
+// from its own, beyond what the bond rows reach near a support. Collective.
+void BondPair::split(System& s) {
+  Decomposition& d = *s.decomposition;
+  split_for_ = &d;
+  part_ = d.size > 1;
+  my_pairs_.clear();
+  my_bonds_.clear();
+  if (!part_) return;
+  if (d.local_particles) throw Error("internal error: model bond_pair with local particles");
+  const std::size_t n = n_real_, N = X_.size();
+  std::vector<uint8_t> target(N, 0);
+  for (std::size_t i = 0; i < n; ++i) target[i] = d.owns(i) ? 1 : 0;
+  ghost_rank_.assign(N - n, 0);
+  for (std::size_t g = 0; g + n < N; ++g) {
+    ghost_rank_[g] = d.owner[master(static_cast<uint32_t>(n + g))];
+    target[n + g] = ghost_rank_[g] == d.rank ? 1 : 0;
+  }
+  std::vector<uint8_t> centre(N, 0);
+  for (const Pair& p : pairs_)
+    if (target[p.k] || target[p.j] || target[p.jp]) centre[p.k] = 1;
+  for (std::size_t q = 0; q < pairs_.size(); ++q)
+    if (centre[pairs_[q].k]) my_pairs_.push_back(static_cast<uint32_t>(q));
+  std::vector<uint8_t> near(target);
+  for (const Bond& b : bonds_) {
+    if (target[b.k]) near[b.j] = 1;
+    if (target[b.j]) near[b.k] = 1;
+  }
+  for (std::size_t b = 0; b < bonds_.size(); ++b)
+    if (near[bonds_[b].k] || near[bonds_[b].j]) my_bonds_.push_back(static_cast<uint32_t>(b));
+  auto read = [&](uint32_t node) {
+    auto mark = [&](uint32_t i) {
+      if (!d.owns(i)) d.bond_ghosts[i] = 1;
+    };
+    if (node < n) return mark(node);
+    for (uint64_t t = ghost_offset_[node - n]; t < ghost_offset_[node - n + 1]; ++t) mark(ghost_terms_[t].node);
+  };
+  for (uint32_t q : my_pairs_) read(pairs_[q].k), read(pairs_[q].j), read(pairs_[q].jp);
+  for (uint32_t b : my_bonds_) read(bonds_[b].k), read(bonds_[b].j);
+  refresh_ghosts(s, d);
+  exchange_ghost_values(d, s.particles.u);  // the new ghosts' displacements for this pass
+}
+
 uint64_t BondPair::force_pass(System& s, bool energy) {
   auto& P = s.particles;
+  if (s.decomposition && s.decomposition != split_for_) split(s);
+  const std::size_t pair_count = part_ ? my_pairs_.size() : pairs_.size();
+  const std::size_t bond_count = part_ ? my_bonds_.size() : bonds_.size();
+  auto pair_at = [&](std::size_t a) { return part_ ? static_cast<std::size_t>(my_pairs_[a]) : a; };
+  auto bond_at = [&](std::size_t a) -> const Bond& { return bonds_[part_ ? my_bonds_[a] : a]; };
   positions(s);
   const std::size_t N = X_.size();
   std::fill(F_.begin(), F_.end(), Vec3{});
@@ -473,8 +554,11 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   const Vec3 nz{0, 0, 1};
   uint64_t newly_failed = 0;
 
+  // A pair that fails is counted by its keeper's owner alone (summed over ranks).
+  auto counts = [&](std::size_t q) { return !part_ || s.decomposition->owns(keeper_[q]) ? 1 : 0; };
   // Bending pairs (eqs. 3.1, 4.1 x 2; digest sec. 4.2), elastic-plastic (4.8) or brittle (4.9).
-  for (std::size_t q = 0; q < pairs_.size(); ++q) {
+  for (std::size_t a = 0; a < pair_count; ++a) {
+    const std::size_t q = pair_at(a);
     const Pair& p = pairs_[q];
     if (failed_[q]) continue;
     const Vec3 Y = y_[p.j] - y_[p.k], Yp = y_[p.jp] - y_[p.k];
@@ -485,7 +569,7 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       if (theta_fail_ > 0 && !no_fail_[q] && std::hypot(d.n, d.t) >= theta_fail_) {
         if (!held_) {
           failed_[q] = 1;
-          ++newly_failed;
+          newly_failed += counts(q);
           continue;
         }
       }
@@ -510,7 +594,7 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       if (theta_fail_ > 0 && !no_fail_[q] && std::abs(sk) >= theta_fail_) {
         if (!held_) {
           failed_[q] = 1;
-          ++newly_failed;
+          newly_failed += counts(q);
           continue;
         }
       }
@@ -530,7 +614,7 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
     if (theta_fail_ > 0 && !no_fail_[q] && rp.energy >= 1 - std::cos(theta_fail_)) {
       if (!held_) {
         failed_[q] = 1;
-        ++newly_failed;
+        newly_failed += counts(q);
         continue;
       }
     }
@@ -545,14 +629,16 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   // kbar_k = (1/m0) sum_j omega (Y_kj + Y_kj')/|xi|^2 V_j, E' = sum_k C kbar.kbar V_k.
   if (iso_C_ != 0) {
     std::fill(kbar_.begin(), kbar_.end(), Vec3{});
-    for (std::size_t q = 0; q < pairs_.size(); ++q) {
+    for (std::size_t a = 0; a < pair_count; ++a) {
+      const std::size_t q = pair_at(a);
       const Pair& p = pairs_[q];
       if (failed_[q]) continue;
       const Vec3 Y = y_[p.j] - y_[p.k], Yp = y_[p.jp] - y_[p.k];
       // Both orientations of the pair: 2 omega V_j (Y + Y')/|xi|^2, omega_iso = |xi|.
       kbar_[p.k] += (Y + Yp) * (2 * p.inv_length * V_[p.j] * m0_inv_[p.k]);
     }
-    for (std::size_t q = 0; q < pairs_.size(); ++q) {
+    for (std::size_t a = 0; a < pair_count; ++a) {
+      const std::size_t q = pair_at(a);
       const Pair& p = pairs_[q];
       if (failed_[q]) continue;
       const Vec3 g = kbar_[p.k] * p.iso;  // dE'/dy_j = dE'/dy_j' = (4C/m0) omega Vk Vj kbar_k/|xi|^2
@@ -570,13 +656,15 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   if (!bonds_.empty() && bonds_[0].coef != 0) {
     if (dil_coef_ != 0) {
       std::fill(theta_.begin(), theta_.end(), 0.0);
-      for (const Bond& b : bonds_) {
+      for (std::size_t a = 0; a < bond_count; ++a) {
+        const Bond& b = bond_at(a);
         const double e = norm(y_[b.j] - y_[b.k]) - b.length;
         theta_[b.k] += b.dil * e * V_[b.j];
         theta_[b.j] += b.dil * e * V_[b.k];
       }
     }
-    for (const Bond& b : bonds_) {
+    for (std::size_t a = 0; a < bond_count; ++a) {
+      const Bond& b = bond_at(a);
       const Vec3 Y = y_[b.j] - y_[b.k];
       const double L = norm(Y), e = L - b.length;
       double t = 2 * b.coef * e;  // dE/d|Y|
@@ -594,6 +682,24 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   // The ghosts' forces act on no particle: the supports take them (their reactions,
   // support_reactions). The forces of every pair and bond sum to zero, so the reactions
   // of the support nodes plus these balance the load at equilibrium.
+  // Split over ranks: each ghost's force from the rank that sums it (every rank then adds
+  // them up in the serial order).
+  if (part_) {
+    ghost_force_.clear();
+    for (std::size_t g = 0; g + n_real_ < N; ++g)
+      if (ghost_rank_[g] == s.decomposition->rank)
+        ghost_force_.insert(ghost_force_.end(), {F_[n_real_ + g].x, F_[n_real_ + g].y, F_[n_real_ + g].z});
+    const std::vector<double> all = allgather_values(ghost_force_);
+    // Rank r's entries start after those of the ranks before it.
+    std::vector<std::size_t> at(static_cast<std::size_t>(s.decomposition->size) + 1, 0);
+    for (int32_t r : ghost_rank_) at[static_cast<std::size_t>(r) + 1] += 3;
+    for (std::size_t r = 1; r < at.size(); ++r) at[r] += at[r - 1];
+    for (std::size_t g = 0; g + n_real_ < N; ++g) {
+      std::size_t& k = at[static_cast<std::size_t>(ghost_rank_[g])];
+      F_[n_real_ + g] = {all[k], all[k + 1], all[k + 2]};
+      k += 3;
+    }
+  }
   std::fill(support_force_.begin(), support_force_.end(), Vec3{});
   for (std::size_t g = 0; g + n_real_ < N; ++g)
     for (uint64_t t = share_offset_[g]; t < share_offset_[g + 1]; ++t)

@@ -1,10 +1,12 @@
 #include "horizon/material/models/extended_correspondence.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
 #include "horizon/core/error.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -12,6 +14,9 @@ namespace horizon {
 // A StrainLawState is numbers and a fixed-size Eigen matrix: it checkpoints as its bytes.
 template <>
 struct plain_data<classical::StrainLawState> : std::true_type {};
+// The kept moment maps: two fixed-size Eigen matrices, as bytes.
+template <>
+struct plain_data<extended::MomentMap> : std::true_type {};
 
 namespace {
 
@@ -30,6 +35,12 @@ const ModelTraits& traits() {
         "Johnson-Cook viscoplasticity and damage, damage-dependent influence (eq. 7.1-7.2)";
     m.min_dimension = 2;
     m.default_influence = InfluenceKind::gaussian;
+    // Split over MPI ranks: a rank computes the rows of its owned particles and of their
+    // bond neighbours (the general pass's rule) and receives from the owners what those
+    // rows read of particles further out, the committed damage (omega_D), the stabilisation
+    // modulus and the midpoint residual's E (force_state, exchange_to_ghosts).
+    m.rows_local = true;
+    m.adaptive_time_step = true;  // spring_factors: the stable step from the current state
     using R = ParameterSpec::Range;
     m.parameters = {
         {"seth_hill_m", "Seth-Hill parameter m of the bond strains (0: logarithmic, 1/2: engineering)", R::any, 0.0},
@@ -106,24 +117,74 @@ class ExtendedCorrespondence final : public Model {
     return sum;
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
+  bool spring_factors(const System& s, std::vector<double>& g) const override;
 
-  // The moment maps are a cache of the acting sets: after a restart they are built again
-  // (acting_ = not built), from the same bonds, so they come out the same.
+  // Every per-particle array is indexed by the material's particle list (io_listed: a
+  // checkpoint of a decomposed run takes each entry from the particle's owner, the bonds'
+  // from their row's owner). The moment maps are kept with the acting-set size they were
+  // built for and the bonds that acted at the last pass: a change of the acting set in
+  // the first step after a restart then prices the old set as the uninterrupted run does.
   void checkpoint(StateArchive& a) override {
-    a.io("committed", committed_);
-    a.io("trial", trial_);
-    a.io("work", work_);
-    a.io("energy", energy_);
-    a.io("von_mises", von_mises_);
-    a.io("inactive", inactive_);
-    a.io("map_ok", map_ok_);
-    a.io("plastic_total", plastic_total_);
-    a.io("failure_total", failure_total_);
-    a.io("acting_set_total", thinned_total_);
-    a.io("stabilization_modulus", ks_);
-    if (a.loading()) acting_.assign(acting_.size(), UINT32_MAX);
+    a.io_listed("committed", committed_, particles_);
+    a.io_listed("trial", trial_, particles_);
+    a.io_listed("work", work_, particles_);
+    a.io_listed("energy", energy_, particles_);
+    a.io_listed("von_mises", von_mises_, particles_);
+    a.io_listed("inactive", inactive_, particles_);
+    a.io_listed("map_ok", map_ok_, particles_);
+    a.io_listed("plastic_total", plastic_total_, particles_);
+    a.io_listed("failure_total", failure_total_, particles_);
+    a.io_listed("acting_set_total", thinned_total_, particles_);
+    a.io_listed("stabilization_modulus", ks_, particles_);
+    a.io_listed("acting_count", acting_, particles_);
+    a.io_listed("acting_share", acting_share_, particles_);
+    a.io_listed("moment_map", maps_, particles_);
+    std::vector<std::array<double, 9>> kinv(kinv_.size());
+    for (std::size_t l = 0; l < kinv_.size(); ++l) std::copy(kinv_[l].data(), kinv_[l].data() + 9, kinv[l].begin());
+    a.io_listed("shape_inverse", kinv, particles_);
+    if (a.loading()) {
+      kinv_.resize(kinv.size());
+      for (std::size_t l = 0; l < kinv.size(); ++l) std::copy(kinv[l].begin(), kinv[l].end(), kinv_[l].data());
+    }
+    a.io_bonds("acted", acted_);
+    if (stab_yield_ > 0) {
+      a.io_bonds("plastic_residual", rp_committed_);
+      if (a.loading()) rp_trial_ = rp_committed_;
+    }
   }
  private:
+  // A decomposed run on more than one rank: `width` (<= 9) numbers per particle of this
+  // material, packed by pack(l, v) on every rank, go from each owner to the ranks that hold
+  // the particle as a ghost (parallel/decomposition.hpp exchange_ghost_values, three
+  // numbers a message entry), where unpack(l, v) takes them for every particle this rank
+  // does not own. Collective: every rank calls it at the same point of every pass (its
+  // model exists on every rank, with or without particles). Nothing serially.
+  template <class Pack, class Unpack>
+  void exchange_to_ghosts(const System& s, int width, Pack pack, Unpack unpack) {
+    Decomposition* d = s.decomposition;
+    if (!d || d->size == 1) return;
+    const std::size_t n = particles_.size(), groups = static_cast<std::size_t>((width + 2) / 3);
+    exchange_.resize(groups);
+    double v[9] = {};
+    for (auto& g : exchange_) g.assign(s.particles.size(), Vec3{});
+    for (std::size_t l = 0; l < n; ++l) {
+      pack(l, v);
+      for (std::size_t g = 0; g < groups; ++g)
+        exchange_[g][particles_[l]] = {v[3 * g], v[3 * g + 1], v[3 * g + 2]};
+    }
+    for (auto& g : exchange_) exchange_ghost_values(*d, g);
+    for (std::size_t l = 0; l < n; ++l) {
+      const uint32_t i = particles_[l];
+      if (d->owns(i)) continue;
+      for (std::size_t g = 0; g < groups; ++g) {
+        const Vec3& e = exchange_[g][i];
+        v[3 * g] = e.x, v[3 * g + 1] = e.y, v[3 * g + 2] = e.z;
+      }
+      unpack(l, v);
+    }
+  }
+  std::vector<std::vector<Vec3>> exchange_;  // exchange_to_ghosts' buffers
+
   // Elastic energy released by a particle that fails in this step [J/m^3]: its damage
   // passes D_c (omega_D drops its bonds) or reaches 1 (the law stops carrying stress,
   // the only failure when D_c = 1).
@@ -296,6 +357,7 @@ class ExtendedCorrespondence final : public Model {
   std::vector<double> ks0_;      // its unsoftened value
   std::vector<double> ws_;       // per particle: the stabilisation energy W_s of the last pass [J/m^3]
   bool secant_ = false;          // stabilization_softening secant
+  bool adaptive_ = false;        // solver.adaptive_time_step: spring_factors from the current state
   std::vector<StrainLawState> committed_, trial_;
   std::vector<double> work_, energy_, von_mises_;
   // Per particle, the energy [J/m^3] a change of its acting set in this step released
@@ -406,6 +468,7 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   old_maps_.assign(n, extended::MomentMap{});
   old_kinv_.assign(n, Mat3::Zero());
   vol_gradient_ = choice(mat, "volumetric_strain") == "gradient";
+  adaptive_ = in.config.solver.adaptive_time_step;
   acting_.assign(n, UINT32_MAX);
   map_ok_.assign(n, 0);
 }
@@ -424,11 +487,16 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     rp_trial_.assign(B.size(), 0.0);
   }
   const std::size_t n = particles_.size();
+  // A decomposed run: the ghosts' committed damage (which bonds act, omega_D) and
+  // stabilisation modulus from their owners (rows_local in traits()).
+  exchange_to_ghosts(s, 2, [&](std::size_t l, double* v) { v[0] = committed_[l].damage, v[1] = ks_[l]; },
+                     [&](std::size_t l, const double* v) { committed_[l].damage = v[0], ks_[l] = v[1]; });
   // Sweep 1: the acting sets and moment maps, and (midpoint residual) every particle's E,
   // which sweep 2's stabilisation reads at both ends of a bond.
 #pragma omp parallel for schedule(static) if (n > 512)
   for (std::size_t l = 0; l < n; ++l) {
     const uint32_t i = particles_[l];
+    if (!s.computes_row(i)) continue;  // another rank's row (its state comes from its owner)
     const Point4 yi = y[i];
     auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
     const bool self_failed = committed_[l].damage > critical_;
@@ -482,10 +550,23 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       e_ok_[l] = 1;
     }
   }
+  // The midpoint residual reads E of both ends: the ghosts' from their owners.
+  if (midpoint_)
+    exchange_to_ghosts(
+        s, 7,
+        [&](std::size_t l, double* v) {
+          for (int c = 0; c < 6; ++c) v[c] = e_vec_[l][c];
+          v[6] = e_ok_[l];
+        },
+        [&](std::size_t l, const double* v) {
+          for (int c = 0; c < 6; ++c) e_vec_[l][c] = v[c];
+          e_ok_[l] = v[6] != 0 ? 1 : 0;
+        });
   // Sweep 2: the law, the stabilisation and the force states.
 #pragma omp parallel for schedule(static) if (n > 512)
   for (std::size_t l = 0; l < n; ++l) {
     const uint32_t i = particles_[l];
+    if (!s.computes_row(i)) continue;
     const Point4 yi = y[i];
     auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
     const bool self_failed = committed_[l].damage > critical_;
@@ -575,6 +656,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
 
 void ExtendedCorrespondence::commit(System& s) {
   for (std::size_t l = 0; l < particles_.size(); ++l) {
+    if (!s.computes_row(particles_[l])) continue;  // another rank's row
     // stabilization_softening secant: k_s follows the committed plastic strain (thesis
     // sec. 8 suggests the plastic part of the bond strain state, after Mitchell; this is
     // the scalar version): k_s = k_s0 s_f/(s_f + 3 mu eps_p), the secant of the flow curve
@@ -602,8 +684,56 @@ void ExtendedCorrespondence::commit(System& s) {
   if (stab_yield_ > 0 && !rp_trial_.empty()) {
     const Bonds& B = s.bonds;
     for (uint32_t i : particles_)
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_committed_[k] = rp_trial_[k];
+      if (s.computes_row(i))
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_committed_[k] = rp_trial_[k];
   }
+}
+
+// The stable step from the current state (solver.adaptive_time_step), as the classical
+// correspondence model's (correspondence.cpp spring_factors): the law's Kirchhoff stress
+// on a logarithmic strain (the Hencky measure, or E_(0)) gives a reference tangent that a
+// bond of direction n sees |F^-T n|^2 times stiffer than undeformed (a compression to the
+// stretch lambda along n: 1/lambda^2; digest 000 sec. 10, pitfall 14), while the
+// Silling-Askari bound of the shared spring (Silling and Askari 2005, eq. 17) is taken from
+// the reference state. F is the classical nonlocal deformation gradient over the bonds
+// that acted at the last force pass, with their shape tensor's inverse kept by that pass
+// (kinv_; material/nonlocal_gradient.hpp), so every rank that computes the row finds the
+// same factor (the acting set reads the neighbours' damage as the pass had it). The factor
+// of particle i is the mean of |F^-T n|^2 over its bonds with the bound's weights
+// omega V/|xi|: 1 in the reference state. A particle that carried no stress at the last
+// pass, or with det F <= 0, keeps 1; before the first pass every particle keeps 1.
+bool ExtendedCorrespondence::spring_factors(const System& s, std::vector<double>& g) const {
+  if (!adaptive_) return false;
+  const Bonds& B = s.bonds;
+  const Particles& P = s.particles;
+  if (acted_.size() != B.size()) return true;
+  const std::size_t n = particles_.size();
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    if (!s.computes_row(i) || inactive_[l] || B.begin(i) == B.end(i)) continue;  // another rank's row
+    const Vec3 yi = P.position(i);
+    Mat3 N = Mat3::Zero();
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!acted_[k]) continue;
+      const Vec3 xi = P.X[B.nbr[k]] - P.X[i], Y = P.position(B.nbr[k]) - yi;
+      N.noalias() += (B.weight[k] * B.volume[k]) * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+    }
+    Mat3 F = N * kinv_[l];
+    if (dim_ == 2) F(2, 2) = 1.0;
+    if (!(F.determinant() > 0)) continue;
+    const Mat3 FinvT = F.inverse().transpose();
+    double num = 0, den = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const Vec3 xi = P.X[B.nbr[k]] - P.X[i];
+      const double L = B.length[k];
+      const double w = B.weight[k] * B.volume[k] / L;
+      num += w * (FinvT * Eigen::Vector3d(xi.x / L, xi.y / L, xi.z / L)).squaredNorm();
+      den += w;
+    }
+    if (den > 0 && std::isfinite(num)) g[i] = num / den;
+  }
+  return true;
 }
 
 void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& out) const {
