@@ -24,10 +24,11 @@
 //     solves, the surface correction, decks the split refuses) build the whole system on
 //     every rank, and only the work is split;
 //   - integrates only its own particles, and computes the bond rows of its own and, for
-//     state-based models and the critical stretch with a compression factor, also of
-//     their bond neighbours (the dilatation or the lowered critical stretch of a
-//     neighbour is computed again here instead of being sent, so one exchange a step
-//     suffices);
+//     state-based models, the critical stretch with a compression factor and the general
+//     force pass (thermal strain too), also of their bond neighbours (the dilatation of a
+//     neighbour is computed again here instead of being sent); with a compression factor
+//     the owners also send each pass's smallest stretch to the ghosts (solver/forces.cpp
+//     share_min_stretch: a recomputed neighbour row reads s0 two horizons out);
 //   - receives each step the displacements of its ghosts: the bond neighbours of its
 //     active particles, and every particle within the short-range contact distance plus a
 //     skin of one of its own (halo_exchange). When any particle has moved more than half
