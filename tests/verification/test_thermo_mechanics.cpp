@@ -4,6 +4,7 @@
 // mechanical stretch in its interior bonds; runs without thermal strain keep the fast loops.
 #include <string>
 
+#include "horizon/driver/run.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/thermal/heat.hpp"
 #include "verification_support.hpp"
@@ -266,6 +267,18 @@ solver: {end_time: 1.0e-6}
     EXPECT_NE(std::string(e.what()).find("thermal expansion acts on models pmb, lps"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("material 'steel' (model correspondence)"), std::string::npos) << e.what();
   }
+}
+
+// A coupled thermal deck splits over MPI ranks with the explicit heat integration
+// (tests/mpi/projectile_heat.cmake runs one on 1 to 4 ranks); the implicit one, a global
+// solve, is refused on more than one rank with the setting that splits.
+TEST(ThermoMechanics, ExplicitHeatSplitsOverRanksImplicitIsRefused) {
+  Config c = parse_deck(block_deck("pmb", "stress", 7.5e-6), "ranks.yaml");
+  EXPECT_EQ(distributed_limits(c, build_system(c), RunOptions{}), "");
+  c.thermal.integration = HeatIntegration::implicit_euler;
+  const std::string why = distributed_limits(c, build_system(c), RunOptions{});
+  EXPECT_NE(why.find("implicit heat integration"), std::string::npos) << why;
+  EXPECT_NE(why.find("thermal.integration: explicit"), std::string::npos) << why;
 }
 
 }  // namespace

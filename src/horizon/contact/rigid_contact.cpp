@@ -109,7 +109,9 @@ Vec3 push_particles(System& s, const RigidShape& shape, const Vec3& at, ContactL
     Penetration p;
     return inside(k, p);
   });
-  GridSum total(s, 4);
+  // On the grid in the serial program too (GridSum::exact): the body's force feeds back
+  // into the state, so the serial and the MPI program must add it alike.
+  GridSum total = GridSum::exact(s, 4);
   Penetration p;
   for (uint32_t k : touching) {
     const std::size_t i = own ? (*own)[k] : k;

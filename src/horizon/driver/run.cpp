@@ -337,10 +337,13 @@ std::string distributed_limits(const Config& c, const System& s, const RunOption
   for (const auto& m : s.models)
     if (!m->unified() && !m->traits().rows_local)
       return "model " + m->traits().name + " is not split over ranks (the models that are: " + split_models() + ")";
-  if (s.heat.active() || !s.thermal_strain.empty() || !s.critical_stretch_factor.empty())
-    return "heat conduction and thermal strain are not split over ranks";
+  // Heat conduction splits with the explicit integration (each rank advances its owned
+  // temperatures and receives its ghosts'); the backward-Euler step is one global solve.
+  if (s.heat.active() && c.thermal.integration == HeatIntegration::implicit_euler)
+    return "the implicit heat integration (one global solve) is not split over ranks; thermal.integration: explicit is";
   if (s.fe) return "finite-element regions are not split over ranks";
-  if (!c.contact.projectiles.empty()) return "rigid projectiles are not split over ranks";
+  // Rigid projectiles split: each rank pushes its owned particles, the force on the body
+  // is a grid sum (contact/rigid_contact.cpp) and every rank advances the same body.
   (void)o;
   return "";
 }
@@ -515,7 +518,7 @@ struct ExplicitRun::State {
     a.io("pvd_files", files);
     a.io("crack_history", crack_rows);
     a.io("heat_initial", heat_initial);
-    a.io("heat_strain_change", strain_change);
+    a.io_particles("heat_strain_change", strain_change);  // per particle: from the owners on ranks
     a.io("heat_pending_work", pending_work);
     if (!a.loading()) return;
     history = std::ostringstream();

@@ -17,6 +17,7 @@
 #include "horizon/output/atomic_file.hpp"
 #include "horizon/output/pvd.hpp"
 #include "horizon/output/vtu.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/thermal/heat.hpp"
 
 namespace horizon {
@@ -29,11 +30,30 @@ std::string heat_history_header(const System& s) {
   return h;
 }
 
-std::string heat_history_row(const System& s) {
+namespace {
+// The lowest, highest and mean temperature. In a run split over MPI ranks each rank reads
+// its owned particles (the others' temperatures are not kept current here), the minimum
+// and maximum over the ranks, the mean from a grid sum (thermal/heat.cpp); serially every
+// particle in index order.
+void temperature_range(const System& s, double& lo, double& hi, double& mean) {
   const auto& T = s.heat.T;
-  double lo = 1e300, hi = -1e300, mean = 0;
+  lo = 1e300, hi = -1e300, mean = 0;
+  if (s.decomposition) {
+    GridSum sum(s, 1);
+    for (uint32_t i : s.owned) lo = std::min(lo, T[i]), hi = std::max(hi, T[i]), sum.add(0, T[i]);
+    lo = min_over_ranks(lo);
+    hi = -min_over_ranks(-hi);
+    mean = sum.totals()[0] / static_cast<double>(std::max<uint64_t>(1, sum_over_ranks(s.owned.size())));
+    return;
+  }
   for (double v : T) lo = std::min(lo, v), hi = std::max(hi, v), mean += v;
   mean /= static_cast<double>(std::max<std::size_t>(1, T.size()));
+}
+}  // namespace
+
+std::string heat_history_row(const System& s) {
+  double lo = 0, hi = 0, mean = 0;
+  temperature_range(s, lo, hi, mean);
   std::string r = fmt::format("{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}", lo, hi, mean, heat_content(s), s.heat.plastic_heat);
   for (const auto& bc : s.heat.boundary) r += fmt::format(",{:.9e}", bc.heat);
   return r;
@@ -41,8 +61,8 @@ std::string heat_history_row(const System& s) {
 
 nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content) {
   nlohmann::ordered_json j;
-  double lo = 1e300, hi = -1e300, supplied = s.heat.plastic_heat;
-  for (double v : s.heat.T) lo = std::min(lo, v), hi = std::max(hi, v);
+  double lo = 0, hi = 0, mean = 0, supplied = s.heat.plastic_heat;
+  temperature_range(s, lo, hi, mean);
   nlohmann::ordered_json b = nlohmann::ordered_json::object();
   for (const auto& bc : s.heat.boundary) {
     b[bc.name] = bc.heat;
@@ -66,6 +86,12 @@ nlohmann::ordered_json heat_summary(const System& s, double heat_step, double st
 
 int run_heat_deck(Config config, const RunOptions& options) {
   apply_run_options(config, options);
+  // Heat conduction alone runs in one process; coupled to an explicit run it splits over
+  // ranks (driver/run.cpp).
+  if (world_size() > 1)
+    throw Error(fmt::format("{}: solver.type heat runs on one MPI rank (its coupled form, a thermal section in an "
+                            "explicit run, splits over ranks); run it on one rank",
+                            config.deck_file));
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const auto wall_start = std::chrono::steady_clock::now();
   System s = build_system(config);

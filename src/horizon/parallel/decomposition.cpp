@@ -241,7 +241,11 @@ void decompose(System& s, Decomposition& d, double skin) {
   for (double a : s.model.alpha) alpha = alpha || a != 0;
   // The general force pass (models that are not unified, ModelTraits::rows_local) sums
   // T_ij - T_ji: the neighbours' rows are computed here too.
-  d.state_based = s.model.state_based || alpha || !s.models.all_unified();
+  // A thermal strain or a temperature-dependent critical stretch takes the general pass
+  // for every model (solver/forces.cpp compute_forces): the neighbours' rows too.
+  const bool thermal = !s.thermal_strain.empty() || !s.critical_stretch_factor.empty();
+  d.state_based = s.model.state_based || alpha || !s.models.all_unified() || thermal;
+  d.alpha = any_rank(d, alpha);  // the same on every rank: share_min_stretch is collective
   const std::size_t n = s.particles.size();
   // Local particles: the owners were decided on the whole lattice by the build.
   if (!d.local_particles) d.owner = rcb_owners(s.particles.X, d.size);
@@ -501,6 +505,42 @@ void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a) {
 #endif
 }
 
+void exchange_ghost_scalars(Decomposition& d, std::vector<double>& a) {
+  if (d.size == 1) return;
+#if defined(HORIZON_MPI)
+  // exchange_ghost_values with one double a particle (tag 8).
+  std::vector<std::vector<double>> out(static_cast<std::size_t>(d.size)), in(static_cast<std::size_t>(d.size));
+  std::vector<MPI_Request> req;
+  for (int r = 0; r < d.size; ++r) {
+    const auto& rl = d.recv[static_cast<std::size_t>(r)];
+    if (r == d.rank || rl.empty()) continue;
+    in[static_cast<std::size_t>(r)].resize(rl.size());
+    req.emplace_back();
+    MPI_Irecv(in[static_cast<std::size_t>(r)].data(), static_cast<int>(rl.size()), MPI_DOUBLE, r, 8, MPI_COMM_WORLD,
+              &req.back());
+  }
+  for (int r = 0; r < d.size; ++r) {
+    const auto& sl = d.send[static_cast<std::size_t>(r)];
+    if (r == d.rank || sl.empty()) continue;
+    auto& o = out[static_cast<std::size_t>(r)];
+    for (uint32_t i : sl) o.push_back(a[i]);
+    req.emplace_back();
+    MPI_Isend(o.data(), static_cast<int>(o.size()), MPI_DOUBLE, r, 8, MPI_COMM_WORLD, &req.back());
+    ++d.stats.messages;
+    d.stats.bytes += o.size() * sizeof(double);
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (int r = 0; r < d.size; ++r) {
+    const auto& rl = d.recv[static_cast<std::size_t>(r)];
+    if (r == d.rank || rl.empty()) continue;
+    const double* p = in[static_cast<std::size_t>(r)].data();
+    for (std::size_t k = 0; k < rl.size(); ++k) a[rl[k]] = p[k];
+  }
+#else
+  (void)a;
+#endif
+}
+
 #if defined(HORIZON_MPI)
 namespace {
 // Local particles: each rank's owned entries (k doubles each, packed by `pack`) onto rank
@@ -663,7 +703,7 @@ GridSum::GridSum(const System& s, int quantities)
 }
 
 std::vector<double> GridSum::totals() const {
-  if (!grid_) return plain_;
+  if (!grid_ && !exact_) return plain_;
   // Rounding every term to the grid 2^(E - 100), |term| < 2^E for the largest term over
   // all ranks, and adding the integers exactly: the total is the same however the terms
   // are split and ordered. 2^27 terms of at most 2^100 fit in 128 bits.
@@ -677,7 +717,8 @@ std::vector<double> GridSum::totals() const {
         e[q] = std::max(e[q], x);
       }
 #if defined(HORIZON_MPI)
-  MPI_Allreduce(e.data(), emax.data(), static_cast<int>(nq), MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if (grid_) MPI_Allreduce(e.data(), emax.data(), static_cast<int>(nq), MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  else emax = e;  // GridSum::exact without a decomposition: this process's terms alone
 #else
   emax = e;
 #endif
@@ -704,9 +745,11 @@ std::vector<double> GridSum::totals() const {
   }
   std::vector<int64_t> all = parts;
 #if defined(HORIZON_MPI)
-  all.resize(parts.size() * static_cast<std::size_t>(grid_->size));
-  MPI_Allgather(parts.data(), static_cast<int>(parts.size()), MPI_INT64_T, all.data(), static_cast<int>(parts.size()),
-                MPI_INT64_T, MPI_COMM_WORLD);
+  if (grid_) {
+    all.resize(parts.size() * static_cast<std::size_t>(grid_->size));
+    MPI_Allgather(parts.data(), static_cast<int>(parts.size()), MPI_INT64_T, all.data(),
+                  static_cast<int>(parts.size()), MPI_INT64_T, MPI_COMM_WORLD);
+  }
 #endif
   std::vector<double> out(nq, 0.0);
   const std::size_t ranks = all.size() / std::max<std::size_t>(1, parts.size());

@@ -24,10 +24,11 @@
 //     solves, the surface correction, decks the split refuses) build the whole system on
 //     every rank, and only the work is split;
 //   - integrates only its own particles, and computes the bond rows of its own and, for
-//     state-based models and the critical stretch with a compression factor, also of
-//     their bond neighbours (the dilatation or the lowered critical stretch of a
-//     neighbour is computed again here instead of being sent, so one exchange a step
-//     suffices);
+//     state-based models, the critical stretch with a compression factor and the general
+//     force pass (thermal strain too), also of their bond neighbours (the dilatation of a
+//     neighbour is computed again here instead of being sent); with a compression factor
+//     the owners also send each pass's smallest stretch to the ghosts (solver/forces.cpp
+//     share_min_stretch: a recomputed neighbour row reads s0 two horizons out);
 //   - receives each step the displacements of its ghosts: the bond neighbours of its
 //     active particles, and every particle within the short-range contact distance plus a
 //     skin of one of its own (halo_exchange). When any particle has moved more than half
@@ -75,6 +76,10 @@ struct Decomposition {
   double skin = 0;                   // ghost margin for moving particles [m]
   double contact_reach = 0;          // short-range contact distance [m] (0: no contact)
   bool state_based = false;          // neighbours' rows are computed here too (decompose)
+  // Some particle on some rank has the compression factor alpha: after each force pass the
+  // owners send their smallest stretch (ModelState::min_stretch) to the ghosts
+  // (solver/forces.cpp share_min_stretch; set by decompose).
+  bool alpha = false;
   std::vector<int32_t> owner;        // per particle
   std::vector<uint32_t> owned;       // this rank's, in index order
   std::vector<uint8_t> is_owned;     // per particle
@@ -127,7 +132,7 @@ System build_system_split(const Config& config, Decomposition& d);
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface
-// correction) or is not split (heat, FE, projectiles, damping, adaptive step). Otherwise
+// correction) or is split on the whole system only (heat, projectiles) or not at all (FE). Otherwise
 // every rank builds the whole system (the old way) and decompose() splits the work only.
 bool local_rows_allowed(const Config& config);
 // Splits the system over the ranks, chooses the ghosts and sets s.active, s.owned and
@@ -165,6 +170,9 @@ void halo_exchange(System& s, Decomposition& d);
 // each ghost entry receives its owner's value. The distributed Krylov solvers send their
 // search direction this way before a tangent product (solver/linear.hpp). Collective.
 void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a);
+// The same for a per-particle scalar field (the heat solver's temperature, once per heat
+// step: thermal/heat.cpp). Collective.
+void exchange_ghost_scalars(Decomposition& d, std::vector<double>& a);
 // Gathers u, v, f, b, damage, energy and dissipated_at of every particle from its owner
 // onto every rank, and the count of broken bonds. Collective.
 // With local particles the state goes to rank 0 alone, into `view` (the whole system's
@@ -192,11 +200,20 @@ std::vector<HaloStats> gather_halo_stats(const Decomposition& d);
 // Sums of several quantities (add(q, term)), independent of how the terms are split
 // between ranks when the system is decomposed (see above), and the plain sum in the order
 // of the calls when it is not (the serial result, bit for bit).
+// GridSum::exact sums on the grid without a decomposition too (the grid of the terms
+// given here alone): the same bits as the decomposed sum of the same terms on any rank
+// count. For the sums that feed back into the state (a rigid projectile's contact force:
+// contact/rigid_contact.cpp), so that the serial program and the MPI program agree.
 class GridSum {
  public:
   GridSum(const System& s, int quantities);
+  static GridSum exact(const System& s, int quantities) {
+    GridSum g(s, quantities);
+    if (!g.grid_) g.exact_ = true, g.terms_.resize(static_cast<std::size_t>(quantities));
+    return g;
+  }
   void add(int q, double term) {
-    if (!grid_) plain_[q] += term;
+    if (!grid_ && !exact_) plain_[q] += term;
     else if (term != 0) terms_[q].push_back(term);  // most terms are 0 (work away from loads)
   }
   void add(int q, const Vec3& v) {
@@ -209,6 +226,7 @@ class GridSum {
 
  private:
   const struct Decomposition* grid_ = nullptr;
+  bool exact_ = false;  // GridSum::exact without a decomposition
   std::vector<double> plain_;
   std::vector<std::vector<double>> terms_;
 };

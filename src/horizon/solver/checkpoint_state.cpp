@@ -39,15 +39,15 @@ void checkpoint_system(System& s, StateArchive& a) {
   a.io("dt", s.dt);
   a.io_sized("dissipated_at", s.dissipated_at, s.dissipated_at.size(), Extent::particles);
   a.io("broken", s.broken);
-  // Heat and the thermal strain are not split over ranks (driver/run.cpp distributed_limits):
-  // rank 0 holds them whole.
-  a.io("thermal_strain", s.thermal_strain);
-  a.io("critical_stretch_factor", s.critical_stretch_factor);
+  // The temperature and what follows from it are per particle: on ranks each entry comes
+  // from its owner (thermal/heat.cpp advances the owned temperatures).
+  a.io_particles("thermal_strain", s.thermal_strain);
+  a.io_particles("critical_stretch_factor", s.critical_stretch_factor);
 
   auto& H = s.heat;
   a.check("heat boundaries", H.boundary.size(), "thermal boundary conditions");
-  a.io("heat_T", H.T);
-  a.io("heat_flux", H.flux);
+  a.io_particles("heat_T", H.T);
+  a.io_particles("heat_flux", H.flux);
   for (auto& bc : H.boundary) a.io("heat_boundary " + bc.name, bc.heat);
   a.io("heat_plastic", H.plastic_heat);
   a.io("heat_time", H.time);

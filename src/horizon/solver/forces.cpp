@@ -979,6 +979,21 @@ void state_based_force_pass(System& s, bool energy) {
   energy ? internal_force<true>(s) : internal_force<false>(s);
 }
 
+namespace {
+// The compression factor alpha lowers s0_j by the smallest stretch of j's *intact* bonds
+// at the previous pass (Silling and Askari 2005, sec. 5). A rank computes its particles'
+// bond neighbours' rows again (decompose), but such a row j reads s0_k of particles two
+// horizons out that the rank does not compute, so once bonds break there its intact flags,
+// and with them its smallest stretch and the owned rows' decisions on their bonds to j,
+// could part from those of j's owner (found on tests/mpi/projectile.yaml: a bond broke on
+// 2 ranks at step 193 and not on 1). The owners' values go to the ghosts after each pass
+// (one scalar a ghost), so every row reads every s0 from the row that owns it, as
+// serially. Collective when decomposed; nothing on one rank.
+void share_min_stretch(System& s) {
+  if (s.decomposition && s.decomposition->alpha) exchange_ghost_scalars(*s.decomposition, s.model.min_stretch);
+}
+}  // namespace
+
 ForceStats compute_forces(System& s, bool energy) {
   ForceStats stats;
   if (Model* owner = s.models.owner()) {  // a model that computes the whole pass (material/model.hpp)
@@ -996,6 +1011,7 @@ ForceStats compute_forces(System& s, bool energy) {
       !s.critical_stretch_factor.empty()) {
     stats.broken = general_forces(s, energy);  // solver/forces_general.cpp
     M.min_stretch.swap(M.min_stretch_next);
+    share_min_stretch(s);
     s.contact.add_forces(s, M.packed.data(), s.particles.f.data(), energy ? s.particles.energy.data() : nullptr);
     if (s.fe) s.fe->apply(s, energy);  // the FE-owned nodes' forces (fe/fe_region.hpp)
     s.broken += stats.broken;
@@ -1012,6 +1028,7 @@ ForceStats compute_forces(System& s, bool energy) {
     stats.broken = energy ? bond_based_pass<true, false>(s) : bond_based_pass<false, false>(s);
   }
   M.min_stretch.swap(M.min_stretch_next);
+  share_min_stretch(s);
   s.contact.add_forces(s, M.packed.data(), s.particles.f.data(), energy ? s.particles.energy.data() : nullptr);
   if (s.fe) s.fe->apply(s, energy);  // the FE-owned nodes' forces (fe/fe_region.hpp)
   s.broken += stats.broken;

@@ -354,6 +354,10 @@ bool local_particles_allowed(const Config& c) {
 
 bool local_rows_allowed(const Config& c) {
   if (c.solver.type != SolverType::explicit_dynamic) return false;  // the static solvers build the whole system
+  // Heat and rigid projectiles split their work over ranks on the whole system held by
+  // every rank (thermal/heat.cpp, contact/rigid_contact.cpp): the temperature's boundary
+  // lists and ghost exchange and the bodies' contact search were split and tested in the
+  // global numbering only, so their decks keep every particle and row.
   if (c.thermal.enabled || !c.contact.projectiles.empty()) return false;
   if (c.structure.kind != StructureKind::none) return false;
   for (const auto& body : c.bodies)

@@ -7,6 +7,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/loading/loads.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/linear.hpp"
 
 namespace horizon {
@@ -19,6 +20,23 @@ constexpr double kPi = std::numbers::pi;
 double kernel_value(HeatKernel k, double length) { return k == HeatKernel::inverse ? 1.0 / length : 1.0; }
 
 double bond_kappa(const HeatState& h, std::size_t i, std::size_t j) { return 0.5 * (h.kappa[i] + h.kappa[j]); }
+
+// The rows this process computes: in a run split over MPI ranks (parallel/decomposition.hpp)
+// its owned particles, whose conduction reads the ghosts' temperatures (exchanged after
+// every change: exchange_ghosts below); every particle serially. The whole system is held
+// on every rank (local_rows_allowed is false for a thermal deck), so indices are global.
+struct Rows {
+  const std::vector<uint32_t>* own = nullptr;
+  std::size_t count = 0;
+  explicit Rows(const System& s)
+      : own(s.decomposition ? &s.owned : nullptr), count(own ? own->size() : s.particles.size()) {}
+  std::size_t operator[](std::size_t k) const { return own ? (*own)[k] : k; }
+};
+
+// The owners' temperatures at this rank's ghosts. Collective when decomposed.
+void exchange_ghosts(System& s) {
+  if (s.decomposition) exchange_ghost_scalars(*s.decomposition, s.heat.T);
+}
 
 // The axis along which a set of particles is thinnest (as tractions, loading/loads.cpp).
 int thinnest_axis(const System& s, const std::vector<uint32_t>& ids, int dimension) {
@@ -153,10 +171,11 @@ void apply_temperature_conditions(System& s, double t) {
 void heat_conduction(const System& s, const std::vector<double>& T, std::vector<double>& out) {
   const auto& B = s.bonds;
   const HeatState& h = s.heat;
-  const std::size_t n = s.particles.size();
-  out.resize(n);
+  const Rows rows(s);
+  out.resize(s.particles.size());
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t r = 0; r < rows.count; ++r) {
+    const std::size_t i = rows[r];
     double sum = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!B.intact[k]) continue;
@@ -175,30 +194,37 @@ double heat_stable_step(const System& s) {
     if (bc.kind == ThermalBoundaryKind::convection)
       for (uint32_t i : bc.particles) film[i] += bc.coefficient * bc.scale;
   double dt = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+  const Rows rows(s);
+  for (std::size_t r = 0; r < rows.count; ++r) {
+    const std::size_t i = rows[r];
     double diag = film[i];
     for (uint64_t k = B.begin(i); k < B.end(i); ++k)
       if (B.intact[k]) diag += bond_kappa(h, i, B.nbr[k]) * h.kind_factor[B.kind[k]];
     if (diag > 0) dt = std::min(dt, h.capacity[i] / diag);
   }
-  return dt;
+  return s.decomposition ? min_over_ranks(dt) : dt;
 }
 
 double heat_content(const System& s) {
   const HeatState& h = s.heat;
-  double sum = 0;
-  for (std::size_t i = 0; i < h.T.size(); ++i)
-    sum += h.capacity[i] * (h.T[i] - h.reference[i]) * s.particles.volume[i];
-  return sum;
+  // Serially the plain sum in index order; on ranks the owned particles' on the grid.
+  GridSum sum(s, 1);
+  const Rows rows(s);
+  for (std::size_t r = 0; r < rows.count; ++r) {
+    const std::size_t i = rows[r];
+    sum.add(0, h.capacity[i] * (h.T[i] - h.reference[i]) * s.particles.volume[i]);
+  }
+  return sum.totals()[0];
 }
 
 void update_heat_flux(System& s) {
   const auto& B = s.bonds;
   const auto& X = s.particles.X;
   HeatState& h = s.heat;
-  const std::size_t n = s.particles.size();
+  const Rows rows(s);
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t r = 0; r < rows.count; ++r) {
+    const std::size_t i = rows[r];
     Vec3 q;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!B.intact[k]) continue;
@@ -231,6 +257,29 @@ double thermal_strain_work(const System& s, const std::vector<double>& delta) {
   const auto& P = s.particles;
   const auto& T = s.model.force_state;
   if (delta.size() != P.size() || T.size() != B.size()) return 0;
+  if (s.decomposition) {
+    // On ranks: each owned row's term, summed on the grid (the same total at any rank
+    // count; the serial program keeps its reduction below).
+    const Rows rows(s);
+    std::vector<double> terms(rows.count, 0.0);
+#pragma omp parallel for schedule(static)
+    for (std::size_t r = 0; r < rows.count; ++r) {
+      const std::size_t i = rows[r];
+      double row = 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!B.intact[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const Vec3 Y = P.X[j] + P.u[j] - P.X[i] - P.u[i];
+        const double len = norm(Y);
+        if (len == 0) continue;
+        row += dot(T[k], Y) / len * (0.5 * (delta[i] + delta[j]) * B.length[k]) * B.volume[k];
+      }
+      terms[r] = -row * P.volume[i];
+    }
+    GridSum g(s, 1);
+    for (double t : terms) g.add(0, t);
+    return g.totals()[0];
+  }
   double sum = 0;
 #pragma omp parallel for schedule(static) reduction(+ : sum)
   for (std::size_t i = 0; i < P.size(); ++i) {
@@ -267,6 +316,22 @@ void commit_history_with_heat(System& s) {
   }
   std::vector<double> before = s.dissipated_at;
   commit_history(s);
+  if (s.decomposition) {
+    // On ranks: the owners deposit (a neighbour row computed here again is not this
+    // rank's), the heat released summed on the grid, the ghosts' temperatures refreshed.
+    GridSum released(s, 1);
+    for (uint32_t i : s.owned) {
+      const double d = s.dissipated_at[i] - before[i];
+      if (d > 0 && !h.fixed[i]) {
+        const double e = h.plastic_fraction[i] * d;
+        h.T[i] += e / (h.capacity[i] * s.particles.volume[i]);
+        released.add(0, e);
+      }
+    }
+    h.plastic_heat += released.totals()[0];
+    exchange_ghosts(s);
+    return;
+  }
   for (std::size_t i = 0; i < before.size(); ++i) {
     const double d = s.dissipated_at[i] - before[i];
     if (d > 0) deposit_heat(s, i, h.plastic_fraction[i] * d);
@@ -284,6 +349,10 @@ struct HeatSolver::Implicit {
 };
 
 HeatSolver::HeatSolver(System& s, HeatIntegration integration) : s_(s), integration_(integration) {
+  // The backward-Euler system is one global sparse solve: not split over ranks (the driver
+  // refuses such a deck on several ranks, driver/run.cpp distributed_limits).
+  if (integration_ == HeatIntegration::implicit_euler && s_.decomposition && s_.decomposition->size > 1)
+    throw Error("the implicit heat integration is not split over ranks; use thermal.integration: explicit");
   if (integration_ == HeatIntegration::implicit_euler) implicit_ = std::make_unique<Implicit>();
 }
 HeatSolver::~HeatSolver() = default;
@@ -310,9 +379,12 @@ void HeatSolver::step(double dt) {
   }
   if (integration_ == HeatIntegration::explicit_euler) {
     heat_conduction(s_, h.T, rate_);
+    const Rows rows(s_);
 #pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t r = 0; r < rows.count; ++r) {
+      const std::size_t i = rows[r];
       if (!h.fixed[i]) h.T[i] += dt * (rate_[i] + source[i] + film_t[i] - film[i] * h.T[i]) / h.capacity[i];
+    }
   } else {
     auto& I = *implicit_;
     I.index.assign(n, -1);
@@ -349,11 +421,15 @@ void HeatSolver::step(double dt) {
       if (I.index[i] >= 0) h.T[i] = x[I.index[i]];
   }
   apply_temperature_conditions(s_, t1);
-  // The heat each boundary brought in over the step.
-  for (auto& bc : h.boundary) {
-    double q = 0;
+  // The heat each boundary brought in over the step (on ranks: its owned particles', on
+  // the grid; serially the plain sum in the list's order).
+  GridSum brought(s_, static_cast<int>(h.boundary.size()));
+  for (std::size_t b = 0; b < h.boundary.size(); ++b) {
+    const HeatBoundary& bc = h.boundary[b];
     const bool implicit = integration_ == HeatIntegration::implicit_euler;
     for (uint32_t i : bc.particles) {
+      if (s_.decomposition && !s_.decomposition->owns(i)) continue;
+      double q = 0;
       const double Vi = P.volume[i];
       if (bc.kind == ThermalBoundaryKind::flux) {
         q += dt * Vi * bc.value(ts, P.X[i].x, P.X[i].y, P.X[i].z) * bc.scale;
@@ -373,10 +449,13 @@ void HeatSolver::step(double dt) {
         }
         q += dt * Vi * out + h.capacity[i] * Vi * (h.T[i] - old_[i]);
       }
+      brought.add(static_cast<int>(b), q);
     }
-    bc.heat += q;
   }
+  const std::vector<double> heat_in = brought.totals();
+  for (std::size_t b = 0; b < h.boundary.size(); ++b) h.boundary[b].heat += heat_in[b];
   h.time = t1;
+  exchange_ghosts(s_);  // the new temperatures of the ghosts, before the thermal strain reads them
   update_thermal_strain(s_);
 }
 

@@ -22,6 +22,10 @@
 //
 // Heat flux (output): q_i = -(1/2) sum_j kbar g (T_j - T_i) xi_ij V_j, which is -k grad T
 // for a linear field wherever sum_j g xi xi V_j = M2 I (the calibration above) [derived].
+//
+// On MPI ranks (parallel/decomposition.hpp, explicit integration only) each rank computes
+// the rows of its owned particles and HeatSolver::step sends the new temperatures to the
+// ghosts; the sums below are grid sums over owned particles then, and collective.
 #include <memory>
 #include <vector>
 
