@@ -353,6 +353,20 @@ void FeRegion::apply(System& s, bool energy) {
           w += 0.5 * sig[i][j] * eps[i][j];
         }
     }
+    const double beta = damping_beta.empty() ? 0.0 : damping_beta[e];
+    if (beta > 0) {
+      // Interface damping (fe_region.hpp): sigma_v = beta (lambda tr(D) I + 2 mu D), D the
+      // symmetric velocity gradient; its work is not stored energy (w unchanged).
+      double L[3][3] = {};
+      for (int I = 0; I < n; ++I) {
+        const Vec3& v = P.v[node_particle[c[I]]];
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) L[i][j] += v[i] * b[3 * I + j];
+      }
+      const double trD = L[0][0] + L[1][1] + L[2][2];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) sig[i][j] += beta * (mu[e] * (L[i][j] + L[j][i]) + (i == j ? lambda[e] * trD : 0.0));
+    }
     Vec3* F = &elem_force[e * static_cast<std::size_t>(n)];
     for (int I = 0; I < n; ++I) {
       Vec3 f;
@@ -371,6 +385,11 @@ void FeRegion::apply(System& s, bool energy) {
         for (int I = 0; I < 8; ++I) q += g[a * 8 + I] * P.u[node_particle[c[I]]];
         for (int I = 0; I < 8; ++I) F[I] -= (k * g[a * 8 + I]) * q;
         energy_e += 0.5 * k * norm2(q);
+        if (beta > 0) {
+          Vec3 qv;
+          for (int I = 0; I < 8; ++I) qv += g[a * 8 + I] * P.v[node_particle[c[I]]];
+          for (int I = 0; I < 8; ++I) F[I] -= (beta * k * g[a * 8 + I]) * qv;
+        }
       }
     }
     elem_energy[e] = energy_e;
@@ -513,9 +532,25 @@ double FeRegion::stable_time_step() const {
       K = std::max(K, hourglass_k[e] * hg);
     }
     const double omega2 = K * n / (density[e] * volume[e]);
-    if (omega2 > 0) dt = std::min(dt, 2 / std::sqrt(omega2));
+    // With a damping ratio xi at omega the central difference needs dt <= 2 / omega
+    // (sqrt(1 + xi^2) - xi) (Belytschko, Liu and Moran 2000, "Nonlinear Finite Elements
+    // for Continua and Structures", eq. 6.3.27).
+    const double xi = !damped.empty() && damped[e] ? interface_damping : 0.0;
+    if (omega2 > 0) dt = std::min(dt, 2 / std::sqrt(omega2) * (std::sqrt(1 + xi * xi) - xi));
   }
   return dt;
+}
+
+double FeRegion::element_omega(std::size_t e) const {
+  const int n = nodes_per_element;
+  const double* b = &grad[e * static_cast<std::size_t>(3 * n)];
+  double G[3][3] = {};
+  for (int I = 0; I < n; ++I)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) G[i][j] += b[3 * I + i] * b[3 * I + j];
+  double lmax = 0;
+  for (int i = 0; i < 3; ++i) lmax = std::max(lmax, std::abs(G[i][0]) + std::abs(G[i][1]) + std::abs(G[i][2]));
+  return std::sqrt(volume[e] * (3 * lambda[e] + 2 * mu[e]) * lmax * n / (density[e] * volume[e]));
 }
 
 void build_fe_regions(System& s, const Config& config, double radius, std::vector<uint8_t>& ghost) {
@@ -878,6 +913,18 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
         }
       }
   }
+  // Interface damping (fe_region.hpp): the elements with a node at a peridynamic particle
+  // or in the overlap band.
+  fe.damped.assign(ne, 0);
+  fe.damping_beta.assign(ne, 0.0);
+  if (fe.interface_damping > 0)
+    for (std::size_t e = 0; e < ne; ++e) {
+      for (int I = 0; I < npe; ++I) {
+        const uint32_t a = fe.conn[e * static_cast<std::size_t>(npe) + static_cast<std::size_t>(I)];
+        if (!fe.node_owned[a] || band_node[a]) fe.damped[e] = 1;
+      }
+      if (fe.damped[e]) fe.damping_beta[e] = 2 * fe.interface_damping / fe.element_omega(e);
+    }
   fe.owned_particle.assign(P.size(), 0);
   ghost.assign(P.size(), 0);
   for (std::size_t a = 0; a < nn; ++a)

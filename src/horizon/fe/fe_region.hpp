@@ -79,6 +79,19 @@ struct FeRegion {
   std::vector<uint32_t> slave_particle;
   std::vector<uint32_t> slave_node;
   std::vector<double> slave_weight;
+  // Interface damping (a stabiliser of the force-based coupling): the elements that touch
+  // the overlap (a node at a peridynamic particle or within a horizon of one) add a
+  // stiffness-proportional (Rayleigh) viscous stress beta_e C : sym(grad v) and hourglass
+  // force beta_e k gamma.v, beta_e = 2 interface_damping / omega_e (omega_e the element's
+  // largest frequency, stable_time_step): a damping ratio of interface_damping at the
+  // element's highest mode, proportionally less below (a pulse of many elements' length
+  // is hardly touched). Why: the coupled operator is not symmetric and has complex
+  // eigenvalue pairs, slowly growing modes at the interface (tests: FeInterpolation.
+  // CoupledOperatorSpectrum); a small viscosity there turns them into decaying ones.
+  // Its work is part of coupling_work. Per element: 1 where damped.
+  std::vector<uint8_t> damped;
+  std::vector<double> damping_beta;  // per element: beta_e [s] (0: undamped)
+  double interface_damping = 0.1;
   // Node -> (element, local node) lists, for a race-free assembly.
   std::vector<uint64_t> node_offset;
   std::vector<uint32_t> node_elem;  // element * nodes_per_element + local
@@ -150,6 +163,9 @@ struct FeRegion {
   // here with b = V dN/dx; the hourglass stiffness added; the same bound for tet4 with
   // 4 nodes). Returns +inf without elements.
   double stable_time_step() const;
+  // The element's largest frequency without hourglass control (the bound of
+  // stable_time_step's linear part), for the interface damping [rad/s].
+  double element_omega(std::size_t e) const;
   // Precomputes gradients, volumes and hourglass vectors from node_X and conn.
   void setup_geometry();
 };
