@@ -7,9 +7,9 @@
 // Nodes are particles. An FE body's nodes sit on the lattice of the deck's spacing (the
 // cells of the outermost layers stand for the material out to the box faces: their
 // volume is scaled, their nodes stay on the lattice), every lattice point
-// (element_size 1) or every n-th (element_size n: grid lines n to 2n - 1 spacings apart,
-// with a line through the outermost particles of each peridynamic body inside the box, so
-// the interface lies on element faces), or they are a mesh's nodes. Where a peridynamic
+// (element_size 1) or a graded grid (element_size n: every lattice point within a
+// horizon of a peridynamic body's index range, grid lines n to 2n - 1 spacings apart
+// beyond, so the band is all nodes of unit elements), or they are a mesh's nodes. Where a peridynamic
 // body lies inside the FE body its particles are the nodes there. Every degree of
 // freedom has one owner:
 //   - a particle of a peridynamic body is owned by the peridynamics: its force is the
