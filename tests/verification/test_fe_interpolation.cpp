@@ -1,14 +1,15 @@
-// Coupling through the element interpolation (fe/fe_region.hpp, seed 002 digest eq. 46:
-// u_p = N u_h): finite elements coarser than the lattice spacing (box bodies with
-// element_size) and meshes whose nodes are off the lattice. The lattice points of the
-// overlap band that lie inside elements but at none of their nodes follow the
-// interpolation and serve as the peridynamic particles' neighbours. Checked here:
-// - patch test across the non-matching interface: a uniform strain (stretch and shear)
-//   gives zero force on every peridynamic particle and every FE-owned node off the outer
-//   faces, to round-off (element_size 2 with hex8 and tet4; a meshed cube jittered
+// Coupling with coarser elements and through the element interpolation (fe/fe_region.hpp,
+// seed 002 digest eq. 46: u_p = N u_h): box bodies with element_size (a graded grid:
+// unit elements within a horizon of the peridynamic bodies, coarse beyond) and meshes
+// whose nodes are off the lattice (the lattice points of the overlap band inside elements
+// but at none of their nodes follow the interpolation and serve as the peridynamic
+// particles' neighbours). Checked here:
+// - patch test across the interface: a uniform strain (stretch and shear) gives zero
+//   force on every peridynamic particle and every FE-owned node off the outer faces, to
+//   round-off (graded element_size 2 with hex8 and tet4; a meshed cube jittered
 //   everywhere but at the core's particles);
-// - a pulse from coarse elements into a PD bar: the reflected energy, measured (the
-//   target, small reflection, is MISSED with element_size 2: see the test);
+// - a pulse from coarse elements into a PD bar: the reflected energy (< 1 %);
+// - the linearised coupled operator: asymmetry and growing modes (measured, bounded);
 // - deck and build errors of element_size.
 #include <gtest/gtest.h>
 
@@ -24,6 +25,8 @@
 
 #include "../single_thread.hpp"
 #include "../test_paths.hpp"
+#include <Eigen/Dense>
+
 #include "horizon/core/error.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
@@ -95,40 +98,40 @@ horizon: 3.0e-3
 materials:
   al: {{model: pmb, density: 2700, youngs_modulus: 68.9e9}}
 bodies:
-  - {{name: core, material: al, shape: {{box: {{min: [7.0e-3, 7.0e-3, 7.0e-3], max: [13.0e-3, 13.0e-3, 13.0e-3]}}}}}}
-  - {{name: outer, material: al, discretization: fe, element: {}, element_size: {}, shape: {{box: {{min: [0, 0, 0], max: [20.0e-3, 20.0e-3, 20.0e-3]}}}}}}
+  - {{name: core, material: al, shape: {{box: {{min: [13.0e-3, 13.0e-3, 13.0e-3], max: [19.0e-3, 19.0e-3, 19.0e-3]}}}}}}
+  - {{name: outer, material: al, discretization: fe, element: {}, element_size: {}, shape: {{box: {{min: [0, 0, 0], max: [32.0e-3, 32.0e-3, 32.0e-3]}}}}}}
 solver: {{end_time: 1.0e-6}}
 )deck",
                      element, element_size);
 }
 
-// A 20 mm cube of elements of 2 or 3 spacings around a 6 mm PMB core: lattice points 0.5
-// ... 19.5 mm, core particles 7.5 ... 12.5 mm; grid lines at 0.5, 3.5, 5.5, 7.5, 10.5,
-// 12.5, 15.5, 17.5, 19.5 mm (gaps of 7, 5, 7 spacings cut into 3 + 2 + 2, 3 + 2, 3 + 2 +
-// 2). The nodes of the outer cells (scaled to reach the faces) carry the faces' traction:
-// x < 4 or x > 16 mm left out.
+// A 32 mm cube of graded elements around a 6 mm PMB core: lattice points 0.5 ... 31.5 mm
+// (indices 0 ... 31), core particles 13.5 ... 18.5 mm (13 ... 18); the fine zone is the
+// core widened by the band's reach (3 spacings: 10 ... 21), the gaps 0 ... 10 and 21 ...
+// 31 are cut into elements of 2 spacings: 22 lines per axis, 21^3 cells less the core's
+// 5^3. Every band point is a node (no interpolated particle). The nodes of the outer
+// cells (scaled to reach the faces) carry the faces' traction: x < 3 or x > 29 mm left
+// out.
 void coarse_patch_test(const char* element) {
   test::SingleThread one;
   System s = build_system(parse_deck(cube_deck(element, 2), "patch2.yaml"));
   ASSERT_TRUE(s.fe);
   const PatchFigures r = patch_forces(s, [](const Vec3& x) {
     for (int k = 0; k < 3; ++k)
-      if (x[k] < 4.0e-3 || x[k] > 16.0e-3) return false;
+      if (x[k] < 3.0e-3 || x[k] > 29.0e-3) return false;
     return true;
   });
   report(fmt::format("fe_interp_patch_{}", element), std::max(r.worst_pd, r.worst_fe),
-         fmt::format("patch test, {} cube with element_size 2 (elements of 2-3 spacings) around a PD core ({} "
-                     "particles, {} FE-owned inner nodes, {} elements, {} interpolated particles): largest force / "
-                     "(E |grad u| h^2): particles {:.1e}, FE nodes {:.1e}; interpolated displacement vs the field "
-                     "{:.1e} of |G| h",
-                     element, r.pd, r.fe_owned, r.elements, r.interpolated, r.worst_pd, r.worst_fe, r.worst_interp));
+         fmt::format("patch test, {} cube with element_size 2 (graded: unit elements within a horizon of a PD core, "
+                     "elements of 2 spacings beyond) around the core ({} particles, {} FE-owned inner nodes, {} "
+                     "elements, {} interpolated particles): largest force / (E |grad u| h^2): particles {:.1e}, FE "
+                     "nodes {:.1e}",
+                     element, r.pd, r.fe_owned, r.elements, r.interpolated, r.worst_pd, r.worst_fe));
   EXPECT_EQ(r.pd, 216u);
-  // 9 lines per axis: 8^3 cells, the 2 x 2 x 2 of the core [7.5, 12.5]^3 dropped; the
-  // FE-owned nodes checked: the 5^3 lines from 5.5 to 15.5 mm less the core's 3^3.
-  EXPECT_EQ(r.elements, std::string(element) == "hex8" ? 504u : 504u * 6u);
-  EXPECT_EQ(r.fe_owned, 98u);
-  EXPECT_GT(r.interpolated, 500u);
-  EXPECT_LT(r.worst_interp, 1e-9);
+  EXPECT_EQ(r.elements, (21u * 21u * 21u - 125u) * (std::string(element) == "hex8" ? 1u : 6u));
+  // Inner lines 4, 6, 8, 10, 11 ... 21, 23, 25, 27: 18^3 less the core's 6^3.
+  EXPECT_EQ(r.fe_owned, 18u * 18u * 18u - 216u);
+  EXPECT_EQ(r.interpolated, 0u);
   EXPECT_LT(r.worst_pd, 1e-9);
   EXPECT_LT(r.worst_fe, 1e-9);
 }
@@ -282,13 +285,16 @@ double reflection(const BarRun& fe, const BarRun& coupled, std::size_t* compared
   return 2 * k / fe.initial_energy;
 }
 
-// MISSED TARGET (the measured figures, bounded): the same measure with element_size 1
-// (every band point a node) gives a small reflection, with element_size 2 about 0.4 of
-// the incident energy comes back (cause not found: docs/verification.md, "Interpolation
-// coupling and coarser elements"). The test keeps both figures from getting worse.
+// The graded grid (element_size 2: unit elements within a horizon of the PD body, elements
+// of 2 spacings beyond) against its own pure-FE-side reference: the same deck with the PD
+// body moved to 149 mm (so the grid lines left of 76 mm are the same, the interface
+// damping gives the same time step, and the reference's own interface sends nothing back
+// to x < 70 mm in time); element_size 1 likewise. Without the interface damping: 3.1e-3
+// and 5.3e-4. The former coarse grid, whose band points were interpolated inside
+// elements of 3 spacings, reflected 0.44.
 TEST(FeInterpolation, PulseFromCoarseElementsIntoPd) {
-  const BarRun fe = run_coarse_bar(1e9), coupled = run_coarse_bar(79);
-  const BarRun fe1 = run_coarse_bar(1e9, 1), coupled1 = run_coarse_bar(79, 1);
+  const BarRun fe = run_coarse_bar(149), coupled = run_coarse_bar(79);
+  const BarRun fe1 = run_coarse_bar(149, 1), coupled1 = run_coarse_bar(79, 1);
   std::size_t compared = 0;
   const double reflected = reflection(fe, coupled, &compared), reflected1 = reflection(fe1, coupled1);
   report("fe_interp_reflection", reflected,
@@ -298,12 +304,149 @@ TEST(FeInterpolation, PulseFromCoarseElementsIntoPd) {
                      "m/s; largest |balance - coupling work| {:.1e}",
                      reflected, coupled.interpolated, compared, reflected1, fe.speed, coupled.speed,
                      coupled.max_balance_with_coupling));
-  EXPECT_GT(coupled.interpolated, 0u);
   EXPECT_GT(compared, 100u);
-  EXPECT_LT(reflected1, 0.01);  // measured 5.3e-4
-  EXPECT_LT(reflected, 0.6);    // measured 0.44: the target (0.03) is missed
+  EXPECT_LT(reflected1, 0.01);  // measured 1.3e-4
+  EXPECT_LT(reflected, 0.01);   // measured 9.2e-4
   EXPECT_GT(coupled.speed, 0.9 * fe.speed);
   EXPECT_LT(coupled.max_balance_with_coupling, 0.03);
+}
+
+// The coupled operator of a small bar (24 x 4 x 4 spacings, PD from 12 mm, free ends)
+// linearised by central differences of compute_forces about u = 0: K = -dF/du over the
+// degrees of freedom with mass (particles and FE-owned nodes; the interpolated particles
+// follow), A = M^-1 K. Figures: the asymmetry |K - K^T| / |K| (Frobenius) and the largest
+// growth rate max Re(s) over the modes u ~ exp(s t), s^2 = -lambda(A) (0 for a stable,
+// real, non-negative spectrum), against the largest frequency sqrt(max |lambda|).
+struct OperatorFigures {
+  double asymmetry = 0, growth = 0, omega_max = 0, worst_lambda_imag = 0, min_lambda_real = 0;
+  std::size_t dofs = 0, interpolated = 0, elements = 0;
+  bool damped = false;
+};
+
+OperatorFigures coupled_operator(int element_size, bool damping, const std::string& extra = "", double pd_from_mm = 12,
+                                 double length_mm = 24) {
+  test::SingleThread one;
+  const std::string deck = fmt::format(R"deck(
+dimension: 3
+spacing: 1.0e-3
+horizon: 3.0e-3
+materials:
+  al: {{model: pmb, density: 2700, youngs_modulus: 68.9e9}}
+bodies:
+  - {{name: pd, material: al, shape: {{box: {{min: [{}e-3, 0, 0], max: [{}e-3, 4.0e-3, 4.0e-3]}}}}}}
+{}solver: {{end_time: 1.0e-6}}
+)deck",
+                                       element_size > 0 ? pd_from_mm : 0.0, length_mm,
+                                       element_size > 0 ? fmt::format("  - {{name: fe, material: al, discretization: fe, element_size: {}{}, shape: {{box: {{min: [0, 0, 0], max: [{}e-3, 4.0e-3, 4.0e-3]}}}}}}\n", element_size, extra, length_mm) : std::string());
+  System s = build_system(parse_deck(deck, "operator.yaml"));
+  if (s.fe && !damping) std::fill(s.fe->damping_beta.begin(), s.fe->damping_beta.end(), 0.0);
+  auto& P = s.particles;
+  std::vector<std::size_t> dof;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.volume[i] > 0) dof.push_back(i);
+  const Eigen::Index n = static_cast<Eigen::Index>(3 * dof.size());
+  Eigen::MatrixXd K(n, n);
+  const double eps = 1e-9;
+  std::vector<Vec3> fp(dof.size()), fm(dof.size());
+  for (Eigen::Index c = 0; c < n; ++c) {
+    const std::size_t i = dof[static_cast<std::size_t>(c / 3)];
+    const int k = static_cast<int>(c % 3);
+    for (int sgn : {1, -1}) {
+      for (auto& u : P.u) u = Vec3{};
+      P.u[i][k] = sgn * eps;
+      compute_forces(s, false);
+      auto& out = sgn > 0 ? fp : fm;
+      for (std::size_t q = 0; q < dof.size(); ++q) out[q] = P.f[dof[q]] * P.volume[dof[q]];
+    }
+    for (std::size_t q = 0; q < dof.size(); ++q)
+      for (int r = 0; r < 3; ++r) K(static_cast<Eigen::Index>(3 * q + r), c) = -(fp[q][r] - fm[q][r]) / (2 * eps);
+  }
+  // Damping: C = -dF/dv likewise.
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index c = 0; damping && c < n; ++c) {
+    const std::size_t i = dof[static_cast<std::size_t>(c / 3)];
+    const int k = static_cast<int>(c % 3);
+    for (int sgn : {1, -1}) {
+      for (auto& u : P.u) u = Vec3{};
+      for (auto& v : P.v) v = Vec3{};
+      P.v[i][k] = sgn * eps * 1e6;
+      compute_forces(s, false);
+      auto& out = sgn > 0 ? fp : fm;
+      for (std::size_t q = 0; q < dof.size(); ++q) out[q] = P.f[dof[q]] * P.volume[dof[q]];
+    }
+    for (std::size_t q = 0; q < dof.size(); ++q)
+      for (int r = 0; r < 3; ++r) C(static_cast<Eigen::Index>(3 * q + r), c) = -(fp[q][r] - fm[q][r]) / (2 * eps * 1e6);
+  }
+  for (auto& v : P.v) v = Vec3{};
+  OperatorFigures o;
+  o.dofs = dof.size();
+  o.interpolated = s.fe ? s.fe->interpolated() : 0;
+  o.elements = s.fe ? s.fe->elements() : 0;
+  o.asymmetry = (K - K.transpose()).norm() / K.norm();
+  Eigen::MatrixXd A = K;
+  for (Eigen::Index r = 0; r < n; ++r) {
+    const std::size_t i = dof[static_cast<std::size_t>(r / 3)];
+    A.row(r) /= P.density[i] * P.volume[i];
+  }
+  if (C.norm() > 0) {
+    // The first-order system d/dt [u; v] = [0, I; -M^-1 K, -M^-1 C] [u; v]: growth = the
+    // largest real part of its eigenvalues s.
+    Eigen::MatrixXd Cm = C;
+    for (Eigen::Index r = 0; r < n; ++r) {
+      const std::size_t i = dof[static_cast<std::size_t>(r / 3)];
+      Cm.row(r) /= P.density[i] * P.volume[i];
+    }
+    Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+    Z.topRightCorner(n, n).setIdentity();
+    Z.bottomLeftCorner(n, n) = -A;
+    Z.bottomRightCorner(n, n) = -Cm;
+    const Eigen::EigenSolver<Eigen::MatrixXd> ez(Z, false);
+    double smax = 0;
+    for (Eigen::Index r = 0; r < 2 * n; ++r) smax = std::max(smax, std::abs(ez.eigenvalues()[r]));
+    o.omega_max = smax;
+    for (Eigen::Index r = 0; r < 2 * n; ++r)
+      if (std::abs(ez.eigenvalues()[r]) > 1e-4 * smax) o.growth = std::max(o.growth, ez.eigenvalues()[r].real());
+    o.damped = true;
+    return o;
+  }
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(A, false);
+  double lmax = 0;
+  for (Eigen::Index r = 0; r < n; ++r) lmax = std::max(lmax, std::abs(es.eigenvalues()[r]));
+  o.omega_max = std::sqrt(lmax);
+  for (Eigen::Index r = 0; r < n; ++r) {
+    const std::complex<double> l = es.eigenvalues()[r];
+    // Rigid-body modes: |lambda| ~ round-off of lmax.
+    if (std::abs(l) < 1e-9 * lmax) continue;
+    const std::complex<double> sroot = std::sqrt(-l);
+    o.growth = std::max(o.growth, std::abs(sroot.real()));
+    o.worst_lambda_imag = std::max(o.worst_lambda_imag, std::abs(l.imag()) / lmax);
+    o.min_lambda_real = std::min(o.min_lambda_real, l.real() / lmax);
+  }
+  return o;
+}
+
+// The linearised coupled operator (coupled_operator), without the interface damping: the
+// pure PD bar is symmetric with a real, non-negative spectrum (the harness's check); the
+// force-based coupling is not symmetric and has complex eigenvalue pairs, i.e. slowly
+// growing modes. Measured (hex8, hourglass 0.1): element_size 1 asymmetry 0.090, growth
+// 1.4e-3 omega_max; the former coarse grid (band points interpolated in elements of 2
+// and 3 spacings) 0.17 / 4.1e-3 and 0.19 / 9.4e-3; the graded grid (element_size 2)
+// 0.081 / 7.1e-4, and 4.7e-4 with the interface damping (the damped operator's spectrum
+// is not computed here: twice the size, ~1 min). The bound keeps the graded grid's
+// figure from getting worse; a growth of zero (a conservative coupling) is NOT reached:
+// docs/verification.md, "Interpolation coupling and coarser elements".
+TEST(FeInterpolation, CoupledOperatorSpectrum) {
+  const OperatorFigures pd = coupled_operator(0, false), graded = coupled_operator(2, false);
+  report("fe_coupled_operator_growth", graded.growth / graded.omega_max,
+         fmt::format("linearised operator of a 24 x 4 x 4 mm bar (PD from 12 mm): pure PD asymmetry {:.1e}, growth "
+                     "{:.1e} omega_max; coupled, graded element_size 2 ({} elements, {} interpolated): asymmetry "
+                     "{:.3f}, growth {:.2e} omega_max (largest |Im lambda| {:.1e} of the largest |lambda|)",
+                     pd.asymmetry, pd.growth / pd.omega_max, graded.elements, graded.interpolated, graded.asymmetry,
+                     graded.growth / graded.omega_max, graded.worst_lambda_imag));
+  EXPECT_LT(pd.asymmetry, 1e-8);
+  EXPECT_LT(pd.growth / pd.omega_max, 1e-6);
+  EXPECT_EQ(graded.interpolated, 0u);
+  EXPECT_LT(graded.growth / graded.omega_max, 1.5e-3);  // measured 7.1e-4
 }
 
 TEST(FeInterpolation, ElementSizeErrors) {
@@ -329,11 +472,16 @@ bodies:
   fails_with(head + "  - {name: a, material: al, discretization: fe, element_size: 0, shape: {box: {min: [0,0,0], max: "
                     "[4e-3,4e-3,4e-3]}}}\nsolver: {end_time: 1e-6}\n",
              "element_size: expected a whole number of spacings from 1 to 16");
-  // A sphere inside coarse elements: its particles would lie inside kept elements.
-  fails_with(head + "  - {name: c, material: al, shape: {sphere: {center: [7e-3,7e-3,7e-3], radius: 3e-3}}}\n"
-                    "  - {name: a, material: al, discretization: fe, element_size: 3, shape: {box: {min: [0,0,0], max: "
-                    "[14e-3,14e-3,14e-3]}}}\nsolver: {end_time: 1e-6}\n",
-             "use element_size: 1 or a box-shaped peridynamic body");
+  // A sphere inside coarse elements: the grid is fine over its bounding box and the band,
+  // so every particle and band point is a node (before the graded grid: an error).
+  const System sphere = build_system(
+      parse_deck(head + "  - {name: c, material: al, shape: {sphere: {center: [10e-3,10e-3,10e-3], radius: 3e-3}}}\n"
+                        "  - {name: a, material: al, discretization: fe, element_size: 3, shape: {box: {min: [0,0,0], "
+                        "max: [20e-3,20e-3,20e-3]}}}\nsolver: {end_time: 1e-6}\n",
+                 "sphere.yaml"));
+  ASSERT_TRUE(sphere.fe);
+  EXPECT_EQ(sphere.fe->interpolated(), 0u);
+  EXPECT_GT(sphere.fe->shared_nodes(), 0u);
 }
 
 }  // namespace

@@ -337,11 +337,6 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
       if (body.fe_element_size < 1 || body.fe_element_size > 16)
         ctx.fail(es->mark, es->path + ": expected a whole number of spacings from 1 to 16 (the elements' edge: nodes "
                                       "on every n-th lattice point)");
-      if (body.fe_element_size > 1)
-        ctx.warn(es->mark, es->path + ": elements coarser than the spacing are experimental: a wave crossing "
-                                      "into the peridynamic body reflects about 40 % of its energy there and a "
-                                      "coupled body can turn unstable after fracture (docs/input.md, "
-                                      "\"Finite-element bodies\")");
     }
     if (fe) {
       if (auto sel = read_mesh_selection(ctx, shape)) {

@@ -7,9 +7,9 @@
 // Nodes are particles. An FE body's nodes sit on the lattice of the deck's spacing (the
 // cells of the outermost layers stand for the material out to the box faces: their
 // volume is scaled, their nodes stay on the lattice), every lattice point
-// (element_size 1) or every n-th (element_size n: grid lines n to 2n - 1 spacings apart,
-// with a line through the outermost particles of each peridynamic body inside the box, so
-// the interface lies on element faces), or they are a mesh's nodes. Where a peridynamic
+// (element_size 1) or a graded grid (element_size n: every lattice point within a
+// horizon of a peridynamic body's index range, grid lines n to 2n - 1 spacings apart
+// beyond, so the band is all nodes of unit elements), or they are a mesh's nodes. Where a peridynamic
 // body lies inside the FE body its particles are the nodes there. Every degree of
 // freedom has one owner:
 //   - a particle of a peridynamic body is owned by the peridynamics: its force is the
@@ -79,6 +79,19 @@ struct FeRegion {
   std::vector<uint32_t> slave_particle;
   std::vector<uint32_t> slave_node;
   std::vector<double> slave_weight;
+  // Interface damping (a stabiliser of the force-based coupling): the elements that touch
+  // the overlap (a node at a peridynamic particle or within a horizon of one) add a
+  // stiffness-proportional (Rayleigh) viscous stress beta_e C : sym(grad v) and hourglass
+  // force beta_e k gamma.v, beta_e = 2 interface_damping / omega_e (omega_e the element's
+  // largest frequency, stable_time_step): a damping ratio of interface_damping at the
+  // element's highest mode, proportionally less below (a pulse of many elements' length
+  // is hardly touched). Why: the coupled operator is not symmetric and has complex
+  // eigenvalue pairs, slowly growing modes at the interface (tests: FeInterpolation.
+  // CoupledOperatorSpectrum); a small viscosity there turns them into decaying ones.
+  // Its work is part of coupling_work. Per element: 1 where damped.
+  std::vector<uint8_t> damped;
+  std::vector<double> damping_beta;  // per element: beta_e [s] (0: undamped)
+  double interface_damping = 0.1;
   // Node -> (element, local node) lists, for a race-free assembly.
   std::vector<uint64_t> node_offset;
   std::vector<uint32_t> node_elem;  // element * nodes_per_element + local
@@ -150,6 +163,9 @@ struct FeRegion {
   // here with b = V dN/dx; the hourglass stiffness added; the same bound for tet4 with
   // 4 nodes). Returns +inf without elements.
   double stable_time_step() const;
+  // The element's largest frequency without hourglass control (the bound of
+  // stable_time_step's linear part), for the interface damping [rad/s].
+  double element_omega(std::size_t e) const;
   // Precomputes gradients, volumes and hourglass vectors from node_X and conn.
   void setup_geometry();
 };
