@@ -70,6 +70,18 @@ struct HaloStats {
   uint64_t rebuilds = 0;          // ghost re-selections (each gathers every displacement)
 };
 
+// Local particles with short-range contact: the particles of other ranks within the
+// contact reach plus the skin of one of this rank's owned particles that this rank does
+// not hold (not in its System), with what the contact pass reads of them
+// (contact/short_range.hpp). Chosen again with the other ghosts (halo_exchange).
+struct ContactGhosts {
+  uint64_t generation = 0;              // +1 each time the set is chosen
+  std::vector<int64_t> id;              // global id
+  std::vector<Vec3> X, u;               // reference position; displacement (sent each step)
+  std::vector<double> volume, micromodulus;  // V and the contact micromodulus c
+  std::size_t most = 0;                 // the largest set so far
+};
+
 struct Decomposition {
   int rank = 0, size = 1;
   double skin = 0;                   // ghost margin for moving particles [m]
@@ -95,6 +107,10 @@ struct Decomposition {
   bool local_particles = false;
   uint64_t global_particles = 0;         // particles of the whole system
   bool reference_gathered = false;       // gather_state has put X, volume... in rank 0's view
+  // Local particles with short-range contact: the contact ghosts, and per rank the owned
+  // particles whose displacement it needs for its contact ghosts / the ghosts it sends.
+  ContactGhosts contact;
+  std::vector<std::vector<uint32_t>> contact_send, contact_recv;
 
   bool owns(std::size_t i) const { return is_owned[i] != 0; }
 };
