@@ -120,11 +120,14 @@ void exchange_values(Decomposition& d, const std::vector<std::vector<uint32_t>>&
 // Collective.
 void choose_contact_ghosts(System& s, Decomposition& d) {
   ContactGhosts& g = d.contact;
+  // The same set as before (the same ids in the same order: the candidates come in each
+  // owner's index order) keeps its generation, so the contact lists are kept.
+  const std::vector<int64_t> before = std::move(g.id);
+  const bool first = g.generation == 0;
   g.id.clear(), g.X.clear(), g.u.clear(), g.volume.clear(), g.micromodulus.clear();
   const std::size_t ranks = static_cast<std::size_t>(d.size);
   d.contact_send.assign(ranks, {});
   d.contact_recv.assign(ranks, {});
-  ++g.generation;
 #if defined(HORIZON_MPI)
   const auto& P = s.particles;
   const auto& M = s.model;
@@ -216,6 +219,7 @@ void choose_contact_ghosts(System& s, Decomposition& d) {
 #else
   (void)s;
 #endif
+  if (first || g.id != before) ++g.generation;
 }
 
 // The ghosts of this rank from the current positions of every particle (which must be
