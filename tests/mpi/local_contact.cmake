@@ -1,8 +1,8 @@
 # Local particles with short-range contact and checkpoints (parallel/decomposition.hpp:
 # each rank holds only the particles it reads; the contact partners it does not hold come
 # as contact ghosts outside its system):
-#  - tests/mpi/bar_contact.yaml (a PMB bar cut through at its middle, the halves thrown
-#    at each other: contact across the cut, then fragments) on 1, 2, 3 and 4 ranks:
+#  - tests/mpi/bar_contact.yaml (two PMB bars 4 mm apart, no bond between them, thrown
+#    at each other: contact across the gap, bonds break) on 1, 2, 3 and 4 ranks:
 #    state_crc32 equal to the serial program's; on 2 to 4 ranks local particles; on 4
 #    ranks each rank holds at most 50 % of the particles with its contact ghosts (the
 #    most it held), the ranks own every particle once, contact ghosts were held and
