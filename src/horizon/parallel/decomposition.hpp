@@ -2,14 +2,14 @@
 // Domain decomposition of an explicit run over MPI ranks (docs/design.md, "Running on
 // several ranks"; built with -DHORIZON_MPI=ON).
 //
-// What is distributed is the work and the bonds, and where the deck allows it
-// (local_particles_allowed: no short-range contact, no checkpoints) the particles: a rank then holds only its owned particles and the particles its
-// rows read, in a local numbering in ascending global id (Particles::id holds the global
-// id), and every index below (owner, owned, the ghost lists, loads, reactions) is local;
-// the build generates the whole lattice transiently (positions, volumes, materials) to
-// decide owners and families, then keeps the local set and sets the models up on it
-// alone; what reads every particle (history rows' damage figures, crack tracking, the
-// summary) reads rank 0's view, gathered by gather_state (O(N) on rank 0 only).
+// What is distributed is the work and the bonds, and where the deck allows it (local_particles_allowed: local
+// rows on more than one rank, short-range contact and checkpoints included, not a restart) the particles: a rank
+// then holds only its owned particles and the particles its rows read, in a local numbering in ascending global
+// id (Particles::id), and every index below (owner, owned, ghost lists, loads, reactions) is local; short-range
+// contact reads the particles within its reach that no bond brings as contact ghosts outside the System
+// (ContactGhosts: chosen by exchanging the owned particles' boxes; the contact lists sort by global id), and a
+// checkpoint gathers each record by global id on rank 0. The build generates the whole lattice transiently to
+// decide owners and families; what reads every particle (history, cracks, summary) reads rank 0's gathered view.
 // Otherwise the particles are replicated: every rank builds every particle from the deck
 // (positions, velocities, per-particle model constants in the serial order: the serial
 // indices are the global ids), then
@@ -137,9 +137,9 @@ System build_system_split(const Config& config);
 // particle), d.local_particles and d.global_particles; d.local_rows is set too.
 // Collective.
 System build_system_split(const Config& config, Decomposition& d);
-// Whether a deck may be built with local particles: local_rows_allowed, and nothing that
-// still reads every particle on every rank: short-range contact (its ghosts would come
-// from anywhere), checkpoints (written and read in the whole system's numbering).
+// Whether a deck may be built with local particles: local_rows_allowed (short-range contact reads contact
+// ghosts, a checkpoint is gathered by global id; the driver builds a restart, and a run on one rank, with every
+// particle).
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface
