@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "horizon/core/cell_key.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -32,19 +33,26 @@ uint64_t ShortRangeContact::cell_key(const Vec3& p) const {
   return pack_cell(cell_coord(p.x, edge), cell_coord(p.y, edge), cell_coord(p.z, edge));
 }
 
-void ShortRangeContact::update(const System& s, const Point4* y) {
+void ShortRangeContact::update(const System& s, const Point4* y, bool first) {
   const std::size_t n = s.particles.size();
+  const std::size_t total = n + ghost_y_.size();  // with the contact ghosts (local particles)
   const auto& B = s.bonds;
   const double edge = cutoff_ + skin_, reach2 = edge * edge;
-  const bool first = y_built_.size() != n;
+  // Local particles: a row lists only pairs with a computed row (the rows of the others
+  // may not be held, so their families are unknown here), sorted by global id.
+  const bool local = s.decomposition && s.decomposition->local_particles;
+  const bool keyed = !key_.empty();
+  auto less = [&](uint32_t a, uint32_t b) { return keyed ? key_[a] < key_[b] : a < b; };
+  auto pos = [&](uint32_t j) -> const Point4& { return j < n ? y[j] : ghost_y_[j - n]; };
+  auto computed = [&](uint32_t j) { return j < n && s.computes_row(j); };
   if (first) {
-    y_built_.assign(n, Vec3{});
-    rows_.assign(n, {});
-    cell_of_.assign(n, 0);
+    y_built_.assign(total, Vec3{});
+    rows_.assign(total, {});
+    cell_of_.assign(total, 0);
     cells_.clear();
-    is_mover_.assign(n, 0);
-    movers_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) movers_[i] = static_cast<uint32_t>(i);
+    is_mover_.assign(total, 0);
+    movers_.resize(total);
+    for (std::size_t i = 0; i < total; ++i) movers_[i] = static_cast<uint32_t>(i);
   }
   for (uint32_t m : movers_) is_mover_[m] = 1;
   // Forget the movers' pairs and move them to their new cells.
@@ -52,14 +60,15 @@ void ShortRangeContact::update(const System& s, const Point4* y) {
     for (uint32_t j : rows_[m]) {
       if (is_mover_[j]) continue;
       auto& r = rows_[j];
-      r.erase(std::lower_bound(r.begin(), r.end(), m));
+      r.erase(std::lower_bound(r.begin(), r.end(), m, less));
     }
     rows_[m].clear();
     if (!first) {
       auto& old = cells_[cell_of_[m]];
       old.erase(std::find(old.begin(), old.end(), m));
     }
-    y_built_[m] = {y[m].x, y[m].y, y[m].z};
+    const Point4& p = pos(m);
+    y_built_[m] = {p.x, p.y, p.z};
     cell_of_[m] = cell_key(y_built_[m]);
     cells_[cell_of_[m]].push_back(m);
   }
@@ -68,8 +77,10 @@ void ShortRangeContact::update(const System& s, const Point4* y) {
   std::vector<uint32_t> touched;
   for (uint32_t m : movers_) {
     const Vec3 p = y_built_[m];
-    const auto first_bond = B.nbr.begin() + static_cast<std::ptrdiff_t>(B.begin(m));
-    const auto last_bond = B.nbr.begin() + static_cast<std::ptrdiff_t>(B.end(m));
+    const bool held = m < n;  // a contact ghost has no row here (and no family with a held row)
+    const auto first_bond = B.nbr.begin() + static_cast<std::ptrdiff_t>(held ? B.begin(m) : 0);
+    const auto last_bond = B.nbr.begin() + static_cast<std::ptrdiff_t>(held ? B.end(m) : 0);
+    const bool m_computed = computed(m);
     const int64_t c[3] = {cell_coord(p.x, edge), cell_coord(p.y, edge), cell_coord(p.z, edge)};
     for (int64_t a = c[0] - 1; a <= c[0] + 1; ++a)
       for (int64_t b = c[1] - 1; b <= c[1] + 1; ++b)
@@ -78,11 +89,12 @@ void ShortRangeContact::update(const System& s, const Point4* y) {
           if (it == cells_.end()) continue;
           for (uint32_t j : it->second) {
             if (j == m || norm2(y_built_[j] - p) > reach2) continue;
+            if (local && !m_computed && !computed(j)) continue;
             if (std::binary_search(first_bond, last_bond, j)) continue;
             // A row this rank does not hold (a run split over ranks with local rows,
             // parallel/decomposition.hpp) is empty: the family test then reads j's row
             // (families are symmetric; serially an empty row has no family at all).
-            if (first_bond == last_bond && B.end(j) > B.begin(j) &&
+            if (first_bond == last_bond && j < n && B.end(j) > B.begin(j) &&
                 std::binary_search(B.nbr.begin() + static_cast<std::ptrdiff_t>(B.begin(j)),
                                    B.nbr.begin() + static_cast<std::ptrdiff_t>(B.end(j)), m))
               continue;
@@ -93,9 +105,9 @@ void ShortRangeContact::update(const System& s, const Point4* y) {
             }
           }
         }
-    std::sort(rows_[m].begin(), rows_[m].end());
+    std::sort(rows_[m].begin(), rows_[m].end(), less);
   }
-  for (uint32_t j : touched) std::sort(rows_[j].begin(), rows_[j].end());
+  for (uint32_t j : touched) std::sort(rows_[j].begin(), rows_[j].end(), less);
   for (uint32_t m : movers_) is_mover_[m] = 0;
   rebuilds_ += movers_.size();
   candidates_ = 0;
@@ -107,17 +119,41 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   const auto& P = s.particles;
   const auto& M = s.model;
   const std::size_t n = P.size();
-  if (y_built_.size() != n) {
-    update(s, y);
+  // Local particles on ranks: the contact ghosts' current positions (the same sum as the
+  // owner's packed position), and the lists built again for a new ghost set.
+  const Decomposition* dec = s.decomposition;
+  const ContactGhosts* g = dec && dec->local_particles ? &dec->contact : nullptr;
+  bool first = false;
+  if (g) {
+    const std::size_t ng = g->id.size();
+    ghost_y_.resize(ng);
+    for (std::size_t k = 0; k < ng; ++k) {
+      const Vec3 p = g->X[k] + g->u[k];
+      ghost_y_[k] = {p.x, p.y, p.z, 0.0};
+    }
+    if (generation_ != g->generation || y_built_.size() != n + ng) {
+      first = true;
+      generation_ = g->generation;
+      key_.clear();
+      if (ng > 0) {
+        key_.assign(P.id.begin(), P.id.end());
+        key_.insert(key_.end(), g->id.begin(), g->id.end());
+      }
+    }
+  }
+  const std::size_t total = n + ghost_y_.size();
+  if (first || y_built_.size() != total) {
+    update(s, y, true);
   } else {
     // The particles that moved more than skin/2 since their last update, in index order.
     const double half2 = 0.25 * skin_ * skin_;
     movers_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-      const double dx = y[i].x - y_built_[i].x, dy = y[i].y - y_built_[i].y, dz = y[i].z - y_built_[i].z;
+    for (std::size_t i = 0; i < total; ++i) {
+      const Point4& p = i < n ? y[i] : ghost_y_[i - n];
+      const double dx = p.x - y_built_[i].x, dy = p.y - y_built_[i].y, dz = p.z - y_built_[i].z;
       if (dx * dx + dy * dy + dz * dz > half2) movers_.push_back(static_cast<uint32_t>(i));
     }
-    if (!movers_.empty()) update(s, y);
+    if (!movers_.empty()) update(s, y, false);
   }
   if (candidates_ == 0) return;
   const double cut2 = cutoff_ * cutoff_;
@@ -125,6 +161,31 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   // A decomposed run adds the contact of its active particles alone (solver/system.hpp).
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t count = act ? act->size() : n;
+  if (ghost_y_.empty()) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t a = 0; a < count; ++a) {
+      const std::size_t i = act ? (*act)[a] : a;
+      if (rows_[i].empty()) continue;
+      Vec3 fi;
+      double wi = 0;
+      for (uint32_t j : rows_[i]) {
+        const double dx = y[j].x - y[i].x, dy = y[j].y - y[i].y, dz = y[j].z - y[i].z;
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        if (!(r2 < cut2) || r2 == 0) continue;
+        const double d = distance(norm(P.X[j] - P.X[i]));
+        const double r = std::sqrt(r2);
+        if (!(r < d)) continue;
+        const double k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * P.volume[j];
+        const double a = -k * (d - r) / r;  // pushes i away from j
+        fi += Vec3{dx, dy, dz} * a;
+        wi += 0.25 * k * (d - r) * (d - r);
+      }
+      f[i] += fi;
+      if (W) W[i] += wi;
+    }
+    return;
+  }
+  // The same sum with the contact ghosts (index n + k: ghost k), term for term.
 #pragma omp parallel for schedule(static)
   for (std::size_t a = 0; a < count; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
@@ -132,13 +193,18 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
     Vec3 fi;
     double wi = 0;
     for (uint32_t j : rows_[i]) {
-      const double dx = y[j].x - y[i].x, dy = y[j].y - y[i].y, dz = y[j].z - y[i].z;
+      const bool held = j < n;
+      const Point4& yj = held ? y[j] : ghost_y_[j - n];
+      const double dx = yj.x - y[i].x, dy = yj.y - y[i].y, dz = yj.z - y[i].z;
       const double r2 = dx * dx + dy * dy + dz * dz;
       if (!(r2 < cut2) || r2 == 0) continue;
-      const double d = distance(norm(P.X[j] - P.X[i]));
+      const Vec3& Xj = held ? P.X[j] : g->X[j - n];
+      const double d = distance(norm(Xj - P.X[i]));
       const double r = std::sqrt(r2);
       if (!(r < d)) continue;
-      const double k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * P.volume[j];
+      const double cj = held ? M.contact_micromodulus[j] : g->micromodulus[j - n];
+      const double Vj = held ? P.volume[j] : g->volume[j - n];
+      const double k = factor * 0.5 * (M.contact_micromodulus[i] + cj) * Vj;
       const double a = -k * (d - r) / r;  // pushes i away from j
       fi += Vec3{dx, dy, dz} * a;
       wi += 0.25 * k * (d - r) * (d - r);

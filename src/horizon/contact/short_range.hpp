@@ -16,6 +16,15 @@
 // since its last update is updated alone (its pairs found again through a hash grid).
 // Only the particles that move fast cost anything, so a body at rest or in slow
 // motion pays almost nothing for contact.
+//
+// A run split over ranks with local particles (parallel/decomposition.hpp) also reads the
+// contact ghosts, the particles of other ranks within reach of its own that it does not
+// hold (Decomposition::contact): they take indices n, n + 1, ... after the n particles of
+// the system, each row is sorted by global id (so every sum runs in the serial program's
+// order), only pairs with a computed row (System::computes_row) are listed, and the lists
+// are built again whenever the decomposition chooses the ghosts again. A particle's
+// force sums the same nonzero terms in the same order as serially as long as its list
+// holds every pair within the contact distance, so the bits do not depend on the ranks.
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -50,7 +59,7 @@ class ShortRangeContact {
   std::size_t candidates() const { return candidates_; }
 
  private:
-  void update(const System& s, const Point4* y);
+  void update(const System& s, const Point4* y, bool first);
   uint64_t cell_key(const Vec3& p) const;
 
   bool enabled_ = false;
@@ -62,6 +71,12 @@ class ShortRangeContact {
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
   std::vector<uint32_t> movers_;
   std::vector<uint8_t> is_mover_;
+  // Contact ghosts (local particles on ranks): their current positions (w unused), the
+  // global id of every index (local ones, then the ghosts; empty without ghosts) and the
+  // generation of the ghost set the lists were built for.
+  std::vector<Point4> ghost_y_;
+  std::vector<int64_t> key_;
+  uint64_t generation_ = 0;
   std::size_t rebuilds_ = 0, candidates_ = 0;
 };
 

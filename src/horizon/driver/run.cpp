@@ -701,6 +701,9 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
       fmt::print(stderr, "restart         from {} at step {}, t = {:.4e} s\n", *options.restart, r.solver->steps(),
                  r.solver->time());
   } else {
+    // Local particles: rank 0's view of the initial state (the first row's damage and
+    // body velocities, the crack tracker's first record).
+    if (r.dd && r.dd->local_particles) r.sync();
     r.record_history();
     r.write_frame();
     r.crack->record(r.out(), 0);
@@ -866,6 +869,10 @@ int ExplicitRun::finish() {
     // The particles each rank integrates and those it holds (with its ghosts).
     const std::vector<uint64_t> owned = gather_on_lead(r.dd->owned.size());
     const std::vector<uint64_t> particles_held = gather_on_lead(s.particles.size());
+    // Local particles with short-range contact: the contact ghosts each rank holds
+    // outside its system (parallel/decomposition.hpp ContactGhosts), now and at most.
+    const std::vector<uint64_t> contact_ghosts = gather_on_lead(r.dd->contact.id.size());
+    const std::vector<uint64_t> contact_ghosts_most = gather_on_lead(r.dd->contact.most);
     const std::vector<uint64_t> rss = gather_on_lead(static_cast<uint64_t>(peak_memory_bytes()));
     nlohmann::ordered_json h = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < hs.size(); ++k) {
@@ -873,6 +880,8 @@ int ExplicitRun::finish() {
       h.push_back({{"rank", k},
                    {"particles", owned[k]},
                    {"particles_held", particles_held[k]},
+                   {"contact_ghosts", contact_ghosts[k]},
+                   {"contact_ghosts_most", contact_ghosts_most[k]},
                    {"bonds_held", held[k]},
                    {"peak_memory_bytes", rss[k]},
                    {"messages_per_step", static_cast<double>(hs[k].messages) / steps},

@@ -52,7 +52,10 @@ void CheckpointWriter::put(const std::string& name, const void* bytes, std::size
   payload_ += full;
   append(payload_, static_cast<uint32_t>(element_size));
   append(payload_, static_cast<uint64_t>(count));
-  if (extent != Extent::global && count) spread_.push_back({full, extent, element_size, count, payload_.size(), list()});
+  // Every record, global and empty ones too: with local particles (parallel/
+  // decomposition.hpp) an array may be empty on one rank and not on another, and the
+  // gather walks the same list on every rank.
+  spread_.push_back({full, extent, element_size, count, payload_.size(), list()});
   if (extent == Extent::bonds) bond_records_.push_back(full);
   if (count) payload_.append(static_cast<const char*>(bytes), element_size * count);
 }

@@ -35,9 +35,9 @@ class CheckpointWriter : public StateArchive {
   void write(const std::string& path) const;
   const std::string& payload() const { return payload_; }
 
-  // The per-particle and per-bond records (Extent, core/state_archive.hpp) and where their
-  // bytes lie in the payload: a run split over MPI ranks overwrites them with every
-  // owner's entries (parallel/decomposition.hpp gather_checkpoint) before rank 0 writes.
+  // Every record, empty and global ones too, with its Extent (core/state_archive.hpp) and where
+  // its bytes lie in the payload: a run split over MPI ranks overwrites the per-particle, per-bond
+  // and listed ones with every owner's entries (decomposition.hpp gather_checkpoint) before rank 0 writes.
   struct Spread {
     std::string name;
     Extent extent = Extent::global;

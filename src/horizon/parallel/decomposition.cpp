@@ -74,6 +74,154 @@ void allgather_owned(const System& s, const Decomposition& d, int k, Pack pack, 
 }
 #endif
 
+// Each rank r receives the entries send[r] of `from` into the entries recv[r] of `to`.
+void exchange_values(Decomposition& d, const std::vector<std::vector<uint32_t>>& send, const std::vector<Vec3>& from,
+                     const std::vector<std::vector<uint32_t>>& recv, std::vector<Vec3>& to) {
+  if (d.size == 1) return;
+#if defined(HORIZON_MPI)
+  std::vector<std::vector<double>> out(static_cast<std::size_t>(d.size)), in(static_cast<std::size_t>(d.size));
+  std::vector<MPI_Request> req;
+  for (int r = 0; r < d.size; ++r) {
+    const auto& rl = recv[static_cast<std::size_t>(r)];
+    if (r == d.rank || rl.empty()) continue;
+    in[static_cast<std::size_t>(r)].resize(3 * rl.size());
+    req.emplace_back();
+    MPI_Irecv(in[static_cast<std::size_t>(r)].data(), static_cast<int>(3 * rl.size()), MPI_DOUBLE, r, 7, MPI_COMM_WORLD,
+              &req.back());
+  }
+  for (int r = 0; r < d.size; ++r) {
+    const auto& sl = send[static_cast<std::size_t>(r)];
+    if (r == d.rank || sl.empty()) continue;
+    auto& o = out[static_cast<std::size_t>(r)];
+    for (uint32_t i : sl) o.insert(o.end(), {from[i].x, from[i].y, from[i].z});
+    req.emplace_back();
+    MPI_Isend(o.data(), static_cast<int>(o.size()), MPI_DOUBLE, r, 7, MPI_COMM_WORLD, &req.back());
+    ++d.stats.messages;
+    d.stats.bytes += o.size() * sizeof(double);
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (int r = 0; r < d.size; ++r) {
+    const auto& rl = recv[static_cast<std::size_t>(r)];
+    if (r == d.rank || rl.empty()) continue;
+    const double* p = in[static_cast<std::size_t>(r)].data();
+    for (std::size_t k = 0; k < rl.size(); ++k) to[rl[k]] = {p[3 * k], p[3 * k + 1], p[3 * k + 2]};
+  }
+#else
+  (void)send, (void)from, (void)recv, (void)to;
+#endif
+}
+
+// Local particles with short-range contact: the contact ghosts (decomposition.hpp)
+// chosen from the current positions without gathering them. Each rank's box around its
+// owned particles, widened by the contact reach plus the skin, goes to every rank; each
+// rank sends the owned particles inside another rank's box (global id, X, u, V, c); the
+// receiver keeps those it does not hold that lie within reach + skin of one of its owned
+// particles and tells the sender which, whose displacements it then sends every step.
+// Collective.
+void choose_contact_ghosts(System& s, Decomposition& d) {
+  ContactGhosts& g = d.contact;
+  // The same set as before (the same ids in the same order: the candidates come in each
+  // owner's index order) keeps its generation, so the contact lists are kept.
+  const std::vector<int64_t> before = std::move(g.id);
+  const bool first = g.generation == 0;
+  g.id.clear(), g.X.clear(), g.u.clear(), g.volume.clear(), g.micromodulus.clear();
+  const std::size_t ranks = static_cast<std::size_t>(d.size);
+  d.contact_send.assign(ranks, {});
+  d.contact_recv.assign(ranks, {});
+#if defined(HORIZON_MPI)
+  const auto& P = s.particles;
+  const auto& M = s.model;
+  const double reach = d.contact_reach + d.skin, reach2 = reach * reach;
+  double box[6] = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+  for (uint32_t i : d.owned) {
+    const Vec3 y = position(s, i);
+    for (int c = 0; c < 3; ++c) box[c] = std::min(box[c], y[c] - reach), box[3 + c] = std::max(box[3 + c], y[c] + reach);
+  }
+  std::vector<double> boxes(6 * ranks);
+  MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, MPI_COMM_WORLD);
+  // The candidates for each rank: 9 doubles each (id exact below 2^53).
+  constexpr int per = 9;
+  std::vector<std::vector<uint32_t>> candidates(ranks);
+  std::vector<double> out;
+  std::vector<int> send_count(ranks, 0), send_at(ranks, 0), recv_count(ranks, 0), recv_at(ranks, 0);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    send_at[r] = static_cast<int>(out.size());
+    if (static_cast<int>(r) == d.rank) continue;
+    const double* b = boxes.data() + 6 * r;
+    for (uint32_t i : d.owned) {
+      const Vec3 y = position(s, i);
+      if (y.x < b[0] || y.y < b[1] || y.z < b[2] || y.x > b[3] || y.y > b[4] || y.z > b[5]) continue;
+      candidates[r].push_back(i);
+      out.insert(out.end(), {static_cast<double>(P.id[i]), P.X[i].x, P.X[i].y, P.X[i].z, P.u[i].x, P.u[i].y, P.u[i].z,
+                             P.volume[i], M.contact_micromodulus[i]});
+    }
+    send_count[r] = static_cast<int>(out.size()) - send_at[r];
+  }
+  MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::size_t at = 0;
+  for (std::size_t r = 0; r < ranks; ++r) {
+    if (at > static_cast<std::size_t>(INT_MAX)) throw Error("contact ghosts: too many candidates to exchange");
+    recv_at[r] = static_cast<int>(at);
+    at += static_cast<std::size_t>(recv_count[r]);
+  }
+  std::vector<double> in(at);
+  MPI_Alltoallv(out.data(), send_count.data(), send_at.data(), MPI_DOUBLE, in.data(), recv_count.data(),
+                recv_at.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+  out = {};
+  // This rank's owned particles on a grid of cell reach + skin.
+  std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+  auto key = [&](const Vec3& p, int dx, int dy, int dz) {
+    return pack_cell(cell_coord(p.x, reach) + dx, cell_coord(p.y, reach) + dy, cell_coord(p.z, reach) + dz);
+  };
+  for (uint32_t i : d.owned) grid[key(position(s, i), 0, 0, 0)].push_back(i);
+  auto near = [&](const Vec3& y) {
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find(key(y, dx, dy, dz));
+          if (it == grid.end()) continue;
+          for (uint32_t i : it->second)
+            if (norm2(position(s, i) - y) < reach2) return true;
+        }
+    return false;
+  };
+  // Keep those not held here and near an owned particle; tell each sender which.
+  std::vector<uint32_t> kept;
+  std::vector<int> keep_count(ranks, 0), keep_at(ranks, 0), give_count(ranks, 0), give_at(ranks, 0);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    keep_at[r] = static_cast<int>(kept.size());
+    const std::size_t count = static_cast<std::size_t>(recv_count[r]) / per;
+    for (std::size_t k = 0; k < count; ++k) {
+      const double* p = in.data() + recv_at[r] + k * per;
+      const auto id = static_cast<int64_t>(p[0]);
+      if (std::binary_search(P.id.begin(), P.id.end(), id)) continue;
+      const Vec3 X{p[1], p[2], p[3]}, u{p[4], p[5], p[6]};
+      if (!near(X + u)) continue;
+      kept.push_back(static_cast<uint32_t>(k));
+      d.contact_recv[r].push_back(static_cast<uint32_t>(g.id.size()));
+      g.id.push_back(id);
+      g.X.push_back(X);
+      g.u.push_back(u);
+      g.volume.push_back(p[7]);
+      g.micromodulus.push_back(p[8]);
+    }
+    keep_count[r] = static_cast<int>(kept.size()) - keep_at[r];
+  }
+  MPI_Alltoall(keep_count.data(), 1, MPI_INT, give_count.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  at = 0;
+  for (std::size_t r = 0; r < ranks; ++r) give_at[r] = static_cast<int>(at), at += static_cast<std::size_t>(give_count[r]);
+  std::vector<uint32_t> give(at);
+  MPI_Alltoallv(kept.data(), keep_count.data(), keep_at.data(), MPI_UINT32_T, give.data(), give_count.data(),
+                give_at.data(), MPI_UINT32_T, MPI_COMM_WORLD);
+  for (std::size_t r = 0; r < ranks; ++r)
+    for (int k = 0; k < give_count[r]; ++k) d.contact_send[r].push_back(candidates[r][give[static_cast<std::size_t>(give_at[r] + k)]]);
+  g.most = std::max(g.most, g.id.size());
+#else
+  (void)s;
+#endif
+  if (first || g.id != before) ++g.generation;
+}
+
 // The ghosts of this rank from the current positions of every particle (which must be
 // up to date on this rank), and the lists of what to send where.
 void choose_ghosts(System& s, Decomposition& d) {
@@ -88,7 +236,11 @@ void choose_ghosts(System& s, Decomposition& d) {
     }
   }
   std::vector<uint8_t> need = d.bond_ghosts;
-  if (d.contact_reach > 0) {
+  // Local particles: every particle held is kept current, also those only a bond cut by
+  // a precrack brought in (the build keeps the rows' neighbours from before the cut):
+  // the contact pass reads every held particle (choose_contact_ghosts sends none of them).
+  if (d.local_particles) need.assign(n, 1);
+  if (d.contact_reach > 0 && !d.local_particles) {
     // Every particle within reach + skin of an owned one (a hash grid of that cell size).
     const double cell = d.contact_reach + d.skin, cut2 = cell * cell;
     std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
@@ -143,6 +295,7 @@ void choose_ghosts(System& s, Decomposition& d) {
     d.send[static_cast<std::size_t>(r)].assign(asked.begin() + sd[static_cast<std::size_t>(r)],
                                               asked.begin() + sd[static_cast<std::size_t>(r)] + give[static_cast<std::size_t>(r)]);
 #endif
+  if (d.local_particles && d.contact_reach > 0) choose_contact_ghosts(s, d);
   d.y_built.resize(n);
   for (uint32_t i : d.owned) d.y_built[i] = position(s, i);
   ++d.stats.rebuilds;
@@ -249,8 +402,7 @@ void decompose(System& s, Decomposition& d, double skin) {
   const std::size_t n = s.particles.size();
   // Local particles: the owners were decided on the whole lattice by the build.
   if (!d.local_particles) d.owner = rcb_owners(s.particles.X, d.size);
-  if (d.local_particles && (d.owner.size() != n || d.contact_reach > 0))
-    throw Error("internal error: local particles without their owners, or with short-range contact");
+  if (d.local_particles && d.owner.size() != n) throw Error("internal error: local particles without their owners");
   d.owned.clear();
   d.is_owned.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i)
@@ -347,13 +499,125 @@ void keep_local_bonds(const System& s, const Decomposition& d, const std::vector
 
 void refresh_ghosts(System& s, Decomposition& d) { choose_ghosts(s, d); }
 
+namespace {
+// Local particles: every per-particle, per-bond and listed record of `w` replaced on rank
+// 0 by the whole system's, in global order. Each rank sends the entries of its owned
+// particles (of their bond rows) as (global id, byte count, bytes); rank 0 sorts them by
+// global id and puts them one after the other, which is the serial order of each kind
+// (a bond row's bonds keep their serial order in the local numbering, and a listed
+// record's list is a selection of particles in ascending index). A record that one rank
+// lists by particle and another as a global record with no entries (a load with no
+// particle on that rank) is taken as listed on every rank. Collective.
+void gather_checkpoint_local(const System& s, const Decomposition& d, CheckpointWriter& w) {
+#if defined(HORIZON_MPI)
+  const auto& P = s.particles;
+  const auto& B = s.bonds;
+  const std::size_t n = P.size(), nb = B.size();
+  // Every rank lists the same records in the same order (their names; only their sizes
+  // differ): checked by the count.
+  uint64_t records[2] = {w.spread().size(), ~static_cast<uint64_t>(w.spread().size())}, extreme[2] = {0, 0};
+  MPI_Allreduce(records, extreme, 2, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
+  if (extreme[0] != ~extreme[1]) throw Error("internal error: the ranks list different checkpoint records");
+  for (std::size_t index = 0; index < w.spread().size(); ++index) {
+    const CheckpointWriter::Spread r = w.spread()[index];
+    // The same kind on every rank (see above).
+    int kind[2] = {static_cast<int>(r.extent), -static_cast<int>(r.extent)}, all[2] = {0, 0};
+    MPI_Allreduce(kind, all, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    const int most = all[0], least = -all[1];
+    if (most == static_cast<int>(Extent::global)) continue;  // rank 0's values are kept
+    Extent extent = r.extent;
+    if (most != least) {
+      if (most == static_cast<int>(Extent::listed) && least == static_cast<int>(Extent::global) &&
+          (r.extent == Extent::listed || r.count == 0))
+        extent = Extent::listed;
+      else
+        throw Error("checkpoint: record '" + r.name + "' is of different kinds on different ranks");
+    }
+    const std::vector<uint32_t>* list = r.extent == Extent::listed ? r.list : nullptr;
+    if (r.extent == Extent::listed && !list) throw Error("checkpoint: record '" + r.name + "' has no particle list");
+    const std::size_t units = extent == Extent::bonds ? nb : extent == Extent::particles ? n : list ? list->size() : 0;
+    if (units > 0 && r.count % units != 0)
+      throw Error("checkpoint: record '" + r.name + "' holds " + std::to_string(r.count) + " entries for " +
+                  std::to_string(units) + " particles or bonds");
+    const std::size_t per = units > 0 ? r.element_size * (r.count / units) : 0;  // bytes per particle or bond
+    const char* data = w.bytes(r);
+    // This rank's entries: (global id, byte count, bytes) of each owned particle.
+    std::string mine;
+    auto add = [&](std::size_t i, const char* bytes, uint64_t count) {
+      const int64_t id = P.id[i];
+      mine.append(reinterpret_cast<const char*>(&id), sizeof id);
+      mine.append(reinterpret_cast<const char*>(&count), sizeof count);
+      mine.append(bytes, count);
+    };
+    if (per > 0) {
+      if (extent == Extent::listed) {
+        for (std::size_t l = 0; l < list->size(); ++l)
+          if (d.owns((*list)[l])) add((*list)[l], data + l * per, per);
+      } else if (extent == Extent::bonds) {
+        for (uint32_t i : d.owned) add(i, data + B.begin(i) * per, (B.end(i) - B.begin(i)) * per);
+      } else {
+        for (uint32_t i : d.owned) add(i, data + i * per, per);
+      }
+    }
+    if (mine.size() > static_cast<std::size_t>(INT_MAX))
+      throw Error("checkpoint: record '" + r.name + "' is too large to gather");
+    const int count = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(d.size)), displs(static_cast<std::size_t>(d.size));
+    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    std::string gathered;
+    if (d.rank == 0) {
+      std::size_t at = 0;
+      for (int q = 0; q < d.size; ++q) {
+        displs[static_cast<std::size_t>(q)] = static_cast<int>(at);
+        at += static_cast<std::size_t>(counts[static_cast<std::size_t>(q)]);
+        if (at > static_cast<std::size_t>(INT_MAX)) throw Error("checkpoint: record '" + r.name + "' is too large to gather");
+      }
+      gathered.resize(at);
+    }
+    MPI_Gatherv(mine.data(), count, MPI_BYTE, gathered.data(), counts.data(), displs.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
+    if (d.rank != 0) continue;
+    mine = {};
+    // (id, where its bytes start, how many), sorted by id.
+    struct Entry {
+      int64_t id;
+      std::size_t at;
+      uint64_t count;
+    };
+    std::vector<Entry> entries;
+    for (std::size_t at = 0; at < gathered.size();) {
+      Entry e{};
+      std::memcpy(&e.id, gathered.data() + at, sizeof e.id);
+      std::memcpy(&e.count, gathered.data() + at + sizeof e.id, sizeof e.count);
+      e.at = at + sizeof e.id + sizeof e.count;
+      entries.push_back(e);
+      at = e.at + e.count;
+    }
+    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
+    std::string whole;
+    for (const Entry& e : entries) whole.append(gathered.data() + e.at, e.count);
+    const uint64_t expected = extent == Extent::particles ? d.global_particles : extent == Extent::bonds ? d.global_bonds : 0;
+    if (extent != Extent::listed && per > 0 && whole.size() != expected * per)
+      throw Error("internal error: checkpoint record '" + r.name + "' gathered " + std::to_string(whole.size()) +
+                  " bytes, the whole system has " + std::to_string(expected * per));
+    w.replace(index, whole);
+  }
+#else
+  (void)s, (void)d, (void)w;
+#endif
+}
+}  // namespace
+
 void gather_checkpoint(const System& s, const Decomposition& d, CheckpointWriter& w) {
   if (d.size == 1) return;
-  if (d.local_particles) throw Error("internal error: a run with checkpoints is built with the whole particle set");
+  if (d.local_particles) {
+    gather_checkpoint_local(s, d, w);
+    return;
+  }
   const std::size_t n = s.particles.size(), nb = s.bonds.size();
   const auto& B = s.bonds;
   for (std::size_t index = 0; index < w.spread().size(); ++index) {
     const CheckpointWriter::Spread& r = w.spread()[index];
+    if (r.extent == Extent::global || r.count == 0) continue;  // the same on every rank here
     const bool bonds = r.extent == Extent::bonds;
     // Extent::listed: entry group l belongs to particle (*list)[l].
     const std::vector<uint32_t>* list = r.extent == Extent::listed ? r.list : nullptr;
@@ -448,11 +712,23 @@ void halo_exchange(System& s, Decomposition& d) {
     ++d.stats.steps;
     return;
   }
-  // Local particles (no short-range contact): the ghosts are the bond neighbours of the
-  // rows computed here, which never change.
+  // Local particles: the bond ghosts (the bond neighbours of the rows computed here)
+  // never change; the contact ghosts are chosen again when any particle has moved more
+  // than half the skin since they were chosen (choose_contact_ghosts).
   if (d.local_particles) {
+    if (d.contact_reach > 0) {
+      const double half2 = 0.25 * d.skin * d.skin;
+      bool moved = false;
+      for (uint32_t i : d.owned) moved = moved || norm2(position(s, i) - d.y_built[i]) > half2;
+      if (any_rank(d, moved)) {
+        choose_contact_ghosts(s, d);
+        for (uint32_t i : d.owned) d.y_built[i] = position(s, i);
+        ++d.stats.rebuilds;
+      }
+    }
     ++d.stats.steps;
     exchange_ghost_values(d, u);
+    if (d.contact_reach > 0) exchange_values(d, d.contact_send, u, d.contact_recv, d.contact.u);
     return;
   }
   const double half2 = 0.25 * d.skin * d.skin;
@@ -470,40 +746,7 @@ void halo_exchange(System& s, Decomposition& d) {
   exchange_ghost_values(d, u);
 }
 
-void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a) {
-  if (d.size == 1) return;
-#if defined(HORIZON_MPI)
-  std::vector<std::vector<double>> out(static_cast<std::size_t>(d.size)), in(static_cast<std::size_t>(d.size));
-  std::vector<MPI_Request> req;
-  for (int r = 0; r < d.size; ++r) {
-    const auto& rl = d.recv[static_cast<std::size_t>(r)];
-    if (r == d.rank || rl.empty()) continue;
-    in[static_cast<std::size_t>(r)].resize(3 * rl.size());
-    req.emplace_back();
-    MPI_Irecv(in[static_cast<std::size_t>(r)].data(), static_cast<int>(3 * rl.size()), MPI_DOUBLE, r, 7, MPI_COMM_WORLD,
-              &req.back());
-  }
-  for (int r = 0; r < d.size; ++r) {
-    const auto& sl = d.send[static_cast<std::size_t>(r)];
-    if (r == d.rank || sl.empty()) continue;
-    auto& o = out[static_cast<std::size_t>(r)];
-    for (uint32_t i : sl) o.insert(o.end(), {a[i].x, a[i].y, a[i].z});
-    req.emplace_back();
-    MPI_Isend(o.data(), static_cast<int>(o.size()), MPI_DOUBLE, r, 7, MPI_COMM_WORLD, &req.back());
-    ++d.stats.messages;
-    d.stats.bytes += o.size() * sizeof(double);
-  }
-  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
-  for (int r = 0; r < d.size; ++r) {
-    const auto& rl = d.recv[static_cast<std::size_t>(r)];
-    if (r == d.rank || rl.empty()) continue;
-    const double* p = in[static_cast<std::size_t>(r)].data();
-    for (std::size_t k = 0; k < rl.size(); ++k) a[rl[k]] = {p[3 * k], p[3 * k + 1], p[3 * k + 2]};
-  }
-#else
-  (void)a;
-#endif
-}
+void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a) { exchange_values(d, d.send, a, d.recv, a); }
 
 void exchange_ghost_scalars(Decomposition& d, std::vector<double>& a) {
   if (d.size == 1) return;

@@ -2,14 +2,14 @@
 // Domain decomposition of an explicit run over MPI ranks (docs/design.md, "Running on
 // several ranks"; built with -DHORIZON_MPI=ON).
 //
-// What is distributed is the work and the bonds, and where the deck allows it
-// (local_particles_allowed: no short-range contact, no checkpoints) the particles: a rank then holds only its owned particles and the particles its
-// rows read, in a local numbering in ascending global id (Particles::id holds the global
-// id), and every index below (owner, owned, the ghost lists, loads, reactions) is local;
-// the build generates the whole lattice transiently (positions, volumes, materials) to
-// decide owners and families, then keeps the local set and sets the models up on it
-// alone; what reads every particle (history rows' damage figures, crack tracking, the
-// summary) reads rank 0's view, gathered by gather_state (O(N) on rank 0 only).
+// What is distributed is the work and the bonds, and where the deck allows it (local_particles_allowed: local
+// rows on more than one rank, short-range contact and checkpoints included, not a restart) the particles: a rank
+// then holds only its owned particles and the particles its rows read, in a local numbering in ascending global
+// id (Particles::id), and every index below (owner, owned, ghost lists, loads, reactions) is local; short-range
+// contact reads the particles within its reach that no bond brings as contact ghosts outside the System
+// (ContactGhosts: chosen by exchanging the owned particles' boxes; the contact lists sort by global id), and a
+// checkpoint gathers each record by global id on rank 0. The build generates the whole lattice transiently to
+// decide owners and families; what reads every particle (history, cracks, summary) reads rank 0's gathered view.
 // Otherwise the particles are replicated: every rank builds every particle from the deck
 // (positions, velocities, per-particle model constants in the serial order: the serial
 // indices are the global ids), then
@@ -71,6 +71,18 @@ struct HaloStats {
   uint64_t rebuilds = 0;          // ghost re-selections (each gathers every displacement)
 };
 
+// Local particles with short-range contact: the particles of other ranks within the
+// contact reach plus the skin of one of this rank's owned particles that this rank does
+// not hold (not in its System), with what the contact pass reads of them
+// (contact/short_range.hpp). Chosen again with the other ghosts (halo_exchange).
+struct ContactGhosts {
+  uint64_t generation = 0;              // +1 each time the set is chosen
+  std::vector<int64_t> id;              // global id
+  std::vector<Vec3> X, u;               // reference position; displacement (sent each step)
+  std::vector<double> volume, micromodulus;  // V and the contact micromodulus c
+  std::size_t most = 0;                 // the largest set so far
+};
+
 struct Decomposition {
   int rank = 0, size = 1;
   double skin = 0;                   // ghost margin for moving particles [m]
@@ -100,6 +112,10 @@ struct Decomposition {
   bool local_particles = false;
   uint64_t global_particles = 0;         // particles of the whole system
   bool reference_gathered = false;       // gather_state has put X, volume... in rank 0's view
+  // Local particles with short-range contact: the contact ghosts, and per rank the owned
+  // particles whose displacement it needs for its contact ghosts / the ghosts it sends.
+  ContactGhosts contact;
+  std::vector<std::vector<uint32_t>> contact_send, contact_recv;
 
   bool owns(std::size_t i) const { return is_owned[i] != 0; }
 };
@@ -126,9 +142,9 @@ System build_system_split(const Config& config);
 // particle), d.local_particles and d.global_particles; d.local_rows is set too.
 // Collective.
 System build_system_split(const Config& config, Decomposition& d);
-// Whether a deck may be built with local particles: local_rows_allowed, and nothing that
-// still reads every particle on every rank: short-range contact (its ghosts would come
-// from anywhere), checkpoints (written and read in the whole system's numbering).
+// Whether a deck may be built with local particles: local_rows_allowed (short-range contact reads contact
+// ghosts, a checkpoint is gathered by global id; the driver builds a restart, and a run on one rank, with every
+// particle).
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface

@@ -10,7 +10,10 @@ void checkpoint_system(System& s, StateArchive& a) {
   auto& P = s.particles;
   auto& M = s.model;
   const std::size_t n = P.size(), nb = s.bonds.size();
-  a.check("particles", n, "particles");
+  // The whole system's count: a run with local particles (parallel/decomposition.hpp)
+  // holds fewer here, and the file every particle (gather_checkpoint).
+  const Decomposition* d = s.decomposition;
+  a.check("particles", d && d->local_particles ? d->global_particles : n, "particles");
   // The whole system's count: a run with local rows (parallel/decomposition.hpp) holds
   // fewer here, and the file the whole system's bonds (gather_checkpoint).
   a.check("bonds", checkpoint_bond_count(s), "bonds");

@@ -349,7 +349,7 @@ System build_system_split(const Config& config, Decomposition& d) {
 }
 
 bool local_particles_allowed(const Config& c) {
-  return local_rows_allowed(c) && !c.contact.short_range.enabled && c.output.checkpoint_every <= 0;
+  return local_rows_allowed(c);
 }
 
 bool local_rows_allowed(const Config& c) {
