@@ -400,7 +400,9 @@ void BondPair::setup(const ModelSetup& in) {
       auto jp = where.find({kk.a - o.a, wrap(kk.b - o.b)});
       if (j != where.end() && cut(k, j->second)) j = where.end();
       if (jp != where.end() && cut(k, jp->second)) jp = where.end();
-      if (j != where.end() && (k < n || j->second < n)) {
+      // Bonds of ghosts alone move no real node, but complete the 2-D dilatation of a ghost
+      // node (sec. 3.9), whose term does (as the ghost pairs complete kbar below).
+      if (j != where.end() && (k < n || j->second < n || dil_coef_ != 0)) {
         const double coef = beta * V_[k] * V_[j->second];
         // The reference chord (= |xi| on a flat lattice).
         bonds_.push_back({static_cast<uint32_t>(k), j->second, norm(X_[j->second] - X_[k]), coef, 2 * o.length / m_memb});
