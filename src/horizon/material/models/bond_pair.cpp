@@ -400,7 +400,9 @@ void BondPair::setup(const ModelSetup& in) {
       auto jp = where.find({kk.a - o.a, wrap(kk.b - o.b)});
       if (j != where.end() && cut(k, j->second)) j = where.end();
       if (jp != where.end() && cut(k, jp->second)) jp = where.end();
-      if (j != where.end() && (k < n || j->second < n)) {
+      // Bonds of ghosts alone move no real node, but complete the 2-D dilatation of a ghost
+      // node (sec. 3.9), whose term does (as the ghost pairs complete kbar below).
+      if (j != where.end() && (k < n || j->second < n || dil_coef_ != 0)) {
         const double coef = beta * V_[k] * V_[j->second];
         // The reference chord (= |xi| on a flat lattice).
         bonds_.push_back({static_cast<uint32_t>(k), j->second, norm(X_[j->second] - X_[k]), coef, 2 * o.length / m_memb});
@@ -706,9 +708,16 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       support_force_[ghost_share_[t].support] -= F_[n_real_ + g] * ghost_share_[t].weight;
   // Force densities of the real nodes (ghost forces are dropped: the ghosts only complete
   // the stencils near the supports); beams and plates move in z only.
+  // A node on a support line is its own mirror image: F_ is the derivative of the whole
+  // mirrored energy (body and ghosts), 1/w_k times that of the booked energy E = sum_k
+  // w_k e_k for such a node (1 elsewhere: there the ghost image adds as much again). A
+  // shell's line nodes move in plane, so their in-plane forces take the weight w_k and are
+  // then -dE/du of the booked energy (without it the ledger of a shell pushed along a
+  // support drifted). The held w keeps the whole force: it is the support's reaction.
   for (std::size_t i = 0; i < n_real_; ++i) {
     Vec3 f = F_[i] / P.volume[i];
     if (transverse_) f = nz * f.z;
+    else if (energy_weight_[i] != 1) f = Vec3{f.x * energy_weight_[i], f.y * energy_weight_[i], f.z};
     P.f[i] = f;
     if (energy) P.energy[i] *= energy_weight_[i] / P.volume[i];
   }
@@ -837,9 +846,11 @@ bool BondPair::stiffness(const System& s, StiffnessSink& out) const {
   // K(a, b) += H, b real or a ghost.
   auto add_block = [&](uint32_t a, uint32_t b, const Block& H) {
     if (a >= n_real_) return;
+    // A shell's support-line node: its in-plane rows with its energy weight (force_pass).
+    const double wa = energy_weight_[a];
     auto put = [&](uint32_t node, const Vec3& coeff) {
       for (int r = c0; r < 3; ++r)
-        for (int c = c0; c < 3; ++c) out.add(a, r, node, c, H.a[r][c] * coeff[c]);
+        for (int c = c0; c < 3; ++c) out.add(a, r, node, c, H.a[r][c] * coeff[c] * (r < 2 ? wa : 1.0));
     };
     if (b < n_real_) {
       put(b, one);
