@@ -17,32 +17,6 @@ include(${CMAKE_CURRENT_LIST_DIR}/same_bytes.cmake)
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 
-# A 2-rank checkpoint restarted on 3 ranks must continue as the uninterrupted 2-rank run.
-function(restart_2_on_3 label deck)
-  set(out ${WORK}/${label}_restart)
-  file(COPY ${WORK}/${label}_2x1/checkpoint.hzc DESTINATION ${out})
-  execute_process(COMMAND ${MPIEXEC} --oversubscribe -n 3 ${HORIZON} run ${deck} -q -o ${out} --threads 1
-                          --restart ${out}/checkpoint.hzc
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${label}: restart on 3 ranks: exit ${rc}\n${log}")
-  endif()
-  file(READ ${WORK}/${label}_2x1/history.csv expected)
-  file(READ ${out}/history.csv found)
-  if(NOT found STREQUAL expected)
-    message(FATAL_ERROR "${label}: the 2-rank checkpoint restarted on 3 ranks: history.csv differs from the "
-                        "uninterrupted run (${WORK}/${label}_2x1, ${out})")
-  endif()
-  file(READ ${out}/summary.json summary)
-  string(JSON crc GET "${summary}" state_crc32)
-  file(READ ${WORK}/${label}_2x1/summary.json summary)
-  string(JSON expected GET "${summary}" state_crc32)
-  if(NOT crc EQUAL expected)
-    message(FATAL_ERROR "${label}: the 2-rank checkpoint restarted on 3 ranks: state_crc32 ${crc}, uninterrupted ${expected}")
-  endif()
-  message(STATUS "${label}: the 2-rank checkpoint restarted on 3 ranks is identical")
-endfunction()
-
 # The projectile, with a checkpoint every 200 steps.
 file(READ ${SOURCE}/tests/mpi/projectile.yaml text)
 string(REPLACE "damage_measure: volume}" "damage_measure: volume, checkpoint: {every: 200}}" text "${text}")
@@ -55,7 +29,7 @@ if(broken LESS 100 OR NOT v1 LESS v0)
   message(FATAL_ERROR "the projectile deck must break bonds (${broken}) and slow the sphere (${v0} to ${v1} m/s)")
 endif()
 message(STATUS "projectile: ${broken} broken bonds, the sphere from ${v0} to ${v1} m/s")
-restart_2_on_3(projectile ${WORK}/projectile.yaml)
+restart_on_three(projectile ${WORK}/projectile.yaml)
 
 # The heat deck, with a checkpoint every 100 steps.
 file(READ ${SOURCE}/tests/mpi/heat.yaml text)
@@ -70,5 +44,5 @@ if(broken LESS 10 OR NOT tmin LESS 593 OR balance GREATER 1e-9 OR balance LESS -
                       "heat balance (${balance})")
 endif()
 message(STATUS "heat: ${broken} broken bonds, lowest temperature ${tmin} K, heat balance ${balance}")
-restart_2_on_3(heat ${WORK}/heat.yaml)
+restart_on_three(heat ${WORK}/heat.yaml)
 file(REMOVE_RECURSE ${WORK})

@@ -8,6 +8,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/parallel/decomposition.hpp"
+#include "horizon/parallel/owned_rows.hpp"
 #include "horizon/solver/linear.hpp"
 
 namespace horizon {
@@ -25,13 +26,7 @@ double bond_kappa(const HeatState& h, std::size_t i, std::size_t j) { return 0.5
 // its owned particles, whose conduction reads the ghosts' temperatures (exchanged after
 // every change: exchange_ghosts below); every particle serially. The whole system is held
 // on every rank (local_rows_allowed is false for a thermal deck), so indices are global.
-struct Rows {
-  const std::vector<uint32_t>* own = nullptr;
-  std::size_t count = 0;
-  explicit Rows(const System& s)
-      : own(s.decomposition ? &s.owned : nullptr), count(own ? own->size() : s.particles.size()) {}
-  std::size_t operator[](std::size_t k) const { return own ? (*own)[k] : k; }
-};
+using Rows = OwnedRows;  // parallel/owned_rows.hpp
 
 // The owners' temperatures at this rank's ghosts. Collective when decomposed.
 void exchange_ghosts(System& s) {

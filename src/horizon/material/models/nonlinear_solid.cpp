@@ -10,6 +10,7 @@
 #include "horizon/material/influence.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/parallel/decomposition.hpp"
+#include "horizon/parallel/owned_rows.hpp"
 #include "horizon/material/surface_correction.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/system.hpp"
@@ -35,13 +36,7 @@ std::size_t drop_bonds_between_bodies(Bonds& b, const std::vector<int32_t>& bloc
 // (and S_j of the stable step), is computed by j's owner from j's own row and sent to
 // the ranks that hold j as a ghost. Each bond's flag is decided by the row that holds it
 // from both ends' theta, the same bits on every rank, so no per-bond state crosses ranks.
-struct Rows {
-  const std::vector<uint32_t>* own = nullptr;
-  std::size_t count = 0;
-  explicit Rows(const System& s)
-      : own(s.decomposition ? &s.owned : nullptr), count(own ? own->size() : s.particles.size()) {}
-  std::size_t operator[](std::size_t k) const { return own ? (*own)[k] : k; }
-};
+using Rows = OwnedRows;  // parallel/owned_rows.hpp
 
 // The owners' values of the per-particle scalar `a` at this rank's ghosts (the halo of
 // the displacements, parallel/decomposition.hpp exchange_ghost_values, one component
