@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "horizon/core/cell_key.hpp"
 #include "horizon/parallel/decomposition.hpp"
@@ -161,7 +162,11 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   // A decomposed run adds the contact of its active particles alone (solver/system.hpp).
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t count = act ? act->size() : n;
-  if (ghost_y_.empty()) {
+  // One pair sum; with contact ghosts (local particles on ranks: index n + k is ghost k)
+  // partner j's data come from the ghost arrays, term for term the same arithmetic. The
+  // flag is a compile-time constant so the serial loop reads the particle arrays alone.
+  auto pass = [&](auto with_ghosts) {
+    constexpr bool ghosts = decltype(with_ghosts)::value;
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < count; ++a) {
       const std::size_t i = act ? (*act)[a] : a;
@@ -169,13 +174,18 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
       Vec3 fi;
       double wi = 0;
       for (uint32_t j : rows_[i]) {
-        const double dx = y[j].x - y[i].x, dy = y[j].y - y[i].y, dz = y[j].z - y[i].z;
+        const bool held = !ghosts || j < n;
+        const Point4& yj = held ? y[j] : ghost_y_[j - n];
+        const double dx = yj.x - y[i].x, dy = yj.y - y[i].y, dz = yj.z - y[i].z;
         const double r2 = dx * dx + dy * dy + dz * dz;
         if (!(r2 < cut2) || r2 == 0) continue;
-        const double d = distance(norm(P.X[j] - P.X[i]));
+        const Vec3& Xj = held ? P.X[j] : g->X[j - n];
+        const double d = distance(norm(Xj - P.X[i]));
         const double r = std::sqrt(r2);
         if (!(r < d)) continue;
-        const double k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * P.volume[j];
+        const double cj = held ? M.contact_micromodulus[j] : g->micromodulus[j - n];
+        const double Vj = held ? P.volume[j] : g->volume[j - n];
+        const double k = factor * 0.5 * (M.contact_micromodulus[i] + cj) * Vj;
         const double a = -k * (d - r) / r;  // pushes i away from j
         fi += Vec3{dx, dy, dz} * a;
         wi += 0.25 * k * (d - r) * (d - r);
@@ -183,35 +193,11 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
       f[i] += fi;
       if (W) W[i] += wi;
     }
-    return;
-  }
-  // The same sum with the contact ghosts (index n + k: ghost k), term for term.
-#pragma omp parallel for schedule(static)
-  for (std::size_t a = 0; a < count; ++a) {
-    const std::size_t i = act ? (*act)[a] : a;
-    if (rows_[i].empty()) continue;
-    Vec3 fi;
-    double wi = 0;
-    for (uint32_t j : rows_[i]) {
-      const bool held = j < n;
-      const Point4& yj = held ? y[j] : ghost_y_[j - n];
-      const double dx = yj.x - y[i].x, dy = yj.y - y[i].y, dz = yj.z - y[i].z;
-      const double r2 = dx * dx + dy * dy + dz * dz;
-      if (!(r2 < cut2) || r2 == 0) continue;
-      const Vec3& Xj = held ? P.X[j] : g->X[j - n];
-      const double d = distance(norm(Xj - P.X[i]));
-      const double r = std::sqrt(r2);
-      if (!(r < d)) continue;
-      const double cj = held ? M.contact_micromodulus[j] : g->micromodulus[j - n];
-      const double Vj = held ? P.volume[j] : g->volume[j - n];
-      const double k = factor * 0.5 * (M.contact_micromodulus[i] + cj) * Vj;
-      const double a = -k * (d - r) / r;  // pushes i away from j
-      fi += Vec3{dx, dy, dz} * a;
-      wi += 0.25 * k * (d - r) * (d - r);
-    }
-    f[i] += fi;
-    if (W) W[i] += wi;
-  }
+  };
+  if (ghost_y_.empty())
+    pass(std::false_type{});
+  else
+    pass(std::true_type{});
 }
 
 }  // namespace horizon
