@@ -29,6 +29,7 @@
 #include "horizon/output/checkpoint.hpp"
 #include "horizon/output/pvd.hpp"
 #include "horizon/parallel/decomposition.hpp"
+#include "horizon/parallel/lead_view.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/output/vtu.hpp"
 #include "horizon/solver/explicit.hpp"
@@ -356,6 +357,30 @@ static int affinity_cores() {
   return CPU_COUNT(&set);
 }
 
+// state_digest of a run with local particles, on rank 0 (others get 0), without the
+// whole state on rank 0: u, v and damage stream through it a slice of global ids at a
+// time (parallel/lead_view.hpp) into three CRCs, joined as the CRC of u, then v, then
+// damage of every particle (zlib crc32_combine). The one figure that reads every
+// particle; at the end of the run only. Collective.
+uint32_t streamed_state_digest(const System& s, const Decomposition& d) {
+  uLong crc[3] = {crc32(0L, Z_NULL, 0), crc32(0L, Z_NULL, 0), crc32(0L, Z_NULL, 0)};
+  stream_on_lead(
+      s, &d, 7,
+      [&](uint32_t i, std::vector<double>& v) {
+        const auto& P = s.particles;
+        v.insert(v.end(), {P.u[i].x, P.u[i].y, P.u[i].z, P.v[i].x, P.v[i].y, P.v[i].z, P.damage[i]});
+      },
+      [&](std::size_t, const double* v) {
+        static_assert(sizeof(Vec3) == 3 * sizeof(double));
+        crc[0] = crc32(crc[0], reinterpret_cast<const Bytef*>(v), 3 * sizeof(double));
+        crc[1] = crc32(crc[1], reinterpret_cast<const Bytef*>(v + 3), 3 * sizeof(double));
+        crc[2] = crc32(crc[2], reinterpret_cast<const Bytef*>(v + 6), sizeof(double));
+      });
+  const auto n = static_cast<z_off_t>(d.global_particles);
+  const uLong uv = crc32_combine(crc[0], crc[1], n * static_cast<z_off_t>(sizeof(Vec3)));
+  return static_cast<uint32_t>(crc32_combine(uv, crc[2], n * static_cast<z_off_t>(sizeof(double))));
+}
+
 uint32_t state_digest(const System& s) {
   const auto& P = s.particles;
   uLong crc = crc32(0L, Z_NULL, 0);
@@ -418,18 +443,28 @@ struct ExplicitRun::State {
   // rank writes its own piece of every frame.
   std::unique_ptr<Decomposition> dd;
   bool lead = true;
-  // With local particles (each rank holds only the particles it reads): the whole
-  // system's particles, on rank 0 alone, gathered by sync() for the history rows, the
-  // crack tracking and the summary; empty on the other ranks.
-  System view;
-  // Every particle's state on this rank (on rank 0 in `view` with local particles),
-  // before anything reads the whole body.
+  // With local particles (each rank holds only the particles it reads) rank 0 holds no
+  // copy of the whole system (parallel/lead_view.hpp): `cracked` is the cracked particles
+  // (damage >= kCrackDamage) of every rank, on rank 0 in global order, gathered by sync()
+  // for the crack tracking and the summary's crack figures (they read no other particle:
+  // damage/crack_metrics.hpp, crack_angle.hpp); empty on the other ranks.
+  System cracked;
+  std::size_t cracked_most = 0;  // the most particles `cracked` held
+  bool local_particles() const { return dd && dd->local_particles && dd->size > 1; }
+  // Before a history row, a frame, a checkpoint or the summary: the whole system's count of
+  // broken bonds (s.broken) on every rank, and every particle's state on every rank
+  // without local particles (gather_state); with local particles rank 0's `cracked`.
   void sync() {
-    if (dd) gather_state(s, *dd, &view);
+    if (!dd) return;
+    gather_state(s, *dd);
+    if (local_particles()) {
+      gather_cracked(s, dd.get(), kCrackDamage, cracked.particles);
+      cracked_most = std::max(cracked_most, cracked.particles.size());
+    }
   }
-  // The system that holds every particle's state after sync(): rank 0's view with local
-  // particles (other ranks' figures from their own particles are never written).
-  const System& out() const { return dd && dd->local_particles && dd->size > 1 && lead ? view : s; }
+  // What the crack tracking reads after sync(): rank 0's cracked particles with local
+  // particles (other ranks' figures are never written), else the system itself.
+  const System& cracks() const { return local_particles() ? cracked : s; }
 
   void advance_heat() {
     if (!heat) return;
@@ -446,11 +481,12 @@ struct ExplicitRun::State {
 
   void record_history() {
     const Ledger& g = solver->ledger();
-    const System& o = out();
-    const DamageStats dstat = damage_stats(o.particles);
+    // Exact sums and maxima over the owned particles (driver/summary.hpp; collective when
+    // decomposed); s.broken and s.initial_bonds count the whole system's bonds.
+    const DamageStats dstat = damage_stats(s);
     const double dmax = dstat.max, dmean = dstat.mean;
     const double broken_fraction =
-        o.initial_bonds ? static_cast<double>(o.broken) / static_cast<double>(o.initial_bonds) : 0.0;
+        s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0;
     max_balance_error = std::max(max_balance_error, std::abs(g.balance_error()));
     history << fmt::format("{:.9e},{},{:.6e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6f},{:.9f}",
                            solver->time(), solver->steps(), solver->dt(), g.kinetic, g.strain, g.external_work,
@@ -461,7 +497,7 @@ struct ExplicitRun::State {
       for (const Vec3* q : {&p.x, &p.v, &p.a, &p.force, &p.a_filtered})
         history << fmt::format(",{:.9e},{:.9e},{:.9e}", q->x, q->y, q->z);
     if (s.block_names.size() > 1)
-      for (const Vec3& v : body_velocities(o)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
+      for (const Vec3& v : body_velocities(s)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
     if (s.fe) history << fmt::format(",{:.9e}", s.fe->coupling_work);
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << "\n";
@@ -701,12 +737,12 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
       fmt::print(stderr, "restart         from {} at step {}, t = {:.4e} s\n", *options.restart, r.solver->steps(),
                  r.solver->time());
   } else {
-    // Local particles: rank 0's view of the initial state (the first row's damage and
-    // body velocities, the crack tracker's first record).
-    if (r.dd && r.dd->local_particles) r.sync();
+    // Local particles: the initial broken-bond count and rank 0's cracked particles (the
+    // first row, the crack tracker's first record).
+    if (r.local_particles()) r.sync();
     r.record_history();
     r.write_frame();
-    r.crack->record(r.out(), 0);
+    r.crack->record(r.cracks(), 0);
   }
 
   if (options.handle_signals) install_interrupt_handler();
@@ -752,7 +788,7 @@ int64_t ExplicitRun::advance(int64_t n) {
       if (history_due || frame_due) r.sync();
       if (history_due) {
         r.record_history();
-        r.crack->record(r.out(), solver.time());
+        r.crack->record(r.cracks(), solver.time());
       }
       if (frame_due) {
         r.write_frame();
@@ -853,14 +889,15 @@ int ExplicitRun::finish() {
 
   // Summary: final figures and run statistics.
   const Ledger& g = solver.ledger();
-  const System& o = r.out();  // every particle (rank 0's view with local particles)
-  nlohmann::ordered_json j = summary_header(config, o, status, message, solver.steps());
+  // The crack figures read the cracked particles alone (rank 0's with local particles).
+  const System& o = r.cracks();
+  nlohmann::ordered_json j = summary_header(config, s, status, message, solver.steps());
   j["time_step"] = solver.dt();
   if (r.adaptive) j["time_step_range"] = {r.dt_min, r.dt_max};
   j["time"] = solver.time();
   j["threads"] = omp_get_max_threads();
   j["ranks"] = r.dd ? r.dd->size : 1;
-  j["state_crc32"] = state_digest(o);
+  j["state_crc32"] = r.local_particles() ? streamed_state_digest(s, *r.dd) : state_digest(s);
   if (r.dd) {
     // Halo traffic per rank and step (docs/benchmarks.md), from every rank.
     const std::vector<HaloStats> hs = gather_halo_stats(*r.dd);
@@ -891,6 +928,9 @@ int ExplicitRun::finish() {
     j["halo"] = h;
     j["bonds_local"] = r.dd->local_rows;
     j["particles_local"] = r.dd->local_particles;
+    // With local particles rank 0 holds no copy of the whole system (parallel/lead_view.hpp):
+    // the most cracked particles it gathered for the crack figures.
+    if (r.local_particles()) j["lead_cracked_particles_most"] = r.cracked_most;
   }
   j["wall_time_s"] = wall;
   j["loop_time_s"] = loop_time;
@@ -905,11 +945,11 @@ int ExplicitRun::finish() {
                {"shared_nodes", s.fe->shared_nodes()},
                {"coupling_work", s.fe->coupling_work}};
   }
-  summary_state(j, o, g, *r.loads, r.max_balance_error);
-  if (&o != &s || (r.dd && (r.dd->local_particles || r.dd->size > 1))) {
+  summary_state(j, s, g, *r.loads, r.max_balance_error);
+  if (r.dd && (r.dd->local_particles || r.dd->size > 1)) {
     // Local particles, or a run on several ranks (a model's fields hold its owned
     // particles' values only): the models' dissipation parts (summary_state's sum, in the
-    // same global order) from every owner's field values gathered on rank 0.
+    // same global order) from every owner's field values streamed through rank 0.
     std::vector<ModelField> fields;
     for (const auto& m : s.models) m->fields(s, fields);
     nlohmann::ordered_json parts = nlohmann::ordered_json::object();
@@ -917,9 +957,14 @@ int ExplicitRun::finish() {
     for (const auto& f : fields) {
       if (!f.dissipation_part || std::find(done.begin(), done.end(), f.name) != done.end()) continue;
       done.push_back(f.name);
-      const std::vector<double> whole = gather_on_lead(s, *r.dd, f.values);
       double sum = 0.0;
-      for (std::size_t i = 0; i < whole.size() && i < o.particles.size(); ++i) sum += whole[i] * o.particles.volume[i];
+      stream_on_lead(
+          s, r.dd.get(), 2,
+          [&](uint32_t i, std::vector<double>& v) {
+            v.push_back(i < f.values.size() ? f.values[i] : 0.0);
+            v.push_back(s.particles.volume[i]);
+          },
+          [&](std::size_t, const double* v) { sum += v[0] * v[1]; });
       parts[f.name] = sum;
     }
     if (!parts.empty()) j["energy"]["dissipated_parts"] = parts;

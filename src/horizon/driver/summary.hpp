@@ -10,6 +10,7 @@
 #include "horizon/core/version.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/loading/loads.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -19,32 +20,61 @@ struct DamageStats {
   double mean = 0, max = 0;
 };
 
-inline DamageStats damage_stats(const Particles& p) {
+// The particles of the whole system: with local particles (parallel/decomposition.hpp)
+// more than this rank holds.
+inline std::size_t global_particle_count(const System& s) {
+  const Decomposition* d = s.decomposition;
+  return d && d->local_particles ? static_cast<std::size_t>(d->global_particles) : s.particles.size();
+}
+
+// Calls f(i) for each particle whose terms this rank adds to a global sum: its owned
+// ones when the run is decomposed (GridSum adds the other ranks'), else every one.
+template <class F>
+void for_each_summed(const System& s, F f) {
+  if (s.decomposition)
+    for (uint32_t i : s.owned) f(i);
+  else
+    for (std::size_t i = 0; i < s.particles.size(); ++i) f(i);
+}
+
+// The mean and the largest damage of the whole system (history.csv's damage_mean and
+// damage_max, summary.json's "damage"). The sum is an exact grid sum (GridSum::exact,
+// parallel/decomposition.hpp) on every path, so the serial program and any rank count give
+// the same bits without gathering the particles; the maximum is taken over the ranks.
+// Collective when decomposed.
+inline DamageStats damage_stats(const System& s) {
+  const Particles& p = s.particles;
+  GridSum sum = GridSum::exact(s, 1);
+  double most = 0;
+  for_each_summed(s, [&](std::size_t i) {
+    sum.add(0, p.damage[i]);
+    most = std::max(most, p.damage[i]);
+  });
   DamageStats d;
-  for (double v : p.damage) {
-    d.mean += v;
-    d.max = std::max(d.max, v);
-  }
-  d.mean /= static_cast<double>(std::max<std::size_t>(1, p.size()));
+  d.mean = sum.totals()[0] / static_cast<double>(std::max<std::size_t>(1, global_particle_count(s)));
+  d.max = s.decomposition ? -min_over_ranks(-most) : most;  // damage >= 0: the maximum, exactly
   return d;
 }
 
 // Each body's centre-of-mass velocity, sum rho V v / sum rho V over its particles
 // (history.csv's NAME_vx... columns and summary.json's "bodies"; a projectile's residual
-// velocity). A body with no particles (an FE body) reads zero.
+// velocity). A body with no particles (an FE body) reads zero. Both sums are exact grid
+// sums as in damage_stats. Collective when decomposed.
 inline std::vector<Vec3> body_velocities(const System& s) {
   const Particles& p = s.particles;
-  std::vector<Vec3> momentum(s.block_names.size());
-  std::vector<double> mass(s.block_names.size(), 0.0);
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  const std::size_t bodies = s.block_names.size();
+  GridSum sum = GridSum::exact(s, static_cast<int>(4 * bodies));  // per body: momentum x, y, z and mass
+  for_each_summed(s, [&](std::size_t i) {
     const auto b = static_cast<std::size_t>(p.block[i]);
-    if (b >= mass.size()) continue;
+    if (b >= bodies) return;
     const double m = p.density[i] * p.volume[i];
-    momentum[b] += p.v[i] * m;
-    mass[b] += m;
-  }
-  for (std::size_t b = 0; b < mass.size(); ++b)
-    if (mass[b] > 0) momentum[b] = momentum[b] * (1.0 / mass[b]);
+    sum.add(static_cast<int>(4 * b), p.v[i] * m);
+    sum.add(static_cast<int>(4 * b + 3), m);
+  });
+  const std::vector<double> t = sum.totals();
+  std::vector<Vec3> momentum(bodies);
+  for (std::size_t b = 0; b < bodies; ++b)
+    if (t[4 * b + 3] > 0) momentum[b] = Vec3{t[4 * b], t[4 * b + 1], t[4 * b + 2]} * (1.0 / t[4 * b + 3]);
   return momentum;
 }
 
@@ -56,16 +86,18 @@ inline nlohmann::ordered_json summary_header(const Config& config, const System&
   j["status"] = status;
   if (!message.empty()) j["message"] = message;
   j["dimension"] = config.dimension;
-  j["particles"] = s.particles.size();
+  j["particles"] = global_particle_count(s);
   j["bonds"] = s.initial_bonds;
   j["steps"] = steps;
   return j;
 }
 
 // The state at the end of a run: the energy ledger, damage and the reaction of each load.
+// Collective when decomposed (damage_stats, body_velocities); s.broken is the whole
+// system's count then (gather_state).
 inline void summary_state(nlohmann::ordered_json& j, const System& s, const Ledger& g, const Loads& loads,
                           double max_balance_error) {
-  const DamageStats d = damage_stats(s.particles);
+  const DamageStats d = damage_stats(s);
   j["energy"] = {{"initial", g.initial},       {"kinetic", g.kinetic},       {"strain", g.strain},
                  {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
                  {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};

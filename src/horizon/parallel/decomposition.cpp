@@ -10,6 +10,7 @@
 #include "horizon/core/cell_key.hpp"
 #include "horizon/core/error.hpp"
 #include "horizon/output/checkpoint.hpp"
+#include "horizon/parallel/lead_view.hpp"
 #include "horizon/solver/system.hpp"
 
 #if defined(HORIZON_MPI)
@@ -833,70 +834,19 @@ std::vector<double> gather_on_lead(const System& s, const Decomposition& d, cons
   return whole;
 }
 
-void gather_state(System& s, Decomposition& d, System* view) {
+void gather_state(System& s, Decomposition& d) {
   [[maybe_unused]] auto& P = s.particles;
   uint64_t broken = 0;
   for (uint32_t i : d.owned)
     for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) broken += s.bonds.intact[k] != 1 ? 1 : 0;
 #if defined(HORIZON_MPI)
   if (d.local_particles && d.size > 1) {
-    if (!view) throw Error("internal error: a run with local particles gathers its state into a view");
-    Particles& W = view->particles;
-    const std::size_t n = d.global_particles;
-    if (!d.reference_gathered && d.rank == 0) {
-      // The reference fields, once.
-      W = Particles();
-      for (std::size_t g = 0; g < n; ++g) W.add({}, 0, 0, 0, 0);
-      view->dissipated_at.assign(n, 0);
-      view->block_names = s.block_names;
-      view->dimension = s.dimension;
-      view->spacing = s.spacing;
-      view->horizon = s.horizon;
-    }
-    if (!d.reference_gathered) {
-      // Collective: every rank takes part; rank 0 alone fills its view.
-      d.reference_gathered = true;
-      gather_owned_on_lead(
-          s, d, 7,
-          [&](uint32_t i, std::vector<double>& o) {
-            o.insert(o.end(), {P.X[i].x, P.X[i].y, P.X[i].z, P.volume[i], P.density[i], static_cast<double>(P.block[i]),
-                               static_cast<double>(P.material[i])});
-          },
-          [&](std::size_t g, const double* p) {
-            W.X[g] = {p[0], p[1], p[2]};
-            W.volume[g] = p[3];
-            W.density[g] = p[4];
-            W.block[g] = static_cast<int32_t>(p[5]);
-            W.material[g] = static_cast<int32_t>(p[6]);
-          });
-    }
-    gather_owned_on_lead(
-        s, d, 15,
-        [&](uint32_t i, std::vector<double>& o) {
-          o.insert(o.end(), {P.u[i].x, P.u[i].y, P.u[i].z, P.v[i].x, P.v[i].y, P.v[i].z, P.f[i].x, P.f[i].y, P.f[i].z,
-                             P.b[i].x, P.b[i].y, P.b[i].z, P.damage[i], P.energy[i], s.dissipated_at[i]});
-        },
-        [&](std::size_t g, const double* p) {
-          W.u[g] = {p[0], p[1], p[2]};
-          W.v[g] = {p[3], p[4], p[5]};
-          W.f[g] = {p[6], p[7], p[8]};
-          W.b[g] = {p[9], p[10], p[11]};
-          W.damage[g] = p[12];
-          W.energy[g] = p[13];
-          view->dissipated_at[g] = p[14];
-        });
+    // The particles stay with their owners (rank 0 gathers what it reads: parallel/lead_view.hpp).
     uint64_t all = 0;
     MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
     s.broken = all;
-    view->broken = all;
-    view->initial_bonds = s.initial_bonds;
-    view->precrack_bonds = s.precrack_bonds;
     return;
   }
-#else
-  (void)view;
-#endif
-#if defined(HORIZON_MPI)
   if (d.size == 1) {  // one rank owns every particle: nothing to gather
     s.broken = broken;
     return;
@@ -1007,6 +957,115 @@ std::vector<double> GridSum::totals() const {
     out[q] = std::ldexp(static_cast<double>(total), emax[q] - 100);
   }
   return out;
+}
+
+
+// parallel/lead_view.hpp: what rank 0 reads of a run with local particles.
+void gather_cracked(const System& s, const Decomposition* d, double threshold, Particles& out) {
+  out = Particles();
+  const Particles& P = s.particles;
+  auto keep = [&](int64_t id, const Vec3& x, double damage) {
+    out.add(x, 0, 0, 0, 0);
+    out.id.back() = id;
+    out.damage.back() = damage;
+  };
+#if defined(HORIZON_MPI)
+  if (d && d->local_particles && d->size > 1) {
+    // (global id, X, damage) of each owned cracked particle; rank 0 sorts them by id (each
+    // rank's list is in ascending id already: the local numbering follows the global one).
+    std::vector<double> mine;
+    for (uint32_t i : d->owned)
+      if (P.damage[i] >= threshold)
+        mine.insert(mine.end(), {static_cast<double>(P.id[i]), P.X[i].x, P.X[i].y, P.X[i].z, P.damage[i]});
+    const int count = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(d->size)), displs(static_cast<std::size_t>(d->size));
+    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    std::vector<double> all;
+    if (d->rank == 0) {
+      std::size_t at = 0;
+      for (int r = 0; r < d->size; ++r) {
+        if (at > static_cast<std::size_t>(INT_MAX)) throw Error("gather: too many cracked particles to gather on rank 0");
+        displs[static_cast<std::size_t>(r)] = static_cast<int>(at);
+        at += static_cast<std::size_t>(counts[static_cast<std::size_t>(r)]);
+      }
+      all.resize(at);
+    }
+    MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0,
+                MPI_COMM_WORLD);
+    if (d->rank != 0) return;
+    std::vector<std::size_t> order(all.size() / 5);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[5 * a] < all[5 * b]; });
+    for (std::size_t k : order) {
+      const double* q = all.data() + 5 * k;
+      keep(static_cast<int64_t>(q[0]), {q[1], q[2], q[3]}, q[4]);
+    }
+    return;
+  }
+#else
+  (void)d;
+#endif
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.damage[i] >= threshold) keep(P.id[i], P.X[i], P.damage[i]);
+}
+
+void stream_on_lead(const System& s, const Decomposition* d, int width,
+                    const std::function<void(uint32_t, std::vector<double>&)>& pack,
+                    const std::function<void(std::size_t, const double*)>& take) {
+  std::vector<double> buffer;
+#if defined(HORIZON_MPI)
+  if (d && d->local_particles && d->size > 1) {
+    const std::size_t n = d->global_particles, w = static_cast<std::size_t>(width);
+    const auto ranks = static_cast<std::size_t>(d->size);
+    const std::size_t slice = std::max<std::size_t>(1, (n + ranks - 1) / ranks);
+    std::size_t next = 0;  // the first owned particle not sent yet (d->owned ascends in global id)
+    std::vector<double> mine, all;
+    std::vector<int> counts(static_cast<std::size_t>(d->size)), displs(static_cast<std::size_t>(d->size));
+    for (std::size_t first = 0; first < n; first += slice) {
+      const std::size_t end = std::min(n, first + slice);
+      mine.clear();
+      for (; next < d->owned.size() && static_cast<std::size_t>(s.particles.id[d->owned[next]]) < end; ++next) {
+        const uint32_t i = d->owned[next];
+        mine.push_back(static_cast<double>(s.particles.id[i]));  // exact below 2^53
+        const std::size_t before = mine.size();
+        pack(i, mine);
+        if (mine.size() != before + w) throw Error("internal error: stream_on_lead: pack gave the wrong count of values");
+      }
+      const int count = static_cast<int>(mine.size());
+      MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+      if (d->rank == 0) {
+        std::size_t at = 0;
+        for (int r = 0; r < d->size; ++r) {
+          displs[static_cast<std::size_t>(r)] = static_cast<int>(at);
+          at += static_cast<std::size_t>(counts[static_cast<std::size_t>(r)]);
+        }
+        all.resize(at);
+      }
+      MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0,
+                  MPI_COMM_WORLD);
+      if (d->rank != 0) continue;
+      // Each of the slice's particles once, from its owner: put in global order, then taken.
+      buffer.assign((end - first) * w, 0.0);
+      std::size_t got = 0;
+      for (std::size_t at = 0; at + w + 1 <= all.size(); at += w + 1, ++got) {
+        const auto g = static_cast<std::size_t>(all[at]);
+        if (g < first || g >= end) throw Error("internal error: stream_on_lead: a particle outside its slice");
+        std::copy(all.begin() + static_cast<std::ptrdiff_t>(at + 1), all.begin() + static_cast<std::ptrdiff_t>(at + 1 + w),
+                  buffer.begin() + static_cast<std::ptrdiff_t>((g - first) * w));
+      }
+      if (got != end - first) throw Error("internal error: stream_on_lead: a slice's particles are not all owned once");
+      for (std::size_t g = first; g < end; ++g) take(g, buffer.data() + (g - first) * w);
+    }
+    return;
+  }
+#else
+  (void)d, (void)width;
+#endif
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    buffer.clear();
+    pack(static_cast<uint32_t>(i), buffer);
+    take(i, buffer.data());
+  }
 }
 
 }  // namespace horizon

@@ -9,7 +9,9 @@
 // contact reads the particles within its reach that no bond brings as contact ghosts outside the System
 // (ContactGhosts: chosen by exchanging the owned particles' boxes; the contact lists sort by global id), and a
 // checkpoint gathers each record by global id on rank 0. The build generates the whole lattice transiently to
-// decide owners and families; what reads every particle (history, cracks, summary) reads rank 0's gathered view.
+// decide owners and families. Rank 0 holds no gathered copy of the system (parallel/lead_view.hpp): the history
+// rows and the summary's sums are exact grid sums and maxima over the ranks' owned particles, crack tracking reads
+// the cracked particles alone, and state_crc32 streams the state through rank 0 a slice of global ids at a time.
 // Otherwise the particles are replicated: every rank builds every particle from the deck
 // (positions, velocities, per-particle model constants in the serial order: the serial
 // indices are the global ids), then
@@ -41,9 +43,11 @@
 //     and the integers are added exactly, so the total does not depend on how the terms
 //     are split between ranks or on their order;
 //   - before a history row, a frame or the summary, the state of every particle is
-//     gathered on every rank (gather_state), so damage statistics, crack tracking and
-//     summary figures are computed as in a serial run; a bond count (broken bonds,
-//     precrack cuts, the whole system's bonds) is summed over the owned rows of each rank;
+//     gathered on every rank (gather_state), so crack tracking and summary figures are
+//     computed as in a serial run (damage statistics and body velocities are exact grid
+//     sums over the owned particles on every path: driver/summary.hpp); a bond count
+//     (broken bonds, precrack cuts, the whole system's bonds) is summed over the owned
+//     rows of each rank;
 //   - a checkpoint holds the whole system in serial order: gather_checkpoint takes every
 //     per-particle entry from its owner and every per-bond entry from the owner of its
 //     row; a restart with local rows keeps the rows it holds (keep_local_bonds).
@@ -111,7 +115,6 @@ struct Decomposition {
   // receive lists and every System index are local then. Set by the build.
   bool local_particles = false;
   uint64_t global_particles = 0;         // particles of the whole system
-  bool reference_gathered = false;       // gather_state has put X, volume... in rank 0's view
   // Local particles with short-range contact: the contact ghosts, and per rank the owned
   // particles whose displacement it needs for its contact ghosts / the ghosts it sends.
   ContactGhosts contact;
@@ -191,12 +194,10 @@ void exchange_ghost_values(Decomposition& d, std::vector<Vec3>& a);
 void exchange_ghost_scalars(Decomposition& d, std::vector<double>& a);
 // Gathers u, v, f, b, damage, energy and dissipated_at of every particle from its owner
 // onto every rank, and the count of broken bonds. Collective.
-// With local particles the state goes to rank 0 alone, into `view` (the whole system's
-// particles in global order, its broken and initial bond counts, its block names; the
-// reference fields X, volume, density, block, material are gathered once): O(N) on rank
-// 0, for the history rows, crack tracking and the summary. Other ranks' `view` is left
-// empty.
-void gather_state(System& s, Decomposition& d, System* view = nullptr);
+// With local particles only the count of broken bonds (s.broken, on every rank): the
+// particles stay with their owners, and rank 0 gathers what it reads itself
+// (parallel/lead_view.hpp).
+void gather_state(System& s, Decomposition& d);
 // Local particles: every owned particle's value of `local` (one per local particle) on
 // rank 0 in global order (others get an empty vector). Collective.
 std::vector<double> gather_on_lead(const System& s, const Decomposition& d, const std::vector<double>& local);
