@@ -362,7 +362,7 @@ static int affinity_cores() {
 // time (parallel/lead_view.hpp) into three CRCs, joined as the CRC of u, then v, then
 // damage of every particle (zlib crc32_combine). The one figure that reads every
 // particle; at the end of the run only. Collective.
-uint32_t streamed_state_digest(const System& s, const Decomposition& d) {
+static uint32_t streamed_state_digest(const System& s, const Decomposition& d) {
   uLong crc[3] = {crc32(0L, Z_NULL, 0), crc32(0L, Z_NULL, 0), crc32(0L, Z_NULL, 0)};
   stream_on_lead(
       s, &d, 7,
