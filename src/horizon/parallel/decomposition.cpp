@@ -1014,8 +1014,11 @@ void stream_on_lead(const System& s, const Decomposition* d, int width,
                     const std::function<void(std::size_t, const double*)>& take) {
   std::vector<double> buffer;
 #if defined(HORIZON_MPI)
-  if (d && d->local_particles && d->size > 1) {
-    const std::size_t n = d->global_particles, w = static_cast<std::size_t>(width);
+  if (d && d->size > 1) {
+    // Every rank holds every particle without local particles, but only the owners' values
+    // of some fields are current (the models' fields): from the owners too.
+    const std::size_t n = d->local_particles ? d->global_particles : s.particles.size();
+    const auto w = static_cast<std::size_t>(width);
     const auto ranks = static_cast<std::size_t>(d->size);
     const std::size_t slice = std::max<std::size_t>(1, (n + ranks - 1) / ranks);
     std::size_t next = 0;  // the first owned particle not sent yet (d->owned ascends in global id)

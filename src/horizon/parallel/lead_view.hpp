@@ -30,9 +30,10 @@ void gather_cracked(const System& s, const Decomposition* d, double threshold, P
 
 // Hands every particle of the whole system to `take(g, values)` on rank 0 in ascending
 // global id g, with the `width` values its owner's `pack(i, out)` appended for it (i a
-// local index). With local particles on several ranks the owners send a slice of
-// ceil(N / ranks) global ids at a time, so rank 0 holds one slice; otherwise every rank
-// packs and takes its own particles (each holds every particle's state). Collective.
+// local index). On several ranks the owners send a slice of ceil(N / ranks) global ids at
+// a time, so rank 0 holds one slice (with or without local particles: without, the
+// owners' values are the current ones of a model's fields); on one rank and serially this
+// process packs and takes every particle. Collective.
 void stream_on_lead(const System& s, const Decomposition* d, int width,
                     const std::function<void(uint32_t, std::vector<double>&)>& pack,
                     const std::function<void(std::size_t, const double*)>& take);
