@@ -25,8 +25,8 @@ double bond_kappa(const HeatState& h, std::size_t i, std::size_t j) { return 0.5
 
 // The rows this process computes: in a run split over MPI ranks (parallel/decomposition.hpp)
 // its owned particles, whose conduction reads the ghosts' temperatures (exchanged after
-// every change: exchange_ghosts below); every particle serially. The whole system is held
-// on every rank (local_rows_allowed is false for a thermal deck), so indices are global.
+// every change: exchange_ghosts below); every particle serially. Indices are this rank's
+// (local ones with local particles: Particles::id is the global id).
 using Rows = OwnedRows;  // parallel/owned_rows.hpp
 
 // The owners' temperatures at this rank's ghosts. Collective when decomposed.
@@ -34,8 +34,10 @@ void exchange_ghosts(System& s) {
   if (s.decomposition) exchange_ghost_scalars(*s.decomposition, s.heat.T);
 }
 
-// The axis along which a set of particles is thinnest (as tractions, loading/loads.cpp).
+// The axis along which a set of particles is thinnest (as tractions, loading/loads.cpp);
+// with local particles the whole set's over the ranks (collective).
 int thinnest_axis(const System& s, const std::vector<uint32_t>& ids, int dimension) {
+  const bool local = s.decomposition && s.decomposition->local_particles;
   int axis = 0;
   double best = 1e300;
   for (int k = 0; k < dimension; ++k) {
@@ -44,6 +46,7 @@ int thinnest_axis(const System& s, const std::vector<uint32_t>& ids, int dimensi
       lo = std::min(lo, s.particles.X[i][k]);
       hi = std::max(hi, s.particles.X[i][k]);
     }
+    if (local) lo = min_over_ranks(lo), hi = -min_over_ranks(-hi);
     if (hi - lo < best) {
       best = hi - lo;
       axis = k;
@@ -67,7 +70,7 @@ double heat_moment_continuum(HeatKernel kernel, int dimension, double horizon, d
   return 4 * kPi * std::pow(d, 5) / 15;                        // (1/3) int_0^d r^2 4 pi r^2 dr
 }
 
-void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config) {
+void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config, bool split) {
   auto& P = s.particles;
   auto& B = s.bonds;
   HeatState& h = s.heat;
@@ -104,6 +107,8 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
       double& b = bulk[static_cast<std::size_t>(P.material[i])];
       b = std::max(b, m2);
     }
+    if (split)  // the rows of other ranks: the largest over ranks (exact, a maximum)
+      for (double& b : bulk) b = -min_over_ranks(-b);
   }
   const double measure = s.dimension == 1 ? config.area : config.thickness;
   const double m2_continuum = heat_moment_continuum(h.kernel, s.dimension, s.horizon, measure);
@@ -142,7 +147,9 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
                        : bc.kind == ThermalBoundaryKind::flux      ? "flux"
                                                                    : "convection";
     hb.name = (bc.region.empty() ? std::string("all") : bc.region) + ":" + kind;
-    if (bc.kind != ThermalBoundaryKind::temperature && !hb.particles.empty()) {
+    // With local particles a rank may hold none of the region: every rank takes part.
+    const bool local = s.decomposition && s.decomposition->local_particles;
+    if (bc.kind != ThermalBoundaryKind::temperature && (local || !hb.particles.empty())) {
       // A flux through the boundary becomes a source density over a layer of depth d, so
       // that the total is the flux times the area (as tractions, docs/input.md).
       const int axis = bc.normal_axis >= 0 ? bc.normal_axis : thinnest_axis(s, hb.particles, s.dimension);

@@ -41,7 +41,11 @@ double heat_moment_continuum(HeatKernel kernel, int dimension, double horizon, d
 // Fills s.heat from the materials' thermal properties and the thermal section: capacity,
 // micro-conductivity, initial temperature, boundary conditions (regions of `config`).
 // Bonds and particles must exist. build_system calls it when the deck has a thermal section.
-void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config);
+// `split` (build_system_split, collective then): the system holds only this rank's rows, so
+// the discrete calibration's bulk moment is the largest over ranks; with local particles
+// (s.decomposition set with local_particles during the call) the boundary regions' normal
+// axes and layer depths are the whole region's.
+void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config, bool split = false);
 
 // out_i = sum_j kbar g (T_j - T_i) V_j over the intact bonds [W/m^3].
 void heat_conduction(const System& s, const std::vector<double>& T, std::vector<double>& out);
