@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <numeric>
@@ -114,15 +115,20 @@ int run_heat_deck(Config config, const RunOptions& options) {
   apply_run_options(config, options);
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const auto wall_start = std::chrono::steady_clock::now();
-  System s = build_system(config);
-  // Split over MPI ranks as a coupled run is (driver/run.cpp; every particle held on every
-  // rank): each rank advances its owned temperatures and receives its ghosts', the
-  // backward-Euler step a distributed conjugate gradient (thermal/heat.cpp). An MPI build
-  // decomposes on one rank too, so that one rank and many give the same bits. Rank 0
-  // writes the history and summary; every rank its own piece of each frame.
+  // Split over MPI ranks as a coupled run is (driver/run.cpp): each rank advances its owned
+  // temperatures and receives its ghosts', the backward-Euler step a distributed conjugate
+  // gradient (thermal/heat.cpp). An MPI build decomposes on one rank too, so that one rank
+  // and many give the same bits; on more than one it holds local particles (the rows of
+  // its owned particles and the particles they read; HORIZON_MPI_LOCAL_PARTICLES=0 keeps
+  // every particle). Rank 0 writes the history and summary; every rank its own piece of
+  // each frame.
   std::unique_ptr<Decomposition> dd;
-  if (mpi_built()) {
-    dd = std::make_unique<Decomposition>();
+  const char* particles_env = std::getenv("HORIZON_MPI_LOCAL_PARTICLES");
+  const bool local = mpi_built() && world_size() > 1 && !(particles_env && std::string(particles_env) == "0");
+  if (mpi_built()) dd = std::make_unique<Decomposition>();
+  System s = local ? build_system_split(config, *dd) : build_system(config);
+  if (dd) {
+    dd->local_rows = local;
     decompose(s, *dd, config.spacing);
   }
   const bool lead = world_rank() == 0;
@@ -138,8 +144,8 @@ int run_heat_deck(Config config, const RunOptions& options) {
   const int64_t total = static_cast<int64_t>(std::ceil(config.solver.end_time / dt - 1e-9));
   if (!opts.quiet) {
     fmt::print(stderr, "deck            {}\n", config.deck_file);
-    fmt::print(stderr, "particles       {}\n", s.particles.size());
-    fmt::print(stderr, "bonds           {} directed\n", s.bonds.size());
+    fmt::print(stderr, "particles       {}\n", dd && dd->local_particles ? dd->global_particles : s.particles.size());
+    fmt::print(stderr, "bonds           {} directed\n", s.initial_bonds);
     fmt::print(stderr, "solver          heat, {} Euler\n", implicit ? "backward" : "forward");
     fmt::print(stderr, "stable step     {:.4e} s (explicit heat)\n", stable);
     fmt::print(stderr, "time step       {:.4e} s, {} steps to t = {:.4e} s\n", dt, total, config.solver.end_time);
@@ -218,6 +224,13 @@ int run_heat_deck(Config config, const RunOptions& options) {
   j["time"] = s.heat.time;
   j["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   j["ranks"] = dd ? dd->size : 1;
+  if (dd) {
+    // The particles each rank holds (local particles: its owned ones and those their rows read).
+    const std::vector<uint64_t> held = gather_on_lead(s.particles.size());
+    j["particles"] = dd->local_particles ? dd->global_particles : s.particles.size();
+    j["particles_local"] = dd->local_particles;
+    j["particles_held"] = held;
+  }
   j["thermal"] = heat_summary(s, dt, stable, initial_content);
   if (implicit) j["thermal"]["cg_iterations_last_step"] = solver.iterations();
   if (lead) write_result_file((dir / "summary.json").string(), j.dump(2) + "\n", exit_code == 5);
