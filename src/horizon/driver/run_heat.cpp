@@ -122,11 +122,21 @@ int run_heat_deck(Config config, const RunOptions& options) {
   // its owned particles and the particles they read; HORIZON_MPI_LOCAL_PARTICLES=0 keeps
   // every particle). Rank 0 writes the history and summary; every rank its own piece of
   // each frame.
+  // Finite-element regions are not split (as in a coupled run): one rank only.
   std::unique_ptr<Decomposition> dd;
   const char* particles_env = std::getenv("HORIZON_MPI_LOCAL_PARTICLES");
-  const bool local = mpi_built() && world_size() > 1 && !(particles_env && std::string(particles_env) == "0");
+  Config as_explicit = config;  // local particles where an explicit run of the deck would hold them
+  as_explicit.solver.type = SolverType::explicit_dynamic;
+  const bool local = mpi_built() && world_size() > 1 && local_particles_allowed(as_explicit) &&
+                     !(particles_env && std::string(particles_env) == "0");
   if (mpi_built()) dd = std::make_unique<Decomposition>();
   System s = local ? build_system_split(config, *dd) : build_system(config);
+  if (s.fe) {
+    if (world_size() > 1)
+      throw Error(fmt::format("{}: finite-element regions are not split over ranks; run this deck on one rank",
+                              config.deck_file));
+    dd.reset();
+  }
   if (dd) {
     dd->local_rows = local;
     decompose(s, *dd, config.spacing);
