@@ -289,13 +289,17 @@ double fitted_speed(const std::vector<std::pair<double, double>>& h, double l0, 
 // the lattice row 2 horizons inside its layer (damage >= kCrackDamage; cracks closer than
 // 2 horizons count as one), their positions along the layer and their spacing
 // (damage/crack_metrics.hpp, cracks_across_line).
-nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
+// `s` holds the boundary lists; `o` every particle (s itself, or rank 0's view with local
+// particles, whose lists are the deck's regions found again in the global numbering).
+nlohmann::ordered_json edge_cracks(const Config& c, const System& s, const System& o) {
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
-  const auto& X = s.particles.X;
+  const auto& X = o.particles.X;
   Vec3 centre;
   for (const auto& x : X) centre += x;
   centre = centre / static_cast<double>(std::max<std::size_t>(1, X.size()));
-  for (const auto& bc : s.heat.boundary) {
+  for (std::size_t n = 0; n < s.heat.boundary.size(); ++n) {
+    HeatBoundary bc = s.heat.boundary[n];
+    if (&o != &s) bc.particles = region_particles(c, o, c.thermal.boundary[n].region);
     if (bc.particles.empty()) continue;
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, mean[2] = {0, 0};
     for (uint32_t i : bc.particles)
@@ -307,7 +311,7 @@ nlohmann::ordered_json edge_cracks(const Config& c, const System& s) {
     const int normal = hi[0] - lo[0] < hi[1] - lo[1] ? 0 : 1, along = 1 - normal;
     const double rows = std::round(2 * c.horizon / c.spacing) * c.spacing;
     const double at = mean[normal] + (centre[normal] > mean[normal] ? rows : -rows);
-    const LineCracks lc = cracks_across_line(X, s.particles.damage, along, normal, at, 0.5 * c.spacing, kCrackDamage,
+    const LineCracks lc = cracks_across_line(X, o.particles.damage, along, normal, at, 0.5 * c.spacing, kCrackDamage,
                                              2 * c.horizon);
     nlohmann::ordered_json e;
     e["line"] = at;
@@ -338,13 +342,12 @@ std::string distributed_limits(const Config& c, const System& s, const RunOption
   for (const auto& m : s.models)
     if (!m->unified() && !m->traits().rows_local)
       return "model " + m->traits().name + " is not split over ranks (the models that are: " + split_models() + ")";
-  // Heat conduction splits with the explicit integration (each rank advances its owned
-  // temperatures and receives its ghosts'); the backward-Euler step is one global solve.
-  if (s.heat.active() && c.thermal.integration == HeatIntegration::implicit_euler)
-    return "the implicit heat integration (one global solve) is not split over ranks; thermal.integration: explicit is";
+  // Heat conduction splits with either integration (each rank advances its owned
+  // temperatures and receives its ghosts'; the backward-Euler step a distributed CG).
   if (s.fe) return "finite-element regions are not split over ranks";
   // Rigid projectiles split: each rank pushes its owned particles, the force on the body
   // is a grid sum (contact/rigid_contact.cpp) and every rank advances the same body.
+  (void)c;
   (void)o;
   return "";
 }
@@ -992,7 +995,7 @@ int ExplicitRun::finish() {
   if (r.heat) {
     j["thermal"] = heat_summary(s, solver.dt() * config.thermal.time_scale, r.heat_stable, r.heat_initial);
     j["energy"]["thermal_work"] = g.thermal_work;
-    if (config.dimension == 2 && s.initial_bonds > 0) j["thermal"]["edge_cracks"] = edge_cracks(config, s);
+    if (config.dimension == 2 && s.initial_bonds > 0 && r.lead) j["thermal"]["edge_cracks"] = edge_cracks(config, s, o);
   }
   // The crack path and front at the end, for the crack and fracture figures below.
   const std::vector<uint8_t> on = crack.active ? crack.path(o) : std::vector<uint8_t>{};

@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <sstream>
+#include <zlib.h>
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/interrupt.hpp"
@@ -49,6 +52,29 @@ void temperature_range(const System& s, double& lo, double& hi, double& mean) {
   for (double v : T) lo = std::min(lo, v), hi = std::max(hi, v), mean += v;
   mean /= static_cast<double>(std::max<std::size_t>(1, T.size()));
 }
+
+// CRC-32 of every particle's temperature in global order (Particles::id): in a run split
+// over MPI ranks each owner's values, gathered on every rank. The bits a heat run ends in,
+// as state_crc32 for the mechanics. Collective when decomposed.
+uint32_t temperature_crc32(const System& s) {
+  std::vector<double> T = s.heat.T;
+  if (s.decomposition) {
+    std::vector<double> mine, ids;
+    for (uint32_t i : s.owned) {
+      mine.push_back(s.heat.T[i]);
+      ids.push_back(static_cast<double>(s.particles.id.empty() ? i : s.particles.id[i]));  // exact below 2^53
+    }
+    const std::vector<double> all = allgather_values(mine), all_ids = allgather_values(ids);
+    std::vector<std::size_t> order(all.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all_ids[a] < all_ids[b]; });
+    T.resize(all.size());
+    for (std::size_t k = 0; k < order.size(); ++k) T[k] = all[order[k]];
+  }
+  uLong crc = crc32(0L, Z_NULL, 0);
+  crc = crc32(crc, reinterpret_cast<const Bytef*>(T.data()), static_cast<uInt>(T.size() * sizeof(double)));
+  return static_cast<uint32_t>(crc);
+}
 }  // namespace
 
 std::string heat_history_row(const System& s) {
@@ -81,20 +107,43 @@ nlohmann::ordered_json heat_summary(const System& s, double heat_step, double st
   // plastic work brought in (relative to the largest of them).
   const double scale = std::max({std::abs(content - initial_content), std::abs(supplied), 1e-300});
   j["heat_balance_error"] = (content - initial_content - supplied) / scale;
+  j["temperature_crc32"] = temperature_crc32(s);
   return j;
 }
 
 int run_heat_deck(Config config, const RunOptions& options) {
   apply_run_options(config, options);
-  // Heat conduction alone runs in one process; coupled to an explicit run it splits over
-  // ranks (driver/run.cpp).
-  if (world_size() > 1)
-    throw Error(fmt::format("{}: solver.type heat runs on one MPI rank (its coupled form, a thermal section in an "
-                            "explicit run, splits over ranks); run it on one rank",
-                            config.deck_file));
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const auto wall_start = std::chrono::steady_clock::now();
-  System s = build_system(config);
+  // Split over MPI ranks as a coupled run is (driver/run.cpp): each rank advances its owned
+  // temperatures and receives its ghosts', the backward-Euler step a distributed conjugate
+  // gradient (thermal/heat.cpp). An MPI build decomposes on one rank too, so that one rank
+  // and many give the same bits; on more than one it holds local particles (the rows of
+  // its owned particles and the particles they read; HORIZON_MPI_LOCAL_PARTICLES=0 keeps
+  // every particle). Rank 0 writes the history and summary; every rank its own piece of
+  // each frame.
+  // Finite-element regions are not split (as in a coupled run): one rank only.
+  std::unique_ptr<Decomposition> dd;
+  const char* particles_env = std::getenv("HORIZON_MPI_LOCAL_PARTICLES");
+  Config as_explicit = config;  // local particles where an explicit run of the deck would hold them
+  as_explicit.solver.type = SolverType::explicit_dynamic;
+  const bool local = mpi_built() && world_size() > 1 && local_particles_allowed(as_explicit) &&
+                     !(particles_env && std::string(particles_env) == "0");
+  if (mpi_built()) dd = std::make_unique<Decomposition>();
+  System s = local ? build_system_split(config, *dd) : build_system(config);
+  if (s.fe) {
+    if (world_size() > 1)
+      throw Error(fmt::format("{}: finite-element regions are not split over ranks; run this deck on one rank",
+                              config.deck_file));
+    dd.reset();
+  }
+  if (dd) {
+    dd->local_rows = local;
+    decompose(s, *dd, config.spacing);
+  }
+  const bool lead = world_rank() == 0;
+  RunOptions opts = options;
+  if (!lead) opts.quiet = true;
   const double stable = heat_stable_step(s);
   const bool implicit = config.thermal.integration == HeatIntegration::implicit_euler;
   const double dt = config.solver.time_step ? *config.solver.time_step : config.solver.safety_factor * stable;
@@ -103,16 +152,17 @@ int run_heat_deck(Config config, const RunOptions& options) {
                             "use a smaller step or thermal.integration: implicit",
                             dt, stable));
   const int64_t total = static_cast<int64_t>(std::ceil(config.solver.end_time / dt - 1e-9));
-  if (!options.quiet) {
+  if (!opts.quiet) {
     fmt::print(stderr, "deck            {}\n", config.deck_file);
-    fmt::print(stderr, "particles       {}\n", s.particles.size());
-    fmt::print(stderr, "bonds           {} directed\n", s.bonds.size());
+    fmt::print(stderr, "particles       {}\n", dd && dd->local_particles ? dd->global_particles : s.particles.size());
+    fmt::print(stderr, "bonds           {} directed\n", s.initial_bonds);
     fmt::print(stderr, "solver          heat, {} Euler\n", implicit ? "backward" : "forward");
     fmt::print(stderr, "stable step     {:.4e} s (explicit heat)\n", stable);
     fmt::print(stderr, "time step       {:.4e} s, {} steps to t = {:.4e} s\n", dt, total, config.solver.end_time);
   }
   const fs::path dir = config.output.directory;
-  fs::create_directories(dir / "frames");
+  if (lead) fs::create_directories(dir / "frames");
+  if (dd) any_rank(*dd, false);  // a barrier: the directory exists
   PvdIndex pvd((dir / "frames.pvd").string());
   std::ostringstream history;
   history << "time,step," << heat_history_header(s) << "\n";
@@ -120,8 +170,23 @@ int run_heat_deck(Config config, const RunOptions& options) {
   const double initial_content = heat_content(s);
   auto write_frame = [&](double t, int64_t step) {
     update_heat_flux(s);
-    const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
-    write_vtu((dir / name).string(), make_frame(s, t, step));
+    const std::string base = fmt::format("frame_{:05d}", frame_count++);
+    const Frame f = make_frame(s, t, step);
+    if (!dd) {
+      const std::string name = "frames/" + base + ".vtu";
+      write_vtu((dir / name).string(), f);
+      pvd.add(t, name);
+      pvd.write();
+      return;
+    }
+    // One piece per rank, its own particles; the index once all pieces are complete.
+    write_vtu((dir / "frames" / fmt::format("{}_p{}.vtu", base, dd->rank)).string(), frame_subset(f, dd->owned));
+    any_rank(*dd, false);  // a barrier
+    if (!lead) return;
+    std::vector<std::string> pieces;
+    for (int r = 0; r < dd->size; ++r) pieces.push_back(fmt::format("{}_p{}.vtu", base, r));
+    const std::string name = "frames/" + base + ".pvtu";
+    write_pvtu((dir / name).string(), f, pieces);
     pvd.add(t, name);
     pvd.write();
   };
@@ -147,7 +212,8 @@ int run_heat_deck(Config config, const RunOptions& options) {
       write_frame(s.heat.time, step);
       ++next_frame;
     }
-    if (options.handle_signals && interrupt_requested()) {
+    const bool interrupted = options.handle_signals && interrupt_requested();
+    if (dd ? any_rank(*dd, interrupted) : interrupted) {
       status = "interrupted";
       exit_code = interrupt_exit_code();
       message = fmt::format("{} at step {}; a final frame was written", interrupt_name(), step);
@@ -163,14 +229,23 @@ int run_heat_deck(Config config, const RunOptions& options) {
                           step, pvd.entries().size());
   }
   if (options.handle_signals) clear_interrupt();
-  write_result_file((dir / "history.csv").string(), history.str(), exit_code == 5);
+  if (lead) write_result_file((dir / "history.csv").string(), history.str(), exit_code == 5);
   nlohmann::ordered_json j = summary_header(config, s, status, message, step);
   j["time"] = s.heat.time;
   j["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  j["ranks"] = dd ? dd->size : 1;
+  if (dd) {
+    // The particles each rank holds (local particles: its owned ones and those their rows read).
+    const std::vector<uint64_t> held = gather_on_lead(s.particles.size());
+    j["particles"] = dd->local_particles ? dd->global_particles : s.particles.size();
+    j["particles_local"] = dd->local_particles;
+    j["particles_held"] = held;
+  }
   j["thermal"] = heat_summary(s, dt, stable, initial_content);
-  write_result_file((dir / "summary.json").string(), j.dump(2) + "\n", exit_code == 5);
-  if (!options.quiet) fmt::print(stderr, "{}: {} heat steps; output in {}\n", status, step, dir.string());
-  if (!message.empty()) fmt::print(stderr, "horizon: {}\n", message);
+  if (implicit) j["thermal"]["cg_iterations_last_step"] = solver.iterations();
+  if (lead) write_result_file((dir / "summary.json").string(), j.dump(2) + "\n", exit_code == 5);
+  if (!opts.quiet) fmt::print(stderr, "{}: {} heat steps; output in {}\n", status, step, dir.string());
+  if (!message.empty() && lead) fmt::print(stderr, "horizon: {}\n", message);
   return exit_code;
 }
 

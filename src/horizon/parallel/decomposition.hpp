@@ -151,7 +151,7 @@ System build_system_split(const Config& config, Decomposition& d);
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface
-// correction) or is split on the whole system only (heat, projectiles) or not at all (FE). Otherwise
+// correction) or is split on the whole system only (structures) or not at all (FE). Otherwise
 // every rank builds the whole system (the old way) and decompose() splits the work only.
 bool local_rows_allowed(const Config& config);
 // Splits the system over the ranks, chooses the ghosts and sets s.active, s.owned and

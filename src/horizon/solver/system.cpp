@@ -293,7 +293,12 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
     throw Error("finite-element bodies couple to bond-based peridynamic models only (a state-based model's force on a "
                 "particle needs its neighbours' full families, which the FE nodes do not have)");
   if (config.thermal.enabled) {
-    setup_heat(s, config.materials, config);  // thermal/heat.hpp
+    // Split: the calibration's bulk moment is the whole system's (a maximum over ranks), and
+    // with local particles the boundary regions and layers are the whole body's (the
+    // decomposition named for that while the heat is set up: region_particles, layer_depth).
+    if (local) s.decomposition = local;
+    setup_heat(s, config.materials, config, split);  // thermal/heat.hpp; collective when split
+    s.decomposition = nullptr;
     // The temperature-dependent critical stretch acts in the general force pass's
     // critical-stretch test: not for a model that owns the force pass.
     for (std::size_t m = 0; m < config.materials.size(); ++m)
@@ -332,6 +337,9 @@ System build_system_split(const Config& config, Decomposition& d) {
   for (const auto& mat : config.materials) {
     const ModelEntry* e = find_model(mat.model);
     neighbour_rows = neighbour_rows || !e || !e->traits.unified || (mat.damage.enabled && mat.damage.alpha != 0);
+    // A thermal strain or a temperature-dependent critical stretch takes the general pass.
+    neighbour_rows = neighbour_rows || (config.thermal.enabled && (mat.thermal.expansion != 0 ||
+                                                                   mat.thermal.critical_stretch_slope != 0));
   }
   if (!neighbour_rows) {
     Decomposition first;
@@ -354,11 +362,9 @@ bool local_particles_allowed(const Config& c) {
 
 bool local_rows_allowed(const Config& c) {
   if (c.solver.type != SolverType::explicit_dynamic) return false;  // the static solvers build the whole system
-  // Heat and rigid projectiles split their work over ranks on the whole system held by
-  // every rank (thermal/heat.cpp, contact/rigid_contact.cpp): the temperature's boundary
-  // lists and ghost exchange and the bodies' contact search were split and tested in the
-  // global numbering only, so their decks keep every particle and row.
-  if (c.thermal.enabled || !c.contact.projectiles.empty()) return false;
+  // Heat conduction and rigid projectiles split on local rows and local particles too
+  // (thermal/heat.cpp: owned rows, ghosts' temperatures exchanged, boundary layers over
+  // ranks; contact/rigid_contact.cpp: each rank pushes its owned particles).
   if (c.structure.kind != StructureKind::none) return false;
   for (const auto& body : c.bodies)
     if (body.discretization == Discretization::fe) return false;

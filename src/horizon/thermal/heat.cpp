@@ -1,5 +1,7 @@
 #include "horizon/thermal/heat.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -9,7 +11,6 @@
 #include "horizon/loading/loads.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/parallel/owned_rows.hpp"
-#include "horizon/solver/linear.hpp"
 
 namespace horizon {
 
@@ -24,8 +25,8 @@ double bond_kappa(const HeatState& h, std::size_t i, std::size_t j) { return 0.5
 
 // The rows this process computes: in a run split over MPI ranks (parallel/decomposition.hpp)
 // its owned particles, whose conduction reads the ghosts' temperatures (exchanged after
-// every change: exchange_ghosts below); every particle serially. The whole system is held
-// on every rank (local_rows_allowed is false for a thermal deck), so indices are global.
+// every change: exchange_ghosts below); every particle serially. Indices are this rank's
+// (local ones with local particles: Particles::id is the global id).
 using Rows = OwnedRows;  // parallel/owned_rows.hpp
 
 // The owners' temperatures at this rank's ghosts. Collective when decomposed.
@@ -33,8 +34,10 @@ void exchange_ghosts(System& s) {
   if (s.decomposition) exchange_ghost_scalars(*s.decomposition, s.heat.T);
 }
 
-// The axis along which a set of particles is thinnest (as tractions, loading/loads.cpp).
+// The axis along which a set of particles is thinnest (as tractions, loading/loads.cpp);
+// with local particles the whole set's over the ranks (collective).
 int thinnest_axis(const System& s, const std::vector<uint32_t>& ids, int dimension) {
+  const bool local = s.decomposition && s.decomposition->local_particles;
   int axis = 0;
   double best = 1e300;
   for (int k = 0; k < dimension; ++k) {
@@ -43,6 +46,7 @@ int thinnest_axis(const System& s, const std::vector<uint32_t>& ids, int dimensi
       lo = std::min(lo, s.particles.X[i][k]);
       hi = std::max(hi, s.particles.X[i][k]);
     }
+    if (local) lo = min_over_ranks(lo), hi = -min_over_ranks(-hi);
     if (hi - lo < best) {
       best = hi - lo;
       axis = k;
@@ -66,7 +70,7 @@ double heat_moment_continuum(HeatKernel kernel, int dimension, double horizon, d
   return 4 * kPi * std::pow(d, 5) / 15;                        // (1/3) int_0^d r^2 4 pi r^2 dr
 }
 
-void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config) {
+void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config, bool split) {
   auto& P = s.particles;
   auto& B = s.bonds;
   HeatState& h = s.heat;
@@ -103,6 +107,8 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
       double& b = bulk[static_cast<std::size_t>(P.material[i])];
       b = std::max(b, m2);
     }
+    if (split)  // the rows of other ranks: the largest over ranks (exact, a maximum)
+      for (double& b : bulk) b = -min_over_ranks(-b);
   }
   const double measure = s.dimension == 1 ? config.area : config.thickness;
   const double m2_continuum = heat_moment_continuum(h.kernel, s.dimension, s.horizon, measure);
@@ -141,7 +147,9 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
                        : bc.kind == ThermalBoundaryKind::flux      ? "flux"
                                                                    : "convection";
     hb.name = (bc.region.empty() ? std::string("all") : bc.region) + ":" + kind;
-    if (bc.kind != ThermalBoundaryKind::temperature && !hb.particles.empty()) {
+    // With local particles a rank may hold none of the region: every rank takes part.
+    const bool local = s.decomposition && s.decomposition->local_particles;
+    if (bc.kind != ThermalBoundaryKind::temperature && (local || !hb.particles.empty())) {
       // A flux through the boundary becomes a source density over a layer of depth d, so
       // that the total is the flux times the area (as tractions, docs/input.md).
       const int axis = bc.normal_axis >= 0 ? bc.normal_axis : thinnest_axis(s, hb.particles, s.dimension);
@@ -336,21 +344,144 @@ void commit_history_with_heat(System& s) {
 // The backward-Euler system on the free particles, scaled by V_i so that it is symmetric:
 //   (rho c V_i/dt + V_i sum_j K_ij + V_i h_i/d) T_i - sum_{j free} V_i K_ij T_j
 //     = rho c V_i/dt T_i^n + V_i (q_i + h_i/d T_amb) + sum_{j fixed} V_i K_ij T_j^{n+1},
-// K_ij = kbar g V_j (V_i K_ij = kbar g V_i V_j: symmetric, the partial-volume fraction
-// depends on |xi| alone), symmetric positive definite for dt > 0.
+// K_ij = kbar g V_j, so a_ij = V_i K_ij = kbar_ij g(|xi|) V_i V_j (the bond kind's volume
+// and partial-volume fraction depend on |xi| alone on the lattice): a_ij = a_ji. The
+// matrix is the diagonal rho c V_i/dt + V_i h_i/d > 0 plus the conduction part, a weighted
+// graph Laplacian sum_bonds a_ij (T_i - T_j)^2 / 2 >= 0 (its rows to fixed neighbours keep
+// only the diagonal a_ij): symmetric positive definite for dt > 0.
+//
+// Solved matrix-free by the conjugate gradient (Hestenes and Stiefel 1952) with the Jacobi
+// preconditioner, started from T^n, in both programs: over the owned rows of a run split
+// over MPI ranks (the search direction's ghost entries sent by their owners before each
+// product, exchange_ghost_scalars) and over every particle serially; every inner product
+// is an exact grid sum (GridSum::exact, parallel/decomposition.hpp), and each row of the
+// product sums its bond row in the serial order, so the iterates, hence the temperatures,
+// are the same bits serially and on any number of ranks and threads.
+// Stopped when |r| <= 1e-12 |r_0| (r_0 = b - A T^n, the step's heat flows) or
+// |r| <= 1e-15 |b|, the round-off of the product: the heat the residual leaves unbooked is
+// dt sum_i r_i, some 1e-11 of what the step moves.
 struct HeatSolver::Implicit {
-  LinearSolver solver{LinearSolverKind::cholesky};
-  std::vector<int> index;  // free particle -> unknown, -1 for fixed ones
+  std::vector<double> diag, b, x, r, z, p, q;
+  std::vector<uint8_t> row;  // an owned free particle: an unknown of this rank
+  int iterations = 0;        // CG iterations of the last step
 };
 
 HeatSolver::HeatSolver(System& s, HeatIntegration integration) : s_(s), integration_(integration) {
-  // The backward-Euler system is one global sparse solve: not split over ranks (the driver
-  // refuses such a deck on several ranks, driver/run.cpp distributed_limits).
-  if (integration_ == HeatIntegration::implicit_euler && s_.decomposition && s_.decomposition->size > 1)
-    throw Error("the implicit heat integration is not split over ranks; use thermal.integration: explicit");
   if (integration_ == HeatIntegration::implicit_euler) implicit_ = std::make_unique<Implicit>();
 }
 HeatSolver::~HeatSolver() = default;
+
+int HeatSolver::iterations() const { return implicit_ ? implicit_->iterations : 0; }
+
+void HeatSolver::implicit_step(double dt, const std::vector<double>& source, const std::vector<double>& film,
+                               const std::vector<double>& film_t) {
+  auto& P = s_.particles;
+  auto& B = s_.bonds;
+  HeatState& h = s_.heat;
+  Implicit& I = *implicit_;
+  const std::size_t n = P.size();
+  const Rows rows(s_);
+  I.row.assign(n, 0);
+  for (std::size_t k = 0; k < rows.count; ++k)
+    if (!h.fixed[rows[k]]) I.row[rows[k]] = 1;
+  // Diagonal and right-hand side of the owned free rows (heat.cpp, above).
+  I.diag.assign(n, 0.0);
+  I.b.assign(n, 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < rows.count; ++k) {
+    const std::size_t i = rows[k];
+    if (!I.row[i]) continue;
+    const double Vi = P.volume[i];
+    double diag = h.capacity[i] * Vi / dt + Vi * film[i];
+    double rhs = h.capacity[i] * Vi / dt * old_[i] + Vi * (source[i] + film_t[i]);
+    for (uint64_t e = B.begin(i); e < B.end(i); ++e) {
+      if (!B.intact[e]) continue;
+      const uint32_t j = B.nbr[e];
+      const double a = Vi * bond_kappa(h, i, j) * h.kind_factor[B.kind[e]];
+      diag += a;
+      if (h.fixed[j]) rhs += a * h.T[j];
+    }
+    I.diag[i] = diag;
+    I.b[i] = rhs;
+  }
+  // q = A v on the owned free rows (v's ghost entries current; fixed particles' ignored).
+  auto apply = [&](const std::vector<double>& v, std::vector<double>& q) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < rows.count; ++k) {
+      const std::size_t i = rows[k];
+      if (!I.row[i]) continue;
+      const double Vi = P.volume[i];
+      double off = 0;
+      for (uint64_t e = B.begin(i); e < B.end(i); ++e) {
+        if (!B.intact[e]) continue;
+        const uint32_t j = B.nbr[e];
+        if (h.fixed[j]) continue;
+        off += Vi * bond_kappa(h, i, j) * h.kind_factor[B.kind[e]] * v[j];
+      }
+      q[i] = I.diag[i] * v[i] - off;
+    }
+  };
+  // Inner products of the owned free rows on the grid (the same bits at any rank count).
+  auto dots = [&](std::initializer_list<std::pair<const std::vector<double>*, const std::vector<double>*>> pairs) {
+    GridSum g = GridSum::exact(s_, static_cast<int>(pairs.size()));
+    for (std::size_t k = 0; k < rows.count; ++k) {
+      const std::size_t i = rows[k];
+      if (!I.row[i]) continue;
+      int q = 0;
+      for (const auto& [u, v] : pairs) g.add(q++, (*u)[i] * (*v)[i]);
+    }
+    return g.totals();
+  };
+  // x_0 = T^n (old_ = h.T before the step: its ghost entries current), r_0 = b - A x_0.
+  I.x = old_;
+  I.r.assign(n, 0.0);
+  I.z.assign(n, 0.0);
+  I.q.assign(n, 0.0);
+  apply(I.x, I.q);
+  for (std::size_t k = 0; k < rows.count; ++k) {
+    const std::size_t i = rows[k];
+    if (I.row[i]) I.r[i] = I.b[i] - I.q[i], I.z[i] = I.r[i] / I.diag[i];
+  }
+  I.p = I.z;
+  std::vector<double> d0 = dots({{&I.r, &I.r}, {&I.b, &I.b}, {&I.r, &I.z}});
+  const double stop = std::max(1e-12 * std::sqrt(d0[0]), 1e-15 * std::sqrt(d0[1]));
+  double rr = d0[0], rz = d0[2];
+  const int most = 10000;
+  int it = 0;
+  while (std::sqrt(rr) > stop) {
+    if (++it > most)
+      throw Error(fmt::format("the implicit heat step did not converge in {} conjugate-gradient iterations "
+                              "(residual {:.3e}, wanted {:.3e}); use a smaller solver.time_step",
+                              most, std::sqrt(rr), stop));
+    if (s_.decomposition) exchange_ghost_scalars(*s_.decomposition, I.p);
+    apply(I.p, I.q);
+    const double pq = dots({{&I.p, &I.q}})[0];
+    if (!(pq > 0)) throw Error("the implicit heat step failed: the conduction matrix is not positive definite");
+    const double alpha = rz / pq;
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < rows.count; ++k) {
+      const std::size_t i = rows[k];
+      if (!I.row[i]) continue;
+      I.x[i] += alpha * I.p[i];
+      I.r[i] -= alpha * I.q[i];
+      I.z[i] = I.r[i] / I.diag[i];
+    }
+    const std::vector<double> d = dots({{&I.r, &I.r}, {&I.r, &I.z}});
+    rr = d[0];
+    const double beta = d[1] / rz;
+    rz = d[1];
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < rows.count; ++k) {
+      const std::size_t i = rows[k];
+      if (I.row[i]) I.p[i] = I.z[i] + beta * I.p[i];
+    }
+  }
+  I.iterations = it;
+  for (std::size_t k = 0; k < rows.count; ++k) {
+    const std::size_t i = rows[k];
+    if (I.row[i]) h.T[i] = I.x[i];
+  }
+}
 
 void HeatSolver::step(double dt) {
   auto& P = s_.particles;
@@ -381,39 +512,8 @@ void HeatSolver::step(double dt) {
       if (!h.fixed[i]) h.T[i] += dt * (rate_[i] + source[i] + film_t[i] - film[i] * h.T[i]) / h.capacity[i];
     }
   } else {
-    auto& I = *implicit_;
-    I.index.assign(n, -1);
-    int m = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (!h.fixed[i]) I.index[i] = m++;
     apply_temperature_conditions(s_, t1);  // the fixed values the free ones see
-    std::vector<Eigen::Triplet<double>> trip;
-    trip.reserve(B.size() + n);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m), x(m);
-    for (std::size_t i = 0; i < n; ++i) {
-      const int r = I.index[i];
-      if (r < 0) continue;
-      const double Vi = P.volume[i];
-      double diag = h.capacity[i] * Vi / dt + Vi * film[i];
-      rhs[r] = h.capacity[i] * Vi / dt * old_[i] + Vi * (source[i] + film_t[i]);
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-        if (!B.intact[k]) continue;
-        const uint32_t j = B.nbr[k];
-        const double a = Vi * bond_kappa(h, i, j) * h.kind_factor[B.kind[k]];
-        diag += a;
-        if (I.index[j] >= 0)
-          trip.emplace_back(r, I.index[j], -a);
-        else
-          rhs[r] += a * h.T[j];
-      }
-      trip.emplace_back(r, r, diag);
-    }
-    SparseMatrix A(m, m);
-    A.setFromTriplets(trip.begin(), trip.end());
-    const LinearStats st = I.solver.solve(A, Eigen::VectorXd(), rhs, x, 1e-12, 10000);
-    if (!st.ok) throw Error("the implicit heat step failed: the conduction matrix could not be factorised");
-    for (std::size_t i = 0; i < n; ++i)
-      if (I.index[i] >= 0) h.T[i] = x[I.index[i]];
+    implicit_step(dt, source, film, film_t);
   }
   apply_temperature_conditions(s_, t1);
   // The heat each boundary brought in over the step (on ranks: its owned particles', on

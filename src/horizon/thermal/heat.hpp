@@ -23,9 +23,10 @@
 // Heat flux (output): q_i = -(1/2) sum_j kbar g (T_j - T_i) xi_ij V_j, which is -k grad T
 // for a linear field wherever sum_j g xi xi V_j = M2 I (the calibration above) [derived].
 //
-// On MPI ranks (parallel/decomposition.hpp, explicit integration only) each rank computes
-// the rows of its owned particles and HeatSolver::step sends the new temperatures to the
-// ghosts; the sums below are grid sums over owned particles then, and collective.
+// On MPI ranks (parallel/decomposition.hpp) each rank computes the rows of its owned
+// particles and HeatSolver::step sends the new temperatures to the ghosts (the backward
+// Euler step also each conjugate-gradient search direction); the sums below are grid sums
+// over owned particles then, and collective.
 #include <memory>
 #include <vector>
 
@@ -40,7 +41,11 @@ double heat_moment_continuum(HeatKernel kernel, int dimension, double horizon, d
 // Fills s.heat from the materials' thermal properties and the thermal section: capacity,
 // micro-conductivity, initial temperature, boundary conditions (regions of `config`).
 // Bonds and particles must exist. build_system calls it when the deck has a thermal section.
-void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config);
+// `split` (build_system_split, collective then): the system holds only this rank's rows, so
+// the discrete calibration's bulk moment is the largest over ranks; with local particles
+// (s.decomposition set with local_particles during the call) the boundary regions' normal
+// axes and layer depths are the whole region's.
+void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const Config& config, bool split = false);
 
 // out_i = sum_j kbar g (T_j - T_i) V_j over the intact bonds [W/m^3].
 void heat_conduction(const System& s, const std::vector<double>& T, std::vector<double>& out);
@@ -78,8 +83,9 @@ void deposit_heat(System& s, std::size_t i, double energy);
 // (docs/models/heat.md, "Coupling").
 void commit_history_with_heat(System& s);
 
-// Advances s.heat.T by dt: forward Euler or backward Euler (one sparse SPD solve,
-// CHOLMOD through solver/linear.hpp, the symbolic analysis kept while no bond breaks).
+// Advances s.heat.T by dt: forward Euler or backward Euler (the SPD system solved by a
+// matrix-free Jacobi-preconditioned conjugate gradient with exact grid-sum inner products,
+// the same algorithm and bits serially and on any number of MPI ranks: heat.cpp).
 // Prescribed temperatures take their value at the new time; the heat each boundary brings
 // in is added to its HeatBoundary::heat (temperature conditions: what the conduction
 // carries out of their particles plus the change of their own content).
@@ -92,9 +98,13 @@ class HeatSolver {
 
   void step(double dt);
   HeatIntegration integration() const { return integration_; }
+  // Conjugate-gradient iterations of the last backward-Euler step (0 for forward Euler).
+  int iterations() const;
 
  private:
   struct Implicit;
+  void implicit_step(double dt, const std::vector<double>& source, const std::vector<double>& film,
+                     const std::vector<double>& film_t);
   System& s_;
   HeatIntegration integration_;
   std::unique_ptr<Implicit> implicit_;
