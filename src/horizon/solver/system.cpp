@@ -349,11 +349,23 @@ System build_system_split(const Config& config, Decomposition& d) {
 }
 
 bool local_particles_allowed(const Config& c) {
-  return local_rows_allowed(c);
+  // Static and implicit solves hold local rows but every particle (their distributed
+  // vectors are indexed by the global DofMap; driver/run_implicit.cpp).
+  return c.solver.type == SolverType::explicit_dynamic && local_rows_allowed(c);
 }
 
 bool local_rows_allowed(const Config& c) {
-  if (c.solver.type != SolverType::explicit_dynamic) return false;  // the static solvers build the whole system
+  // Static and implicit solves: local rows when the solve is split over ranks
+  // (driver/run_implicit.cpp implicit_distributed_limits): unified models, a matrix-free
+  // tangent or ADR, no condition number (those assemble the whole tangent on one rank).
+  if (c.solver.type == SolverType::heat) return false;
+  if (c.solver.type != SolverType::explicit_dynamic) {
+    const bool newton = c.solver.type == SolverType::implicit_dynamic || c.solver.method == StaticMethod::newton;
+    if (newton && c.solver.linear_solver != LinearSolverKind::matrix_free) return false;
+    if (c.solver.condition_number || c.solver.tangent != TangentKind::analytic) return false;
+    for (const auto& mat : c.materials)
+      if (const ModelEntry* e = find_model(mat.model); !e || !e->traits.unified) return false;
+  }
   // Heat and rigid projectiles split their work over ranks on the whole system held by
   // every rank (thermal/heat.cpp, contact/rigid_contact.cpp): the temperature's boundary
   // lists and ghost exchange and the bodies' contact search were split and tested in the
