@@ -6,6 +6,8 @@
 #     analytic strain and tip displacement;
 #   - the bar with ADR, and under implicit dynamics (Newmark); the bar on 2 and 3 ranks,
 #     its variants on 1 and 3.
+# On more than one rank each rank holds only its bond rows (local rows: fewer bonds than
+# the whole system, summary.json bonds_held).
 # Required: the same history.csv, state_crc32 and displacement field on every rank count,
 # bit for bit; that field within 1e-8 (Newton, Newmark) or 1e-6 (ADR, tolerance 1e-6) of
 # the serial program's (tests/mpi/static_check.py). And clear errors on 2 ranks for an
@@ -44,6 +46,26 @@ function(check_deck tag deck mode tolerance counts)
     if(NOT nranks EQUAL ranks OR NOT status STREQUAL "completed")
       message(FATAL_ERROR "${tag} on ${ranks} ranks: summary.json says ${nranks} ranks, status ${status}")
     endif()
+    # Local rows (parallel/decomposition.hpp): on more than one rank each rank holds fewer
+    # bonds than the whole system, and together at least all of them.
+    if(ranks GREATER 1)
+      string(JSON total GET "${summary}" bonds)
+      set(sum 0)
+      set(shares "")
+      math(EXPR last "${ranks} - 1")
+      foreach(k RANGE ${last})
+        string(JSON held GET "${summary}" bonds_held ${k})
+        if(NOT held LESS total)
+          message(FATAL_ERROR "${tag} on ${ranks} ranks: rank ${k} holds ${held} of the ${total} bonds (local rows expected)")
+        endif()
+        math(EXPR sum "${sum} + ${held}")
+        string(APPEND shares " ${held}")
+      endforeach()
+      if(sum LESS total)
+        message(FATAL_ERROR "${tag} on ${ranks} ranks: the ranks hold ${sum} bonds together, fewer than the ${total} of the system")
+      endif()
+      message(STATUS "${tag} on ${ranks} ranks: bonds held${shares} of ${total}")
+    endif()
     set(result "${history}\n${crc}")
     if(reference STREQUAL "")
       set(reference "${result}")
@@ -65,6 +87,27 @@ function(check_deck tag deck mode tolerance counts)
 endfunction()
 
 check_deck(block ${SOURCE}/tests/mpi/static.yaml field 1e-8 "1;2;3")
+# The block with the whole system on every rank (HORIZON_MPI_WHOLE_SYSTEM=1, as before
+# local rows): the same history.csv and state_crc32 as with local rows.
+execute_process(COMMAND ${CMAKE_COMMAND} -E env HORIZON_MPI_WHOLE_SYSTEM=1 ${MPIEXEC} --oversubscribe -n 2 ${HORIZON} run
+                        ${SOURCE}/tests/mpi/static.yaml -q -o ${WORK}/block_whole --threads 1
+                RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "block, whole system on 2 ranks: exit ${rc}\n${log}")
+endif()
+file(READ ${WORK}/block_whole/summary.json whole_summary)
+file(READ ${WORK}/block_n2/summary.json local_summary)
+string(JSON whole_crc GET "${whole_summary}" state_crc32)
+string(JSON local_crc GET "${local_summary}" state_crc32)
+string(JSON whole_held GET "${whole_summary}" bonds_held 0)
+string(JSON total GET "${whole_summary}" bonds)
+file(READ ${WORK}/block_whole/history.csv whole_history)
+file(READ ${WORK}/block_n2/history.csv local_history)
+if(NOT whole_crc EQUAL local_crc OR NOT whole_history STREQUAL local_history OR NOT whole_held EQUAL total)
+  message(FATAL_ERROR "block on 2 ranks: the whole system (state_crc32 ${whole_crc}, rank 0 holds ${whole_held} of "
+                      "${total} bonds) differs from local rows (${local_crc}) or does not hold every bond")
+endif()
+message(STATUS "block on 2 ranks, whole system on every rank: state_crc32 ${whole_crc} as with local rows")
 check_deck(bar ${SOURCE}/tests/mpi/static_bar.yaml bar 1e-8 "2;3")
 file(READ ${SOURCE}/tests/mpi/static_bar.yaml text)
 string(REPLACE "method: newton, linear_solver: matrix_free, tolerance: 1.0e-12" "method: adr, tolerance: 1.0e-6" adr "${text}")
