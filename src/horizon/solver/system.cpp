@@ -380,8 +380,11 @@ bool local_rows_allowed(const Config& c) {
     // (rows_local), whole on every rank otherwise. Structures keep
     // every particle (above): their pass reads the ghost nodes' masters near the supports.
     if (!e || !(e->traits.unified || e->traits.rows_local)) return false;
-    // The surface correction of a bond reads both ends' families (rows further out).
-    if (const auto it = mat.parameters.find("surface_correction"); it != mat.parameters.end() && it->second != 0)
+    // The surface correction of a bond reads both ends' factors, each from the families
+    // up to kSurfacePasses horizons out: the split build exchanges them after each pass
+    // (material/surface_correction.cpp share_held_factors), for the unified models.
+    if (const auto it = mat.parameters.find("surface_correction");
+        it != mat.parameters.end() && it->second != 0 && !e->traits.unified)
       return false;
   }
   return true;
