@@ -73,10 +73,20 @@ static std::vector<SymTensor> gather_row_tensors(const System& s, const Decompos
 // Why this implicit deck cannot be split over ranks beyond distributed_limits (run.hpp); empty when it can.
 static std::string implicit_distributed_limits(const Config& c, const System& s) {
   const SolverConfig& sc = c.solver;
-  // The models first: no solver setting splits a model outside the unified form.
-  if (!unified_form(s))
+  // The models first: a model outside the unified form is split only when it is a
+  // structure that splits its own pass (ModelTraits::structural and rows_local), solved by
+  // ADR (solver/adr.cpp gathers the owned rows of its tangent); no other setting splits it.
+  if (!unified_form(s)) {
+    bool structures = true;
+    for (const auto& m : s.models) structures = structures && m->traits().structural && m->traits().rows_local;
+    if (structures && sc.type == SolverType::static_equilibrium && sc.method == StaticMethod::adr &&
+        sc.tangent == TangentKind::analytic && !sc.condition_number)
+      return "";
     return "static and implicit solves are split over ranks for the unified models only (" +
-           model_list([](const ModelTraits& t) { return t.unified; }) + "), whose tangent is applied row by row";
+           model_list([](const ModelTraits& t) { return t.unified; }) +
+           "), whose tangent is applied row by row, and for structures (" +
+           model_list([](const ModelTraits& t) { return t.structural && t.rows_local; }) + ") with solver.method: adr";
+  }
   const bool newton = sc.type == SolverType::implicit_dynamic || sc.method == StaticMethod::newton;
   if (newton && sc.linear_solver != LinearSolverKind::matrix_free)
     return fmt::format("solver.linear_solver {} assembles the whole tangent on one rank; on several ranks use "
