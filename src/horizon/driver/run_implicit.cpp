@@ -5,8 +5,8 @@
 #include <omp.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -118,8 +118,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   System s = local_rows ? build_system_split(config) : build_system(config);
   std::unique_ptr<Decomposition> dd;
   if (local_rows) {  // decomposed before anything reads the rows (Loads, the solvers)
-    if (std::string why = distributed_limits(config, s, options); !why.empty() ||
-                                                                  !(why = implicit_distributed_limits(config, s)).empty())
+    std::string why = distributed_limits(config, s, options);
+    if (why.empty()) why = implicit_distributed_limits(config, s);
+    if (!why.empty())
       throw Error(fmt::format("{}: internal error: a deck built with local rows cannot be split: {}", config.deck_file,
                               why));
     dd = std::make_unique<Decomposition>();
