@@ -14,6 +14,8 @@
 #  - the bar under a traction and a total force (scales from the whole region) on 3
 #    ranks: the serial state_crc32; tests/mpi/glass.cmake runs its traction deck this
 #    way on 2 to 4 ranks.
+#  - the bar and its LPS variant with the surface correction on 2 and 3 ranks: the
+#    serial state_crc32 (the factors are exchanged between the set-up's passes).
 # Not covered: short-range contact and checkpoints, which keep every particle on every
 # rank (local_particles_allowed).
 # cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P local_particles.cmake
@@ -118,6 +120,29 @@ file(WRITE ${WORK}/lps.yaml "${text}")
 run(lps_serial ${WORK}/lps.yaml 0)
 run(lps_3 ${WORK}/lps.yaml 3)
 check(lps_3 lps_serial 3 80)
+
+# The surface correction (material/surface_correction.hpp): each factor reads the families
+# up to ten horizons out, exchanged between the set-up's passes (share_held_factors), so a
+# rank still holds only its rows and the particles they read. PMB (owned rows alone) on
+# 2 ranks and LPS (the neighbours' rows too) on 3: the serial state_crc32, which differs
+# from the uncorrected bar's.
+file(READ ${deck} text)
+string(REPLACE "    micromodulus: 2.1e21\n" "    micromodulus: 2.1e21\n    surface_correction: true\n" text "${text}")
+file(WRITE ${WORK}/corrected.yaml "${text}")
+run(corrected_serial ${WORK}/corrected.yaml 0)
+run(corrected_2 ${WORK}/corrected.yaml 2)
+check(corrected_2 corrected_serial 2 60)
+string(JSON crc GET "${corrected_serial_summary}" state_crc32)
+string(JSON plain_crc GET "${bar_serial_summary}" state_crc32)
+if(crc EQUAL plain_crc)
+  message(FATAL_ERROR "surface_correction: true left the bar's state_crc32 unchanged (${crc})")
+endif()
+file(READ ${WORK}/lps.yaml text)
+string(REPLACE "    poissons_ratio: 0.25\n" "    poissons_ratio: 0.25\n    surface_correction: true\n" text "${text}")
+file(WRITE ${WORK}/lps_corrected.yaml "${text}")
+run(lps_corrected_serial ${WORK}/lps_corrected.yaml 0)
+run(lps_corrected_3 ${WORK}/lps_corrected.yaml 3)
+check(lps_corrected_3 lps_corrected_serial 3 80)
 
 # Loads whose scale reads a whole region (a traction's normal and layer depth, a force's
 # region volume): from every rank, the serial bits.

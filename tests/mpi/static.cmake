@@ -5,7 +5,11 @@
 #   - tests/mpi/static_bar.yaml: 1-D PMB bar in tension, the same solver, against the
 #     analytic strain and tip displacement;
 #   - the bar with ADR, and under implicit dynamics (Newmark); the bar on 2 and 3 ranks,
-#     its variants on 1 and 3.
+#     its variants on 1 and 3;
+#   - a bond_pair plate by ADR on 1 and 3 ranks (the whole system on every rank, the
+#     model's pass split): the serial program's field bit for bit.
+# On more than one rank each rank holds only its bond rows (local rows: fewer bonds than
+# the whole system, summary.json bonds_held).
 # Required: the same history.csv, state_crc32 and displacement field on every rank count,
 # bit for bit; that field within 1e-8 (Newton, Newmark) or 1e-6 (ADR, tolerance 1e-6) of
 # the serial program's (tests/mpi/static_check.py). And clear errors on 2 ranks for an
@@ -19,6 +23,8 @@ endif()
 
 # Runs `deck` serially and on each rank count of `counts`; fails unless history.csv and state_crc32 are
 # the same on all rank counts, then runs static_check.py `mode` `tolerance` on the frames.
+# A sixth argument `whole`: the deck keeps the whole system on every rank (structures), so
+# the local-rows check is skipped.
 function(check_deck tag deck mode tolerance counts)
   execute_process(COMMAND ${SERIAL} run ${deck} -q -o ${WORK}/${tag}_serial --threads 1
                   RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
@@ -44,6 +50,26 @@ function(check_deck tag deck mode tolerance counts)
     if(NOT nranks EQUAL ranks OR NOT status STREQUAL "completed")
       message(FATAL_ERROR "${tag} on ${ranks} ranks: summary.json says ${nranks} ranks, status ${status}")
     endif()
+    # Local rows (parallel/decomposition.hpp): on more than one rank each rank holds fewer
+    # bonds than the whole system, and together at least all of them.
+    if(ranks GREATER 1 AND NOT "${ARGV5}" STREQUAL "whole")
+      string(JSON total GET "${summary}" bonds)
+      set(sum 0)
+      set(shares "")
+      math(EXPR last "${ranks} - 1")
+      foreach(k RANGE ${last})
+        string(JSON held GET "${summary}" bonds_held ${k})
+        if(NOT held LESS total)
+          message(FATAL_ERROR "${tag} on ${ranks} ranks: rank ${k} holds ${held} of the ${total} bonds (local rows expected)")
+        endif()
+        math(EXPR sum "${sum} + ${held}")
+        string(APPEND shares " ${held}")
+      endforeach()
+      if(sum LESS total)
+        message(FATAL_ERROR "${tag} on ${ranks} ranks: the ranks hold ${sum} bonds together, fewer than the ${total} of the system")
+      endif()
+      message(STATUS "${tag} on ${ranks} ranks: bonds held${shares} of ${total}")
+    endif()
     set(result "${history}\n${crc}")
     if(reference STREQUAL "")
       set(reference "${result}")
@@ -65,6 +91,27 @@ function(check_deck tag deck mode tolerance counts)
 endfunction()
 
 check_deck(block ${SOURCE}/tests/mpi/static.yaml field 1e-8 "1;2;3")
+# The block with the whole system on every rank (HORIZON_MPI_WHOLE_SYSTEM=1, as before
+# local rows): the same history.csv and state_crc32 as with local rows.
+execute_process(COMMAND ${CMAKE_COMMAND} -E env HORIZON_MPI_WHOLE_SYSTEM=1 ${MPIEXEC} --oversubscribe -n 2 ${HORIZON} run
+                        ${SOURCE}/tests/mpi/static.yaml -q -o ${WORK}/block_whole --threads 1
+                RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "block, whole system on 2 ranks: exit ${rc}\n${log}")
+endif()
+file(READ ${WORK}/block_whole/summary.json whole_summary)
+file(READ ${WORK}/block_n2/summary.json local_summary)
+string(JSON whole_crc GET "${whole_summary}" state_crc32)
+string(JSON local_crc GET "${local_summary}" state_crc32)
+string(JSON whole_held GET "${whole_summary}" bonds_held 0)
+string(JSON total GET "${whole_summary}" bonds)
+file(READ ${WORK}/block_whole/history.csv whole_history)
+file(READ ${WORK}/block_n2/history.csv local_history)
+if(NOT whole_crc EQUAL local_crc OR NOT whole_history STREQUAL local_history OR NOT whole_held EQUAL total)
+  message(FATAL_ERROR "block on 2 ranks: the whole system (state_crc32 ${whole_crc}, rank 0 holds ${whole_held} of "
+                      "${total} bonds) differs from local rows (${local_crc}) or does not hold every bond")
+endif()
+message(STATUS "block on 2 ranks, whole system on every rank: state_crc32 ${whole_crc} as with local rows")
 check_deck(bar ${SOURCE}/tests/mpi/static_bar.yaml bar 1e-8 "2;3")
 file(READ ${SOURCE}/tests/mpi/static_bar.yaml text)
 string(REPLACE "method: newton, linear_solver: matrix_free, tolerance: 1.0e-12" "method: adr, tolerance: 1.0e-6" adr "${text}")
@@ -79,6 +126,21 @@ string(REPLACE "frames: 1}" "frames: 1, history_every: 1}" newmark "${newmark}")
 file(WRITE ${WORK}/bar_newmark.yaml "${newmark}")
 check_deck(bar_newmark ${WORK}/bar_newmark.yaml field 1e-8 "1;3")
 
+# A structure (model bond_pair, a plate of examples/plate_navier.yaml at 0.05 m spacing,
+# 21 x 21 nodes, simply supported on four edges, uniform pressure) solved by ADR on ranks:
+# the model's split force pass, its tangent's owned rows gathered for the fictitious mass
+# (solver/adr.cpp). The damping is fixed from the lowest eigenvalue, so no sum is split
+# and the field equals the serial program's bit for bit (tolerance 0).
+file(READ ${SOURCE}/examples/plate_navier.yaml plate)
+string(REPLACE "spacing: 0.0125" "spacing: 0.05" plate_adr "${plate}")
+string(REPLACE "method: newton, tangent: analytic, linear_solver: cholesky, tolerance: 1.0e-10"
+               "method: adr, tolerance: 1.0e-8" plate_adr "${plate_adr}")
+if(NOT plate_adr MATCHES "spacing: 0.05" OR NOT plate_adr MATCHES "method: adr")
+  message(FATAL_ERROR "examples/plate_navier.yaml changed: its spacing or solver line is no longer the one this test edits")
+endif()
+file(WRITE ${WORK}/plate_adr.yaml "${plate_adr}")
+check_deck(plate_adr ${WORK}/plate_adr.yaml field 0 "1;3" whole)
+
 # What is not split: a clear error naming what to use instead (an assembled tangent;
 # Newmark with linear_solver cg gets the same message).
 string(REPLACE "linear_solver: matrix_free" "linear_solver: cholesky" cholesky "${text}")
@@ -90,8 +152,8 @@ if(rc EQUAL 0 OR NOT log MATCHES "cannot run on 2 MPI ranks yet" OR NOT log MATC
   message(FATAL_ERROR "cholesky on 2 ranks: expected the error '${expected}', got exit ${rc}\n${log}")
 endif()
 message(STATUS "cholesky on 2 ranks refused as expected")
-# A structure solved statically (examples/plate_navier.yaml, model bond_pair): its tangent
-# is not the unified form's, so no solver setting splits it; the error says so first.
+# A structure solved statically by Newton (examples/plate_navier.yaml, model bond_pair,
+# cholesky): its tangent is not the unified form's, so only ADR splits it; the error says so.
 execute_process(COMMAND ${MPIEXEC} --oversubscribe -n 2 ${HORIZON} run ${SOURCE}/examples/plate_navier.yaml -q
                         -o ${WORK}/plate RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log)
 if(rc EQUAL 0 OR NOT log MATCHES "cannot run on 2 MPI ranks yet: static and implicit solves are split over ranks for the unified models only")

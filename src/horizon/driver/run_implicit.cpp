@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -52,13 +53,40 @@ struct Row {
 
 }  // namespace
 
+// Local rows on several ranks: each particle's tensor from the rank that owns it (its
+// row is held there alone), on rank 0 in index order; other ranks get an empty vector.
+// Collective.
+static std::vector<SymTensor> gather_row_tensors(const System& s, const Decomposition& d,
+                                                 const std::vector<SymTensor>& mine) {
+  std::vector<SymTensor> whole;
+  for (std::size_t c = 0; c < 6; ++c) {
+    std::vector<double> a(mine.size());
+    for (std::size_t i = 0; i < mine.size(); ++i) a[i] = mine[i][c];
+    const std::vector<double> w = gather_on_lead(s, d, a);
+    if (d.rank != 0) continue;
+    whole.resize(w.size());
+    for (std::size_t i = 0; i < w.size(); ++i) whole[i][c] = w[i];
+  }
+  return whole;
+}
+
 // Why this implicit deck cannot be split over ranks beyond distributed_limits (run.hpp); empty when it can.
 static std::string implicit_distributed_limits(const Config& c, const System& s) {
   const SolverConfig& sc = c.solver;
-  // The models first: no solver setting splits a model outside the unified form.
-  if (!unified_form(s))
+  // The models first: a model outside the unified form is split only when it is a
+  // structure that splits its own pass (ModelTraits::structural and rows_local), solved by
+  // ADR (solver/adr.cpp gathers the owned rows of its tangent); no other setting splits it.
+  if (!unified_form(s)) {
+    bool structures = true;
+    for (const auto& m : s.models) structures = structures && m->traits().structural && m->traits().rows_local;
+    if (structures && sc.type == SolverType::static_equilibrium && sc.method == StaticMethod::adr &&
+        sc.tangent == TangentKind::analytic && !sc.condition_number)
+      return "";
     return "static and implicit solves are split over ranks for the unified models only (" +
-           model_list([](const ModelTraits& t) { return t.unified; }) + "), whose tangent is applied row by row";
+           model_list([](const ModelTraits& t) { return t.unified; }) +
+           "), whose tangent is applied row by row, and for structures (" +
+           model_list([](const ModelTraits& t) { return t.structural && t.rows_local; }) + ") with solver.method: adr";
+  }
   const bool newton = sc.type == SolverType::implicit_dynamic || sc.method == StaticMethod::newton;
   if (newton && sc.linear_solver != LinearSolverKind::matrix_free)
     return fmt::format("solver.linear_solver {} assembles the whole tangent on one rank; on several ranks use "
@@ -81,18 +109,34 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     throw Error("contact (short-range or rigid indenters) is available with solver type explicit only");
   const fs::path dir = config.output.directory;
   prepare_output_directory(dir.string(), "frames");  // before the (long) set-up
-  System s = build_system(config);
+  // An MPI build holds on each rank only the bond rows it computes when the deck allows it
+  // (local_rows_allowed: unified models, matrix-free Newton or ADR), as the explicit driver
+  // does; every particle stays on every rank (the distributed vectors are indexed by the
+  // global DofMap). HORIZON_MPI_WHOLE_SYSTEM=1 builds the whole system (the same bits).
+  const char* whole = std::getenv("HORIZON_MPI_WHOLE_SYSTEM");
+  const bool local_rows = mpi_built() && local_rows_allowed(config) && !(whole && std::string(whole) == "1");
+  System s = local_rows ? build_system_split(config) : build_system(config);
+  std::unique_ptr<Decomposition> dd;
+  if (local_rows) {  // decomposed before anything reads the rows (Loads, the solvers)
+    std::string why = distributed_limits(config, s, options);
+    if (why.empty()) why = implicit_distributed_limits(config, s);
+    if (!why.empty())
+      throw Error(fmt::format("{}: internal error: a deck built with local rows cannot be split: {}", config.deck_file,
+                              why));
+    dd = std::make_unique<Decomposition>();
+    dd->local_rows = true;
+    decompose(s, *dd, config.spacing);
+  }
   Loads loads(config, s);
   loads.apply_initial_conditions(config, s);
   // An MPI build splits a static or implicit solve over its ranks when it can
   // (docs/design.md, "Static and implicit solves on several ranks"), on one rank too, so
   // that any rank count gives the same bits; rank 0 alone writes the output, from every
   // particle's state gathered.
-  std::unique_ptr<Decomposition> dd;
   const bool lead = world_rank() == 0;
   RunOptions opts = options;
   if (!lead) opts.quiet = true;
-  if (mpi_built()) {
+  if (mpi_built() && !dd) {
     std::string why = distributed_limits(config, s, options);
     if (why.empty()) why = implicit_distributed_limits(config, s);
     if (why.empty()) {
@@ -107,10 +151,17 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   auto sync = [&] {
     if (dd) gather_state(s, *dd);
   };
+  // The stable explicit step (for the print): a decomposed run's owned particles, the minimum over ranks.
+  double stable_dt = 0;
+  if (!is_static) stable_dt = dd ? min_over_ranks(stable_time_step(s)) : stable_time_step(s);
   if (!opts.quiet) {
     fmt::print(stderr, "deck            {}\n", config.deck_file);
     fmt::print(stderr, "particles       {}\n", s.particles.size());
-    fmt::print(stderr, "bonds           {} directed\n", s.bonds.size());
+    if (dd && dd->local_rows && dd->size > 1)
+      fmt::print(stderr, "bonds           {} directed (local rows: rank 0 holds {})\n", s.initial_bonds,
+                 s.bonds.size());
+    else
+      fmt::print(stderr, "bonds           {} directed\n", s.initial_bonds);
     if (is_static) {
       fmt::print(stderr, "solver          static, {}{}, {} load steps, tolerance {:.1e}\n",
                  sc.method == StaticMethod::newton ? "newton" : "adr",
@@ -119,7 +170,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     } else {
       fmt::print(stderr, "solver          implicit_dynamic (Newmark, average acceleration), {}, dt {:.4e} s "
                          "({:.1f} x the stable explicit step)\n",
-                 linear_name(sc.linear_solver), *sc.time_step, *sc.time_step / stable_time_step(s));
+                 linear_name(sc.linear_solver), *sc.time_step, *sc.time_step / stable_dt);
     }
   }
 
@@ -207,13 +258,20 @@ int run_implicit_deck(Config config, const RunOptions& options) {
                            r.break_rounds);
   };
   int frame_count = 0;
+  // Collective (the stress of rows held elsewhere is gathered); rank 0 alone writes.
   auto write_frame = [&](double time, int64_t step) {
-    const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
-    Frame f = make_frame(s, time, step);
+    std::vector<SymTensor> sigma;
     // Stress from the nonlocal deformation gradient and Hooke's law (material/stress_field.hpp);
     // a thin structure reports its section fields (deflection, curvature, moment) instead.
     if (config.structure.kind == StructureKind::none) {
-      const std::vector<SymTensor> sigma = stress_field(s, config.materials, config.plane);
+      sigma = stress_field(s, config.materials, config.plane);
+      // Local rows: a particle's stress reads its own row, held by its owner alone.
+      if (dd && dd->local_rows && dd->size > 1) sigma = gather_row_tensors(s, *dd, sigma);
+    }
+    if (!lead) return;
+    const std::string name = fmt::format("frames/frame_{:05d}.vtu", frame_count++);
+    Frame f = make_frame(s, time, step);
+    if (config.structure.kind == StructureKind::none) {
       const char* names[6] = {"stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_xz"};
       const int shown[3][6] = {{0, -1, -1, -1, -1, -1}, {0, 1, 3, -1, -1, -1}, {0, 1, 2, 3, 4, 5}};
       for (int c : shown[config.dimension - 1]) {
@@ -233,7 +291,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
 
   sync();
   record_history(Row{});
-  if (lead) write_frame(0, 0);
+  write_frame(0, 0);
   install_interrupt_handler();
   const int frames = std::max(1, config.output.frames);
   const int64_t total = is_static ? sc.load_steps : step_count(config, *sc.time_step);
@@ -261,7 +319,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       sync();
       record_history(row);
       if (statics->lambda() * frames >= next_frame - 1e-9) {
-        if (lead) write_frame(time, steps);
+        write_frame(time, steps);
         while (statics->lambda() * frames >= next_frame - 1e-9) ++next_frame;
       }
       if (!opts.quiet) progress.update(static_cast<int64_t>(std::lround(statics->lambda() * sc.load_steps)), time);
@@ -284,7 +342,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       if (history_due || frame_due) sync();
       if (history_due) record_history(row);
       if (frame_due) {
-        if (lead) write_frame(time, steps);
+        write_frame(time, steps);
         ++next_frame;
       }
       if (!opts.quiet) progress.update(steps, time);
@@ -306,7 +364,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   }
   if (!opts.quiet) progress.finish();
   sync();
-  if (exit_code != 0 && exit_code != 5 && lead) write_frame(time, steps);
+  if (exit_code != 0 && exit_code != 5) write_frame(time, steps);
   clear_interrupt();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   // After an output error, history and summary are tried once (they are small) and their
@@ -323,6 +381,10 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   j["time"] = time;
   j["threads"] = omp_get_max_threads();
   j["ranks"] = dd ? dd->size : 1;
+  if (dd) {  // the bonds each rank holds (local rows: its rows; else the whole system)
+    const std::vector<uint64_t> held = gather_on_lead(static_cast<uint64_t>(s.bonds.size()));
+    if (lead) j["bonds_held"] = held;
+  }
   j["state_crc32"] = state_digest(s);
   j["wall_time_s"] = wall;
   j["loop_time_s"] = progress.elapsed();

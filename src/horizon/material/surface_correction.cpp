@@ -7,6 +7,7 @@
 #include "horizon/fe/fe_region.hpp"
 #include "horizon/family/neighbors.hpp"
 #include "horizon/material/influence.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/system.hpp"
 
 namespace horizon {
@@ -116,6 +117,33 @@ std::vector<double> bond_factors(const ModelSetup& in, const std::vector<Vec3>& 
   return g;
 }
 
+// A build split over MPI ranks (local rows, parallel/decomposition.hpp; s.row_active set
+// by the build) holds the rows of its owned particles and of their bond neighbours alone,
+// while each pass reads the factors of the previous one at both ends of a held row's bonds
+// (the passes carry them one horizon deeper each). After each pass every rank sends the
+// factors of the held rows of `in` (id, G) to all ranks, and every particle it holds takes
+// its value from a rank holding its row: every holder computed the same bits (the same
+// row, in the serial order, from the same factors of the previous pass), so each factor
+// is the serial program's. O(N) doubles a pass on each rank, at set-up only. Collective:
+// every rank sets up every material.
+void share_held_factors(const ModelSetup& in, std::vector<Vec3>& factor) {
+  const System& s = in.system;
+  if (world_size() < 2 || s.row_active.empty()) return;
+  const auto& B = s.bonds;
+  const auto& id = s.particles.id;
+  std::vector<double> mine;
+  for (uint32_t i : in.particles)
+    if (B.end(i) > B.begin(i))
+      mine.insert(mine.end(), {static_cast<double>(id[i]), factor[i].x, factor[i].y, factor[i].z});
+  const std::vector<double> all = allgather_values(mine);
+  for (std::size_t q = 0; q + 3 < all.size(); q += 4) {
+    const auto g = static_cast<int64_t>(all[q]);
+    const auto it = std::lower_bound(id.begin(), id.end(), g);  // ids ascend (local particles too)
+    if (it == id.end() || *it != g) continue;
+    factor[static_cast<std::size_t>(it - id.begin())] = Vec3{all[q + 1], all[q + 2], all[q + 3]};
+  }
+}
+
 }  // namespace
 
 FamilyView continuum_family(const Config& cfg, const MaterialConfig& mat) {
@@ -180,6 +208,7 @@ std::vector<Vec3> axis_factors(const ModelSetup& in, const AxisEnergy& energy, i
       }
     }
     factor = std::move(next);
+    share_held_factors(in, factor);
   }
   return factor;
 }

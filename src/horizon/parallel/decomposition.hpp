@@ -23,8 +23,9 @@
 //     serially; the other rows are empty, so every per-bond array (the models' history
 //     included) covers the rows held. decompose() drops the neighbours' rows when only the
 //     owned ones are computed. Decks outside local_rows_allowed() (static and implicit
-//     solves, the surface correction, decks the split refuses) build the whole system on
-//     every rank, and only the work is split;
+//     solves with an assembled tangent or outside the unified models, structures, heat,
+//     projectiles, decks the split refuses) build the whole system on every rank, and
+//     only the work is split;
 //   - integrates only its own particles, and computes the bond rows of its own and, for
 //     state-based models, the critical stretch with a compression factor and the general
 //     force pass (thermal strain too), also of their bond neighbours (the dilatation of a
@@ -145,14 +146,17 @@ System build_system_split(const Config& config);
 // particle), d.local_particles and d.global_particles; d.local_rows is set too.
 // Collective.
 System build_system_split(const Config& config, Decomposition& d);
-// Whether a deck may be built with local particles: local_rows_allowed (short-range contact reads contact
+// Whether a deck may be built with local particles: an explicit run that local_rows_allowed (short-range contact reads contact
 // ghosts, a checkpoint is gathered by global id; the driver builds a restart, and a run on one rank, with every
 // particle).
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
-// over ranks row by row and that uses nothing that reads rows further out (surface
-// correction) or is split on the whole system only (structures) or not at all (FE). Otherwise
-// every rank builds the whole system (the old way) and decompose() splits the work only.
+// over ranks row by row, or a static or implicit solve split over ranks (unified models,
+// matrix-free Newton or ADR: driver/run_implicit.cpp), that uses nothing split on the
+// whole system only (structures) or not at all (FE); the surface correction of the unified
+// models exchanges its set-up factors between passes (material/surface_correction.cpp).
+// Otherwise every rank builds the whole system (the old way) and decompose() splits the
+// work only.
 bool local_rows_allowed(const Config& config);
 // Splits the system over the ranks, chooses the ghosts and sets s.active, s.owned and
 // s.decomposition. With d.local_rows: drops the rows this rank does not compute (a

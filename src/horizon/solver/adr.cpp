@@ -5,12 +5,39 @@
 #include <cmath>
 #include <limits>
 
+#include "horizon/core/error.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/conditioning.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/tangent.hpp"
 
 namespace horizon {
+
+namespace {
+// A run split over ranks with a model outside the unified form that splits its own pass
+// (a structure, ModelTraits::structural and rows_local): each rank's rows of the model's
+// assembled tangent are the serial rows bit for bit for its owned dofs (the model sums
+// them from the terms it evaluates for its targets, over the ghosts' current positions,
+// in the serial order), while the other rows read state this rank does not keep. The
+// owned rows' entries of every rank, gathered on every rank: the serial tangent (each
+// entry from one rank, summed there as serially), for the fictitious mass and the lowest
+// eigenvalue that sets the damping. O(nonzeros) on every rank, once per solve. Collective.
+SparseMatrix gather_owned_rows(const System& s, const DofMap& d, const SparseMatrix& K) {
+  std::vector<double> mine;
+  for (int c = 0; c < K.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(K, c); it; ++it)
+      if (s.decomposition->owns(d.particle[static_cast<std::size_t>(it.row())]))
+        mine.insert(mine.end(), {static_cast<double>(it.row()), static_cast<double>(it.col()), it.value()});
+  const std::vector<double> all = allgather_values(mine);
+  std::vector<Eigen::Triplet<double, int>> triplets;
+  triplets.reserve(all.size() / 3);
+  for (std::size_t q = 0; q + 2 < all.size(); q += 3)
+    triplets.emplace_back(static_cast<int>(all[q]), static_cast<int>(all[q + 1]), all[q + 2]);
+  SparseMatrix whole(K.rows(), K.cols());
+  whole.setFromTriplets(triplets.begin(), triplets.end());
+  return whole;
+}
+}  // namespace
 
 SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
   SolveReport rep;
@@ -30,6 +57,15 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
   SparseMatrix K;
   if (unified_form(s)) {
     bound = stiffness_row_bound(s, d, linearize(s));
+  } else if (s.decomposition) {
+    // Split over ranks (driver/run_implicit.cpp allows models that split their own pass
+    // with ADR): the model's analytic tangent, its owned rows gathered, then as
+    // solver_tangent (loose dofs held).
+    if (!model_tangent(s, d, K))
+      throw Error("internal error: a static solve split over ranks needs the model's analytic tangent");
+    K = gather_owned_rows(s, d, K);
+    hold_loose_dofs(K);
+    bound = row_abs_sums(s, d, K);
   } else {
     K = solver_tangent(s, d, TangentKind::analytic);
     bound = row_abs_sums(s, d, K);
@@ -58,7 +94,17 @@ SolveReport adr_solve(System& s, const DofMap& d, const AdrOptions& o) {
   // Kilic and Madenci 2010 eq. 19 estimate the same omega_0 by the Rayleigh quotient).
   double fixed_damping = -1;
   if (structure && K.rows() > 0) {
-    const double w2 = lowest_generalized_eigenvalue(K, lambda.cwiseProduct(volume));
+    // Rounded to 24 significant bits: CHOLMOD's supernodal factorisation (BLAS) sums in
+    // an order that depends on the BLAS threads, i.e. on the cores the process may use
+    // (under mpirun, its binding: 1 and 2 ranks are bound, 3 not), so the last bits of
+    // the estimate do; rounded, the damping and every iterate are the same on any rank
+    // count (the damping is an estimate: 6e-8 of it changes nothing but the bits).
+    double w2 = lowest_generalized_eigenvalue(K, lambda.cwiseProduct(volume));
+    if (w2 > 0) {
+      int e = 0;
+      const double m = std::frexp(w2, &e);
+      w2 = std::ldexp(std::round(std::ldexp(m, 24)), e - 24);
+    }
     if (w2 > 0) {
       // With a unit step the central-difference scheme damps a mode of frequency^2 w2'
       // at the rate c/2 only while w2' <= 2 + sqrt(4 - c^2); the Gerschgorin mass leaves

@@ -357,11 +357,24 @@ System build_system_split(const Config& config, Decomposition& d) {
 }
 
 bool local_particles_allowed(const Config& c) {
-  return local_rows_allowed(c);
+  // Static and implicit solves hold local rows but every particle (their distributed
+  // vectors are indexed by the global DofMap; driver/run_implicit.cpp).
+  return c.solver.type == SolverType::explicit_dynamic && local_rows_allowed(c);
 }
 
 bool local_rows_allowed(const Config& c) {
-  if (c.solver.type != SolverType::explicit_dynamic) return false;  // the static solvers build the whole system
+  // Static and implicit solves: local rows when the solve is split over ranks
+  // (driver/run_implicit.cpp implicit_distributed_limits): unified models, a matrix-free
+  // tangent or ADR, no condition number (those assemble the whole tangent on one rank).
+  if (c.solver.type == SolverType::heat) return false;
+  if (c.solver.type != SolverType::explicit_dynamic) {
+    const bool newton = c.solver.type == SolverType::implicit_dynamic || c.solver.method == StaticMethod::newton;
+    if (newton && c.solver.linear_solver != LinearSolverKind::matrix_free) return false;
+    if (c.solver.condition_number || c.solver.tangent != TangentKind::analytic) return false;
+    if (c.thermal.enabled || !c.contact.projectiles.empty()) return false;  // explicit runs only
+    for (const auto& mat : c.materials)
+      if (const ModelEntry* e = find_model(mat.model); !e || !e->traits.unified) return false;
+  }
   // Heat conduction and rigid projectiles split on local rows and local particles too
   // (thermal/heat.cpp: owned rows, ghosts' temperatures exchanged, boundary layers over
   // ranks; contact/rigid_contact.cpp: each rank pushes its owned particles).
@@ -374,8 +387,11 @@ bool local_rows_allowed(const Config& c) {
     // (rows_local), whole on every rank otherwise. Structures keep
     // every particle (above): their pass reads the ghost nodes' masters near the supports.
     if (!e || !(e->traits.unified || e->traits.rows_local)) return false;
-    // The surface correction of a bond reads both ends' families (rows further out).
-    if (const auto it = mat.parameters.find("surface_correction"); it != mat.parameters.end() && it->second != 0)
+    // The surface correction of a bond reads both ends' factors, each from the families
+    // up to kSurfacePasses horizons out: the split build exchanges them after each pass
+    // (material/surface_correction.cpp share_held_factors), for the unified models.
+    if (const auto it = mat.parameters.find("surface_correction");
+        it != mat.parameters.end() && it->second != 0 && !e->traits.unified)
       return false;
   }
   return true;

@@ -452,7 +452,9 @@ Eigen::VectorXd TangentOperator::diagonal() const {
   const auto& B = s_.bonds;
   const RowSet rows_o = owned_rowset(s_);
   std::vector<uint64_t> rev;
-  if (lin_.state_based) rev = reverse_bonds(B);
+  // Local rows (parallel/decomposition.hpp): rows beyond the active ones are empty here;
+  // an owned row's neighbours are active, so its bonds' reverses are the whole system's.
+  if (lin_.state_based) rev = reverse_bonds(B, s_.decomposition && s_.decomposition->local_rows);
   Eigen::VectorXd diag = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(d_.size()));
 #pragma omp parallel for schedule(static)
   for (std::size_t ra = 0; ra < rows_o.count; ++ra) {
