@@ -9,6 +9,7 @@
 
 #include "horizon/core/cell_key.hpp"
 #include "horizon/core/error.hpp"
+#include "horizon/fe/fe_region.hpp"
 #include "horizon/output/checkpoint.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -234,6 +235,9 @@ void choose_ghosts(System& s, Decomposition& d) {
       if (!d.owns(i)) d.bond_ghosts[i] = 1;
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) d.bond_ghosts[B.nbr[k]] = 1;
     }
+    // Finite-element regions: the nodes of the elements and interpolated particles this
+    // rank updates (fe/fe_region.hpp FeRegion::split).
+    if (s.fe) s.fe->split(d.is_owned, d.bond_ghosts);
   }
   std::vector<uint8_t> need = d.bond_ghosts;
   // Local particles: every particle held is kept current, also those only a bond cut by
