@@ -424,6 +424,14 @@ void decompose(System& s, Decomposition& d, double skin) {
   }
   s.row_active.assign(n, 0);
   for (uint32_t i : s.active_rows) s.row_active[i] = 1;
+  {
+    // The precracks' broken bonds (a restart loads its state after this).
+    uint64_t mine = 0;
+    for (uint32_t i : d.owned)
+      for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) mine += s.bonds.intact[k] != 1 ? 1 : 0;
+    const uint64_t all = sum_over_ranks(mine);
+    d.broken_at_start = all - std::min(all, s.broken);
+  }
   if (d.local_rows) keep_computed_rows(s, d);
   s.decomposition = &d;
   choose_ghosts(s, d);
@@ -842,6 +850,8 @@ void gather_state(System& s, Decomposition& d, System* view) {
   uint64_t broken = 0;
   for (uint32_t i : d.owned)
     for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) broken += s.bonds.intact[k] != 1 ? 1 : 0;
+  // The precracks' broken bonds are no breaks (the serial count): left out of the total.
+  auto breaks = [&](uint64_t total) { return total - std::min(total, d.broken_at_start); };
 #if defined(HORIZON_MPI)
   if (d.local_particles && d.size > 1) {
     if (!view) throw Error("internal error: a run with local particles gathers its state into a view");
@@ -891,8 +901,8 @@ void gather_state(System& s, Decomposition& d, System* view) {
         });
     uint64_t all = 0;
     MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    s.broken = all;
-    view->broken = all;
+    s.broken = breaks(all);
+    view->broken = s.broken;
     view->initial_bonds = s.initial_bonds;
     view->precrack_bonds = s.precrack_bonds;
     return;
@@ -902,7 +912,7 @@ void gather_state(System& s, Decomposition& d, System* view) {
 #endif
 #if defined(HORIZON_MPI)
   if (d.size == 1) {  // one rank owns every particle: nothing to gather
-    s.broken = broken;
+    s.broken = breaks(broken);
     return;
   }
   allgather_owned(
@@ -924,7 +934,7 @@ void gather_state(System& s, Decomposition& d, System* view) {
   MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
   broken = all;
 #endif
-  s.broken = broken;
+  s.broken = breaks(broken);
 }
 
 std::vector<HaloStats> gather_halo_stats(const Decomposition& d) {

@@ -99,6 +99,11 @@ struct Decomposition {
   std::vector<uint8_t> bond_ghosts;  // per particle: a bond neighbour of a computed row (or such a row) not owned
   std::vector<Vec3> y_built;         // positions when the ghosts were chosen (owned entries)
   HaloStats stats;
+  // The bonds of the whole system that were not intact when the run was decomposed but
+  // that System::broken (the passes' breaks: the serial count) did not count: a
+  // precrack's bonds kept broken (bonds: broken). gather_state counts the broken bonds
+  // from the owned rows and leaves these out (set by decompose).
+  uint64_t broken_at_start = 0;
   // Local rows (build_system_split): this rank holds the bond rows it computes alone, the
   // others are empty. Set before decompose(), which fills in the rest.
   bool local_rows = false;
