@@ -21,7 +21,7 @@
 //     serially; the other rows are empty, so every per-bond array (the models' history
 //     included) covers the rows held. decompose() drops the neighbours' rows when only the
 //     owned ones are computed. Decks outside local_rows_allowed() (static and implicit
-//     solves, the surface correction, decks the split refuses) build the whole system on
+//     solves, the surface correction, heat, projectiles, FE regions) build the whole system on
 //     every rank, and only the work is split;
 //   - integrates only its own particles, and computes the bond rows of its own and, for
 //     state-based models, the critical stretch with a compression factor and the general
@@ -153,7 +153,7 @@ System build_system_split(const Config& config, Decomposition& d);
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface
-// correction) or is split on the whole system only (heat, projectiles) or not at all (FE). Otherwise
+// correction) or is split on the whole system only (heat, projectiles, FE regions). Otherwise
 // every rank builds the whole system (the old way) and decompose() splits the work only.
 bool local_rows_allowed(const Config& config);
 // Splits the system over the ranks, chooses the ghosts and sets s.active, s.owned and

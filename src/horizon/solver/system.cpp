@@ -360,6 +360,8 @@ bool local_rows_allowed(const Config& c) {
   // global numbering only, so their decks keep every particle and row.
   if (c.thermal.enabled || !c.contact.projectiles.empty()) return false;
   if (c.structure.kind != StructureKind::none) return false;
+  // Finite-element regions split on the whole system (fe/fe_region.hpp FeRegion::split:
+  // the element and node arrays are indexed by the serial particle numbers).
   for (const auto& body : c.bodies)
     if (body.discretization == Discretization::fe) return false;
   for (const auto& mat : c.materials) {
