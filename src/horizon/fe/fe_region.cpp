@@ -455,19 +455,20 @@ void FeRegion::update_coupling_account(System& s, bool energy) {
     if (!energy) return;
     account_started = 1;
     stored_at_start = strain_energy(s) + s.dissipated();
-  } else if (s.decomposition) {
-    // On ranks: the owned particles' terms on the grid (the same total at any rank and
-    // thread count; parallel/decomposition.hpp GridSum).
-    GridSum g(s, 1);
-    for (uint32_t i : s.owned) g.add(0, 0.5 * dot(account_F[i] + P.f[i] * P.volume[i], P.u[i] - account_u[i]));
-    internal_work += g.totals()[0];
-    if (energy) coupling_work = internal_work + strain_energy(s) + s.dissipated() - stored_at_start;
   } else {
-    double w = 0;
-#pragma omp parallel for schedule(static) reduction(+ : w)
-    for (std::size_t i = 0; i < np; ++i)
-      w += 0.5 * dot(account_F[i] + P.f[i] * P.volume[i], P.u[i] - account_u[i]);
-    internal_work += w;
+    // The particles' terms (on ranks the owned ones) added on the grid: the same total at
+    // any rank and thread count, and the serial program sums the same terms the same way
+    // (GridSum::exact; parallel/decomposition.hpp), so its coupling work is the MPI one.
+    const std::size_t nt = s.decomposition ? s.owned.size() : np;
+    std::vector<double> terms(nt);
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < nt; ++k) {
+      const std::size_t i = s.decomposition ? s.owned[k] : k;
+      terms[k] = 0.5 * dot(account_F[i] + P.f[i] * P.volume[i], P.u[i] - account_u[i]);
+    }
+    GridSum g = GridSum::exact(s, 1);
+    for (double w : terms) g.add(0, w);
+    internal_work += g.totals()[0];
     if (energy) coupling_work = internal_work + strain_energy(s) + s.dissipated() - stored_at_start;
   }
   account_F.resize(np);
