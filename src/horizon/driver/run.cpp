@@ -347,9 +347,9 @@ std::string distributed_limits(const Config& c, const System& s, const RunOption
   // reach is sent, not interpolated here), and the heat solver's boundary lists do not
   // know the elements: those stay on one rank.
   if (s.fe && s.contact.enabled())
-    return "finite-element regions with short-range contact are not split over ranks (without contact they are)";
+    return "finite-element regions are not split over ranks with short-range contact (without it they are)";
   if (s.fe && s.heat.active())
-    return "finite-element regions with heat conduction are not split over ranks (without it they are)";
+    return "finite-element regions are not split over ranks with heat conduction (without it they are)";
   // Rigid projectiles split: each rank pushes its owned particles, the force on the body
   // is a grid sum (contact/rigid_contact.cpp) and every rank advances the same body.
   (void)o;
