@@ -10,7 +10,8 @@
 #    breaking bonds; and its 2-rank checkpoint of step 250 restarted on 3 ranks, equal
 #    to the uninterrupted run (each model's per-particle, per-bond and per-material
 #    records gathered from their owners);
-#  - a clear error for a deck the decomposition does not split (finite-element regions).
+#  - a clear error for a deck the decomposition does not split (finite-element regions
+#    with short-range contact).
 # cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P ranks.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/same_bytes.cmake)
 set(deck ${SOURCE}/tests/mpi/impact.yaml)
@@ -84,8 +85,9 @@ foreach(model IN LISTS models)
   message(STATUS "${name}: dissipated ${dissipated} J, broken fraction ${broken}; 2 -> 3 ranks restart identical")
 endforeach()
 
-# A deck the decomposition does not split (finite elements: the impact deck with a block
-# of hex8 elements beside its cylinder): a clear error on 2 ranks that says why.
+# A deck the decomposition does not split (finite elements with short-range contact: the
+# impact deck with a block of hex8 elements beside its cylinder; FE regions without
+# contact split: split_models.cmake): a clear error on 2 ranks that says why.
 file(READ ${deck} text)
 string(REPLACE "    micromodulus: 2.1e21" "    youngs_modulus: 30.0e9" text "${text}")
 string(REPLACE "\ncontact:" "

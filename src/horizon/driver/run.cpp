@@ -384,7 +384,15 @@ std::string distributed_limits(const Config& c, const System& s, const RunOption
       return "model " + m->traits().name + " is not split over ranks (the models that are: " + split_models() + ")";
   // Heat conduction splits with either integration (each rank advances its owned
   // temperatures and receives its ghosts'; the backward-Euler step a distributed CG).
-  if (s.fe) return "finite-element regions are not split over ranks";
+  // Finite-element regions split on the whole system held by every rank (fe/fe_region.hpp
+  // FeRegion::split: the owner of a node evaluates its elements). Short-range contact
+  // reads particles the split does not keep current (an interpolated particle within
+  // reach is sent, not interpolated here), and the heat solver's boundary lists do not
+  // know the elements: those stay on one rank.
+  if (s.fe && s.contact.enabled())
+    return "finite-element regions are not split over ranks with short-range contact (without it they are)";
+  if (s.fe && s.heat.active())
+    return "finite-element regions are not split over ranks with heat conduction (without it they are)";
   // Rigid projectiles split: each rank pushes its owned particles, the force on the body
   // is a grid sum (contact/rigid_contact.cpp) and every rank advances the same body.
   (void)c;

@@ -15,6 +15,7 @@
 #include "horizon/deck/config.hpp"
 #include "horizon/geometry/mesh.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -301,8 +302,11 @@ void FeRegion::apply(System& s, bool energy) {
   const std::size_t ne = elements();
   elem_force.resize(ne * static_cast<std::size_t>(n));
   elem_energy.resize(ne);
+  // On ranks: the elements of this rank's FE-owned nodes alone (split).
+  const std::size_t nw = split_done ? work_elements.size() : ne;
 #pragma omp parallel for schedule(static)
-  for (std::size_t e = 0; e < ne; ++e) {
+  for (std::size_t q = 0; q < nw; ++q) {
+    const std::size_t e = split_done ? work_elements[q] : q;
     const uint32_t* c = &conn[e * static_cast<std::size_t>(n)];
     const double* b = &grad[e * static_cast<std::size_t>(3 * n)];
     // Small-strain linear elasticity at the centre: H = sum_I u_I (x) b_I, eps = sym H,
@@ -395,10 +399,12 @@ void FeRegion::apply(System& s, bool energy) {
     elem_energy[e] = energy_e;
   }
   const std::size_t nn = nodes();
+  const Decomposition* d = s.decomposition;
 #pragma omp parallel for schedule(static)
   for (std::size_t a = 0; a < nn; ++a) {
     if (!node_owned[a]) continue;
     const uint32_t p = node_particle[a];
+    if (d && !d->owns(p)) continue;  // another rank's node: its owner sums it
     Vec3 f;
     double w = 0;
     for (uint64_t k = node_offset[a]; k < node_offset[a + 1]; ++k) {
@@ -419,12 +425,16 @@ void FeRegion::apply(System& s, bool energy) {
   update_coupling_account(s, energy);
 }
 
-void FeRegion::interpolate(System& s) const {
+void FeRegion::interpolate(System& s) {
   auto& P = s.particles;
+  // On ranks the ghosts' velocities too (the displacements came with halo_exchange): the
+  // interpolated particles and the interface damping read the nodes' velocities.
+  if (s.decomposition) exchange_ghost_values(*s.decomposition, P.v);
   const std::size_t n = static_cast<std::size_t>(nodes_per_element);
-  const std::size_t ns = slave_particle.size();
+  const std::size_t ns = split_done ? work_slaves.size() : slave_particle.size();
 #pragma omp parallel for schedule(static)
-  for (std::size_t q = 0; q < ns; ++q) {
+  for (std::size_t k = 0; k < ns; ++k) {
+    const std::size_t q = split_done ? work_slaves[k] : k;
     Vec3 u, v;
     for (std::size_t I = 0; I < n; ++I) {
       const uint32_t p = node_particle[slave_node[q * n + I]];
@@ -446,11 +456,19 @@ void FeRegion::update_coupling_account(System& s, bool energy) {
     account_started = 1;
     stored_at_start = strain_energy(s) + s.dissipated();
   } else {
-    double w = 0;
-#pragma omp parallel for schedule(static) reduction(+ : w)
-    for (std::size_t i = 0; i < np; ++i)
-      w += 0.5 * dot(account_F[i] + P.f[i] * P.volume[i], P.u[i] - account_u[i]);
-    internal_work += w;
+    // The particles' terms (on ranks the owned ones) added on the grid: the same total at
+    // any rank and thread count, and the serial program sums the same terms the same way
+    // (GridSum::exact; parallel/decomposition.hpp), so its coupling work is the MPI one.
+    const std::size_t nt = s.decomposition ? s.owned.size() : np;
+    std::vector<double> terms(nt);
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < nt; ++k) {
+      const std::size_t i = s.decomposition ? s.owned[k] : k;
+      terms[k] = 0.5 * dot(account_F[i] + P.f[i] * P.volume[i], P.u[i] - account_u[i]);
+    }
+    GridSum g = GridSum::exact(s, 1);
+    for (double w : terms) g.add(0, w);
+    internal_work += g.totals()[0];
     if (energy) coupling_work = internal_work + strain_energy(s) + s.dissipated() - stored_at_start;
   }
   account_F.resize(np);
@@ -462,8 +480,9 @@ void FeRegion::commit(System& s) {
   if (!plastic()) return;
   history = history_trial;
   const int n = nodes_per_element;
+  const Decomposition* d = s.decomposition;
   for (std::size_t a = 0; a < nodes(); ++a) {
-    if (!node_owned[a]) continue;
+    if (!node_owned[a] || (d && !d->owns(node_particle[a]))) continue;
     double w = 0;
     for (uint64_t k = node_offset[a]; k < node_offset[a + 1]; ++k) w += elem_work[node_elem[k] / static_cast<uint32_t>(n)];
     if (w != 0) s.dissipated_at[node_particle[a]] += w / n;
@@ -474,9 +493,48 @@ void FeRegion::commit(System& s) {
 
 void FeRegion::checkpoint(StateArchive& a) {
   a.check("fe elements", elements(), "finite elements");
-  a.io("fe_history", history);
-  a.io("fe_history_trial", history_trial);
-  a.io("fe_plastic_work", elem_work);
+  // Per element, listed by its keeper particle: on ranks each element's record comes from
+  // the rank that owns that particle (parallel/decomposition.cpp gather_checkpoint), one
+  // that evaluates the element (split). The same bytes as a global record on one process.
+  if (element_keeper.size() != elements()) {
+    const std::size_t n = static_cast<std::size_t>(nodes_per_element);
+    element_keeper.assign(elements(), 0);
+    for (std::size_t e = 0; e < elements(); ++e) {
+      const uint32_t* c = &conn[e * n];
+      std::size_t I = 0;
+      while (I + 1 < n && !node_owned[c[I]]) ++I;
+      element_keeper[e] = node_particle[c[I]];
+    }
+  }
+  a.io_listed("fe_history", history, element_keeper);
+  a.io_listed("fe_history_trial", history_trial, element_keeper);
+  a.io_listed("fe_plastic_work", elem_work, element_keeper);
+}
+
+void FeRegion::split(const std::vector<uint8_t>& is_owned, std::vector<uint8_t>& ghosts) {
+  const std::size_t n = static_cast<std::size_t>(nodes_per_element);
+  // The interpolated particles this rank owns or its rows read.
+  work_slaves.clear();
+  for (std::size_t q = 0; q < slave_particle.size(); ++q)
+    if (is_owned[slave_particle[q]] || ghosts[slave_particle[q]]) work_slaves.push_back(static_cast<uint32_t>(q));
+  // The elements of the FE-owned nodes this rank owns (each owned node's force is its
+  // elements' sum).
+  std::vector<uint8_t> take(elements(), 0);
+  for (std::size_t a = 0; a < nodes(); ++a)
+    if (node_owned[a] && is_owned[node_particle[a]])
+      for (uint64_t k = node_offset[a]; k < node_offset[a + 1]; ++k) take[node_elem[k] / n] = 1;
+  work_elements.clear();
+  for (std::size_t e = 0; e < elements(); ++e)
+    if (take[e]) work_elements.push_back(static_cast<uint32_t>(e));
+  // Their nodes are read here: ghosts where another rank owns them.
+  auto mark = [&](uint32_t p) {
+    if (!is_owned[p]) ghosts[p] = 1;
+  };
+  for (uint32_t e : work_elements)
+    for (std::size_t I = 0; I < n; ++I) mark(node_particle[conn[e * n + I]]);
+  for (uint32_t q : work_slaves)
+    for (std::size_t I = 0; I < n; ++I) mark(node_particle[slave_node[q * n + I]]);
+  split_done = true;
 }
 
 void FeRegion::checkpoint_account(StateArchive& a) {
@@ -484,8 +542,9 @@ void FeRegion::checkpoint_account(StateArchive& a) {
   a.io("fe_coupling_work", coupling_work);
   a.io("fe_stored_at_start", stored_at_start);
   a.io("fe_account_started", account_started);
-  a.io("fe_account_force", account_F);
-  a.io("fe_account_u", account_u);
+  // Per particle: on ranks each entry from its owner (the owners' terms are summed).
+  a.io_particles("fe_account_force", account_F);
+  a.io_particles("fe_account_u", account_u);
 }
 
 double FeRegion::element_energy(const System&) const {

@@ -129,6 +129,21 @@ struct FeRegion {
   uint8_t account_started = 0;
   std::vector<Vec3> account_F, account_u;
 
+  // On MPI ranks (the whole system on every rank, decompose(): parallel/decomposition.hpp)
+  // the owner computes: a rank evaluates every element with an FE-owned node it owns
+  // (redundantly at the rank boundary, each with the same inputs, so the same bits and the
+  // same trial history on every rank that evaluates it), sums each owned node's force over
+  // its elements in node_elem order as serially, and interpolates the interpolated
+  // particles it owns or its rows read; their elements' nodes are its ghosts (split),
+  // and before a force pass their velocities come with the displacements (interpolate:
+  // the interface damping reads them). Set by split; empty and false on one process.
+  bool split_done = false;
+  std::vector<uint32_t> work_elements;  // elements evaluated here, ascending
+  std::vector<uint32_t> work_slaves;    // interpolated particles (index into slave_particle) updated here
+  // Per element: the particle of its first FE-owned node (conn order), whose owner writes
+  // the element's plastic history to a checkpoint (StateArchive::io_listed).
+  std::vector<uint32_t> element_keeper;
+
   std::size_t elements() const { return volume.size(); }
   std::size_t nodes() const { return node_particle.size(); }
   std::size_t owned_nodes() const;
@@ -138,7 +153,12 @@ struct FeRegion {
   // Sets the interpolated particles' displacement and velocity from the element
   // interpolation u = N u_h (seed 002 digest eq. 46). Called by compute_forces before
   // the bond loops, so their current positions X + u enter the bonds.
-  void interpolate(System& s) const;
+  // Decomposed: the ghosts' velocities are received first (collective).
+  void interpolate(System& s);
+  // The elements and interpolated particles this rank updates (above), from its owned
+  // particles and the particles its rows read (`ghosts`, one per particle); marks the
+  // nodes they read in `ghosts` (those not in `is_owned`). Called once by the ghost choice.
+  void split(const std::vector<uint8_t>& is_owned, std::vector<uint8_t>& ghosts);
   // Overwrites the force density and the energy density of every FE-owned particle
   // with the element assembly (F_I / V_I, the FE-owned share of element energies / V_I);
   // an interpolated particle's are set to zero.
@@ -150,7 +170,8 @@ struct FeRegion {
   // takes their energy (a node a peridynamic particle holds takes none, as for the energy).
   void commit(System& s);
   bool plastic() const { return !history.empty(); }
-  // The plastic history for checkpoints (global extent: FE regions are not split over ranks).
+  // The plastic history for checkpoints (per element, from the owner of its keeper
+  // particle on ranks: element_keeper).
   void checkpoint(StateArchive& a);
   // The coupling's energy account (above), for checkpoints of every deck with elements.
   void checkpoint_account(StateArchive& a);

@@ -9,6 +9,7 @@
 
 #include "horizon/core/cell_key.hpp"
 #include "horizon/core/error.hpp"
+#include "horizon/fe/fe_region.hpp"
 #include "horizon/output/checkpoint.hpp"
 #include "horizon/parallel/lead_view.hpp"
 #include "horizon/solver/system.hpp"
@@ -235,6 +236,9 @@ void choose_ghosts(System& s, Decomposition& d) {
       if (!d.owns(i)) d.bond_ghosts[i] = 1;
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) d.bond_ghosts[B.nbr[k]] = 1;
     }
+    // Finite-element regions: the nodes of the elements and interpolated particles this
+    // rank updates (fe/fe_region.hpp FeRegion::split).
+    if (s.fe) s.fe->split(d.is_owned, d.bond_ghosts);
   }
   std::vector<uint8_t> need = d.bond_ghosts;
   // Local particles: every particle held is kept current, also those only a bond cut by
@@ -421,6 +425,14 @@ void decompose(System& s, Decomposition& d, double skin) {
   }
   s.row_active.assign(n, 0);
   for (uint32_t i : s.active_rows) s.row_active[i] = 1;
+  {
+    // The precracks' broken bonds (a restart loads its state after this).
+    uint64_t mine = 0;
+    for (uint32_t i : d.owned)
+      for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) mine += s.bonds.intact[k] != 1 ? 1 : 0;
+    const uint64_t all = sum_over_ranks(mine);
+    d.broken_at_start = all - std::min(all, s.broken);
+  }
   if (d.local_rows) keep_computed_rows(s, d);
   s.decomposition = &d;
   choose_ghosts(s, d);
@@ -839,16 +851,18 @@ void gather_state(System& s, Decomposition& d) {
   uint64_t broken = 0;
   for (uint32_t i : d.owned)
     for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) broken += s.bonds.intact[k] != 1 ? 1 : 0;
+  // The precracks' broken bonds are no breaks (the serial count): left out of the total.
+  auto breaks = [&](uint64_t total) { return total - std::min(total, d.broken_at_start); };
 #if defined(HORIZON_MPI)
   if (d.local_particles && d.size > 1) {
     // The particles stay with their owners (rank 0 gathers what it reads: parallel/lead_view.hpp).
     uint64_t all = 0;
     MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    s.broken = all;
+    s.broken = breaks(all);
     return;
   }
   if (d.size == 1) {  // one rank owns every particle: nothing to gather
-    s.broken = broken;
+    s.broken = breaks(broken);
     return;
   }
   allgather_owned(
@@ -870,7 +884,7 @@ void gather_state(System& s, Decomposition& d) {
   MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
   broken = all;
 #endif
-  s.broken = broken;
+  s.broken = breaks(broken);
 }
 
 std::vector<HaloStats> gather_halo_stats(const Decomposition& d) {

@@ -23,9 +23,9 @@
 //     serially; the other rows are empty, so every per-bond array (the models' history
 //     included) covers the rows held. decompose() drops the neighbours' rows when only the
 //     owned ones are computed. Decks outside local_rows_allowed() (static and implicit
-//     solves with an assembled tangent or outside the unified models, structures, heat,
-//     projectiles, decks the split refuses) build the whole system on every rank, and
-//     only the work is split;
+//     solves with an assembled tangent or outside the unified models, structures, FE
+//     regions, decks the split refuses) build the whole system on every rank, and only
+//     the work is split;
 //   - integrates only its own particles, and computes the bond rows of its own and, for
 //     state-based models, the critical stretch with a compression factor and the general
 //     force pass (thermal strain too), also of their bond neighbours (the dilatation of a
@@ -104,6 +104,11 @@ struct Decomposition {
   std::vector<uint8_t> bond_ghosts;  // per particle: a bond neighbour of a computed row (or such a row) not owned
   std::vector<Vec3> y_built;         // positions when the ghosts were chosen (owned entries)
   HaloStats stats;
+  // The bonds of the whole system that were not intact when the run was decomposed but
+  // that System::broken (the passes' breaks: the serial count) did not count: a
+  // precrack's bonds kept broken (bonds: broken). gather_state counts the broken bonds
+  // from the owned rows and leaves these out (set by decompose).
+  uint64_t broken_at_start = 0;
   // Local rows (build_system_split): this rank holds the bond rows it computes alone, the
   // others are empty. Set before decompose(), which fills in the rest.
   bool local_rows = false;
@@ -153,7 +158,7 @@ bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row, or a static or implicit solve split over ranks (unified models,
 // matrix-free Newton or ADR: driver/run_implicit.cpp), that uses nothing split on the
-// whole system only (structures) or not at all (FE); the surface correction of the unified
+// whole system only (structures, FE regions); the surface correction of the unified
 // models exchanges its set-up factors between passes (material/surface_correction.cpp).
 // Otherwise every rank builds the whole system (the old way) and decompose() splits the
 // work only.

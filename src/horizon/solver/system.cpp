@@ -379,6 +379,8 @@ bool local_rows_allowed(const Config& c) {
   // (thermal/heat.cpp: owned rows, ghosts' temperatures exchanged, boundary layers over
   // ranks; contact/rigid_contact.cpp: each rank pushes its owned particles).
   if (c.structure.kind != StructureKind::none) return false;
+  // Finite-element regions split on the whole system (fe/fe_region.hpp FeRegion::split:
+  // the element and node arrays are indexed by the serial particle numbers).
   for (const auto& body : c.bodies)
     if (body.discretization == Discretization::fe) return false;
   for (const auto& mat : c.materials) {
