@@ -93,7 +93,9 @@ void over_windows(uint64_t n, std::size_t window, MPI_Datatype type, Fill fill, 
   }
 }
 
-constexpr std::size_t kIdWindow = std::size_t{1} << 18;
+// Global ids per window of the restart's sums (a row length of 4 bytes each, summed into
+// a second buffer).
+std::size_t id_window() { return std::max<std::size_t>(1, window_budget() / 8); }
 
 // Where each held row lies in the serial order: (first bond, bonds) per local particle
 // with a row held, in local order (ascending global id).
@@ -105,7 +107,7 @@ std::vector<std::pair<uint64_t, uint64_t>> held_rows(const System& s, const Deco
   std::size_t owned_at = 0, held_at = 0;  // cursors into d.owned and the local particles
   uint64_t offset = 0;
   over_windows<uint32_t>(
-      d.global_particles, kIdWindow, MPI_UINT32_T,
+      d.global_particles, id_window(), MPI_UINT32_T,
       [&](uint64_t lo, uint64_t hi, std::vector<uint32_t>& len) {
         for (; owned_at < d.owned.size() && static_cast<uint64_t>(P.id[d.owned[owned_at]]) < hi; ++owned_at) {
           const uint32_t i = d.owned[owned_at];
@@ -148,7 +150,7 @@ std::pair<std::vector<uint64_t>, uint64_t> list_places(const System& s, const De
   std::size_t fill_at = 0, use_at = 0;
   uint64_t count = 0;
   over_windows<uint8_t>(
-      d.global_particles, kIdWindow, MPI_UINT8_T,
+      d.global_particles, id_window(), MPI_UINT8_T,
       [&](uint64_t lo, uint64_t hi, std::vector<uint8_t>& member) {
         for (; fill_at < L.size() && static_cast<uint64_t>(id[L[fill_at]]) < hi; ++fill_at)
           if (d.owns(L[fill_at])) member[static_cast<std::size_t>(static_cast<uint64_t>(id[L[fill_at]]) - lo)] = 1;
