@@ -569,7 +569,7 @@ struct ExplicitRun::State {
   // writes the records as they come from the owners, in windows of global ids.
   void write_checkpoint_streamed() {
     s.broken = global_broken_bonds(s, *dd);  // the file's count is the whole system's
-    CheckpointWriter w;
+    CheckpointWriter w(CheckpointWriter::Keep::refer);  // sent from the state itself
     checkpoint(w);
     std::string failure;
     bool streamed = false;
@@ -599,12 +599,12 @@ struct ExplicitRun::State {
       CheckpointReader in(path);
       if (dd && dd->local_particles && dd->size > 1) {
         // Each rank reads the entries of the particles and rows it holds.
-        CheckpointWriter mine;
+        CheckpointWriter mine(CheckpointWriter::Keep::list);
         checkpoint(mine);
         pick_local_entries(s, *dd, mine, in);
       } else if (dd && dd->local_rows) {
         // The file holds the whole system's bonds: each rank keeps its own rows.
-        CheckpointWriter mine;
+        CheckpointWriter mine(CheckpointWriter::Keep::list);
         checkpoint(mine);
         keep_local_bonds(s, *dd, mine.bond_records(), in);
       }

@@ -217,7 +217,7 @@ void stream_checkpoint(const System& s, const Decomposition& d, const Checkpoint
   const std::size_t budget = window_budget();
   for (std::size_t index = 0; index < w.spread().size(); ++index) {
     const CheckpointWriter::Spread& r = w.spread()[index];
-    const char* data = w.payload().data() + r.offset;
+    const char* data = w.data(r);
     const Extent extent = agreed_extent(r);
     if (extent == Extent::global) {  // rank 0's values
       if (lead) out->record(r.name, r.element_size, r.count), out->data(data, r.count * r.element_size);

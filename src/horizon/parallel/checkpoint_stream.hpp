@@ -29,7 +29,8 @@ class CheckpointStream;
 // rank's state listed by a CheckpointWriter, the records the load will read in the same
 // order) the entries this rank keeps. Collective.
 void pick_local_entries(const System& s, const Decomposition& d, const CheckpointWriter& mine, CheckpointReader& in);
-// Writes the checkpoint of the records `w` lists with local particles: rank 0 into `out`
+// Writes the checkpoint of the records `w` lists with local particles (a writer of
+// Keep::refer sends the arrays from the state itself, no copy): rank 0 into `out`
 // (a CheckpointStream without a stream when its file could not be opened: it still takes
 // part), the other ranks send (their `out` is ignored). Collective.
 void stream_checkpoint(const System& s, const Decomposition& d, const CheckpointWriter& w, CheckpointStream* out);

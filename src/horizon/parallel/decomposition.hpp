@@ -3,12 +3,13 @@
 // several ranks"; built with -DHORIZON_MPI=ON).
 //
 // What is distributed is the work and the bonds, and where the deck allows it (local_particles_allowed: local
-// rows on more than one rank, short-range contact and checkpoints included, not a restart) the particles: a rank
+// rows on more than one rank, short-range contact, checkpoints and restarts included) the particles: a rank
 // then holds only its owned particles and the particles its rows read, in a local numbering in ascending global
 // id (Particles::id), and every index below (owner, owned, ghost lists, loads, reactions) is local; short-range
 // contact reads the particles within its reach that no bond brings as contact ghosts outside the System
 // (ContactGhosts: chosen by exchanging the owned particles' boxes; the contact lists sort by global id), and a
-// checkpoint gathers each record by global id on rank 0. The build generates the whole lattice transiently to
+// checkpoint goes to rank 0's file by global id window by window, and a restart reads each rank's entries
+// (parallel/checkpoint_stream.hpp). The build generates the whole lattice transiently to
 // decide owners and families; what reads every particle (history, cracks, summary) reads rank 0's gathered view.
 // Otherwise the particles are replicated: every rank builds every particle from the deck
 // (positions, velocities, per-particle model constants in the serial order: the serial
@@ -143,8 +144,8 @@ System build_system_split(const Config& config);
 // Collective.
 System build_system_split(const Config& config, Decomposition& d);
 // Whether a deck may be built with local particles: local_rows_allowed (short-range contact reads contact
-// ghosts, a checkpoint is gathered by global id; the driver builds a restart, and a run on one rank, with every
-// particle).
+// ghosts, a checkpoint is streamed by global id and a restart reads its particles' entries; the driver builds a
+// run on one rank with every particle).
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row and that uses nothing that reads rows further out (surface
