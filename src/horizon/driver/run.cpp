@@ -569,8 +569,14 @@ struct ExplicitRun::State {
   // writes the records as they come from the owners, in windows of global ids.
   void write_checkpoint_streamed() {
     s.broken = global_broken_bonds(s, *dd);  // the file's count is the whole system's
-    CheckpointWriter w(CheckpointWriter::Keep::refer);  // sent from the state itself
-    checkpoint(w);
+    CheckpointWriter records(CheckpointWriter::Keep::list);
+    checkpoint(records);
+    // Every record goes to rank 0's file as the run lists it (no copy of the state).
+    auto send = [&](CheckpointStream* out) {
+      CheckpointSender sender(s, *dd, records, out);
+      checkpoint(sender);
+      sender.end();
+    };
     std::string failure;
     bool streamed = false;
     if (lead) {
@@ -580,17 +586,17 @@ struct ExplicitRun::State {
         write_file_atomic(checkpoint_path(), [&](std::ostream& o) {
           streamed = true;
           CheckpointStream out(&o);
-          stream_checkpoint(s, *dd, w, &out);
+          send(&out);
         });
       } catch (const OutputError& e) {
         failure = e.what();
       }
       if (!streamed) {  // the file could not be opened: rank 0 still takes its part
         CheckpointStream none(nullptr);
-        stream_checkpoint(s, *dd, w, &none);
+        send(&none);
       }
     } else {
-      stream_checkpoint(s, *dd, w, nullptr);
+      send(nullptr);
     }
     if (any_rank(*dd, !failure.empty())) throw OutputError(lead ? failure : "rank 0 could not write the checkpoint");
   }

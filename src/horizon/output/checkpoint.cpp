@@ -54,11 +54,9 @@ void CheckpointWriter::put(const std::string& name, const void* bytes, std::size
   // Every record, global and empty ones too: with local particles (parallel/
   // decomposition.hpp) an array may be empty on one rank and not on another, and the
   // gather walks the same list on every rank.
-  spread_.push_back({full, extent, element_size, count, payload_.size(), list(), nullptr});
+  spread_.push_back({full, extent, element_size, count, payload_.size(), list()});
   if (extent == Extent::bonds) bond_records_.push_back(full);
-  if (!count || keep_ == Keep::list) return;
-  if (keep_ == Keep::refer && extent != Extent::global) spread_.back().external = static_cast<const char*>(bytes);
-  else payload_.append(static_cast<const char*>(bytes), element_size * count);
+  if (count && keep_ == Keep::copy) payload_.append(static_cast<const char*>(bytes), element_size * count);
 }
 
 void CheckpointWriter::replace(std::size_t index, const std::string& data) {

@@ -32,12 +32,9 @@ inline constexpr uint32_t kCheckpointVersion = 1;
 // Collects records in memory; write() puts header, payload and checksum on disk.
 class CheckpointWriter : public StateArchive {
  public:
-  // What put() keeps of the records: `copy` all their bytes (a file's payload); `refer`
-  // the global records' bytes, and of the per-particle, per-bond and listed ones only where
-  // they lie in the state (Spread::external: the arrays must stay as they are while the
-  // writer is read; parallel/checkpoint_stream.hpp streams them from there); `list` no
-  // bytes at all, only the records' names, kinds and sizes (what a restart picks by).
-  enum class Keep { copy, refer, list };
+  // What put() keeps of the records: `copy` all their bytes (a file's payload); `list` no
+  // bytes, only the records' names, kinds and sizes (what a restart picks by).
+  enum class Keep { copy, list };
   explicit CheckpointWriter(Keep keep = Keep::copy) : StateArchive(false), keep_(keep) {}
   // Atomically (temporary file and rename). Throws horizon::OutputError.
   void write(const std::string& path) const;
@@ -51,12 +48,9 @@ class CheckpointWriter : public StateArchive {
     Extent extent = Extent::global;
     std::size_t element_size = 0, count = 0, offset = 0;
     const std::vector<uint32_t>* list = nullptr;  // Extent::listed: the particle of each entry group
-    const char* external = nullptr;               // Keep::refer: the state's array
   };
   const std::vector<Spread>& spread() const { return spread_; }
   char* bytes(const Spread& r) { return payload_.data() + r.offset; }
-  // The record's bytes where they are kept (Keep::list: none).
-  const char* data(const Spread& r) const { return r.external ? r.external : payload_.data() + r.offset; }
   // Replaces the data of record spread()[index] by `data` (a whole number of its
   // elements; its count becomes data.size() / element_size), moving the records after it:
   // a run whose ranks hold only their own bond rows puts the global per-bond arrays in

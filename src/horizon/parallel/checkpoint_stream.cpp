@@ -207,125 +207,145 @@ void pick_local_entries(const System& s, const Decomposition& d, const Checkpoin
   in.pick(std::move(picks));
 }
 
-void stream_checkpoint(const System& s, const Decomposition& d, const CheckpointWriter& w, CheckpointStream* out) {
-  if (!d.local_particles) throw Error("internal error: streaming a checkpoint without local particles");
-  same_records(w);
+namespace {
+
+// One record of the checkpoint (`r`, its bytes `data` on this rank) onto rank 0's stream.
+void stream_record(const System& s, const Decomposition& d, const CheckpointWriter::Spread& r, const char* data,
+                   CheckpointStream* out) {
   const auto& P = s.particles;
   const auto& B = s.bonds;
   const bool lead = d.rank == 0;
-  if (lead && !out) throw Error("internal error: rank 0 streams a checkpoint to nowhere");
-  const std::size_t budget = window_budget();
-  for (std::size_t index = 0; index < w.spread().size(); ++index) {
-    const CheckpointWriter::Spread& r = w.spread()[index];
-    const char* data = w.data(r);
-    const Extent extent = agreed_extent(r);
-    if (extent == Extent::global) {  // rank 0's values
-      if (lead) out->record(r.name, r.element_size, r.count), out->data(data, r.count * r.element_size);
-      continue;
+  const Extent extent = agreed_extent(r);
+  if (extent == Extent::global) {  // rank 0's values
+    if (lead) out->record(r.name, r.element_size, r.count), out->data(data, r.count * r.element_size);
+    return;
+  }
+  const std::vector<uint32_t>* list = r.extent == Extent::listed ? listed_particles(r) : nullptr;
+  const std::size_t units = extent == Extent::bonds ? B.size() : extent == Extent::particles ? P.size() : list ? list->size() : 0;
+  if (units > 0 && r.count % units != 0)
+    throw Error("checkpoint: record '" + r.name + "' holds " + std::to_string(r.count) + " entries for " +
+                std::to_string(units) + " particles or bonds");
+  const uint64_t mine_per = units > 0 ? r.element_size * (r.count / units) : 0;  // bytes per particle or bond
+  // Every rank with entries has the same number per particle (bond).
+  const uint64_t per = max_over_ranks(mine_per);
+  const uint64_t least = ~max_over_ranks(units > 0 ? ~mine_per : 0);
+  if (per != least && !(least == ~uint64_t{0} && per == 0))
+    throw Error("internal error: checkpoint record '" + r.name + "' has " + std::to_string(least) + " and " +
+                std::to_string(per) + " bytes per particle or bond on different ranks");
+  // The owned entries in ascending global id: (global id, bytes, byte count).
+  struct Entry {
+    int64_t id;
+    const char* bytes;
+    uint64_t n;
+  };
+  std::vector<Entry> entries;
+  uint64_t longest = per;  // bytes of the largest entry (a bond row: per * its length)
+  if (per > 0 && units > 0) {
+    if (extent == Extent::listed) {
+      for (std::size_t l = 0; l < list->size(); ++l)
+        if (d.owns((*list)[l])) entries.push_back({P.id[(*list)[l]], data + l * per, per});
+    } else if (extent == Extent::bonds) {
+      for (uint32_t i : d.owned)
+        if (B.end(i) > B.begin(i)) entries.push_back({P.id[i], data + B.begin(i) * per, (B.end(i) - B.begin(i)) * per});
+    } else {
+      for (uint32_t i : d.owned) entries.push_back({P.id[i], data + i * per, per});
     }
-    const std::vector<uint32_t>* list = r.extent == Extent::listed ? listed_particles(r) : nullptr;
-    const std::size_t units = extent == Extent::bonds ? B.size() : extent == Extent::particles ? P.size() : list ? list->size() : 0;
-    if (units > 0 && r.count % units != 0)
-      throw Error("checkpoint: record '" + r.name + "' holds " + std::to_string(r.count) + " entries for " +
-                  std::to_string(units) + " particles or bonds");
-    const uint64_t mine_per = units > 0 ? r.element_size * (r.count / units) : 0;  // bytes per particle or bond
-    // Every rank with entries has the same number per particle (bond).
-    const uint64_t per = max_over_ranks(mine_per);
-    const uint64_t least = ~max_over_ranks(units > 0 ? ~mine_per : 0);
-    if (per != least && !(least == ~uint64_t{0} && per == 0))
-      throw Error("internal error: checkpoint record '" + r.name + "' has " + std::to_string(least) + " and " +
-                  std::to_string(per) + " bytes per particle or bond on different ranks");
-    // The owned entries in ascending global id: (global id, bytes, byte count).
-    struct Entry {
-      int64_t id;
-      const char* bytes;
-      uint64_t n;
-    };
-    std::vector<Entry> entries;
-    uint64_t longest = per;  // bytes of the largest entry (a bond row: per * its length)
-    if (per > 0 && units > 0) {
-      if (extent == Extent::listed) {
-        for (std::size_t l = 0; l < list->size(); ++l)
-          if (d.owns((*list)[l])) entries.push_back({P.id[(*list)[l]], data + l * per, per});
-      } else if (extent == Extent::bonds) {
-        for (uint32_t i : d.owned)
-          if (B.end(i) > B.begin(i)) entries.push_back({P.id[i], data + B.begin(i) * per, (B.end(i) - B.begin(i)) * per});
-      } else {
-        for (uint32_t i : d.owned) entries.push_back({P.id[i], data + i * per, per});
-      }
+  }
+  for (const Entry& e : entries) longest = std::max(longest, e.n);
+  const uint64_t global_units = extent == Extent::particles ? d.global_particles
+                                : extent == Extent::bonds   ? d.global_bonds
+                                                            : sum_over_ranks(extent == Extent::listed ? entries.size() : 0);
+  const uint64_t count = per > 0 ? global_units * (per / r.element_size) : 0;
+  if (lead) out->record(r.name, r.element_size, count);
+  if (count == 0) return;
+  longest = max_over_ranks(longest);
+  // Windows of global ids whose entries, with their ids and sizes, fit the budget.
+  const uint64_t window = std::max<uint64_t>(1, window_budget() / (longest + 2 * sizeof(uint64_t)));
+  std::size_t at = 0;
+  uint64_t written = 0;
+  std::vector<uint64_t> meta;  // id, byte count per entry
+  std::string bytes, all_bytes;
+  std::vector<uint64_t> all_meta;
+  std::vector<int> counts(2 * static_cast<std::size_t>(d.size)), meta_counts(static_cast<std::size_t>(d.size)),
+      meta_displs(static_cast<std::size_t>(d.size)), byte_counts(static_cast<std::size_t>(d.size)),
+      byte_displs(static_cast<std::size_t>(d.size));
+  for (uint64_t lo = 0; lo < d.global_particles; lo += window) {
+    const uint64_t hi = std::min<uint64_t>(d.global_particles, lo + window);
+    meta.clear(), bytes.clear();
+    for (; at < entries.size() && static_cast<uint64_t>(entries[at].id) < hi; ++at) {
+      meta.push_back(static_cast<uint64_t>(entries[at].id));
+      meta.push_back(entries[at].n);
+      bytes.append(entries[at].bytes, entries[at].n);
     }
-    for (const Entry& e : entries) longest = std::max(longest, e.n);
-    const uint64_t global_units = extent == Extent::particles ? d.global_particles
-                                  : extent == Extent::bonds   ? d.global_bonds
-                                                              : sum_over_ranks(extent == Extent::listed ? entries.size() : 0);
-    const uint64_t count = per > 0 ? global_units * (per / r.element_size) : 0;
-    if (lead) out->record(r.name, r.element_size, count);
-    if (count == 0) continue;
-    longest = max_over_ranks(longest);
-    // Windows of global ids whose entries, with their ids and sizes, fit the budget.
-    const uint64_t window = std::max<uint64_t>(1, budget / (longest + 2 * sizeof(uint64_t)));
-    std::size_t at = 0;
-    uint64_t written = 0;
-    std::vector<uint64_t> meta;  // id, byte count per entry
-    std::string bytes, all_bytes;
-    std::vector<uint64_t> all_meta;
-    std::vector<int> counts(2 * static_cast<std::size_t>(d.size)), meta_counts(static_cast<std::size_t>(d.size)),
-        meta_displs(static_cast<std::size_t>(d.size)), byte_counts(static_cast<std::size_t>(d.size)),
-        byte_displs(static_cast<std::size_t>(d.size));
-    for (uint64_t lo = 0; lo < d.global_particles; lo += window) {
-      const uint64_t hi = std::min<uint64_t>(d.global_particles, lo + window);
-      meta.clear(), bytes.clear();
-      for (; at < entries.size() && static_cast<uint64_t>(entries[at].id) < hi; ++at) {
-        meta.push_back(static_cast<uint64_t>(entries[at].id));
-        meta.push_back(entries[at].n);
-        bytes.append(entries[at].bytes, entries[at].n);
-      }
-      if (bytes.size() > static_cast<std::size_t>(INT_MAX) || meta.size() > static_cast<std::size_t>(INT_MAX))
-        throw Error("checkpoint: record '" + r.name + "' has a window too large to gather");
-      const int mine_counts[2] = {static_cast<int>(meta.size()), static_cast<int>(bytes.size())};
-      MPI_Gather(mine_counts, 2, MPI_INT, counts.data(), 2, MPI_INT, 0, MPI_COMM_WORLD);
-      if (lead) {
-        std::size_t m = 0, b = 0;
-        for (int q = 0; q < d.size; ++q) {
-          const std::size_t k = static_cast<std::size_t>(q);
-          meta_counts[k] = counts[2 * k], byte_counts[k] = counts[2 * k + 1];
-          meta_displs[k] = static_cast<int>(m), byte_displs[k] = static_cast<int>(b);
-          m += static_cast<std::size_t>(meta_counts[k]), b += static_cast<std::size_t>(byte_counts[k]);
-          if (m > static_cast<std::size_t>(INT_MAX) || b > static_cast<std::size_t>(INT_MAX))
-            throw Error("checkpoint: record '" + r.name + "' has a window too large to gather");
-        }
-        all_meta.resize(m), all_bytes.resize(b);
-      }
-      MPI_Gatherv(meta.data(), mine_counts[0], MPI_UINT64_T, all_meta.data(), meta_counts.data(), meta_displs.data(),
-                  MPI_UINT64_T, 0, MPI_COMM_WORLD);
-      MPI_Gatherv(bytes.data(), mine_counts[1], MPI_BYTE, all_bytes.data(), byte_counts.data(), byte_displs.data(),
-                  MPI_BYTE, 0, MPI_COMM_WORLD);
-      if (!lead) continue;
-      // Each rank's entries come in ascending id: merged by id (the serial order; a bond
-      // row's bonds keep their serial order in the local numbering).
-      struct Got {
-        uint64_t id, at, n;
-      };
-      std::vector<Got> got;
-      got.reserve(all_meta.size() / 2);
+    if (bytes.size() > static_cast<std::size_t>(INT_MAX) || meta.size() > static_cast<std::size_t>(INT_MAX))
+      throw Error("checkpoint: record '" + r.name + "' has a window too large to gather");
+    const int mine_counts[2] = {static_cast<int>(meta.size()), static_cast<int>(bytes.size())};
+    MPI_Gather(mine_counts, 2, MPI_INT, counts.data(), 2, MPI_INT, 0, MPI_COMM_WORLD);
+    if (lead) {
+      std::size_t m = 0, b = 0;
       for (int q = 0; q < d.size; ++q) {
         const std::size_t k = static_cast<std::size_t>(q);
-        uint64_t b = static_cast<uint64_t>(byte_displs[k]);
-        for (std::size_t e = static_cast<std::size_t>(meta_displs[k]);
-             e < static_cast<std::size_t>(meta_displs[k] + meta_counts[k]); e += 2) {
-          got.push_back({all_meta[e], b, all_meta[e + 1]});
-          b += all_meta[e + 1];
-        }
+        meta_counts[k] = counts[2 * k], byte_counts[k] = counts[2 * k + 1];
+        meta_displs[k] = static_cast<int>(m), byte_displs[k] = static_cast<int>(b);
+        m += static_cast<std::size_t>(meta_counts[k]), b += static_cast<std::size_t>(byte_counts[k]);
+        if (m > static_cast<std::size_t>(INT_MAX) || b > static_cast<std::size_t>(INT_MAX))
+          throw Error("checkpoint: record '" + r.name + "' has a window too large to gather");
       }
-      std::sort(got.begin(), got.end(), [](const Got& a, const Got& b) { return a.id < b.id; });
-      for (const Got& g : got) out->data(all_bytes.data() + g.at, static_cast<std::size_t>(g.n));
-      for (const Got& g : got) written += g.n;
+      all_meta.resize(m), all_bytes.resize(b);
     }
-    if (lead && written != count * r.element_size)
-      throw Error("internal error: checkpoint record '" + r.name + "' gathered " + std::to_string(written) +
-                  " bytes, the whole system has " + std::to_string(count * r.element_size));
+    MPI_Gatherv(meta.data(), mine_counts[0], MPI_UINT64_T, all_meta.data(), meta_counts.data(), meta_displs.data(),
+                MPI_UINT64_T, 0, MPI_COMM_WORLD);
+    MPI_Gatherv(bytes.data(), mine_counts[1], MPI_BYTE, all_bytes.data(), byte_counts.data(), byte_displs.data(),
+                MPI_BYTE, 0, MPI_COMM_WORLD);
+    if (!lead) continue;
+    // Each rank's entries come in ascending id: merged by id (the serial order; a bond
+    // row's bonds keep their serial order in the local numbering).
+    struct Got {
+      uint64_t id, at, n;
+    };
+    std::vector<Got> got;
+    got.reserve(all_meta.size() / 2);
+    for (int q = 0; q < d.size; ++q) {
+      const std::size_t k = static_cast<std::size_t>(q);
+      uint64_t b = static_cast<uint64_t>(byte_displs[k]);
+      for (std::size_t e = static_cast<std::size_t>(meta_displs[k]);
+           e < static_cast<std::size_t>(meta_displs[k] + meta_counts[k]); e += 2) {
+        got.push_back({all_meta[e], b, all_meta[e + 1]});
+        b += all_meta[e + 1];
+      }
+    }
+    std::sort(got.begin(), got.end(), [](const Got& a, const Got& b) { return a.id < b.id; });
+    for (const Got& g : got) out->data(all_bytes.data() + g.at, static_cast<std::size_t>(g.n));
+    for (const Got& g : got) written += g.n;
   }
-  if (lead) out->end();
+  if (lead && written != count * r.element_size)
+    throw Error("internal error: checkpoint record '" + r.name + "' gathered " + std::to_string(written) +
+                " bytes, the whole system has " + std::to_string(count * r.element_size));
+}
+
+}  // namespace
+
+CheckpointSender::CheckpointSender(const System& s, const Decomposition& d, const CheckpointWriter& records,
+                                   CheckpointStream* out)
+    : StateArchive(false), s_(s), d_(d), out_(out) {
+  if (!d.local_particles) throw Error("internal error: streaming a checkpoint without local particles");
+  if (d.rank == 0 && !out) throw Error("internal error: rank 0 streams a checkpoint to nowhere");
+  same_records(records);
+}
+
+void CheckpointSender::put(const std::string& name, const void* bytes, std::size_t element_size, std::size_t count,
+                           Extent extent) {
+  CheckpointWriter::Spread r;
+  r.name = full_name(name);
+  r.extent = extent;
+  r.element_size = element_size;
+  r.count = count;
+  r.list = list();
+  stream_record(s_, d_, r, static_cast<const char*>(bytes), d_.rank == 0 ? out_ : nullptr);
+}
+
+void CheckpointSender::end() {
+  if (d_.rank == 0) out_->end();
 }
 
 #else
@@ -333,9 +353,12 @@ void stream_checkpoint(const System& s, const Decomposition& d, const Checkpoint
 void pick_local_entries(const System&, const Decomposition&, const CheckpointWriter&, CheckpointReader&) {
   throw Error("internal error: local particles without MPI");
 }
-void stream_checkpoint(const System&, const Decomposition&, const CheckpointWriter&, CheckpointStream*) {
+CheckpointSender::CheckpointSender(const System& s, const Decomposition& d, const CheckpointWriter&, CheckpointStream* out)
+    : StateArchive(false), s_(s), d_(d), out_(out) {
   throw Error("internal error: local particles without MPI");
 }
+void CheckpointSender::put(const std::string&, const void*, std::size_t, std::size_t, Extent) {}
+void CheckpointSender::end() {}
 
 #endif
 

@@ -204,7 +204,8 @@ std::vector<double> gather_on_lead(const System& s, const Decomposition& d, cons
 // After a restart has loaded the whole state on every rank: the ghosts chosen again from
 // the loaded positions. Collective.
 void refresh_ghosts(System& s, Decomposition& d);
-// Before rank 0 writes a checkpoint: every per-particle and per-bond record of `w`
+// Before rank 0 writes a checkpoint (not with local particles: parallel/checkpoint_stream.hpp):
+// every per-particle and per-bond record of `w`
 // (CheckpointWriter::spread) is overwritten on rank 0 with each entry from the rank that
 // owns the particle (the bond's row), in index order, so that the file holds the global
 // state as a serial run would. Collective; other ranks' writers are left as they were.
