@@ -11,8 +11,11 @@
 #  - a checkpoint at step 200 written on 3 ranks with local particles: the same bytes as
 #    the checkpoint of HORIZON_MPI_LOCAL_PARTICLES=0 (every record gathered from the
 #    owners by global id); writing it changes nothing (state_crc32 and history.csv of the
-#    run without one); restarted on 2 and 4 ranks (a restart builds every particle), it
-#    ends in the uninterrupted run's history.csv and state_crc32.
+#    run without one; rank 0 took it from the owners in windows of a few hundred ids);
+#    restarted on 2 and 4 ranks with local particles (each rank reads its particles' and
+#    rows' entries; every rank holds fewer than all), it ends in the uninterrupted run's
+#    history.csv and state_crc32;
+#  - rank 0 unable to open the checkpoint file: every rank stops with its error.
 # cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P local_contact.cmake
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
@@ -114,7 +117,9 @@ same_history(local_4 whole_4)
 file(READ ${deck} text)
 string(REPLACE "damage_measure: volume}" "damage_measure: volume, checkpoint: {every: 200}}" text "${text}")
 file(WRITE ${WORK}/checkpoint.yaml "${text}")
-run(checkpoint_3 ${WORK}/checkpoint.yaml 3)
+# Written in windows of a few hundred global ids (HORIZON_CHECKPOINT_CHUNK: rank 0 takes
+# each record from the owners window by window, parallel/checkpoint_stream.hpp).
+run(checkpoint_3 ${WORK}/checkpoint.yaml 3 HORIZON_CHECKPOINT_CHUNK=4096)
 string(JSON local GET "${checkpoint_3_summary}" particles_local)
 if(NOT local)
   message(FATAL_ERROR "a deck with checkpoints does not hold local particles")
@@ -130,9 +135,40 @@ if(NOT local_sum STREQUAL whole_sum)
 endif()
 foreach(ranks 2 4)
   file(COPY ${WORK}/checkpoint_3/ DESTINATION ${WORK}/restart_${ranks})
-  run(restart_${ranks} ${WORK}/checkpoint.yaml ${ranks} -- --restart ${WORK}/restart_${ranks}/checkpoint.hzc)
+  # 2 ranks: the restart's row offsets and list places summed in windows of 512 ids.
+  set(env "")
+  if(ranks EQUAL 2)
+    set(env HORIZON_CHECKPOINT_CHUNK=4096)
+  endif()
+  run(restart_${ranks} ${WORK}/checkpoint.yaml ${ranks} ${env} -- --restart ${WORK}/restart_${ranks}/checkpoint.hzc)
   same_crc(restart_${ranks} checkpoint_3)
   same_history(restart_${ranks} checkpoint_3)
-  message(STATUS "checkpoint of 3 ranks restarted on ${ranks}: identical")
+  # The restart holds local particles: each rank its own and those its rows read.
+  string(JSON local GET "${restart_${ranks}_summary}" particles_local)
+  if(NOT local)
+    message(FATAL_ERROR "the restart on ${ranks} ranks does not hold local particles")
+  endif()
+  set(held_list "")
+  math(EXPR last "${ranks} - 1")
+  foreach(k RANGE ${last})
+    string(JSON held GET "${restart_${ranks}_summary}" halo ${k} particles_held)
+    if(NOT held LESS total)
+      message(FATAL_ERROR "the restart on ${ranks} ranks: rank ${k} holds ${held} particles of ${total}")
+    endif()
+    string(APPEND held_list " ${held}")
+  endforeach()
+  message(STATUS "checkpoint of 3 ranks restarted on ${ranks} (particles held per rank of ${total}:${held_list}): identical")
 endforeach()
+
+# Rank 0 cannot open the checkpoint's temporary file (a directory of that name): every
+# rank stops with an error naming it (rank 0 still takes its part in the streamed
+# writing), none hangs.
+file(MAKE_DIRECTORY ${WORK}/unwritable/checkpoint.hzc.tmp)
+execute_process(COMMAND ${MPIEXEC} --oversubscribe -n 3 ${HORIZON} run ${WORK}/checkpoint.yaml -q -o ${WORK}/unwritable
+                        --threads 1
+                RESULT_VARIABLE rc OUTPUT_VARIABLE log ERROR_VARIABLE log TIMEOUT 120)
+if(rc EQUAL 0 OR NOT log MATCHES "cannot open '[^']*checkpoint.hzc.tmp' for writing")
+  message(FATAL_ERROR "a checkpoint rank 0 cannot write: exit ${rc}, expected an error naming the file:\n${log}")
+endif()
+message(STATUS "a checkpoint rank 0 cannot write stops the run on every rank (exit ${rc})")
 file(REMOVE_RECURSE ${WORK})

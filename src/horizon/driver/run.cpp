@@ -27,6 +27,7 @@
 #include "horizon/loading/loads.hpp"
 #include "horizon/output/atomic_file.hpp"
 #include "horizon/output/checkpoint.hpp"
+#include "horizon/parallel/checkpoint_stream.hpp"
 #include "horizon/output/pvd.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/parallel/lead_view.hpp"
@@ -629,6 +630,10 @@ struct ExplicitRun::State {
   // (gather_checkpoint), which alone writes: one file of the global state, in index
   // order, the same bytes a run on any rank count would restart from.
   void write_checkpoint() {
+    if (dd && dd->local_particles && dd->size > 1) {
+      write_checkpoint_streamed();
+      return;
+    }
     sync();  // the global broken-bond count (and every particle's state) on every rank
     CheckpointWriter w;
     checkpoint(w);
@@ -647,12 +652,52 @@ struct ExplicitRun::State {
     if (dd ? any_rank(*dd, !failure.empty()) : !failure.empty())
       throw OutputError(lead ? failure : "rank 0 could not write the checkpoint");
   }
+  // Local particles: no rank holds the whole file (parallel/checkpoint_stream.hpp): rank 0
+  // writes the records as they come from the owners, in windows of global ids.
+  void write_checkpoint_streamed() {
+    s.broken = global_broken_bonds(s, *dd);  // the file's count is the whole system's
+    CheckpointWriter records(CheckpointWriter::Keep::list);
+    checkpoint(records);
+    // Every record goes to rank 0's file as the run lists it (no copy of the state).
+    auto send = [&](CheckpointStream* out) {
+      CheckpointSender sender(s, *dd, records, out);
+      checkpoint(sender);
+      sender.end();
+    };
+    std::string failure;
+    bool streamed = false;
+    if (lead) {
+      try {
+        // history.csv first: once the checkpoint file is on disk, so are its rows.
+        write_file_atomic((dir / "history.csv").string(), history.str());
+        write_file_atomic(checkpoint_path(), [&](std::ostream& o) {
+          streamed = true;
+          CheckpointStream out(&o);
+          send(&out);
+        });
+      } catch (const OutputError& e) {
+        failure = e.what();
+      }
+      if (!streamed) {  // the file could not be opened: rank 0 still takes its part
+        CheckpointStream none(nullptr);
+        send(&none);
+      }
+    } else {
+      send(nullptr);
+    }
+    if (any_rank(*dd, !failure.empty())) throw OutputError(lead ? failure : "rank 0 could not write the checkpoint");
+  }
   void read_checkpoint(const std::string& path) {
     try {
       CheckpointReader in(path);
-      if (dd && dd->local_rows) {
+      if (dd && dd->local_particles && dd->size > 1) {
+        // Each rank reads the entries of the particles and rows it holds.
+        CheckpointWriter mine(CheckpointWriter::Keep::list);
+        checkpoint(mine);
+        pick_local_entries(s, *dd, mine, in);
+      } else if (dd && dd->local_rows) {
         // The file holds the whole system's bonds: each rank keeps its own rows.
-        CheckpointWriter mine;
+        CheckpointWriter mine(CheckpointWriter::Keep::list);
         checkpoint(mine);
         keep_local_bonds(s, *dd, mine.bond_records(), in);
       }
@@ -695,13 +740,13 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   // HORIZON_MPI_WHOLE_SYSTEM=1 builds the whole system on every rank as before local rows
   // existed (the same bits; for the memory comparison of docs/benchmarks.md).
   // On more than one rank, a deck that local_particles_allowed also holds only the
-  // particles it reads (local particles; not for a restart, which reads the checkpoint
-  // in the whole system's numbering); HORIZON_MPI_LOCAL_PARTICLES=0 keeps every particle
+  // particles it reads (local particles; a restart too: each rank reads its particles'
+  // entries of the checkpoint by global id); HORIZON_MPI_LOCAL_PARTICLES=0 keeps every particle
   // on every rank with local rows (the comparison of docs/benchmarks.md).
   const char* whole = std::getenv("HORIZON_MPI_WHOLE_SYSTEM");
   const char* particles_env = std::getenv("HORIZON_MPI_LOCAL_PARTICLES");
   const bool local_rows = mpi_built() && local_rows_allowed(c) && !(whole && std::string(whole) == "1");
-  const bool local_particles = local_rows && world_size() > 1 && local_particles_allowed(c) && !options.restart &&
+  const bool local_particles = local_rows && world_size() > 1 && local_particles_allowed(c) &&
                                !(particles_env && std::string(particles_env) == "0");
   if (local_particles) r.dd = std::make_unique<Decomposition>();
   r.s = local_particles ? build_system_split(c, *r.dd) : local_rows ? build_system_split(c) : build_system(c);
@@ -781,7 +826,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
     // The state of the checkpoint replaces the initial one; the index lists the frames
     // written before it (later ones, from an interrupted run, are written again).
     r.read_checkpoint(*options.restart);
-    // Every rank holds the whole state now: the ghosts follow the loaded positions.
+    // Every rank holds the state of its particles now: the ghosts follow the loaded positions.
     if (r.dd) refresh_ghosts(r.s, *r.dd);
     if (r.lead) r.pvd->write();
     if (!options.quiet)

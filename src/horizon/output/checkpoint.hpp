@@ -17,6 +17,8 @@
 // (core/state_archive.hpp), in that order. The file is written under a temporary name and
 // renamed (output/atomic_file.hpp), so a run killed while writing leaves the previous one.
 #include <cstdint>
+#include <fstream>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,7 +32,10 @@ inline constexpr uint32_t kCheckpointVersion = 1;
 // Collects records in memory; write() puts header, payload and checksum on disk.
 class CheckpointWriter : public StateArchive {
  public:
-  CheckpointWriter() : StateArchive(false) {}
+  // What put() keeps of the records: `copy` all their bytes (a file's payload); `list` no
+  // bytes, only the records' names, kinds and sizes (what a restart picks by).
+  enum class Keep { copy, list };
+  explicit CheckpointWriter(Keep keep = Keep::copy) : StateArchive(false), keep_(keep) {}
   // Atomically (temporary file and rename). Throws horizon::OutputError.
   void write(const std::string& path) const;
   const std::string& payload() const { return payload_; }
@@ -62,20 +67,35 @@ class CheckpointWriter : public StateArchive {
   void mismatch(const std::string&) override {}
 
  private:
+  Keep keep_;
   std::string payload_;
   std::vector<Spread> spread_;
   std::vector<std::string> bond_records_;
 };
 
-// Reads and checks a whole file at construction (magic, version, byte order, size,
-// checksum); then hands out its records in order. Every error is a horizon::Error that
-// names the file and what is wrong with it.
+// Checks a file at construction (magic, version, byte order, size, and the checksum of
+// the payload, read in chunks of a bounded buffer); then hands out its records in order,
+// reading each from the file when it is asked for: what it holds at a time is one record,
+// or of a record whose entries it picks (pick, keep_bond_rows) only the picked ones.
+// Every error is a horizon::Error that names the file and what is wrong with it.
 class CheckpointReader : public StateArchive {
  public:
   explicit CheckpointReader(const std::string& path);
   // After the last io(): every record was read (a longer file is an error too).
   void finish() const;
   const std::string& path() const { return path_; }
+  // The entries of one record a rank keeps (parallel/checkpoint_stream.hpp): the record
+  // holds `units` groups of entries of the whole system (its particles, its bonds or a
+  // list's particles, in global order; each group count / units elements), and reading it
+  // hands out only the groups [first, first + n) of each pair of `ranges` (ascending, not
+  // overlapping), one after the other.
+  struct Pick {
+    uint64_t units = 0;
+    std::vector<std::pair<uint64_t, uint64_t>> ranges;
+  };
+  // Picks for the records by their position in the order io() reads them (picks[k] for the
+  // k-th record); a record whose pick has no units, or past the end, is read whole.
+  void pick(std::vector<Pick> picks) { picks_ = std::move(picks); }
   // A run whose ranks hold only some bond rows (parallel/decomposition.hpp, local rows):
   // each per-bond record named in `records` holds the `global_bonds` bonds of the whole
   // system in serial order; reading it hands out only the bonds [first, first + count) of
@@ -92,13 +112,39 @@ class CheckpointReader : public StateArchive {
   void mismatch(const std::string& what) override { fail(what); }
 
  private:
+  void read(char* to, std::size_t n);  // the next n bytes of the payload
+  void skip(uint64_t n);
+
   std::string path_;
-  std::string data_;     // the payload
-  std::size_t pos_ = 0;  // next record
-  std::vector<std::string> bond_records_;                // keep_bond_rows
+  std::ifstream in_;
+  uint64_t size_ = 0;  // of the payload
+  uint64_t pos_ = 0;   // next record (bytes into the payload)
+  std::size_t index_ = 0;  // of the next record
+  std::vector<std::string> bond_records_;  // keep_bond_rows
   std::vector<std::pair<uint64_t, uint64_t>> bond_rows_;
   uint64_t global_bonds_ = 0;
-  std::string kept_;  // the last per-bond record's kept entries
+  std::vector<Pick> picks_;
+  std::string record_;  // the last record's bytes handed out
+};
+
+// Rank 0's end of a checkpoint written record by record (parallel/checkpoint_stream.hpp):
+// the same bytes as CheckpointWriter::write, put on `out` as they come, the payload's size
+// and checksum written into the header at the end (the stream must be seekable). Without
+// a stream (nullptr) it only counts: a rank whose file could not be opened still takes
+// part in the collective writing.
+class CheckpointStream {
+ public:
+  explicit CheckpointStream(std::ostream* out);
+  void record(const std::string& name, std::size_t element_size, uint64_t count);
+  void data(const char* bytes, std::size_t n);
+  // Puts the payload's size and checksum into the header.
+  void end();
+  uint64_t payload_size() const { return size_; }
+
+ private:
+  std::ostream* out_;
+  uint64_t size_ = 0;
+  uint32_t crc_ = 0;
 };
 
 }  // namespace horizon

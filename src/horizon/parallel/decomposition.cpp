@@ -496,7 +496,7 @@ uint64_t checkpoint_bond_count(const System& s) {
 void keep_local_bonds(const System& s, const Decomposition& d, const std::vector<std::string>& records,
                       CheckpointReader& in) {
   if (!d.local_rows) return;
-  if (d.local_particles) throw Error("internal error: a restart is built with the whole particle set");
+  if (d.local_particles) throw Error("internal error: a restart of local particles picks its rows by global id");
   const auto& B = s.bonds;
   std::vector<std::pair<uint64_t, uint64_t>> rows;
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
@@ -512,120 +512,10 @@ void keep_local_bonds(const System& s, const Decomposition& d, const std::vector
 
 void refresh_ghosts(System& s, Decomposition& d) { choose_ghosts(s, d); }
 
-namespace {
-// Local particles: every per-particle, per-bond and listed record of `w` replaced on rank
-// 0 by the whole system's, in global order. Each rank sends the entries of its owned
-// particles (of their bond rows) as (global id, byte count, bytes); rank 0 sorts them by
-// global id and puts them one after the other, which is the serial order of each kind
-// (a bond row's bonds keep their serial order in the local numbering, and a listed
-// record's list is a selection of particles in ascending index). A record that one rank
-// lists by particle and another as a global record with no entries (a load with no
-// particle on that rank) is taken as listed on every rank. Collective.
-void gather_checkpoint_local(const System& s, const Decomposition& d, CheckpointWriter& w) {
-#if defined(HORIZON_MPI)
-  const auto& P = s.particles;
-  const auto& B = s.bonds;
-  const std::size_t n = P.size(), nb = B.size();
-  // Every rank lists the same records in the same order (their names; only their sizes
-  // differ): checked by the count.
-  uint64_t records[2] = {w.spread().size(), ~static_cast<uint64_t>(w.spread().size())}, extreme[2] = {0, 0};
-  MPI_Allreduce(records, extreme, 2, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
-  if (extreme[0] != ~extreme[1]) throw Error("internal error: the ranks list different checkpoint records");
-  for (std::size_t index = 0; index < w.spread().size(); ++index) {
-    const CheckpointWriter::Spread r = w.spread()[index];
-    // The same kind on every rank (see above).
-    int kind[2] = {static_cast<int>(r.extent), -static_cast<int>(r.extent)}, all[2] = {0, 0};
-    MPI_Allreduce(kind, all, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    const int most = all[0], least = -all[1];
-    if (most == static_cast<int>(Extent::global)) continue;  // rank 0's values are kept
-    Extent extent = r.extent;
-    if (most != least) {
-      if (most == static_cast<int>(Extent::listed) && least == static_cast<int>(Extent::global) &&
-          (r.extent == Extent::listed || r.count == 0))
-        extent = Extent::listed;
-      else
-        throw Error("checkpoint: record '" + r.name + "' is of different kinds on different ranks");
-    }
-    const std::vector<uint32_t>* list = r.extent == Extent::listed ? r.list : nullptr;
-    if (r.extent == Extent::listed && !list) throw Error("checkpoint: record '" + r.name + "' has no particle list");
-    const std::size_t units = extent == Extent::bonds ? nb : extent == Extent::particles ? n : list ? list->size() : 0;
-    if (units > 0 && r.count % units != 0)
-      throw Error("checkpoint: record '" + r.name + "' holds " + std::to_string(r.count) + " entries for " +
-                  std::to_string(units) + " particles or bonds");
-    const std::size_t per = units > 0 ? r.element_size * (r.count / units) : 0;  // bytes per particle or bond
-    const char* data = w.bytes(r);
-    // This rank's entries: (global id, byte count, bytes) of each owned particle.
-    std::string mine;
-    auto add = [&](std::size_t i, const char* bytes, uint64_t count) {
-      const int64_t id = P.id[i];
-      mine.append(reinterpret_cast<const char*>(&id), sizeof id);
-      mine.append(reinterpret_cast<const char*>(&count), sizeof count);
-      mine.append(bytes, count);
-    };
-    if (per > 0) {
-      if (extent == Extent::listed) {
-        for (std::size_t l = 0; l < list->size(); ++l)
-          if (d.owns((*list)[l])) add((*list)[l], data + l * per, per);
-      } else if (extent == Extent::bonds) {
-        for (uint32_t i : d.owned) add(i, data + B.begin(i) * per, (B.end(i) - B.begin(i)) * per);
-      } else {
-        for (uint32_t i : d.owned) add(i, data + i * per, per);
-      }
-    }
-    if (mine.size() > static_cast<std::size_t>(INT_MAX))
-      throw Error("checkpoint: record '" + r.name + "' is too large to gather");
-    const int count = static_cast<int>(mine.size());
-    std::vector<int> counts(static_cast<std::size_t>(d.size)), displs(static_cast<std::size_t>(d.size));
-    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-    std::string gathered;
-    if (d.rank == 0) {
-      std::size_t at = 0;
-      for (int q = 0; q < d.size; ++q) {
-        displs[static_cast<std::size_t>(q)] = static_cast<int>(at);
-        at += static_cast<std::size_t>(counts[static_cast<std::size_t>(q)]);
-        if (at > static_cast<std::size_t>(INT_MAX)) throw Error("checkpoint: record '" + r.name + "' is too large to gather");
-      }
-      gathered.resize(at);
-    }
-    MPI_Gatherv(mine.data(), count, MPI_BYTE, gathered.data(), counts.data(), displs.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
-    if (d.rank != 0) continue;
-    mine = {};
-    // (id, where its bytes start, how many), sorted by id.
-    struct Entry {
-      int64_t id;
-      std::size_t at;
-      uint64_t count;
-    };
-    std::vector<Entry> entries;
-    for (std::size_t at = 0; at < gathered.size();) {
-      Entry e{};
-      std::memcpy(&e.id, gathered.data() + at, sizeof e.id);
-      std::memcpy(&e.count, gathered.data() + at + sizeof e.id, sizeof e.count);
-      e.at = at + sizeof e.id + sizeof e.count;
-      entries.push_back(e);
-      at = e.at + e.count;
-    }
-    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
-    std::string whole;
-    for (const Entry& e : entries) whole.append(gathered.data() + e.at, e.count);
-    const uint64_t expected = extent == Extent::particles ? d.global_particles : extent == Extent::bonds ? d.global_bonds : 0;
-    if (extent != Extent::listed && per > 0 && whole.size() != expected * per)
-      throw Error("internal error: checkpoint record '" + r.name + "' gathered " + std::to_string(whole.size()) +
-                  " bytes, the whole system has " + std::to_string(expected * per));
-    w.replace(index, whole);
-  }
-#else
-  (void)s, (void)d, (void)w;
-#endif
-}
-}  // namespace
-
 void gather_checkpoint(const System& s, const Decomposition& d, CheckpointWriter& w) {
   if (d.size == 1) return;
-  if (d.local_particles) {
-    gather_checkpoint_local(s, d, w);
-    return;
-  }
+  // Local particles: rank 0 writes the records as they come (parallel/checkpoint_stream.hpp).
+  if (d.local_particles) throw Error("internal error: a checkpoint of local particles is gathered whole");
   const std::size_t n = s.particles.size(), nb = s.bonds.size();
   const auto& B = s.bonds;
   for (std::size_t index = 0; index < w.spread().size(); ++index) {

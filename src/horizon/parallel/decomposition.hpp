@@ -3,12 +3,13 @@
 // several ranks"; built with -DHORIZON_MPI=ON).
 //
 // What is distributed is the work and the bonds, and where the deck allows it (local_particles_allowed: local
-// rows on more than one rank, short-range contact and checkpoints included, not a restart) the particles: a rank
+// rows on more than one rank, short-range contact, checkpoints and restarts included) the particles: a rank
 // then holds only its owned particles and the particles its rows read, in a local numbering in ascending global
 // id (Particles::id), and every index below (owner, owned, ghost lists, loads, reactions) is local; short-range
 // contact reads the particles within its reach that no bond brings as contact ghosts outside the System
 // (ContactGhosts: chosen by exchanging the owned particles' boxes; the contact lists sort by global id), and a
-// checkpoint gathers each record by global id on rank 0. The build generates the whole lattice transiently to
+// checkpoint goes to rank 0's file by global id window by window, and a restart reads each rank's entries
+// (parallel/checkpoint_stream.hpp). The build generates the whole lattice transiently to
 // decide owners and families. Rank 0 holds no gathered copy of the system (parallel/lead_view.hpp): the history
 // rows and the summary's sums are exact grid sums and maxima over the ranks' owned particles, crack tracking reads
 // the cracked particles alone, and state_crc32 streams the state through rank 0 a slice of global ids at a time.
@@ -151,9 +152,9 @@ System build_system_split(const Config& config);
 // particle), d.local_particles and d.global_particles; d.local_rows is set too.
 // Collective.
 System build_system_split(const Config& config, Decomposition& d);
-// Whether a deck may be built with local particles: an explicit run that local_rows_allowed (short-range contact reads contact
-// ghosts, a checkpoint is gathered by global id; the driver builds a restart, and a run on one rank, with every
-// particle).
+// Whether a deck may be built with local particles: an explicit run that local_rows_allowed (short-range contact
+// reads contact ghosts, a checkpoint is streamed by global id and a restart reads its particles' entries; the
+// driver builds a run on one rank with every particle).
 bool local_particles_allowed(const Config& config);
 // Whether a deck may be built with local rows: an explicit run whose every model is split
 // over ranks row by row, or a static or implicit solve split over ranks (unified models,
@@ -213,7 +214,8 @@ std::vector<double> gather_on_lead(const System& s, const Decomposition& d, cons
 // After a restart has loaded the whole state on every rank: the ghosts chosen again from
 // the loaded positions. Collective.
 void refresh_ghosts(System& s, Decomposition& d);
-// Before rank 0 writes a checkpoint: every per-particle and per-bond record of `w`
+// Before rank 0 writes a checkpoint (not with local particles: parallel/checkpoint_stream.hpp):
+// every per-particle and per-bond record of `w`
 // (CheckpointWriter::spread) is overwritten on rank 0 with each entry from the rank that
 // owns the particle (the bond's row), in index order, so that the file holds the global
 // state as a serial run would. Collective; other ranks' writers are left as they were.
