@@ -3,7 +3,7 @@
 # reactions, damage), the final state's CRC-32 (summary.json state_crc32: every
 # displacement, velocity and damage value) and the summary's energy, damage and load
 # figures. With SERIAL set, the serial program runs it too and must end in the same
-# state_crc32 (its history.csv may differ in the last bit of the energies: it adds them
+# state_crc32 and broken-bond count (its history.csv may differ in the last bit of the energies: it adds them
 # in index order, the MPI program on a grid that makes them independent of the split).
 # In ${label}_summary (parent scope): the last run's summary.json; the output directories
 # are ${WORK}/${label}_serial and ${WORK}/${label}_RxT. Extra options for every run go in
@@ -34,13 +34,19 @@ function(same_bytes label deck)
     file(READ ${out}/history.csv history)
     file(READ ${out}/summary.json summary)
     string(JSON crc GET "${summary}" state_crc32)
+    string(JSON broken GET "${summary}" damage broken_bonds)
     if(run STREQUAL "serial")
       set(serial_crc ${crc})
+      set(serial_broken ${broken})
       message(STATUS "${label}, serial: state_crc32 ${crc}")
       continue()
     endif()
     if(DEFINED serial_crc AND NOT crc EQUAL serial_crc)
       message(FATAL_ERROR "${label}: ${run} ends in state_crc32 ${crc}, the serial program in ${serial_crc}")
+    endif()
+    # The broken-bond count (structures: failed pairs; precracks' broken bonds left out).
+    if(DEFINED serial_broken AND NOT broken EQUAL serial_broken)
+      message(FATAL_ERROR "${label}: ${run} counts ${broken} broken bonds, the serial program ${serial_broken}")
     endif()
     set(result "${history}\nstate_crc32 ${crc}")
     if(reference STREQUAL "")

@@ -186,6 +186,14 @@ class Model {
 
   // Models that own the force pass (see above).
   virtual bool owns_force_pass() const { return false; }
+  // Failures a model records outside the bond rows (a structure's failed pairs), those
+  // this process keeps (on MPI ranks each failure is kept by one rank): the whole
+  // system's broken count on ranks is the bond rows' breaks plus these, summed over the
+  // ranks (parallel/decomposition.cpp gather_state).
+  virtual uint64_t failures_kept(const System& system) const {
+    (void)system;
+    return 0;
+  }
   virtual uint64_t force_pass(System& system, bool energy) {
     (void)system, (void)energy;
     return 0;

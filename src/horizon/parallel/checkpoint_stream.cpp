@@ -26,7 +26,10 @@ uint64_t global_broken_bonds(const System& s, const Decomposition& d) {
   uint64_t broken = 0;
   for (uint32_t i : d.owned)
     for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) broken += s.bonds.intact[k] != 1 ? 1 : 0;
-  return sum_over_ranks(broken);
+  for (const auto& m : s.models) broken += m->failures_kept(s);  // a structure's failed pairs
+  const uint64_t all = sum_over_ranks(broken);
+  // The precracks' broken bonds are no breaks (the serial count): left out of the total.
+  return all - std::min(all, d.broken_at_start);
 }
 
 #if defined(HORIZON_MPI)

@@ -57,7 +57,10 @@ class CheckpointSender : public StateArchive {
   const Decomposition& d_;
   CheckpointStream* out_;
 };
-// The broken bonds of the whole system (each counted in its owner's rows). Collective.
+// The broken bonds of the whole system as the serial program counts them: each counted in
+// its owner's rows, plus the failures a model keeps outside the rows (Model::failures_kept),
+// less the precracks' broken bonds (Decomposition::broken_at_start). gather_state sets
+// System::broken from it. Collective.
 uint64_t global_broken_bonds(const System& s, const Decomposition& d);
 
 }  // namespace horizon

@@ -11,6 +11,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/fe/fe_region.hpp"
 #include "horizon/output/checkpoint.hpp"
+#include "horizon/parallel/checkpoint_stream.hpp"
 #include "horizon/parallel/lead_view.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -738,21 +739,15 @@ std::vector<double> gather_on_lead(const System& s, const Decomposition& d, cons
 
 void gather_state(System& s, Decomposition& d) {
   [[maybe_unused]] auto& P = s.particles;
-  uint64_t broken = 0;
-  for (uint32_t i : d.owned)
-    for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) broken += s.bonds.intact[k] != 1 ? 1 : 0;
-  // The precracks' broken bonds are no breaks (the serial count): left out of the total.
-  auto breaks = [&](uint64_t total) { return total - std::min(total, d.broken_at_start); };
+  const uint64_t broken = global_broken_bonds(s, d);  // collective
 #if defined(HORIZON_MPI)
   if (d.local_particles && d.size > 1) {
     // The particles stay with their owners (rank 0 gathers what it reads: parallel/lead_view.hpp).
-    uint64_t all = 0;
-    MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    s.broken = breaks(all);
+    s.broken = broken;
     return;
   }
   if (d.size == 1) {  // one rank owns every particle: nothing to gather
-    s.broken = breaks(broken);
+    s.broken = broken;
     return;
   }
   allgather_owned(
@@ -770,11 +765,8 @@ void gather_state(System& s, Decomposition& d) {
         P.energy[i] = p[13];
         s.dissipated_at[i] = p[14];
       });
-  uint64_t all = 0;
-  MPI_Allreduce(&broken, &all, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-  broken = all;
 #endif
-  s.broken = breaks(broken);
+  s.broken = broken;
 }
 
 std::vector<HaloStats> gather_halo_stats(const Decomposition& d) {

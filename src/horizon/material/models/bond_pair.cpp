@@ -83,6 +83,13 @@ class BondPair final : public Model {
   bool owns_force_pass() const override { return true; }
   void setup(const ModelSetup& in) override;
   uint64_t force_pass(System& s, bool energy) override;
+  // The failed pairs this rank keeps (their keeper's owner; every pair without a split).
+  uint64_t failures_kept(const System& s) const override {
+    uint64_t n = 0;
+    for (std::size_t q = 0; q < failed_.size(); ++q)
+      n += failed_[q] && (!part_ || s.decomposition->owns(keeper_[q])) ? 1 : 0;
+    return n;
+  }
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override;
   bool support_reactions(const System& s, std::vector<Vec3>& out) const override;
