@@ -219,6 +219,28 @@ double cpu_seconds() {
          1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
 }
 
+void write_frame_files(const std::string& directory, const std::string& base, const Frame& f, double time,
+                       PvdIndex& pvd, const Decomposition* dd) {
+  const fs::path dir = directory;
+  if (!dd) {
+    const std::string name = "frames/" + base + ".vtu";
+    write_vtu((dir / name).string(), f);
+    pvd.add(time, name);
+    pvd.write();
+    return;
+  }
+  // One piece per rank, its own particles; the index once all pieces are complete.
+  write_vtu((dir / "frames" / fmt::format("{}_p{}.vtu", base, dd->rank)).string(), frame_subset(f, dd->owned));
+  any_rank(*dd, false);  // a barrier
+  if (dd->rank != 0) return;
+  std::vector<std::string> pieces;
+  for (int r = 0; r < dd->size; ++r) pieces.push_back(fmt::format("{}_p{}.vtu", base, r));
+  const std::string name = "frames/" + base + ".pvtu";
+  write_pvtu((dir / name).string(), f, pieces);
+  pvd.add(time, name);
+  pvd.write();
+}
+
 double peak_memory_bytes() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
@@ -557,24 +579,8 @@ struct ExplicitRun::State {
   void write_frame() {
     const std::string base = fmt::format("frame_{:05d}", frame_count++);
     if (s.heat.active()) update_heat_flux(s);
-    const Frame f = make_frame(s, solver->time(), solver->steps());
-    if (!dd) {
-      const std::string name = "frames/" + base + ".vtu";
-      write_vtu((dir / name).string(), f);
-      pvd->add(solver->time(), name);
-      pvd->write();
-      return;
-    }
-    // One piece per rank, its own particles; the index once all pieces are complete.
-    write_vtu((dir / "frames" / fmt::format("{}_p{}.vtu", base, dd->rank)).string(), frame_subset(f, dd->owned));
-    any_rank(*dd, false);  // a barrier
-    if (!lead) return;
-    std::vector<std::string> pieces;
-    for (int r = 0; r < dd->size; ++r) pieces.push_back(fmt::format("{}_p{}.vtu", base, r));
-    const std::string name = "frames/" + base + ".pvtu";
-    write_pvtu((dir / name).string(), f, pieces);
-    pvd->add(solver->time(), name);
-    pvd->write();
+    write_frame_files(dir.string(), base, make_frame(s, solver->time(), solver->steps()), solver->time(), *pvd,
+                      dd.get());
   }
   bool at_end() const {
     return adaptive ? solver->time() >= end_time * (1 - 1e-12) : solver->steps() >= total;

@@ -139,5 +139,10 @@ uint32_t state_digest(const System& s);
 // memory of the process [bytes].
 Frame make_frame(const System& s, double time, int64_t step);
 double peak_memory_bytes();
+// Writes frame `f` named `base` under dir/frames and adds it to `pvd` at `time`: one .vtu
+// serially (dd null); on ranks each rank its owned particles' piece and rank 0, once every
+// piece is complete, the .pvtu index. Collective when decomposed.
+void write_frame_files(const std::string& dir, const std::string& base, const Frame& f, double time,
+                       class PvdIndex& pvd, const struct Decomposition* dd);
 
 }  // namespace horizon

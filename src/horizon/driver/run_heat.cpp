@@ -171,24 +171,7 @@ int run_heat_deck(Config config, const RunOptions& options) {
   auto write_frame = [&](double t, int64_t step) {
     update_heat_flux(s);
     const std::string base = fmt::format("frame_{:05d}", frame_count++);
-    const Frame f = make_frame(s, t, step);
-    if (!dd) {
-      const std::string name = "frames/" + base + ".vtu";
-      write_vtu((dir / name).string(), f);
-      pvd.add(t, name);
-      pvd.write();
-      return;
-    }
-    // One piece per rank, its own particles; the index once all pieces are complete.
-    write_vtu((dir / "frames" / fmt::format("{}_p{}.vtu", base, dd->rank)).string(), frame_subset(f, dd->owned));
-    any_rank(*dd, false);  // a barrier
-    if (!lead) return;
-    std::vector<std::string> pieces;
-    for (int r = 0; r < dd->size; ++r) pieces.push_back(fmt::format("{}_p{}.vtu", base, r));
-    const std::string name = "frames/" + base + ".pvtu";
-    write_pvtu((dir / name).string(), f, pieces);
-    pvd.add(t, name);
-    pvd.write();
+    write_frame_files(dir.string(), base, make_frame(s, t, step), t, pvd, dd.get());
   };
   HeatSolver solver(s, config.thermal.integration);
   history << fmt::format("{:.9e},0,", 0.0) << heat_history_row(s) << "\n";
