@@ -94,6 +94,11 @@ struct ModelTraits {
   // of solver/system.hpp (Model::unified, above): the fast loops, the analytic tangent, and
   // a run split over MPI ranks without any model code.
   bool unified = false;
+  // The model's force states lie along their bonds, T = t Y/|Y| (ordinary state-based and
+  // bond-based models), it sets rows_local, and it implements begin_rows and force_row
+  // (below): the general pass then runs in its scalar form (solver/forces_ordinary.cpp),
+  // with the breaking, the model's row and the sum of the forces fused per row.
+  bool ordinary = false;
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
                                         InfluenceKind::gaussian};
   InfluenceKind default_influence = InfluenceKind::constant;
@@ -120,6 +125,22 @@ struct ForcePass {
   double* energy = nullptr;    // per particle: W_i [J/m^3]; null when not asked
   double time = 0;             // the time of this deformation
   double dt = 0;               // time since the committed state (viscous and rate laws)
+};
+
+// One evaluation of the scalar general pass (ModelTraits::ordinary), as a model sees it.
+// The pass visits each row once: it breaks the row's bonds, then asks the row's model for
+// its scalar force states (force_row), then sums the forces of the row's bonds once every
+// row has its force states.
+struct RowPass {
+  const System& system;
+  const Point4* y = nullptr;         // current positions (w: scratch of the pass, not for models)
+  const double* deformed = nullptr;  // per bond k: |Y_k| (every bond, acting or not)
+  double* t = nullptr;               // per bond k: on entry the previous pass's scalar force state
+                                     // (T = t Y/|Y|); write this pass's for every bond of the row
+                                     // (0 for a bond that does not act)
+  double* energy = nullptr;          // per particle: W_i [J/m^3]; null when not asked
+  double time = 0;                   // the time of this deformation
+  double dt = 0;                     // time since the committed state
 };
 
 // A per-particle output field (a model's history variable in the frames).
@@ -165,6 +186,18 @@ class Model {
 
   // General path: T of every bond of this model's particles; W_i when pass.energy is set.
   virtual void force_state(ForcePass& pass) { (void)pass; }
+
+  // Scalar general pass (ModelTraits::ordinary): once per pass before any row (one thread;
+  // sizing, per-pass constants), then for each row i of the model's particles that this
+  // process computes, on the thread that broke the row's bonds just before: the scalar
+  // force states t of i's bonds (RowPass::t) and W_i. `dilatation_sum` is
+  // sum_j omega V_j |xi| e over i's acting bonds, e the mechanical extension
+  // |Y| - |xi| - eps_ij |xi| (theta_i = d sum / m_i, seed 003 eq. 113), computed as the
+  // general pass's force_state models compute it, bit for bit.
+  virtual void begin_rows(const RowPass& pass) { (void)pass; }
+  virtual void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
+    (void)pass, (void)i, (void)dilatation_sum;
+  }
 
   // The trial history of the last force pass becomes the history. Energy the model
   // dissipated since the last commit (plastic work, viscous loss) is added to

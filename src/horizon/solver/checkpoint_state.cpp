@@ -37,6 +37,7 @@ void checkpoint_system(System& s, StateArchive& a) {
   a.io_particles("intact_weight", M.intact_weight);
   a.io_bonds("deformed_length", M.deformed_length);
   a.io_bonds("force_state", M.force_state);
+  a.io_bonds("force_scalar", M.force_scalar);
 
   a.io("time", s.time);
   a.io("dt", s.dt);

@@ -123,8 +123,9 @@ uint64_t general_forces(System& s, bool energy) {
   auto& M = s.model;
   const std::size_t n = P.size(), nb = B.size();
   if (M.reverse.size() != nb) M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
-  if (M.force_state.size() != nb) M.force_state.assign(nb, Vec3{});
   pack_positions(s);
+  if (scalar_general_pass(s)) return ordinary_forces(s, energy);  // solver/forces_ordinary.cpp
+  if (M.force_state.size() != nb) M.force_state.assign(nb, Vec3{});
   const bool after = M.break_after_force;
   // A decomposed run computes the rows of its active particles alone: its own and their
   // bond neighbours', whose T_ji enter f_i (parallel/decomposition.hpp).

@@ -13,7 +13,8 @@
 //      discrete form of digest sec. 9), V_j the partial-volume-scaled volume of i's
 //      family, plus the short-range contact of family pairs and of the other pairs.
 // Each particle's sums run over its own row in bond order: the same bits on any number
-// of threads. The force state and the reverse-bond index cost 32 bytes per bond.
+// of threads. The force state and the reverse-bond index cost 32 bytes per bond (16 in
+// the scalar form below).
 #include <cstdint>
 
 #include "horizon/solver/system.hpp"
@@ -22,5 +23,16 @@ namespace horizon {
 
 // Returns the directed bonds broken in this pass.
 uint64_t general_forces(System& s, bool energy);
+
+// The scalar form of the pass (solver/forces_ordinary.cpp): when every model writes its
+// force states along the bonds (ModelTraits::ordinary or unified), one scalar per bond and
+// two visits of each bond (breaking, the model's row; the sum), the same forces bit for
+// bit. general_forces takes it by itself (scalar_general_pass); ordinary_forces expects
+// what general_forces prepares (packed positions, reverse-bond index).
+bool scalar_general_pass(const System& s);
+uint64_t ordinary_forces(System& s, bool energy);
+// Tests: true makes general_forces take the vector form (Model::force_state) for every
+// model, the reference the scalar form is checked against.
+void set_general_reference(bool reference);
 
 }  // namespace horizon

@@ -20,6 +20,7 @@
 #include "horizon/material/constants.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/solver/forces_general.hpp"
 #include "horizon/solver/memory_guard.hpp"
 
 namespace horizon {
@@ -529,7 +530,13 @@ std::size_t bytes_per_bond(const System& s) {
   std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t) + (s.model.state_based ? sizeof(double) : 0);
   // The general force pass keeps each bond's force state and its reverse bond
   // (solver/forces_general.hpp); models keep their own history on top.
-  if (!s.models.all_unified() && !s.models.owner()) per_bond += sizeof(Vec3) + sizeof(uint64_t);
+  // Its scalar form (solver/forces_ordinary.cpp) keeps a scalar instead, and every bond's |Y|.
+  if (!s.models.all_unified() && !s.models.owner()) {
+    if (scalar_general_pass(s))
+      per_bond += sizeof(double) + sizeof(uint64_t) + (s.model.state_based ? 0 : sizeof(double));
+    else
+      per_bond += sizeof(Vec3) + sizeof(uint64_t);
+  }
   return per_bond;
 }
 }  // namespace

@@ -90,6 +90,8 @@ struct ModelCoefficients {
   // (written by the models) and the index of bond j->i for bond i->j.
   std::vector<Vec3> force_state;
   std::vector<uint64_t> reverse;
+  // Its scalar form (solver/forces_ordinary.cpp): q = t/|Y| of every bond, T = q Y.
+  std::vector<double> force_scalar;
   bool state_based = false;             // any particle whose forces reach two horizons (tangent probing)
   double dim = 3;                       // d in theta = (d/m) sum ...
 };

@@ -27,6 +27,7 @@ const ModelTraits& traits() {
     };
     m.thermal_strain = true;  // force_state subtracts eps_ij |xi| from e (docs/models/heat.md)
     m.rows_local = true;      // row i reads i's family, eps_p_i and e^dp of i's bonds alone
+    m.ordinary = true;        // T = t Y/|Y|: the scalar general pass (force_row)
     return m;
   }();
   return t;
@@ -38,6 +39,11 @@ class ElasticPlastic final : public Model {
   const ModelTraits& traits() const override { return horizon::traits(); }
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
+  void begin_rows(const RowPass& pass) override {
+    size_bonds(pass.system.bonds);
+    ledger_.begin_pass();
+  }
+  void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
     return ledger_.pending_energy(particles_, s.particles.volume);
@@ -51,8 +57,7 @@ class ElasticPlastic final : public Model {
   void checkpoint(StateArchive& a) override {
     a.io_particles("eps_p", eps_p_);
     a.io_particles("eps_p_trial", eps_p_trial_);
-    a.io_bonds("ep", ep_);
-    a.io_bonds("ep_trial", ep_trial_);
+    ep_.checkpoint(a, "ep", "ep_trial", ledger_.fresh);
     ledger_.checkpoint(a);
   }
  private:
@@ -60,7 +65,6 @@ class ElasticPlastic final : public Model {
     const std::size_t nb = B.size();
     if (ep_.size() == nb) return;
     ep_.assign(nb, 0);
-    ep_trial_.assign(nb, 0);
     ledger_.size_bonds(B);
   }
 
@@ -74,7 +78,7 @@ class ElasticPlastic final : public Model {
   std::vector<double> eps_p_, eps_p_trial_;
   // Per directed bond: the plastic deviatoric extension (history), committed and trial,
   // and what the ledger needs of the step (below).
-  std::vector<double> ep_, ep_trial_;
+  BondHistory<double> ep_;
   HistoryLedger ledger_;  // the step's energy bookkeeping (history_ledger.hpp)
 };
 
@@ -98,7 +102,7 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   eps_p_.assign(n, 0);
   eps_p_trial_.assign(n, 0);
   ledger_.size_particles(n);
-  ep_.clear();
+  ep_.assign(0, 0);
   size_bonds(s.bonds);
 
   // As the LPS (material/models/lps.cpp): spring, contact, critical stretch.
@@ -117,6 +121,9 @@ void ElasticPlastic::force_state(ForcePass& pass) {
   const int dim = dim_;
   const double factor = lps_deviatoric_factor(dim) * mu_;  // alpha m
   const std::size_t count = particles_.size();
+  ledger_.begin_pass();
+  const double* ep = ep_.committed();
+  double* ep_trial = ep_.trial();
   // The thermal extension eps_ij |xi| of a bond, eps_ij the mean of its ends' thermal
   // strains (System::thermal_strain; none without a temperature field).
   const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
@@ -153,7 +160,7 @@ void ElasticPlastic::force_state(ForcePass& pass) {
     for (uint64_t k = first; k < last; ++k) {
       if (!B.intact[k]) continue;
       const KindCoefficients& c = kc[B.kind[k]];
-      const double ede = deviatoric_extension(extension(k), theta, c.length, dim) - ep_[k];
+      const double ede = deviatoric_extension(extension(k), theta, c.length, dim) - ep[k];
       n2 += c.wv * ede * ede;
     }
     n2 *= alpha * alpha;
@@ -172,27 +179,26 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       const double r_len = deformed[k - first];
       const double e = extension(k);
       const bool booked_now = ledger_.open_bond(k, B.intact[k], T[k], Y, r_len, e, vj, booked);
-      const BondLedger& old = ledger_.bond[k];
-      BondLedger& now = ledger_.bond_trial[k];
+      const double old_force = ledger_.force.committed()[k], old_extension = ledger_.extension.committed()[k];
       if (booked_now) inelastic = true;
       if (!B.intact[k]) {
         T[k] = {};
-        ep_trial_[k] = ep_[k];
-        now.force = 0;
-        if (old.force != 0) {  // it acted at the start of the step
-          work += 0.5 * old.force * (e - old.extension) * vj;
+        ep_trial[k] = ep[k];
+        ledger_.force.trial()[k] = 0;
+        if (old_force != 0) {  // it acted at the start of the step
+          work += 0.5 * old_force * (e - old_extension) * vj;
           inelastic = true;
         }
         continue;
       }
       const double omega = bk.weight;
-      const double ede_trial = deviatoric_extension(e, theta, c.length, dim) - ep_[k];
+      const double ede_trial = deviatoric_extension(e, theta, c.length, dim) - ep[k];
       const double ede = beta * ede_trial;
-      ep_trial_[k] = ep_[k] + (1.0 - beta) * ede_trial;
+      ep_trial[k] = ep[k] + (1.0 - beta) * ede_trial;
       dev += c.wv * ede * ede;
       const double t = p_coef * omega * c.length + alpha * omega * ede;
-      now.force = t;
-      work += 0.5 * (old.force + t) * (e - old.extension) * vj;
+      ledger_.force.trial()[k] = t;
+      work += 0.5 * (old_force + t) * (e - old_extension) * vj;
       T[k] = (t / r_len) * Y;
     }
     const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;
@@ -205,22 +211,92 @@ void ElasticPlastic::force_state(ForcePass& pass) {
   }
 }
 
-void ElasticPlastic::commit(System& s) {
+// The scalar pass's row (ModelTraits::ordinary): the same sums in the same order as
+// force_state, on the |Y| and the dilatation sum of the pass's breaking sweep, the row's
+// bonds read from flat arrays: three visits of the row (the yield norm needs theta, the
+// forces need the return), all but the first on what the first brought into cache.
+void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
+  const System& s = pass.system;
   const auto& B = s.bonds;
+  const auto& M = s.model;
+  const KindCoefficients* kc = M.kind.data();
+  const BondKind* kinds = B.kinds.data();
+  const uint32_t* kind = B.kind.data();
+  const uint8_t* intact = B.intact.data();
+  const double* r = pass.deformed;
+  double* q = pass.t;
+  const double* ep = ep_.committed();
+  double* ep_trial = ep_.trial();
+  const double* old_force = ledger_.force.committed();
+  const double* old_extension = ledger_.extension.committed();
+  double* force_trial = ledger_.force.trial();
+  const int dim = dim_;
+  const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  auto extension = [&](uint64_t k, double length) {
+    return r[k] - length - (eps ? 0.5 * (eps[i] + eps[B.nbr[k]]) * length : 0.0);
+  };
+  const uint64_t first = B.begin(i), last = B.end(i);
+  const double m = M.weighted_volume[i];
+  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double theta = dim * dilatation_sum / m;
+  double n2 = 0;
+  for (uint64_t k = first; k < last; ++k) {
+    if (!intact[k]) continue;
+    const KindCoefficients& c = kc[kind[k]];
+    const double ede = deviatoric_extension(extension(k, c.length), theta, c.length, dim) - ep[k];
+    n2 += c.wv * ede * ede;
+  }
+  n2 *= alpha * alpha;
+  const ReturnMap rm = ep_return_map(n2, m, dim, mu_, yield_, hardening_, eps_p_[i]);
+  eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
+  const double beta = rm.scale;
+  const double p_coef = dim * bulk_ * theta / m;
+  double work = 0, dev = 0, booked = 0;
+  bool inelastic = rm.plastic_strain > 0;
+  for (uint64_t k = first; k < last; ++k) {
+    const KindCoefficients& c = kc[kind[k]];
+    const BondKind& bk = kinds[kind[k]];
+    const double vj = bk.volume * bk.fraction;
+    const double e = extension(k, c.length);
+    if (ledger_.open_bond(k, intact[k], q[k] * r[k], r[k], e, vj, booked)) inelastic = true;
+    if (!intact[k]) {
+      q[k] = 0;
+      ep_trial[k] = ep[k];
+      force_trial[k] = 0;
+      if (old_force[k] != 0) {  // it acted at the start of the step
+        work += 0.5 * old_force[k] * (e - old_extension[k]) * vj;
+        inelastic = true;
+      }
+      continue;
+    }
+    const double omega = bk.weight;
+    const double ede_trial = deviatoric_extension(e, theta, c.length, dim) - ep[k];
+    const double ede = beta * ede_trial;
+    ep_trial[k] = ep[k] + (1.0 - beta) * ede_trial;
+    dev += c.wv * ede * ede;
+    const double t = p_coef * omega * c.length + alpha * omega * ede;
+    force_trial[k] = t;
+    work += 0.5 * (old_force[k] + t) * (e - old_extension[k]) * vj;
+    q[k] = t / r[k];
+  }
+  const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;
+  ledger_.stored_trial[i] = W;
+  ledger_.loss_trial[i] = inelastic ? inelastic_loss(work, W - ledger_.stored[i], booked) : 0.0;
+  if (pass.energy) pass.energy[i] = W;
+}
+
+void ElasticPlastic::commit(System& s) {
   const auto& P = s.particles;
   const std::size_t count = particles_.size();
 #pragma omp parallel for schedule(static)
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
     if (!s.computes_row(i)) continue;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      ep_[k] = ep_trial_[k];
-      ledger_.commit_bond(k);
-    }
     eps_p_[i] = eps_p_trial_[i];
     const double loss = ledger_.commit_particle(i);
     if (loss != 0) s.dissipated_at[i] += loss * P.volume[i];
   }
+  if (ledger_.commit_bonds()) ep_.flip();  // the trial bond records become the committed ones
 }
 
 }  // namespace

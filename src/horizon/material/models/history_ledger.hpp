@@ -19,6 +19,7 @@
 // through W here.
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
@@ -27,11 +28,38 @@
 
 namespace horizon {
 
-// What the ledger keeps of each directed bond at the committed state.
-struct BondLedger {
-  double force = 0;      // the scalar force state t (0 when the bond did not act)
-  double extension = 0;  // e = |Y| - |xi|
-  uint8_t booked = 0;    // the force pass has booked the bond as broken (or it was precracked)
+// A per-bond history array of a model, committed and trial: the force pass reads the
+// committed copy and writes the trial one; a commit makes the trial copy the committed one
+// by trading the two (no copy: the bond arrays are the largest a step streams). A commit
+// that follows no pass (`fresh` false) changes nothing, as a copy of an unchanged trial
+// state would not. Rows that a pass does not compute (another rank's) are never read.
+template <class T>
+class BondHistory {
+ public:
+  const T* committed() const { return buf_[cur_].data(); }
+  T* committed() { return buf_[cur_].data(); }
+  const T* trial() const { return buf_[1 - cur_].data(); }
+  T* trial() { return buf_[1 - cur_].data(); }
+  std::size_t size() const { return buf_[0].size(); }
+  void assign(std::size_t n, const T& v) {
+    buf_[0].assign(n, v);
+    buf_[1].assign(n, v);
+    cur_ = 0;
+  }
+  void flip() { cur_ = 1 - cur_; }
+  // The committed copy (and a reference to the array of a model's output fields).
+  const std::vector<T>& committed_vector() const { return buf_[cur_]; }
+  // Checkpoint and restart: the two copies under their names. After a commit (not
+  // fresh) the trial copy is the committed one, as the model's state defines it.
+  void checkpoint(StateArchive& a, const std::string& name, const std::string& trial_name, bool fresh) {
+    if (!fresh) buf_[1 - cur_] = buf_[cur_];
+    a.io_bonds(name, buf_[cur_]);
+    a.io_bonds(trial_name, buf_[1 - cur_]);
+  }
+
+ private:
+  std::vector<T> buf_[2];
+  int cur_ = 0;
 };
 
 // The general force pass books a bond in the pass that breaks it: its flag is 0 (broken
@@ -43,43 +71,49 @@ inline bool bond_booked_now(uint8_t intact, uint8_t booked) { return !booked && 
 inline double broken_bond_booking(const Vec3& T_old, const Vec3& Y, double length, double e, double volume) {
   return length > 0 ? 0.5 * dot(T_old, Y) / length * e * volume : 0.0;
 }
-
-// The booking of a bond broken since the last commit, computed in the pass that broke it
-// (whose T still holds the previous force state) and reused by the later passes before
-// the commit (a static solver's iterations after a breaking round, which find T zeroed).
-struct PendingBooking {
-  double amount = 0;
-  uint8_t set = 0;
-};
-inline double pending_booking(PendingBooking& p, const Vec3& T_old, const Vec3& Y, double length, double e,
-                              double volume) {
-  if (!p.set) {
-    p.amount = broken_bond_booking(T_old, Y, length, e, volume);
-    p.set = 1;
-  }
-  return p.amount;
+// The same in the scalar pass (solver/forces_ordinary.cpp), whose force states lie along
+// the bond: T_old . Y/|Y| is taken as the previous pass's scalar t_old (their difference,
+// t_old (1 - cos) of the bond's rotation in one step, is far below the ledger's error),
+// exactly as that pass books the bond's energy when it breaks it, so that the two cancel.
+inline double broken_bond_booking(double t_old, double length, double e, double volume) {
+  return length > 0 ? 0.5 * t_old * e * volume : 0.0;
 }
 
 // D_i from the step's work, the change of W and the booking (all per unit V_i).
 inline double inelastic_loss(double work, double stored_change, double booked) { return work - stored_change - booked; }
 
 // The ledger state of a history model, committed and trial: per directed bond what the
-// step's work needs, per particle the stored energy density W and the trial loss D_i
-// [J/m^3]. The model calls open_bond for each bond of a pass, loss for each particle,
-// and commit_bond / commit_particle at its commit.
+// step's work needs (the scalar force state t and the extension e of the last commit, and
+// whether the bond's breaking was booked), per particle the stored energy density W and
+// the trial loss D_i [J/m^3]. The model calls begin_pass once per force pass, open_bond for
+// each bond of a pass and sets force_trial(), and commit_particle for each particle and
+// commit_bonds once at its commit. Per-bond arrays are flat (8 or 1 bytes a bond), as the
+// force pass streams them.
 struct HistoryLedger {
-  std::vector<BondLedger> bond, bond_trial;
-  std::vector<PendingBooking> pending;  // bonds broken since the commit
+  BondHistory<double> force, extension;  // t and e (t = 0 when the bond did not act)
+  BondHistory<uint8_t> booked;           // the force pass has booked the bond as broken (or it was precracked)
+  // Bonds broken since the commit: the booking, computed in the pass that broke the bond
+  // (whose force states still hold the previous pass's) and reused by the later passes
+  // before the commit (a static solver's iterations after a breaking round). Never read
+  // once the bond's breaking is committed (booked), so a commit need not clear it.
+  std::vector<double> pending_amount;
+  std::vector<uint8_t> pending_set;
   std::vector<double> stored, stored_trial, loss_trial;
+  bool fresh = false;  // a force pass ran since the last commit
 
   // Checkpoint and restart (core/state_archive.hpp).
   void checkpoint(StateArchive& a) {
-    a.io_bonds("ledger_bond", bond);
-    a.io_bonds("ledger_bond_trial", bond_trial);
-    a.io_bonds("ledger_pending", pending);
+    force.checkpoint(a, "ledger_force", "ledger_force_trial", fresh);
+    extension.checkpoint(a, "ledger_extension", "ledger_extension_trial", fresh);
+    booked.checkpoint(a, "ledger_booked", "ledger_booked_trial", fresh);
+    a.io_bonds("ledger_pending_amount", pending_amount);
+    a.io_bonds("ledger_pending_set", pending_set);
     a.io_particles("ledger_stored", stored);
     a.io_particles("ledger_stored_trial", stored_trial);
     a.io_particles("ledger_loss_trial", loss_trial);
+    uint8_t f = fresh ? 1 : 0;
+    a.io("ledger_fresh", f);
+    fresh = f != 0;
   }
 
   void size_particles(std::size_t n) {
@@ -90,34 +124,56 @@ struct HistoryLedger {
   // Sizes the bond arrays when the bond count changed; true when it did.
   bool size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();
-    if (bond.size() == nb) return false;
-    bond.assign(nb, BondLedger{});
-    pending.assign(nb, PendingBooking{});
+    if (force.size() == nb) return false;
+    force.assign(nb, 0);
+    extension.assign(nb, 0);
+    booked.assign(nb, 0);
+    pending_amount.assign(nb, 0);
+    pending_set.assign(nb, 0);
     // Bonds broken before the first pass (precracks) were never booked as dissipated.
-    for (std::size_t k = 0; k < nb; ++k) bond[k].booked = B.intact[k] ? 0 : 1;
-    bond_trial = bond;
+    for (std::size_t k = 0; k < nb; ++k) booked.committed()[k] = booked.trial()[k] = B.intact[k] ? 0 : 1;
     return true;
   }
+  void begin_pass() { fresh = true; }
   // Starts bond k's trial record at extension e; adds to `booked` what the force pass
-  // booked for it if it broke since the commit (T_old: its force state of the previous
-  // pass). Returns true when it did.
-  bool open_bond(uint64_t k, uint8_t intact, const Vec3& T_old, const Vec3& Y, double length, double e,
-                 double volume, double& booked) {
-    const BondLedger& old = bond[k];
-    BondLedger& now = bond_trial[k];
-    now = old;
-    now.extension = e;
-    if (bond_booked_now(intact, old.booked)) {
-      booked += pending_booking(pending[k], T_old, Y, length, e, volume);
-      now.booked = 1;
+  // booked for it if it broke since the commit (`booking()`: its amount, called only
+  // then). Returns true when it did. The model then sets force.trial()[k].
+  template <class Booking>
+  bool open(uint64_t k, uint8_t intact, double e, double& booked_sum, Booking&& booking) {
+    extension.trial()[k] = e;
+    const uint8_t was = booked.committed()[k];
+    booked.trial()[k] = was;
+    if (bond_booked_now(intact, was)) {
+      if (!pending_set[k]) {
+        pending_amount[k] = booking();
+        pending_set[k] = 1;
+      }
+      booked_sum += pending_amount[k];
+      booked.trial()[k] = 1;
       return true;
     }
-    if (pending[k].set) pending[k] = PendingBooking{};  // a solver restored the bond (a failed static increment)
+    if (pending_set[k]) pending_set[k] = 0;  // a solver restored the bond (a failed static increment)
     return false;
   }
-  void commit_bond(uint64_t k) {
-    bond[k] = bond_trial[k];
-    pending[k] = PendingBooking{};
+  // The vector form of the general pass (T_old: the bond's force state of the previous pass).
+  bool open_bond(uint64_t k, uint8_t intact, const Vec3& T_old, const Vec3& Y, double length, double e,
+                 double volume, double& booked_sum) {
+    return open(k, intact, e, booked_sum, [&] { return broken_bond_booking(T_old, Y, length, e, volume); });
+  }
+  // The scalar form (t_old: the bond's scalar force state of the previous pass).
+  bool open_bond(uint64_t k, uint8_t intact, double t_old, double length, double e, double volume,
+                 double& booked_sum) {
+    return open(k, intact, e, booked_sum, [&] { return broken_bond_booking(t_old, length, e, volume); });
+  }
+  // The trial bond records become the committed ones; true when they changed (a pass ran
+  // since the last commit): the model then commits its own bond arrays the same way.
+  bool commit_bonds() {
+    if (!fresh) return false;
+    force.flip();
+    extension.flip();
+    booked.flip();
+    fresh = false;
+    return true;
   }
   // Makes particle i's trial stored energy the committed one; returns its loss [J/m^3].
   double commit_particle(std::size_t i) {

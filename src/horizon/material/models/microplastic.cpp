@@ -24,6 +24,7 @@ const ModelTraits& traits() {
          ParameterSpec::Range::positive, std::nullopt},
     };
     m.rows_local = true;  // row i reads i's family and the plastic stretch of i's bonds alone
+    m.ordinary = true;    // T = t Y/|Y|: the scalar general pass (force_row)
     return m;
   }();
   return t;
@@ -55,7 +56,7 @@ class Microplastic final : public Model {
     }
     const std::size_t n = in.system.particles.size();
     ledger_.size_particles(n);
-    sbar_.clear();
+    sbar_.assign(0, 0);
     size_bonds(in.system.bonds);
   }
 
@@ -66,6 +67,9 @@ class Microplastic final : public Model {
     const Point4* y = pass.y;
     Vec3* T = pass.T;
     const std::size_t count = particles_.size();
+    ledger_.begin_pass();
+    const double* sbar_old = sbar_.committed();
+    double* sbar_trial = sbar_.trial();
 #pragma omp parallel for schedule(static)
     for (std::size_t q = 0; q < count; ++q) {
       const uint32_t i = particles_[q];
@@ -81,29 +85,28 @@ class Microplastic final : public Model {
         const double r = norm(Y);
         const double e = r - bk.length;
         const bool booked_now = ledger_.open_bond(k, B.intact[k], T[k], Y, r, e, vj, booked);
-        const BondLedger& old = ledger_.bond[k];
-        BondLedger& now = ledger_.bond_trial[k];
+        const double old_force = ledger_.force.committed()[k], old_extension = ledger_.extension.committed()[k];
         inelastic = inelastic || booked_now;
         if (!B.intact[k]) {
           T[k] = {};
-          sbar_trial_[k] = sbar_[k];
-          now.force = 0;
-          if (old.force != 0) {
-            work += 0.5 * old.force * (e - old.extension) * vj;
+          sbar_trial[k] = sbar_old[k];
+          ledger_.force.trial()[k] = 0;
+          if (old_force != 0) {
+            work += 0.5 * old_force * (e - old_extension) * vj;
             inelastic = true;
           }
           continue;
         }
         const double stretch = e / bk.length;
-        const double sbar = microplastic_return(stretch, sbar_[k], yield_);
-        sbar_trial_[k] = sbar;
-        if (sbar != sbar_[k]) inelastic = true;
+        const double sbar = microplastic_return(stretch, sbar_old[k], yield_);
+        sbar_trial[k] = sbar;
+        if (sbar != sbar_old[k]) inelastic = true;
         // t = omega (c/2) (s - sbar): half the pair force (eq. 19); W_i = sum_j (t/2)(s - sbar) |xi| v_j,
         // the elastic part of the micropotential w = c (s - sbar)^2 |xi|/2 halved between the ends.
         const double t = bk.weight * 0.5 * c_ * (stretch - sbar);
         W += 0.5 * t * (stretch - sbar) * bk.length * vj;
-        now.force = t;
-        work += 0.5 * (old.force + t) * (e - old.extension) * vj;
+        ledger_.force.trial()[k] = t;
+        work += 0.5 * (old_force + t) * (e - old_extension) * vj;
         T[k] = (r > 0 ? t / r : 0.0) * Y;
       }
       ledger_.stored_trial[i] = W;
@@ -114,20 +117,68 @@ class Microplastic final : public Model {
     }
   }
 
+  void begin_rows(const RowPass& pass) override {
+    size_bonds(pass.system.bonds);
+    ledger_.begin_pass();
+  }
+
+  // The scalar pass's row (ModelTraits::ordinary): force_state's sums in the same order,
+  // on the |Y| of the pass's breaking sweep, from flat bond arrays.
+  void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override {
+    (void)dilatation_sum;  // bond-based
+    const auto& B = pass.system.bonds;
+    const BondKind* kinds = B.kinds.data();
+    const uint32_t* kind = B.kind.data();
+    const uint8_t* intact = B.intact.data();
+    const double* r = pass.deformed;
+    double* q = pass.t;
+    const double* sbar_old = sbar_.committed();
+    double* sbar_trial = sbar_.trial();
+    const double* old_force = ledger_.force.committed();
+    const double* old_extension = ledger_.extension.committed();
+    double* force_trial = ledger_.force.trial();
+    double W = 0, work = 0, booked = 0;
+    bool inelastic = false;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const BondKind& bk = kinds[kind[k]];
+      const double vj = bk.volume * bk.fraction;
+      const double e = r[k] - bk.length;
+      inelastic = ledger_.open_bond(k, intact[k], q[k] * r[k], r[k], e, vj, booked) || inelastic;
+      if (!intact[k]) {
+        q[k] = 0;
+        sbar_trial[k] = sbar_old[k];
+        force_trial[k] = 0;
+        if (old_force[k] != 0) {
+          work += 0.5 * old_force[k] * (e - old_extension[k]) * vj;
+          inelastic = true;
+        }
+        continue;
+      }
+      const double stretch = e / bk.length;
+      const double sbar = microplastic_return(stretch, sbar_old[k], yield_);
+      sbar_trial[k] = sbar;
+      if (sbar != sbar_old[k]) inelastic = true;
+      const double t = bk.weight * 0.5 * c_ * (stretch - sbar);  // force_state's t, W and work
+      W += 0.5 * t * (stretch - sbar) * bk.length * vj;
+      force_trial[k] = t;
+      work += 0.5 * (old_force[k] + t) * (e - old_extension[k]) * vj;
+      q[k] = r[k] > 0 ? t / r[k] : 0.0;
+    }
+    ledger_.stored_trial[i] = W;
+    ledger_.loss_trial[i] = inelastic ? inelastic_loss(work, W - ledger_.stored[i], booked) : 0.0;
+    if (pass.energy) pass.energy[i] = W;
+  }
+
   void commit(System& s) override {
-    const auto& B = s.bonds;
     const std::size_t count = particles_.size();
 #pragma omp parallel for schedule(static)
     for (std::size_t q = 0; q < count; ++q) {
       const uint32_t i = particles_[q];
       if (!s.computes_row(i)) continue;
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-        sbar_[k] = sbar_trial_[k];
-        ledger_.commit_bond(k);
-      }
       const double loss = ledger_.commit_particle(i);
       if (loss != 0) s.dissipated_at[i] += loss * s.particles.volume[i];
     }
+    if (ledger_.commit_bonds()) sbar_.flip();  // the trial bond records become the committed ones
   }
 
   double pending_dissipation(const System& s) const override {
@@ -140,26 +191,24 @@ class Microplastic final : public Model {
     const auto& B = s.bonds;
     if (sbar_.size() == B.size())
       for (uint32_t i : particles_)
-        for (uint64_t k = B.begin(i); k < B.end(i); ++k) v[i] = std::max(v[i], std::abs(sbar_[k]));
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k) v[i] = std::max(v[i], std::abs(sbar_.committed()[k]));
     out.push_back({"plastic_stretch", std::move(v)});
   }
 
   void checkpoint(StateArchive& a) override {
-    a.io_bonds("sbar", sbar_);
-    a.io_bonds("sbar_trial", sbar_trial_);
+    sbar_.checkpoint(a, "sbar", "sbar_trial", ledger_.fresh);
     ledger_.checkpoint(a);
   }
  private:
   void size_bonds(const Bonds& B) {
     if (sbar_.size() == B.size()) return;
     sbar_.assign(B.size(), 0);
-    sbar_trial_.assign(B.size(), 0);
     ledger_.size_bonds(B);
   }
 
   double c_ = 0, yield_ = 0;
   std::vector<uint32_t> particles_;
-  std::vector<double> sbar_, sbar_trial_;  // plastic stretch per directed bond, committed and trial
+  BondHistory<double> sbar_;  // plastic stretch per directed bond, committed and trial
   HistoryLedger ledger_;
 };
 

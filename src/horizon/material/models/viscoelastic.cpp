@@ -31,6 +31,7 @@ const ModelTraits& traits() {
     };
     m.thermal_strain = true;  // force_state subtracts eps_ij |xi| from e (docs/models/heat.md)
     m.rows_local = true;      // row i reads i's family, i's theta/back dilatations and its bonds' e^d, back extensions
+    m.ordinary = true;        // T = t Y/|Y|: the scalar general pass (force_row)
     return m;
   }();
   return t;
@@ -42,6 +43,8 @@ class Viscoelastic final : public Model {
   const ModelTraits& traits() const override { return horizon::traits(); }
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
+  void begin_rows(const RowPass& pass) override;
+  void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
     return ledger_.pending_energy(particles_, s.particles.volume);
@@ -55,13 +58,11 @@ class Viscoelastic final : public Model {
     a.io_particles("theta", theta_);
     a.io_particles("theta_trial", theta_trial_);
     a.io_particles("dissipated", dissipated_);
-    a.io_bonds("ed", ed_);
-    a.io_bonds("ed_trial", ed_trial_);
+    ed_.checkpoint(a, "ed", "ed_trial", ledger_.fresh);
     for (std::size_t b = 0; b < kMaxViscousBranches; ++b) {
       a.io_particles("theta_back_" + std::to_string(b), theta_back_[b]);
       a.io_particles("theta_back_trial_" + std::to_string(b), theta_back_trial_[b]);
-      a.io_bonds("back_" + std::to_string(b), back_[b]);
-      a.io_bonds("back_trial_" + std::to_string(b), back_trial_[b]);
+      back_[b].checkpoint(a, "back_" + std::to_string(b), "back_trial_" + std::to_string(b), ledger_.fresh);
     }
     ledger_.checkpoint(a);
   }
@@ -70,11 +71,7 @@ class Viscoelastic final : public Model {
     const std::size_t nb = B.size();
     if (ed_.size() == nb) return;
     ed_.assign(nb, 0);
-    ed_trial_.assign(nb, 0);
-    for (int b = 0; b < branches_; ++b) {
-      back_[b].assign(nb, 0);
-      back_trial_[b].assign(nb, 0);
-    }
+    for (int b = 0; b < branches_; ++b) back_[b].assign(nb, 0);
     ledger_.size_bonds(B);
   }
 
@@ -96,8 +93,9 @@ class Viscoelastic final : public Model {
   std::vector<double> dissipated_;
   // Per directed bond: e^d and the back extension of each branch, committed and trial,
   // and what the ledger needs of the step.
-  std::vector<double> ed_, ed_trial_;
-  std::array<std::vector<double>, kMaxViscousBranches> back_, back_trial_;
+  BondHistory<double> ed_;
+  std::array<BondHistory<double>, kMaxViscousBranches> back_;
+  std::array<SlsStep, kMaxViscousBranches> step_{};  // the branches' update over the pass's dt (begin_rows)
   HistoryLedger ledger_;  // the step's energy bookkeeping (history_ledger.hpp)
 };
 
@@ -140,7 +138,7 @@ void Viscoelastic::setup(const ModelSetup& in) {
     theta_back_[b].assign(b < branches_ ? nd : 0, 0);
     theta_back_trial_[b].assign(b < branches_ ? nd : 0, 0);
   }
-  ed_.clear();
+  ed_.assign(0, 0);
   size_bonds(s.bonds);
 
   // As the LPS (material/models/lps.cpp): spring, contact, critical stretch.
@@ -162,6 +160,9 @@ void Viscoelastic::force_state(ForcePass& pass) {
   const double factor = lps_deviatoric_factor(dim) * mu_;  // alpha m
   const double linf = lambda_inf_;
   const std::size_t count = particles_.size();
+  ledger_.begin_pass();
+  const double* ed_old_all = ed_.committed();
+  double* ed_trial = ed_.trial();
   // The thermal extension eps_ij |xi| of a bond (System::thermal_strain; none without a
   // temperature field).
   const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
@@ -213,33 +214,32 @@ void Viscoelastic::force_state(ForcePass& pass) {
       const double r = std::sqrt(dot(Y, Y));
       const double e = r - c.length - thermal(i, B.nbr[k], c.length);
       ledger_.open_bond(k, B.intact[k], T[k], Y, r, e, vj, booked);
-      const BondLedger& old = ledger_.bond[k];
-      BondLedger& now = ledger_.bond_trial[k];
+      const double old_force = ledger_.force.committed()[k], old_extension = ledger_.extension.committed()[k];
       if (!B.intact[k]) {
         T[k] = {};
-        ed_trial_[k] = ed_[k];
-        for (int b = 0; b < nbranch; ++b) back_trial_[b][k] = back_[b][k];
-        now.force = 0;
-        work += 0.5 * old.force * (e - old.extension) * vj;  // it acted at the start of the step (or 0)
+        ed_trial[k] = ed_old_all[k];
+        for (int b = 0; b < nbranch; ++b) back_[b].trial()[k] = back_[b].committed()[k];
+        ledger_.force.trial()[k] = 0;
+        work += 0.5 * old_force * (e - old_extension) * vj;  // it acted at the start of the step (or 0)
         continue;
       }
       const double omega = bk.weight;
       const double ed = e - theta * c.length / dim;  // e^d (seed 003 sec. 15; digest sec. 8)
-      const double ed_old = ed_[k];
-      ed_trial_[k] = ed;
+      const double ed_old = ed_old_all[k];
+      ed_trial[k] = ed;
       double dev = linf * ed;  // lambda_inf e^d + sum_b lambda_b (e^d - e^b)
       double springs = linf * ed * ed;
       for (int b = 0; b < nbranch; ++b) {
-        const double back = sls_back_extension(step[b], back_[b][k], ed_old, ed);
-        back_trial_[b][k] = back;
+        const double back = sls_back_extension(step[b], back_[b].committed()[k], ed_old, ed);
+        back_[b].trial()[k] = back;
         const double q = ed - back;
         dev += lambda_[b] * q;
         springs += lambda_[b] * q * q;
       }
       stored += c.wv * springs;
       const double t = p_coef * omega * c.length + alpha * omega * dev;
-      now.force = t;
-      work += 0.5 * (old.force + t) * (e - old.extension) * vj;
+      ledger_.force.trial()[k] = t;
+      work += 0.5 * (old_force + t) * (e - old_extension) * vj;
       T[k] = (t / r) * Y;
     }
     const double W = 0.5 * bulk_elastic_ * theta * theta + 0.5 * dilatation_shear_ * dil_springs + 0.5 * alpha * stored;
@@ -250,8 +250,91 @@ void Viscoelastic::force_state(ForcePass& pass) {
   }
 }
 
-void Viscoelastic::commit(System& s) {
+void Viscoelastic::begin_rows(const RowPass& pass) {
+  size_bonds(pass.system.bonds);
+  ledger_.begin_pass();
+  for (int b = 0; b < branches_; ++b) step_[b] = sls_step(pass.dt, tau_[b]);
+}
+
+// The scalar pass's row (ModelTraits::ordinary): force_state's sums in the same order, on
+// the |Y| and the dilatation sum of the pass's breaking sweep, from flat bond arrays.
+void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
+  const System& s = pass.system;
   const auto& B = s.bonds;
+  const auto& M = s.model;
+  const KindCoefficients* kc = M.kind.data();
+  const BondKind* kinds = B.kinds.data();
+  const uint32_t* kind = B.kind.data();
+  const uint8_t* intact = B.intact.data();
+  const double* r = pass.deformed;
+  double* q = pass.t;
+  const double* ed_old_all = ed_.committed();
+  double* ed_trial = ed_.trial();
+  const double* old_force = ledger_.force.committed();
+  const double* old_extension = ledger_.extension.committed();
+  double* force_trial = ledger_.force.trial();
+  const int dim = dim_, nbranch = branches_;
+  const double linf = lambda_inf_;
+  const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  const uint64_t first = B.begin(i), last = B.end(i);
+  const double m = M.weighted_volume[i];
+  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double theta = dim * dilatation_sum / m;
+  double pressure = bulk_elastic_ * theta, dil_springs = 0;
+  if (dilatation_shear_ != 0) {
+    double relaxing = linf * theta;
+    dil_springs = linf * theta * theta;
+    for (int b = 0; b < nbranch; ++b) {
+      const double back = sls_back_extension(step_[b], theta_back_[b][i], theta_[i], theta);
+      theta_back_trial_[b][i] = back;
+      relaxing += lambda_[b] * (theta - back);
+      dil_springs += lambda_[b] * (theta - back) * (theta - back);
+    }
+    theta_trial_[i] = theta;
+    pressure += dilatation_shear_ * relaxing;
+  }
+  const double p_coef = dim * pressure / m;
+  double work = 0, booked = 0, stored = 0;
+  for (uint64_t k = first; k < last; ++k) {
+    const KindCoefficients& c = kc[kind[k]];
+    const BondKind& bk = kinds[kind[k]];
+    const double vj = bk.volume * bk.fraction;
+    const double e = r[k] - c.length - (eps ? 0.5 * (eps[i] + eps[B.nbr[k]]) * c.length : 0.0);
+    ledger_.open_bond(k, intact[k], q[k] * r[k], r[k], e, vj, booked);
+    if (!intact[k]) {
+      q[k] = 0;
+      ed_trial[k] = ed_old_all[k];
+      for (int b = 0; b < nbranch; ++b) back_[b].trial()[k] = back_[b].committed()[k];
+      force_trial[k] = 0;
+      work += 0.5 * old_force[k] * (e - old_extension[k]) * vj;  // it acted at the start of the step (or 0)
+      continue;
+    }
+    const double omega = bk.weight;
+    const double ed = e - theta * c.length / dim;  // e^d (seed 003 sec. 15; digest sec. 8)
+    const double ed_old = ed_old_all[k];
+    ed_trial[k] = ed;
+    double dev = linf * ed;  // lambda_inf e^d + sum_b lambda_b (e^d - e^b)
+    double springs = linf * ed * ed;
+    for (int b = 0; b < nbranch; ++b) {
+      const double back = sls_back_extension(step_[b], back_[b].committed()[k], ed_old, ed);
+      back_[b].trial()[k] = back;
+      const double qb = ed - back;
+      dev += lambda_[b] * qb;
+      springs += lambda_[b] * qb * qb;
+    }
+    stored += c.wv * springs;
+    const double t = p_coef * omega * c.length + alpha * omega * dev;
+    force_trial[k] = t;
+    work += 0.5 * (old_force[k] + t) * (e - old_extension[k]) * vj;
+    q[k] = t / r[k];
+  }
+  const double W = 0.5 * bulk_elastic_ * theta * theta + 0.5 * dilatation_shear_ * dil_springs + 0.5 * alpha * stored;
+  ledger_.stored_trial[i] = W;
+  ledger_.loss_trial[i] = inelastic_loss(work, W - ledger_.stored[i], booked);
+  if (pass.energy) pass.energy[i] = W;
+}
+
+void Viscoelastic::commit(System& s) {
   const auto& P = s.particles;
   const std::size_t count = particles_.size();
   const int nbranch = branches_;
@@ -259,11 +342,6 @@ void Viscoelastic::commit(System& s) {
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
     if (!s.computes_row(i)) continue;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      ed_[k] = ed_trial_[k];
-      ledger_.commit_bond(k);
-      for (int b = 0; b < nbranch; ++b) back_[b][k] = back_trial_[b][k];
-    }
     if (dilatation_shear_ != 0) {
       theta_[i] = theta_trial_[i];
       for (int b = 0; b < nbranch; ++b) theta_back_[b][i] = theta_back_trial_[b][i];
@@ -273,6 +351,10 @@ void Viscoelastic::commit(System& s) {
       s.dissipated_at[i] += loss * P.volume[i];
       dissipated_[i] += loss;
     }
+  }
+  if (ledger_.commit_bonds()) {  // the trial bond records become the committed ones
+    ed_.flip();
+    for (int b = 0; b < nbranch; ++b) back_[b].flip();
   }
 }
 

@@ -1,0 +1,192 @@
+// The scalar form of the general force pass (solver/forces_general.hpp, issue 31): when
+// every model of the run writes its force states along the bonds (ModelTraits::ordinary,
+// or the unified form), T_ij = t_ij Y/|Y|, the pass keeps one scalar per bond instead of
+// a vector, and visits the bonds twice instead of four times:
+//
+//   1. per row i (one thread): break i's bonds by the critical-stretch law, store |Y| of
+//      each, sum the dilatation of the acting bonds, then ask i's model for the scalar
+//      force states of the row (Model::force_row) while the row is in cache;
+//   2. per row i, once every row has its force states: f_i = sum_j (q_ij + q_ji) Y_ij V_j
+//      with q = t/|Y| (seed 003 eq. 33 with T = t M, digest sec. 9), q_ji read through the
+//      reverse-bond index (8 bytes, where the vector form gathers 24), and the contact.
+//
+// It computes the forces of the vector form bit for bit: T_ij - T_ji = q_ij Y - q_ji (-Y)
+// is q_ij Y + q_ji Y in every component, and |Y|, e, theta are the same expressions in the
+// same order. Only the energy booked for a bond broken in the pass differs, by the
+// bond's rotation in one step (material/models/history_ledger.hpp broken_bond_booking).
+// A bond's row and the reverse bond's row decide its breaking alike (the same stretch
+// bits), so a model's row reads only its own bonds' flags: the rows need no order.
+#include <cmath>
+#include <limits>
+
+#include "horizon/solver/forces.hpp"
+#include "horizon/solver/forces_general.hpp"
+
+namespace horizon {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool g_reference = false;
+
+// The free thermal extension eps_ij |xi| of bond i-j (solver/forces_general.cpp).
+inline double thermal_extension(const double* eps, std::size_t i, std::size_t j, double length) {
+  return eps ? 0.5 * (eps[i] + eps[j]) * length : 0.0;
+}
+
+struct RowOut {
+  double smin = kInf, lost = 0, dilatation = 0;
+  uint64_t broken = 0;
+};
+
+// Pass 1 of row i before its model: breaking (as forces_general.cpp break_row), |Y| of
+// every bond, and sum_j omega V_j |xi| e over the bonds that act in this pass.
+RowOut break_row(System& s, std::size_t i, bool after, const double* eps, const double* soft) {
+  auto& B = s.bonds;
+  auto& M = s.model;
+  const Point4* pt = M.packed.data();
+  const KindCoefficients* kind = M.kind.data();
+  double* deformed = M.deformed_length.data();
+  const double* q = M.force_scalar.data();
+  const Point4 pi = pt[i];
+  auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
+  const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
+  RowOut out;
+  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    const KindCoefficients& kc = kind[B.kind[k]];
+    const Point4 pj = pt[B.nbr[k]];
+    const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+    const double r = std::sqrt(dot(Y, Y));
+    deformed[k] = r;
+    if (!B.intact[k]) continue;
+    const double e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length), stretch = e * kc.inv_length;
+    out.smin = stretch < out.smin ? stretch : out.smin;
+    const double wj = soft ? scaled(pj.w, soft[B.nbr[k]]) : pj.w;
+    const double s0 = wi < wj ? wi : wj;
+    if (stretch > s0) {
+      B.intact[k] = after ? 2 : 0;
+      ++out.broken;
+      // (1/2) t e V_j with t = q_old |Y| (history_ledger.hpp broken_bond_booking).
+      if (r > 0) out.lost += 0.5 * (q[k] * r) * e * B.volume[k];
+      M.intact_weight[i] -= kc.damage;
+      if (!after) continue;
+    }
+    out.dilatation += kc.wv * kc.length * e;
+  }
+  return out;
+}
+
+// The force states of a unified model's row (forces_general.cpp unified_force_states).
+void unified_row(System& s, std::size_t i, double dilatation, const double* eps, double* energy) {
+  auto& B = s.bonds;
+  auto& M = s.model;
+  const KindCoefficients* kind = M.kind.data();
+  const double* deformed = M.deformed_length.data();
+  double* q = M.force_scalar.data();
+  double Pi = 0;
+  if (M.dilatation_coef[i] != 0) {
+    const double theta = M.dim * dilatation / M.weighted_volume[i];
+    M.theta[i] = theta;
+    Pi = theta * (M.dilatation_coef[i] - M.deviatoric_coef[i] / M.dim);
+    M.P[i] = Pi;
+  }
+  double W = 0;
+  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    if (!B.intact[k]) {
+      q[k] = 0;
+      continue;
+    }
+    const KindCoefficients& kc = kind[B.kind[k]];
+    const double r = deformed[k], e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length);
+    const double omega = B.kinds[B.kind[k]].weight;
+    const double t = omega * (Pi * kc.length + M.deviatoric_coef[i] * e + M.pair_coef[i] * e * kc.inv_length);
+    q[k] = t / r;
+    W += 0.5 * t * e * B.volume[k];  // W_i = (1/2) sum_j t_ij e_ij V_j (exact for the unified form)
+  }
+  if (energy) energy[i] = W;
+}
+
+}  // namespace
+
+void set_general_reference(bool reference) { g_reference = reference; }
+
+bool scalar_general_pass(const System& s) {
+  if (g_reference) return false;
+  for (const auto& m : s.models)
+    if (!m->unified() && !m->traits().ordinary) return false;
+  return true;
+}
+
+uint64_t ordinary_forces(System& s, bool energy) {
+  auto& P = s.particles;
+  auto& B = s.bonds;
+  auto& M = s.model;
+  const std::size_t n = P.size(), nb = B.size();
+  if (M.deformed_length.size() != nb) M.deformed_length.assign(nb, 0);
+  if (M.force_scalar.size() != nb) M.force_scalar.assign(nb, 0);
+  const bool after = M.break_after_force;
+  const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  // A temperature-dependent critical stretch scales each end's s0 (forces_general.cpp).
+  const double* soft = s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data();
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t rows = act ? act->size() : n;
+  if (energy)
+    for (std::size_t i = 0; i < n; ++i) P.energy[i] = 0;
+
+  const RowPass pass{s, M.packed.data(), M.deformed_length.data(), M.force_scalar.data(),
+                     energy ? P.energy.data() : nullptr, s.time, s.dt};
+  // Per material: its model when it takes rows, null for a unified one.
+  std::vector<Model*> row_model(s.models.size(), nullptr);
+  for (std::size_t m = 0; m < s.models.size(); ++m)
+    if (!s.models[m].unified()) {
+      row_model[m] = &s.models[m];
+      row_model[m]->begin_rows(pass);
+    }
+
+  uint64_t broken = 0;
+#pragma omp parallel for schedule(static) reduction(+ : broken)
+  for (std::size_t a = 0; a < rows; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
+    const RowOut o = break_row(s, i, after, eps, soft);
+    broken += o.broken;
+    if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
+    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    M.min_stretch_next[i] = o.smin;
+    if (Model* m = row_model[P.material[i]])
+      m->force_row(pass, i, o.dilatation);
+    else
+      unified_row(s, i, o.dilatation, eps, pass.energy);
+  }
+
+  const Point4* pt = M.packed.data();
+  const double* q = M.force_scalar.data();
+  const uint64_t* rev = M.reverse.data();
+#pragma omp parallel for schedule(static)
+  for (std::size_t a = 0; a < rows; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
+    const Point4 pi = pt[i];
+    Vec3 f;
+    double w = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const Point4 pj = pt[B.nbr[k]];
+      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+      if (B.intact[k]) f += B.volume[k] * (q[k] * Y + q[rev[k]] * Y);
+      const KindCoefficients& kc = M.kind[B.kind[k]];
+      Vec3 fc;
+      double wc = 0;
+      if (family_contact(kc, Y, fc, wc)) {
+        f += fc;
+        w += wc;
+      }
+    }
+    P.f[i] = f;
+    if (energy) P.energy[i] += w;
+  }
+  if (after)
+    for (std::size_t k = 0; k < nb; ++k)
+      if (B.intact[k] == 2) B.intact[k] = 0;
+  return broken;
+}
+
+}  // namespace horizon
