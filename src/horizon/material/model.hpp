@@ -135,9 +135,11 @@ struct RowPass {
   const System& system;
   const Point4* y = nullptr;         // current positions (w: scratch of the pass, not for models)
   const double* deformed = nullptr;  // per bond k: |Y_k| (every bond, acting or not)
-  double* t = nullptr;               // per bond k: on entry the previous pass's scalar force state
-                                     // (T = t Y/|Y|); write this pass's for every bond of the row
-                                     // (0 for a bond that does not act)
+  double* t = nullptr;               // per bond k: q = t/|Y| (T = q Y); write this pass's for every
+                                     // bond of the row (0 for a bond that does not act). On entry
+                                     // the previous pass's q, except for a bond that this pass's
+                                     // breaking sweep broke: there the previous pass's t (what the
+                                     // sweep booked as dissipated, history_ledger.hpp)
   double* energy = nullptr;          // per particle: W_i [J/m^3]; null when not asked
   double time = 0;                   // the time of this deformation
   double dt = 0;                     // time since the committed state

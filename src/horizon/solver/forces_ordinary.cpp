@@ -30,6 +30,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 bool g_reference = false;
 
+// How far ahead the sum asks for the reverse bond's force state (bonds).
+constexpr uint64_t kPrefetch = 64;
+
 // The free thermal extension eps_ij |xi| of bond i-j (solver/forces_general.cpp).
 inline double thermal_extension(const double* eps, std::size_t i, std::size_t j, double length) {
   return eps ? 0.5 * (eps[i] + eps[j]) * length : 0.0;
@@ -48,7 +51,7 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* eps, const 
   const Point4* pt = M.packed.data();
   const KindCoefficients* kind = M.kind.data();
   double* deformed = M.deformed_length.data();
-  const double* q = M.force_scalar.data();
+  double* q = M.force_scalar.data();
   const Point4 pi = pt[i];
   auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
   const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
@@ -57,7 +60,7 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* eps, const 
     const KindCoefficients& kc = kind[B.kind[k]];
     const Point4 pj = pt[B.nbr[k]];
     const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-    const double r = std::sqrt(dot(Y, Y));
+    const double r = std::sqrt(dot(Y, Y)), r_old = deformed[k];
     deformed[k] = r;
     if (!B.intact[k]) continue;
     const double e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length), stretch = e * kc.inv_length;
@@ -67,8 +70,12 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* eps, const 
     if (stretch > s0) {
       B.intact[k] = after ? 2 : 0;
       ++out.broken;
-      // (1/2) t e V_j with t = q_old |Y| (history_ledger.hpp broken_bond_booking).
-      if (r > 0) out.lost += 0.5 * (q[k] * r) * e * B.volume[k];
+      // (1/2) t_old e V_j, t_old = q_old |Y_old| the bond's force state of the previous
+      // pass; the row's model books the same from q[k] (RowPass::t, history_ledger.hpp
+      // broken_bond_booking).
+      const double t_old = q[k] * r_old;
+      q[k] = t_old;
+      if (r > 0) out.lost += 0.5 * t_old * e * B.volume[k];
       M.intact_weight[i] -= kc.damage;
       if (!after) continue;
     }
@@ -136,13 +143,16 @@ uint64_t ordinary_forces(System& s, bool energy) {
 
   const RowPass pass{s, M.packed.data(), M.deformed_length.data(), M.force_scalar.data(),
                      energy ? P.energy.data() : nullptr, s.time, s.dt};
-  // Per material: its model when it takes rows, null for a unified one.
-  std::vector<Model*> row_model(s.models.size(), nullptr);
+  // Per material: its model when it takes rows, null for a unified one (kept between
+  // passes: no allocation in a step).
+  static thread_local std::vector<Model*> row_model;
+  row_model.assign(s.models.size(), nullptr);
   for (std::size_t m = 0; m < s.models.size(); ++m)
     if (!s.models[m].unified()) {
       row_model[m] = &s.models[m];
       row_model[m]->begin_rows(pass);
     }
+  Model* const* model_of = row_model.data();  // (the threads of the loop below see this thread's vector)
 
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
@@ -153,7 +163,7 @@ uint64_t ordinary_forces(System& s, bool energy) {
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
     P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
     M.min_stretch_next[i] = o.smin;
-    if (Model* m = row_model[P.material[i]])
+    if (Model* m = model_of[P.material[i]])
       m->force_row(pass, i, o.dilatation);
     else
       unified_row(s, i, o.dilatation, eps, pass.energy);
@@ -162,20 +172,29 @@ uint64_t ordinary_forces(System& s, bool energy) {
   const Point4* pt = M.packed.data();
   const double* q = M.force_scalar.data();
   const uint64_t* rev = M.reverse.data();
+  const uint32_t* nbr = B.nbr.data();
+  const uint32_t* kind = B.kind.data();
+  const uint8_t* intact = B.intact.data();
+  const BondKind* kinds = B.kinds.data();
+  const KindCoefficients* kc = M.kind.data();
 #pragma omp parallel for schedule(static)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
     const Point4 pi = pt[i];
     Vec3 f;
     double w = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const Point4 pj = pt[B.nbr[k]];
+    const uint64_t first = B.begin(i), last = B.end(i);
+    for (uint64_t k = first; k < last; ++k) {
+      // q_ji lies in j's row, up to a horizon of rows away: out of cache on a large body.
+      // The reverse index is read in order, so the line is asked for kPrefetch bonds ahead.
+      if (k + kPrefetch < nb) __builtin_prefetch(q + rev[k + kPrefetch]);
+      const Point4 pj = pt[nbr[k]];
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-      if (B.intact[k]) f += B.volume[k] * (q[k] * Y + q[rev[k]] * Y);
-      const KindCoefficients& kc = M.kind[B.kind[k]];
+      const BondKind& bk = kinds[kind[k]];
+      if (intact[k]) f += (bk.volume * bk.fraction) * (q[k] * Y + q[rev[k]] * Y);  // V_j (q_ij + q_ji) Y
       Vec3 fc;
       double wc = 0;
-      if (family_contact(kc, Y, fc, wc)) {
+      if (family_contact(kc[kind[k]], Y, fc, wc)) {
         f += fc;
         w += wc;
       }

@@ -258,7 +258,7 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
     const BondKind& bk = kinds[kind[k]];
     const double vj = bk.volume * bk.fraction;
     const double e = extension(k, c.length);
-    if (ledger_.open_bond(k, intact[k], q[k] * r[k], r[k], e, vj, booked)) inelastic = true;
+    if (ledger_.open_bond(k, intact[k], q[k], r[k], e, vj, booked)) inelastic = true;
     if (!intact[k]) {
       q[k] = 0;
       ep_trial[k] = ep[k];

@@ -73,8 +73,9 @@ inline double broken_bond_booking(const Vec3& T_old, const Vec3& Y, double lengt
 }
 // The same in the scalar pass (solver/forces_ordinary.cpp), whose force states lie along
 // the bond: T_old . Y/|Y| is taken as the previous pass's scalar t_old (their difference,
-// t_old (1 - cos) of the bond's rotation in one step, is far below the ledger's error),
-// exactly as that pass books the bond's energy when it breaks it, so that the two cancel.
+// t_old (1 - cos) of the bond's turn in one step, is far below the ledger's error; RowPass::t
+// holds t_old for a bond broken in the pass), exactly as that pass books the bond's energy
+// when it breaks it, so that the two cancel.
 inline double broken_bond_booking(double t_old, double length, double e, double volume) {
   return length > 0 ? 0.5 * t_old * e * volume : 0.0;
 }

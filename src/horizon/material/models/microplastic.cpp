@@ -143,7 +143,7 @@ class Microplastic final : public Model {
       const BondKind& bk = kinds[kind[k]];
       const double vj = bk.volume * bk.fraction;
       const double e = r[k] - bk.length;
-      inelastic = ledger_.open_bond(k, intact[k], q[k] * r[k], r[k], e, vj, booked) || inelastic;
+      inelastic = ledger_.open_bond(k, intact[k], q[k], r[k], e, vj, booked) || inelastic;
       if (!intact[k]) {
         q[k] = 0;
         sbar_trial[k] = sbar_old[k];

@@ -300,7 +300,7 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
     const BondKind& bk = kinds[kind[k]];
     const double vj = bk.volume * bk.fraction;
     const double e = r[k] - c.length - (eps ? 0.5 * (eps[i] + eps[B.nbr[k]]) * c.length : 0.0);
-    ledger_.open_bond(k, intact[k], q[k] * r[k], r[k], e, vj, booked);
+    ledger_.open_bond(k, intact[k], q[k], r[k], e, vj, booked);
     if (!intact[k]) {
       q[k] = 0;
       ed_trial[k] = ed_old_all[k];
