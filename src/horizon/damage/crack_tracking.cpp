@@ -8,7 +8,6 @@
 
 namespace horizon {
 
-// Least-squares slope of length against time over samples with t in [t0, t1].
 double fitted_speed(const std::vector<std::pair<double, double>>& h, double l0, double l1) {
   double n = 0, st = 0, sl = 0, stt = 0, stl = 0;
   for (const auto& [t, l] : h)
@@ -24,15 +23,7 @@ double fitted_speed(const std::vector<std::pair<double, double>>& h, double l0, 
   return den > 0 ? (n * stl - st * sl) / den : 0;
 }
 
-// Thermal shock figures (2-D): for each thermal boundary condition, the cracks crossing
-// the lattice row 2 horizons inside its layer (damage >= kCrackDamage; cracks closer than
-// 2 horizons count as one), their positions along the layer and their spacing
-// (damage/crack_metrics.hpp, cracks_across_line).
-// Every particle is read once, streamed through rank 0 in global order (stream_on_lead:
-// O(N / ranks) held there, collective): first each layer's extent and mean position and the
-// body's centre, then, on rank 0, the particles of each measuring row (a lattice row: small
-// by nature), whose damage decides where a crack crosses. Returns the figures on rank 0
-// (an empty object elsewhere).
+// Edge cracks of a thermal shock (crack_tracking.hpp): two streams through rank 0.
 nlohmann::ordered_json edge_cracks(const Config& c, const System& s, const Decomposition* d) {
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
   const std::size_t nb = s.heat.boundary.size();

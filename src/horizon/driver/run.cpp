@@ -1,40 +1,10 @@
+// The explicit run (driver/run.hpp ExplicitRun): set-up, steps, stop; run_deck. Its state
+// is driver/explicit_state.hpp; its end (history.csv, summary.json) explicit_summary.cpp.
 #include "horizon/driver/run.hpp"
-#include "horizon/driver/explicit_state.hpp"
 
-#include <fmt/format.h>
-#include <omp.h>
 #include <sched.h>
-#include <sys/resource.h>
-#include <zlib.h>
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <limits>
-#include <memory>
-#include <nlohmann/json.hpp>
-#include <sstream>
-
-#include "horizon/core/interrupt.hpp"
-#include "horizon/core/progress.hpp"
-#include "horizon/core/version.hpp"
-#include "horizon/driver/summary.hpp"
-#include "horizon/fe/fe_region.hpp"
-#include "horizon/damage/crack_angle.hpp"
-#include "horizon/damage/crack_metrics.hpp"
-#include "horizon/loading/loads.hpp"
-#include "horizon/output/atomic_file.hpp"
-#include "horizon/output/checkpoint.hpp"
-#include "horizon/parallel/checkpoint_stream.hpp"
-#include "horizon/output/pvd.hpp"
-#include "horizon/parallel/decomposition.hpp"
-#include "horizon/parallel/lead_view.hpp"
-#include "horizon/solver/forces.hpp"
-#include "horizon/output/vtu.hpp"
-#include "horizon/solver/explicit.hpp"
-#include "horizon/thermal/heat.hpp"
+#include "horizon/driver/explicit_state.hpp"
 
 namespace horizon {
 
