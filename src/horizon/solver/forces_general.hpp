@@ -17,7 +17,7 @@
 // the scalar form below).
 #include <cstdint>
 
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 
