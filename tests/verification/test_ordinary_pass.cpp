@@ -4,7 +4,9 @@
 // (ModelTraits::ordinary), 40 steps of an impact that yields and breaks bonds give the
 // same displacements and velocities (to 1e-12 relative; the pass is built to give the
 // same bits), the same broken bonds, and the same energy ledger up to the booking of
-// broken bonds (history_ledger.hpp broken_bond_booking: 1e-9 of the initial energy);
+// broken bonds (history_ledger.hpp broken_bond_booking: t_old for T_old.Y/|Y|, a
+// difference of t_old (1 - cos) of a bond's turn in one step, 4e-4 rad here; 1e-6 of the
+// initial energy; an ordinary model's own booking cancels it exactly);
 // the scalar pass gives the same bits on 1 and 2 threads. A run that mixes a unified
 // model (LPS) with an ordinary one takes the scalar pass too, unified rows included.
 #include <gtest/gtest.h>
@@ -106,7 +108,7 @@ void check(const std::string& name, const std::string& text) {
   EXPECT_EQ(fast.broken, ref.broken);
   EXPECT_LE(du, 1e-12);
   EXPECT_LE(dv, 1e-12);
-  EXPECT_LE(dd, 1e-9);
+  EXPECT_LE(dd, 1e-6);
   EXPECT_TRUE(same_bits(fast.u, two.u)) << "the scalar pass differs between 1 and 2 threads";
   EXPECT_TRUE(same_bits(fast.v, two.v));
 }
