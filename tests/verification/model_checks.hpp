@@ -72,7 +72,11 @@ struct MaterialPoint {
     const auto& B = s.bonds;
     for (uint64_t k = B.begin(centre); k < B.end(centre); ++k) {
       const Vec3 xi = P.X[B.nbr[k]] - xc;
-      const Vec3& T = s.model.force_state[k];
+      // The force state of bond k: the vector pass's T, or the scalar pass's q Y
+      // (solver/forces_ordinary.cpp), whichever the pass wrote.
+      const auto& M = s.model;
+      const Vec3 Y = (P.X[B.nbr[k]] + P.u[B.nbr[k]]) - (P.X[centre] + P.u[centre]);
+      const Vec3 T = M.force_state.size() == B.size() ? M.force_state[k] : M.force_scalar[k] * Y;
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) sigma(a, b) += T[a] * xi[b] * B.volume[k];
     }

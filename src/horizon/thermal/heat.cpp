@@ -259,8 +259,13 @@ void update_thermal_strain(System& s) {
 double thermal_strain_work(const System& s, const std::vector<double>& delta) {
   const auto& B = s.bonds;
   const auto& P = s.particles;
+  // The scalar force state along bond k from the last pass: T.Y/|Y| of the vector general
+  // pass, or q |Y| of its scalar form (solver/forces_ordinary.cpp, T = q Y).
   const auto& T = s.model.force_state;
-  if (delta.size() != P.size() || T.size() != B.size()) return 0;
+  const auto& Q = s.model.force_scalar;
+  const bool vector = T.size() == B.size();
+  if (delta.size() != P.size() || (!vector && Q.size() != B.size())) return 0;
+  auto along = [&](uint64_t k, const Vec3& Y, double len) { return vector ? dot(T[k], Y) / len : Q[k] * len; };
   if (s.decomposition) {
     // On ranks: each owned row's term, summed on the grid (the same total at any rank
     // count; the serial program keeps its reduction below).
@@ -276,7 +281,7 @@ double thermal_strain_work(const System& s, const std::vector<double>& delta) {
         const Vec3 Y = P.X[j] + P.u[j] - P.X[i] - P.u[i];
         const double len = norm(Y);
         if (len == 0) continue;
-        row += dot(T[k], Y) / len * (0.5 * (delta[i] + delta[j]) * B.length[k]) * B.volume[k];
+        row += along(k, Y, len) * (0.5 * (delta[i] + delta[j]) * B.length[k]) * B.volume[k];
       }
       terms[r] = -row * P.volume[i];
     }
@@ -294,7 +299,7 @@ double thermal_strain_work(const System& s, const std::vector<double>& delta) {
       const Vec3 Y = P.X[j] + P.u[j] - P.X[i] - P.u[i];
       const double r = norm(Y);
       if (r == 0) continue;
-      const double t = dot(T[k], Y) / r;
+      const double t = along(k, Y, r);
       const double de = 0.5 * (delta[i] + delta[j]) * B.length[k];
       row += t * de * B.volume[k];
     }
