@@ -15,6 +15,7 @@
 #include "horizon/deck/conditions.hpp"
 #include "horizon/deck/contact.hpp"
 #include "horizon/deck/materials.hpp"
+#include "horizon/deck/peridigm/function_string.hpp"
 #include "horizon/deck/peridigm/peridigm.hpp"
 #include "horizon/deck/peridigm/xml.hpp"
 #include "horizon/deck/reader.hpp"
@@ -622,7 +623,8 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
   YAML::Node root;
   try {
     // Peridigm's XML decks become YAML with the same lines and columns (deck/peridigm/xml.hpp).
-    root = YAML::Load(peridigm::looks_like_xml(yaml_text) ? peridigm::xml_to_yaml(yaml_text, file_name) : yaml_text);
+    root = YAML::Load(peridigm::looks_like_xml(yaml_text) ? peridigm::xml_to_yaml(yaml_text, file_name)
+                                                          : peridigm::unescape_peridigm_braces(yaml_text));
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }
@@ -667,7 +669,8 @@ std::string convert_peridigm_deck(const std::string& path) {
   DeckContext ctx{path, 3, PlaneMode::none, nullptr};
   YAML::Node root;
   try {
-    root = YAML::Load(peridigm::looks_like_xml(text.str()) ? peridigm::xml_to_yaml(text.str(), path) : text.str());
+    root = YAML::Load(peridigm::looks_like_xml(text.str()) ? peridigm::xml_to_yaml(text.str(), path)
+                                                           : peridigm::unescape_peridigm_braces(text.str()));
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }

@@ -15,6 +15,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/expression.hpp"
+#include "horizon/deck/peridigm/function_string.hpp"
 #include "horizon/deck/reader.hpp"
 
 namespace horizon::peridigm {
@@ -308,19 +309,33 @@ std::vector<int> read_ids(Translation& t, const Item& item) {
   return ids;
 }
 
-// An expression in x, y, z, t as Horizon's muParser reads it; Peridigm's RTCompiler
-// accepts C statements (if/else) that muParser does not.
+// An expression in x, y, z, t as Horizon's muParser reads it: kept as written when
+// muParser reads it, else translated from Peridigm's C-style function string
+// (function_string.hpp), whose mistakes are reported at their line and column.
 std::string read_value(Translation& t, const Item& item) {
   if (!item.node.IsScalar()) fail_expected(t.ctx, item, "a number or an expression in x, y, z and t");
   const std::string text = item.node.Scalar();
   try {
     Expression e(text);
-    (void)e(0, 0, 0, 0);
-  } catch (const Error& err) {
-    t.ctx.fail(item.mark, item.path + ": cannot read the expression '" + text + "' (" + err.what() +
-                              "); Horizon reads muParser expressions (docs/input.md), not C statements such as if/else");
+    return text;
+  } catch (const Error&) {
   }
-  return text;
+  std::string translated;
+  try {
+    translated = function_string_to_muparser(text);
+  } catch (const FunctionStringError& err) {
+    // A quoted scalar's text starts one column after its mark (the quote).
+    YAML::Mark at = item.mark;
+    at.column += static_cast<int>(err.offset) + (item.node.Tag() == "!" ? 1 : 0);
+    t.ctx.fail(at, item.path + ": cannot read the function string: " + err.what());
+  }
+  try {
+    Expression e(translated);
+  } catch (const Error& err) {
+    t.ctx.fail(item.mark, item.path + ": the function string '" + text + "' became '" + translated +
+                              "', which does not read (" + err.what() + ")");
+  }
+  return translated;
 }
 
 }  // namespace
