@@ -14,6 +14,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/deck/conditions.hpp"
 #include "horizon/deck/contact.hpp"
+#include "horizon/deck/history_columns.hpp"
 #include "horizon/deck/materials.hpp"
 #include "horizon/deck/peridigm/function_string.hpp"
 #include "horizon/deck/peridigm/peridigm.hpp"
@@ -482,7 +483,9 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
 void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   const auto item = m.find("output");
   if (!item) return;
-  MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every", "damage_measure", "checkpoint"});
+  MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every", "damage_measure", "checkpoint",
+                           "history_columns"});
+  if (auto h = o.find("history_columns")) config.output.history_columns = read_history_columns(ctx, *h, config);
   if (auto d = o.find("damage_measure")) {
     config.output.damage_measure =
         read_enum<DamageMeasure>(ctx, *d, {{"weighted", DamageMeasure::weighted}, {"volume", DamageMeasure::volume}});
@@ -594,7 +597,7 @@ Config read_config(DeckContext& ctx, const Item& root) {
       config.initial_conditions.push_back(read_initial_condition(ctx, i, regions));
   if (auto l = m.find("loads"))
     for (const auto& i : read_list(ctx, *l)) config.loads.push_back(read_load(ctx, i, regions));
-  if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c);
+  if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c, config.bodies);
   read_solver(ctx, m, config);
   if (!config.contact.projectiles.empty() && config.solver.type != SolverType::explicit_dynamic) {
     const Item p = *MapReader(ctx, *m.find("contact"), {"short_range", "indenters", "projectiles"}).find("projectiles");

@@ -20,6 +20,7 @@
 #include "horizon/core/interrupt.hpp"
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
+#include "horizon/driver/history_columns.hpp"
 #include "horizon/driver/summary.hpp"
 #include "horizon/fe/fe_region.hpp"
 #include "horizon/damage/crack_angle.hpp"
@@ -574,7 +575,7 @@ struct ExplicitRun::State {
       for (const Vec3& v : body_velocities(s)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
     if (s.fe) history << fmt::format(",{:.9e}", s.fe->coupling_work);
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
-    history << "\n";
+    history << history_columns_row(config, s) << "\n";
   }
   void write_frame() {
     const std::string base = fmt::format("frame_{:05d}", frame_count++);
@@ -815,7 +816,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   // Finite-element regions: the work of the force-based coupling (fe/fe_region.hpp).
   if (r.s.fe) r.history << ",fe_coupling_work";
   if (r.s.heat.active()) r.history << ",thermal_work,heat_time," << heat_history_header(r.s);
-  r.history << "\n";
+  r.history << history_columns_header(c) << "\n";
   r.crack = std::make_unique<CrackTracker>(c);
 
   r.total = r.check.steps;

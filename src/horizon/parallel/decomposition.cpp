@@ -391,7 +391,7 @@ void decompose(System& s, Decomposition& d, double skin) {
   d.rank = world_rank();
   d.size = world_size();
   d.skin = skin;
-  d.contact_reach = s.contact.enabled() ? s.contact.config().max_distance * s.spacing : 0.0;
+  d.contact_reach = s.contact.reach();
   // The rows of a particle read values its neighbours computed in the same pass: the
   // dilatation (state-based models) and the critical stretch lowered by the neighbour's
   // smallest stretch of the previous pass (the compression factor alpha). Then the

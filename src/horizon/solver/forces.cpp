@@ -937,7 +937,7 @@ void build_kind_coefficients(System& s, DamageMeasure measure) {
     const auto i = static_cast<std::size_t>(end_i[q]), j = static_cast<std::size_t>(end_j[q]);
     c.pair = c.wv * (M.pair_coef[i] + M.pair_coef[j]) / b.length;
     if (contact) {
-      c.contact_d = s.contact.distance(b.length);
+      c.contact_d = s.contact.family_distance(b.length);
       c.contact_d2 = c.contact_d * c.contact_d;
       // LAMMPS PERI uses the neighbour's whole volume here, not the partial one.
       c.contact_k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * b.volume;

@@ -182,7 +182,7 @@ class Translator {
     ++pos_;
     std::string e = expression();
     if (op.text != "=") e = "(" + read(target) + op.text.substr(0, 1) + e + ")";
-    expect(";");
+    if (peek().kind != Token::end) expect(";");  // the last statement's ';' may be left out
     env_[target.text] = {e, false, target.at};
   }
 
