@@ -69,8 +69,9 @@ void ShortRangeContact::update(const System& s, const Point4* y, bool first) {
   }
   if (!touch_.empty() && !ghost_y_.empty())
     throw Error("contact.short_range.pairs is not supported yet on several ranks with local particles");
+  const bool filter = !touch_.empty();
+  const bool screen = local || filter;
   auto touches = [&](uint32_t a, uint32_t b) {
-    if (touch_.empty()) return true;
     const auto ba = static_cast<std::size_t>(s.particles.block[a]), bb = static_cast<std::size_t>(s.particles.block[b]);
     return ba < touch_bodies_ && bb < touch_bodies_ && touch_[ba * touch_bodies_ + bb];
   };
@@ -118,8 +119,9 @@ void ShortRangeContact::update(const System& s, const Point4* y, bool first) {
           if (it == cells_.end()) continue;
           for (uint32_t j : it->second) {
             if (j == m || norm2(y_built_[j] - p) > reach2) continue;
-            if (local && !m_computed && !computed(j)) continue;
-            if (!touches(m, j)) continue;
+            // One test for both screens, so that a serial run without `pairs` pays no more
+            // per candidate than before `pairs` existed.
+            if (screen && ((local && !m_computed && !computed(j)) || (filter && !touches(m, j)))) continue;
             if (std::binary_search(first_bond, last_bond, j)) continue;
             // A row this rank does not hold (a run split over ranks with local rows,
             // parallel/decomposition.hpp) is empty: the family test then reads j's row
@@ -232,7 +234,8 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
           }
         } else {
           const Vec3& Xj = held ? P.X[j] : g->X[j - n];
-          const double d = distance(norm(Xj - P.X[i]));
+          // distance() of the LAMMPS law, inlined (contact is on here).
+          const double d = std::min(config_.reference_fraction * norm(Xj - P.X[i]), cutoff_);
           const double r = std::sqrt(r2);
           if (!(r < d)) continue;
           const double cj = held ? M.contact_micromodulus[j] : g->micromodulus[j - n];
