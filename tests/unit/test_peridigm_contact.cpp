@@ -117,5 +117,30 @@ TEST(PeridigmContact, PairsKeepOnlyTheListedBodies) {
   EXPECT_NEAR(all.particles.f[2].x, -f, 1e-12 * f);
 }
 
+TEST(PeridigmContact, BodiesWithoutBondsBetweenThemTouch) {
+  // Two one-particle bodies one spacing apart, within a horizon: bonded by default; with
+  // bonds_between_bodies false (Omit Bonds Between Blocks: All) they meet through contact.
+  Config c;
+  c.dimension = 3;
+  c.spacing = kH;
+  c.horizon = kDelta;
+  c.lattice_origin = Vec3{};
+  c.materials = {test::make_material("pmb", 1e9, 0.25)};
+  for (int k = 0; k < 2; ++k)
+    c.bodies.push_back(BodyConfig{"b" + std::to_string(k), "solid",
+                                  Shape::box({k * kH - 0.5 * kH, -0.5 * kH, -0.5 * kH},
+                                             {k * kH + 0.5 * kH, 0.5 * kH, 0.5 * kH})});
+  c.contact.short_range = peridigm_law(1.3 * kH);
+  EXPECT_EQ(build_system(c).bonds.size(), 2u);
+  c.bonds_between_bodies = false;
+  System s = build_system(c);
+  EXPECT_EQ(s.bonds.size(), 0u);
+  s.particles.u[1] = {-0.1 * kH, 0, 0};
+  compute_forces(s, false);
+  const double f = peridigm_force(s.particles.volume[1], 1.3 * kH, 0.9 * kH);
+  EXPECT_NEAR(s.particles.f[0].x, -f, 1e-12 * f);
+  EXPECT_NEAR(s.particles.f[1].x, f, 1e-12 * f);
+}
+
 }  // namespace
 }  // namespace horizon

@@ -176,6 +176,18 @@ TEST(PeridigmImport, ContactInteractionsBecomePeridigmLaw) {
   wrong.replace(wrong.find("\"block_2\""), 9, "\"block_7\"");
   EXPECT_NE(error_of(write_deck("wrong.yaml", wrong)).find("wrong.yaml:32:23: error:"), std::string::npos)
       << error_of(write_deck("wrong.yaml", wrong));
+  // Omit Bonds Between Blocks: All keeps the blocks apart but for contact.
+  {
+    std::string path = write_deck("omit.yaml", contact), text;
+    std::ifstream in(path);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+    text.insert(text.find("  Materials:"), "    Omit Bonds Between Blocks: \"All\"\n");
+    std::ofstream(path) << text;
+    EXPECT_FALSE(convert(path)["bonds_between_bodies"].as<bool>());
+    text.replace(text.find("\"All\""), 5, "\"Some\"");
+    std::ofstream(path) << text;
+    EXPECT_NE(error_of(path).find("None, All; found 'Some'"), std::string::npos) << error_of(path);
+  }
   std::string timed = contact;
   timed.replace(timed.find("0.3"), 3, "\"if(t < 1)\\{ value = 1; \\} else\\{ value = 0; \\}\"");
   EXPECT_NE(error_of(write_deck("timed.yaml", timed)).find("varies in time"), std::string::npos);

@@ -360,6 +360,9 @@ struct Config {
   std::vector<MaterialConfig> materials;
   std::vector<BodyConfig> bodies;
   std::vector<PrecrackConfig> precracks;
+  // false: no bond joins particles of two bodies (Peridigm's Omit Bonds Between Blocks:
+  // All); the bodies meet through contact only.
+  bool bonds_between_bodies = true;
   std::map<std::string, Shape> regions;
   std::vector<std::string> no_fail_regions;
   std::vector<InitialConditionConfig> initial_conditions;

@@ -34,7 +34,7 @@ const std::vector<std::string> kTopKeys = {
     "horizon_factor", "lattice_origin",  "partial_volume",     "materials", "bodies",  "precracks",
     "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output",
     "contact",        "thermal",
-    "structure"};
+    "structure",      "bonds_between_bodies"};
 
 // A key that only makes sense in one dimension is an error in the others.
 void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* key, int dimension) {
@@ -581,6 +581,14 @@ Config read_config(DeckContext& ctx, const Item& root) {
   }
   if (auto p = m.find("precracks"))
     for (const auto& i : read_list(ctx, *p)) config.precracks.push_back(read_precrack(ctx, i));
+  if (auto b = m.find("bonds_between_bodies")) {
+    config.bonds_between_bodies = read_bool(ctx, *b);
+    if (!config.bonds_between_bodies)
+      for (const auto& body : config.bodies)
+        if (body.discretization == Discretization::fe)
+          ctx.fail(*b->key_mark, b->path + ": false is not supported with finite-element bodies (body '" +
+                                     body.name + "')");
+  }
   if (auto n = m.find("no_fail_regions")) {
     if (!n->node.IsSequence()) fail_expected(ctx, *n, "a list of region names, e.g. [top, bottom]");
     for (const auto& i : read_list(ctx, *n)) {

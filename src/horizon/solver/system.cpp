@@ -273,6 +273,12 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
     b.intact.assign(b.nbr.size(), 1);
   }
   if (config.partial_volume) apply_partial_volume(s.bonds, config.horizon, config.spacing);
+  // bonds_between_bodies: false: each body keeps its bonds to itself (Peridigm's Omit
+  // Bonds Between Blocks: All); such pairs are never bonded, so contact sees them.
+  if (!config.bonds_between_bodies)
+    rewrite_bonds(s.bonds, [&](std::size_t i, uint64_t k) {
+      return s.particles.block[i] == s.particles.block[s.bonds.nbr[k]] ? BondAction::keep : BondAction::drop;
+    });
   check_precracks_cut(s, config, split);
   // The owned rows' intact bonds: cut_bonds drops a bond or keeps it broken (keep_broken).
   auto owned_intact = [&] {

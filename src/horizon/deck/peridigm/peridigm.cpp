@@ -446,8 +446,9 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     }
   }
   if (auto o = d.find("Omit Bonds Between Blocks")) {
-    if (squash(read_string(ctx, *o)) != "none")
-      ctx.fail(o->mark, o->path + ": only None is supported (Horizon bonds every pair within the horizon)");
+    const std::string w = squash(read_string(ctx, *o));
+    if (w == "all") t.out["bonds_between_bodies"] = false;  // each block bonded to itself alone
+    else if (w != "none") fail_choice(ctx, *o, read_string(ctx, *o), {"None", "All"}, "Omit Bonds Between Blocks value");
   }
   if (kind == "textfile") {
     for (const char* k : {"NeighborhoodType", "TensorProduct3DMeshGenerator"})
