@@ -293,6 +293,12 @@ TEST(PeridigmImport, RectangularPlaneBondFilterIsAPrecrack) {
   std::ofstream(path) << text;
   EXPECT_EQ(flow(convert(path)["precracks"]),
             "[{polygon: [[-10, 0, -10], [0, 0, -10], [0, 0, 10], [-10, 0, 10]]}]");
+  // A bottom vector with a part along the normal (PrecrackedPlateTwoCracks): only its part
+  // in the plane counts.
+  text.replace(text.find("Bottom_Unit_Vector_Y: 0.0"), 25, "Bottom_Unit_Vector_Y: 4.0");
+  std::ofstream(path) << text;
+  EXPECT_EQ(flow(convert(path)["precracks"]),
+            "[{polygon: [[-10, 0, -10], [0, 0, -10], [0, 0, 10], [-10, 0, 10]]}]");
   text.replace(text.find("Rectangular_Plane"), 17, "Disk");
   std::ofstream(path) << text;
   EXPECT_NE(error_of(path).find("bond filter Horizon reads"), std::string::npos);

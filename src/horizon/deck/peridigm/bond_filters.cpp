@@ -36,11 +36,19 @@ YAML::Node read_bond_filters(const DeckContext& ctx, const Item& item) {
     };
     const Vec3 n = vec("Normal", "the filter plane's normal");
     const Vec3 corner = vec("Lower_Left_Corner", "the rectangle's lower left corner");
-    const Vec3 b = vec("Bottom_Unit_Vector", "the direction of the rectangle's bottom edge");
+    const Vec3 given = vec("Bottom_Unit_Vector", "the direction of the rectangle's bottom edge");
     const double lb = read_positive(ctx, m.get("Bottom_Length", "the bottom edge's length, > 0"));
     const double ls = read_positive(ctx, m.get("Side_Length", "the side edge's length, > 0"));
-    if (!(std::abs(norm(n) - 1) < 1e-9) || !(std::abs(norm(b) - 1) < 1e-9) || !(std::abs(dot(n, b)) < 1e-9))
-      ctx.fail(e.value.mark, e.value.path + ": the Normal and the Bottom_Unit_Vector must be orthogonal unit vectors");
+    if (!(std::abs(norm(n) - 1) < 1e-9)) ctx.fail(e.value.mark, e.value.path + ": the Normal must be a unit vector");
+    // A point of the plane is inside when its offset from the corner projects onto the
+    // bottom vector within [0, Bottom_Length] (and onto the side within [0, Side_Length]),
+    // so a part of the bottom vector along the normal changes nothing: only its part in
+    // the plane counts, which must be a unit vector (PrecrackedPlateTwoCracks gives
+    // (1, 4, 0) with the normal (0, 1, 0): the in-plane part is (1, 0, 0)).
+    const Vec3 b = given - n * dot(given, n);
+    if (!(std::abs(norm(b) - 1) < 1e-9))
+      ctx.fail(e.value.mark, e.value.path + ": the Bottom_Unit_Vector's part in the filter's plane must be a unit "
+                                            "vector (the normal's part aside)");
     // The side edge runs along bottom x normal: with the normal +y and the bottom +x, the
     // rectangle rises along +z from its lower left corner (PrecrackedPlate's filter,
     // corner z = -10 and side 20, spans the plate's thickness z in [-10, 10]).
