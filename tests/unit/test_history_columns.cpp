@@ -76,6 +76,30 @@ TEST(HistoryColumns, HeaderAndValues) {
   EXPECT_DOUBLE_EQ(v[17], 4.0);  // force density times volume, summed over left
 }
 
+TEST(HistoryColumns, ModelFields) {
+  // A model's output field: the correspondence model's von_mises_stress, zero at rest;
+  // a field no model of the run writes is an error naming the ones there are.
+  std::string deck = kDeck;
+  deck.replace(deck.find("model: pmb"), 10, "model: correspondence, poissons_ratio: 0.25");
+  const auto right = deck.find("  - {name: right");  // a lone particle: no family to correspond
+  deck.erase(right, deck.find('\n', right) + 1 - right);
+  deck += "    - {name: vm, field: von_mises_stress, body: left, reduce: max}\n";
+  const Config c = parse_deck(deck, "fields.yaml");
+  System s = build_system(c);
+  EXPECT_EQ(cells(history_columns_row(c, s)).back(), 0.0);
+  std::string other = kDeck;
+  other += "    - {name: vm, field: von_mises_stress}\n";
+  const Config o = parse_deck(other, "fields.yaml");
+  System so = build_system(o);
+  try {
+    history_columns_row(o, so);
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("no model of this run writes the field 'von_mises_stress'"),
+              std::string::npos) << e.what();
+  }
+}
+
 TEST(HistoryColumns, DeckErrors) {
   std::string bad = kDeck;
   bad.replace(bad.find("body: left}"), 10, "body: lift");

@@ -234,12 +234,17 @@ TEST(PeridigmImport, ComputeClassesBecomeHistoryColumns) {
             "Reaction, quantity: force, body: block_2, reduce: sum}, {name: Max_Volume, quantity: volume, region: "
             "Probe Set, reduce: max}]");
   EXPECT_EQ(flow(n["regions"]["Probe Set"]), "{points: [[3, 0, 0], [4, 0, 0]]}");
+  // Von_Mises_Stress is the models' field of that name.
+  std::string stress = computes;
+  stress.replace(stress.find("\"Force\""), 7, "\"Von_Mises_Stress\"");
+  EXPECT_EQ(flow(convert(write_deck("computes_vm.yaml", stress, bc))["output"]["history_columns"][3]),
+            "{name: Reaction, field: von_mises_stress, body: block_2, reduce: sum}");
   // An unknown variable is an error at its place.
   std::string wrong = computes;
-  wrong.replace(wrong.find("\"Force\""), 7, "\"Von_Mises_Stress\"");
+  wrong.replace(wrong.find("\"Force\""), 7, "\"Surface_Correction_Factor\"");
   const std::string e = error_of(write_deck("computes_bad.yaml", wrong, bc));
   EXPECT_NE(e.find("computes_bad.yaml:"), std::string::npos) << e;
-  EXPECT_NE(e.find("Von_Mises_Stress"), std::string::npos) << e;
+  EXPECT_NE(e.find("Surface_Correction_Factor"), std::string::npos) << e;
 }
 
 // --- materials and bond filters ---

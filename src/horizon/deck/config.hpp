@@ -182,6 +182,7 @@ enum class HistoryReduce { sum, min, max, nearest };
 struct HistoryColumnConfig {
   std::string name;
   HistoryQuantity quantity = HistoryQuantity::displacement;
+  std::string field;   // instead of quantity: a scalar output field of the models (von_mises_stress, ...)
   HistoryReduce reduce = HistoryReduce::sum;
   std::string body;    // "" : every body
   std::string region;  // "" : no region filter

@@ -10,7 +10,7 @@ std::vector<HistoryColumnConfig> read_history_columns(const DeckContext& ctx, co
     fail_expected(ctx, item, "a list of columns, e.g. [{name: top_force, quantity: force, body: top, reduce: sum}]");
   std::vector<HistoryColumnConfig> out;
   for (const Item& e : read_list(ctx, item)) {
-    MapReader m(ctx, e, {"name", "quantity", "body", "region", "reduce", "nearest"});
+    MapReader m(ctx, e, {"name", "quantity", "field", "body", "region", "reduce", "nearest"});
     HistoryColumnConfig c;
     const Item name = m.get("name", "the column's name (letters, digits, _)");
     c.name = read_string(ctx, name);
@@ -20,6 +20,13 @@ std::vector<HistoryColumnConfig> read_history_columns(const DeckContext& ctx, co
     if (!plain) fail_expected(ctx, name, "a column name of letters, digits, '_', '.' or '-'");
     for (const auto& o : out)
       if (o.name == c.name) ctx.fail(name.mark, name.path + ": two history columns are named '" + c.name + "'");
+    // A model's output field (checked against the models' fields when the run starts),
+    // or one of the particles' quantities.
+    if (*m.exactly_one({"quantity", "field"}, true) == "field") {
+      const Item f = *m.find("field");
+      c.field = read_string(ctx, f);
+      if (c.field.empty()) fail_expected(ctx, f, "the name of a model's output field, e.g. von_mises_stress");
+    } else {
     c.quantity = read_enum<HistoryQuantity>(
         ctx, m.get("quantity", "displacement, velocity, force, kinetic_energy, ..."),
         {{"displacement", HistoryQuantity::displacement},
@@ -34,6 +41,7 @@ std::vector<HistoryColumnConfig> read_history_columns(const DeckContext& ctx, co
          {"strain_energy", HistoryQuantity::strain_energy},
          {"linear_momentum", HistoryQuantity::linear_momentum},
          {"angular_momentum", HistoryQuantity::angular_momentum}});
+    }
     if (auto b = m.find("body")) {
       c.body = read_string(ctx, *b);
       std::vector<std::string> names;

@@ -8,6 +8,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/driver/summary.hpp"
+#include "horizon/material/model.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/system.hpp"
 
@@ -54,7 +55,7 @@ Vec3 value_of(const System& s, std::size_t i, HistoryQuantity q) {
 std::string history_columns_header(const Config& config) {
   std::string h;
   for (const auto& c : config.output.history_columns) {
-    if (is_vector(c.quantity))
+    if (c.field.empty() && is_vector(c.quantity))
       h += "," + c.name + "X," + c.name + "Y," + c.name + "Z";
     else
       h += "," + c.name;
@@ -67,7 +68,29 @@ std::string history_columns_row(const Config& config, const System& s) {
   const auto& columns = config.output.history_columns;
   if (columns.empty()) return row;
   const Particles& p = s.particles;
+  // The models' output fields, gathered once a row when a column reads one.
+  std::vector<ModelField> fields;
+  bool gathered = false;
   for (const auto& c : columns) {
+    const std::vector<double>* field = nullptr;
+    if (!c.field.empty()) {
+      if (!gathered)
+        for (const auto& m : s.models) m->fields(s, fields);
+      gathered = true;
+      std::string names;
+      for (const auto& f : fields) {
+        if (f.name == c.field && !field) field = &f.values;
+        names += (names.empty() ? "; fields: " : ", ") + f.name;
+      }
+      if (!field)
+        throw Error(fmt::format("{}: output.history_columns: column '{}': no model of this run writes the field "
+                                "'{}'{}",
+                                config.deck_file, c.name, c.field, names));
+    }
+    // The value of particle i: the field's, or the quantity's.
+    auto value = [&](std::size_t i) {
+      return field ? Vec3{i < field->size() ? (*field)[i] : 0.0, 0, 0} : value_of(s, i, c.quantity);
+    };
     const int body = [&] {
       if (c.body.empty()) return -1;
       for (std::size_t b = 0; b < s.block_names.size(); ++b)
@@ -83,7 +106,7 @@ std::string history_columns_row(const Config& config, const System& s) {
     auto selected = [&](std::size_t i) {
       return (body < 0 || p.block[i] == body) && (!region || region->contains(p.X[i]));
     };
-    const int n = is_vector(c.quantity) ? 3 : 1;
+    const int n = field || !is_vector(c.quantity) ? 1 : 3;
     Vec3 out;
     if (c.reduce == HistoryReduce::nearest) {
       // The particle nearest the point in the reference configuration; of equals, the
@@ -100,14 +123,14 @@ std::string history_columns_row(const Config& config, const System& s) {
       }
       GridSum sum = GridSum::exact(s, 3);
       for_each_summed(s, [&](std::size_t i) {
-        if (static_cast<double>(p.id[i]) == best_id) sum.add(0, value_of(s, i, c.quantity));
+        if (static_cast<double>(p.id[i]) == best_id) sum.add(0, value(i));
       });
       const auto t = sum.totals();
       out = {t[0], t[1], t[2]};
     } else if (c.reduce == HistoryReduce::sum) {
       GridSum sum = GridSum::exact(s, 3);
       for_each_summed(s, [&](std::size_t i) {
-        if (selected(i)) sum.add(0, value_of(s, i, c.quantity));
+        if (selected(i)) sum.add(0, value(i));
       });
       const auto t = sum.totals();
       out = {t[0], t[1], t[2]};
@@ -118,7 +141,7 @@ std::string history_columns_row(const Config& config, const System& s) {
                std::numeric_limits<double>::infinity()};
       for_each_summed(s, [&](std::size_t i) {
         if (!selected(i)) return;
-        const Vec3 v = value_of(s, i, c.quantity) * sign;
+        const Vec3 v = value(i) * sign;
         for (int k = 0; k < 3; ++k) low[k] = std::min(low[k], v[k]);
       });
       for (int k = 0; k < 3; ++k) out[k] = sign * (s.decomposition ? min_over_ranks(low[k]) : low[k]);

@@ -22,11 +22,27 @@ const std::vector<std::pair<std::string, std::string>> kVariables = {
     {"Linear_Momentum", "linear_momentum"}, {"Angular_Momentum", "angular_momentum"},
 };
 
-std::string quantity(const DeckContext& ctx, const Item& item) {
+// Peridigm's variables that are the models' output fields in Horizon (only the models
+// that write them answer: correspondence).
+const std::vector<std::pair<std::string, std::string>> kFields = {
+    {"Von_Mises_Stress", "von_mises_stress"}, {"Equivalent_Plastic_Strain", "equivalent_plastic_strain"}};
+
+// Sets the column's `quantity` or `field` from Peridigm's Variable.
+void set_variable(const DeckContext& ctx, const Item& item, YAML::Node& col) {
   const std::string v = read_string(ctx, item);
   std::vector<std::string> names;
   for (const auto& [p, q] : kVariables) {
-    if (p == v) return q;
+    if (p == v) {
+      col["quantity"] = q;
+      return;
+    }
+    names.push_back(p);
+  }
+  for (const auto& [p, f] : kFields) {
+    if (p == v) {
+      col["field"] = f;
+      return;
+    }
     names.push_back(p);
   }
   fail_choice(ctx, item, v, names, "variable Horizon's history columns read");
@@ -66,7 +82,7 @@ ComputeClasses read_compute_classes(const DeckContext& ctx, const Item& item, co
       ctx.fail(label_item.mark, label_item.path + ": two compute classes write the Output Label '" + label + "'");
     YAML::Node col;
     col["name"] = label;
-    col["quantity"] = quantity(ctx, m.get("Variable", "the variable, e.g. Displacement or Force"));
+    set_variable(ctx, m.get("Variable", "the variable, e.g. Displacement or Force"), col);
     if (w == "nearestpointdata") {
       YAML::Node at(YAML::NodeType::Sequence);
       at.SetStyle(YAML::EmitterStyle::Flow);
