@@ -8,7 +8,8 @@
 
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/history_columns.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 namespace {

@@ -10,7 +10,7 @@
 #include "horizon/driver/summary.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

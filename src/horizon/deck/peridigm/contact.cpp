@@ -1,6 +1,6 @@
 // Peridigm's `Contact` section (survey sec. 1.4; Peridigm's users' guide SAND2012-7800):
 // one or more `Short Range Force` models and the interactions that use them, as
-// Horizon's short-range contact with law peridigm (contact/short_range.hpp).
+// Horizon's short-range contact with law peridigm (state/short_range.hpp).
 #include <fmt/format.h>
 
 #include <algorithm>
