@@ -1,5 +1,5 @@
 // Short-range contact with law peridigm (Peridigm's Short Range Force, users' guide
-// SAND2012-7800; contact/short_range.hpp): force density on i
+// SAND2012-7800; state/short_range.hpp): force density on i
 // 9k/(pi delta^4) V_j (R_c - r)/delta away from j when r < R_c, only between pairs not
 // bonded at the start, Coulomb friction mu |f_n| against the sliding, and `pairs`.
 #include <gtest/gtest.h>
