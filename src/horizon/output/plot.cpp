@@ -174,10 +174,31 @@ PlotFrame write_line_plot(const std::vector<Series>& series, const PlotOptions& 
     cairo_stroke(cr);
   }
   cairo_restore(cr);
+  // A few points (a sweep's table) are measurements: each gets a dot, whole even on the frame.
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const Series& s = series[k];
+    if (s.x.size() > 30) continue;
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) {
+        cairo_new_sub_path(cr);
+        cairo_arc(cr, f.px(s.x[i]), f.py(s.y[i]), 3.5 * u, 0, 2 * M_PI);
+      }
+    canvas.set_colour(palette[k % palette.size()]);
+    cairo_fill(cr);
+  }
 
   std::string description = "x: " + o.x_title + "; y: " + o.y_title;
-  if (series.size() == 1 && o.mark_peak) {
-    const CurvePeak p = curve_peak(series[0].x, series[0].y);
+  // A peak inside the curve is marked; a largest value at either end (a curve that only
+  // rises or only falls) is no peak.
+  std::size_t first = 0, last = 0;
+  if (series.size() == 1) {
+    const Series& s = series[0];
+    first = s.x.size(), last = 0;
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) first = std::min(first, i), last = i;
+  }
+  const CurvePeak p = series.size() == 1 ? curve_peak(series[0].x, series[0].y) : CurvePeak{};
+  if (series.size() == 1 && o.mark_peak && p.index != first && p.index != last) {
     const double cx = f.px(p.x), cy = f.py(p.y);
     canvas.set_colour(peak_colour);
     cairo_arc(cr, cx, cy, 5 * u, 0, 2 * M_PI);

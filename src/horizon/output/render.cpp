@@ -198,13 +198,17 @@ RenderResult render_png(const Frame& frame, const RenderOptions& options, const 
   cairo_clip(cr);
   if (squares) cairo_set_antialias(cr, CAIRO_ANTIALIAS_NONE);
   const double side = std::max(1.0, spacing * scale);
-  Rgb last{1, 2, 3};
+  // Consecutive particles of one colour go into one path, filled once: a uniform region
+  // is one fill instead of thousands (docs/benchmarks.md, "Pictures").
+  bool have = false;
+  Rgb last;
   for (size_t i : order) {
     // Screen y grows downwards; the body's y grows upwards.
     const double cx = x0 + (at[i][ha] - xmin + spacing / 2) * scale;
     const double cy = y0 + (ymax - at[i][va] + spacing / 2) * scale;
     const Rgb c = std::isfinite(values[i]) ? viridis((values[i] - lo) / range) : not_finite;
-    if (!(c == last)) canvas.set_colour(c), last = c;
+    if (have && !(c == last)) canvas.set_colour(last), cairo_fill(cr);
+    have = true, last = c;
     if (squares) {
       const double l = std::floor(cx - side / 2), t = std::floor(cy - side / 2);
       cairo_rectangle(cr, l, t, std::max(1.0, std::ceil(cx + side / 2) - l), std::max(1.0, std::ceil(cy + side / 2) - t));
@@ -212,8 +216,8 @@ RenderResult render_png(const Frame& frame, const RenderOptions& options, const 
       cairo_new_sub_path(cr);
       cairo_arc(cr, cx, cy, d / 2, 0, 2 * M_PI);
     }
-    cairo_fill(cr);
   }
+  if (have) canvas.set_colour(last), cairo_fill(cr);
   cairo_restore(cr);
   result.drawn = order.size();
 
