@@ -328,6 +328,9 @@ TEST_F(OutputTest, RenderSlicesAndProjectsThreeDimensionalBodies) {
   EXPECT_THROW(render_png(f, o, path("none.png")), Error);
   o.slice = "z=";
   EXPECT_THROW(render_png(f, o, path("none.png")), Error);
+  f.dimension = 2;  // a plane body has no slices
+  o.slice = "z=0";
+  EXPECT_THROW(render_png(f, o, path("none.png")), Error);
 }
 
 TEST_F(OutputTest, RenderPicksVectorComponentsAndMagnitude) {

@@ -120,6 +120,8 @@ RenderResult render_png(const Frame& frame, const RenderOptions& options, const 
   int normal = 2;
   std::vector<size_t> order;
   const double spacing = estimate_spacing(frame.points);
+  if (frame.dimension != 3 && !options.slice.empty())
+    throw Error(fmt::format("slice {}: the frame is {}-D; slices are for 3-D bodies", options.slice, frame.dimension));
   if (frame.dimension == 3 && !options.slice.empty()) {
     const auto [axis, at] = parse_slice(options.slice);
     normal = axis;
