@@ -208,6 +208,8 @@ TEST(Units, TickLabelsCarryNoNeedlessDigits) {
   EXPECT_EQ(tick_label(500, 100), "500");
   EXPECT_EQ(tick_label(3 * 0.02, 0.02), "0.06");
   EXPECT_EQ(tick_label(-2, 1), "−2");
+  EXPECT_EQ(tick_label(2 * 0.05, 0.05), "0.1");
+  EXPECT_EQ(tick_label(3 * 0.05, 0.05), "0.15");
   EXPECT_EQ(tick_label(1e-17, 0.1), "0");
   EXPECT_EQ(short_number(4.30100000001e1), "43.01");
 }

@@ -181,7 +181,9 @@ RenderResult render_png(const Frame& frame, const RenderOptions& options, const 
   // Extents include half a particle on each side so that edge particles show whole.
   const double ext_x = xmax - xmin + spacing, ext_y = ymax - ymin + spacing;
   double scale = plot_w / ext_x;
-  const double plot_h = std::clamp(std::round(ext_y * scale), 40 * k, 2.0 * plot_w);
+  // A tall body is drawn narrower than the picture, so that the text keeps its size
+  // beside it when the picture is shown at a page's width.
+  const double plot_h = std::clamp(std::round(ext_y * scale), 40 * k, 1.25 * plot_w);
   scale = std::min(scale, plot_h / ext_y);
   const double x0 = pad + (plot_w - ext_x * scale) / 2, y0 = header + (plot_h - ext_y * scale) / 2;
   const double bar_top = header + plot_h + pad + 4 * k, bar_h = 18 * k;
@@ -227,8 +229,13 @@ RenderResult render_png(const Frame& frame, const RenderOptions& options, const 
   canvas.set_colour(ink);
   std::string head = options.title.empty() ? "" : options.title + "   ";
   head += time_text(frame.time) + "   step " + std::to_string(frame.step);
-  if (frame.dimension == 3)
-    head += options.slice.empty() ? fmt::format("   seen along {}", char('x' + normal)) : "   slice " + options.slice;
+  if (frame.dimension == 3 && options.slice.empty()) {
+    head += fmt::format("   seen along {}", char('x' + normal));
+  } else if (frame.dimension == 3) {
+    const double at = parse_slice(options.slice).second;
+    const ScaledUnit su_at = scaled_unit(Quantity{"length", "length", "m"}, std::abs(at));
+    head += fmt::format("   slice {} = {} {}", char('x' + normal), short_number(at * su_at.factor), su_at.unit);
+  }
   canvas.text(pad, pad, head, text, 0, 0);
   const double bar_m = scale_bar_length(ext_x);
   const ScaledUnit lu = scaled_unit(Quantity{"length", "length", "m"}, bar_m);
