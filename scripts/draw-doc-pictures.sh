@@ -32,14 +32,14 @@ run notched_beam examples/notched_beam.yaml
 run plastic_necking_bar examples/plastic_necking_bar.yaml
 "$H" plot "$OUT/plastic_necking_bar" --x time --y right:velocity_fx --title "Necking bar" \
   -o "$IMG/plastic_necking_bar_force.png"
-"$H" render "$OUT/plastic_necking_bar" --field equivalent_plastic_strain --slice z=0 -o "$IMG/plastic_necking_bar.png"
+"$H" render "$OUT/plastic_necking_bar" --field plastic_strain --slice z=0.0025 -o "$IMG/plastic_necking_bar.png"
 run viscoelastic_relaxation examples/viscoelastic_relaxation.yaml
 "$H" plot "$OUT/viscoelastic_relaxation" --x time --y right:velocity_fx --title "Viscoelastic relaxation" \
   -o "$IMG/viscoelastic_relaxation_force.png"
 
 # Plates and shells (full size).
 run plate_navier examples/plate_navier.yaml
-"$H" render "$OUT/plate_navier" --field deflection -o "$IMG/plate_navier_deflection.png"
+"$H" render "$OUT/plate_navier" --field deflection --width 800 -o "$IMG/plate_navier_deflection.png"
 run pinched_tube examples/pinched_tube.yaml
 "$H" render "$OUT/pinched_tube" --field displacement -o "$IMG/pinched_tube.png"
 run double_torsion examples/double_torsion.yaml
