@@ -53,7 +53,7 @@ run thermal_shock examples/thermal_shock.yaml
 "$H" render "$OUT/thermal_shock" --field damage -o "$IMG/thermal_shock.png"
 "$H" render "$OUT/thermal_shock" --field temperature -o "$IMG/thermal_shock_temperature.png"
 
-# Taylor bar: COARSE, --coarsen 1.4 (6,372 particles), its mid-plane.
+# Taylor bar: COARSE, --coarsen 1.4 (6,372 particles, README), its mid-plane.
 run taylor_bar examples/taylor_bar.yaml --coarsen 1.4
 "$H" render "$OUT/taylor_bar" --field equivalent_plastic_strain --slice z=0 -o "$IMG/taylor_bar.png"
 

@@ -313,6 +313,10 @@ TEST_F(OutputTest, RenderSlicesAndProjectsThreeDimensionalBodies) {
   EXPECT_DOUBLE_EQ(r.hi, 0.2);
   o.slice = "x=0";
   EXPECT_EQ(render_png(f, o, path("slice_x.png")).drawn, 16u);
+  o.slice = "z=0.0015";  // midway between two layers: the lower one only
+  r = render_png(f, o, path("slice_mid.png"));
+  EXPECT_EQ(r.drawn, 20u);
+  EXPECT_DOUBLE_EQ(r.lo, 0.1);
   o.slice.clear();
   r = render_png(f, o, path("top.png"));
   EXPECT_EQ(r.drawn, 80u);

@@ -125,12 +125,18 @@ RenderResult render_png(const Frame& frame, const RenderOptions& options, const 
   if (frame.dimension == 3 && !options.slice.empty()) {
     const auto [axis, at] = parse_slice(options.slice);
     normal = axis;
-    double lo = INFINITY, hi = -INFINITY;
+    // The layer of particles nearest the plane (the lower one when the plane lies midway
+    // between two layers): one layer, never two drawn over each other.
+    double lo = INFINITY, hi = -INFINITY, nearest = INFINITY;
     for (size_t i = 0; i < n; ++i) {
       const double c = frame.points[i][axis];
       lo = std::min(lo, c), hi = std::max(hi, c);
-      if (std::abs(c - at) <= 0.5 * spacing * (1 + 1e-9)) order.push_back(i);
+      const double d = std::abs(c - at), best = std::abs(nearest - at);
+      if (d < best * (1 - 1e-9) || (d <= best * (1 + 1e-9) && c < nearest)) nearest = c;
     }
+    if (std::abs(nearest - at) <= 0.5 * spacing * (1 + 1e-9))
+      for (size_t i = 0; i < n; ++i)
+        if (std::abs(frame.points[i][axis] - nearest) < 0.5 * spacing) order.push_back(i);
     if (order.empty())
       throw Error(fmt::format("slice {} holds no particle: the body spans {} = {:.6g} to {:.6g}", options.slice,
                               char('x' + axis), lo, hi));
