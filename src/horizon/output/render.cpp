@@ -206,7 +206,9 @@ RenderResult render_png(const Frame& frame, const RenderOptions& options, const 
   cairo_save(cr);  // discs of edge particles stop at the frame's edge
   cairo_rectangle(cr, pad, header, plot_w, plot_h);
   cairo_clip(cr);
-  if (squares) cairo_set_antialias(cr, CAIRO_ANTIALIAS_NONE);
+  // Discs under 12 pixels are drawn without anti-aliasing: their neighbours cover the
+  // jagged rims, and a varying field's PNG halves (edge-on impact: 270 kB against 565 kB).
+  if (d < 12) cairo_set_antialias(cr, CAIRO_ANTIALIAS_NONE);
   const double side = std::max(1.0, spacing * scale);
   // Consecutive particles of one colour go into one path, filled once: a uniform region
   // is one fill instead of thousands (docs/benchmarks.md, "Pictures").
