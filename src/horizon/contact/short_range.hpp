@@ -51,8 +51,10 @@ class ShortRangeContact {
   // y: current positions (the w component unused). W may be null.
   void add_forces(const System& s, const Point4* y, Vec3* f, double* W);
 
-  // The contact distance of a pair from its reference distance.
+  // The contact distance of a pair from its reference distance:
+  // enabled() ? min(config().reference_fraction * reference_length, cutoff()) : 0.
   double distance(double reference_length) const;
+  double cutoff() const { return cutoff_; }
 
   // Particle updates so far (each particle counts once per update), and pairs listed now.
   std::size_t rebuilds() const { return rebuilds_; }

@@ -76,7 +76,11 @@ struct ModelCoefficients {
   std::vector<double> damage_total;     // sum of the damage weights over i's family (after precracks)
   std::vector<double> intact_weight;    // the same over i's intact bonds (updated as bonds break)
   std::vector<double> contact_micromodulus;  // c_i of the short-range contact
-  std::vector<KindCoefficients> kind;   // per bond kind
+  DamageMeasure damage_measure = DamageMeasure::weighted;  // of the kinds' damage weights
+  // Per bond kind. With bonds that keep their own lengths (Bonds::length_per_bond) the
+  // fields that depend on |xi| (length, inv_length, contact_d, contact_d2) are 0 and
+  // `pair` is omega V_j (R_i + R_j): the force loops finish them per bond (forces.cpp).
+  std::vector<KindCoefficients> kind;
   std::vector<Point4> kind_dilatation;  // per kind {L, 1/L, omega V_j, 0} (state-based pass 1)
   std::vector<Point4> kind_force;       // per kind {L, omega V_j, pair, d^2} (state-based pass 2)
   // Scratch of the force pass: current positions packed with a per-particle value
@@ -166,6 +170,12 @@ System build_system(const Config& config);
 // build_system). Bonds must exist. build_system calls it; tests call it on small systems
 // built in code.
 void setup_model(System& s, const std::vector<MaterialConfig>& materials, const Config& config);
+
+// Whether a deck's bonds need kinds with their lengths (family/neighbors.hpp
+// expand_kinds) rather than a length per bond: a model off the fast loops, an influence
+// function of |xi|, the surface correction, heat conduction, structures, finite elements.
+// setup_model regroups the bonds then; the memory guard counts the kinds.
+bool kinds_need_lengths(const std::vector<MaterialConfig>& materials, const Config& config);
 
 // The models' trial history of the last force pass becomes their history (material/
 // model.hpp: explicit solvers after every step, static ones after each converged step).
