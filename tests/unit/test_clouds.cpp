@@ -21,16 +21,16 @@
 namespace horizon {
 namespace {
 
-// A block of 14 x 12 x 10 cells of 1 mm, each point moved by up to `jitter` cells along
+// A block of 12 x 10 x 8 cells of 1 mm, each point moved by up to `jitter` cells along
 // each axis (as bench/clouds/cylinder.py moves its rings), volume one cell.
 Shape cloud(double jitter) {
   test::Rng rng(42);
   std::vector<Vec3> at;
   std::vector<double> volume;
   const double h = 1e-3;
-  for (int k = 0; k < 10; ++k)
-    for (int j = 0; j < 12; ++j)
-      for (int i = 0; i < 14; ++i) {
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 10; ++j)
+      for (int i = 0; i < 12; ++i) {
         Vec3 x{(i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h};
         for (int a = 0; a < 3; ++a) x[a] += rng.uniform(-jitter, jitter) * h;
         at.push_back(x);
@@ -40,18 +40,20 @@ Shape cloud(double jitter) {
 }
 
 // PMB or LPS with breaking, the compression term and short-range contact, so that every
-// per-bond constant the loops finish from |xi| is used (stretch, pair, contact distance).
-Config deck(const std::string& model, double jitter) {
+// per-bond constant the loops finish from |xi| is used (stretch, pair, contact distance);
+// the block pulled apart along x and squeezed along y.
+Config deck(const std::string& model, double jitter, bool contact = true) {
   const std::string material = model == "pmb" ? "{model: pmb, density: 2200, micromodulus: 1.0e21, "
                                                  "damage: {critical_stretch: 0.002, alpha: 0.25}}"
                                                : "{model: lps, density: 2200, bulk_modulus: 14.9e9, "
                                                  "shear_modulus: 14.9e9, damage: {critical_stretch: 0.002, "
                                                  "alpha: 0.25, breaks: after_force}}";
   Config c = parse_deck("dimension: 3\nspacing: 1.0e-3\nhorizon: 3.015e-3\nmaterials:\n  m: " + material +
-                            "\nbodies:\n  - {name: b, material: m, shape: {points: [[0, 0, 0, 1]]}}\n"
-                            "contact:\n  short_range: {stiffness_factor: 15, reference_fraction: 0.9, "
-                            "max_distance: 1.35}\n"
-                            "initial_conditions:\n  - {velocity: [\"40*(x-0.007)/0.007\", \"-20*(y-0.006)/0.006\", 0]}\n"
+                            "\nbodies:\n  - {name: b, material: m, shape: {points: [[0, 0, 0, 1]]}}\n" +
+                            std::string(contact ? "contact:\n  short_range: {stiffness_factor: 15, reference_fraction: 0.9, "
+                                       "max_distance: 1.35}\n"
+                                     : "") +
+                            "initial_conditions:\n  - {velocity: [\"100*(x-0.006)/0.006\", \"-50*(y-0.005)/0.005\", 0]}\n"
                             "solver: {end_time: 1.0e-6, time_step: 5.0e-8}\noutput: {damage_measure: volume}\n",
                         "cloud.yaml");
   c.bodies[0].shape = cloud(jitter);
@@ -64,7 +66,7 @@ struct Snapshot {
   uint64_t broken = 0;
 };
 
-// 30 steps; `kinds`: the same cloud with kinds that carry their lengths (expand_kinds).
+// 20 steps; `kinds`: the same cloud with kinds that carry their lengths (expand_kinds).
 Snapshot run(const Config& c, bool kinds, KernelPath path, int threads) {
   set_kernel_path(path);
   omp_set_num_threads(threads);
@@ -76,9 +78,10 @@ Snapshot run(const Config& c, bool kinds, KernelPath path, int threads) {
     EXPECT_FALSE(s.bonds.length_per_bond);
   }
   Loads loads(c, s);
+  loads.apply_initial_conditions(c, s);
   ExplicitSolver solver(s, loads, 5e-8, 0.0);
   solver.initialize();
-  for (int step = 0; step < 30; ++step) solver.step(step % 10 == 0);
+  for (int step = 0; step < 20; ++step) solver.step(step % 10 == 0);
   set_kernel_path(KernelPath::automatic);
   return {s.particles.u, s.particles.v, s.particles.f, s.particles.damage, s.dissipated_at, s.broken};
 }
@@ -125,16 +128,16 @@ TEST(Clouds, LengthsPerBondGiveTheSameBitsAsKinds) {
     EXPECT_GT(ref.broken, 0u) << model;
     std::printf("[ clouds ] %s: %llu directed bonds broken\n", model.c_str(),
                 static_cast<unsigned long long>(ref.broken));
-    for (KernelPath path : {KernelPath::scalar, KernelPath::avx2, KernelPath::automatic})
-      for (int threads : {1, 2}) {
-        const Snapshot o = run(c, false, path, threads);
-        EXPECT_EQ(ref.broken, o.broken) << model;
-        EXPECT_TRUE(same_bits(ref.u, o.u)) << model << " path " << static_cast<int>(path) << ", " << threads;
-        EXPECT_TRUE(same_bits(ref.v, o.v)) << model;
-        EXPECT_TRUE(same_bits(ref.f, o.f)) << model;
-        EXPECT_TRUE(same_bits(ref.damage, o.damage)) << model;
-        EXPECT_TRUE(same_bits(ref.dissipated, o.dissipated)) << model;
-      }
+    for (const auto& [path, threads] : {std::pair{KernelPath::scalar, 1}, std::pair{KernelPath::avx2, 1},
+                                         std::pair{KernelPath::automatic, 1}, std::pair{KernelPath::automatic, 2}}) {
+      const Snapshot o = run(c, false, path, threads);
+      EXPECT_EQ(ref.broken, o.broken) << model;
+      EXPECT_TRUE(same_bits(ref.u, o.u)) << model << " path " << static_cast<int>(path) << ", " << threads;
+      EXPECT_TRUE(same_bits(ref.v, o.v)) << model;
+      EXPECT_TRUE(same_bits(ref.f, o.f)) << model;
+      EXPECT_TRUE(same_bits(ref.damage, o.damage)) << model;
+      EXPECT_TRUE(same_bits(ref.dissipated, o.dissipated)) << model;
+    }
   }
   omp_set_num_threads(saved);
 }
@@ -148,21 +151,25 @@ double heap_bytes() {
 TEST(Clouds, MemoryEstimateIsNotBelowTheAllocation) {
   const test::SingleThread one;
   for (double jitter : {0.0, 0.05}) {
-    const Config c = deck("lps", jitter);
+    const Config c = deck("lps", jitter, false);
     const double before = heap_bytes();
     System s = build_system(c);
     Loads loads(c, s);
+    loads.apply_initial_conditions(c, s);
     ExplicitSolver solver(s, loads, 5e-8, 0.0);
     solver.initialize();
     solver.step(true);
     const double used = heap_bytes() - before;
-    const double estimate = static_cast<double>(memory_estimate(s));
+    // The heap's share of the estimate (the program's code and libraries are not on it).
+    const double estimate = static_cast<double>(memory_estimate(s) - kCodeBytes);
     const double guard = estimate_memory(c).bytes;
     std::printf("[ clouds ] jitter %.2f: %zu kinds, %zu bonds; allocated %.2f MiB, estimate %.2f MiB, guard %.2f MiB\n",
                 jitter, s.bonds.kinds.size(), s.bonds.size(), used / 1048576, estimate / 1048576, guard / 1048576);
     EXPECT_GE(estimate, used) << "jitter " << jitter;
     EXPECT_GE(guard, used) << "jitter " << jitter;
-    EXPECT_LE(estimate, 1.5 * used) << "jitter " << jitter;  // close: every array counted, not padded
+    // Close: every array counted, the fixed allowance aside (and that of an output frame,
+    // which this run does not write).
+    EXPECT_LE(estimate - static_cast<double>(kProgramBytes - kCodeBytes), 1.25 * used) << "jitter " << jitter;
   }
 }
 

@@ -602,19 +602,30 @@ RankShare largest_rank_share(const System& s, int ranks, bool local_particles) {
     best.particles = std::max(best.particles, local_particles ? particles : static_cast<uint64_t>(n));
   }
   const std::size_t kinds = kind_bytes(s);
-  const std::size_t particle_bytes = memory_estimate(s) - B.size() * bytes_per_bond(s) - kinds;
-  best.bytes = (n ? particle_bytes / n : 0) * best.particles + best.bonds * bytes_per_bond(s) + kinds;
+  const std::size_t particle_bytes = memory_estimate(s) - kProgramBytes - B.size() * bytes_per_bond(s) - kinds;
+  best.bytes =
+      kProgramBytes + (n ? particle_bytes / n : 0) * best.particles + best.bonds * bytes_per_bond(s) + kinds;
   return best;
 }
 
+// An output frame's copy of the positions and fields (output/frame.hpp), up to 32 doubles
+// a particle: measured, the peak of a run of the jittered cylinder (bench/clouds) lies
+// 162 bytes a particle above the arrays counted here, that of its regular rings 214.
+constexpr std::size_t kFrameBytes = 32 * sizeof(double);
+
 std::size_t memory_estimate(const System& s) {
   const std::size_t n = s.particles.size(), nb = s.bonds.size();
-  // Particles, model arrays (12 doubles), the force pass's scratch (4 + 1 doubles).
+  // Particles (geometry/particles.hpp), the model arrays (13 doubles), the force pass's
+  // scratch (a Point4 and a double), the dissipated energy, the explicit solver's copies of
+  // u, v and b (solver/explicit.hpp) and the constraint flags (loading/loads.hpp): what an
+  // explicit run of the unified models holds a particle (tests/unit/test_clouds.cpp).
   const std::size_t per_particle = 5 * sizeof(Vec3) + 4 * sizeof(double) + 2 * sizeof(int32_t) + sizeof(int64_t) + 1 +
-                                   17 * sizeof(double) + sizeof(uint64_t);
+                                   13 * sizeof(double) + sizeof(Point4) + sizeof(double) + sizeof(double) +
+                                   3 * sizeof(Vec3) + 1 + sizeof(uint64_t) +  // + the row's bond offset
+                                   kFrameBytes;
   const std::size_t per_bond = bytes_per_bond(s);
   const std::size_t kinds = kind_bytes(s);
-  return n * per_particle + nb * per_bond + kinds;
+  return kProgramBytes + n * per_particle + nb * per_bond + kinds;
 }
 
 }  // namespace horizon
