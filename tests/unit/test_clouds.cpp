@@ -15,6 +15,7 @@
 #include "horizon/loading/loads.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/solver/build.hpp"
 #include "horizon/solver/memory_guard.hpp"
 #include "test_helpers.hpp"
 

@@ -164,7 +164,7 @@ BondKind shared_part(std::size_t i, uint32_t j, const std::vector<double>& volum
 }
 
 // Whether kinds with lengths would cost more memory than a length per bond: a kind costs
-// sizeof(BondKind) here and kKindBytes in the force loops' tables (solver/system.hpp
+// sizeof(BondKind) here and kKindBytes in the force loops' tables (state/system.hpp
 // KindCoefficients and the two 32-byte records of the state-based passes), a per-bond
 // length 8 bytes; and at least kMinKinds kinds (small tables stay kinds: they fit in
 // cache). Counts the distinct (length, shared kind) pairs in bond order until the limit
