@@ -324,6 +324,7 @@ void keep_computed_rows(System& s, Decomposition& d) {
     B.nbr.shrink_to_fit();
     B.kind.shrink_to_fit();
     B.intact.shrink_to_fit();
+    B.lengths.shrink_to_fit();
   }
   if (d.local_particles) {
     // No per-particle offsets of the whole system here (they would be O(N)): the bond

@@ -60,15 +60,19 @@ class ShortRangeContact {
   // y: current positions (the w component unused). W may be null.
   void add_forces(const System& s, const Point4* y, Vec3* f, double* W);
 
-  // The contact distance of a pair from its reference distance.
+  // The contact distance of a pair from its reference distance:
+  // enabled() ? min(config().reference_fraction * reference_length, cutoff()) : 0.
   double distance(double reference_length) const;
   // The contact distance of a family pair (the bond loops' contact): 0 for law peridigm,
   // whose contact never acts between pairs bonded at the start.
   double family_distance(double reference_length) const {
-    return config_.law == ShortRangeLaw::peridigm ? 0.0 : distance(reference_length);
+    return acts_on_family() ? distance(reference_length) : 0.0;
   }
+  // Whether the bond loops' contact acts at all (on, and a law that acts between family pairs).
+  bool acts_on_family() const { return enabled_ && config_.law != ShortRangeLaw::peridigm; }
   // The largest distance at which any pair touches [m] (the contact ghosts' reach).
   double reach() const { return enabled_ ? cutoff_ : 0.0; }
+  double cutoff() const { return cutoff_; }
 
   // Particle updates so far (each particle counts once per update), and pairs listed now.
   std::size_t rebuilds() const { return rebuilds_; }
