@@ -2,11 +2,15 @@
 // half resolution (--coarsen 2) and its summary.json holds sane figures. Most decks run
 // only a few dozen steps (--end-time); those in kFullRuns run to their own end time,
 // because their figure of interest needs the whole run (a crack that has to grow).
-// Output goes under the build tree; the frames are deleted when a test passes.
+// Output goes under the build tree; the frames are deleted when a test passes. A warning
+// in a run's output or summary.json fails the test unless the deck's header comment
+// explains it (explained_warnings). ChecksAtEveryCoarsening runs `horizon check` on every
+// deck at --coarsen 1.5, 2, 3 and 4.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -126,6 +130,58 @@ TEST_P(Examples, RunsAtHalfResolution) {
     EXPECT_LT(speed, full->second.max_crack_speed);
   }
   if (!HasFailure()) fs::remove_all(out / "frames");
+}
+
+// Every deck passes `horizon check` (the set-up: lattice, bonds, regions, loads; no step)
+// at each of these coarsenings: `--coarsen` promises a quick look at any deck, and a load
+// strip one spacing thick keeps selecting its boundary layer on the coarse lattice
+// (geometry/region_select.hpp).
+constexpr double kCheckCoarsenings[] = {1.5, 2, 3, 4};
+
+// The coarsenings a deck cannot take by design, and why (each is refused with a message
+// that says so, which the test checks).
+struct NotCoarsenable {
+  double coarsen;
+  const char* message;  // part of the refusal
+};
+const std::multimap<std::string, NotCoarsenable> kNotCoarsenable = {
+    // Structures' supports must lie on a line of nodes (the model mirrors the plate across
+    // it with ghost nodes): their spans, 40 (double_torsion) and 80 (plate_navier) fine
+    // spacings, are whole numbers of coarse spacings at 2 and 4 only.
+    {"double_torsion", {1.5, "no node lies on it"}},
+    {"double_torsion", {3, "no node lies on it"}},
+    {"plate_navier", {1.5, "no node lies on it"}},
+    {"plate_navier", {3, "no node lies on it"}},
+    // A cylindrical shell's circumference must be a whole number of spacings (the lattice
+    // closes on itself): 128 fine spacings around are not a multiple of 1.5 or 3.
+    {"pinched_tube", {1.5, "must be a whole number of spacings"}},
+    {"pinched_tube", {3, "must be a whole number of spacings"}},
+    // Hexahedra need two node layers through the plate (10 mm at 2 mm, 12.5 mm at 2.5 mm):
+    // at 4 coarse spacings it holds one.
+    {"center_cracked_plate", {4, "an element needs two"}},
+    {"plate_perforation_coupled", {4, "an element needs two"}},
+    // The 4 mm gauge body is one coarse spacing at 4 x 1 mm: its lattice points are taken
+    // by the bodies beside it, and a body with no particle is refused.
+    {"plastic_necking_bar", {4, "contains no lattice point"}},
+};
+
+TEST_P(Examples, ChecksAtEveryCoarsening) {
+  const std::string name = GetParam();
+  const fs::path deck = fs::path(HORIZON_SOURCE_DIR) / "examples" / (name + ".yaml");
+  for (double coarsen : kCheckCoarsenings) {
+    const char* refusal = nullptr;
+    const auto [from, to] = kNotCoarsenable.equal_range(name);
+    for (auto it = from; it != to; ++it)
+      if (it->second.coarsen == coarsen) refusal = it->second.message;
+    std::string output;
+    const int rc = run_binary(fmt::format("check {} --coarsen {}", quoted(deck), coarsen), output);
+    if (refusal) {
+      EXPECT_NE(rc, 0) << name << " at --coarsen " << coarsen << " is listed as refused but passes";
+      EXPECT_NE(output.find(refusal), std::string::npos) << output;
+    } else {
+      EXPECT_EQ(rc, 0) << name << " at --coarsen " << coarsen << ":\n" << output;
+    }
+  }
 }
 
 std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
