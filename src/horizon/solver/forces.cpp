@@ -831,7 +831,8 @@ uint64_t bond_based_pass(System& s) {
     const RowOut o = row(c, i, total);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
-    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (forces.hpp)
+    P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
     P.f[i] = {o.fx, o.fy, o.fz};
     if constexpr (kEnergy) P.energy[i] = o.energy;
@@ -861,7 +862,8 @@ uint64_t break_and_dilate(System& s) {
     const RowOut o = row(c, i, M.P[i], total);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
-    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (forces.hpp)
+    P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
     if (M.dilatation_coef[i] != 0) {
       const double theta = M.dim * o.theta / M.weighted_volume[i];
@@ -894,17 +896,21 @@ void internal_force(System& s) {
   }
 }
 
-// Sum of the damage weights of i's bonds with the given state, in the lanes of the
-// bond loops: an undamaged particle then has damage 0 exactly.
+// Sum of the damage weights of i's bonds (all, or the intact ones alone), in the lanes
+// of the bond loops: an undamaged particle then has damage 0 exactly, and one with no
+// intact bond 1 exactly. A bond marked to break after this pass's force (intact 2) is
+// already out of the intact sum.
 double lane_sum_damage(const System& s, std::size_t i, bool intact_only) {
   const auto& B = s.bonds;
   double lanes[8] = {};
   for (uint64_t k = B.begin(i); k < B.end(i); ++k)
-    if (!intact_only || B.intact[k]) lanes[(k - B.begin(i)) & 7] += s.model.kind[B.kind[k]].damage;
+    if (!intact_only || B.intact[k] == 1) lanes[(k - B.begin(i)) & 7] += s.model.kind[B.kind[k]].damage;
   return total8(lanes);
 }
 
 }  // namespace
+
+double intact_damage_weight(const System& s, std::size_t i) { return lane_sum_damage(s, i, true); }
 
 void set_kernel_path(KernelPath path) { g_path = path; }
 
@@ -962,7 +968,7 @@ void refresh_damage(System& s) {
   for (std::size_t i = 0; i < n; ++i) {
     M.damage_total[i] = lane_sum_damage(s, i, false);
     M.intact_weight[i] = lane_sum_damage(s, i, true);
-    s.particles.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    s.particles.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
   }
 }
 

@@ -27,6 +27,18 @@ void build_kind_coefficients(System& s, DamageMeasure measure);
 // after changing intact flags by hand.
 void refresh_damage(System& s);
 
+// The damage weight of i's intact bonds (intact == 1), summed afresh in the lanes of the
+// bond loops. A row whose bonds broke in a pass takes it in place of its running sum, so
+// that a particle whose every bond is broken has damage exactly 1 (the running sum's
+// subtractions leave a rounding residue: 1.0000000000000007 on the glass demo).
+double intact_damage_weight(const System& s, std::size_t i);
+
+// phi_i = 1 - (intact weight) / (total weight), exactly 0 with every bond intact and
+// exactly 1 with none (docs/models.md, damage).
+inline double damage_of(double intact_weight, double total_weight) {
+  return total_weight > 0 ? 1.0 - intact_weight / total_weight : 0.0;
+}
+
 // Which implementation of the bond loops runs: the widest the CPU has (automatic:
 // AVX-512, else AVX2, else scalar), at most AVX2, or the portable scalar one. All give
 // the same bits; tests compare them. general: the general force pass of
