@@ -2,7 +2,7 @@
 // every bond is broken has damage 1, one whose bonds are all intact 0, bit for bit. The
 // running intact sum of the force passes used to leave a rounding residue
 // (1.0000000000000007 on the glass demo); a row whose bonds break now sums its intact
-// bonds afresh (solver/forces.hpp intact_damage_weight). A plate whose right half is
+// bonds afresh (state/system.hpp intact_damage_weight). A plate whose right half is
 // flung apart (every bond there breaks) and whose left half stays at rest (no bond
 // breaks), in each force pass: bond-based and state-based, the SIMD and scalar loops and
 // the general pass.
@@ -12,6 +12,7 @@
 
 #include "horizon/deck/deck.hpp"
 #include "horizon/loading/loads.hpp"
+#include "horizon/solver/build.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/forces.hpp"
 #include "../single_thread.hpp"

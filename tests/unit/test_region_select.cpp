@@ -12,7 +12,8 @@
 #include "horizon/driver/run.hpp"
 #include "horizon/geometry/region_select.hpp"
 #include "horizon/loading/loads.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
+#include "horizon/state/system.hpp"
 #include "../single_thread.hpp"
 
 namespace horizon {
