@@ -17,6 +17,7 @@
 #include "horizon/family/neighbors.hpp"
 #include "horizon/family/precrack.hpp"
 #include "horizon/geometry/lattice.hpp"
+#include "horizon/geometry/region_select.hpp"
 #include "horizon/material/constants.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/solver/forces.hpp"
@@ -187,9 +188,9 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
     for (auto& X : s.particles.X) X = Vec3{X.x, R * std::sin(X.y / R), R * std::cos(X.y / R)};
 
   for (const auto& name : config.no_fail_regions) {
-    const Shape& region = config.regions.at(name);
-    for (std::size_t i = 0; i < s.particles.size(); ++i)
-      if (region.contains(s.particles.X[i])) s.particles.no_fail[i] = 1;
+    // As a load's region (geometry/region_select.hpp): what it holds, else the nearest layer.
+    for (uint32_t i : select_region(config.regions.at(name), s.particles.X, config.dimension, config.spacing))
+      s.particles.no_fail[i] = 1;
   }
 
   const double radius = family_radius(config.horizon, config.spacing, config.partial_volume.rule);

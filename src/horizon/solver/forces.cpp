@@ -896,7 +896,8 @@ uint64_t bond_based_pass(System& s) {
     const RowOut o = row(c, i, total);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
-    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
+    P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
     P.f[i] = {o.fx, o.fy, o.fz};
     if constexpr (kEnergy) P.energy[i] = o.energy;
@@ -926,7 +927,8 @@ uint64_t break_and_dilate(System& s) {
     const RowOut o = row(c, i, M.P[i], total);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
-    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
+    P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
     if (M.dilatation_coef[i] != 0) {
       const double theta = M.dim * o.theta / M.weighted_volume[i];

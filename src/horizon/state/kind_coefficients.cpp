@@ -12,17 +12,21 @@ namespace {
 
 inline double total8(const double* v) { return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7])); }
 
-// Sum of the damage weights of i's bonds with the given state, in the lanes of the
-// bond loops: an undamaged particle then has damage 0 exactly.
+// Sum of the damage weights of i's bonds (all, or the intact ones alone), in the lanes
+// of the bond loops: an undamaged particle then has damage 0 exactly, and one with no
+// intact bond 1 exactly. A bond marked to break after this pass's force (intact 2) is
+// already out of the intact sum.
 double lane_sum_damage(const System& s, std::size_t i, bool intact_only) {
   const auto& B = s.bonds;
   double lanes[8] = {};
   for (uint64_t k = B.begin(i); k < B.end(i); ++k)
-    if (!intact_only || B.intact[k]) lanes[(k - B.begin(i)) & 7] += s.model.kind[B.kind[k]].damage;
+    if (!intact_only || B.intact[k] == 1) lanes[(k - B.begin(i)) & 7] += s.model.kind[B.kind[k]].damage;
   return total8(lanes);
 }
 
 }  // namespace
+
+double intact_damage_weight(const System& s, std::size_t i) { return lane_sum_damage(s, i, true); }
 
 void build_kind_tables(System& s, DamageMeasure measure) {
   const auto& B = s.bonds;
@@ -86,7 +90,7 @@ void refresh_damage(System& s) {
   for (std::size_t i = 0; i < n; ++i) {
     M.damage_total[i] = lane_sum_damage(s, i, false);
     M.intact_weight[i] = lane_sum_damage(s, i, true);
-    s.particles.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    s.particles.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
   }
 }
 

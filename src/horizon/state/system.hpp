@@ -202,6 +202,18 @@ void build_kind_tables(System& s, DamageMeasure measure);
 // after changing intact flags by hand.
 void refresh_damage(System& s);
 
+// The damage weight of i's intact bonds (intact == 1), summed afresh in the lanes of the
+// bond loops. A row whose bonds broke in a pass takes it in place of its running sum, so
+// that a particle whose every bond is broken has damage exactly 1 (the running sum's
+// subtractions leave a rounding residue: 1.0000000000000007 on the glass demo).
+double intact_damage_weight(const System& s, std::size_t i);
+
+// phi_i = 1 - (intact weight) / (total weight), exactly 0 with every bond intact and
+// exactly 1 with none.
+inline double damage_of(double intact_weight, double total_weight) {
+  return total_weight > 0 ? 1.0 - intact_weight / total_weight : 0.0;
+}
+
 // Total strain energy sum_i W_i V_i [J] (after compute_forces(s, true)).
 double strain_energy(const System& s);
 
