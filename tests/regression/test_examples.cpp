@@ -2,11 +2,15 @@
 // half resolution (--coarsen 2) and its summary.json holds sane figures. Most decks run
 // only a few dozen steps (--end-time); those in kFullRuns run to their own end time,
 // because their figure of interest needs the whole run (a crack that has to grow).
-// Output goes under the build tree; the frames are deleted when a test passes.
+// Output goes under the build tree; the frames are deleted when a test passes. A warning
+// in a run's output or summary.json fails the test unless the deck's header comment
+// explains it (explained_warnings). ChecksAtEveryCoarsening runs `horizon check` on every
+// deck at --coarsen 1.5, 2, 3 and 4.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -63,6 +67,39 @@ int run_binary(const std::string& args, std::string& output) {
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
+// The warnings a deck's leading comment explains, one line each:
+//   # Expected warning "<part of its text>": why the run warns and why that is fine.
+std::vector<std::string> explained_warnings(const fs::path& deck) {
+  std::vector<std::string> parts;
+  std::ifstream in(deck);
+  const std::string marker = "expected warning \"";
+  for (std::string line; std::getline(in, line) && line.rfind('#', 0) == 0;) {
+    std::string lower = line;
+    for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const auto at = lower.find(marker);
+    if (at == std::string::npos) continue;
+    const auto from = at + marker.size(), to = line.find('"', from);
+    if (to != std::string::npos && to > from) parts.push_back(line.substr(from, to - from));
+  }
+  return parts;
+}
+
+// Fails on each warning in a run's output or summary.json that the deck does not explain.
+void expect_no_unexplained_warning(const fs::path& deck, const std::string& output, const nlohmann::json& summary) {
+  const std::vector<std::string> explained = explained_warnings(deck);
+  auto check = [&](const std::string& text) {
+    for (const auto& part : explained)
+      if (text.find(part) != std::string::npos) return;
+    ADD_FAILURE() << deck.filename().string() << ": a warning its header comment does not explain (add a line '# "
+                  << "Expected warning \"<text>\": why' if it is meant): " << text;
+  };
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("warning:") != std::string::npos) check(line);
+  if (summary.contains("warnings"))
+    for (const auto& w : summary["warnings"]) check(w.get<std::string>());
+}
+
 class Examples : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Examples, RunsAtHalfResolution) {
@@ -94,6 +131,7 @@ TEST_P(Examples, RunsAtHalfResolution) {
   ASSERT_TRUE(in) << "no summary.json in " << out;
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["status"], "completed");
+  expect_no_unexplained_warning(deck, output, j);
   EXPECT_EQ(j["particles"].get<std::size_t>(), s.particles.size());
   EXPECT_GT(j["particles"].get<std::size_t>(), 0u);
   if (j.contains("fe"))  // finite-element bodies: a deck of elements only has no bond
@@ -109,6 +147,9 @@ TEST_P(Examples, RunsAtHalfResolution) {
   // of velocity Verlet in the first steps after a sudden load (measured: block_tension
   // 1.9e-2, elastic_impact 1.9e-2, glass_branching 1.4e-2, wave_in_bar 2.0e-3; each falls
   // 4x when the step is halved). A term missing from the ledger would show as more.
+  // Damage lies in [0, 1] exactly (the glass demo once reached 1.0000000000000007).
+  EXPECT_GE(j["damage"]["mean"].get<double>(), 0.0);
+  EXPECT_LE(j["damage"]["max"].get<double>(), 1.0);
   const double max_error = e["max_abs_balance_error"];
   EXPECT_LT(max_error, 0.03) << "energy ledger out of balance";
   EXPECT_TRUE(fs::exists(out / "history.csv"));
@@ -126,6 +167,58 @@ TEST_P(Examples, RunsAtHalfResolution) {
     EXPECT_LT(speed, full->second.max_crack_speed);
   }
   if (!HasFailure()) fs::remove_all(out / "frames");
+}
+
+// Every deck passes `horizon check` (the set-up: lattice, bonds, regions, loads; no step)
+// at each of these coarsenings: `--coarsen` promises a quick look at any deck, and a load
+// strip one spacing thick keeps selecting its boundary layer on the coarse lattice
+// (geometry/region_select.hpp).
+constexpr double kCheckCoarsenings[] = {1.5, 2, 3, 4};
+
+// The coarsenings a deck cannot take by design, and why (each is refused with a message
+// that says so, which the test checks).
+struct NotCoarsenable {
+  double coarsen;
+  const char* message;  // part of the refusal
+};
+const std::multimap<std::string, NotCoarsenable> kNotCoarsenable = {
+    // Structures' supports must lie on a line of nodes (the model mirrors the plate across
+    // it with ghost nodes): their spans, 40 (double_torsion) and 80 (plate_navier) fine
+    // spacings, are whole numbers of coarse spacings at 2 and 4 only.
+    {"double_torsion", {1.5, "no node lies on it"}},
+    {"double_torsion", {3, "no node lies on it"}},
+    {"plate_navier", {1.5, "no node lies on it"}},
+    {"plate_navier", {3, "no node lies on it"}},
+    // A cylindrical shell's circumference must be a whole number of spacings (the lattice
+    // closes on itself): 128 fine spacings around are not a multiple of 1.5 or 3.
+    {"pinched_tube", {1.5, "must be a whole number of spacings"}},
+    {"pinched_tube", {3, "must be a whole number of spacings"}},
+    // Hexahedra need two node layers through the plate (10 mm at 2 mm, 12.5 mm at 2.5 mm):
+    // at 4 coarse spacings it holds one.
+    {"center_cracked_plate", {4, "an element needs two"}},
+    {"plate_perforation_coupled", {4, "an element needs two"}},
+    // The 4 mm gauge body is one coarse spacing at 4 x 1 mm: its lattice points are taken
+    // by the bodies beside it, and a body with no particle is refused.
+    {"plastic_necking_bar", {4, "contains no lattice point"}},
+};
+
+TEST_P(Examples, ChecksAtEveryCoarsening) {
+  const std::string name = GetParam();
+  const fs::path deck = fs::path(HORIZON_SOURCE_DIR) / "examples" / (name + ".yaml");
+  for (double coarsen : kCheckCoarsenings) {
+    const char* refusal = nullptr;
+    const auto [from, to] = kNotCoarsenable.equal_range(name);
+    for (auto it = from; it != to; ++it)
+      if (it->second.coarsen == coarsen) refusal = it->second.message;
+    std::string output;
+    const int rc = run_binary(fmt::format("check {} --coarsen {}", quoted(deck), coarsen), output);
+    if (refusal) {
+      EXPECT_NE(rc, 0) << name << " at --coarsen " << coarsen << " is listed as refused but passes";
+      EXPECT_NE(output.find(refusal), std::string::npos) << output;
+    } else {
+      EXPECT_EQ(rc, 0) << name << " at --coarsen " << coarsen << ":\n" << output;
+    }
+  }
 }
 
 std::string test_name(const ::testing::TestParamInfo<std::string>& info) {

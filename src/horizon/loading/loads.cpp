@@ -12,6 +12,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/material/model.hpp"
+#include "horizon/geometry/region_select.hpp"
 
 namespace horizon {
 
@@ -58,12 +59,22 @@ std::vector<uint32_t> region_particles(const Config& config, const System& s, co
   }
   const auto it = config.regions.find(region);
   if (it == config.regions.end()) throw Error("unknown region '" + region + "'");
-  for (std::size_t i = 0; i < s.particles.size(); ++i)
-    if (it->second.contains(s.particles.X[i])) ids.push_back(static_cast<uint32_t>(i));
+  ids = particles_inside(it->second, s.particles.X);
   // A rank with local particles (parallel/decomposition.hpp) holds part of the bodies: the
   // region is empty when it is on every rank (collective then).
   const bool local = s.decomposition && s.decomposition->local_particles;
-  if (local ? sum_over_ranks(ids.size()) == 0 : ids.empty()) {
+  auto empty = [&] { return local ? sum_over_ranks(ids.size()) == 0 : ids.empty(); };
+  if (empty() && selects_nearest_layer(it->second)) {
+    // A box that holds no particle selects the nearest lattice layer(s) instead
+    // (geometry/region_select.hpp; docs/input.md, "Regions"): a strip one spacing thick
+    // stays on its boundary at any --coarsen. The gaps are the whole system's.
+    const Box3 box = it->second.bounds();
+    Vec3 gaps = nearest_layer_gaps(box, s.particles.X, config.dimension, s.spacing);
+    if (local)
+      for (int k = 0; k < 3; ++k) gaps[k] = min_over_ranks(gaps[k]);
+    ids = particles_nearest(box, s.particles.X, config.dimension, s.spacing, gaps);
+  }
+  if (empty()) {
     const Box3 r = it->second.bounds();
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const Vec3& x : s.particles.X)
@@ -75,7 +86,7 @@ std::vector<uint32_t> region_particles(const Config& config, const System& s, co
       return t;
     };
     throw Error(fmt::format("{}: region '{}' contains no particle: it spans {}, the particles span {}; is it inside "
-                            "a body, at least one spacing ({:g} m) thick?",
+                            "a body, or less than one spacing ({:g} m) from one?",
                             config.deck_file, region, box(r.min, r.max), box(lo, hi), s.spacing));
   }
   return ids;

@@ -140,7 +140,8 @@ uint64_t general_forces(System& s, bool energy) {
     const BreakOut o = break_row(s, i, after);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
-    P.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
+    if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
+    P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
   }
 
