@@ -4,7 +4,7 @@
 // jittered (the cells still tile the box exactly). Physical groups / sets: the volume
 // "block" and the faces "left" (x = min) and "right" (x = max).
 #include <exodusII.h>
-#include <gmsh.h>
+#include <gmshc.h>
 
 #include <algorithm>
 #include <array>
@@ -13,6 +13,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -70,24 +71,34 @@ inline BoxMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz, 
   return m;
 }
 
-// Gmsh .msh through the Gmsh library (its C++ API, gmsh.h), in any version it writes
-// (Mesh.MshFileVersion: 1, 2.2, 3, 4, 4.1) and encoding (Mesh.Binary): one discrete
-// volume entity (physical 1 "block"), two discrete surface entities (physical 2 "left",
-// 3 "right"); node tags 1..n, the cells first (element tags 1..), then the faces.
-// Horizon's Session holds Gmsh (its lock, and the process state Gmsh changes) meanwhile.
+// Gmsh's C API (gmshc.h) through the library Horizon loads on first use: the tests do
+// not link libgmsh, whose start-up (about 1 s: OpenCASCADE, FLTK, X11) every test
+// process would pay. GMSH(gmshModelAdd, "box") calls gmshModelAdd("box", &ierr) and
+// throws when Gmsh reports an error. Call it inside a gmsh_library::Session.
+#define GMSH(f, ...)                                                                                   \
+  do {                                                                                                 \
+    int gmsh_ierr = 0;                                                                                 \
+    reinterpret_cast<decltype(&::f)>(::horizon::gmsh_library::symbol(#f))(__VA_ARGS__ __VA_OPT__(, ) & gmsh_ierr); \
+    if (gmsh_ierr != 0) throw std::runtime_error(#f " failed");                                       \
+  } while (0)
+
+// Gmsh .msh through the Gmsh library, in any version it writes (Mesh.MshFileVersion: 1,
+// 2.2, 3, 4, 4.1) and encoding (Mesh.Binary): one discrete volume entity (physical 1
+// "block"), two discrete surface entities (physical 2 "left", 3 "right"); node tags
+// 1..n, the cells first (element tags 1..), then the faces.
 inline void write_msh(const BoxMesh& m, const std::string& path, bool binary, double version = 4.1) {
   gmsh_library::Session session;
-  gmsh::model::add("box");
-  gmsh::model::addDiscreteEntity(3, 1);
-  gmsh::model::addDiscreteEntity(2, 1);
-  gmsh::model::addDiscreteEntity(2, 2);
+  GMSH(gmshModelAdd, "box");
+  GMSH(gmshModelAddDiscreteEntity, 3, 1, nullptr, 0);
+  GMSH(gmshModelAddDiscreteEntity, 2, 1, nullptr, 0);
+  GMSH(gmshModelAddDiscreteEntity, 2, 2, nullptr, 0);
   std::vector<std::size_t> tags;
   std::vector<double> xyz;
   for (std::size_t i = 0; i < m.nodes.size(); ++i) {
     tags.push_back(i + 1);
     xyz.insert(xyz.end(), {m.nodes[i].x, m.nodes[i].y, m.nodes[i].z});
   }
-  gmsh::model::mesh::addNodes(3, 1, tags, xyz);
+  GMSH(gmshModelMeshAddNodes, 3, 1, tags.data(), tags.size(), xyz.data(), xyz.size(), nullptr, 0);
   std::size_t next = 1;
   auto add = [&](int entity, int type, const std::vector<std::vector<int64_t>>& elems) {
     std::vector<std::size_t> etags, enodes;
@@ -95,20 +106,24 @@ inline void write_msh(const BoxMesh& m, const std::string& path, bool binary, do
       etags.push_back(next++);
       for (int64_t v : e) enodes.push_back(static_cast<std::size_t>(v));
     }
-    gmsh::model::mesh::addElementsByType(entity, type, etags, enodes);  // the entity's dimension is the type's
+    // The entity's dimension is the element type's.
+    GMSH(gmshModelMeshAddElementsByType, entity, type, etags.data(), etags.size(), enodes.data(), enodes.size());
   };
   add(1, m.tets ? 4 : 5, m.cells);  // Gmsh types: 4 tetrahedron, 5 hexahedron, 3 quadrangle
   add(1, 3, m.left);
   add(2, 3, m.right);
-  gmsh::model::addPhysicalGroup(3, {1}, 1);
-  gmsh::model::setPhysicalName(3, 1, "block");
-  gmsh::model::addPhysicalGroup(2, {1}, 2);
-  gmsh::model::setPhysicalName(2, 2, "left");
-  gmsh::model::addPhysicalGroup(2, {2}, 3);
-  gmsh::model::setPhysicalName(2, 3, "right");
-  gmsh::option::setNumber("Mesh.MshFileVersion", version);
-  gmsh::option::setNumber("Mesh.Binary", binary ? 1 : 0);
-  gmsh::write(path);
+  const struct {
+    int dim, entity, tag;
+    const char* name;
+  } groups[3] = {{3, 1, 1, "block"}, {2, 1, 2, "left"}, {2, 2, 3, "right"}};
+  for (const auto& g : groups) {
+    int entity = g.entity;
+    GMSH(gmshModelAddPhysicalGroup, g.dim, &entity, 1, g.tag);
+    GMSH(gmshModelSetPhysicalName, g.dim, g.tag, g.name);
+  }
+  GMSH(gmshOptionSetNumber, "Mesh.MshFileVersion", version);
+  GMSH(gmshOptionSetNumber, "Mesh.Binary", binary ? 1.0 : 0.0);
+  GMSH(gmshWrite, path.c_str());
 }
 
 // Exodus II: element block 1 "block"; node sets 1 "left" and 2 "right".

@@ -44,12 +44,15 @@ void resolve(void* lib, F& f, const char* name) {
 
 // Loaded once per process; never unloaded (OpenCASCADE's static objects do not survive
 // dlclose).
+void* library_handle = nullptr;
+
 const Api& api() {
   static std::once_flag once;
   static Api a{};
   static std::string failure;
   std::call_once(once, [] {
     void* lib = dlopen(library_name(), RTLD_NOW | RTLD_LOCAL);
+    library_handle = lib;
     if (!lib) {
       const char* why = dlerror();
       failure = std::string("cannot load the Gmsh library ") + library_name() + " (" + (why ? why : "?") +
@@ -105,6 +108,13 @@ std::vector<T> take(const Api& a, T* p, std::size_t n) {
 }
 
 }  // namespace
+
+void* symbol(const char* name) {
+  api();
+  void* f = dlsym(library_handle, name);
+  if (!f) throw Error(std::string("the Gmsh library ") + library_name() + " has no function " + name);
+  return f;
+}
 
 struct Session::State {
   std::unique_lock<std::mutex> lock;

@@ -63,5 +63,8 @@ class Session {
 
 // Where the library is looked for (its soname, fixed when Horizon is configured).
 const char* library_name();
+// Any function of Gmsh's C API by name, for callers that need more than the Session
+// offers (the tests write their meshes through it); cast it to decltype(&::gmshName).
+void* symbol(const char* name);
 
 }  // namespace horizon::gmsh_library
