@@ -34,6 +34,14 @@ struct Api {
   decltype(&::gmshModelMeshGetElements) get_elements;
   decltype(&::gmshModelMeshGetElementProperties) element_properties;
   decltype(&::gmshLoggerGetLastError) last_error;
+  decltype(&::gmshOptionGetNumber) get_number;
+  decltype(&::gmshModelAdd) model_add;
+  decltype(&::gmshModelRemove) model_remove;
+  decltype(&::gmshModelGetCurrent) model_get_current;
+  decltype(&::gmshModelSetCurrent) model_set_current;
+  // Gmsh 4.9 and later: whether someone else (a Python program importing the same
+  // library) holds a session; absent from Debian 12's Gmsh 4.8.
+  int (*is_initialized)(int*) = nullptr;
 };
 
 template <class F>
@@ -72,6 +80,12 @@ const Api& api() {
       resolve(lib, a.get_elements, "gmshModelMeshGetElements");
       resolve(lib, a.element_properties, "gmshModelMeshGetElementProperties");
       resolve(lib, a.last_error, "gmshLoggerGetLastError");
+      resolve(lib, a.get_number, "gmshOptionGetNumber");
+      resolve(lib, a.model_add, "gmshModelAdd");
+      resolve(lib, a.model_remove, "gmshModelRemove");
+      resolve(lib, a.model_get_current, "gmshModelGetCurrent");
+      resolve(lib, a.model_set_current, "gmshModelSetCurrent");
+      a.is_initialized = reinterpret_cast<int (*)(int*)>(dlsym(lib, "gmshIsInitialized"));
     } catch (const Error& e) {
       failure = e.what();
     }
@@ -124,6 +138,11 @@ struct Session::State {
   int threads = 1;
   int levels = 1;
   int dynamic = 0;
+  // A session someone else opened (Gmsh >= 4.9 tells): Horizon works in a model of its
+  // own, then removes it and puts back their current model and terminal setting.
+  bool borrowed = false;
+  std::string their_model;
+  double their_terminal = 0;
 };
 
 Session::Session() : saved_(nullptr) {
@@ -137,7 +156,16 @@ Session::Session() : saved_(nullptr) {
   s->dynamic = omp_get_dynamic();
   saved_ = s;
   int ierr = 0;
-  a.initialize(0, nullptr, 0, &ierr);  // no gmshrc, no options files
+  s->borrowed = a.is_initialized && a.is_initialized(&ierr) == 1 && ierr == 0;
+  if (s->borrowed) {
+    char* name = nullptr;
+    a.model_get_current(&name, &ierr);
+    if (name) s->their_model = name, a.free(name);
+    a.get_number("General.Terminal", &s->their_terminal, &ierr);
+    a.model_add("horizon", &ierr);
+  } else {
+    a.initialize(0, nullptr, 0, &ierr);  // no gmshrc, no options files
+  }
   if (ierr == 0) a.set_number("General.Terminal", 0, &ierr);
   if (ierr != 0) {
     const std::string message = last_error(a, "gmshInitialize");
@@ -150,9 +178,16 @@ Session::~Session() { end(); }
 
 void Session::end() {
   if (!saved_) return;
-  int ierr = 0;
-  api().finalize(&ierr);
+  const Api& a = api();
   State* s = saved_;
+  int ierr = 0;
+  if (s->borrowed) {
+    a.model_remove(&ierr);
+    if (!s->their_model.empty()) a.model_set_current(s->their_model.c_str(), &ierr);
+    a.set_number("General.Terminal", s->their_terminal, &ierr);
+  } else {
+    a.finalize(&ierr);
+  }
   if (!s->locale.empty()) std::setlocale(LC_ALL, s->locale.c_str());
   if (s->have_stack) setrlimit(RLIMIT_STACK, &s->stack);
   omp_set_num_threads(s->threads);

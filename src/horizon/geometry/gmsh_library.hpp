@@ -8,7 +8,9 @@
 //   0.8 s and 50 MB at start-up, meshes or not.
 // - Gmsh's state is global (one set of models and options per process): a Session holds
 //   a process-wide lock from gmshInitialize to gmshFinalize, so two threads never share
-//   it, and leaves nothing behind for a Python session that imports Gmsh itself.
+//   it, and leaves nothing behind for a Python session that imports Gmsh itself. Where
+//   such a session is open in the same library (Gmsh >= 4.9 says so), Horizon reads in a
+//   model of its own and leaves theirs as it was.
 // - gmshInitialize changes process state that Horizon owns: it sets OpenMP's thread
 //   count to 1, the locale from the environment and the stack limit to unlimited. The
 //   Session restores all three when it ends.
