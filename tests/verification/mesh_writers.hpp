@@ -79,8 +79,17 @@ inline BoxMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz, 
   do {                                                                                                 \
     int gmsh_ierr = 0;                                                                                 \
     reinterpret_cast<decltype(&::f)>(::horizon::gmsh_library::symbol(#f))(__VA_ARGS__ __VA_OPT__(, ) & gmsh_ierr); \
-    if (gmsh_ierr != 0) throw std::runtime_error(#f " failed");                                       \
+    if (gmsh_ierr != 0) throw std::runtime_error(#f " failed: " + ::horizon::test::gmsh_last_error()); \
   } while (0)
+
+inline std::string gmsh_last_error() {
+  char* text = nullptr;
+  int ierr = 0;
+  reinterpret_cast<decltype(&::gmshLoggerGetLastError)>(gmsh_library::symbol("gmshLoggerGetLastError"))(&text, &ierr);
+  std::string s = text ? text : "";
+  if (text) reinterpret_cast<decltype(&::gmshFree)>(gmsh_library::symbol("gmshFree"))(text);
+  return s;
+}
 
 // Gmsh .msh through the Gmsh library, in any version it writes (Mesh.MshFileVersion: 1,
 // 2.2, 3, 4, 4.1) and encoding (Mesh.Binary): one discrete volume entity (physical 1

@@ -224,7 +224,7 @@ TEST(SurfaceFill, SphereAndHoledPlateWithinOneLayer) {
     const double filled = static_cast<double>(n) * c.h * c.h * c.h;
     report(std::string("surface_fill_") + c.name, std::abs(filled - V) / (A * c.h),
            fmt::format("{}: {} triangles, {} particles of spacing {:.3g} mm: filled volume {:+.2f} % of the solid's, "
-                       "{:.2f} of one layer (area x spacing)",
+                       "{:.3f} of one layer (area x spacing)",
                        c.name, surface->triangle_count(), n, c.h * 1e3, 100 * (filled / V - 1),
                        std::abs(filled - V) / (A * c.h)));
     EXPECT_LE(std::abs(filled - V), A * c.h) << c.name;

@@ -5,7 +5,7 @@
 //
 // - Loaded on first use (dlopen), not linked: libgmsh pulls OpenCASCADE, FLTK and X11
 //   (about 90 shared libraries); linked, they would cost every `horizon` process about
-//   0.8 s and 50 MB at start-up, meshes or not.
+//   1 s and 50 MB at start-up, meshes or not (docs/benchmarks.md, "Gmsh").
 // - Gmsh's state is global (one set of models and options per process): a Session holds
 //   a process-wide lock from gmshInitialize to gmshFinalize, so two threads never share
 //   it, and leaves nothing behind for a Python session that imports Gmsh itself. Where

@@ -295,7 +295,6 @@ double ClosedSurface::area() const {
 }
 
 ClosedSurface read_surface(const std::string& path, double scale) {
-  if (!std::filesystem::exists(path)) throw SurfaceError("cannot open surface '" + path + "': No such file or directory");
   std::string ext = std::filesystem::path(path).extension().string();
   for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   // Gmsh 4.8 reads these three by their own readers; it reads files of other names
@@ -303,6 +302,7 @@ ClosedSurface read_surface(const std::string& path, double scale) {
   static const std::vector<std::string> kKnown = {".stl", ".ply", ".msh"};
   if (std::find(kKnown.begin(), kKnown.end(), ext) == kKnown.end())
     throw SurfaceError("surface '" + path + "': unknown extension '" + ext + "' (.stl, ASCII or binary; also .ply and .msh)");
+  if (!std::filesystem::exists(path)) throw SurfaceError("cannot open surface '" + path + "': No such file or directory");
   if (ext == ".msh") check_msh_header(path);
   gmsh_library::Session gmsh;
   if (const std::string why = gmsh.merge(path); !why.empty()) throw SurfaceError(path + ": Gmsh cannot read it: " + why);
