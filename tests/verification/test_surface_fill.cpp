@@ -194,6 +194,14 @@ TEST(SurfaceFill, CubeAsciiAndBinary) {
     EXPECT_FALSE(s.contains(p * mm)) << p.x << " " << p.y << " " << p.z;
   for (const Vec3& p : {Vec3{3, 3, 5}, Vec3{7, 7, 1}, Vec3{5, 5, 5}, Vec3{1e-6, 1e-6, 5}, Vec3{9.999999, 9.999999, 5}})
     EXPECT_TRUE(s.contains(p * mm)) << p.x << " " << p.y << " " << p.z;
+  EXPECT_FALSE(s.contains({std::nan(""), 5 * mm, 5 * mm}));
+
+  // A flat "solid" (one triangle twice, back to back: every edge used twice) holds no
+  // volume: only its own points are inside, and its grids stay small.
+  const ClosedSurface flat({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 1}}, "flat");
+  EXPECT_EQ(flat.volume(), 0.0);
+  EXPECT_TRUE(flat.contains({0.25, 0.25, 0}));
+  EXPECT_FALSE(flat.contains({0.25, 0.25, 1e-9}));
 }
 
 // The sphere (1984 triangles) and the holed plate fill to their volume within one layer;

@@ -78,10 +78,12 @@ struct Grid {
       vol *= w[k];
     }
     const double cell = std::pow(vol / static_cast<double>(std::max<std::size_t>(target, 1)), 1.0 / dims);
-    for (int k = 0; k < dims; ++k) {
-      n[k] = static_cast<int>(std::clamp(std::ceil(w[k] / cell), 1.0, 1024.0));
-      size[k] = w[k] / n[k];
-    }
+    for (int k = 0; k < dims; ++k) n[k] = static_cast<int>(std::clamp(std::ceil(w[k] / cell), 1.0, 1024.0));
+    // A flat box (a degenerate surface) would ask for 1024 cells along every other
+    // axis: halve the longest side until the count is near the target.
+    auto count = [&] { return static_cast<double>(n[0]) * n[1] * n[2]; };
+    while (count() > 8.0 * static_cast<double>(target) + 64) *std::max_element(n, n + dims) /= 2;
+    for (int k = 0; k < dims; ++k) size[k] = w[k] / n[k];
   }
   int index(int k, double x) const {
     return std::clamp(static_cast<int>(std::floor((x - lo[k]) / size[k])), 0, n[k] - 1);
@@ -245,9 +247,9 @@ void ClosedSurface::check_self_intersection() const {
 }
 
 bool ClosedSurface::contains(const Vec3& p) const {
-  // Bounding-box prefilter.
+  // Bounding-box prefilter (written so that NaN is outside).
   for (int k = 0; k < 3; ++k)
-    if (p[k] < lo_[k] - tol_ || p[k] > hi_[k] + tol_) return false;
+    if (!(p[k] >= lo_[k] - tol_ && p[k] <= hi_[k] + tol_)) return false;
   const int i = std::clamp(static_cast<int>(std::floor((p.x - lo_.x) / cx_)), 0, nx_ - 1);
   const int j = std::clamp(static_cast<int>(std::floor((p.y - lo_.y) / cy_)), 0, ny_ - 1);
   const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
