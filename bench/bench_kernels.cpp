@@ -20,7 +20,7 @@
 #include "horizon/geometry/lattice.hpp"
 #include "horizon/geometry/surface.hpp"
 #include "horizon/solver/forces.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace {
 
