@@ -9,13 +9,16 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include "horizon/family/neighbors.hpp"
 #include "horizon/geometry/lattice.hpp"
+#include "horizon/geometry/surface.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/build.hpp"
 
@@ -234,6 +237,47 @@ void BM_Triad(benchmark::State& state) {
                                                      benchmark::Counter::kIsRate);
 }
 
+// A body from a closed surface (geometry/surface.hpp): a latitude-longitude sphere of
+// radius 10 mm, 32 meridians (1984 triangles), filled at spacing 2R/46: the 46^3 = 97336
+// lattice points of its box are tested, 51 thousand kept. Building the surface (the
+// closedness and self-intersection checks, the xy grid) is timed with the fill.
+void BM_SurfaceFill(benchmark::State& state) {
+  const int n = 32;
+  const double R = 0.01;
+  std::vector<Vec3> v;
+  std::vector<std::array<uint32_t, 3>> t;
+  auto index = [&](int i, int j) -> uint32_t {
+    if (i == 0) return 0;
+    if (i == n) return 1;
+    return static_cast<uint32_t>(2 + (i - 1) * n + (j % n));
+  };
+  v.push_back({0, 0, R});
+  v.push_back({0, 0, -R});
+  for (int i = 1; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double th = std::numbers::pi * i / n, ph = 2 * std::numbers::pi * j / n;
+      v.push_back({R * std::sin(th) * std::cos(ph), R * std::sin(th) * std::sin(ph), R * std::cos(th)});
+    }
+  for (int j = 0; j < n; ++j) {
+    t.push_back({index(0, j), index(1, j), index(1, j + 1)});
+    for (int i = 1; i < n - 1; ++i) {
+      t.push_back({index(i, j), index(i + 1, j), index(i + 1, j + 1)});
+      t.push_back({index(i, j), index(i + 1, j + 1), index(i, j + 1)});
+    }
+    t.push_back({index(n - 1, j), index(n, j), index(n - 1, j + 1)});
+  }
+  const double h = 2 * R / 46;
+  std::size_t kept = 0;
+  for (auto _ : state) {
+    const Shape shape = Shape::surface(std::make_shared<const ClosedSurface>(v, t, "sphere"));
+    Particles p;
+    kept = fill_shape(p, shape, {3, h, h * h * h, std::nullopt}, 1000, 0, 0);
+    benchmark::DoNotOptimize(p.X.data());
+  }
+  state.counters["triangles"] = static_cast<double>(t.size());
+  state.counters["particles"] = static_cast<double>(kept);
+}
+
 }  // namespace
 
 // Blocks of n^3 particles: n = 22 (1.06e4 particles), 47 (1.04e5), 100 (1e6; about
@@ -252,5 +296,6 @@ BENCHMARK(BM_PmbForceCorrected)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kM
 BENCHMARK(BM_LpsStepCorrected)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_NeighborSearch)->ArgsProduct({{47}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Triad)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SurfaceFill)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

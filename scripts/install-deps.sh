@@ -4,6 +4,10 @@
 # libopenblas0-pthread replaces the reference BLAS under CHOLMOD (solver.linear_solver:
 # cholesky): its supernodal factorisation is dense-block work, 4x faster with OpenBLAS.
 # libexodusii-dev: Exodus II mesh input (about 32 MB with netCDF and HDF5).
+# libgmsh-dev: Gmsh .msh meshes of every version and STL/PLY surfaces (body shapes), read
+# by the Gmsh library rather than by parsers of Horizon's own (issue 32). It pulls
+# OpenCASCADE, FLTK and friends: 23 packages, about 175 MB installed on top of the rest of
+# this list. Horizon loads it only when a deck reads such a file (docs/design.md).
 # libopenmpi-dev, openmpi-bin: the MPI program horizon-mpi (HORIZON_MPI; `make test` builds and tests it).
 # pybind11-dev, python3-dev, python3-numpy, python3-pytest: the Python module and its tests
 # (against /usr/bin/python3); python3-matplotlib: the examples in examples/python.
@@ -16,7 +20,7 @@ set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libyaml-cpp-dev libeigen3-dev libmuparser-dev
       pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib python3-vtk9
       libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev nlohmann-json3-dev
-      libsuitesparse-dev libspectra-dev libopenblas0-pthread libexodusii-dev libopenmpi-dev openmpi-bin
+      libsuitesparse-dev libspectra-dev libopenblas0-pthread libexodusii-dev libgmsh-dev libopenmpi-dev openmpi-bin
       libcairo2-dev fonts-dejavu-core)
 missing=()
 for p in "${pkgs[@]}"; do

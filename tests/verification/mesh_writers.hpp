@@ -1,10 +1,10 @@
 #pragma once
-// Small structured meshes of a box written by the tests themselves: Gmsh MSH 4.1 (ASCII
-// or binary, after the Gmsh reference manual sec. 10.1) and Exodus II (through the Exodus
-// library). Hexahedra, or each hexahedron split into six tetrahedra; interior nodes can be
+// Small structured meshes of a box written by the tests themselves: Gmsh .msh (through
+// the Gmsh library) and Exodus II (through the Exodus library). Hexahedra, or each hexahedron split into six tetrahedra; interior nodes can be
 // jittered (the cells still tile the box exactly). Physical groups / sets: the volume
 // "block" and the faces "left" (x = min) and "right" (x = max).
 #include <exodusII.h>
+#include <gmshc.h>
 
 #include <algorithm>
 #include <array>
@@ -13,10 +13,12 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/geometry/gmsh_library.hpp"
 
 namespace horizon::test {
 
@@ -69,81 +71,68 @@ inline BoxMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz, 
   return m;
 }
 
-// Gmsh MSH 4.1: one volume entity (physical 1 "block"), two surface entities (physical 2
-// "left", 3 "right"); every node in the volume's node block.
-inline void write_msh(const BoxMesh& m, const std::string& path, bool binary) {
-  std::ofstream out(path, std::ios::binary);
-  out << "$MeshFormat\n4.1 " << (binary ? 1 : 0) << " 8\n";
-  auto i32 = [&](int32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
-  auto u64 = [&](uint64_t v) { out.write(reinterpret_cast<const char*>(&v), 8); };
-  auto f64 = [&](double v) { out.write(reinterpret_cast<const char*>(&v), 8); };
-  if (binary) {
-    i32(1);
-    out << "\n";
+// Gmsh's C API (gmshc.h) through the library Horizon loads on first use: the tests do
+// not link libgmsh, whose start-up (about 1 s: OpenCASCADE, FLTK, X11) every test
+// process would pay. GMSH(gmshModelAdd, "box") calls gmshModelAdd("box", &ierr) and
+// throws when Gmsh reports an error. Call it inside a gmsh_library::Session.
+#define GMSH(f, ...)                                                                                   \
+  do {                                                                                                 \
+    int gmsh_ierr = 0;                                                                                 \
+    reinterpret_cast<decltype(&::f)>(::horizon::gmsh_library::symbol(#f))(__VA_ARGS__ __VA_OPT__(, ) & gmsh_ierr); \
+    if (gmsh_ierr != 0) throw std::runtime_error(#f " failed: " + ::horizon::test::gmsh_last_error()); \
+  } while (0)
+
+inline std::string gmsh_last_error() {
+  char* text = nullptr;
+  int ierr = 0;
+  reinterpret_cast<decltype(&::gmshLoggerGetLastError)>(gmsh_library::symbol("gmshLoggerGetLastError"))(&text, &ierr);
+  std::string s = text ? text : "";
+  if (text) reinterpret_cast<decltype(&::gmshFree)>(gmsh_library::symbol("gmshFree"))(text);
+  return s;
+}
+
+// Gmsh .msh through the Gmsh library, in any version it writes (Mesh.MshFileVersion: 1,
+// 2.2, 3, 4, 4.1) and encoding (Mesh.Binary): one discrete volume entity (physical 1
+// "block"), two discrete surface entities (physical 2 "left", 3 "right"); node tags
+// 1..n, the cells first (element tags 1..), then the faces.
+inline void write_msh(const BoxMesh& m, const std::string& path, bool binary, double version = 4.1) {
+  gmsh_library::Session session;
+  GMSH(gmshModelAdd, "box");
+  GMSH(gmshModelAddDiscreteEntity, 3, 1, nullptr, 0);
+  GMSH(gmshModelAddDiscreteEntity, 2, 1, nullptr, 0);
+  GMSH(gmshModelAddDiscreteEntity, 2, 2, nullptr, 0);
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz;
+  for (std::size_t i = 0; i < m.nodes.size(); ++i) {
+    tags.push_back(i + 1);
+    xyz.insert(xyz.end(), {m.nodes[i].x, m.nodes[i].y, m.nodes[i].z});
   }
-  out << "$EndMeshFormat\n";
-  out << "$PhysicalNames\n3\n3 1 \"block\"\n2 2 \"left\"\n2 3 \"right\"\n$EndPhysicalNames\n";
-  out << "$Entities\n";
-  out.precision(17);
-  if (binary) {
-    u64(0), u64(0), u64(2), u64(1);
-    for (int s = 1; s <= 2; ++s) {
-      i32(s);
-      for (int k = 0; k < 6; ++k) f64(0);
-      u64(1), i32(s + 1), u64(0);
+  GMSH(gmshModelMeshAddNodes, 3, 1, tags.data(), tags.size(), xyz.data(), xyz.size(), nullptr, 0);
+  std::size_t next = 1;
+  auto add = [&](int entity, int type, const std::vector<std::vector<int64_t>>& elems) {
+    std::vector<std::size_t> etags, enodes;
+    for (const auto& e : elems) {
+      etags.push_back(next++);
+      for (int64_t v : e) enodes.push_back(static_cast<std::size_t>(v));
     }
-    i32(1);
-    for (int k = 0; k < 6; ++k) f64(0);
-    u64(1), i32(1), u64(2), i32(1), i32(2);
-    out << "\n";
-  } else {
-    out << "0 0 2 1\n1 0 0 0 0 0 0 1 2 0\n2 0 0 0 0 0 0 1 3 0\n1 0 0 0 0 0 0 1 1 2 1 2\n";
-  }
-  out << "$EndEntities\n$Nodes\n";
-  const std::size_t n = m.nodes.size();
-  if (binary) {
-    u64(1), u64(n), u64(1), u64(n);
-    i32(3), i32(1), i32(0), u64(n);
-    for (std::size_t i = 0; i < n; ++i) u64(i + 1);
-    for (const auto& x : m.nodes) f64(x.x), f64(x.y), f64(x.z);
-    out << "\n";
-  } else {
-    out << "1 " << n << " 1 " << n << "\n3 1 0 " << n << "\n";
-    for (std::size_t i = 0; i < n; ++i) out << i + 1 << "\n";
-    for (const auto& x : m.nodes) out << x.x << " " << x.y << " " << x.z << "\n";
-  }
-  out << "$EndNodes\n$Elements\n";
-  const std::size_t total = m.cells.size() + m.left.size() + m.right.size();
-  const int cell_type = m.tets ? 4 : 5;
-  struct Block {
-    int dim, entity, type;
-    const std::vector<std::vector<int64_t>>* elems;
+    // The entity's dimension is the element type's.
+    GMSH(gmshModelMeshAddElementsByType, entity, type, etags.data(), etags.size(), enodes.data(), enodes.size());
   };
-  const Block blocks[3] = {{3, 1, cell_type, &m.cells}, {2, 1, 3, &m.left}, {2, 2, 3, &m.right}};
-  int64_t tag = 1;
-  if (binary) {
-    u64(3), u64(total), u64(1), u64(total);
-  } else {
-    out << "3 " << total << " 1 " << total << "\n";
+  add(1, m.tets ? 4 : 5, m.cells);  // Gmsh types: 4 tetrahedron, 5 hexahedron, 3 quadrangle
+  add(1, 3, m.left);
+  add(2, 3, m.right);
+  const struct {
+    int dim, entity, tag;
+    const char* name;
+  } groups[3] = {{3, 1, 1, "block"}, {2, 1, 2, "left"}, {2, 2, 3, "right"}};
+  for (const auto& g : groups) {
+    int entity = g.entity;
+    GMSH(gmshModelAddPhysicalGroup, g.dim, &entity, 1, g.tag);
+    GMSH(gmshModelSetPhysicalName, g.dim, g.tag, g.name);
   }
-  for (const auto& b : blocks) {
-    if (binary) {
-      i32(b.dim), i32(b.entity), i32(b.type), u64(b.elems->size());
-      for (const auto& e : *b.elems) {
-        u64(static_cast<uint64_t>(tag++));
-        for (int64_t v : e) u64(static_cast<uint64_t>(v));
-      }
-    } else {
-      out << b.dim << " " << b.entity << " " << b.type << " " << b.elems->size() << "\n";
-      for (const auto& e : *b.elems) {
-        out << tag++;
-        for (int64_t v : e) out << " " << v;
-        out << "\n";
-      }
-    }
-  }
-  if (binary) out << "\n";
-  out << "$EndElements\n";
+  GMSH(gmshOptionSetNumber, "Mesh.MshFileVersion", version);
+  GMSH(gmshOptionSetNumber, "Mesh.Binary", binary ? 1.0 : 0.0);
+  GMSH(gmshWrite, path.c_str());
 }
 
 // Exodus II: element block 1 "block"; node sets 1 "left" and 2 "right".

@@ -1,9 +1,10 @@
 // Mesh input (geometry/mesh.hpp; docs/input.md "Meshes"): a box meshed by the test as
-// Gmsh MSH 4.1 (ASCII and binary) and Exodus II gives particles at the element centres
+// Gmsh .msh (every version Gmsh writes, through the Gmsh library) and Exodus II gives
+// particles at the element centres
 // carrying the element volumes -- the box's volume to 1e-12 relative, also for distorted
 // hexahedra and tetrahedra -- and, meshed with cubes of the lattice spacing, the very
 // particles of Horizon's own lattice and the same static tension result. Bad meshes are
-// errors naming the deck's line and column and the mesh file's line.
+// errors naming the deck's line and column and the mesh file.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +13,10 @@
 
 #include <fmt/format.h>
 
+#include <omp.h>
+
 #include "horizon/core/error.hpp"
+#include "horizon/geometry/gmsh_library.hpp"
 #include "horizon/geometry/mesh.hpp"
 #include "horizon/solver/static_driver.hpp"
 #include "../single_thread.hpp"
@@ -244,8 +248,110 @@ TEST(MeshInput, PlaneMeshesOfTrianglesAndQuadrangles) {
   }
 }
 
-// Errors name the deck's line and column and, for a bad mesh, the mesh file's line.
-TEST(MeshInput, ErrorsNameDeckAndMeshLines) {
+// Every .msh version and encoding Gmsh 4.8 writes (4.1, 2.2 and 3 ASCII and binary, 4.0
+// and 1 ASCII only), of one box meshed by the Gmsh library in
+// the test (tetrahedra; physical groups: the volume "block", the faces "left" x = 0 and
+// "right" x = 2), reads to the same nodes, cells, blocks and sets as the 4.1 binary file
+// (MSH 1 keeps no group names: its groups are named by their numbers);
+// the mesh made second-order (10-node tetrahedra) reads to the same cells, by their
+// corner nodes.
+TEST(MeshInput, EveryGmshVersionReadsTheSame) {
+  const auto dir = output_dir("mesh_gmsh_versions");
+  struct Written {
+    std::string name;
+    double version;
+    bool binary;
+  };
+  const std::vector<Written> files = {{"v41_bin.msh", 4.1, true}, {"v41.msh", 4.1, false}, {"v22.msh", 2.2, false},
+                                      {"v22_bin.msh", 2.2, true}, {"v40.msh", 4.0, false},
+                                      {"v3.msh", 3.0, false},     {"v3_bin.msh", 3.0, true},  {"v1.msh", 1.0, false}};
+  {
+    gmsh_library::Session session;
+    GMSH(gmshModelAdd, "box");
+    GMSH(gmshModelOccAddBox, 0, 0, 0, 2e-3, 1e-3, 1e-3, 1);
+    GMSH(gmshModelOccSynchronize);
+    // OpenCASCADE numbers a box's faces x = 0, x = dx, y = 0, ... (checked below).
+    const struct {
+      int dim, entity, tag;
+      const char* name;
+    } groups[3] = {{3, 1, 5, "block"}, {2, 1, 6, "left"}, {2, 2, 7, "right"}};
+    for (const auto& g : groups) {
+      int entity = g.entity;
+      GMSH(gmshModelAddPhysicalGroup, g.dim, &entity, 1, g.tag);
+      GMSH(gmshModelSetPhysicalName, g.dim, g.tag, g.name);
+    }
+    GMSH(gmshOptionSetNumber, "Mesh.MeshSizeMax", 0.4e-3);
+    GMSH(gmshModelMeshGenerate, 3);
+    for (const auto& f : files) {
+      GMSH(gmshOptionSetNumber, "Mesh.MshFileVersion", f.version);
+      GMSH(gmshOptionSetNumber, "Mesh.Binary", f.binary ? 1.0 : 0.0);
+      GMSH(gmshWrite, (dir / f.name).string().c_str());
+    }
+    GMSH(gmshModelMeshSetOrder, 2);
+    GMSH(gmshOptionSetNumber, "Mesh.MshFileVersion", 4.1);
+    GMSH(gmshOptionSetNumber, "Mesh.Binary", 1.0);
+    GMSH(gmshWrite, (dir / "order2.msh").string().c_str());
+  }
+  // Gmsh sets OpenMP's thread count to 1 when it starts; the Session restores it.
+  const int threads = omp_get_max_threads();
+  const Mesh ref = read_mesh((dir / files[0].name).string(), 3);
+  EXPECT_EQ(omp_get_max_threads(), threads);
+  ASSERT_GT(ref.cell_nodes.size(), 20u);
+  ASSERT_EQ(ref.blocks.size(), 1u);
+  EXPECT_EQ(ref.blocks[0].name, "block");
+  EXPECT_EQ(ref.blocks[0].members.size(), ref.cell_nodes.size());
+  ASSERT_EQ(ref.sets.size(), 2u);
+  EXPECT_EQ(ref.sets[0].name, "left");
+  EXPECT_EQ(ref.sets[1].name, "right");
+  for (const auto& set : ref.sets) {
+    const double x = set.name == "left" ? 0 : 2e-3;
+    EXPECT_GE(set.members.size(), 4u);
+    for (uint32_t n : set.members) EXPECT_EQ(ref.nodes[n].x, x) << set.name;
+  }
+  EXPECT_NEAR(total_volume(ref) / 2e-9, 1.0, 1e-12);
+  // Gmsh writes ASCII coordinates with 16 significant digits: they come back to the last
+  // bit or two of the binary files' (the reference is binary 4.1).
+  const double digits = 1e-15 * 2e-3;
+  auto same = [&](const Mesh& m, const std::string& name, bool by_corners) {
+    if (!by_corners) {
+      ASSERT_EQ(m.nodes.size(), ref.nodes.size()) << name;
+      for (std::size_t i = 0; i < ref.nodes.size(); ++i) EXPECT_LE(norm(m.nodes[i] - ref.nodes[i]), digits) << name;
+    }
+    ASSERT_EQ(m.cell_nodes.size(), ref.cell_nodes.size()) << name;
+    for (std::size_t e = 0; e < ref.cell_nodes.size(); ++e) {
+      ASSERT_EQ(m.cell_type[e], ref.cell_type[e]) << name;
+      ASSERT_EQ(m.cell_nodes[e].size(), ref.cell_nodes[e].size()) << name;
+      for (std::size_t k = 0; k < ref.cell_nodes[e].size(); ++k)
+        ASSERT_LE(norm(m.nodes[m.cell_nodes[e][k]] - ref.nodes[ref.cell_nodes[e][k]]), digits) << name << " cell " << e;
+    }
+    auto groups = [&](const std::vector<MeshGroup>& a, const std::vector<MeshGroup>& b, bool nodes) {
+      ASSERT_EQ(a.size(), b.size()) << name;
+      for (std::size_t g = 0; g < a.size(); ++g) {
+        // MSH 1 has no physical names: its groups go by their numbers.
+        EXPECT_EQ(a[g].name, name == "v1.msh" ? std::to_string(b[g].id) : b[g].name) << name;
+        EXPECT_EQ(a[g].id, b[g].id) << name;
+        ASSERT_EQ(a[g].members.size(), b[g].members.size()) << name << " " << a[g].name;
+        for (std::size_t k = 0; k < a[g].members.size(); ++k) {
+          if (nodes) EXPECT_LE(norm(m.nodes[a[g].members[k]] - ref.nodes[b[g].members[k]]), digits) << name;
+          else EXPECT_EQ(a[g].members[k], b[g].members[k]) << name;
+        }
+      }
+    };
+    groups(m.blocks, ref.blocks, false);
+    groups(m.sets, ref.sets, true);
+  };
+  for (std::size_t i = 1; i < files.size(); ++i) {
+    const Mesh m = read_mesh((dir / files[i].name).string(), 3);
+    same(m, files[i].name, false);
+  }
+  const Mesh quadratic = read_mesh((dir / "order2.msh").string(), 3);
+  EXPECT_GT(quadratic.nodes.size(), ref.nodes.size());  // the mid-edge nodes, read and unused
+  same(quadratic, "order2.msh", true);
+}
+
+// Errors name the deck's line and column, the mesh file and, where it applies, the
+// element or the Gmsh entity; Gmsh's own message when it cannot read the file.
+TEST(MeshInput, ErrorsNameDeckAndMeshFile) {
   const auto dir = output_dir("mesh_errors");
   const std::string deck = (dir / "deck.yaml").string();
   auto error_of = [&](const std::string& text) -> std::string {
@@ -263,7 +369,8 @@ TEST(MeshInput, ErrorsNameDeckAndMeshLines) {
   EXPECT_NE(msg.find("nowhere.msh"), std::string::npos) << msg;
   EXPECT_NE(msg.find("No such file"), std::string::npos) << msg;
 
-  // A second-order tetrahedron (type 11) on the mesh file's line 30.
+  // A second-order tetrahedron (type 11) reads as its corners; in a 2-D deck it is a
+  // volume element where areas are expected: the message names the Gmsh volume.
   {
     std::ofstream out(dir / "tet10.msh");
     out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 10 1 10\n3 1 0 10\n";
@@ -271,26 +378,43 @@ TEST(MeshInput, ErrorsNameDeckAndMeshLines) {
     for (int i = 0; i < 10; ++i) out << (i % 2) << " " << (i % 3) << " " << (i % 5) << "\n";
     out << "$EndNodes\n$Elements\n1 1 1 1\n3 1 11 1\n1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
   }
-  msg = error_of(tension_deck("{mesh: {file: tet10.msh}}", box, box));
-  EXPECT_NE(msg.find("deck.yaml:7:"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("tet10.msh:30:"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("10-node tetrahedron"), std::string::npos) << msg;
+  const Mesh tet10 = read_mesh((dir / "tet10.msh").string(), 3);
+  ASSERT_EQ(tet10.cell_nodes.size(), 1u);
+  EXPECT_EQ(tet10.cell_nodes[0], (std::vector<uint32_t>{0, 1, 2, 3}));
+  EXPECT_NEAR(tet10.measure[0], 1.0, 1e-15);  // corners (0,0,0) (1,1,1) (0,2,2) (1,0,3)
+  try {
+    read_mesh((dir / "tet10.msh").string(), 2);
+    ADD_FAILURE() << "a tetrahedron read in 2-D";
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("tet10.msh: Tetrahedron 10 elements (volume 1) in a 2-D deck"), std::string::npos)
+        << e.what();
+  }
 
-  // A malformed number on line 8 of the mesh.
+  // A malformed number: Gmsh's message, after the file's name.
   {
     std::ofstream out(dir / "bad.msh");
     out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n3 1 0 1\n1\n0 zero 0\n$EndNodes\n";
   }
   msg = error_of(tension_deck("{mesh: {file: bad.msh}}", box, box));
-  EXPECT_NE(msg.find("bad.msh:8: expected a number for a node coordinate, found 'zero'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("deck.yaml:7:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("bad.msh: Gmsh cannot read it: Could not read nodes"), std::string::npos) << msg;
 
-  // An old format version.
+  // A mesh of no volume elements.
   {
     std::ofstream out(dir / "v2.msh");
     out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
   }
   msg = error_of(tension_deck("{mesh: {file: v2.msh}}", box, box));
-  EXPECT_NE(msg.find("v2.msh:2: MSH format version 2.2 is not supported"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("v2.msh: no 3-D elements"), std::string::npos) << msg;
+
+  // A Gmsh script named .msh is not given to Gmsh (it would run its commands).
+  {
+    std::ofstream out(dir / "script.msh");
+    out << "System \"touch " << (dir / "ran").string() << "\";\n";
+  }
+  msg = error_of(tension_deck("{mesh: {file: script.msh}}", box, box));
+  EXPECT_NE(msg.find("script.msh: not a Gmsh mesh: the file must start with $MeshFormat"), std::string::npos) << msg;
+  EXPECT_FALSE(std::filesystem::exists(dir / "ran"));
 
   // Unknown block and set names list the ones the mesh has; a set cannot be a body.
   test::write_msh(test::box_mesh(kLo, kHi, 12, 4, 4, false), (dir / "hex.msh").string(), false);

@@ -10,13 +10,14 @@
 #include <sstream>
 
 #include "horizon/deck/suggest.hpp"
+#include "horizon/geometry/surface.hpp"
 
 namespace horizon::deck {
 
 namespace {
 
 const std::vector<std::string> kShapeKinds = {"box",   "cylinder", "disk",     "sphere", "half_space",
-                                              "union", "subtract", "points",   "mesh"};
+                                              "union", "subtract", "points",   "mesh",  "surface"};
 const char* const kAxisNames[3] = {"x", "y", "z"};
 
 // In 2-D a disk is a cylinder along z through the plane; its ends lie far outside any
@@ -254,6 +255,33 @@ std::vector<Shape> read_parts(const DeckContext& ctx, const Item& item, std::siz
   return parts;
 }
 
+// {surface: part.stl, scale: 0.001}: the solid inside a closed triangulated surface
+// (geometry/surface.hpp), read through Gmsh; the file relative to the deck's folder.
+Shape read_surface_shape(const DeckContext& ctx, const Item& item, const std::vector<Entry>& entries) {
+  const Entry* file = nullptr;
+  const Entry* scale = nullptr;
+  for (const auto& e : entries) {
+    if (e.key == "surface") file = &e;
+    else if (e.key == "scale") scale = &e;
+    else
+      ctx.fail(*e.value.key_mark, item.path + ": a surface shape has the keys surface (the file) and scale; found '" +
+                                      e.key + "'");
+  }
+  const YAML::Mark key_mark = *file->value.key_mark;
+  if (ctx.dimension != 3) {
+    ctx.fail(key_mark, file->value.path + ": a surface encloses a solid: it needs a 3-D deck (this one is " +
+                           std::to_string(ctx.dimension) + "-D)");
+  }
+  std::filesystem::path path = read_string(ctx, file->value);
+  if (path.is_relative()) path = std::filesystem::path(ctx.file).parent_path() / path;
+  const double factor = scale ? read_positive(ctx, scale->value) : 1.0;
+  try {
+    return Shape::surface(std::make_shared<const ClosedSurface>(read_surface(path.lexically_normal().string(), factor)));
+  } catch (const Error& e) {
+    ctx.fail(key_mark, file->value.path + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 std::optional<MeshSelection> read_mesh_selection(const DeckContext& ctx, const Item& item) {
@@ -268,6 +296,8 @@ Shape read_shape(const DeckContext& ctx, const Item& item) {
       "a shape: a map with one key, one of " + join_words(kShapeKinds) + " (e.g. {box: {min: [..], max: [..]}})";
   if (!item.node.IsDefined() || !item.node.IsMap() || item.node.size() == 0) fail_expected(ctx, item, expected);
   const auto entries = map_entries(ctx, item);
+  for (const auto& e : entries)
+    if (e.key == "surface") return read_surface_shape(ctx, item, entries);
   if (entries.size() > 1) {
     ctx.fail(*entries[1].value.key_mark, item.path + ": a shape has exactly one key naming its kind; found '" +
                                              entries[0].key + "' and '" + entries[1].key +

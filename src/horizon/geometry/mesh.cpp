@@ -1,10 +1,13 @@
 #include "horizon/geometry/mesh.hpp"
 
+#include "horizon/geometry/gmsh_library.hpp"
+
 #include <exodusII.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -182,7 +185,8 @@ void finish(Mesh& m) {
       for (auto& p : x) p.z = 0;
     cell_geometry(m.cell_type[e], x, m.measure[e], m.centroid[e]);
     if (!(m.measure[e] > 0) || !std::isfinite(m.measure[e])) {
-      throw MeshError(m.file + ": element " + std::to_string(e + 1) + " (" + cell_type_name(m.cell_type[e]) +
+      const int64_t tag = e < m.cell_tag.size() ? m.cell_tag[e] : static_cast<int64_t>(e + 1);
+      throw MeshError(m.file + ": element " + std::to_string(tag) + " (" + cell_type_name(m.cell_type[e]) +
                       ") has no " + (m.dimension == 3 ? "volume" : "area") + " (degenerate or collapsed nodes)");
     }
   }
@@ -192,151 +196,25 @@ void finish(Mesh& m) {
   }
 }
 
-// ---------------------------------------------------------------- Gmsh MSH 4.1
+// ---------------------------------------------------------------- Gmsh, through its library
 
-// Gmsh element types (reference manual sec. 10.2 "MSH file format", element types):
-// number of nodes, dimension and name; the linear volume/area ones map to cells.
-struct GmshType {
-  int nodes;
-  int dim;
-  const char* name;
-};
-const std::map<int, GmshType>& gmsh_types() {
-  static const std::map<int, GmshType> t = {
-      {1, {2, 1, "2-node line"}},          {2, {3, 2, "3-node triangle"}},       {3, {4, 2, "4-node quadrangle"}},
-      {4, {4, 3, "4-node tetrahedron"}},   {5, {8, 3, "8-node hexahedron"}},     {6, {6, 3, "6-node prism"}},
-      {7, {5, 3, "5-node pyramid"}},       {8, {3, 1, "3-node line"}},           {9, {6, 2, "6-node triangle"}},
-      {10, {9, 2, "9-node quadrangle"}},   {11, {10, 3, "10-node tetrahedron"}}, {12, {27, 3, "27-node hexahedron"}},
-      {13, {18, 3, "18-node prism"}},      {14, {14, 3, "14-node pyramid"}},     {15, {1, 0, "1-node point"}},
-      {16, {8, 2, "8-node quadrangle"}},   {17, {20, 3, "20-node hexahedron"}},  {18, {15, 3, "15-node prism"}},
-      {19, {13, 3, "13-node pyramid"}}};
-  return t;
-}
-bool gmsh_cell(int type, CellType& out) {
-  switch (type) {
-    case 2: out = CellType::tri3; return true;
-    case 3: out = CellType::quad4; return true;
-    case 4: out = CellType::tet4; return true;
-    case 5: out = CellType::hex8; return true;
-    case 6: out = CellType::wedge6; return true;
-    case 7: out = CellType::pyramid5; return true;
-    default: return false;
-  }
+// Horizon's cell for a Gmsh element family: (dimension, corner nodes). Higher-order
+// elements keep their corners (Gmsh lists them first, in the linear element's order:
+// reference manual, "Node ordering").
+bool gmsh_cell(int dim, int corners, CellType& out) {
+  if (dim == 2 && corners == 3) out = CellType::tri3;
+  else if (dim == 2 && corners == 4) out = CellType::quad4;
+  else if (dim == 3 && corners == 4) out = CellType::tet4;
+  else if (dim == 3 && corners == 8) out = CellType::hex8;
+  else if (dim == 3 && corners == 6) out = CellType::wedge6;
+  else if (dim == 3 && corners == 5) out = CellType::pyramid5;
+  else return false;
+  return true;
 }
 
-// Reads ASCII tokens (tracking lines) or binary values, the same calls for both.
-class MshSource {
- public:
-  MshSource(std::string path, std::string text) : path_(std::move(path)), text_(std::move(text)) {}
-
-  [[noreturn]] void fail(const std::string& message) const {
-    if (binary_) throw MeshError(path_ + ": byte " + std::to_string(pos_) + ": " + message);
-    throw MeshError(path_ + ":" + std::to_string(line_) + ": " + message);
-  }
-  int line() const { return line_; }
-  bool at_end() {
-    skip_space();
-    return pos_ >= text_.size();
-  }
-  void set_binary(bool b) { binary_ = b; }
-
-  // The next whitespace-delimited word (ASCII headers and section names).
-  std::string word() {
-    skip_space();
-    if (pos_ >= text_.size()) fail("unexpected end of file");
-    const std::size_t start = pos_;
-    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-    return text_.substr(start, pos_ - start);
-  }
-  // The rest of the current line (a quoted name).
-  std::string rest_of_line() {
-    const std::size_t start = pos_;
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-    return text_.substr(start, pos_ - start);
-  }
-  // Exactly one line end (before binary data, where whitespace skipping could eat data).
-  void newline() {
-    if (pos_ < text_.size() && text_[pos_] == '\r') ++pos_;
-    if (pos_ >= text_.size() || text_[pos_] != '\n') fail("expected the end of the line");
-    ++pos_;
-    ++line_;
-  }
-  // After a binary block, the newline before the $End marker.
-  void end_line() {
-    while (pos_ < text_.size() && (text_[pos_] == '\n' || text_[pos_] == '\r' || text_[pos_] == ' ')) {
-      if (text_[pos_] == '\n') ++line_;
-      ++pos_;
-    }
-  }
-
-  int64_t integer(const char* what) {
-    if (binary_) {
-      int32_t v;
-      raw(&v, sizeof v, what);
-      return v;
-    }
-    return parse_integer(word(), what);
-  }
-  int64_t size(const char* what) {
-    if (binary_) {
-      uint64_t v;
-      raw(&v, sizeof v, what);
-      if (v > (uint64_t{1} << 40)) fail(std::string("implausible ") + what + " " + std::to_string(v));
-      return static_cast<int64_t>(v);
-    }
-    const int64_t v = parse_integer(word(), what);
-    if (v < 0) fail(std::string("expected a count for ") + what + ", found " + std::to_string(v));
-    return v;
-  }
-  double real(const char* what) {
-    if (binary_) {
-      double v;
-      raw(&v, sizeof v, what);
-      return v;
-    }
-    const std::string w = word();
-    char* end = nullptr;
-    const double v = std::strtod(w.c_str(), &end);
-    if (end != w.c_str() + w.size() || !std::isfinite(v)) fail(std::string("expected a number for ") + what + ", found '" + w + "'");
-    return v;
-  }
-  void expect(const std::string& marker) {
-    const std::string w = word();
-    if (w != marker) fail("expected " + marker + ", found '" + w.substr(0, 40) + "'");
-  }
-
- private:
-  void skip_space() {
-    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) {
-      if (text_[pos_] == '\n') ++line_;
-      ++pos_;
-    }
-  }
-  int64_t parse_integer(const std::string& w, const char* what) const {
-    char* end = nullptr;
-    const long long v = std::strtoll(w.c_str(), &end, 10);
-    if (w.empty() || end != w.c_str() + w.size()) fail(std::string("expected a whole number for ") + what + ", found '" + w.substr(0, 40) + "'");
-    return v;
-  }
-  void raw(void* out, std::size_t n, const char* what) {
-    if (pos_ + n > text_.size()) fail(std::string("unexpected end of file reading ") + what);
-    std::memcpy(out, text_.data() + pos_, n);
-    pos_ += n;
-  }
-
-  std::string path_;
-  std::string text_;
-  std::size_t pos_ = 0;
-  int line_ = 1;
-  bool binary_ = false;
-};
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw MeshError("cannot open mesh '" + path + "': " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+const char* entity_word(int dim) {
+  static const char* const words[4] = {"point", "curve", "surface", "volume"};
+  return dim >= 0 && dim < 4 ? words[dim] : "entity";
 }
 
 }  // namespace
@@ -344,193 +222,96 @@ std::string read_file(const std::string& path) {
 const MeshGroup* Mesh::find_block(const std::string& key) const { return find_group(blocks, key); }
 const MeshGroup* Mesh::find_set(const std::string& key) const { return find_group(sets, key); }
 
+// Gmsh reads any file it is given: one that is not a mesh goes to its .geo interpreter,
+// which runs commands (even shell commands). Only files that start as a mesh does go in.
+void check_msh_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MeshError("cannot open mesh '" + path + "': " + std::strerror(errno));
+  char head[64] = {0};
+  in.read(head, sizeof head - 1);
+  std::string first(head, static_cast<std::size_t>(in.gcount()));
+  first.erase(0, first.find_first_not_of(" \t\r\n"));
+  first = first.substr(0, first.find_first_of(" \t\r\n"));
+  if (first.empty()) throw MeshError(path + ": empty file (expected a Gmsh .msh file starting with $MeshFormat)");
+  if (first != "$MeshFormat" && first != "$NOD")
+    throw MeshError(path + ": not a Gmsh mesh: the file must start with $MeshFormat (MSH 2 and 4) or $NOD (MSH 1), found '" +
+                    first.substr(0, 40) + "'");
+}
+
 Mesh read_gmsh(const std::string& path, int dimension) {
-  MshSource in(path, read_file(path));
+  check_msh_header(path);
   Mesh m;
   m.file = path;
   m.dimension = dimension;
-  std::map<std::pair<int, int64_t>, std::string> physical_names;           // (dim, tag) -> name
-  std::map<std::pair<int, int64_t>, std::vector<int64_t>> entity_physicals;  // (dim, entity) -> physical tags
-  std::unordered_map<int64_t, uint32_t> node_index;
-  std::map<int64_t, std::vector<uint32_t>> block_cells;                   // physical tag -> cells
-  std::map<std::pair<int, int64_t>, std::vector<uint32_t>> set_nodes;      // (dim, physical tag) -> nodes
-  bool binary_file = false;
-  bool have_format = false, have_nodes = false, have_elements = false;
-  std::set<std::string> skipped_types;
+  gmsh_library::Session gmsh;
+  if (const std::string why = gmsh.merge(path); !why.empty()) throw MeshError(path + ": Gmsh cannot read it: " + why);
 
-  while (!in.at_end()) {
-    const std::string section = in.word();
-    if (section.size() < 2 || section[0] != '$') in.fail("expected a section such as $MeshFormat, found '" + section.substr(0, 40) + "'");
-    const std::string name = section.substr(1);
-    const std::string end = "$End" + name;
-    if (name == "MeshFormat") {
-      const std::string version = in.word();
-      if (version != "4.1") {
-        in.fail("MSH format version " + version +
-                " is not supported; Horizon reads version 4.1 (Gmsh: -format msh41, or Mesh.MshFileVersion = 4.1)");
-      }
-      const int64_t file_type = in.integer("the file type");
-      const int64_t data_size = in.integer("the data size");
-      if (file_type != 0 && file_type != 1) in.fail("file type must be 0 (ASCII) or 1 (binary), found " + std::to_string(file_type));
-      if (data_size != 8) in.fail("data size must be 8, found " + std::to_string(data_size));
-      if (file_type == 1) {
-        in.newline();  // exactly one newline precedes the binary one
-        binary_file = true;
-        in.set_binary(true);
-        if (in.integer("the endianness check") != 1) in.fail("binary mesh of the other byte order");
-        in.set_binary(false);
-        in.end_line();
-      }
-      in.expect(end);
-      have_format = true;
-      continue;
-    }
-    if (!have_format) in.fail("the file must start with $MeshFormat (is this a Gmsh .msh file?)");
-    if (name == "PhysicalNames") {
-      const int64_t n = in.size("the number of physical names");
-      for (int64_t i = 0; i < n; ++i) {
-        const int dim = static_cast<int>(in.integer("a physical group's dimension"));
-        const int64_t tag = in.integer("a physical group's tag");
-        std::string rest = in.rest_of_line();
-        const auto a = rest.find('"'), b = rest.rfind('"');
-        if (a == std::string::npos || b == a) in.fail("expected a quoted physical name");
-        physical_names[{dim, tag}] = rest.substr(a + 1, b - a - 1);
-      }
-      in.expect(end);
-      continue;
-    }
-    // The sections below are binary in a binary file.
-    const bool is_binary_section = name == "Entities" || name == "Nodes" || name == "Elements";
-    if (!is_binary_section) {
-      // Sections Horizon does not use ($PartitionedEntities, $NodeData, ...): skip.
-      while (in.word() != end) {
-      }
-      continue;
-    }
-    auto read_section = [&](auto&& body) {
-      if (binary_file) {
-        in.newline();
-        in.set_binary(true);
-      }
-      body();
-      in.set_binary(false);
-      in.end_line();
-      in.expect(end);
-    };
-    if (name == "Entities") {
-      read_section([&] {
-        int64_t count[4];
-        for (auto& c : count) c = in.size("the number of entities");
-        for (int dim = 0; dim < 4; ++dim) {
-          for (int64_t e = 0; e < count[dim]; ++e) {
-            const int64_t tag = in.integer("an entity tag");
-            for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) in.real("an entity's bounding box");
-            const int64_t nphys = in.size("the number of physical tags");
-            auto& phys = entity_physicals[{dim, tag}];
-            for (int64_t p = 0; p < nphys; ++p) phys.push_back(in.integer("a physical tag"));
-            if (dim > 0) {
-              const int64_t nb = in.size("the number of bounding entities");
-              for (int64_t b = 0; b < nb; ++b) in.integer("a bounding entity");
-            }
-          }
-        }
-      });
-      continue;
-    }
-    if (name == "Nodes") {
-      read_section([&] {
-        const int64_t blocks = in.size("the number of node blocks");
-        const int64_t total = in.size("the number of nodes");
-        in.size("the smallest node tag");
-        in.size("the largest node tag");
-        m.nodes.reserve(static_cast<std::size_t>(total));
-        for (int64_t b = 0; b < blocks; ++b) {
-          in.integer("a node block's dimension");
-          in.integer("a node block's entity");
-          const int64_t parametric = in.integer("the parametric flag");
-          const int64_t n = in.size("the number of nodes in a block");
-          std::vector<int64_t> tags(static_cast<std::size_t>(n));
-          for (auto& t : tags) t = in.size("a node tag");
-          for (int64_t i = 0; i < n; ++i) {
-            Vec3 x;
-            x.x = in.real("a node coordinate");
-            x.y = in.real("a node coordinate");
-            x.z = in.real("a node coordinate");
-            for (int64_t p = 0; p < parametric; ++p) in.real("a parametric coordinate");
-            if (!node_index.emplace(tags[static_cast<std::size_t>(i)], static_cast<uint32_t>(m.nodes.size())).second)
-              in.fail("node " + std::to_string(tags[static_cast<std::size_t>(i)]) + " appears twice");
-            m.nodes.push_back(x);
-          }
-        }
-        if (static_cast<int64_t>(m.nodes.size()) != total)
-          in.fail("the $Nodes header counts " + std::to_string(total) + " nodes, the blocks hold " + std::to_string(m.nodes.size()));
-      });
-      have_nodes = true;
-      continue;
-    }
-    // $Elements
-    if (!have_nodes) in.fail("$Elements before $Nodes");
-    read_section([&] {
-      const int64_t blocks = in.size("the number of element blocks");
-      in.size("the number of elements");
-      in.size("the smallest element tag");
-      in.size("the largest element tag");
-      std::vector<uint32_t> nodes;
-      for (int64_t b = 0; b < blocks; ++b) {
-        const int dim = static_cast<int>(in.integer("an element block's dimension"));
-        const int64_t entity = in.integer("an element block's entity");
-        const int64_t type = in.integer("an element type");
-        const int64_t n = in.size("the number of elements in a block");
-        const auto t = gmsh_types().find(static_cast<int>(type));
-        if (t == gmsh_types().end()) in.fail("element type " + std::to_string(type) + " is not supported");
-        CellType cell{};
-        const bool is_cell = dim == dimension && gmsh_cell(static_cast<int>(type), cell);
-        if (dim > dimension) {
-          in.fail(std::string(t->second.name) + " elements in a " + std::to_string(dimension) +
-                  "-D deck (a 2-D deck reads triangles and quadrangles)");
-        }
-        if (dim == dimension && !is_cell) {
-          in.fail(std::string(t->second.name) + " elements are not supported: Horizon reads linear elements (triangles, quadrangles, tetrahedra, hexahedra, prisms, "
-                  "pyramids); mesh with Mesh.ElementOrder = 1");
-        }
-        const auto phys_it = entity_physicals.find({dim, entity});
-        static const std::vector<int64_t> kNone;
-        const std::vector<int64_t>& phys = phys_it == entity_physicals.end() ? kNone : phys_it->second;
-        for (int64_t e = 0; e < n; ++e) {
-          in.size("an element tag");
-          nodes.clear();
-          for (int k = 0; k < t->second.nodes; ++k) {
-            const int64_t tag = in.size("an element's node");
-            const auto it = node_index.find(tag);
-            if (it == node_index.end()) in.fail("element names node " + std::to_string(tag) + ", which $Nodes does not define");
-            nodes.push_back(it->second);
-          }
-          if (is_cell) {
-            const auto idx = static_cast<uint32_t>(m.cell_nodes.size());
-            m.cell_type.push_back(cell);
-            m.cell_nodes.push_back(nodes);
-            for (int64_t p : phys) block_cells[p].push_back(idx);
-          } else {
-            for (int64_t p : phys) {
-              auto& s = set_nodes[{dim, p}];
-              s.insert(s.end(), nodes.begin(), nodes.end());
-            }
-          }
-        }
-      }
-    });
-    have_elements = true;
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz;
+  gmsh.nodes(tags, xyz);
+  // Nodes in the order of their tags.
+  std::vector<std::size_t> order(tags.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return tags[a] < tags[b]; });
+  std::unordered_map<std::size_t, uint32_t> node_index;
+  node_index.reserve(tags.size());
+  for (std::size_t i : order) {
+    if (!node_index.emplace(tags[i], static_cast<uint32_t>(m.nodes.size())).second) continue;  // on two entities
+    m.nodes.push_back({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
   }
-  if (!have_format) throw MeshError(path + ": empty file (expected a Gmsh .msh file starting with $MeshFormat)");
-  if (!have_elements) throw MeshError(path + ": no $Elements section");
+
+  std::map<int, std::vector<uint32_t>> block_cells;                 // physical tag -> cells
+  std::map<std::pair<int, int>, std::vector<uint32_t>> set_nodes;  // (dim, physical tag) -> nodes
+  std::vector<uint32_t> nodes;
+  for (const auto& [dim, tag] : gmsh.entities()) {
+    const std::vector<int> phys = gmsh.physical_groups_of(dim, tag);
+    for (const auto& b : gmsh.elements(dim, tag)) {
+      const std::string where = " (" + std::string(entity_word(dim)) + " " + std::to_string(tag) + ")";
+      if (b.dim > dimension) {
+        throw MeshError(path + ": " + b.name + " elements" + where + " in a " + std::to_string(dimension) +
+                        "-D deck (a 2-D deck reads triangles and quadrangles)");
+      }
+      CellType cell{};
+      const bool is_cell = b.dim == dimension;
+      if (is_cell && !gmsh_cell(b.dim, b.primary_nodes, cell)) {
+        throw MeshError(path + ": " + b.name + " elements" + where +
+                        " are not supported: Horizon reads triangles, quadrangles, tetrahedra, hexahedra, prisms and "
+                        "pyramids (of any order: their corner nodes)");
+      }
+      const auto npe = static_cast<std::size_t>(b.nodes_per_element);
+      const auto corners = static_cast<std::size_t>(b.primary_nodes);
+      for (std::size_t e = 0; e < b.tags.size(); ++e) {
+        nodes.clear();
+        for (std::size_t k = 0; k < corners; ++k) {
+          const auto it = node_index.find(b.nodes[e * npe + k]);
+          if (it == node_index.end())
+            throw MeshError(path + ": element " + std::to_string(b.tags[e]) + where + " names node " +
+                            std::to_string(b.nodes[e * npe + k]) + ", which the file does not define");
+          nodes.push_back(it->second);
+        }
+        if (is_cell) {
+          const auto idx = static_cast<uint32_t>(m.cell_nodes.size());
+          m.cell_type.push_back(cell);
+          m.cell_nodes.push_back(nodes);
+          m.cell_tag.push_back(static_cast<int64_t>(b.tags[e]));
+          for (int p : phys) block_cells[p].push_back(idx);
+        } else {
+          for (int p : phys) {
+            auto& s = set_nodes[{dim, p}];
+            s.insert(s.end(), nodes.begin(), nodes.end());
+          }
+        }
+      }
+    }
+  }
   if (m.cell_nodes.empty()) {
     throw MeshError(path + ": no " + std::to_string(dimension) + "-D elements (" +
                     (dimension == 3 ? "tetrahedra, hexahedra, prisms or pyramids" : "triangles or quadrangles") +
                     "); is the mesh " + std::to_string(dimension) + "-D?");
   }
-  auto group_name = [&](int dim, int64_t tag) {
-    const auto it = physical_names.find({dim, tag});
-    return it == physical_names.end() ? std::to_string(tag) : it->second;
+  auto group_name = [&](int dim, int tag) {
+    const std::string name = gmsh.physical_name(dim, tag);
+    return name.empty() ? std::to_string(tag) : name;
   };
   for (auto& [tag, cells] : block_cells) m.blocks.push_back({group_name(dimension, tag), tag, cells});
   if (m.blocks.empty()) {
@@ -538,7 +319,7 @@ Mesh read_gmsh(const std::string& path, int dimension) {
     for (uint32_t e = 0; e < m.cell_nodes.size(); ++e) all.members.push_back(e);
     m.blocks.push_back(std::move(all));
   }
-  for (auto& [key, nodes] : set_nodes) m.sets.push_back({group_name(key.first, key.second), key.second, nodes});
+  for (auto& [key, members] : set_nodes) m.sets.push_back({group_name(key.first, key.second), key.second, members});
   finish(m);
   return m;
 }

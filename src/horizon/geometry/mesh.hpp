@@ -36,6 +36,7 @@ struct Mesh {
   std::vector<Vec3> nodes;
   std::vector<CellType> cell_type;
   std::vector<std::vector<uint32_t>> cell_nodes;  // indices into nodes
+  std::vector<int64_t> cell_tag;                  // the file's element numbers (Gmsh); empty: 1, 2, ...
   std::vector<Vec3> centroid;                     // centre of volume of each cell
   std::vector<double> measure;                    // volume (3-D) or area (2-D) of each cell
   std::vector<MeshGroup> blocks;                  // partition of the cells (or one block of all)
@@ -48,10 +49,14 @@ struct Mesh {
   const MeshGroup* find_set(const std::string& key) const;
 };
 
-// Gmsh MSH format 4.1 (ASCII or binary), documented in the Gmsh reference manual,
-// sec. 10.1 "MSH file format". `dimension` is the deck's (2 or 3): the cells are the
-// elements of that dimension; the others serve only as sets.
+// Gmsh .msh files of every version Gmsh writes (1, 2.2, 3, 4.0, 4.1; ASCII or binary),
+// read by the Gmsh library (geometry/gmsh_library.hpp). `dimension` is the deck's (2 or
+// 3): the cells are the elements of that dimension (higher-order ones by their corner
+// nodes); the others serve only as sets.
 Mesh read_gmsh(const std::string& path, int dimension);
+// Throws MeshError unless the file starts as a Gmsh mesh does ($MeshFormat, or $NOD for
+// MSH 1): Gmsh runs any other file as a .geo script, whose commands include shell ones.
+void check_msh_header(const std::string& path);
 // Exodus II through the Exodus library (Debian libexodusii-dev).
 Mesh read_exodus(const std::string& path, int dimension);
 // By extension: .msh is Gmsh; .exo, .e, .g, .ex2, .exii are Exodus.

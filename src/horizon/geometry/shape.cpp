@@ -1,5 +1,7 @@
 #include "horizon/geometry/shape.hpp"
 
+#include "horizon/geometry/surface.hpp"
+
 #include <algorithm>
 #include <limits>
 
@@ -75,8 +77,17 @@ Shape Shape::points(std::vector<Vec3> at, std::vector<double> volumes) {
   return s;
 }
 
+Shape Shape::surface(std::shared_ptr<const ClosedSurface> solid) {
+  Shape s;
+  s.kind_ = Kind::surface;
+  s.surface_ = std::move(solid);
+  return s;
+}
+
 bool Shape::contains(const Vec3& p) const {
   switch (kind_) {
+    case Kind::surface:
+      return surface_->contains(p);
     case Kind::points: {
       auto it = std::lower_bound(by_x_.begin(), by_x_.end(), std::make_pair(p.x - tolerance_, std::size_t{0}));
       for (; it != by_x_.end() && it->first <= p.x + tolerance_; ++it)
@@ -109,6 +120,8 @@ bool Shape::contains(const Vec3& p) const {
 
 Box3 Shape::bounds() const {
   switch (kind_) {
+    case Kind::surface:
+      return {surface_->min(), surface_->max()};
     case Kind::box:
       return {a_, b_};
     case Kind::cylinder: {

@@ -10,13 +10,15 @@
 
 namespace horizon {
 
+class ClosedSurface;
+
 struct Box3 {
   Vec3 min, max;
 };
 
 class Shape {
  public:
-  enum class Kind { box, cylinder, sphere, half_space, union_of, difference, points };
+  enum class Kind { box, cylinder, sphere, half_space, union_of, difference, points, surface };
 
   static Shape box(Vec3 min, Vec3 max);
   // Cylinder of the given radius around the segment from a to b. In 2-D a cylinder
@@ -33,6 +35,8 @@ class Shape {
   // particle of the given volume; as a region it selects the particles at those points.
   static Shape points(std::vector<Vec3> at, std::vector<double> volumes);
   const std::vector<Vec3>& point_list() const { return points_; }
+  // The solid inside a closed triangulated surface (geometry/surface.hpp).
+  static Shape surface(std::shared_ptr<const ClosedSurface> solid);
   const std::vector<double>& point_volumes() const { return volumes_; }
 
   bool contains(const Vec3& p) const;
@@ -47,6 +51,7 @@ class Shape {
   std::vector<Shape> parts_;
   std::vector<Vec3> points_;    // points: as given
   std::vector<double> volumes_;  // points: one volume per point (empty for a region)
+  std::shared_ptr<const ClosedSurface> surface_;
   std::vector<std::pair<double, std::size_t>> by_x_;  // points: x and index, sorted
   double tolerance_ = 0;
 };
