@@ -25,7 +25,9 @@ namespace fs = std::filesystem;
 // with `extra` appended inside `Peridigm:` and `bc` as its Boundary Conditions.
 std::string write_deck(const std::string& name, const std::string& extra, const std::string& bc = "",
                        const std::string& material = "") {
-  const fs::path dir = fs::temp_directory_path() / "horizon_peridigm_import";
+  // A folder per test: ctest runs the tests of this file in parallel processes.
+  const fs::path dir = fs::temp_directory_path() / "horizon_peridigm_import" /
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::create_directories(dir);
   std::ofstream(dir / "points.txt") << "0 0 0 1 1\n1 0 0 1 1\n3 0 0 2 1\n4 0 0 2 1\n";
   const std::string mat = material.empty() ? "      Material Model: \"Elastic\"\n"
