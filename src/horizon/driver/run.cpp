@@ -20,6 +20,7 @@
 #include "horizon/core/interrupt.hpp"
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
+#include "horizon/driver/exodus_output.hpp"
 #include "horizon/driver/summary.hpp"
 #include "horizon/fe/fe_region.hpp"
 #include "horizon/damage/crack_angle.hpp"
@@ -479,6 +480,7 @@ struct ExplicitRun::State {
   CheckReport check;
   fs::path dir;
   std::unique_ptr<PvdIndex> pvd;
+  std::unique_ptr<ExodusOutput> exodus;  // output.format exodus
   std::unique_ptr<ExplicitSolver> solver;
   std::ostringstream history;
   double max_balance_error = 0;
@@ -577,6 +579,11 @@ struct ExplicitRun::State {
     history << "\n";
   }
   void write_frame() {
+    if (exodus) exodus->write(s, dd.get(), solver->time());  // output.format exodus or both
+    if (!config.output.writes_vtu()) {
+      ++frame_count;
+      return;
+    }
     const std::string base = fmt::format("frame_{:05d}", frame_count++);
     if (s.heat.active()) update_heat_flux(s);
     write_frame_files(dir.string(), base, make_frame(s, solver->time(), solver->steps()), solver->time(), *pvd,
@@ -769,6 +776,8 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   if (!options.quiet) fmt::print(stderr, "{}", format_check(c, r.check));
 
   r.pvd = std::make_unique<PvdIndex>((r.dir / "frames.pvd").string());
+  if (c.output.writes_exodus())
+    r.exodus = std::make_unique<ExodusOutput>((r.dir / c.output.exodus_file).string());
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();

@@ -15,6 +15,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/expression.hpp"
+#include "horizon/deck/peridigm/exodus_discretization.hpp"
 #include "horizon/deck/reader.hpp"
 
 namespace horizon::peridigm {
@@ -389,6 +390,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
                "Omit Bonds Between Blocks"});
   const Item type = d.get("Type", "Text File or PdQuickGrid");
   const std::string kind = squash(read_string(ctx, type));
+  ExodusDiscretization exodus;  // its node sets and block names, for Type Exodus
   std::string influence = "constant";
   if (auto f = d.find("Influence Function")) {
     const std::string w = squash(read_string(ctx, *f));
@@ -424,10 +426,12 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     if (!spherical) check_box_neighbourhood(t, grid, type);
     fill_grid(t, grid);
   } else if (kind == "exodus") {
-    ctx.fail(type.mark, type.path + ": Exodus meshes are not read yet; give the points as a Text File "
-                                    "(x y z block volume rows) or use PdQuickGrid");
+    for (const char* k : {"NeighborhoodType", "TensorProduct3DMeshGenerator"})
+      if (auto it = d.find(k)) ctx.fail(*it->key_mark, it->path + ": applies to Type PdQuickGrid only");
+    exodus = read_exodus_discretization(ctx, d.get("Input Mesh File", "the Exodus mesh (.g)"), t.folder.string());
+    for (const auto& p : exodus.points) t.points.push_back({p.x, p.volume, p.block});
   } else {
-    fail_choice(ctx, type, read_string(ctx, type), {"Text File", "PdQuickGrid"}, "discretisation");
+    fail_choice(ctx, type, read_string(ctx, type), {"Text File", "PdQuickGrid", "Exodus"}, "discretisation");
   }
 
   // Materials and damage models, by name.
@@ -460,6 +464,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       } else {
         int id = 0;
         if (bn.rfind("block_", 0) == 0) id = std::atoi(bn.c_str() + 6);
+        if (auto named = exodus.block_names.find(bn); id < 1 && named != exodus.block_names.end()) id = named->second;
         if (id < 1)
           ctx.fail(g.names_item.mark, g.names_item.path + ": expected block names block_1, block_2, ... or default, "
                                                            "found '" + bn + "'");
@@ -505,7 +510,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   // Boundary conditions: node sets are the non-map entries; the rest are conditions.
   YAML::Node regions(YAML::NodeType::Map), ics(YAML::NodeType::Sequence), loads(YAML::NodeType::Sequence);
   if (auto bc = m.find("Boundary Conditions")) {
-    std::map<std::string, std::vector<int>> sets;
+    std::map<std::string, std::vector<int>> sets = exodus.node_sets;  // an Exodus mesh's, then the deck's
     const auto entries = map_entries(ctx, *bc);
     for (const auto& e : entries) {
       if (e.value.node.IsMap()) continue;
@@ -662,6 +667,11 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     for (const char* k : {"Initial Output Step", "Final Output Step"})
       if (auto it = om.find(k)) ctx.fail(*it->key_mark, it->path + ": not supported");
     if (auto f = om.find("Output Filename")) output["directory"] = "out/" + read_string(ctx, *f);
+    // Peridigm's ExodusII output (the only file type Horizon accepts, and Peridigm's
+    // default): <Output Filename>.e inside the output directory (driver/exodus_output.hpp),
+    // and Horizon's VTU frames for its own tools.
+    output["format"] = "both";
+    output["exodus_file"] = (om.find("Output Filename") ? read_string(ctx, *om.find("Output Filename")) : "peridigm") + ".e";
     if (auto f = om.find("Output Frequency")) {
       const Item fi = *f;
       const int every = read_int(ctx, fi);

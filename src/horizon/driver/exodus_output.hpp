@@ -1,0 +1,38 @@
+#pragma once
+// A run's frames as one Exodus II file with Peridigm's variable names (output.format:
+// exodus; docs/input.md, docs/peridigm.md), so that a Peridigm user's scripts, exodiff and
+// ParaView read Horizon's output as they read Peridigm's:
+//   nodal    DisplacementX/Y/Z, VelocityX/Y/Z, Force_DensityX/Y/Z, ForceX/Y/Z (= force
+//            density x volume, as Peridigm's Force);
+//   element  Element_Id (the particle's 1-based id), Block_Id, Volume, Damage, Dilatation,
+//            Weighted_Volume, Number_Of_Neighbors (its family's bonds);
+//   global   Global_Kinetic_Energy (sum of rho V |v|^2 / 2).
+// On several MPI ranks every particle is streamed to rank 0 in global order
+// (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
+// byte, as one rank.
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace horizon {
+
+struct System;
+struct Decomposition;
+class ExodusWriter;
+
+class ExodusOutput {
+ public:
+  explicit ExodusOutput(std::string path);
+  ~ExodusOutput();
+  // Collective: appends the system's state at `time` as the next time step (the file is
+  // created with the first). Throws OutputError on the writing rank.
+  void write(const System& s, const Decomposition* d, double time);
+  const std::string& path() const { return path_; }
+
+ private:
+  void append(const System& s, const std::vector<std::vector<double>>& rows, double time);
+  std::string path_;
+  std::unique_ptr<ExodusWriter> writer_;
+};
+
+}  // namespace horizon
