@@ -34,12 +34,19 @@ int block_id(const std::vector<std::string>& names, int index) {
 ExodusOutput::ExodusOutput(std::string path) : path_(std::move(path)) {}
 ExodusOutput::~ExodusOutput() = default;
 
+void ExodusOutput::set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt) {
+  velocity_.assign(u.size(), Vec3{});
+  if (u_before.size() != u.size() || !(dt > 0)) return;
+  for (std::size_t i = 0; i < u.size(); ++i) velocity_[i] = (u[i] - u_before[i]) / dt;
+}
+
 void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
   const Particles& P = s.particles;
   const ModelCoefficients& M = s.model;
   std::vector<std::vector<double>> rows;  // on the writing process: [particle][value]
+  const std::vector<Vec3>& velocity = velocity_.size() == P.size() ? velocity_ : P.v;
   auto pack = [&](uint32_t i, std::vector<double>& out) {
-    for (const Vec3* v : {&P.X[i], &P.u[i], &P.v[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
+    for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
     out.push_back(i < P.density.size() ? P.density[i] : 0.0);
     out.push_back(P.damage[i]);

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "horizon/core/vec3.hpp"
+
 namespace horizon {
 
 struct System;
@@ -28,11 +30,16 @@ class ExodusOutput {
   // created with the first). Throws OutputError on the writing rank.
   void write(const System& s, const Decomposition* d, double time);
   const std::string& path() const { return path_; }
+  // Static solves: the velocities the next write reports, (u - u_before) / dt per held
+  // particle -- the last load step's displacement increment over its pseudo-time
+  // increment, what Peridigm's QuasiStatic solver reports as the velocity.
+  void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
 
  private:
   void append(const System& s, const std::vector<std::vector<double>>& rows, double time);
   std::string path_;
   std::unique_ptr<ExodusWriter> writer_;
+  std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
 };
 
 }  // namespace horizon

@@ -313,6 +313,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     Row row;
     if (is_static) {
       if (statics->done()) break;
+      const double time_before = statics->time();
+      std::vector<Vec3> u_before;
+      if (exodus) u_before = s.particles.u;
       if (!statics->advance()) {
         status = "not converged";
         exit_code = 4;
@@ -321,6 +324,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       }
       steps = statics->steps();
       time = statics->time();
+      if (exodus) exodus->set_step_velocity(s.particles.u, u_before, time - time_before);
       row = {time, statics->increment() * sc.end_time, statics->lambda(), statics->last_report().residual, steps,
              statics->last_iterations(), statics->last_linear_iterations(), statics->last_break_rounds()};
       sync();
