@@ -2,7 +2,7 @@
 # writes it from every particle streamed to it in global order, so the file is the same
 # bytes as the serial program's:
 #  - tests/mpi/bar_local.yaml (explicit, local particles, a crack) on 2 and 3 ranks;
-#  - tests/mpi/static.yaml (Newton on distributed vectors) on 2 ranks.
+#  - tests/mpi/static.yaml (Newton on distributed vectors) on 2 ranks, against 1 MPI rank.
 # cmake -DHORIZON=... -DSERIAL=... -DMPIEXEC=... -DSOURCE=... -DWORK=... -P exodus.cmake
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
@@ -32,6 +32,7 @@ function(run label deck ranks)
   endif()
 endfunction()
 
+# same(label reference): run.e of the two runs the same bytes.
 function(same label serial)
   execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/${label}/run.e ${WORK}/${serial}/run.e
                   RESULT_VARIABLE rc)
@@ -48,7 +49,10 @@ run(bar_3 bar 3)
 same(bar_2 bar_serial)
 same(bar_3 bar_serial)
 
+# The distributed Newton's sums run in another order than the serial program's (its
+# displacements agree to 1e-8 there: static.cmake); on 1 and 2 MPI ranks they are the
+# same bits, and so is the file.
 deck(static static.yaml)
-run(static_serial static 0)
+run(static_1 static 1)
 run(static_2 static 2)
-same(static_2 static_serial)
+same(static_2 static_1)
