@@ -13,8 +13,9 @@ namespace horizon {
 
 namespace {
 
-// Per particle: X, u, v, f (3 each), volume, density, damage, theta, m, block, neighbours.
-constexpr int kWidth = 19;
+// Per particle: X, u, v, f (3 each), volume, density, damage, theta, m, block, neighbours,
+// then the external force density b (3).
+constexpr int kWidth = 22;
 
 // Peridigm's block id of a body named block_<id>; otherwise its position + 1.
 int block_id(const std::vector<std::string>& names, int index) {
@@ -54,6 +55,8 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     out.push_back(i < M.weighted_volume.size() ? M.weighted_volume[i] : 0.0);
     out.push_back(static_cast<double>(P.block[i]));
     out.push_back(i + 1 < s.bonds.offset.size() ? static_cast<double>(s.bonds.offset[i + 1] - s.bonds.offset[i]) : 0.0);
+    const Vec3 b = i < P.b.size() ? P.b[i] : Vec3{};
+    out.insert(out.end(), {b.x, b.y, b.z});
   };
   auto take = [&](std::size_t g, const double* v) {
     if (rows.size() <= g) rows.resize(g + 1);
@@ -90,7 +93,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     for (int b = static_cast<int>(layout.block_names.size()); b < most; ++b)
       layout.block_names.push_back("block_" + std::to_string(b + 1));
     layout.nodal = {"DisplacementX", "DisplacementY", "DisplacementZ", "VelocityX", "VelocityY", "VelocityZ",
-                    "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ"};
+                    "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ",
+                    "AccelerationX", "AccelerationY", "AccelerationZ"};
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors"};
     layout.global = {"Global_Kinetic_Energy"};
@@ -98,13 +102,18 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   ExodusStep step;
   step.time = time;
-  step.nodal.assign(12, std::vector<double>(n));
+  step.nodal.assign(15, std::vector<double>(n));
   step.element.assign(7, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = rows[i];
     for (int c = 0; c < 9; ++c) step.nodal[static_cast<std::size_t>(c)][i] = r[static_cast<std::size_t>(3 + c)];
-    for (int c = 0; c < 3; ++c) step.nodal[static_cast<std::size_t>(9 + c)][i] = r[static_cast<std::size_t>(9 + c)] * r[12];
+    for (int c = 0; c < 3; ++c) {
+      const auto k = static_cast<std::size_t>(c);
+      step.nodal[9 + k][i] = r[9 + k] * r[12];
+      // (f + b) / rho: the acceleration of the equation of motion (0 without a density).
+      step.nodal[12 + k][i] = r[13] > 0 ? (r[9 + k] + r[19 + k]) / r[13] : 0.0;
+    }
     step.element[0][i] = static_cast<double>(i + 1);
     step.element[1][i] = block_id(s.block_names, static_cast<int>(r[17]));
     step.element[2][i] = r[12];

@@ -3,7 +3,7 @@
 // exodus; docs/input.md, docs/peridigm.md), so that a Peridigm user's scripts, exodiff and
 // ParaView read Horizon's output as they read Peridigm's:
 //   nodal    DisplacementX/Y/Z, VelocityX/Y/Z, Force_DensityX/Y/Z, ForceX/Y/Z (= force
-//            density x volume, as Peridigm's Force);
+//            density x volume, as Peridigm's Force), AccelerationX/Y/Z ((f + b) / rho);
 //   element  Element_Id (the particle's 1-based id), Block_Id, Volume, Damage, Dilatation,
 //            Weighted_Volume, Number_Of_Neighbors (its family's bonds);
 //   global   Global_Kinetic_Energy (sum of rho V |v|^2 / 2).

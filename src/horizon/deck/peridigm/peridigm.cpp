@@ -17,6 +17,7 @@
 #include "horizon/core/expression.hpp"
 #include "horizon/deck/peridigm/exodus_discretization.hpp"
 #include "horizon/deck/reader.hpp"
+#include "horizon/deck/suggest.hpp"
 
 namespace horizon::peridigm {
 
@@ -460,7 +461,17 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     for (const auto& bn : g.block_names) {
       std::vector<int> ids;
       if (bn == "default") {
-        ids.assign(present.begin(), present.end());
+        // Peridigm's default group takes the blocks no other group names.
+        for (int id : present) {
+          bool named = false;
+          for (const auto& other : groups)
+            for (const auto& w : other.block_names) {
+              int k = w.rfind("block_", 0) == 0 ? std::atoi(w.c_str() + 6) : 0;
+              if (auto nm = exodus.block_names.find(w); k < 1 && nm != exodus.block_names.end()) k = nm->second;
+              named = named || k == id;
+            }
+          if (!named) ids.push_back(id);
+        }
       } else {
         int id = 0;
         if (bn.rfind("block_", 0) == 0) id = std::atoi(bn.c_str() + 6);
@@ -692,17 +703,21 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       }
     }
     if (auto vars = om.find("Output Variables")) {
-      // Horizon writes its own set of fields; each requested variable must be one of
-      // Peridigm's names Horizon can answer with (docs/peridigm.md).
+      // Horizon writes its own set of variables (driver/exodus_output.hpp) whatever the
+      // list asks; a Peridigm variable it does not compute (Deformation_Gradient, ...) is
+      // left out of the file, and a name one letter or two from a known one is a typo.
       static const std::vector<std::string> known = {
           "Displacement", "Velocity", "Acceleration", "Force", "Force_Density", "Damage", "Dilatation",
           "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
           "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
           "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain"};
       for (const auto& e : map_entries(ctx, *vars)) {
-        if (std::find(known.begin(), known.end(), e.key) == known.end())
-          fail_choice(ctx, Item{YAML::Node(e.key), e.value.path, *e.value.key_mark, e.value.key_mark}, e.key, known,
-                      "output variable Horizon answers");
+        if (std::find(known.begin(), known.end(), e.key) == known.end()) {
+          const auto near = closest_word(e.key, known);
+          if (near && edit_distance(e.key, *near) <= 2)
+            fail_choice(ctx, Item{YAML::Node(e.key), e.value.path, *e.value.key_mark, e.value.key_mark}, e.key, known,
+                        "output variable");
+        }
         read_bool(ctx, e.value);
       }
     }
