@@ -14,8 +14,8 @@ namespace horizon {
 namespace {
 
 // Per particle: X, u, v, f (3 each), volume, density, damage, theta, m, block, neighbours,
-// then the external force density b (3).
-constexpr int kWidth = 22;
+// then the external force density b (3) and the strain energy density W.
+constexpr int kWidth = 23;
 
 // Peridigm's block id of a body named block_<id>; otherwise its position + 1.
 int block_id(const std::vector<std::string>& names, int index) {
@@ -57,6 +57,7 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     out.push_back(i + 1 < s.bonds.offset.size() ? static_cast<double>(s.bonds.offset[i + 1] - s.bonds.offset[i]) : 0.0);
     const Vec3 b = i < P.b.size() ? P.b[i] : Vec3{};
     out.insert(out.end(), {b.x, b.y, b.z});
+    out.push_back(i < P.energy.size() ? P.energy[i] : 0.0);
   };
   auto take = [&](std::size_t g, const double* v) {
     if (rows.size() <= g) rows.resize(g + 1);
@@ -96,14 +97,14 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ",
                     "AccelerationX", "AccelerationY", "AccelerationZ"};
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
-                      "Number_Of_Neighbors"};
+                      "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy"};
     layout.global = {"Global_Kinetic_Energy"};
     writer_ = std::make_unique<ExodusWriter>(path_, layout);
   }
   ExodusStep step;
   step.time = time;
   step.nodal.assign(15, std::vector<double>(n));
-  step.element.assign(7, std::vector<double>(n));
+  step.element.assign(9, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = rows[i];
@@ -121,6 +122,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     step.element[4][i] = r[15];
     step.element[5][i] = r[16];
     step.element[6][i] = r[18];
+    step.element[7][i] = r[22];
+    step.element[8][i] = r[22] * r[12];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};

@@ -5,7 +5,9 @@
 //   nodal    DisplacementX/Y/Z, VelocityX/Y/Z, Force_DensityX/Y/Z, ForceX/Y/Z (= force
 //            density x volume, as Peridigm's Force), AccelerationX/Y/Z ((f + b) / rho);
 //   element  Element_Id (the particle's 1-based id), Block_Id, Volume, Damage, Dilatation,
-//            Weighted_Volume, Number_Of_Neighbors (its family's bonds);
+//            Weighted_Volume, Number_Of_Neighbors (its family's bonds),
+//            Stored_Elastic_Energy_Density (the strain energy density W, as of the last
+//            force pass that computed it: history rows and frames), Stored_Elastic_Energy (W V);
 //   global   Global_Kinetic_Energy (sum of rho V |v|^2 / 2).
 // On several MPI ranks every particle is streamed to rank 0 in global order
 // (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
