@@ -1,8 +1,9 @@
 #pragma once
 // Peridigm's `Discretization: Type: Exodus` (Peridigm Users' Guide, SAND2012-7800,
 // "Discretization"): each element of the serial Exodus mesh becomes one particle at its
-// centre of volume carrying the element's volume (hex8, tet4, ...: geometry/mesh.hpp;
-// SPHERE elements: the volume attribute); element block <id> is Peridigm's `block_<id>`;
+// centre carrying the element's volume (hex8, tet4, ...: geometry/mesh.hpp; a hex8's
+// centre by Peridigm's rule, exodus_discretization.cpp; SPHERE elements: at the node, with
+// the volume attribute); element block <id> is Peridigm's `block_<id>`;
 // a node set is the particles whose element holds any of its nodes, named by its name in
 // the mesh or, without one, `nodelist_<id>`. Horizon splits the particles over its MPI
 // ranks itself, so Peridigm's partitioned copies (.g.N.i) are never read.
