@@ -95,7 +95,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
       layout.block_names.push_back("block_" + std::to_string(b + 1));
     layout.nodal = {"DisplacementX", "DisplacementY", "DisplacementZ", "VelocityX", "VelocityY", "VelocityZ",
                     "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ",
-                    "AccelerationX", "AccelerationY", "AccelerationZ"};
+                    "AccelerationX", "AccelerationY", "AccelerationZ", "External_Force_DensityX",
+                    "External_Force_DensityY", "External_Force_DensityZ"};
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy"};
     layout.global = {"Global_Kinetic_Energy"};
@@ -103,7 +104,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   ExodusStep step;
   step.time = time;
-  step.nodal.assign(15, std::vector<double>(n));
+  step.nodal.assign(18, std::vector<double>(n));
   step.element.assign(9, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -114,6 +115,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
       step.nodal[9 + k][i] = r[9 + k] * r[12];
       // (f + b) / rho: the acceleration of the equation of motion (0 without a density).
       step.nodal[12 + k][i] = r[13] > 0 ? (r[9 + k] + r[19 + k]) / r[13] : 0.0;
+      step.nodal[15 + k][i] = r[19 + k];
     }
     step.element[0][i] = static_cast<double>(i + 1);
     step.element[1][i] = block_id(s.block_names, static_cast<int>(r[17]));

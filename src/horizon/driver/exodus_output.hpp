@@ -3,7 +3,8 @@
 // exodus; docs/input.md, docs/peridigm.md), so that a Peridigm user's scripts, exodiff and
 // ParaView read Horizon's output as they read Peridigm's:
 //   nodal    DisplacementX/Y/Z, VelocityX/Y/Z, Force_DensityX/Y/Z, ForceX/Y/Z (= force
-//            density x volume, as Peridigm's Force), AccelerationX/Y/Z ((f + b) / rho);
+//            density x volume, as Peridigm's Force), AccelerationX/Y/Z ((f + b) / rho),
+//            External_Force_DensityX/Y/Z (b: body forces and tractions);
 //   element  Element_Id (the particle's 1-based id), Block_Id, Volume, Damage, Dilatation,
 //            Weighted_Volume, Number_Of_Neighbors (its family's bonds),
 //            Stored_Elastic_Energy_Density (the strain energy density W, as of the last
