@@ -17,7 +17,7 @@
 #include "horizon/family/neighbors.hpp"
 #include "horizon/geometry/lattice.hpp"
 #include "horizon/solver/forces.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace {
 

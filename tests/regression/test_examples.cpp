@@ -21,7 +21,7 @@
 
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 #include "../test_paths.hpp"
 
 namespace fs = std::filesystem;

@@ -13,7 +13,7 @@
 #include "horizon/deck/deck.hpp"
 #include "horizon/family/neighbors.hpp"
 #include "horizon/family/precrack.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 #include "test_helpers.hpp"
 
 namespace horizon {

@@ -13,7 +13,7 @@
 
 #include "horizon/deck/config.hpp"
 #include "horizon/material/constants.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 #include "../single_thread.hpp"
 
 namespace horizon::test {

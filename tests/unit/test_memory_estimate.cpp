@@ -8,7 +8,7 @@
 
 #include "horizon/deck/deck.hpp"
 #include "horizon/solver/memory_guard.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 #include "../single_thread.hpp"
 
 namespace horizon {

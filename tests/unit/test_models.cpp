@@ -1,4 +1,4 @@
-// The force models (solver/forces.cpp with the coefficients of solver/system.cpp)
+// The force models (solver/forces.cpp with the coefficients of solver/build.cpp)
 // against the continuum: dilatation and strain energy under homogeneous deformation
 // (seed 003 digest sec. 13, checks 1-2; seed 002 eq. 17), zero force under rigid
 // motion (check 9), forces as the gradient of the energy (check 8), momentum

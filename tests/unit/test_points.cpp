@@ -11,7 +11,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 namespace {

@@ -1,6 +1,6 @@
 // Interfaces between materials (seed 002 sec. 2.4, eq. 30-31). A bond between materials m
 // and n takes the mean spring constant (c_m + c_n)/2: in the unified bond form
-// (solver/system.hpp) its pair coefficient is omega (R_i + R_j) with R = c/2 per end. Its
+// (state/system.hpp) its pair coefficient is omega (R_i + R_j) with R = c/2 per end. Its
 // critical stretch is min(s0_m, s0_n): the force loops break a bond when its stretch
 // exceeds the smaller of its ends' values. Checked here:
 // - the pair coefficients of a bimaterial family are those rules, read from the system;

@@ -45,7 +45,7 @@ Config taylor_deck(const std::string& example, const std::function<void(Config&)
   o.coarsen = kSpacing / c.spacing;
   apply_run_options(c, o);
   // The stable step includes the wall's penalty stiffness 2 K d at a depth of one spacing
-  // (solver/system.cpp): at this coarse spacing that is 40 times the bonds' and 6 times
+  // (solver/build.cpp): at this coarse spacing that is 40 times the bonds' and 6 times
   // the cost. The bar's face goes far less deep into the wall: the test takes the same
   // bound at d = kWallDepth, 1/dt^2 = 1/dt_bonds^2 + 2 K d/(2 rho), x 0.5, and run_taylor
   // checks that no particle goes deeper.

@@ -24,7 +24,7 @@
 #include "horizon/driver/run.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/solver/explicit.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 #include "../test_paths.hpp"
 
 namespace horizon::verification {
@@ -182,7 +182,7 @@ inline Eigen::Matrix3d displacement_gradient(const Particles& P, const std::vect
 }
 
 // Force that particle j exerts on particle i through bond k of i's row [N], from the
-// unified form of solver/system.hpp: (t_ij + t_ji) Y/|Y| V_i V_j with
+// unified form of state/system.hpp: (t_ij + t_ji) Y/|Y| V_i V_j with
 // t_ij = omega (P_i |xi| + Q_i e + R_i e/|xi|). Needs the P_i of the last force pass.
 inline Vec3 pair_force(const System& s, std::size_t i, uint64_t k) {
   const auto& P = s.particles;

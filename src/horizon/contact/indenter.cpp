@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

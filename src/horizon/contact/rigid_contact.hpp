@@ -53,7 +53,7 @@ Vec3 push_particles(System& s, const RigidShape& shape, const Vec3& at, ContactL
 
 // The particle-side stiffness of the law, d b / d d [N/m^4]: K (linear) or 2 K d_max
 // (quadratic, at the penetration d_max). The stable step adds it to the bond stiffness of
-// every particle (solver/system.cpp stable_time_step).
+// every particle (solver/build.cpp stable_time_step).
 double penalty_stiffness(ContactLaw law, double stiffness, double max_penetration);
 
 }  // namespace horizon

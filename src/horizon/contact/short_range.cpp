@@ -1,4 +1,4 @@
-#include "horizon/contact/short_range.hpp"
+#include "horizon/state/short_range.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "horizon/core/cell_key.hpp"
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -159,7 +159,7 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   if (candidates_ == 0) return;
   const double cut2 = cutoff_ * cutoff_;
   const double factor = config_.stiffness_factor / horizon_;
-  // A decomposed run adds the contact of its active particles alone (solver/system.hpp).
+  // A decomposed run adds the contact of its active particles alone (state/system.hpp).
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t count = act ? act->size() : n;
   // One pair sum; with contact ghosts (local particles on ranks: index n + k is ghost k)

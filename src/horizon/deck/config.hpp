@@ -200,7 +200,7 @@ struct PartialVolume {
 // Short-range repulsion between any two particles closer than
 // d_ij = min(reference_fraction |X_j - X_i|, max_distance * spacing): force density on i
 // stiffness_factor * c_ij V_j (d_ij - |Y|)/horizon along Y_ji (Silling's EMU manual via
-// LAMMPS PERI; c_ij the mean of the two ends' bond-based micromoduli). contact/short_range.hpp.
+// LAMMPS PERI; c_ij the mean of the two ends' bond-based micromoduli). state/short_range.hpp.
 struct ShortRangeContactConfig {
   bool enabled = false;
   double stiffness_factor = 15;

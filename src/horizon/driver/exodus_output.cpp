@@ -7,7 +7,7 @@
 #include "horizon/output/exodus.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/parallel/lead_view.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

@@ -7,7 +7,7 @@ namespace horizon {
 
 // The names of the registered models whose traits pass `keep`, comma-separated, in
 // registry order (for driver messages that list the models able to do something, so that
-// no driver names a model). Defined in run.cpp.
+// no driver names a model). Defined in check.cpp.
 std::string model_list(bool (*keep)(const ModelTraits&));
 
 }  // namespace horizon

@@ -10,7 +10,7 @@
 #include "horizon/deck/config.hpp"
 #include "horizon/loading/loads.hpp"
 #include "horizon/output/frame.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 

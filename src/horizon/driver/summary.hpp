@@ -12,7 +12,7 @@
 #include "horizon/loading/loads.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/explicit.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 

@@ -16,8 +16,7 @@
 #include "horizon/geometry/mesh.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/solver/forces.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -999,6 +998,7 @@ void build_fe_regions(System& s, const Config& config, double radius, std::vecto
                 "is a particle: the coupling needs an overlap of at least one element whose nodes include the "
                 "particles there (mesh nodes on the peridynamic lattice; docs/input.md, \"Finite-element bodies\")");
   s.fe = std::make_shared<FeRegion>(std::move(fe));
+  s.fe_coupling = s.fe;  // the same object, for the rooms below fe/ (state/system.hpp)
 }
 
 }  // namespace horizon

@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -50,7 +51,9 @@ struct System;
 struct Particles;
 class StateArchive;
 
-struct FeRegion {
+// The force pass, the models and commit_history reach it through FeCoupling
+// (state/system.hpp), which holds owned_particle; the rooms above fe/ use it whole.
+struct FeRegion : FeCoupling {
   int nodes_per_element = 8;  // 8: hex8, 4: tet4 (one kind per run's FE bodies)
   // Per FE node: its particle, its position (its particle's lattice point), and whether
   // the FE owns it.
@@ -67,9 +70,8 @@ struct FeRegion {
   std::vector<double> volume_scale;
   std::vector<double> grad;
   std::vector<double> gamma;
-  // Per particle: 1 where the FE owns it: an FE-owned node (its force and energy come
-  // from the elements) or an interpolated particle (below).
-  std::vector<uint8_t> owned_particle;
+  // FeCoupling::owned_particle, per particle: 1 where the FE owns it: an FE-owned node
+  // (its force and energy come from the elements) or an interpolated particle (below).
   // Interpolated particles of the overlap band (lattice points within a horizon of a
   // peridynamic particle that lie inside an element but at none of its nodes): per
   // interpolated particle its index, and nodes_per_element (FE node, weight N_I(X)) pairs
@@ -154,7 +156,7 @@ struct FeRegion {
   // interpolation u = N u_h (seed 002 digest eq. 46). Called by compute_forces before
   // the bond loops, so their current positions X + u enter the bonds.
   // Decomposed: the ghosts' velocities are received first (collective).
-  void interpolate(System& s);
+  void interpolate(System& s) override;
   // The elements and interpolated particles this rank updates (above), from its owned
   // particles and the particles its rows read (`ghosts`, one per particle); marks the
   // nodes they read in `ghosts` (those not in `is_owned`). Called once by the ghost choice.
@@ -162,13 +164,13 @@ struct FeRegion {
   // Overwrites the force density and the energy density of every FE-owned particle
   // with the element assembly (F_I / V_I, the FE-owned share of element energies / V_I);
   // an interpolated particle's are set to zero.
-  void apply(System& s, bool energy);
+  void apply(System& s, bool energy) override;
   // Adds this pass's internal work to the coupling account (above); called by apply.
   void update_coupling_account(System& s, bool energy);
   // Accepts the trial history of the last apply and adds its plastic work to the ledger
   // (System::dissipated_at): each FE-owned node takes 1/n of its elements' work, as it
   // takes their energy (a node a peridynamic particle holds takes none, as for the energy).
-  void commit(System& s);
+  void commit(System& s) override;
   bool plastic() const { return !history.empty(); }
   // The plastic history for checkpoints (per element, from the owner of its keeper
   // particle on ranks: element_keeper).

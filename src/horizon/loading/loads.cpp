@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "horizon/core/error.hpp"
+#include "horizon/material/model.hpp"
 
 namespace horizon {
 

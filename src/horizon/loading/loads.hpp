@@ -6,7 +6,7 @@
 #include "horizon/contact/indenter.hpp"
 #include "horizon/contact/projectile.hpp"
 #include "horizon/deck/config.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "horizon/core/error.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -108,6 +108,11 @@ void fill_model_defaults(MaterialConfig& m) {
     if (p.default_value && !m.parameters.count(p.key)) m.parameters[p.key] = *p.default_value;
   for (const auto& c : e->traits.choices)
     if (!m.choices.count(c.key)) m.choices[c.key] = c.choices.front();
+}
+
+void commit_history(System& s) {
+  for (std::size_t m = 0; m < s.models.size(); ++m) s.models[m].commit(s);
+  if (s.fe_coupling) s.fe_coupling->commit(s);  // the elements' plastic history (fe/fe_region.hpp)
 }
 
 }  // namespace horizon

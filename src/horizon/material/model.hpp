@@ -22,7 +22,7 @@
 //
 // Two capabilities keep the old fast paths behind the same interface:
 //   - unified(): the model writes its forces in the form t = omega (P_i |xi| + Q_i e +
-//     R_i e/|xi|) of solver/system.hpp (PMB, LPS). When every material of a run is
+//     R_i e/|xi|) of state/system.hpp (PMB, LPS). When every material of a run is
 //     unified, compute_forces runs the vectorised loops of solver/forces.cpp and the
 //     static solvers have an analytic tangent.
 //   - owns_force_pass(): the model computes the whole force pass itself and shares a run
@@ -91,7 +91,7 @@ struct ModelTraits {
   // itself over ranks (docs/design.md, "A model that owns its force pass").
   bool rows_local = false;
   // The model writes its forces in the unified form t = omega (P_i |xi| + Q_i e + R_i e/|xi|)
-  // of solver/system.hpp (Model::unified, above): the fast loops, the analytic tangent, and
+  // of state/system.hpp (Model::unified, above): the fast loops, the analytic tangent, and
   // a run split over MPI ranks without any model code.
   bool unified = false;
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
@@ -221,7 +221,7 @@ class Model {
     return 0;
   }
   // The current state's stiffening of a model that shares the Silling-Askari bound
-  // (solver/system.cpp stable_time_step, with solver.adaptive_time_step): for each of the
+  // (solver/build.cpp stable_time_step, with solver.adaptive_time_step): for each of the
   // model's particles i, the factor g_i on its shared spring (ModelCoefficients::spring)
   // in the bound's bond sum; `g` holds one entry per particle of the system, 1 on entry.
   // False (g untouched) for a model whose stiffness the reference spring holds.
@@ -270,5 +270,10 @@ std::string describe_models();
 // Fills in the defaults of every declared parameter and choice the material lacks (a
 // material built in code, as the tests do; the deck does it while reading).
 void fill_model_defaults(MaterialConfig& m);
+
+// The models' trial history of the last force pass becomes their history, and so does
+// the finite-element regions' (System::fe_coupling): explicit solvers after every step,
+// static ones after each converged step.
+void commit_history(System& s);
 
 }  // namespace horizon

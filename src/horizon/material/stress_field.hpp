@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "horizon/deck/config.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

@@ -4,11 +4,10 @@
 #include <cmath>
 #include <limits>
 
-#include "horizon/fe/fe_region.hpp"
 #include "horizon/family/neighbors.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -67,8 +66,8 @@ std::vector<uint32_t> node_proxies(const ModelSetup& in, const std::vector<uint8
   const auto& X = s.particles.X;
   std::vector<uint32_t> proxy(X.size());
   for (uint32_t i = 0; i < proxy.size(); ++i) proxy[i] = i;
-  if (!s.fe) return proxy;
-  const auto& fe = s.fe->owned_particle;
+  if (!s.fe_coupling) return proxy;
+  const auto& fe = s.fe_coupling->owned_particle;
   for (uint32_t i : in.particles) {
     if (!fe[i]) continue;
     double best = std::numeric_limits<double>::infinity();
@@ -188,7 +187,7 @@ std::vector<Vec3> axis_factors(const ModelSetup& in, const AxisEnergy& energy, i
     for (uint32_t i : in.particles) {
       // The particles' families include the finite-element nodes within a horizon, so
       // they are whole where the elements take over; the nodes' own are not measured.
-      if (s.fe && s.fe->owned_particle[i]) continue;
+      if (s.fe_coupling && s.fe_coupling->owned_particle[i]) continue;
       f.xi.clear();
       f.wv.clear();
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {

@@ -8,7 +8,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/output/atomic_file.hpp"
-#include "horizon/solver/tangent.hpp"
+#include "horizon/family/bond_helpers.hpp"
 
 namespace horizon {
 
@@ -29,7 +29,7 @@ TrussNetwork truss_network(const System& s) {
   TrussNetwork net;
   net.mass.resize(n);
   for (std::size_t i = 0; i < n; ++i) net.mass[i] = P.density[i] * P.volume[i];
-  // Force on i per unit stretch of bond k = i->j: V_i omega (R_i + R_j) v_j (solver/system.hpp).
+  // Force on i per unit stretch of bond k = i->j: V_i omega (R_i + R_j) v_j (state/system.hpp).
   auto axial = [&](std::size_t i, uint64_t k) {
     const BondKind& c = B.kind_of(k);
     return P.volume[i] * c.weight * (M.pair_coef[i] + M.pair_coef[B.nbr[k]]) * c.volume * c.fraction;

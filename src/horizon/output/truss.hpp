@@ -4,7 +4,7 @@
 // an explicit finite-element code, in which every bond i-j is a truss between nodes i and
 // j with axial stiffness EA_ij (truss force = EA_ij s, s the bond stretch = the truss's
 // engineering strain), a failure strain, and zero density; the nodes carry lumped masses
-// rho_i V_i. From the unified bond form of solver/system.hpp, the bond-based part of the
+// rho_i V_i. From the unified bond form of state/system.hpp, the bond-based part of the
 // force of bond i-j on i is omega_ij (R_i + R_j) s V_i v_j (v_j the partial-volume scaled
 // neighbour volume), hence EA_ij = omega_ij (R_i + R_j) V_i v_j (= c V_i V_j for PMB with
 // c = 2R). The seed's split into a section and a modulus, A = (V_i V_j)^(1/3) and
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

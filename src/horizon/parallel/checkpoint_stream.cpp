@@ -14,7 +14,8 @@
 #include "horizon/core/error.hpp"
 #include "horizon/output/checkpoint.hpp"
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/material/model.hpp"
+#include "horizon/state/system.hpp"
 
 #if defined(HORIZON_MPI)
 #include <mpi.h>

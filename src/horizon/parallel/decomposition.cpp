@@ -13,7 +13,8 @@
 #include "horizon/output/checkpoint.hpp"
 #include "horizon/parallel/checkpoint_stream.hpp"
 #include "horizon/parallel/lead_view.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/material/model.hpp"
+#include "horizon/state/system.hpp"
 
 #if defined(HORIZON_MPI)
 #include <mpi.h>

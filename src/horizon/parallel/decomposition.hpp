@@ -37,7 +37,7 @@
 //     active particles, and every particle within the short-range contact distance plus a
 //     skin of one of its own (halo_exchange). When any particle has moved more than half
 //     the skin since the ghosts were chosen, all displacements are gathered and the
-//     ghosts chosen again (the Verlet-list rule, as contact/short_range.hpp);
+//     ghosts chosen again (the Verlet-list rule, as state/short_range.hpp);
 //   - each particle's force is summed over its whole bond row in the serial order, so its
 //     bits do not depend on the rank count;
 //   - global sums (energies, work, reactions, indenter forces) go through GridSum: every
@@ -80,7 +80,7 @@ struct HaloStats {
 // Local particles with short-range contact: the particles of other ranks within the
 // contact reach plus the skin of one of this rank's owned particles that this rank does
 // not hold (not in its System), with what the contact pass reads of them
-// (contact/short_range.hpp). Chosen again with the other ghosts (halo_exchange).
+// (state/short_range.hpp). Chosen again with the other ghosts (halo_exchange).
 struct ContactGhosts {
   uint64_t generation = 0;              // +1 each time the set is chosen
   std::vector<int64_t> id;              // global id
@@ -137,7 +137,7 @@ int world_rank();
 int world_size();
 
 // The system of this rank for a run split over world_size() ranks with local rows
-// (solver/system.cpp): particles and every per-particle array whole, but bond rows only
+// (solver/build.cpp): particles and every per-particle array whole, but bond rows only
 // for the particles this rank owns (rcb_owners of the reference positions) and their
 // bond neighbours; the other rows are empty, so the global indices and the serial order
 // of every row stay. Each built row holds the same bonds in the same order as serially.
@@ -170,7 +170,7 @@ bool local_rows_allowed(const Config& config);
 // becomes the whole system's) and where each row lies in the serial order. Collective.
 void decompose(System& s, Decomposition& d, double skin);
 // What the busiest of `ranks` ranks would hold with local rows, from the whole system
-// `s` (horizon check --ranks; solver/system.cpp): its bonds (owned rows, and the bond
+// `s` (horizon check --ranks; solver/build.cpp): its bonds (owned rows, and the bond
 // neighbours' rows where decompose() keeps them), its particles (with local particles
 // those rows and the particles they read, else every particle) and its memory estimate.
 struct RankShare {

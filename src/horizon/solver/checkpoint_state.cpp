@@ -1,5 +1,5 @@
-// The system's part of a checkpoint (solver/system.hpp checkpoint_system).
-#include "horizon/solver/system.hpp"
+// The system's part of a checkpoint (state/system.hpp checkpoint_system).
+#include "horizon/solver/build.hpp"
 
 #include "horizon/fe/fe_region.hpp"
 #include "horizon/parallel/decomposition.hpp"

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "horizon/loading/loads.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 
@@ -48,7 +48,7 @@ class FixedBonds {
   std::vector<double> saved_;
 };
 
-// True when every particle's forces follow the unified bond form of solver/system.hpp
+// True when every particle's forces follow the unified bond form of state/system.hpp
 // (Model::unified), for which the analytic tangent exists; false with any other
 // model, whose tangent is taken by finite differences.
 bool unified_form(const System& s);

@@ -74,7 +74,7 @@ void ExplicitSolver::initialize() {
 
 void ExplicitSolver::step(bool energy) {
   auto& P = s_.particles;
-  // A decomposed run integrates its own particles alone (solver/system.hpp).
+  // A decomposed run integrates its own particles alone (state/system.hpp).
   const std::vector<uint32_t>* own = s_.owned.empty() ? nullptr : &s_.owned;
   const std::size_t n = own ? own->size() : P.size();
   const double dt = dt_, half = 0.5 * dt;

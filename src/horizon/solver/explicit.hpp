@@ -7,7 +7,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/loading/loads.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 

@@ -1,5 +1,4 @@
 #include "horizon/solver/forces.hpp"
-#include "horizon/fe/fe_region.hpp"
 
 #include "horizon/parallel/decomposition.hpp"
 
@@ -815,7 +814,7 @@ uint64_t bond_based_pass(System& s) {
   auto& P = s.particles;
   auto& M = s.model;
   const Ctx c = context(s);
-  // A decomposed run computes the rows of its active particles alone (solver/system.hpp).
+  // A decomposed run computes the rows of its active particles alone (state/system.hpp).
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t n = act ? act->size() : P.size();
   const uint64_t total = s.bonds.size();
@@ -845,7 +844,7 @@ uint64_t break_and_dilate(System& s) {
   auto& M = s.model;
   if (M.deformed_length.size() != s.bonds.size()) M.deformed_length.assign(s.bonds.size(), 1.0);
   const Ctx c = context(s);
-  // A decomposed run computes the rows of its active particles alone (solver/system.hpp).
+  // A decomposed run computes the rows of its active particles alone (state/system.hpp).
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t n = act ? act->size() : P.size();
   const uint64_t total = s.bonds.size();
@@ -876,7 +875,7 @@ template <bool kEnergy>
 void internal_force(System& s) {
   auto& P = s.particles;
   const Ctx c = context(s);
-  // A decomposed run computes the rows of its active particles alone (solver/system.hpp).
+  // A decomposed run computes the rows of its active particles alone (state/system.hpp).
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t n = act ? act->size() : P.size();
   const uint64_t total = s.bonds.size();
@@ -894,16 +893,6 @@ void internal_force(System& s) {
   }
 }
 
-// Sum of the damage weights of i's bonds with the given state, in the lanes of the
-// bond loops: an undamaged particle then has damage 0 exactly.
-double lane_sum_damage(const System& s, std::size_t i, bool intact_only) {
-  const auto& B = s.bonds;
-  double lanes[8] = {};
-  for (uint64_t k = B.begin(i); k < B.end(i); ++k)
-    if (!intact_only || B.intact[k]) lanes[(k - B.begin(i)) & 7] += s.model.kind[B.kind[k]].damage;
-  return total8(lanes);
-}
-
 }  // namespace
 
 void set_kernel_path(KernelPath path) { g_path = path; }
@@ -911,59 +900,6 @@ void set_kernel_path(KernelPath path) { g_path = path; }
 const char* kernel_path_name() {
   if (g_path == KernelPath::general) return "general";
   return use_avx512() ? "avx512" : use_avx2() ? "avx2" : "scalar";
-}
-
-void build_kind_coefficients(System& s, DamageMeasure measure) {
-  const auto& B = s.bonds;
-  auto& M = s.model;
-  const std::size_t n = s.particles.size(), nk = B.kinds.size();
-  // The per-particle coefficients of a kind's two ends, from any bond of that kind
-  // (coefficients are per material, and a kind joins one pair of materials).
-  std::vector<int64_t> end_i(nk, -1), end_j(nk, -1);
-  for (std::size_t i = 0; i < n; ++i)
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k)
-      if (end_i[B.kind[k]] < 0) end_i[B.kind[k]] = static_cast<int64_t>(i), end_j[B.kind[k]] = B.nbr[k];
-  const bool contact = s.contact.enabled();
-  const double factor = contact ? s.contact.config().stiffness_factor / s.horizon : 0.0;
-  M.kind.assign(nk, KindCoefficients{});
-  for (std::size_t q = 0; q < nk; ++q) {
-    const BondKind& b = B.kinds[q];
-    KindCoefficients& c = M.kind[q];
-    c.length = b.length;
-    c.inv_length = 1.0 / b.length;
-    c.wv = b.weight * b.volume * b.fraction;
-    c.damage = measure == DamageMeasure::weighted ? c.wv : b.volume;
-    if (end_i[q] < 0) continue;  // no bond of this kind left (all cut by precracks)
-    const auto i = static_cast<std::size_t>(end_i[q]), j = static_cast<std::size_t>(end_j[q]);
-    c.pair = c.wv * (M.pair_coef[i] + M.pair_coef[j]) / b.length;
-    if (contact) {
-      c.contact_d = s.contact.distance(b.length);
-      c.contact_d2 = c.contact_d * c.contact_d;
-      // LAMMPS PERI uses the neighbour's whole volume here, not the partial one.
-      c.contact_k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * b.volume;
-    }
-  }
-  // The kind records of the state-based passes, as their SIMD loops read them whole.
-  M.kind_dilatation.resize(nk);
-  M.kind_force.resize(nk);
-  for (std::size_t q = 0; q < nk; ++q) {
-    const KindCoefficients& c = M.kind[q];
-    M.kind_dilatation[q] = {c.length, c.inv_length, c.wv, 0.0};
-    M.kind_force[q] = {c.length, c.wv, c.pair, c.contact_d2};
-  }
-  refresh_damage(s);
-}
-
-void refresh_damage(System& s) {
-  auto& M = s.model;
-  const std::size_t n = s.particles.size();
-  M.damage_total.assign(n, 0);
-  M.intact_weight.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    M.damage_total[i] = lane_sum_damage(s, i, false);
-    M.intact_weight[i] = lane_sum_damage(s, i, true);
-    s.particles.damage[i] = M.damage_total[i] > 0 ? 1.0 - M.intact_weight[i] / M.damage_total[i] : 0.0;
-  }
 }
 
 uint64_t state_based_dilatation_pass(System& s) {
@@ -1001,7 +937,7 @@ ForceStats compute_forces(System& s, bool energy) {
     s.broken += stats.broken;
     return stats;
   }
-  if (s.fe) s.fe->interpolate(s);  // the interpolated particles follow the elements (fe/fe_region.hpp)
+  if (s.fe_coupling) s.fe_coupling->interpolate(s);  // the interpolated particles follow the elements (FeCoupling)
   auto& M = s.model;
   if (M.kind.size() != s.bonds.kinds.size() || M.intact_weight.size() != s.particles.size())
     build_kind_coefficients(s, DamageMeasure::weighted);
@@ -1013,7 +949,7 @@ ForceStats compute_forces(System& s, bool energy) {
     M.min_stretch.swap(M.min_stretch_next);
     share_min_stretch(s);
     s.contact.add_forces(s, M.packed.data(), s.particles.f.data(), energy ? s.particles.energy.data() : nullptr);
-    if (s.fe) s.fe->apply(s, energy);  // the FE-owned nodes' forces (fe/fe_region.hpp)
+    if (s.fe_coupling) s.fe_coupling->apply(s, energy);  // the FE-owned nodes' forces (FeCoupling)
     s.broken += stats.broken;
     return stats;
   }
@@ -1030,20 +966,10 @@ ForceStats compute_forces(System& s, bool energy) {
   M.min_stretch.swap(M.min_stretch_next);
   share_min_stretch(s);
   s.contact.add_forces(s, M.packed.data(), s.particles.f.data(), energy ? s.particles.energy.data() : nullptr);
-  if (s.fe) s.fe->apply(s, energy);  // the FE-owned nodes' forces (fe/fe_region.hpp)
+  if (s.fe_coupling) s.fe_coupling->apply(s, energy);  // the FE-owned nodes' forces (FeCoupling)
   s.broken += stats.broken;
   return stats;
 }
 
-double strain_energy(const System& s) {
-  if (s.decomposition) {
-    GridSum g(s, 1);
-    for (uint32_t i : s.owned) g.add(0, s.particles.energy[i] * s.particles.volume[i]);
-    return g.totals()[0];
-  }
-  double sum = 0;
-  for (std::size_t i = 0; i < s.particles.size(); ++i) sum += s.particles.energy[i] * s.particles.volume[i];
-  return sum;
-}
 
 }  // namespace horizon

@@ -1,6 +1,8 @@
 #pragma once
 // The force pass: bond breaking, damage, dilatation, then internal force densities.
-#include "horizon/solver/system.hpp"
+// (build_kind_coefficients, refresh_damage and strain_energy, which it used to declare,
+// are the state's: state/system.hpp.)
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 
@@ -16,16 +18,6 @@ struct ForceStats {
 // Each particle's sums run over its own row in a fixed order: results do not depend
 // on the number of threads.
 ForceStats compute_forces(System& s, bool energy);
-
-// Per-kind coefficients (ModelCoefficients::kind) and the damage totals from the
-// bonds' reference data and the per-particle coefficients. setup_model calls it; call
-// it again after changing either by hand.
-void build_kind_coefficients(System& s, DamageMeasure measure);
-
-// Recomputes the damage field's bookkeeping (per-particle totals and intact sums) from
-// the bonds' intact flags. The force pass keeps it up to date as bonds break; call this
-// after changing intact flags by hand.
-void refresh_damage(System& s);
 
 // Which implementation of the bond loops runs: the widest the CPU has (automatic:
 // AVX-512, else AVX2, else scalar), at most AVX2, or the portable scalar one. All give
@@ -48,9 +40,6 @@ void state_based_force_pass(System& s, bool energy);
 void pack_positions(System& s);
 
 // The models' trial history becomes their history (material/model.hpp). Solvers call it
-// through commit_history (solver/system.hpp).
-
-// Total strain energy sum_i W_i V_i [J] (after compute_forces(s, true)).
-double strain_energy(const System& s);
+// through commit_history (state/system.hpp).
 
 }  // namespace horizon

@@ -5,6 +5,7 @@
 
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/family/bond_helpers.hpp"
 #include "horizon/solver/tangent.hpp"
 
 namespace horizon {
@@ -63,7 +64,7 @@ BreakOut break_row(System& s, std::size_t i, bool after) {
   return out;
 }
 
-// The force states of the particles whose model is unified (solver/system.hpp).
+// The force states of the particles whose model is unified (state/system.hpp).
 // With a thermal strain, e is the mechanical extension e - eps_ij |xi| in the dilatation,
 // the force and the energy alike (thermal_extension).
 void unified_force_states(System& s, bool energy) {
@@ -72,7 +73,7 @@ void unified_force_states(System& s, bool energy) {
   auto& M = s.model;
   const Point4* pt = M.packed.data();
   const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
-  // A decomposed run computes the rows of its active particles alone (solver/system.hpp).
+  // A decomposed run computes the rows of its active particles alone (state/system.hpp).
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t n = act ? act->size() : P.size();
   std::vector<uint8_t> mine(s.models.size());

@@ -16,7 +16,7 @@
 // of threads. The force state and the reverse-bond index cost 32 bytes per bond.
 #include <cstdint>
 
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 

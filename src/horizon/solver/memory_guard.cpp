@@ -12,12 +12,13 @@
 #include "horizon/core/error.hpp"
 #include "horizon/family/neighbors.hpp"
 #include "horizon/material/model.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 
 namespace {
 // Bytes per particle: the particle arrays, model arrays and force scratch
-// (memory_estimate in system.cpp counts ~320), with room for a model's own per-particle
+// (memory_estimate in solver/build.cpp counts ~320), with room for a model's own per-particle
 // state. Per directed bond (family/bonds.hpp): neighbour, kind and intact flag (9 bytes)
 // and a state-based model's |Y| (8), which is all the unified models keep; a model on the
 // general force pass adds the force state and reverse bond (32) and its own per-bond

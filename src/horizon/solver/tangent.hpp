@@ -1,6 +1,6 @@
 #pragma once
 // The tangent stiffness K = -dF/du of the internal nodal forces F_i = f_i V_i, on the free
-// dofs, for the unified bond force form of solver/system.hpp:
+// dofs, for the unified bond force form of state/system.hpp:
 //   F_i = V_i sum_k omega v (tau_i + tau_j) n,  tau_i = P_i L + Q_i e + R_i e/L,  n = Y/|Y|.
 // Differentiating (product rule on g n with g = omega v (tau_i + tau_j)):
 //   dF_i = V_i sum_k [ T_k (I - n n^T) dY + A_k n (n . dY) + w_k n (dP_i + dP_j) ],
@@ -18,8 +18,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "horizon/family/bond_helpers.hpp"
 #include "horizon/solver/equilibrium.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 namespace horizon {
 
@@ -39,11 +40,6 @@ struct Linearization {
   std::size_t bytes() const;
 };
 Linearization linearize(const System& s);
-
-// Index of bond j->i for every bond i->j (rows are sorted by neighbour). `partial`: rows
-// another MPI rank holds are empty here (local rows, parallel/decomposition.hpp); a bond
-// into such a row gets itself as its reverse (its row is never summed on this rank).
-std::vector<uint64_t> reverse_bonds(const Bonds& B, bool partial = false);
 
 // The assembled tangent on the free dofs. Row-block i is computed from i's bonds (and,
 // for state-based particles, their neighbours' bonds) and stored as column i of a

@@ -9,8 +9,9 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/loading/loads.hpp"
+#include "horizon/material/model.hpp"
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/parallel/owned_rows.hpp"
+#include "horizon/state/owned_rows.hpp"
 
 namespace horizon {
 
@@ -27,7 +28,7 @@ double bond_kappa(const HeatState& h, std::size_t i, std::size_t j) { return 0.5
 // its owned particles, whose conduction reads the ghosts' temperatures (exchanged after
 // every change: exchange_ghosts below); every particle serially. Indices are this rank's
 // (local ones with local particles: Particles::id is the global id).
-using Rows = OwnedRows;  // parallel/owned_rows.hpp
+using Rows = OwnedRows;  // state/owned_rows.hpp
 
 // The owners' temperatures at this rank's ghosts. Collective when decomposed.
 void exchange_ghosts(System& s) {

@@ -30,7 +30,7 @@
 #include <memory>
 #include <vector>
 
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -75,7 +75,7 @@ double thermal_strain_work(const System& s, const std::vector<double>& delta);
 // Heat deposited at particle i [J] (plastic work times beta): raises T_i by E/(rho c V).
 void deposit_heat(System& s, std::size_t i, double energy);
 
-// commit_history (solver/system.hpp), and with a temperature field the energy the history
+// commit_history (state/system.hpp), and with a temperature field the energy the history
 // models dissipate in it (Model::commit adds plastic work and viscous loss to
 // dissipated_at) raises the temperature: beta_i times it is deposited at particle i
 // (Taylor and Quinney's fraction, materials.NAME.thermal.plastic_heat_fraction). The

@@ -8,7 +8,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/family/precrack.hpp"
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

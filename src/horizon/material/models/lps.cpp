@@ -4,7 +4,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/material/surface_correction.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -81,7 +81,7 @@ double deviatoric_energy(const FamilyView& f, int dim) {
 }
 
 // A unified model: P_i = theta_i (d k'/m_i - alpha mu/(d m_i)), Q_i = alpha mu/m_i, R = 0
-// in the form of solver/system.hpp (the loops compute theta and P each pass).
+// in the form of state/system.hpp (the loops compute theta and P each pass).
 class Lps final : public Model {
  public:
   std::unique_ptr<Model> clone() const override { return std::make_unique<Lps>(*this); }

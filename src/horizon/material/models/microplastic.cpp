@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "horizon/material/models/history_ledger.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

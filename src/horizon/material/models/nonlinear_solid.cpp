@@ -10,10 +10,9 @@
 #include "horizon/material/influence.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/parallel/decomposition.hpp"
-#include "horizon/parallel/owned_rows.hpp"
+#include "horizon/state/owned_rows.hpp"
 #include "horizon/material/surface_correction.hpp"
-#include "horizon/solver/forces.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -36,7 +35,7 @@ std::size_t drop_bonds_between_bodies(Bonds& b, const std::vector<int32_t>& bloc
 // (and S_j of the stable step), is computed by j's owner from j's own row and sent to
 // the ranks that hold j as a ghost. Each bond's flag is decided by the row that holds it
 // from both ends' theta, the same bits on every rank, so no per-bond state crosses ranks.
-using Rows = OwnedRows;  // parallel/owned_rows.hpp
+using Rows = OwnedRows;  // state/owned_rows.hpp
 
 // The owners' values of the per-particle scalar `a` at this rank's ghosts (the halo of
 // the displacements, parallel/decomposition.hpp exchange_ghost_values, one component
@@ -290,7 +289,7 @@ void NonlinearSolid::setup(const ModelSetup& in) {
       N.beta[i] = tupek_beta(*mat.damage.fracture_energy, config.horizon, dim, exponent);
     N.compression_only[i] = mat.damage.broken_bonds_compression ? 1 : 0;
     // Contact stiffness of the LAMMPS rule from the bond-based micromodulus of the same
-    // bulk modulus (as the LPS does, solver/system.cpp).
+    // bulk modulus (as the LPS does, solver/build.cpp).
     M.contact_micromodulus[i] = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, dims);
   }
   s.contact.setup(config.contact.short_range, config.spacing, config.horizon);
@@ -401,7 +400,7 @@ uint64_t NonlinearSolid::force_pass(System& s, bool energy) {
         if (!cut) mu_sum += c.wv * eps * eps;
       } else if (contact) {
         // A broken bond that no longer acts: its ends repel like non-family pairs
-        // (contact/short_range.hpp), so the crack faces do not interpenetrate.
+        // (state/short_range.hpp), so the crack faces do not interpenetrate.
         if (r2 < c.contact_d2 && r2 > 0) {
           const double r = std::sqrt(r2), overlap = c.contact_d - r;
           const double a = -c.contact_k * overlap / r;
@@ -444,7 +443,7 @@ double NonlinearSolid::stable_time_step(const System& s) const {
   const bool have_strain = N.bond_strain.size() == B.size();
   // S_i = sum_k omega V_k |d eps_ik/d|Y||: the dilatation coupling of row i (Gershgorin).
   // A decomposed run: the owned rows, S_j of the ghosts from their owners, and the
-  // minimum over ranks taken by the caller (driver/run.cpp whole_stable_step).
+  // minimum over ranks taken by the caller (driver/check.cpp whole_stable_step).
   std::vector<double> S(n, 0);
   auto strain = [&](uint64_t k) { return have_strain ? N.bond_strain[k] : 0.0; };
   const Rows rows(s);

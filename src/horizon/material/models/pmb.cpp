@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "horizon/material/surface_correction.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -46,7 +46,7 @@ double axis_energy(const FamilyView& f, int axis, double lateral) {
   return w;
 }
 
-// A unified model: R_i = c/2, P = Q = 0 in the form of solver/system.hpp.
+// A unified model: R_i = c/2, P = Q = 0 in the form of state/system.hpp.
 class Pmb final : public Model {
  public:
   std::unique_ptr<Model> clone() const override { return std::make_unique<Pmb>(*this); }

@@ -7,7 +7,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/material/models/history_ledger.hpp"
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

@@ -1,4 +1,4 @@
-#include "horizon/solver/system.hpp"
+#include "horizon/solver/build.hpp"
 
 #include "horizon/contact/rigid_contact.hpp"
 
@@ -23,21 +23,6 @@
 #include "horizon/solver/memory_guard.hpp"
 
 namespace horizon {
-
-void reset_model_arrays(ModelCoefficients& M, std::size_t n) {
-  M.dilatation_coef.assign(n, 0);
-  M.deviatoric_coef.assign(n, 0);
-  M.pair_coef.assign(n, 0);
-  M.theta.assign(n, 0);
-  M.P.assign(n, 0);
-  M.spring.assign(n, 0);
-  M.critical_stretch.assign(n, std::numeric_limits<double>::infinity());
-  M.alpha.assign(n, 0);
-  M.min_stretch.assign(n, 0);
-  M.contact_micromodulus.assign(n, 0);
-  M.state_based = false;
-  M.break_after_force = false;
-}
 
 namespace {
 
@@ -457,22 +442,6 @@ void setup_model(System& s, const std::vector<MaterialConfig>& given, const Conf
     if (mat.damage.enabled) M.break_after_force = M.break_after_force || mat.damage.break_after_force;
   s.contact.setup(cfg.contact.short_range, cfg.spacing, cfg.horizon);
   build_kind_coefficients(s, cfg.output.damage_measure);
-}
-
-void commit_history(System& s) {
-  for (std::size_t m = 0; m < s.models.size(); ++m) s.models[m].commit(s);
-  if (s.fe) s.fe->commit(s);  // the elements' plastic history (fe/fe_region.hpp)
-}
-
-double System::dissipated() const {
-  if (decomposition) {
-    GridSum g(*this, 1);
-    for (uint32_t i : owned) g.add(0, dissipated_at[i]);
-    return g.totals()[0];
-  }
-  double sum = 0;
-  for (double d : dissipated_at) sum += d;
-  return sum;
 }
 
 double stable_time_step(const System& s) {

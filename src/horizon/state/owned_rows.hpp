@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "horizon/solver/system.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 

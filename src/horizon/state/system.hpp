@@ -1,24 +1,49 @@
 #pragma once
-// The discretised body a solver advances: particles, bonds, and per-particle model
-// coefficients. Built from a Config by build_system(); tests build small ones in code.
+// The discretised body a solver advances (the run's state): particles, bonds, and
+// per-particle model coefficients. Built from a Config by build_system()
+// (solver/build.hpp); tests build small ones in code. This room (state/) stands below
+// the models: they read and write these arrays; solvers and drivers sit above.
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "horizon/contact/short_range.hpp"
 #include "horizon/core/point4.hpp"
 #include "horizon/core/state_archive.hpp"
 #include "horizon/deck/config.hpp"
 #include "horizon/family/bonds.hpp"
 #include "horizon/geometry/particles.hpp"
-#include "horizon/material/model_set.hpp"
-#include "horizon/thermal/heat_state.hpp"
+#include "horizon/state/heat_state.hpp"
+#include "horizon/state/model_set.hpp"
+#include "horizon/state/short_range.hpp"
 
 namespace horizon {
 
 struct FeRegion;  // fe/fe_region.hpp
+struct System;
+
+// What the rooms below fe/ (the force pass, the models, commit_history) need of the
+// classical finite-element regions coupled to the particles: fe/fe_region.hpp's FeRegion
+// implements it. The force pass calls these hooks without knowing of elements, so the
+// FE room plugs into the state instead of the force pass reaching into the FE room.
+struct FeCoupling {
+  FeCoupling() = default;
+  FeCoupling(const FeCoupling&) = default;
+  FeCoupling(FeCoupling&&) = default;
+  FeCoupling& operator=(const FeCoupling&) = default;
+  FeCoupling& operator=(FeCoupling&&) = default;
+  virtual ~FeCoupling() = default;
+  // 1 for each particle whose force the elements own (an FE node), else 0.
+  std::vector<uint8_t> owned_particle;
+  // Before the bond loops: the interpolated particles follow the elements.
+  virtual void interpolate(System& s) = 0;
+  // After the bond loops: overwrites the force (and, with `energy`, the energy) density
+  // of the FE-owned nodes with the element assembly.
+  virtual void apply(System& s, bool energy) = 0;
+  // The elements' trial history becomes their history (commit_history).
+  virtual void commit(System& s) = 0;
+};
 
 // The unified models (Model::unified()) write their scalar force state on bond i->j as
 //   t_ij = omega_ij * ( P_i |xi| + Q_i e_ij + R_i e_ij / |xi| ),   e = |Y| - |xi|,
@@ -48,7 +73,7 @@ struct alignas(64) KindCoefficients {
 
 // Short-range contact of a family pair (intact or broken), Y = y_j - y_i: the force
 // density on i when the two are closer than the kind's contact distance d_ij, and its
-// energy share (contact/short_range.hpp). Returns false when they are apart.
+// energy share (state/short_range.hpp). Returns false when they are apart.
 inline bool family_contact(const KindCoefficients& c, const Vec3& Y, Vec3& f, double& w) {
   const double r2 = dot(Y, Y);
   if (!(r2 < c.contact_d2) || r2 == 0) return false;
@@ -139,8 +164,11 @@ struct System {
   std::vector<double> critical_stretch_factor;
   // Classical finite-element regions coupled to the particles (fe/fe_region.hpp); null
   // without finite-element bodies. Its nodes are particles; compute_forces overwrites
-  // the force of the nodes it owns with the element assembly.
+  // the force of the nodes it owns with the element assembly. `fe_coupling` is the same
+  // object seen through its interface (above), for the rooms below fe/; `fe` the whole
+  // FeRegion for the rooms above it. build_fe_regions sets both.
   std::shared_ptr<FeRegion> fe;
+  std::shared_ptr<FeCoupling> fe_coupling;
 
   // A run split over MPI ranks (parallel/decomposition.hpp), else null and both lists
   // empty: `owned` are the particles this rank integrates, `active_rows` those whose forces
@@ -157,32 +185,17 @@ struct System {
   double dissipated() const;
 };
 
-// Builds particles (lattice), families, precracks, influence weights and model
-// coefficients from a validated deck.
-System build_system(const Config& config);
+// Per-kind coefficients (ModelCoefficients::kind) and the damage totals from the
+// bonds' reference data and the per-particle coefficients. setup_model calls it; call
+// it again after changing either by hand.
+void build_kind_coefficients(System& s, DamageMeasure measure);
 
-// Influence weights, model objects and model coefficients of every particle from its
-// material (particles.material indexes `materials`, which are config.materials for
-// build_system). Bonds must exist. build_system calls it; tests call it on small systems
-// built in code.
-void setup_model(System& s, const std::vector<MaterialConfig>& materials, const Config& config);
+// Recomputes the damage field's bookkeeping (per-particle totals and intact sums) from
+// the bonds' intact flags. The force pass keeps it up to date as bonds break; call this
+// after changing intact flags by hand.
+void refresh_damage(System& s);
 
-// The models' trial history of the last force pass becomes their history (material/
-// model.hpp: explicit solvers after every step, static ones after each converged step).
-void commit_history(System& s);
-
-// The stable time step of Silling and Askari (2005): min_i sqrt(2 rho_i / sum_j V_j C_ij),
-// C_ij = c_ij / |xi| (before the safety factor), or the model's own when it owns the
-// force pass.
-double stable_time_step(const System& s);
-
-// Checkpoint and restart (output/checkpoint.hpp): everything of the system that a run
-// changes (positions, velocities, forces, bond flags, the shared model arrays, heat,
-// dissipation, every model's own state through Model::checkpoint), after a check that
-// particle, bond and material counts and the models match the deck's.
-void checkpoint_system(System& s, StateArchive& a);
-
-// Estimated memory of the run [bytes]: particles, bonds and model arrays.
-std::size_t memory_estimate(const System& s);
+// Total strain energy sum_i W_i V_i [J] (after compute_forces(s, true)).
+double strain_energy(const System& s);
 
 }  // namespace horizon
