@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cmath>
 #include <csignal>
 #include <exception>
 
@@ -65,22 +66,37 @@ int horizon_main(int argc, char** argv) {
 
   std::string frame_path, png_path, field = "damage";
   RenderOptions render_opts;
-  auto* render = app.add_subcommand("render", "draw a frame (or the last frame of a run directory) to PNG");
+  auto* render = app.add_subcommand("render", "draw a frame (or the last frame of a run directory) to PNG, SVG or PDF");
   render->add_option("frame", frame_path, "a .vtu frame, a .pvd index, or a run's output directory")->required();
-  render->add_option("--field", render_opts.field, "field to colour by (damage, displacement, displacement_x, ...)");
-  render->add_option("-o,--output", png_path, "PNG file (default: <field>.png beside the frame)");
-  render->add_option("--width", render_opts.width, "image width in pixels")->check(CLI::Range(64, 8192));
+  render->add_option("--field", render_opts.field,
+                     "field to colour by (damage, displacement = its magnitude, displacement_x, any field of the frame)");
+  render->add_option("-o,--output", png_path, "picture file, .png, .svg or .pdf (default: <field>.png beside the frame)");
+  render->add_option("--width", render_opts.width, "picture width in pixels")->check(CLI::Range(64, 8192));
   render->add_option("--scale", render_opts.displacement_scale, "displacement magnification");
+  render->add_option("--slice", render_opts.slice, "3-D bodies: the particles of one plane, e.g. z=0.001");
+  render->add_option("--view", render_opts.view, "3-D bodies without --slice: the projection's direction (x, y, z)")
+      ->check(CLI::IsMember({'x', 'y', 'z'}));
+  double vmin = NAN, vmax = NAN;
+  render->add_option("--vmin", vmin, "bottom of the colour range (default: the field's minimum)");
+  render->add_option("--vmax", vmax, "top of the colour range (default: the field's maximum)");
+  render->add_option("--title", render_opts.title, "text before the time");
 
-  std::string history_path, plot_x, plot_y, plot_png;
-  double x_scale = 1, y_scale = 1;
-  auto* plot = app.add_subcommand("plot", "plot two columns of a run's history.csv to PNG and print the peak");
-  plot->add_option("history", history_path, "a history.csv, or a run's output directory")->required();
-  plot->add_option("--x", plot_x, "column for the horizontal axis (e.g. load:displacement_uy)")->required();
-  plot->add_option("--y", plot_y, "column for the vertical axis (e.g. load:displacement_fy)")->required();
-  plot->add_option("--x-scale", x_scale, "multiply x by this (units, sign)");
-  plot->add_option("--y-scale", y_scale, "multiply y by this (units, sign)");
-  plot->add_option("-o,--output", plot_png, "PNG file (default: <y>.png beside the history)");
+  PlotRequest plot_req;
+  auto* plot = app.add_subcommand("plot", "plot columns of runs' history.csv to PNG, SVG or PDF and print the peaks");
+  plot->add_option("history", plot_req.histories, "history.csv files or run output directories (a sweep: one curve each)")
+      ->required();
+  plot->add_option("--x", plot_req.x_column, "column for the horizontal axis (e.g. load:displacement_uy)")->required();
+  plot->add_option("--y", plot_req.y_columns, "column for the vertical axis (e.g. load:displacement_fy); repeat for more curves")
+      ->required();
+  plot->add_option("--x-scale", plot_req.x_scale, "multiply x by this (e.g. -1 for the sign)");
+  plot->add_option("--y-scale", plot_req.y_scale, "multiply y by this (e.g. -1 for the sign)");
+  plot->add_option("--x-label", plot_req.x_label, "horizontal axis title (default: the quantity and its unit)");
+  plot->add_option("--y-label", plot_req.y_label, "vertical axis title (default: the quantity and its unit)");
+  std::string plot_title;
+  auto* plot_title_opt = plot->add_option("--title", plot_title, "title above the plot (default: the run's directory name)");
+  plot->add_option("--width", plot_req.width, "width in pixels (points for SVG, PDF)")->check(CLI::Range(200, 8192));
+  plot->add_option("--height", plot_req.height, "height in pixels (points for SVG, PDF)")->check(CLI::Range(150, 8192));
+  plot->add_option("-o,--output", plot_req.output, "picture file, .png, .svg or .pdf (default: <y>.png beside the history)");
 
   auto* models = app.add_subcommand("models", "list the material models with their deck parameters");
 
@@ -163,16 +179,21 @@ int horizon_main(int argc, char** argv) {
       return 0;
     }
     if (*plot) {
-      const PlotCommandResult r = plot_history(history_path, plot_x, plot_y, x_scale, y_scale, plot_png);
-      fmt::print("peak {} = {:.6g} at {} = {:.6g} (row {}); wrote {}\n", plot_y, r.peak.y, plot_x, r.peak.x,
-                 r.peak.index, r.png);
+      if (*plot_title_opt) plot_req.title = plot_title;
+      const PlotCommandResult r = plot_history(plot_req);
+      for (std::size_t k = 0; k < r.peaks.size(); ++k)
+        fmt::print("peak {} = {:.6g} at {} = {:.6g} (row {})\n", r.labels[k], r.peaks[k].y, plot_req.x_column,
+                   r.peaks[k].x, r.peaks[k].index);
+      fmt::print("wrote {}\n", r.path);
       return 0;
     }
     if (*render) {
       const std::string frame = resolve_frame(frame_path);
       if (png_path.empty()) png_path = (std::filesystem::path(frame).parent_path() / (render_opts.field + ".png")).string();
-      render_png(read_vtu(frame), render_opts, png_path);
-      fmt::print("wrote {}\n", png_path);
+      if (std::isfinite(vmin)) render_opts.vmin = vmin;
+      if (std::isfinite(vmax)) render_opts.vmax = vmax;
+      const RenderResult r = render_png(read_vtu(frame), render_opts, png_path);
+      fmt::print("wrote {} ({} particles; {}: {:.6g} to {:.6g})\n", png_path, r.drawn, render_opts.field, r.lo, r.hi);
       return 0;
     }
   } catch (const OutputError& e) {

@@ -92,6 +92,7 @@ def main():
             f.write("%g,%g\n" % (v, r))
     if args.png:
         subprocess.run([args.horizon, "plot", table, "--x", "impact_velocity", "--y", "residual_velocity",
+                        "--x-label", "Impact velocity (m/s)", "--y-label", "Residual velocity (m/s)",
                         "-o", args.png], check=True)
     stopped = [v for v, r in data if r == 0]
     through = [v for v, r in data if r > 0]

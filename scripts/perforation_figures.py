@@ -106,7 +106,7 @@ def main():
         first = first or f
         if a.png:
             out = f"{a.png}_{os.path.basename(os.path.normpath(run))}.png"
-            subprocess.run([a.horizon, "plot", run, "--x", "time", "--y", f"{a.name}_az_filtered", "--x-scale", "1e6",
+            subprocess.run([a.horizon, "plot", run, "--x", "time", "--y", f"{a.name}_az_filtered",
                             "-o", out], check=True)
             print(f"  figure {out}")
     return 0

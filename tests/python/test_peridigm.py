@@ -206,10 +206,10 @@ def test_cli_runs_and_converts(peridigm_dir, tmp_path, horizon_binary):
      34, 13, ["Prescribed Temperature"]),
     # A node set that is not defined.
     (('Node Set: "Right End"', 'Node Set: "Right Ends"'), 40, 17, ["Right Ends", "Right End"]),
-    # An expression muParser cannot read.
-    (('Value: "-1.0"', 'Value: "if(t<1){value=1;}"'), 42, 14, ["if/else"]),
+    # A function string that sets value on one path only: at its place inside the string.
+    (('Value: "-1.0"', 'Value: "if(t<1){value=1;}"'), 42, 23, ["set on one branch"]),
     # Unsupported top-level section.
-    (("  Solver:", "  Contact:\n    Search Radius: 1.0\n  Solver:"), 43, 3, ["Contact"]),
+    (("  Solver:", "  Data Loader:\n    Search Radius: 1.0\n  Solver:"), 43, 3, ["Data Loader"]),
     # Multiple solvers.
     (("    Verlet:", "    QuasiStatic:\n      Number of Load Steps: 2\n    Verlet:"), 48, 5, ["QuasiStatic", "Verlet"]),
 ])

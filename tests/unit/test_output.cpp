@@ -242,18 +242,99 @@ TEST_F(OutputTest, RenderColoursTheMaximumWithTheTopColour) {
   const Png png = read_png(path("pic/damage.png"));
   EXPECT_EQ(png.width, 400);
   EXPECT_GT(png.height, 0);
-  // Each particle is a square about half the plot wide; the colour bar adds at most
-  // a few columns of either end colour.
+  // Each particle is a disc about half the plot wide.
   const Rgb top = viridis(1.0), bottom = viridis(0.0);
   EXPECT_EQ(top, (Rgb{253, 231, 37}));
-  EXPECT_GT(png.count(top), 100u * 100u);
-  EXPECT_GT(png.count(bottom), 100u * 100u);
+  EXPECT_GT(png.count(top), 80u * 80u);
+  EXPECT_GT(png.count(bottom), 80u * 80u);
   // The maximum sits on the right: the middle row's right quarter is the top colour.
   bool found_right = false;
   for (int y = 0; y < png.height && !found_right; ++y)
     found_right = png.at(3 * png.width / 4, y) == top && png.at(png.width / 4, y) == bottom;
   EXPECT_TRUE(found_right);
   EXPECT_EQ(png.at(0, 0), (Rgb{255, 255, 255}));
+}
+
+// The colour bar runs from the field's minimum (left, viridis' bottom colour) to its
+// maximum (right, the top colour), and its title names the field and its scaled unit.
+TEST_F(OutputTest, RenderColourBarSpansTheFieldsRange) {
+  Frame f;
+  f.dimension = 2;
+  for (int j = 0; j < 10; ++j)
+    for (int i = 0; i < 20; ++i) f.points.push_back({1e-4 * i, 1e-4 * j, 0});
+  FrameField u{"displacement", 3, {}};
+  for (const Vec3& p : f.points) u.data.insert(u.data.end(), {-2e-6 + 0.35 * p.x, 0.0, 0.0});
+  f.fields = {u};
+  RenderOptions o;
+  o.field = "displacement_x";
+  o.width = 600;
+  const RenderResult r = render_png(f, o, path("u.png"));
+  EXPECT_DOUBLE_EQ(r.lo, -2e-6);
+  EXPECT_DOUBLE_EQ(r.hi, -2e-6 + 0.35 * 19e-4);
+  EXPECT_EQ(r.field_title, "Displacement x (µm)");
+  EXPECT_EQ(r.drawn, 200u);
+  const Png png = read_png(path("u.png"));
+  auto close = [](Rgb a, Rgb b) { return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b) <= 12; };
+  const int y = int((r.bar_top + r.bar_bottom) / 2);
+  EXPECT_TRUE(close(png.at(int(r.bar_left) + 3, y), viridis(0.0)));
+  EXPECT_TRUE(close(png.at(int(r.bar_right) - 3, y), viridis(1.0)));
+  EXPECT_TRUE(close(png.at(int((r.bar_left + r.bar_right) / 2), y), viridis(0.5)));
+  // Outside the bar, the background.
+  EXPECT_EQ(png.at(int(r.bar_left) - 4, y), (Rgb{255, 255, 255}));
+  EXPECT_EQ(png.at(int(r.bar_right) + 4, y), (Rgb{255, 255, 255}));
+
+  // A fixed range is what the bar shows; SVG carries the title as text.
+  o.vmin = -1e-3;
+  o.vmax = 1e-3;
+  const RenderResult s = render_png(f, o, path("u.svg"));
+  EXPECT_EQ(s.lo, -1e-3);
+  EXPECT_EQ(s.field_title, "Displacement x (mm)");
+  const std::string svg = slurp(path("u.svg"));
+  EXPECT_NE(svg.find("<title>Displacement x (mm), t = 0 s</title>"), std::string::npos) << svg.substr(0, 600);
+}
+
+// A 3-D block: a slice shows one layer of particles, a projection all of them; a slice
+// outside the body says where the body is.
+TEST_F(OutputTest, RenderSlicesAndProjectsThreeDimensionalBodies) {
+  Frame f;
+  f.dimension = 3;
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 5; ++i) f.points.push_back({1e-3 * i, 1e-3 * j, 1e-3 * k});
+  FrameField d{"damage", 1, {}};
+  for (const Vec3& p : f.points) d.data.push_back(p.z * 100);
+  f.fields = {d};
+  RenderOptions o;
+  o.width = 300;
+  o.slice = "z=0.0021";
+  RenderResult r = render_png(f, o, path("slice.png"));
+  EXPECT_EQ(r.drawn, 20u);
+  EXPECT_DOUBLE_EQ(r.lo, 0.2);
+  EXPECT_DOUBLE_EQ(r.hi, 0.2);
+  o.slice = "x=0";
+  EXPECT_EQ(render_png(f, o, path("slice_x.png")).drawn, 16u);
+  o.slice = "z=0.0015";  // midway between two layers: the lower one only
+  r = render_png(f, o, path("slice_mid.png"));
+  EXPECT_EQ(r.drawn, 20u);
+  EXPECT_DOUBLE_EQ(r.lo, 0.1);
+  o.slice.clear();
+  r = render_png(f, o, path("top.png"));
+  EXPECT_EQ(r.drawn, 80u);
+  EXPECT_DOUBLE_EQ(r.hi, 0.3);
+  o.slice = "z=0.01";
+  try {
+    render_png(f, o, path("none.png"));
+    FAIL() << "expected horizon::Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("z = 0 to 0.003"), std::string::npos) << e.what();
+  }
+  o.slice = "w=1";
+  EXPECT_THROW(render_png(f, o, path("none.png")), Error);
+  o.slice = "z=";
+  EXPECT_THROW(render_png(f, o, path("none.png")), Error);
+  f.dimension = 2;  // a plane body has no slices
+  o.slice = "z=0";
+  EXPECT_THROW(render_png(f, o, path("none.png")), Error);
 }
 
 TEST_F(OutputTest, RenderPicksVectorComponentsAndMagnitude) {

@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "horizon/core/cell_key.hpp"
+#include "horizon/core/error.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/state/system.hpp"
 
@@ -15,7 +16,11 @@ void ShortRangeContact::setup(const ShortRangeContactConfig& config, double spac
   enabled_ = config.enabled;
   config_ = config;
   horizon_ = horizon;
-  cutoff_ = config.max_distance * spacing;
+  cutoff_ = config.law == ShortRangeLaw::peridigm ? config.contact_radius : config.max_distance * spacing;
+  // Peridigm's c = 9k/(pi delta^4), over delta once more for the force density's (d - r)/delta.
+  peridigm_k_ = 9.0 * config.spring_constant / (3.14159265358979323846 * std::pow(horizon, 4)) / horizon;
+  touch_.clear();
+  touch_bodies_ = 0;
   // Half a spacing of skin: a particle is updated after it moves a quarter spacing.
   skin_ = 0.5 * spacing;
   y_built_.clear();
@@ -26,7 +31,9 @@ void ShortRangeContact::setup(const ShortRangeContactConfig& config, double spac
 }
 
 double ShortRangeContact::distance(double reference_length) const {
-  return enabled_ ? std::min(config_.reference_fraction * reference_length, cutoff_) : 0.0;
+  if (!enabled_) return 0.0;
+  if (config_.law == ShortRangeLaw::peridigm) return cutoff_;
+  return std::min(config_.reference_fraction * reference_length, cutoff_);
 }
 
 uint64_t ShortRangeContact::cell_key(const Vec3& p) const {
@@ -46,6 +53,28 @@ void ShortRangeContact::update(const System& s, const Point4* y, bool first) {
   auto less = [&](uint32_t a, uint32_t b) { return keyed ? key_[a] < key_[b] : a < b; };
   auto pos = [&](uint32_t j) -> const Point4& { return j < n ? y[j] : ghost_y_[j - n]; };
   auto computed = [&](uint32_t j) { return j < n && s.computes_row(j); };
+  // Only the listed bodies touch (ShortRangeContactConfig::pairs).
+  if (!config_.pairs.empty() && touch_.empty()) {
+    touch_bodies_ = s.block_names.size();
+    touch_.assign(touch_bodies_ * touch_bodies_, 0);
+    auto index = [&](const std::string& name) {
+      const auto it = std::find(s.block_names.begin(), s.block_names.end(), name);
+      if (it == s.block_names.end()) throw Error("contact.short_range.pairs: no body named '" + name + "'");
+      return static_cast<std::size_t>(it - s.block_names.begin());
+    };
+    for (const auto& [a, b] : config_.pairs) {
+      const std::size_t ia = index(a), ib = index(b);
+      touch_[ia * touch_bodies_ + ib] = touch_[ib * touch_bodies_ + ia] = 1;
+    }
+  }
+  if (!touch_.empty() && !ghost_y_.empty())
+    throw Error("contact.short_range.pairs is not supported yet on several ranks with local particles");
+  const bool filter = !touch_.empty();
+  const bool screen = local || filter;
+  auto touches = [&](uint32_t a, uint32_t b) {
+    const auto ba = static_cast<std::size_t>(s.particles.block[a]), bb = static_cast<std::size_t>(s.particles.block[b]);
+    return ba < touch_bodies_ && bb < touch_bodies_ && touch_[ba * touch_bodies_ + bb];
+  };
   if (first) {
     y_built_.assign(total, Vec3{});
     rows_.assign(total, {});
@@ -90,7 +119,9 @@ void ShortRangeContact::update(const System& s, const Point4* y, bool first) {
           if (it == cells_.end()) continue;
           for (uint32_t j : it->second) {
             if (j == m || norm2(y_built_[j] - p) > reach2) continue;
-            if (local && !m_computed && !computed(j)) continue;
+            // One test for both screens, so that a serial run without `pairs` pays no more
+            // per candidate than before `pairs` existed.
+            if (screen && ((local && !m_computed && !computed(j)) || (filter && !touches(m, j)))) continue;
             if (std::binary_search(first_bond, last_bond, j)) continue;
             // A row this rank does not hold (a run split over ranks with local rows,
             // parallel/decomposition.hpp) is empty: the family test then reads j's row
@@ -165,8 +196,14 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   // One pair sum; with contact ghosts (local particles on ranks: index n + k is ghost k)
   // partner j's data come from the ghost arrays, term for term the same arithmetic. The
   // flag is a compile-time constant so the serial loop reads the particle arrays alone.
-  auto pass = [&](auto with_ghosts) {
+  const bool peridigm = config_.law == ShortRangeLaw::peridigm;
+  if (peridigm && config_.friction > 0 && !ghost_y_.empty())
+    throw Error("contact.short_range.friction is not supported yet on several ranks with local particles");
+  const Vec3* v = P.v.data();
+  const double mu = config_.friction;
+  auto pass = [&](auto with_ghosts, auto peridigm_law) {
     constexpr bool ghosts = decltype(with_ghosts)::value;
+    constexpr bool pd = decltype(peridigm_law)::value;
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < count; ++a) {
       const std::size_t i = act ? (*act)[a] : a;
@@ -179,25 +216,50 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
         const double dx = yj.x - y[i].x, dy = yj.y - y[i].y, dz = yj.z - y[i].z;
         const double r2 = dx * dx + dy * dy + dz * dz;
         if (!(r2 < cut2) || r2 == 0) continue;
-        const Vec3& Xj = held ? P.X[j] : g->X[j - n];
-        const double d = distance(norm(Xj - P.X[i]));
-        const double r = std::sqrt(r2);
-        if (!(r < d)) continue;
-        const double cj = held ? M.contact_micromodulus[j] : g->micromodulus[j - n];
-        const double Vj = held ? P.volume[j] : g->volume[j - n];
-        const double k = factor * 0.5 * (M.contact_micromodulus[i] + cj) * Vj;
-        const double a = -k * (d - r) / r;  // pushes i away from j
-        fi += Vec3{dx, dy, dz} * a;
-        wi += 0.25 * k * (d - r) * (d - r);
+        if constexpr (pd) {
+          // Peridigm's law: d = R_c (= the cut-off) and one k for every pair.
+          const double r = std::sqrt(r2), d = cutoff_;
+          const double k = peridigm_k_ * (held ? P.volume[j] : g->volume[j - n]);
+          const double a = -k * (d - r) / r;  // pushes i away from j
+          fi += Vec3{dx, dy, dz} * a;
+          wi += 0.25 * k * (d - r) * (d - r);
+          if (mu > 0) {
+            // Coulomb friction mu |f_n| along the relative tangential velocity of j
+            // with respect to i (friction on several ranks is refused above).
+            const Vec3 e = Vec3{dx, dy, dz} * (1.0 / r);
+            const Vec3 rel = v[j] - v[i];
+            const Vec3 tangential = rel - e * dot(rel, e);
+            const double vt = norm(tangential);
+            if (vt > 0) fi += tangential * (mu * k * (d - r) / vt);
+          }
+        } else {
+          const Vec3& Xj = held ? P.X[j] : g->X[j - n];
+          // distance() of the LAMMPS law, inlined (contact is on here).
+          const double d = std::min(config_.reference_fraction * norm(Xj - P.X[i]), cutoff_);
+          const double r = std::sqrt(r2);
+          if (!(r < d)) continue;
+          const double cj = held ? M.contact_micromodulus[j] : g->micromodulus[j - n];
+          const double Vj = held ? P.volume[j] : g->volume[j - n];
+          const double k = factor * 0.5 * (M.contact_micromodulus[i] + cj) * Vj;
+          const double a = -k * (d - r) / r;  // pushes i away from j
+          fi += Vec3{dx, dy, dz} * a;
+          wi += 0.25 * k * (d - r) * (d - r);
+        }
       }
       f[i] += fi;
       if (W) W[i] += wi;
     }
   };
-  if (ghost_y_.empty())
-    pass(std::false_type{});
-  else
-    pass(std::true_type{});
+  if (peridigm) {
+    if (ghost_y_.empty())
+      pass(std::false_type{}, std::true_type{});
+    else
+      pass(std::true_type{}, std::true_type{});
+  } else if (ghost_y_.empty()) {
+    pass(std::false_type{}, std::false_type{});
+  } else {
+    pass(std::true_type{}, std::false_type{});
+  }
 }
 
 }  // namespace horizon

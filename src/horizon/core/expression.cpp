@@ -2,6 +2,7 @@
 
 #include <muParser.h>
 
+#include <cmath>
 #include <mutex>
 
 #include "horizon/core/error.hpp"
@@ -25,6 +26,11 @@ Expression::Expression(const std::string& text) : parser_(std::make_shared<Parse
     p.DefineVar("y", &parser_->y);
     p.DefineVar("z", &parser_->z);
     p.DefineConst("pi", 3.14159265358979323846);
+    // <cmath> functions muParser lacks, for Peridigm's C-style function strings
+    // (deck/peridigm/function_string.hpp); atan2 is muParser's own.
+    p.DefineFun("floor", static_cast<double (*)(double)>(std::floor));
+    p.DefineFun("ceil", static_cast<double (*)(double)>(std::ceil));
+    p.DefineFun("fmod", static_cast<double (*)(double, double)>(std::fmod));
     p.SetExpr(text);
     value_ = p.Eval();  // parse now so that errors surface while reading the deck
     // A text without variables is a constant: drop the parser.

@@ -170,7 +170,27 @@ struct SolverConfig {
 // LAMMPS's compute damage/atom).
 enum class DamageMeasure { weighted, volume };
 
+// One probe of output.history_columns (driver/history_columns.hpp): a quantity of each
+// particle, reduced over a body, a region or the whole system (sum, min, max), or read
+// at the particle nearest a reference point. Vector quantities give three columns,
+// NAMEX, NAMEY, NAMEZ (Peridigm's names for its compute classes' globals).
+enum class HistoryQuantity {
+  displacement, velocity, force, force_density, position, reference_position, volume, damage,
+  kinetic_energy, strain_energy, linear_momentum, angular_momentum
+};
+enum class HistoryReduce { sum, min, max, nearest };
+struct HistoryColumnConfig {
+  std::string name;
+  HistoryQuantity quantity = HistoryQuantity::displacement;
+  std::string field;   // instead of quantity: a scalar output field of the models (von_mises_stress, ...)
+  HistoryReduce reduce = HistoryReduce::sum;
+  std::string body;    // "" : every body
+  std::string region;  // "" : no region filter
+  Vec3 at;             // nearest
+};
+
 struct OutputConfig {
+  std::vector<HistoryColumnConfig> history_columns;
   DamageMeasure damage_measure = DamageMeasure::weighted;
   std::string directory = "out";
   int frames = 10;
@@ -201,11 +221,24 @@ struct PartialVolume {
 // d_ij = min(reference_fraction |X_j - X_i|, max_distance * spacing): force density on i
 // stiffness_factor * c_ij V_j (d_ij - |Y|)/horizon along Y_ji (Silling's EMU manual via
 // LAMMPS PERI; c_ij the mean of the two ends' bond-based micromoduli). state/short_range.hpp.
+//
+// law peridigm: Peridigm's "Short Range Force" (its users' guide SAND2012-7800; survey
+// sec. 1.4): pairs that were not bonded at the start and are closer than contact_radius
+// R_c repel with c V_j (R_c - |Y|)/horizon, c = 9 spring_constant/(pi horizon^4), plus
+// the Coulomb friction mu |f_n| against their relative tangential velocity.
+// pairs: the bodies that touch (name pairs, either order; a body with itself is its
+// self-contact); empty: every pair of particles (Peridigm's General Contact).
+enum class ShortRangeLaw { lammps, peridigm };
 struct ShortRangeContactConfig {
   bool enabled = false;
+  ShortRangeLaw law = ShortRangeLaw::lammps;
   double stiffness_factor = 15;
   double reference_fraction = 0.9;
   double max_distance = 1.35;  // in lattice spacings
+  double contact_radius = 0;   // peridigm: R_c [m]
+  double spring_constant = 0;  // peridigm: k [Pa]
+  double friction = 0;         // peridigm: mu
+  std::vector<std::pair<std::string, std::string>> pairs;
 };
 
 // A rigid sphere whose centre moves as given: every particle inside it feels the force
@@ -335,6 +368,9 @@ struct Config {
   std::vector<MaterialConfig> materials;
   std::vector<BodyConfig> bodies;
   std::vector<PrecrackConfig> precracks;
+  // false: no bond joins particles of two bodies (Peridigm's Omit Bonds Between Blocks:
+  // All); the bodies meet through contact only.
+  bool bonds_between_bodies = true;
   std::map<std::string, Shape> regions;
   std::vector<std::string> no_fail_regions;
   std::vector<InitialConditionConfig> initial_conditions;

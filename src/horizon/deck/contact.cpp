@@ -21,14 +21,29 @@ PartialVolume read_partial_volume(const DeckContext& ctx, const Item& item) {
 
 namespace {
 
-ShortRangeContactConfig read_short_range(const DeckContext& ctx, const Item& item) {
+ShortRangeContactConfig read_short_range(const DeckContext& ctx, const Item& item,
+                                         const std::vector<BodyConfig>& bodies) {
   ShortRangeContactConfig c;
   c.enabled = true;
   if (item.node.IsScalar()) {
     c.enabled = read_bool(ctx, item);
     return c;
   }
-  MapReader m(ctx, item, {"stiffness_factor", "reference_fraction", "max_distance"});
+  MapReader m(ctx, item, {"law", "stiffness_factor", "reference_fraction", "max_distance", "contact_radius",
+                          "spring_constant", "friction", "pairs"});
+  if (auto l = m.find("law"))
+    c.law = read_enum<ShortRangeLaw>(ctx, *l, {{"lammps", ShortRangeLaw::lammps}, {"peridigm", ShortRangeLaw::peridigm}});
+  // Each law's own keys; another law's key is an error.
+  const bool pd = c.law == ShortRangeLaw::peridigm;
+  for (const char* k : {"stiffness_factor", "reference_fraction", "max_distance", "contact_radius", "spring_constant",
+                        "friction"}) {
+    const bool own = (std::string(k) == "contact_radius" || std::string(k) == "spring_constant" ||
+                      std::string(k) == "friction") == pd;
+    if (auto it = m.find(k); it && !own)
+      ctx.fail(*it->key_mark, it->path + ": not a key of law " + (pd ? "peridigm" : "lammps") +
+                                  (pd ? " (its keys: contact_radius, spring_constant, friction)"
+                                      : " (law peridigm has contact_radius, spring_constant, friction)"));
+  }
   if (auto f = m.find("stiffness_factor")) c.stiffness_factor = read_positive(ctx, *f);
   if (auto f = m.find("reference_fraction")) {
     c.reference_fraction = read_positive(ctx, *f);
@@ -38,6 +53,27 @@ ShortRangeContactConfig read_short_range(const DeckContext& ctx, const Item& ite
     }
   }
   if (auto f = m.find("max_distance")) c.max_distance = read_positive(ctx, *f);
+  if (pd) {
+    c.contact_radius = read_positive(ctx, m.get("contact_radius", "the contact radius R_c [m], > 0"));
+    c.spring_constant = read_positive(ctx, m.get("spring_constant", "the spring constant k [Pa], > 0"));
+    if (auto f = m.find("friction")) c.friction = read_non_negative(ctx, *f);
+  }
+  if (auto p = m.find("pairs")) {
+    if (!p->node.IsSequence()) fail_expected(ctx, *p, "a list of body pairs, e.g. [[disk, ball], [disk, disk]]");
+    for (const Item& pair : read_list(ctx, *p)) {
+      if (!pair.node.IsSequence() || pair.node.size() != 2) fail_expected(ctx, pair, "a pair of body names [a, b]");
+      const auto ends = read_list(ctx, pair);
+      std::string names[2];
+      for (int e = 0; e < 2; ++e) {
+        names[e] = read_string(ctx, ends[static_cast<std::size_t>(e)]);
+        std::vector<std::string> known;
+        for (const auto& b : bodies) known.push_back(b.name);
+        if (std::find(known.begin(), known.end(), names[e]) == known.end())
+          fail_choice(ctx, ends[static_cast<std::size_t>(e)], names[e], known, "body");
+      }
+      c.pairs.emplace_back(names[0], names[1]);
+    }
+  }
   return c;
 }
 
@@ -117,10 +153,10 @@ ProjectileConfig read_projectile(const DeckContext& ctx, const Item& item, std::
 
 }  // namespace
 
-ContactConfig read_contact(const DeckContext& ctx, const Item& item) {
+ContactConfig read_contact(const DeckContext& ctx, const Item& item, const std::vector<BodyConfig>& bodies) {
   MapReader m(ctx, item, {"short_range", "indenters", "projectiles"});
   ContactConfig c;
-  if (auto s = m.find("short_range")) c.short_range = read_short_range(ctx, *s);
+  if (auto s = m.find("short_range")) c.short_range = read_short_range(ctx, *s, bodies);
   if (auto l = m.find("indenters")) {
     if (!l->node.IsSequence()) fail_expected(ctx, *l, "a list of indenters, each {center, radius, stiffness}");
     const auto items = read_list(ctx, *l);

@@ -10,6 +10,7 @@ namespace horizon::deck {
 PartialVolume read_partial_volume(const DeckContext& ctx, const Item& item);
 
 // `contact: {short_range: {...}, indenters: [...]}`.
-ContactConfig read_contact(const DeckContext& ctx, const Item& item);
+// `bodies`: the deck's bodies, which short_range.pairs names.
+ContactConfig read_contact(const DeckContext& ctx, const Item& item, const std::vector<BodyConfig>& bodies);
 
 }  // namespace horizon::deck

@@ -14,7 +14,9 @@
 #include "horizon/core/error.hpp"
 #include "horizon/deck/conditions.hpp"
 #include "horizon/deck/contact.hpp"
+#include "horizon/deck/history_columns.hpp"
 #include "horizon/deck/materials.hpp"
+#include "horizon/deck/peridigm/function_string.hpp"
 #include "horizon/deck/peridigm/peridigm.hpp"
 #include "horizon/deck/peridigm/xml.hpp"
 #include "horizon/deck/reader.hpp"
@@ -32,7 +34,7 @@ const std::vector<std::string> kTopKeys = {
     "horizon_factor", "lattice_origin",  "partial_volume",     "materials", "bodies",  "precracks",
     "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output",
     "contact",        "thermal",
-    "structure"};
+    "structure",      "bonds_between_bodies"};
 
 // A key that only makes sense in one dimension is an error in the others.
 void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* key, int dimension) {
@@ -482,7 +484,7 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   const auto item = m.find("output");
   if (!item) return;
   MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every", "damage_measure", "checkpoint",
-                           "format", "exodus_file"});
+                           "format", "exodus_file", "history_columns"});
   if (auto f = o.find("format")) {
     config.output.format = read_enum<OutputConfig::Format>(
         ctx, *f, {{"vtu", OutputConfig::Format::vtu}, {"exodus", OutputConfig::Format::exodus}, {"both", OutputConfig::Format::both}});
@@ -494,6 +496,7 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
     if (config.output.exodus_file.empty() || config.output.exodus_file.find('/') != std::string::npos)
       fail_expected(ctx, *e, "a file name (inside output.directory)");
   }
+  if (auto h = o.find("history_columns")) config.output.history_columns = read_history_columns(ctx, *h, config);
   if (auto d = o.find("damage_measure")) {
     config.output.damage_measure =
         read_enum<DamageMeasure>(ctx, *d, {{"weighted", DamageMeasure::weighted}, {"volume", DamageMeasure::volume}});
@@ -596,6 +599,14 @@ Config read_config(DeckContext& ctx, const Item& root) {
   }
   if (auto p = m.find("precracks"))
     for (const auto& i : read_list(ctx, *p)) config.precracks.push_back(read_precrack(ctx, i));
+  if (auto b = m.find("bonds_between_bodies")) {
+    config.bonds_between_bodies = read_bool(ctx, *b);
+    if (!config.bonds_between_bodies)
+      for (const auto& body : config.bodies)
+        if (body.discretization == Discretization::fe)
+          ctx.fail(*b->key_mark, b->path + ": false is not supported with finite-element bodies (body '" +
+                                     body.name + "')");
+  }
   if (auto n = m.find("no_fail_regions")) {
     if (!n->node.IsSequence()) fail_expected(ctx, *n, "a list of region names, e.g. [top, bottom]");
     for (const auto& i : read_list(ctx, *n)) {
@@ -612,7 +623,7 @@ Config read_config(DeckContext& ctx, const Item& root) {
       config.initial_conditions.push_back(read_initial_condition(ctx, i, regions));
   if (auto l = m.find("loads"))
     for (const auto& i : read_list(ctx, *l)) config.loads.push_back(read_load(ctx, i, regions));
-  if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c);
+  if (auto c = m.find("contact")) config.contact = read_contact(ctx, *c, config.bodies);
   read_solver(ctx, m, config);
   if (!config.contact.projectiles.empty() && config.solver.type != SolverType::explicit_dynamic) {
     const Item p = *MapReader(ctx, *m.find("contact"), {"short_range", "indenters", "projectiles"}).find("projectiles");
@@ -641,7 +652,8 @@ Config parse_deck(const std::string& yaml_text, const std::string& file_name) {
   YAML::Node root;
   try {
     // Peridigm's XML decks become YAML with the same lines and columns (deck/peridigm/xml.hpp).
-    root = YAML::Load(peridigm::looks_like_xml(yaml_text) ? peridigm::xml_to_yaml(yaml_text, file_name) : yaml_text);
+    root = YAML::Load(peridigm::looks_like_xml(yaml_text) ? peridigm::xml_to_yaml(yaml_text, file_name)
+                                                          : peridigm::unescape_peridigm_braces(yaml_text));
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }
@@ -686,7 +698,8 @@ std::string convert_peridigm_deck(const std::string& path) {
   DeckContext ctx{path, 3, PlaneMode::none, nullptr};
   YAML::Node root;
   try {
-    root = YAML::Load(peridigm::looks_like_xml(text.str()) ? peridigm::xml_to_yaml(text.str(), path) : text.str());
+    root = YAML::Load(peridigm::looks_like_xml(text.str()) ? peridigm::xml_to_yaml(text.str(), path)
+                                                           : peridigm::unescape_peridigm_braces(text.str()));
   } catch (const YAML::Exception& e) {
     ctx.fail(e.mark, "YAML syntax error: " + e.msg);
   }

@@ -22,6 +22,7 @@
 #include "horizon/damage/crack_metrics.hpp"
 #include "horizon/damage/crack_tracking.hpp"
 #include "horizon/driver/exodus_output.hpp"
+#include "horizon/driver/history_columns.hpp"
 #include "horizon/driver/summary.hpp"
 #include "horizon/fe/fe_region.hpp"
 #include "horizon/loading/loads.hpp"
@@ -152,7 +153,7 @@ struct ExplicitRun::State {
       for (const Vec3& v : body_velocities(s)) history << fmt::format(",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
     if (s.fe) history << fmt::format(",{:.9e}", s.fe->coupling_work);
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
-    history << "\n";
+    history << history_columns_row(config, s) << "\n";
   }
   void write_frame() {
     if (exodus) exodus->write(s, dd.get(), solver->time());  // output.format exodus or both

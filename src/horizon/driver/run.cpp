@@ -5,6 +5,7 @@
 #include <sched.h>
 
 #include "horizon/driver/explicit_state.hpp"
+#include "horizon/driver/history_columns.hpp"
 
 namespace horizon {
 
@@ -117,7 +118,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   // Finite-element regions: the work of the force-based coupling (fe/fe_region.hpp).
   if (r.s.fe) r.history << ",fe_coupling_work";
   if (r.s.heat.active()) r.history << ",thermal_work,heat_time," << heat_history_header(r.s);
-  r.history << "\n";
+  r.history << history_columns_header(c) << "\n";  // the deck's probes (driver/history_columns.hpp)
   r.crack = std::make_unique<CrackTracker>(c);
 
   r.total = r.check.steps;

@@ -16,6 +16,7 @@
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
 #include "horizon/driver/exodus_output.hpp"
+#include "horizon/driver/history_columns.hpp"
 #include "horizon/driver/summary.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/driver/model_list.hpp"
@@ -234,7 +235,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   };
   for (const auto& L : loads.loads())
     if (is_constraint(L)) history << "," << L.name << "_ux," << L.name << "_uy," << L.name << "_uz";
-  history << ",load_factor,iterations,linear_iterations,residual,break_rounds\n";
+  history << ",load_factor,iterations,linear_iterations,residual,break_rounds" << history_columns_header(config) << "\n";
   double max_balance_error = 0;
   auto record_history = [&](const Row& r) {
     const Ledger& g = ledger();
@@ -255,8 +256,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       mean = mean / static_cast<double>(std::max<std::size_t>(1, L.particles.size()));
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", mean.x, mean.y, mean.z);
     }
-    history << fmt::format(",{:.9e},{},{},{:.3e},{}\n", r.lambda, r.iterations, r.linear_iterations, r.residual,
-                           r.break_rounds);
+    history << fmt::format(",{:.9e},{},{},{:.3e},{}", r.lambda, r.iterations, r.linear_iterations, r.residual,
+                           r.break_rounds)
+            << history_columns_row(config, s) << "\n";
   };
   int frame_count = 0;
   // Collective (the stress of rows held elsewhere is gathered); rank 0 alone writes.

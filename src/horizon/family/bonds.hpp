@@ -9,8 +9,16 @@
 // materials share one BondKind. On a lattice a few dozen kinds cover every bond (36
 // for the LAMMPS cylinder), so a bond costs 4 (neighbour) + 4 (kind) + 1 (intact)
 // bytes instead of 29, and the reference data stay exact: nothing is rounded, the
-// length of a kind is the length every one of its bonds computed. An irregular cloud
-// simply gets many kinds.
+// length of a kind is the length every one of its bonds computed.
+//
+// An irregular cloud (jittered points, mesh centroids) would give nearly every bond its
+// own kind: 40 bytes here and 128 in the force loops' tables per kind, several times the
+// bond itself. When the lengths are that varied (find_neighbors counts them), the kinds
+// leave the length out and each bond keeps its own exact |xi| in `lengths` (8 bytes):
+// the kinds then hold what the bonds do share (V_j, the fraction and the weight when
+// they do not vary with |xi|, the materials). kind_of(k) and the per-bond views give the
+// same values either way; expand_kinds() returns to kinds with lengths where a reader
+// needs a per-kind length (family/neighbors.hpp).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -81,6 +89,10 @@ struct Bonds {
   std::vector<uint32_t> kind;     // index into kinds
   std::vector<BondKind> kinds;    // reference data, shared by the bonds of one kind
   std::vector<uint8_t> intact;    // 1 intact, 0 broken (irreversible)
+  // Per-bond |xi| when the kinds leave the length out (length_per_bond; their `length`
+  // field is then 0); empty otherwise.
+  std::vector<double> lengths;
+  bool length_per_bond = false;
 
   // Per-bond views: |xi|, V_j scaled by the partial-volume factor, omega_ij.
   BondField<bond_fields::length> length{this};
@@ -88,17 +100,20 @@ struct Bonds {
   BondField<bond_fields::weight> weight{this};
 
   Bonds() = default;
-  Bonds(const Bonds& o) : offset(o.offset), nbr(o.nbr), kind(o.kind), kinds(o.kinds), intact(o.intact) {}
+  Bonds(const Bonds& o)
+      : offset(o.offset), nbr(o.nbr), kind(o.kind), kinds(o.kinds), intact(o.intact), lengths(o.lengths),
+        length_per_bond(o.length_per_bond) {}
   Bonds(Bonds&& o) noexcept
       : offset(std::move(o.offset)), nbr(std::move(o.nbr)), kind(std::move(o.kind)), kinds(std::move(o.kinds)),
-        intact(std::move(o.intact)) {}
+        intact(std::move(o.intact)), lengths(std::move(o.lengths)), length_per_bond(o.length_per_bond) {}
   Bonds& operator=(const Bonds& o) {
-    offset = o.offset, nbr = o.nbr, kind = o.kind, kinds = o.kinds, intact = o.intact;
+    offset = o.offset, nbr = o.nbr, kind = o.kind, kinds = o.kinds, intact = o.intact, lengths = o.lengths;
+    length_per_bond = o.length_per_bond;
     return *this;
   }
   Bonds& operator=(Bonds&& o) noexcept {
     offset = std::move(o.offset), nbr = std::move(o.nbr), kind = std::move(o.kind), kinds = std::move(o.kinds);
-    intact = std::move(o.intact);
+    intact = std::move(o.intact), lengths = std::move(o.lengths), length_per_bond = o.length_per_bond;
     return *this;
   }
 
@@ -106,7 +121,13 @@ struct Bonds {
   std::size_t particles() const { return offset.empty() ? 0 : offset.size() - 1; }
   uint64_t begin(std::size_t i) const { return offset[i]; }
   uint64_t end(std::size_t i) const { return offset[i + 1]; }
-  const BondKind& kind_of(std::size_t k) const { return kinds[kind[k]]; }
+  // The reference data of bond k (its kind, with its own length when length_per_bond).
+  BondKind kind_of(std::size_t k) const {
+    BondKind c = kinds[kind[k]];
+    if (length_per_bond) c.length = lengths[k];
+    return c;
+  }
+  double length_of(std::size_t k) const { return length_per_bond ? lengths[k] : kinds[kind[k]].length; }
 };
 
 // What rewrite_bonds does with one bond.
@@ -127,6 +148,7 @@ std::size_t rewrite_bonds(Bonds& b, F&& action) {
       if (a == BondAction::drop) continue;
       b.nbr[write] = b.nbr[k];
       b.kind[write] = b.kind[k];
+      if (b.length_per_bond) b.lengths[write] = b.lengths[k];
       b.intact[write] = a == BondAction::keep_broken ? 0 : b.intact[k];
       ++write;
     }
@@ -136,12 +158,13 @@ std::size_t rewrite_bonds(Bonds& b, F&& action) {
   b.nbr.resize(write);
   b.kind.resize(write);
   b.intact.resize(write);
+  if (b.length_per_bond) b.lengths.resize(write);
   return touched;
 }
 
 template <double (*Get)(const BondKind&)>
 inline double BondField<Get>::operator[](std::size_t k) const {
-  return Get(b_->kinds[b_->kind[k]]);
+  return Get(b_->kind_of(k));
 }
 template <double (*Get)(const BondKind&)>
 inline std::size_t BondField<Get>::size() const {

@@ -153,6 +153,55 @@ void fill_reference_data(Bonds& b, const std::vector<Vec3>& points, const std::v
   });
 }
 
+// What bond i->j shares with other bonds besides its length: V_j and the materials.
+BondKind shared_part(std::size_t i, uint32_t j, const std::vector<double>& volume,
+                     const std::vector<int32_t>* material) {
+  BondKind c;
+  c.length = 0;
+  c.volume = volume[j];
+  if (material) c.material_i = (*material)[i], c.material_j = (*material)[j];
+  return c;
+}
+
+// Whether kinds with lengths would cost more memory than a length per bond: a kind costs
+// sizeof(BondKind) here and kKindBytes in the force loops' tables (state/system.hpp
+// KindCoefficients and the two 32-byte records of the state-based passes), a per-bond
+// length 8 bytes; and at least kMinKinds kinds (small tables stay kinds: they fit in
+// cache). Counts the distinct (length, shared kind) pairs in bond order until the limit
+// is passed, so the answer does not depend on the thread count.
+constexpr std::size_t kKindBytes = 128;
+constexpr std::size_t kMinKinds = 8192;
+template <class LengthFn>
+bool lengths_vary(const Bonds& b, LengthFn length) {
+  const std::size_t limit = std::max<std::size_t>(kMinKinds, b.size() * sizeof(double) / (sizeof(BondKind) + kKindBytes));
+  if (b.size() <= limit) return false;
+  std::size_t cap = 64;
+  while (cap < 2 * (limit + 1)) cap *= 2;
+  struct Slot {
+    uint64_t length;
+    uint32_t kind;
+    bool used;
+  };
+  std::vector<Slot> slots(cap, Slot{0, 0, false});
+  std::size_t count = 0;
+  const std::size_t n = b.particles();
+  for (std::size_t i = 0; i < n; ++i)
+    for (uint64_t k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+      const uint64_t L = std::bit_cast<uint64_t>(length(i, k));
+      uint64_t h = (L ^ (static_cast<uint64_t>(b.kind[k]) << 40)) * 0x9e3779b97f4a7c15ull;
+      for (std::size_t s = (h ^ (h >> 29)) & (cap - 1);; s = (s + 1) & (cap - 1)) {
+        Slot& slot = slots[s];
+        if (!slot.used) {
+          slot = {L, b.kind[k], true};
+          if (++count > limit) return true;
+          break;
+        }
+        if (slot.length == L && slot.kind == b.kind[k]) break;
+      }
+    }
+  return false;
+}
+
 }  // namespace
 
 Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>& volume, double radius,
@@ -178,9 +227,10 @@ Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>&
   b.nbr.resize(b.offset[n]);
   b.kind.resize(b.offset[n]);
   b.intact.assign(b.offset[n], 1);
-  // Fill, sort each row, and give each bond a kind numbered per thread (thread t owns
-  // the particles [n t / T, n (t + 1) / T)); then renumber the kinds in sorted order,
-  // so that the result does not depend on the thread count.
+  // Fill, sort each row, and give each bond the kind of what it shares besides its length
+  // (V_j, the materials), numbered per thread (thread t owns the particles
+  // [n t / T, n (t + 1) / T)); then renumber the kinds in sorted order, so that the
+  // result does not depend on the thread count.
   const int threads = omp_get_max_threads();
   std::vector<std::vector<BondKind>> found(static_cast<std::size_t>(threads));
   auto range = [&](int t) { return std::pair<std::size_t, std::size_t>{n * t / threads, n * (t + 1) / threads}; };
@@ -196,11 +246,7 @@ Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>&
       for_each_neighbor(g, points, i, r2, [&](uint32_t j) { b.nbr[k++] = j; });
       std::sort(b.nbr.begin() + static_cast<int64_t>(b.offset[i]), b.nbr.begin() + static_cast<int64_t>(k));
       for (k = b.offset[i]; k < b.offset[i + 1]; ++k) {
-        const uint32_t j = b.nbr[k];
-        BondKind c;
-        c.length = norm(points[j] - points[i]);
-        c.volume = volume[j];
-        if (material) c.material_i = (*material)[i], c.material_j = (*material)[j];
+        const BondKind c = shared_part(i, b.nbr[k], volume, material);
         const auto [id, inserted] = table.insert(key_of(c), static_cast<uint32_t>(mine.size()));
         if (inserted) mine.push_back(c);
         b.kind[k] = id;
@@ -226,6 +272,23 @@ Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>&
     for (uint64_t k = b.offset[first]; k < b.offset[last]; ++k) b.kind[k] = remap[b.kind[k]];
   }
   b.kinds = std::move(all);
+  found.clear();
+  // Each bond's exact |xi|, as the kinds with lengths computed it.
+  auto length = [&](std::size_t i, uint64_t k) { return norm(points[b.nbr[k]] - points[i]); };
+  if (lengths_vary(b, length)) {
+    b.length_per_bond = true;
+    b.lengths.resize(b.size());
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+      for (uint64_t k = b.offset[i]; k < b.offset[i + 1]; ++k) b.lengths[k] = length(i, k);
+    return b;
+  }
+  const std::vector<BondKind> shared = b.kinds;
+  regroup(b, [&](std::size_t i, uint64_t k) {
+    BondKind c = shared[b.kind[k]];
+    c.length = length(i, k);
+    return c;
+  });
   return b;
 }
 
@@ -243,7 +306,27 @@ Bonds find_neighbors_brute_force(const std::vector<Vec3>& points, const std::vec
   return b;
 }
 
+void expand_kinds(Bonds& bonds) {
+  if (!bonds.length_per_bond) return;
+  const std::vector<BondKind> shared = bonds.kinds;
+  regroup(bonds, [&](std::size_t, uint64_t k) {
+    BondKind c = shared[bonds.kind[k]];
+    c.length = bonds.lengths[k];
+    return c;
+  });
+  bonds.lengths = {};
+  bonds.length_per_bond = false;
+}
+
 void apply_partial_volume(Bonds& bonds, double horizon, double spacing) {
+  if (bonds.length_per_bond) {
+    // The fraction varies with |xi| only beyond horizon - spacing/2: kinds with lengths
+    // where some bond reaches there.
+    bool inner = true;
+    for (double r : bonds.lengths) inner = inner && !(r > horizon - 0.5 * spacing);
+    if (inner) return;  // every fraction stays 1
+    expand_kinds(bonds);
+  }
   for (auto& c : bonds.kinds) {
     const double r = c.length;
     c.fraction = r > horizon - 0.5 * spacing ? std::clamp((horizon + 0.5 * spacing - r) / spacing, 0.0, 1.0) : 1.0;
@@ -282,6 +365,7 @@ void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material)
 }
 
 void scale_bond_weights(Bonds& bonds, const std::vector<double>& factor) {
+  expand_kinds(bonds);  // per-bond weights: the kinds carry them with their lengths
   const std::vector<BondKind> old = bonds.kinds;
   regroup(bonds, [&](std::size_t, uint64_t k) {
     BondKind c = old[bonds.kind[k]];

@@ -9,7 +9,10 @@ namespace horizon {
 
 // Neighbour pairs within `radius`, in compressed rows, each row sorted by j.
 // Reference data: one BondKind per distinct (length, V_j, material_i, material_j), with
-// weight = 1 and fraction = 1; intact = 1. `material` (optional, one per point) splits
+// weight = 1 and fraction = 1; intact = 1. When those kinds would cost more memory than
+// a length per bond (an irregular cloud: nearly every bond its own length), the kinds
+// leave the length out and each bond keeps its own (Bonds::length_per_bond; the choice
+// is the data's, the same on any thread count, and the values are the same bits). `material` (optional, one per point) splits
 // the kinds by the materials of the two ends; without it every point is material 0.
 // The kinds are numbered in sorted order, so the result does not depend on the
 // number of threads.
@@ -18,6 +21,12 @@ namespace horizon {
 // built row is the one a full search gives (the kinds' numbering may differ).
 Bonds find_neighbors(const std::vector<Vec3>& points, const std::vector<double>& volume, double radius,
                      const std::vector<int32_t>* material = nullptr, const std::vector<uint8_t>* rows = nullptr);
+
+// Kinds with their lengths again (a no-op unless length_per_bond): for the readers that
+// need a per-kind length or give kinds per-bond values (partial volumes near the
+// horizon, influence functions of |xi|, the models of the general force pass; see
+// setup_model in solver/system.cpp). The same kinds find_neighbors would have made.
+void expand_kinds(Bonds& bonds);
 
 // The same by brute force, O(N^2): the reference the cell list is tested against.
 Bonds find_neighbors_brute_force(const std::vector<Vec3>& points, const std::vector<double>& volume,

@@ -3,14 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "horizon/core/error.hpp"
-#include "horizon/output/bitmap_font.hpp"
-#include "horizon/output/image.hpp"
+#include "horizon/output/canvas.hpp"
+#include "horizon/output/units.hpp"
 
 namespace horizon {
 
@@ -43,126 +44,317 @@ CsvTable read_csv(const std::string& path) {
 
 CurvePeak curve_peak(const std::vector<double>& x, const std::vector<double>& y) {
   CurvePeak p;
+  bool found = false;
   for (std::size_t i = 0; i < y.size(); ++i)
-    if (i == 0 || y[i] > p.y) p = {x[i], y[i], i};
+    if (std::isfinite(y[i]) && (!found || y[i] > p.y)) p = {x[i], y[i], i}, found = true;
   return p;
+}
+
+double nice_step(double lo, double hi, int count) {
+  // Heckbert's nicenum with rounding: the nice number nearest the raw step.
+  const double raw = (hi - lo) / count;
+  if (!(raw > 0) || !std::isfinite(raw)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(raw)));
+  const double f = raw / p;
+  return (f < 1.5 ? 1 : f < 3 ? 2 : f < 7 ? 5 : 10) * p;
+}
+
+std::string tick_label(double v, double step) {
+  if (std::abs(v) < 1e-9 * step) return "0";
+  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+  std::string s = std::abs(v) < 1e6 ? fmt::format("{:.{}f}", v, decimals) : fmt::format("{:.3g}", v);
+  // 0.10 -> 0.1: a step of 0.05 needs two decimals, its even ticks only one.
+  if (s.find('.') != std::string::npos && s.find('e') == std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  if (s[0] == '-') s = "−" + s.substr(1);  // the typographic minus sign, as wide as '+'
+  return s;
 }
 
 namespace {
 
-// Tick spacing 1, 2 or 5 times a power of ten giving about `count` ticks over [lo, hi].
-double nice_step(double lo, double hi, int count) {
-  const double raw = (hi - lo) / count;
-  const double p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0})
-    if (m * p >= raw) return m * p;
-  return 10 * p;
-}
+// Okabe & Ito, "Color universal design" (2008): told apart by colour-blind readers.
+constexpr std::array<Rgb, 7> palette{{{0, 114, 178}, {213, 94, 0}, {0, 158, 115}, {204, 121, 167},
+                                      {230, 159, 0}, {86, 180, 233}, {0, 0, 0}}};
+constexpr Rgb ink{25, 25, 25}, grid{225, 225, 225}, peak_colour{200, 30, 30};
 
-void line(Image& img, int x0, int y0, int x1, int y1, Rgb c, int thick) {
-  // Bresenham, with a square pen.
-  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
-  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-  int err = dx + dy;
-  while (true) {
-    img.fill_rect(x0 - thick / 2, y0 - thick / 2, x0 - thick / 2 + thick, y0 - thick / 2 + thick, c);
-    if (x0 == x1 && y0 == y1) break;
-    const int e2 = 2 * err;
-    if (e2 >= dy) {
-      err += dy;
-      x0 += sx;
-    }
-    if (e2 <= dx) {
-      err += dx;
-      y0 += sy;
-    }
+struct Range {
+  double lo = INFINITY, hi = -INFINITY;
+  void add(double v) {
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
   }
-}
+};
 
-std::string tick_label(double v, double step) {
-  if (v == 0) return "0";
-  const double a = std::max(std::abs(v), step);
-  if (a >= 1e-3 && a < 1e5) {
-    const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step))));
-    return fmt::format("{:.{}f}", v, decimals);
+// The axis from the data's range, widened to whole ticks.
+struct Axis {
+  double lo, hi, step;
+};
+Axis make_axis(Range r, bool include_zero, int ticks) {
+  if (include_zero) r.lo = std::min(r.lo, 0.0), r.hi = std::max(r.hi, 0.0);
+  if (!(r.hi > r.lo)) {
+    const double pad = r.lo == 0 ? 1 : std::abs(r.lo) * 0.1;
+    r.lo -= pad, r.hi += pad;
   }
-  return fmt::format("{:.3g}", v);
+  const double step = nice_step(r.lo, r.hi, ticks);
+  // Data past a tick by less than 1 % of a step (a run that ends at 1.0002 ms) does not
+  // add a tick of empty axis.
+  return {std::floor(r.lo / step + 1e-2) * step, std::ceil(r.hi / step - 1e-2) * step, step};
 }
 
 }  // namespace
 
-void write_line_plot(const std::vector<double>& x, const std::vector<double>& y, const PlotOptions& o,
-                     const std::string& png_path) {
-  if (x.size() < 2 || x.size() != y.size()) throw Error("a plot needs at least two points");
-  const Rgb white{255, 255, 255}, black{0, 0, 0}, grey{200, 200, 200}, blue{31, 90, 170}, red{200, 40, 40};
-  Image img(o.width, o.height, white);
-  const int scale = 2;
-  const int left = 110, right = 30, top = 60, bottom = 80;
-  const int W = o.width - left - right, H = o.height - top - bottom;
-  auto [xmin_it, xmax_it] = std::minmax_element(x.begin(), x.end());
-  auto [ymin_it, ymax_it] = std::minmax_element(y.begin(), y.end());
-  double x0 = *xmin_it, x1 = *xmax_it, y0 = std::min(0.0, *ymin_it), y1 = *ymax_it;
-  if (x1 <= x0) x1 = x0 + 1;
-  if (y1 <= y0) y1 = y0 + 1;
-  const double xs = nice_step(x0, x1, 6), ys = nice_step(y0, y1, 6);
-  x0 = std::floor(x0 / xs) * xs;
-  x1 = std::ceil(x1 / xs) * xs;
-  y0 = std::floor(y0 / ys) * ys;
-  y1 = std::ceil(y1 / ys) * ys;
-  auto px = [&](double v) { return left + static_cast<int>(std::lround((v - x0) / (x1 - x0) * W)); };
-  auto py = [&](double v) { return top + H - static_cast<int>(std::lround((v - y0) / (y1 - y0) * H)); };
+PlotFrame write_line_plot(const std::vector<Series>& series, const PlotOptions& o, const std::string& path) {
+  if (series.empty()) throw Error("a plot needs at least one curve");
+  Range xr, yr;
+  for (const Series& s : series) {
+    if (s.x.size() != s.y.size()) throw Error("curve '" + s.label + "': x and y differ in length");
+    std::size_t finite = 0;
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) xr.add(s.x[i]), yr.add(s.y[i]), ++finite;
+    if (finite < 2) throw Error("a plot needs at least two points" + (s.label.empty() ? "" : " (curve '" + s.label + "')"));
+  }
+  Canvas canvas(path, o.width, o.height);
+  cairo_t* cr = canvas.cr();
+  const double u = std::min(o.width / 900.0, o.height / 560.0);  // text and lines grow with the picture
+  const double tick_size = 15 * u, title_size = 17 * u;
+  // x from the data (time starts at its first row), y from zero: forces and energies
+  // read against their origin.
+  const Axis ax = make_axis(xr, false, 7), ay = make_axis(yr, true, 6);
 
-  for (double v = x0; v <= x1 + 0.5 * xs; v += xs) {
-    line(img, px(v), top, px(v), top + H, grey, 1);
-    const std::string s = tick_label(v, xs);
-    draw_text(img, px(v) - text_width(s, scale) / 2, top + H + 10, s, scale, black);
+  double label_w = 0;
+  for (double v = ay.lo; v <= ay.hi + 0.5 * ay.step; v += ay.step)
+    label_w = std::max(label_w, canvas.text_width(tick_label(v, ay.step), tick_size));
+  PlotFrame f;
+  f.left = 18 * u + title_size + 12 * u + label_w + 10 * u;
+  f.top = (o.title.empty() ? 20 : 24 + title_size) * u;
+  f.width = o.width - f.left - 28 * u;
+  f.height = o.height - f.top - (tick_size + title_size + 40 * u);
+  f.x0 = ax.lo, f.x1 = ax.hi, f.y0 = ay.lo, f.y1 = ay.hi;
+  if (f.width < 20 || f.height < 20) throw Error(fmt::format("a plot of {}x{} is too small", o.width, o.height));
+
+  // Grid and tick labels.
+  cairo_set_line_width(cr, 1 * u);
+  canvas.set_colour(grid);
+  for (double v = ax.lo; v <= ax.hi + 0.5 * ax.step; v += ax.step) {
+    cairo_move_to(cr, f.px(v), f.top);
+    cairo_line_to(cr, f.px(v), f.top + f.height);
   }
-  for (double v = y0; v <= y1 + 0.5 * ys; v += ys) {
-    line(img, left, py(v), left + W, py(v), grey, 1);
-    const std::string s = tick_label(v, ys);
-    draw_text(img, left - 10 - text_width(s, scale), py(v) - glyph_height * scale / 2, s, scale, black);
+  for (double v = ay.lo; v <= ay.hi + 0.5 * ay.step; v += ay.step) {
+    cairo_move_to(cr, f.left, f.py(v));
+    cairo_line_to(cr, f.left + f.width, f.py(v));
   }
-  line(img, left, top, left, top + H, black, 2);
-  line(img, left, top + H, left + W, top + H, black, 2);
-  for (std::size_t i = 1; i < x.size(); ++i)
-    if (std::isfinite(x[i - 1] + y[i - 1] + x[i] + y[i])) line(img, px(x[i - 1]), py(y[i - 1]), px(x[i]), py(y[i]), blue, 3);
-  const CurvePeak p = curve_peak(x, y);
-  img.fill_rect(px(p.x) - 5, py(p.y) - 5, px(p.x) + 6, py(p.y) + 6, red);
-  const std::string peak = fmt::format("PEAK {:.4g} AT {:.4g}", p.y, p.x);
-  draw_text(img, std::min(px(p.x) + 10, left + W - text_width(peak, scale)), std::max(top + 4, py(p.y) - 20), peak,
-            scale, red);
-  draw_text(img, left, 6, o.title, scale, black);
-  draw_text(img, left + W / 2 - text_width(o.x_label, scale) / 2, o.height - 35, o.x_label, scale, black);
-  draw_text(img, 10, top - 26, o.y_label, scale, black);
-  write_png(img, png_path);
+  cairo_stroke(cr);
+  canvas.set_colour(ink);
+  for (double v = ax.lo; v <= ax.hi + 0.5 * ax.step; v += ax.step)
+    canvas.text(f.px(v), f.top + f.height + 8 * u, tick_label(v, ax.step), tick_size, 0.5, 0);
+  for (double v = ay.lo; v <= ay.hi + 0.5 * ay.step; v += ay.step)
+    canvas.text(f.left - 8 * u, f.py(v), tick_label(v, ay.step), tick_size, 1, 0.5);
+  cairo_set_line_width(cr, 1.5 * u);
+  cairo_rectangle(cr, f.left, f.top, f.width, f.height);
+  cairo_stroke(cr);
+
+  // Titles: x below its ticks, y reading upwards at the left edge, the plot's above.
+  canvas.text(f.left + f.width / 2, o.height - 14 * u, o.x_title, title_size, 0.5, 1);
+  canvas.text(18 * u + 0.73 * title_size, f.top + f.height / 2, o.y_title, title_size, 0.5, 1, -M_PI / 2);
+  if (!o.title.empty()) canvas.text(f.left, 14 * u, o.title, title_size, 0, 0);
+
+  // The curves, clipped to the plotting area; a non-finite point breaks the line.
+  cairo_save(cr);
+  cairo_rectangle(cr, f.left, f.top, f.width, f.height);
+  cairo_clip(cr);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  cairo_set_line_width(cr, 2.2 * u);
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const Series& s = series[k];
+    bool pen = false;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) {
+        pen = false;
+        continue;
+      }
+      if (pen) cairo_line_to(cr, f.px(s.x[i]), f.py(s.y[i]));
+      else cairo_move_to(cr, f.px(s.x[i]), f.py(s.y[i]));
+      pen = true;
+    }
+    canvas.set_colour(palette[k % palette.size()]);
+    cairo_stroke(cr);
+  }
+  cairo_restore(cr);
+  // A few points (a sweep's table) are measurements: each gets a dot, whole even on the frame.
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const Series& s = series[k];
+    if (s.x.size() > 30) continue;
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) {
+        cairo_new_sub_path(cr);
+        cairo_arc(cr, f.px(s.x[i]), f.py(s.y[i]), 3.5 * u, 0, 2 * M_PI);
+      }
+    canvas.set_colour(palette[k % palette.size()]);
+    cairo_fill(cr);
+  }
+
+  std::string description = "x: " + o.x_title + "; y: " + o.y_title;
+  // A peak inside the curve is marked; a largest value at either end (a curve that only
+  // rises or only falls) is no peak.
+  std::size_t first = 0, last = 0;
+  if (series.size() == 1) {
+    const Series& s = series[0];
+    first = s.x.size(), last = 0;
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) first = std::min(first, i), last = i;
+  }
+  const CurvePeak p = series.size() == 1 ? curve_peak(series[0].x, series[0].y) : CurvePeak{};
+  if (series.size() == 1 && o.mark_peak && p.index != first && p.index != last) {
+    const double cx = f.px(p.x), cy = f.py(p.y);
+    canvas.set_colour(peak_colour);
+    cairo_arc(cr, cx, cy, 5 * u, 0, 2 * M_PI);
+    cairo_fill(cr);
+    const std::string note = fmt::format("peak {}{} at {}{}", short_number(p.y), o.peak_y_unit.empty() ? "" : " " + o.peak_y_unit,
+                                         short_number(p.x), o.peak_x_unit.empty() ? "" : " " + o.peak_x_unit);
+    const double w = canvas.text_width(note, tick_size);
+    const double tx = std::clamp(cx + 10 * u, f.left + 6 * u, f.left + f.width - w - 6 * u);
+    const double ty = cy - 10 * u < f.top + tick_size + 4 * u ? cy + 10 * u + tick_size : cy - 10 * u;
+    canvas.text(tx, ty, note, tick_size, 0, 1);
+    description += "; " + note;
+  }
+
+  // The legend in the corner of the plotting area that the curves cross least.
+  std::vector<const Series*> listed;
+  for (const Series& s : series)
+    if (!s.label.empty()) listed.push_back(&s);
+  if (series.size() > 1 && !listed.empty()) {
+    const double row = tick_size * 1.5, swatch = 28 * u;
+    double w = 0;
+    for (const Series* s : listed) w = std::max(w, canvas.text_width(s->label, tick_size));
+    w += swatch + 24 * u;
+    const double h = row * double(series.size()) + 10 * u;
+    std::array<std::size_t, 4> hits{};
+    const std::array<std::pair<double, double>, 4> corners{{{f.left + f.width - w - 8 * u, f.top + 8 * u},
+                                                            {f.left + 8 * u, f.top + 8 * u},
+                                                            {f.left + f.width - w - 8 * u, f.top + f.height - h - 8 * u},
+                                                            {f.left + 8 * u, f.top + f.height - h - 8 * u}}};
+    for (const Series& s : series)
+      for (std::size_t i = 0; i < s.x.size(); ++i)
+        for (std::size_t c = 0; c < 4; ++c) {
+          const double x = f.px(s.x[i]), y = f.py(s.y[i]);
+          hits[c] += x >= corners[c].first && x <= corners[c].first + w && y >= corners[c].second &&
+                     y <= corners[c].second + h;
+        }
+    const std::size_t best = std::size_t(std::min_element(hits.begin(), hits.end()) - hits.begin());
+    const auto [lx, ly] = corners[best];
+    cairo_rectangle(cr, lx, ly, w, h);
+    cairo_set_source_rgba(cr, 1, 1, 1, 0.9);
+    cairo_fill_preserve(cr);
+    canvas.set_colour({160, 160, 160});
+    cairo_set_line_width(cr, 1 * u);
+    cairo_stroke(cr);
+    cairo_set_line_width(cr, 2.2 * u);
+    for (std::size_t k = 0; k < series.size(); ++k) {
+      const double y = ly + 5 * u + row * (double(k) + 0.5);
+      canvas.set_colour(palette[k % palette.size()]);
+      cairo_move_to(cr, lx + 8 * u, y);
+      cairo_line_to(cr, lx + 8 * u + swatch, y);
+      cairo_stroke(cr);
+      canvas.set_colour(ink);
+      canvas.text(lx + 16 * u + swatch, y, series[k].label, tick_size, 0, 0.5);
+      description += "; curve: " + series[k].label;
+    }
+  }
+  canvas.describe(o.title.empty() ? o.y_title + " against " + o.x_title : o.title, description);
+  canvas.write();
+  return f;
 }
 
-PlotCommandResult plot_history(const std::string& history, const std::string& x_column, const std::string& y_column,
-                               double x_scale, double y_scale, const std::string& png_path) {
-  namespace fs = std::filesystem;
-  fs::path csv = history;
-  if (fs::is_directory(csv)) csv /= "history.csv";
-  const CsvTable t = read_csv(csv.string());
-  const std::size_t cx = t.column(x_column), cy = t.column(y_column);
-  std::vector<double> x, y;
-  for (const auto& row : t.rows) {
-    x.push_back(row[cx] * x_scale);
-    y.push_back(row[cy] * y_scale);
+namespace {
+
+// An axis: the columns' common quantity, the unit scaled to the values' range.
+struct AxisUnit {
+  std::string title, unit;
+  double factor = 1;
+};
+AxisUnit axis_unit(const std::vector<std::string>& columns, double scale, double largest, const std::string& label) {
+  std::vector<Quantity> q;
+  for (const auto& c : columns) q.push_back(history_quantity(c));
+  bool same_unit = true, same_name = true;
+  for (const auto& k : q) same_unit &= k.unit == q[0].unit, same_name &= k.name == q[0].name;
+  AxisUnit a;
+  if (same_unit && std::abs(scale) == 1) {
+    const ScaledUnit su = scaled_unit(q[0], largest);
+    a.unit = su.unit, a.factor = su.factor;
   }
-  PlotCommandResult r;
-  r.png = png_path;
-  if (r.png.empty()) {
-    std::string name = y_column;
+  std::string name = same_name ? q[0].name : (same_unit && !q[0].kind.empty() ? q[0].kind : "value");
+  if (std::abs(scale) != 1) name += fmt::format(" × {:g}", scale);
+  a.title = label.empty() ? axis_title(name, a.unit) : label;
+  return a;
+}
+
+}  // namespace
+
+PlotCommandResult plot_history(const PlotRequest& r) {
+  namespace fs = std::filesystem;
+  if (r.histories.empty()) throw Error("plot: no history given");
+  if (r.y_columns.empty()) throw Error("plot: no column given for the vertical axis");
+  struct Run {
+    fs::path csv;
+    CsvTable table;
+  };
+  std::vector<Run> runs;
+  for (const auto& h : r.histories) {
+    fs::path csv = h;
+    if (fs::is_directory(csv)) csv /= "history.csv";
+    runs.push_back({csv, read_csv(csv.string())});
+  }
+  PlotCommandResult result;
+  std::vector<Series> series;
+  double x_big = 0, y_big = 0;
+  for (const Run& run : runs) {
+    const std::size_t cx = run.table.column(r.x_column);
+    for (const auto& yc : r.y_columns) {
+      const std::size_t cy = run.table.column(yc);
+      Series s;
+      for (const auto& row : run.table.rows) {
+        s.x.push_back(row[cx] * r.x_scale);
+        s.y.push_back(row[cy] * r.y_scale);
+        if (std::isfinite(s.x.back())) x_big = std::max(x_big, std::abs(s.x.back()));
+        if (std::isfinite(s.y.back())) y_big = std::max(y_big, std::abs(s.y.back()));
+      }
+      // A sweep's curves are told apart by their run; several columns by their quantity.
+      std::string name = run.csv.parent_path().filename().string();
+      if (name.empty()) name = run.csv.string();
+      const std::string what = history_quantity(yc).name;
+      s.label = runs.size() > 1 && r.y_columns.size() > 1 ? name + ": " + what : runs.size() > 1 ? name : what;
+      result.labels.push_back(s.label);
+      result.peaks.push_back(curve_peak(s.x, s.y));
+      series.push_back(std::move(s));
+    }
+  }
+  const AxisUnit xu = axis_unit({r.x_column}, r.x_scale, x_big, r.x_label);
+  const AxisUnit yu = axis_unit(r.y_columns, r.y_scale, y_big, r.y_label);
+  for (Series& s : series) {
+    for (double& v : s.x) v *= xu.factor;
+    for (double& v : s.y) v *= yu.factor;
+  }
+  result.path = r.output;
+  if (result.path.empty()) {
+    std::string name = r.y_columns.front();
     std::replace(name.begin(), name.end(), ':', '_');
-    r.png = (csv.parent_path() / (name + ".png")).string();
+    result.path = (runs.front().csv.parent_path() / (name + ".png")).string();
   }
   PlotOptions o;
-  o.title = csv.parent_path().filename().string();
-  o.x_label = x_scale == 1 ? x_column : fmt::format("{} X {:g}", x_column, x_scale);
-  o.y_label = y_scale == 1 ? y_column : fmt::format("{} X {:g}", y_column, y_scale);
-  write_line_plot(x, y, o, r.png);
-  r.peak = curve_peak(x, y);
-  return r;
+  o.x_title = xu.title;
+  o.y_title = yu.title;
+  o.peak_x_unit = xu.unit;
+  o.peak_y_unit = yu.unit;
+  o.width = r.width;
+  o.height = r.height;
+  if (r.title) o.title = *r.title;
+  else if (runs.size() == 1) o.title = runs.front().csv.parent_path().filename().string();
+  if (series.size() == 1) series.front().label.clear();
+  result.frame = write_line_plot(series, o, result.path);
+  result.x_factor = xu.factor;
+  result.y_factor = yu.factor;
+  return result;
 }
 
 }  // namespace horizon

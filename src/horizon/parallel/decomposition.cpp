@@ -324,6 +324,7 @@ void keep_computed_rows(System& s, Decomposition& d) {
     B.nbr.shrink_to_fit();
     B.kind.shrink_to_fit();
     B.intact.shrink_to_fit();
+    B.lengths.shrink_to_fit();
   }
   if (d.local_particles) {
     // No per-particle offsets of the whole system here (they would be O(N)): the bond
@@ -392,7 +393,7 @@ void decompose(System& s, Decomposition& d, double skin) {
   d.rank = world_rank();
   d.size = world_size();
   d.skin = skin;
-  d.contact_reach = s.contact.enabled() ? s.contact.config().max_distance * s.spacing : 0.0;
+  d.contact_reach = s.contact.reach();
   // The rows of a particle read values its neighbours computed in the same pass: the
   // dilatation (state-based models) and the critical stretch lowered by the neighbour's
   // smallest stretch of the previous pass (the compression factor alpha). Then the

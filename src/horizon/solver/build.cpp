@@ -116,6 +116,7 @@ void keep_local_particles(System& s, std::vector<uint8_t>& built, std::vector<ui
     for (uint64_t k = a; k < b; ++k, ++w) {
       L.nbr[w] = local[L.nbr[k]];
       L.kind[w] = L.kind[k];
+      if (L.length_per_bond) L.lengths[w] = L.lengths[k];
       L.intact[w] = L.intact[k];
     }
   }
@@ -125,6 +126,7 @@ void keep_local_particles(System& s, std::vector<uint8_t>& built, std::vector<ui
   if (w != L.nbr.size()) {  // rows dropped (not built here): release their storage
     L.nbr.resize(w), L.kind.resize(w), L.intact.resize(w);
     L.nbr.shrink_to_fit(), L.kind.shrink_to_fit(), L.intact.shrink_to_fit();
+    if (L.length_per_bond) L.lengths.resize(w), L.lengths.shrink_to_fit();
   }
   s.particles = std::move(Q);
   built = std::move(built_l);
@@ -241,6 +243,7 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
         mats.push_back(P.material[i]);
       }
     Bonds sub = find_neighbors(pts, vol, radius, &mats);
+    expand_kinds(sub);  // the FE coupling reads kinds with their lengths
     Bonds& b = s.bonds;
     b.kinds = std::move(sub.kinds);
     b.offset.assign(P.size() + 1, 0);
@@ -258,6 +261,12 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
     b.intact.assign(b.nbr.size(), 1);
   }
   if (config.partial_volume) apply_partial_volume(s.bonds, config.horizon, config.spacing);
+  // bonds_between_bodies: false: each body keeps its bonds to itself (Peridigm's Omit
+  // Bonds Between Blocks: All); such pairs are never bonded, so contact sees them.
+  if (!config.bonds_between_bodies)
+    rewrite_bonds(s.bonds, [&](std::size_t i, uint64_t k) {
+      return s.particles.block[i] == s.particles.block[s.bonds.nbr[k]] ? BondAction::keep : BondAction::drop;
+    });
   check_precracks_cut(s, config, split);
   // The owned rows' intact bonds: cut_bonds drops a bond or keeps it broken (keep_broken).
   auto owned_intact = [&] {
@@ -384,6 +393,20 @@ bool local_rows_allowed(const Config& c) {
   return true;
 }
 
+bool kinds_need_lengths(const std::vector<MaterialConfig>& materials, const Config& config) {
+  if (config.thermal.enabled || config.structure.kind != StructureKind::none) return true;  // heat, output/truss
+  for (const auto& body : config.bodies)
+    if (body.discretization == Discretization::fe) return true;  // fe/fe_region.hpp
+  for (const auto& mat : materials) {
+    const ModelEntry* entry = find_model(mat.model);
+    if (!entry || !entry->traits.unified) return true;  // the general force pass and the models' own loops
+    if (mat.influence != InfluenceKind::constant) return true;  // omega(|xi|) per kind
+    const auto sc = mat.parameters.find("surface_correction");
+    if (sc != mat.parameters.end() && sc->second != 0) return true;  // per-bond weights
+  }
+  return false;
+}
+
 void setup_model(System& s, const std::vector<MaterialConfig>& given, const Config& config) {
   // The materials with every declared parameter present (a material built in code may
   // leave the defaults out; the deck fills them in).
@@ -401,6 +424,9 @@ void setup_model(System& s, const std::vector<MaterialConfig>& given, const Conf
     }
     s.models.add(entry->make());
   }
+  // Bonds with their own lengths (family/bonds.hpp) serve the fast loops; a deck that
+  // gives the kinds values of |xi| or reads a kind's length gets kinds with lengths.
+  if (s.bonds.length_per_bond && kinds_need_lengths(materials, cfg)) expand_kinds(s.bonds);
   const Dimensioning dims = dimensioning(cfg);
   const std::size_t n = s.particles.size();
   std::vector<uint32_t> all(n);
@@ -496,10 +522,16 @@ std::size_t bytes_per_bond(const System& s) {
   // Neighbour, kind, intact flag; reference data per kind (family/bonds.hpp).
   // State-based models keep each bond's |Y| between their two passes (8 bytes more).
   std::size_t per_bond = 2 * sizeof(uint32_t) + sizeof(uint8_t) + (s.model.state_based ? sizeof(double) : 0);
+  if (s.bonds.length_per_bond) per_bond += sizeof(double);  // its own |xi| (an irregular cloud)
   // The general force pass keeps each bond's force state and its reverse bond
   // (solver/forces_general.hpp); models keep their own history on top.
   if (!s.models.all_unified() && !s.models.owner()) per_bond += sizeof(Vec3) + sizeof(uint64_t);
   return per_bond;
+}
+// The kinds: their reference data (family/bonds.hpp) and the force loops' tables
+// (ModelCoefficients: KindCoefficients and the two records of the state-based passes).
+std::size_t kind_bytes(const System& s) {
+  return s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients) + 2 * sizeof(Point4));
 }
 }  // namespace
 
@@ -544,20 +576,31 @@ RankShare largest_rank_share(const System& s, int ranks, bool local_particles) {
     best.bonds = std::max(best.bonds, held);
     best.particles = std::max(best.particles, local_particles ? particles : static_cast<uint64_t>(n));
   }
-  const std::size_t kinds = B.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
-  const std::size_t particle_bytes = memory_estimate(s) - B.size() * bytes_per_bond(s) - kinds;
-  best.bytes = (n ? particle_bytes / n : 0) * best.particles + best.bonds * bytes_per_bond(s) + kinds;
+  const std::size_t kinds = kind_bytes(s);
+  const std::size_t particle_bytes = memory_estimate(s) - kProgramBytes - B.size() * bytes_per_bond(s) - kinds;
+  best.bytes =
+      kProgramBytes + (n ? particle_bytes / n : 0) * best.particles + best.bonds * bytes_per_bond(s) + kinds;
   return best;
 }
 
+// An output frame's copy of the positions and fields (output/frame.hpp), up to 32 doubles
+// a particle: measured, the peak of a run of the jittered cylinder (bench/clouds) lies
+// 162 bytes a particle above the arrays counted here, that of its regular rings 214.
+constexpr std::size_t kFrameBytes = 32 * sizeof(double);
+
 std::size_t memory_estimate(const System& s) {
   const std::size_t n = s.particles.size(), nb = s.bonds.size();
-  // Particles, model arrays (12 doubles), the force pass's scratch (4 + 1 doubles).
+  // Particles (geometry/particles.hpp), the model arrays (13 doubles), the force pass's
+  // scratch (a Point4 and a double), the dissipated energy, the explicit solver's copies of
+  // u, v and b (solver/explicit.hpp) and the constraint flags (loading/loads.hpp): what an
+  // explicit run of the unified models holds a particle (tests/unit/test_clouds.cpp).
   const std::size_t per_particle = 5 * sizeof(Vec3) + 4 * sizeof(double) + 2 * sizeof(int32_t) + sizeof(int64_t) + 1 +
-                                   17 * sizeof(double) + sizeof(uint64_t);
+                                   13 * sizeof(double) + sizeof(Point4) + sizeof(double) + sizeof(double) +
+                                   3 * sizeof(Vec3) + 1 + sizeof(uint64_t) +  // + the row's bond offset
+                                   kFrameBytes;
   const std::size_t per_bond = bytes_per_bond(s);
-  const std::size_t kinds = s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients));
-  return n * per_particle + nb * per_bond + kinds;
+  const std::size_t kinds = kind_bytes(s);
+  return kProgramBytes + n * per_particle + nb * per_bond + kinds;
 }
 
 }  // namespace horizon

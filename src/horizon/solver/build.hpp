@@ -32,7 +32,19 @@ double stable_time_step(const System& s);
 // particle, bond and material counts and the models match the deck's.
 void checkpoint_system(System& s, StateArchive& a);
 
-// Estimated memory of the run [bytes]: particles, bonds and model arrays.
+// Whether a deck's bonds need kinds with their lengths (family/neighbors.hpp
+// expand_kinds) rather than a length per bond: a model off the fast loops, an influence
+// function of |xi|, the surface correction, heat conduction, structures, finite elements.
+// setup_model regroups the bonds then; the memory guard counts the kinds.
+bool kinds_need_lengths(const std::vector<MaterialConfig>& materials, const Config& config);
+
+// Estimated memory of the run [bytes]: the program (kProgramBytes), particles, bonds,
+// bond kinds and model arrays, as an explicit run of the unified models holds them
+// (tests/unit/test_clouds.cpp checks it is not below what such a run allocates).
 std::size_t memory_estimate(const System& s);
+// The program itself: its code and shared libraries (`horizon --version` is resident in
+// 19 MiB), and the deck, small objects and the allocator's rounding on the heap.
+constexpr std::size_t kCodeBytes = std::size_t{20} << 20;
+constexpr std::size_t kProgramBytes = kCodeBytes + (std::size_t{4} << 20);
 
 }  // namespace horizon

@@ -1,4 +1,5 @@
 #include "horizon/solver/forces.hpp"
+#include "horizon/family/neighbors.hpp"
 
 #include "horizon/parallel/decomposition.hpp"
 
@@ -95,14 +96,49 @@ struct Ctx {
   double* r_of;     // |Y| per bond (state-based: dilatation pass writes, force pass reads)
   const Point4* kind_dilatation;  // per kind {L, 1/L, omega V_j, 0}
   const Point4* kind_force;       // per kind {L, omega V_j, pair, d^2}
+  // Bonds with their own lengths (Bonds::length_per_bond), else null: the kinds then
+  // hold no length, `pair` holds omega V_j (R_i + R_j) before the division by L, and the
+  // loops compute L's fields per bond as build_kind_coefficients computes them for a
+  // kind (the same IEEE operations, so the same bits).
+  const double* lengths;
+  bool contact;                         // short-range contact on (contact_d from L)
+  double contact_fraction, contact_cutoff;  // ShortRangeContact::distance
 };
+
+// Bond k's coefficients when the bonds carry their own lengths (Ctx::lengths).
+inline KindCoefficients per_bond(const Ctx& c, uint64_t k) {
+  KindCoefficients kc = c.kc[c.kind[k]];
+  const double L = c.lengths[k];
+  kc.length = L;
+  kc.inv_length = 1.0 / L;
+  kc.pair = kc.pair / L;
+  if (c.contact) {
+    kc.contact_d = std::min(c.contact_fraction * L, c.contact_cutoff);
+    kc.contact_d2 = kc.contact_d * kc.contact_d;
+  }
+  return kc;
+}
 
 Ctx context(System& s) {
   auto& B = s.bonds;
   auto& M = s.model;
-  return {M.packed.data(),  M.kind.data(),         B.nbr.data(),          B.kind.data(),
-          B.offset.data(),  B.intact.data(),       M.pair_coef.data(),    M.deviatoric_coef.data(),
-          M.intact_weight.data(), M.deformed_length.data(), M.kind_dilatation.data(), M.kind_force.data()};
+  const bool contact = s.contact.acts_on_family();  // law peridigm: never between family pairs
+  return {M.packed.data(),
+          M.kind.data(),
+          B.nbr.data(),
+          B.kind.data(),
+          B.offset.data(),
+          B.intact.data(),
+          M.pair_coef.data(),
+          M.deviatoric_coef.data(),
+          M.intact_weight.data(),
+          M.deformed_length.data(),
+          M.kind_dilatation.data(),
+          M.kind_force.data(),
+          B.length_per_bond ? B.lengths.data() : nullptr,
+          contact,
+          contact ? s.contact.config().reference_fraction : 0.0,
+          s.contact.cutoff()};
 }
 
 // What one row gives back besides the force.
@@ -166,7 +202,8 @@ RowOut pair_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
   for_each_lane(begin, end, [&](uint64_t k, auto lane) {
     constexpr int l = decltype(lane)::value;
-    const KindCoefficients& kc = c.kc[c.kind[k]];
+    KindCoefficients own;
+    const KindCoefficients& kc = c.lengths ? (own = per_bond(c, k)) : c.kc[c.kind[k]];
     const Point4 pj = c.pt[c.nbr[k]];
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -217,7 +254,8 @@ RowOut dilate_row_scalar(const Ctx& c, std::size_t i, double Pi, uint64_t /*tota
   for_each_lane(begin, end, [&](uint64_t k, auto lane) {
     constexpr int l = decltype(lane)::value;
     if (!c.intact[k]) return;
-    const KindCoefficients& kc = c.kc[c.kind[k]];
+    KindCoefficients own;
+    const KindCoefficients& kc = c.lengths ? (own = per_bond(c, k)) : c.kc[c.kind[k]];
     const Point4 pj = c.pt[c.nbr[k]];
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -252,7 +290,8 @@ RowOut force_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
   for_each_lane(begin, end, [&](uint64_t k, auto lane) {
     constexpr int l = decltype(lane)::value;
     const uint32_t j = c.nbr[k];
-    const KindCoefficients& kc = c.kc[c.kind[k]];
+    KindCoefficients own;
+    const KindCoefficients& kc = c.lengths ? (own = per_bond(c, k)) : c.kc[c.kind[k]];
     const Point4 pj = c.pt[j];
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -308,7 +347,8 @@ struct Quad {
   m4 live, once;        // intact != 0, intact == 1
 };
 
-template <bool kWv, bool kFull>
+// kIL: 1/L is needed (with the bonds' own lengths it costs a division).
+template <bool kWv, bool kFull, bool kIL = true>
 HORIZON_AVX2 inline void load_quad(Quad& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
                                    uint64_t total) {
   uint32_t j[4], kd[4];
@@ -335,6 +375,18 @@ HORIZON_AVX2 inline void load_quad(Quad& q, const Ctx& c, const Point4& pi, std:
     const __m256d U = halves(&kc[kd[0]].damage, &kc[kd[2]].damage), V = halves(&kc[kd[1]].damage, &kc[kd[3]].damage);
     q.wv = reinterpret_cast<d4>(_mm256_unpackhi_pd(U, V));
   }
+  if (c.lengths) {  // the bonds' own lengths (Ctx::lengths); padding lanes take bond k's
+    d4 L;
+    for (int l = 0; l < 4; ++l) L[l] = c.lengths[kFull || l < count ? k + static_cast<uint64_t>(l) : k];
+    q.L = L;
+    if constexpr (kIL) q.iL = splat(1.0) / L;
+    if (any(q.pair != splat(0.0))) q.pair = q.pair / L;  // 0/L is the +0 the kind gives
+    if (c.contact) {
+      const d4 d = reinterpret_cast<d4>(
+          _mm256_min_pd(reinterpret_cast<__m256d>(splat(c.contact_fraction) * L), _mm256_set1_pd(c.contact_cutoff)));
+      q.d2c = d * d;
+    }
+  }
   // The four intact flags as masks: one 4-byte load where the array allows it.
   uint32_t flags = 0;
   if (kFull || k + 4 <= total) {
@@ -351,15 +403,14 @@ HORIZON_AVX2 inline void load_quad(Quad& q, const Ctx& c, const Point4& pi, std:
 
 // The lane's bond recomputed from the arrays, exactly as the vector does it (rare paths).
 struct Lane {
-  const KindCoefficients* kc;
+  KindCoefficients kc;
   double Yx, Yy, Yz, r2, e;
 };
 inline Lane lane(const Ctx& c, const Point4& pi, uint64_t k) {
-  const KindCoefficients& kc = c.kc[c.kind[k]];
   const Point4 pj = c.pt[c.nbr[k]];
-  Lane b{&kc, pj.x - pi.x, pj.y - pi.y, pj.z - pi.z, 0, 0};
+  Lane b{c.lengths ? per_bond(c, k) : c.kc[c.kind[k]], pj.x - pi.x, pj.y - pi.y, pj.z - pi.z, 0, 0};
   b.r2 = b.Yx * b.Yx + b.Yy * b.Yy + b.Yz * b.Yz;
-  b.e = std::sqrt(b.r2) - kc.length;
+  b.e = std::sqrt(b.r2) - b.kc.length;
   return b;
 }
 
@@ -374,7 +425,7 @@ HORIZON_AVX2 __attribute__((noinline)) Contact4 quad_contact(const Ctx& c, const
     if (!((mask >> l) & 1)) continue;
     const Lane b = lane(c, pi, k + static_cast<uint64_t>(l));
     double x, y, z, w;
-    if (bond_contact(*b.kc, b.Yx, b.Yy, b.Yz, b.r2, x, y, z, w)) out.fx[l] = x, out.fy[l] = y, out.fz[l] = z, out.w[l] = w;
+    if (bond_contact(b.kc, b.Yx, b.Yy, b.Yz, b.r2, x, y, z, w)) out.fx[l] = x, out.fy[l] = y, out.fz[l] = z, out.w[l] = w;
   }
   return out;
 }
@@ -387,7 +438,7 @@ HORIZON_AVX2 __attribute__((noinline)) void quad_breaks(const Ctx& c, const Poin
     if (!((mask >> l) & 1)) continue;
     const uint64_t kk = k + static_cast<uint64_t>(l);
     const Lane b = lane(c, pi, kk);
-    const KindCoefficients& kc = *b.kc;
+    const KindCoefficients& kc = b.kc;
     c.intact[kk] = state;
     ++out.broken;
     // (1/2) t_ij e V_j with t_ij = P_i L + (Q_i + R_i/L) e: the bond's energy, written
@@ -515,7 +566,7 @@ HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) 
   for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
     constexpr int h = decltype(half)::value;
     Quad q;
-    load_quad<true, decltype(full)::value>(q, c, pi, i, k, count, total);
+    load_quad<true, decltype(full)::value, kEnergy>(q, c, pi, i, k, count, total);
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
     const m4 contact = (r2 < q.d2c) & (r2 > splat(0));  // padding lanes have r2 = 0
     if (!any(q.live)) {  // four broken bonds: only their contact can act
@@ -598,6 +649,8 @@ HORIZON_AVX512 inline d8 gather_kind_field(const uint32_t* kd, const double* fie
   return _mm512_mask_i32gather_pd(_mm512_setzero_pd(), 0xFF, idx, field, 8);
 }
 
+HORIZON_AVX512 inline __mmask8 lanes_of(int count) { return static_cast<__mmask8>((1u << count) - 1u); }
+
 template <KindView kView, bool kExtra, bool kFull>
 HORIZON_AVX512 inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
                                     uint64_t total) {
@@ -626,6 +679,20 @@ HORIZON_AVX512 inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std:
   } else {
     transpose8(rk, q.L, q.wv, q.pair, q.d2c);
     if constexpr (kExtra) q.iL = gather_kind_field(kd, &c.kc->inv_length);
+  }
+  if (c.lengths) {  // the bonds' own lengths (Ctx::lengths); padding lanes take bond k's
+    q.L = kFull ? _mm512_loadu_pd(c.lengths + k)
+                : _mm512_mask_loadu_pd(_mm512_set1_pd(c.lengths[k]), lanes_of(count), c.lengths + k);
+    if constexpr (kView != KindView::force || kExtra) q.iL = _mm512_div_pd(_mm512_set1_pd(1.0), q.L);
+    if constexpr (kView != KindView::dilatation) {
+      // 0/L is the +0 the kind gives: no division where no lane has a bond-based part.
+      if (_mm512_cmp_pd_mask(q.pair, _mm512_setzero_pd(), _CMP_NEQ_UQ)) q.pair = _mm512_div_pd(q.pair, q.L);
+      if (c.contact) {
+        const d8 d = _mm512_min_pd(_mm512_mul_pd(_mm512_set1_pd(c.contact_fraction), q.L),
+                                   _mm512_set1_pd(c.contact_cutoff));
+        q.d2c = _mm512_mul_pd(d, d);
+      }
+    }
   }
   uint64_t flags = 0;
   if (kFull || k + 8 <= total) {
@@ -690,7 +757,6 @@ HORIZON_AVX512 inline __mmask8 touching(const Oct& q, d8 r2) {
   return _mm512_cmp_pd_mask(r2, q.d2c, _CMP_LT_OQ) & _mm512_cmp_pd_mask(r2, _mm512_setzero_pd(), _CMP_GT_OQ);
 }
 
-HORIZON_AVX512 inline __mmask8 lanes_of(int count) { return static_cast<__mmask8>((1u << count) - 1u); }
 
 template <class F>
 HORIZON_AVX512 inline void for_each_oct(uint64_t begin, uint64_t end, F&& f) {
@@ -945,6 +1011,13 @@ ForceStats compute_forces(System& s, bool energy) {
   // critical stretch takes the general pass.
   if (!s.models.all_unified() || g_path == KernelPath::general || !s.thermal_strain.empty() ||
       !s.critical_stretch_factor.empty()) {
+    if (s.bonds.length_per_bond) {
+      // The general pass reads kinds with their lengths: regrouped, the same damage weights
+      // (the running intact sums stay valid). Setup does this for the decks that need it
+      // (setup_model); here only a pass chosen by set_kernel_path(general) gets here.
+      expand_kinds(s.bonds);
+      build_kind_tables(s, M.damage_measure);
+    }
     stats.broken = general_forces(s, energy);  // solver/forces_general.cpp
     M.min_stretch.swap(M.min_stretch_next);
     share_min_stretch(s);

@@ -26,6 +26,7 @@ namespace {
 constexpr double kBytesPerParticle = 512;
 constexpr double kBytesPerUnifiedBond = 17;
 constexpr double kBytesPerBond = 128;
+constexpr double kBytesPerKind = sizeof(BondKind) + sizeof(KindCoefficients) + 2 * sizeof(Point4);
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 // Family offsets are counted one by one up to this radius [spacings]; beyond it the
 // count is the ball's volume over the cell (its error is below 1 % there).
@@ -84,12 +85,14 @@ MemoryEstimate estimate_memory(const Config& c) {
   // The family in spacings (family/neighbors.hpp: with the linear partial-volume rule it
   // reaches half a spacing beyond the horizon).
   const double radius = family_radius(c.horizon, h, c.partial_volume.rule) / h;
+  double cloud_bonds = 0;  // bonds of listed points (their lengths rarely repeat)
   for (const auto& body : c.bodies) {
     if (body.shape.kind() == Shape::Kind::points) {
       // Listed particles, off any lattice: each with a full interior family.
       const double np = static_cast<double>(body.shape.point_list().size());
       e.particles += np;
       e.bonds += np * interior_family(d, radius);
+      cloud_bonds += np * interior_family(d, radius);
       continue;
     }
     // The lattice points of the body's bounding box (geometry/lattice.cpp: the default
@@ -113,6 +116,10 @@ MemoryEstimate estimate_memory(const Config& c) {
     unified = unified && entry && entry->traits.unified;
   }
   e.bytes = e.particles * kBytesPerParticle + e.bonds * (unified ? kBytesPerUnifiedBond : kBytesPerBond);
+  // Listed points are an irregular cloud at worst: every bond its own length, kept per bond
+  // (8 bytes, family/bonds.hpp), or, where the deck needs kinds with lengths, about a kind
+  // per bond (kBytesPerKind: its reference data and the force loops' tables).
+  e.bytes += cloud_bonds * (kinds_need_lengths(c.materials, c) ? kBytesPerKind : sizeof(double));
   if (!std::isfinite(e.bytes)) e.bytes = e.particles = e.bonds = HUGE_VAL;
   return e;
 }

@@ -24,9 +24,10 @@ double lane_sum_damage(const System& s, std::size_t i, bool intact_only) {
 
 }  // namespace
 
-void build_kind_coefficients(System& s, DamageMeasure measure) {
+void build_kind_tables(System& s, DamageMeasure measure) {
   const auto& B = s.bonds;
   auto& M = s.model;
+  M.damage_measure = measure;
   const std::size_t n = s.particles.size(), nk = B.kinds.size();
   // The per-particle coefficients of a kind's two ends, from any bond of that kind
   // (coefficients are per material, and a kind joins one pair of materials).
@@ -41,14 +42,22 @@ void build_kind_coefficients(System& s, DamageMeasure measure) {
     const BondKind& b = B.kinds[q];
     KindCoefficients& c = M.kind[q];
     c.length = b.length;
-    c.inv_length = 1.0 / b.length;
+    c.inv_length = 1.0 / b.length;  // (bonds with their own lengths: set below)
     c.wv = b.weight * b.volume * b.fraction;
     c.damage = measure == DamageMeasure::weighted ? c.wv : b.volume;
     if (end_i[q] < 0) continue;  // no bond of this kind left (all cut by precracks)
     const auto i = static_cast<std::size_t>(end_i[q]), j = static_cast<std::size_t>(end_j[q]);
+    if (B.length_per_bond) {
+      // Bonds with their own lengths: the loops divide by L and take the contact distance
+      // from it (solver/forces.cpp, Ctx::lengths); the kind keeps what does not depend on L.
+      c.length = c.inv_length = 0;
+      c.pair = c.wv * (M.pair_coef[i] + M.pair_coef[j]);
+      if (contact) c.contact_k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * b.volume;
+      continue;
+    }
     c.pair = c.wv * (M.pair_coef[i] + M.pair_coef[j]) / b.length;
     if (contact) {
-      c.contact_d = s.contact.distance(b.length);
+      c.contact_d = s.contact.family_distance(b.length);
       c.contact_d2 = c.contact_d * c.contact_d;
       // LAMMPS PERI uses the neighbour's whole volume here, not the partial one.
       c.contact_k = factor * 0.5 * (M.contact_micromodulus[i] + M.contact_micromodulus[j]) * b.volume;
@@ -62,6 +71,10 @@ void build_kind_coefficients(System& s, DamageMeasure measure) {
     M.kind_dilatation[q] = {c.length, c.inv_length, c.wv, 0.0};
     M.kind_force[q] = {c.length, c.wv, c.pair, c.contact_d2};
   }
+}
+
+void build_kind_coefficients(System& s, DamageMeasure measure) {
+  build_kind_tables(s, measure);
   refresh_damage(s);
 }
 

@@ -8,6 +8,15 @@
 // This is the rule of LAMMPS PERI (after Silling's EMU manual), with V_j the whole
 // volume of the neighbour. docs/models.md sec. 9.
 //
+// law peridigm (ShortRangeContactConfig): Peridigm's Short Range Force. Only pairs that
+// were not bonded at the start touch (the bond loops add nothing); d = R_c for every
+// pair and k_ij = 9 k/(pi delta^4) for every pair (half the PMB micromodulus of the
+// spring constant k, Peridigm's users' guide SAND2012-7800), plus Coulomb friction: the
+// force density mu k_ij V_j (d - |Y|)/delta along the pair's relative tangential
+// velocity (v_j - v_i less its part along Y), which opposes their sliding. Its pass is a
+// separate instantiation, so the LAMMPS law's loop is unchanged.
+// `pairs` (either law) keeps only the pairs of the listed bodies, at list build time.
+//
 // Pairs inside one family (bonded at the start, intact or broken) are handled in the
 // bond loops (solver/forces.cpp), which visit them anyway. This class finds the others
 // (pairs that start more than a family apart, or across a precrack) with a Verlet list
@@ -51,8 +60,19 @@ class ShortRangeContact {
   // y: current positions (the w component unused). W may be null.
   void add_forces(const System& s, const Point4* y, Vec3* f, double* W);
 
-  // The contact distance of a pair from its reference distance.
+  // The contact distance of a pair from its reference distance:
+  // enabled() ? min(config().reference_fraction * reference_length, cutoff()) : 0.
   double distance(double reference_length) const;
+  // The contact distance of a family pair (the bond loops' contact): 0 for law peridigm,
+  // whose contact never acts between pairs bonded at the start.
+  double family_distance(double reference_length) const {
+    return acts_on_family() ? distance(reference_length) : 0.0;
+  }
+  // Whether the bond loops' contact acts at all (on, and a law that acts between family pairs).
+  bool acts_on_family() const { return enabled_ && config_.law != ShortRangeLaw::peridigm; }
+  // The largest distance at which any pair touches [m] (the contact ghosts' reach).
+  double reach() const { return enabled_ ? cutoff_ : 0.0; }
+  double cutoff() const { return cutoff_; }
 
   // Particle updates so far (each particle counts once per update), and pairs listed now.
   std::size_t rebuilds() const { return rebuilds_; }
@@ -65,6 +85,9 @@ class ShortRangeContact {
   bool enabled_ = false;
   ShortRangeContactConfig config_;
   double cutoff_ = 0, skin_ = 0, horizon_ = 0;
+  double peridigm_k_ = 0;              // law peridigm: 9 k/(pi delta^4)/delta
+  std::vector<uint8_t> touch_;         // pairs: bodies a, b touch when touch_[a * bodies + b]
+  std::size_t touch_bodies_ = 0;
   std::vector<Vec3> y_built_;                  // position at each particle's last update
   std::vector<std::vector<uint32_t>> rows_;    // candidates of each particle, sorted
   std::vector<uint64_t> cell_of_;              // hash-grid cell of y_built_

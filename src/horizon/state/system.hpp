@@ -101,7 +101,11 @@ struct ModelCoefficients {
   std::vector<double> damage_total;     // sum of the damage weights over i's family (after precracks)
   std::vector<double> intact_weight;    // the same over i's intact bonds (updated as bonds break)
   std::vector<double> contact_micromodulus;  // c_i of the short-range contact
-  std::vector<KindCoefficients> kind;   // per bond kind
+  DamageMeasure damage_measure = DamageMeasure::weighted;  // of the kinds' damage weights
+  // Per bond kind. With bonds that keep their own lengths (Bonds::length_per_bond) the
+  // fields that depend on |xi| (length, inv_length, contact_d, contact_d2) are 0 and
+  // `pair` is omega V_j (R_i + R_j): the force loops finish them per bond (forces.cpp).
+  std::vector<KindCoefficients> kind;
   std::vector<Point4> kind_dilatation;  // per kind {L, 1/L, omega V_j, 0} (state-based pass 1)
   std::vector<Point4> kind_force;       // per kind {L, omega V_j, pair, d^2} (state-based pass 2)
   // Scratch of the force pass: current positions packed with a per-particle value
@@ -189,6 +193,9 @@ struct System {
 // bonds' reference data and the per-particle coefficients. setup_model calls it; call
 // it again after changing either by hand.
 void build_kind_coefficients(System& s, DamageMeasure measure);
+// The same tables alone, the damage totals left as they are (the kinds regrouped with the
+// same damage weights: forces.cpp when the general pass needs kinds with lengths).
+void build_kind_tables(System& s, DamageMeasure measure);
 
 // Recomputes the damage field's bookkeeping (per-particle totals and intact sums) from
 // the bonds' intact flags. The force pass keeps it up to date as bonds break; call this

@@ -16,6 +16,8 @@
 #include "horizon/core/error.hpp"
 #include "horizon/core/expression.hpp"
 #include "horizon/deck/peridigm/exodus_discretization.hpp"
+#include "horizon/deck/peridigm/function_string.hpp"
+#include "horizon/deck/peridigm/sections.hpp"
 #include "horizon/deck/reader.hpp"
 #include "horizon/deck/suggest.hpp"
 
@@ -180,7 +182,9 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                    "Thermal Expansion Coefficient", "Apply Shear Correction Factor",
                                    "Apply Automatic Differentiation Jacobian", "Compute Partial Stress",
                                    "Yield Stress",    "Disable Plasticity", "Hardening Modulus",
-                                   "Hourglass Coefficient", "lambda_i", "tau b", "Finite Difference Probe Length"};
+                                   "Hourglass Coefficient", "lambda_i", "tau b", "Finite Difference Probe Length",
+                                   "Enable Flaw", "Flaw Location X", "Flaw Location Y", "Flaw Location Z",
+                                   "Flaw Size", "Flaw Magnitude"};
   MapReader m(t.ctx, item, keys);
   const Item model_item = m.get("Material Model", "Elastic, Elastic Bond Based, Elastic Plastic, ...");
   const std::string model = read_string(t.ctx, model_item);
@@ -214,16 +218,39 @@ YAML::Node read_material(Translation& t, const Item& item) {
     mat["model"] = "correspondence";
     mat["stress_law"] = "linear_elastic";
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
+  } else if (w == "elasticplasticcorrespondence" || w == "isotropichardeningcorrespondence") {
+    // Correspondence with J2 plasticity (perfect, or with linear isotropic hardening):
+    // Horizon's correspondence model with stress_law j2 (docs/peridigm.md).
+    own = {"Hourglass Coefficient", "Yield Stress"};
+    mat["model"] = "correspondence";
+    mat["stress_law"] = "j2";
+    mat["yield_stress"] = read_positive(t.ctx, m.get("Yield Stress", "the yield stress [Pa]"));
+    if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
+    if (w == "isotropichardeningcorrespondence") {
+      own.insert(own.end(), {"Hardening Modulus", "Enable Flaw", "Flaw Location X", "Flaw Location Y",
+                             "Flaw Location Z", "Flaw Size", "Flaw Magnitude"});
+      if (auto h = m.find("Hardening Modulus")) mat["hardening_modulus"] = read_non_negative(t.ctx, *h);
+      // The flaw (a local knock-down of the yield stress) is not modelled: only off.
+      if (auto f = m.find("Enable Flaw"); f && read_bool(t.ctx, *f))
+        t.ctx.fail(f->mark, f->path + ": the yield-stress flaw is not supported; only false");
+      for (const char* k : {"Flaw Location X", "Flaw Location Y", "Flaw Location Z", "Flaw Size", "Flaw Magnitude"})
+        if (auto f = m.find(k)) read_number(t.ctx, *f);
+    }
   } else {
+    // The models of Peridigm's suite Horizon does not map yet (docs/peridigm.md lists the
+    // decks each blocks).
     fail_choice(t.ctx, model_item, model,
                 {"Elastic", "Elastic Bond Based", "Elastic Plastic", "Elastic Plastic Hardening", "Viscoelastic",
-                 "Elastic Correspondence"},
+                 "Elastic Correspondence", "Elastic Plastic Correspondence", "Isotropic Hardening Correspondence"},
                 "Peridigm material model Horizon reads");
   }
   // A model-specific key given to another model is an error (Peridigm ignores it).
   for (const std::string& k : {std::string("Yield Stress"), std::string("Disable Plasticity"),
                                std::string("Hardening Modulus"), std::string("Hourglass Coefficient"),
-                               std::string("lambda_i"), std::string("tau b")}) {
+                               std::string("lambda_i"), std::string("tau b"), std::string("Enable Flaw"),
+                               std::string("Flaw Location X"), std::string("Flaw Location Y"),
+                               std::string("Flaw Location Z"), std::string("Flaw Size"),
+                               std::string("Flaw Magnitude")}) {
     if (std::find(own.begin(), own.end(), k) != own.end()) continue;
     if (auto it = m.find(k))
       t.ctx.fail(*it->key_mark, it->path + ": not a parameter of Material Model '" + model + "'");
@@ -310,19 +337,33 @@ std::vector<int> read_ids(Translation& t, const Item& item) {
   return ids;
 }
 
-// An expression in x, y, z, t as Horizon's muParser reads it; Peridigm's RTCompiler
-// accepts C statements (if/else) that muParser does not.
+// An expression in x, y, z, t as Horizon's muParser reads it: kept as written when
+// muParser reads it, else translated from Peridigm's C-style function string
+// (function_string.hpp), whose mistakes are reported at their line and column.
 std::string read_value(Translation& t, const Item& item) {
   if (!item.node.IsScalar()) fail_expected(t.ctx, item, "a number or an expression in x, y, z and t");
   const std::string text = item.node.Scalar();
   try {
     Expression e(text);
-    (void)e(0, 0, 0, 0);
-  } catch (const Error& err) {
-    t.ctx.fail(item.mark, item.path + ": cannot read the expression '" + text + "' (" + err.what() +
-                              "); Horizon reads muParser expressions (docs/input.md), not C statements such as if/else");
+    return text;
+  } catch (const Error&) {
   }
-  return text;
+  std::string translated;
+  try {
+    translated = function_string_to_muparser(text);
+  } catch (const FunctionStringError& err) {
+    // A quoted scalar's text starts one column after its mark (the quote).
+    YAML::Mark at = item.mark;
+    at.column += static_cast<int>(err.offset) + (item.node.Tag() == "!" ? 1 : 0);
+    t.ctx.fail(at, item.path + ": cannot read the function string: " + err.what());
+  }
+  try {
+    Expression e(translated);
+  } catch (const Error& err) {
+    t.ctx.fail(item.mark, item.path + ": the function string '" + text + "' became '" + translated +
+                              "', which does not read (" + err.what() + ")");
+  }
+  return translated;
 }
 
 }  // namespace
@@ -343,7 +384,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   const Item pd = outer.get("Peridigm", "the deck");
   MapReader m(ctx, pd,
               {"Verbose", "Discretization", "Materials", "Damage Models", "Blocks", "Boundary Conditions", "Solver",
-               "Output"});
+               "Output", "Contact", "Compute Class Parameters"});
   if (auto v = m.find("Verbose")) read_bool(ctx, *v);
 
   // Blocks first: the horizon (one for all blocks) shapes the discretisation checks.
@@ -388,7 +429,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   const Item disc = m.get("Discretization", "Type: Text File or PdQuickGrid");
   MapReader d(ctx, disc,
               {"Type", "Input Mesh File", "NeighborhoodType", "TensorProduct3DMeshGenerator", "Influence Function",
-               "Omit Bonds Between Blocks"});
+               "Omit Bonds Between Blocks", "Bond Filters"});
+  if (auto bf = d.find("Bond Filters")) t.out["precracks"] = read_bond_filters(ctx, *bf);
   const Item type = d.get("Type", "Text File or PdQuickGrid");
   const std::string kind = squash(read_string(ctx, type));
   ExodusDiscretization exodus;  // its node sets and block names, for Type Exodus
@@ -407,8 +449,9 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     }
   }
   if (auto o = d.find("Omit Bonds Between Blocks")) {
-    if (squash(read_string(ctx, *o)) != "none")
-      ctx.fail(o->mark, o->path + ": only None is supported (Horizon bonds every pair within the horizon)");
+    const std::string w = squash(read_string(ctx, *o));
+    if (w == "all") t.out["bonds_between_bodies"] = false;  // each block bonded to itself alone
+    else if (w != "none") fail_choice(ctx, *o, read_string(ctx, *o), {"None", "All"}, "Omit Bonds Between Blocks value");
   }
   if (kind == "textfile") {
     for (const char* k : {"NeighborhoodType", "TensorProduct3DMeshGenerator"})
@@ -520,6 +563,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
 
   // Boundary conditions: node sets are the non-map entries; the rest are conditions.
   YAML::Node regions(YAML::NodeType::Map), ics(YAML::NodeType::Sequence), loads(YAML::NodeType::Sequence);
+  std::optional<ComputeClasses> computes;  // Compute Class Parameters (compute_classes.cpp)
+  const auto compute_item = m.find("Compute Class Parameters");
   if (auto bc = m.find("Boundary Conditions")) {
     std::map<std::string, std::vector<int>> sets = exodus.node_sets;  // an Exodus mesh's, then the deck's
     const auto entries = map_entries(ctx, *bc);
@@ -570,6 +615,10 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
                                  " along " + coord.node.Scalar());
       it->value[axis] = value;
     }
+    if (compute_item) {
+      computes = read_compute_classes(ctx, *compute_item, set_names, present);
+      used.insert(computes->node_sets.begin(), computes->node_sets.end());
+    }
     for (const auto& set : used) {
       YAML::Node rows(YAML::NodeType::Sequence);
       for (int id : sets[set]) rows.push_back(point_row(t.points[static_cast<std::size_t>(id - 1)].x, std::nullopt));
@@ -598,6 +647,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       }
     }
   }
+  if (compute_item && !computes) computes = read_compute_classes(ctx, *compute_item, {}, present);
+  if (auto c = m.find("Contact")) out["contact"] = read_contact_section(ctx, *c, t.horizon, present);
   if (regions.size()) out["regions"] = regions;
   if (ics.size()) out["initial_conditions"] = ics;
   if (loads.size()) out["loads"] = loads;
@@ -671,6 +722,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
 
   // Output: Exodus files become Horizon's VTU frames, history.csv and summary.json.
   YAML::Node output;
+  YAML::Node history_columns(YAML::NodeType::Sequence);
   output["directory"] = "out/peridigm";
   if (auto o = m.find("Output")) {
     MapReader om(ctx, *o, {"Output File Type", "Output Format", "Output Filename", "Output Frequency",
@@ -712,6 +764,17 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
           "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
           "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain"};
       for (const auto& e : map_entries(ctx, *vars)) {
+        // The globals Peridigm writes become history columns under their own names, and
+        // compute classes' Output Labels are written by their columns.
+        if (computes && computes->labels.count(e.key)) {
+          read_bool(ctx, e.value);
+          continue;
+        }
+        YAML::Node global(YAML::NodeType::Sequence);
+        if (add_global_column(e.key, global)) {
+          if (read_bool(ctx, e.value)) history_columns.push_back(global[0]);
+          continue;
+        }
         if (std::find(known.begin(), known.end(), e.key) == known.end()) {
           const auto near = closest_word(e.key, known);
           if (near && edit_distance(e.key, *near) <= 2)
@@ -722,6 +785,9 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       }
     }
   }
+  if (computes)
+    for (const auto& col : computes->columns) history_columns.push_back(col);
+  if (history_columns.size()) output["history_columns"] = history_columns;
   out["output"] = output;
   return out;
 }

@@ -1,0 +1,54 @@
+#pragma once
+// The sections of a Peridigm deck read outside peridigm.cpp (contact, compute classes,
+// bond filters), each into its part of the native deck tree. docs/peridigm.md maps them.
+#include <yaml-cpp/yaml.h>
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "horizon/core/vec3.hpp"
+#include "horizon/deck/reader.hpp"
+
+namespace horizon::peridigm {
+
+// Peridigm compares type words without case, spaces or underscores (survey sec. 1.6).
+std::string squash_words(const std::string& s);
+
+// `Contact` {Search Radius, Search Frequency, Models, Interactions} as the native
+// `contact: {short_range: {law: peridigm, ...}}`. `horizon`: the deck's one horizon;
+// `blocks`: the block ids the discretisation has.
+YAML::Node read_contact_section(const deck::DeckContext& ctx, const deck::Item& item, double horizon,
+                                const std::set<int>& blocks);
+
+}  // namespace horizon::peridigm
+
+namespace horizon::peridigm {
+
+// `Compute Class Parameters` (survey sec. 1.9): Nearest_Point_Data, Block_Data and
+// Node_Set_Data as native `output.history_columns` under their Output Label.
+struct ComputeClasses {
+  YAML::Node columns{YAML::NodeType::Sequence};
+  std::set<std::string> labels;     // the Output Labels (which Output Variables may name)
+  std::set<std::string> node_sets;  // the node sets they read (regions of the native deck)
+};
+// `node_sets`: the names the deck's Boundary Conditions define; `blocks`: the block ids
+// of the discretisation.
+ComputeClasses read_compute_classes(const deck::DeckContext& ctx, const deck::Item& item,
+                                    const std::vector<std::string>& node_sets, const std::set<int>& blocks);
+
+// Peridigm's global output variables (Global_Kinetic_Energy, Global_Linear_Momentum,
+// Global_Angular_Momentum, Global_Strain_Energy) as a history column under that name;
+// false for another name.
+bool add_global_column(const std::string& variable, YAML::Node& columns);
+
+}  // namespace horizon::peridigm
+
+namespace horizon::peridigm {
+
+// `Discretization: Bond Filters` (survey sec. 1.8): each Rectangular_Plane filter as a
+// native precrack (a planar quadrilateral; bonds that cross it are never made).
+YAML::Node read_bond_filters(const deck::DeckContext& ctx, const deck::Item& item);
+
+}  // namespace horizon::peridigm
