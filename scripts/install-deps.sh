@@ -16,12 +16,15 @@
 # libcairo2-dev, fonts-dejavu-core: `horizon plot` and `horizon render` draw with Cairo
 # (PNG, SVG, PDF) and write their text in DejaVu Sans; libpng-dev stays for the tests,
 # which read the pictures back.
+# python3-netcdf4: reads Exodus files for the Peridigm suite runner's comparer
+# (bench/peridigm/compare_exodus.py; exodiff is not packaged by Debian).
 set -euo pipefail
 pkgs=(g++ cmake ninja-build pkg-config libyaml-cpp-dev libeigen3-dev libmuparser-dev
       pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib python3-vtk9
       libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev nlohmann-json3-dev
       libsuitesparse-dev libspectra-dev libopenblas0-pthread libexodusii-dev libgmsh-dev libopenmpi-dev openmpi-bin
-      libcairo2-dev fonts-dejavu-core)
+      libcairo2-dev fonts-dejavu-core
+      python3-netcdf4)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

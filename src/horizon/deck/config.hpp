@@ -197,6 +197,13 @@ struct OutputConfig {
   int history_every = 10;
   int progress_every = 0;  // plain progress line every N steps when not a terminal; 0 = auto
   int64_t checkpoint_every = 0;  // output.checkpoint.every: steps between checkpoints; 0 = none
+  // output.format: the frames as VTU files (frames/ and frames.pvd), as one Exodus II file
+  // with Peridigm's variable names (driver/exodus_output.hpp), `exodus_file` inside the
+  // directory, or both.
+  enum class Format { vtu, exodus, both } format = Format::vtu;
+  bool writes_vtu() const { return format != Format::exodus; }
+  bool writes_exodus() const { return format != Format::vtu; }
+  std::string exodus_file = "frames.e";
 };
 
 // The partial-volume rule, readable as a boolean (true: any rule but none) so that

@@ -484,7 +484,18 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   const auto item = m.find("output");
   if (!item) return;
   MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every", "damage_measure", "checkpoint",
-                           "history_columns"});
+                           "format", "exodus_file", "history_columns"});
+  if (auto f = o.find("format")) {
+    config.output.format = read_enum<OutputConfig::Format>(
+        ctx, *f, {{"vtu", OutputConfig::Format::vtu}, {"exodus", OutputConfig::Format::exodus}, {"both", OutputConfig::Format::both}});
+  }
+  if (auto e = o.find("exodus_file")) {
+    if (!config.output.writes_exodus())
+      ctx.fail(*e->key_mark, e->path + ": applies with format: exodus or both only");
+    config.output.exodus_file = read_string(ctx, *e);
+    if (config.output.exodus_file.empty() || config.output.exodus_file.find('/') != std::string::npos)
+      fail_expected(ctx, *e, "a file name (inside output.directory)");
+  }
   if (auto h = o.find("history_columns")) config.output.history_columns = read_history_columns(ctx, *h, config);
   if (auto d = o.find("damage_measure")) {
     config.output.damage_measure =
@@ -507,6 +518,13 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       ctx.fail(*c->key_mark, c->path + ": checkpoints are written by explicit runs only (solver.type explicit)");
     MapReader cp(ctx, *c, {"every"});
     config.output.checkpoint_every = at_least(cp.get("every", "the steps between checkpoints"), 1);
+  }
+  if (auto f = o.find("format"); f && config.output.writes_exodus()) {
+    // A restart rewrites frames.pvd's list; the Exodus file has no such index yet.
+    if (config.output.checkpoint_every)
+      ctx.fail(f->mark, f->path + ": exodus output is not written with checkpoints; use format: vtu");
+    if (config.solver.type == SolverType::heat)
+      ctx.fail(f->mark, f->path + ": exodus output is written by the explicit, implicit and static solvers only");
   }
 }
 

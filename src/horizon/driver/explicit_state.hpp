@@ -21,6 +21,7 @@
 #include "horizon/damage/crack_angle.hpp"
 #include "horizon/damage/crack_metrics.hpp"
 #include "horizon/damage/crack_tracking.hpp"
+#include "horizon/driver/exodus_output.hpp"
 #include "horizon/driver/history_columns.hpp"
 #include "horizon/driver/summary.hpp"
 #include "horizon/fe/fe_region.hpp"
@@ -56,6 +57,7 @@ struct ExplicitRun::State {
   CheckReport check;
   std::filesystem::path dir;
   std::unique_ptr<PvdIndex> pvd;
+  std::unique_ptr<ExodusOutput> exodus;  // output.format exodus or both
   std::unique_ptr<ExplicitSolver> solver;
   std::ostringstream history;
   double max_balance_error = 0;
@@ -154,6 +156,11 @@ struct ExplicitRun::State {
     history << history_columns_row(config, s) << "\n";
   }
   void write_frame() {
+    if (exodus) exodus->write(s, dd.get(), solver->time());  // output.format exodus or both
+    if (!config.output.writes_vtu()) {
+      ++frame_count;
+      return;
+    }
     const std::string base = fmt::format("frame_{:05d}", frame_count++);
     if (s.heat.active()) update_heat_flux(s);
     write_frame_files(dir.string(), base, make_frame(s, solver->time(), solver->steps()), solver->time(), *pvd,

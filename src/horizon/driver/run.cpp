@@ -71,6 +71,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   if (!options.quiet) fmt::print(stderr, "{}", format_check(c, r.check));
 
   r.pvd = std::make_unique<PvdIndex>((r.dir / "frames.pvd").string());
+  if (c.output.writes_exodus()) r.exodus = std::make_unique<ExodusOutput>((r.dir / c.output.exodus_file).string());
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();

@@ -15,6 +15,7 @@
 #include "horizon/core/interrupt.hpp"
 #include "horizon/core/progress.hpp"
 #include "horizon/core/version.hpp"
+#include "horizon/driver/exodus_output.hpp"
 #include "horizon/driver/history_columns.hpp"
 #include "horizon/driver/summary.hpp"
 #include "horizon/driver/run.hpp"
@@ -261,7 +262,13 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   };
   int frame_count = 0;
   // Collective (the stress of rows held elsewhere is gathered); rank 0 alone writes.
+  // output.format exodus or both: one time step of the Exodus file per frame.
+  std::unique_ptr<ExodusOutput> exodus;
+  if (config.output.writes_exodus())
+    exodus = std::make_unique<ExodusOutput>((dir / config.output.exodus_file).string());
   auto write_frame = [&](double time, int64_t step) {
+    if (exodus) exodus->write(s, dd.get(), time);
+    if (!config.output.writes_vtu()) return;
     std::vector<SymTensor> sigma;
     // Stress from the nonlocal deformation gradient and Hooke's law (material/stress_field.hpp);
     // a thin structure reports its section fields (deflection, curvature, moment) instead.
@@ -308,6 +315,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     Row row;
     if (is_static) {
       if (statics->done()) break;
+      const double time_before = statics->time();
+      std::vector<Vec3> u_before;
+      if (exodus) u_before = s.particles.u;
       if (!statics->advance()) {
         status = "not converged";
         exit_code = 4;
@@ -316,6 +326,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       }
       steps = statics->steps();
       time = statics->time();
+      if (exodus) exodus->set_step_velocity(s.particles.u, u_before, time - time_before);
       row = {time, statics->increment() * sc.end_time, statics->lambda(), statics->last_report().residual, steps,
              statics->last_iterations(), statics->last_linear_iterations(), statics->last_break_rounds()};
       sync();

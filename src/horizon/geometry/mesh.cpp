@@ -27,6 +27,7 @@ const char* cell_type_name(CellType type) {
     case CellType::hex8: return "hexahedron";
     case CellType::wedge6: return "wedge";
     case CellType::pyramid5: return "pyramid";
+    case CellType::sphere: return "sphere";
   }
   return "cell";
 }
@@ -132,6 +133,9 @@ void cell_geometry(CellType type, const std::vector<Vec3>& x, double& measure, V
       measure = 0.5 * norm(cross(x[1] - x[0], x[2] - x[0]));
       centroid = (x[0] + x[1] + x[2]) / 3.0;
       return;
+    case CellType::sphere:
+      centroid = x[0];  // the volume comes with the element (read_exodus)
+      return;
     case CellType::hex8: hex_geometry(x, measure, centroid); return;
     case CellType::quad4: quad_geometry(x, measure, centroid); return;
     case CellType::wedge6: wedge_geometry(x, measure, centroid); return;
@@ -172,11 +176,12 @@ const MeshGroup* find_group(const std::vector<MeshGroup>& groups, const std::str
   return nullptr;
 }
 
-// Fills centroid and measure; checks every cell has a volume.
+// Fills centroid and measure (sphere cells keep the measure their reader set); checks
+// every cell has a volume.
 void finish(Mesh& m) {
   const std::size_t n = m.cell_nodes.size();
   m.centroid.resize(n);
-  m.measure.resize(n);
+  m.measure.resize(n, 0.0);
   std::vector<Vec3> x;
   for (std::size_t e = 0; e < n; ++e) {
     x.clear();
@@ -345,6 +350,7 @@ class ExodusFile {
   ExodusFile(const ExodusFile&) = delete;
   ExodusFile& operator=(const ExodusFile&) = delete;
   int id() const { return id_; }
+  const std::string& path() const { return path_; }
   void check(int rc, const std::string& what) const {
     if (rc < 0) throw MeshError(path_ + ": cannot read " + what + " (Exodus error " + std::to_string(rc) + ")");
   }
@@ -364,7 +370,8 @@ class ExodusFile {
 bool exodus_cell(std::string type, int nodes, CellType& out) {
   for (auto& ch : type) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
   auto starts = [&](const char* p) { return type.rfind(p, 0) == 0; };
-  if (starts("TET") && nodes == 4) out = CellType::tet4;
+  if (starts("SPHERE") && nodes == 1) out = CellType::sphere;
+  else if (starts("TET") && nodes == 4) out = CellType::tet4;
   else if (starts("HEX") && nodes == 8) out = CellType::hex8;
   else if (starts("WEDGE") && nodes == 6) out = CellType::wedge6;
   else if (starts("PYRAMID") && nodes == 5) out = CellType::pyramid5;
@@ -372,6 +379,37 @@ bool exodus_cell(std::string type, int nodes, CellType& out) {
   else if (starts("QUAD") && nodes == 4) out = CellType::quad4;
   else return false;
   return true;
+}
+
+// The volumes of a SPHERE block's elements: the attribute named "volume" (any case),
+// else the second of two (Cubit's sphere meshes carry radius, volume), else the only one.
+std::vector<double> sphere_volumes(const ExodusFile& f, int id, int n, int nattr, const std::string& block) {
+  if (nattr < 1)
+    throw MeshError(f.path() + ": SPHERE block " + block + " carries no attributes; its elements' volumes are an "
+                                                           "element attribute (\"volume\", or radius and volume)");
+  std::vector<std::string> names(static_cast<std::size_t>(nattr));
+  {
+    std::vector<std::vector<char>> buf(static_cast<std::size_t>(nattr), std::vector<char>(260, 0));
+    std::vector<char*> ptr;
+    for (auto& b : buf) ptr.push_back(b.data());
+    if (ex_get_attr_names(f.id(), EX_ELEM_BLOCK, id, ptr.data()) >= 0)
+      for (int a = 0; a < nattr; ++a) names[static_cast<std::size_t>(a)] = buf[static_cast<std::size_t>(a)].data();
+  }
+  int which = nattr == 2 ? 1 : 0;
+  bool named = false;
+  for (int a = 0; a < nattr; ++a) {
+    std::string w = names[static_cast<std::size_t>(a)];
+    for (auto& ch : w) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (w.rfind("volume", 0) == 0) which = a, named = true;
+  }
+  if (!named && nattr > 2)
+    throw MeshError(f.path() + ": SPHERE block " + block + " carries " + std::to_string(nattr) +
+                    " attributes and none is named \"volume\"");
+  std::vector<double> attr(static_cast<std::size_t>(n) * static_cast<std::size_t>(nattr));
+  f.check(ex_get_attr(f.id(), EX_ELEM_BLOCK, id, attr.data()), "the attributes of block " + block);
+  std::vector<double> v(static_cast<std::size_t>(n));
+  for (int e = 0; e < n; ++e) v[static_cast<std::size_t>(e)] = attr[static_cast<std::size_t>(e) * nattr + which];
+  return v;
 }
 
 }  // namespace
@@ -402,7 +440,7 @@ Mesh read_exodus(const std::string& path, int dimension) {
     if (!exodus_cell(type, npe, cell)) {
       throw MeshError(path + ": element block " + std::to_string(id) + " ('" + f.name(EX_ELEM_BLOCK, id) + "') has " +
                       std::to_string(npe) + "-node " + type +
-                      " elements, which are not supported: Horizon reads TETRA4, HEX8, WEDGE6, PYRAMID5 (3-D), TRI3, QUAD4 (2-D)");
+                      " elements, which are not supported: Horizon reads TETRA4, HEX8, WEDGE6, PYRAMID5, SPHERE (3-D), TRI3, QUAD4 (2-D)");
     }
     if (n == 0) continue;
     std::vector<int> conn(static_cast<std::size_t>(n) * static_cast<std::size_t>(npe));
@@ -415,7 +453,13 @@ Mesh read_exodus(const std::string& path, int dimension) {
       }
       continue;  // surface elements in a 3-D mesh: not particles
     }
+    std::vector<double> sphere_volume;
+    if (cell == CellType::sphere) sphere_volume = sphere_volumes(f, id, n, nattr, block.name);
     for (int e = 0; e < n; ++e) {
+      if (cell == CellType::sphere) {
+        m.measure.resize(m.cell_nodes.size() + 1, 0.0);
+        m.measure.back() = sphere_volume[static_cast<std::size_t>(e)];
+      }
       std::vector<uint32_t> nodes(static_cast<std::size_t>(npe));
       for (int k = 0; k < npe; ++k) {
         const int node = conn[static_cast<std::size_t>(e) * npe + k];
@@ -458,6 +502,7 @@ Mesh read_exodus(const std::string& path, int dimension) {
     }
   };
   read_sets(EX_NODE_SET, nns);
+  m.node_sets = m.sets.size();
   read_sets(EX_SIDE_SET, nss);
   finish(m);
   return m;

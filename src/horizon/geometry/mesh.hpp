@@ -22,7 +22,9 @@ class MeshError : public Error {
   using Error::Error;
 };
 
-enum class CellType { tri3, quad4, tet4, hex8, wedge6, pyramid5 };
+// sphere: Exodus's one-node SPHERE element of meshfree meshes (Cubit's "sphere"
+// meshes): the particle sits at its node and its volume is an element attribute.
+enum class CellType { tri3, quad4, tet4, hex8, wedge6, pyramid5, sphere };
 
 struct MeshGroup {
   std::string name;  // the group's name; its number as text when it has none
@@ -41,6 +43,8 @@ struct Mesh {
   std::vector<double> measure;                    // volume (3-D) or area (2-D) of each cell
   std::vector<MeshGroup> blocks;                  // partition of the cells (or one block of all)
   std::vector<MeshGroup> sets;                    // node sets
+  // Exodus: sets[0, node_sets) are its node sets, the rest its side sets (as node lists).
+  std::size_t node_sets = 0;
 
   // The cells with at least one node in the set (the layer of elements touching it).
   std::vector<uint32_t> cells_touching(const MeshGroup& set) const;
@@ -57,12 +61,15 @@ Mesh read_gmsh(const std::string& path, int dimension);
 // Throws MeshError unless the file starts as a Gmsh mesh does ($MeshFormat, or $NOD for
 // MSH 1): Gmsh runs any other file as a .geo script, whose commands include shell ones.
 void check_msh_header(const std::string& path);
-// Exodus II through the Exodus library (Debian libexodusii-dev).
+// Exodus II through the Exodus library (Debian libexodusii-dev). SPHERE elements take
+// their volume from the attribute named "volume", else from the second of two attributes
+// (Cubit writes radius, volume), else from a single attribute.
 Mesh read_exodus(const std::string& path, int dimension);
 // By extension: .msh is Gmsh; .exo, .e, .g, .ex2, .exii are Exodus.
 Mesh read_mesh(const std::string& path, int dimension);
 
-// Volume (or area) and centre of volume of one cell from its node coordinates.
+// Volume (or area) and centre of volume of one cell from its node coordinates (not for
+// sphere cells, whose volume is not in their node).
 void cell_geometry(CellType type, const std::vector<Vec3>& x, double& measure, Vec3& centroid);
 const char* cell_type_name(CellType type);
 

@@ -1,0 +1,234 @@
+#!/usr/bin/python3
+"""Compare an Exodus II result with a gold file under an exodiff command file (.comp).
+
+Usage: compare_exodus.py RESULT.e GOLD.e COMMANDS.comp
+
+Horizon's own reading of exodiff's command-file format (SEACAS exodiff manual; exodiff is
+not packaged by Debian, so the suite runner cannot call it):
+  DEFAULT TOLERANCE <spec>         the tolerance of listed variables that give none
+  COORDINATES <spec>               the nodes' reference coordinates
+  TIME STEPS <spec>                the time values
+  GLOBAL|NODAL|ELEMENT VARIABLES <spec>
+      <tab>Name [<spec>]           compare only the listed variables (with their own
+                                   spec, else the section's); none listed: all of them
+  <spec> = absolute T | relative T [floor F] | T (a bare value: the section's kind)
+A value pair passes when |a - b| <= T (absolute) or |a - b| <= T max(|a|, |b|)
+(relative), and always when both |a| and |b| are at most the floor F. Sections the file
+does not name are not compared, as with exodiff -f. Every time step is compared; the
+files must hold the same number. Nodes pair by file order when the coordinates agree
+within their tolerance, else by equal coordinates (as exodiff -m); element variables of
+one-node (SPHERE) elements are compared at their node. Node and side sets are not
+compared.
+
+Prints one line: "match" (exit 0), "differs: ..." with the largest excess over the
+tolerance, its variable, node and time step (exit 1), or "error: ..." (exit 2).
+"""
+import sys
+
+import numpy as np
+import netCDF4
+
+
+def names(ds, var):
+    if var not in ds.variables:
+        return []
+    # latin-1: a name padded with stray bytes still reads (exodiff compares the text)
+    return [str(s).strip() for s in netCDF4.chartostring(ds.variables[var][:], encoding="latin-1")]
+
+
+class Spec:
+    def __init__(self, kind="absolute", tol=0.0, floor=0.0):
+        self.kind, self.tol, self.floor = kind, tol, floor
+
+    def excess(self, a, b):
+        """Per value: how far |a - b| exceeds the allowed difference (<= 0: passes)."""
+        a = np.asarray(a, dtype=float)
+        b = np.asarray(b, dtype=float)
+        d = np.abs(a - b)
+        allowed = self.tol * np.maximum(np.abs(a), np.abs(b)) if self.kind == "relative" else np.full(d.shape, self.tol)
+        out = d - allowed
+        out[(np.abs(a) <= self.floor) & (np.abs(b) <= self.floor)] = -1.0
+        out[np.isnan(a) != np.isnan(b)] = np.inf
+        return out
+
+    def __str__(self):
+        s = f"{self.kind} {self.tol:g}"
+        return s + (f" floor {self.floor:g}" if self.floor else "")
+
+
+def parse_spec(words, default):
+    if not words:
+        return default
+    try:  # a bare value keeps the enclosing kind (and floor)
+        return Spec(default.kind if default else "absolute", float(words[0]), default.floor if default else 0.0)
+    except ValueError:
+        pass
+    kind = words[0].lower()
+    if kind not in ("absolute", "relative"):
+        raise ValueError(f"unknown tolerance kind '{words[0]}'")
+    spec = Spec(kind, float(words[1]))
+    if len(words) >= 4 and words[2].lower() == "floor":
+        spec.floor = float(words[3])
+    return spec
+
+
+def parse_comp(path):
+    default = Spec("absolute", 0.0)
+    sections = {}  # key -> (spec, {name: spec or None})
+    current = None
+    with open(path) as f:
+        for raw in f:
+            line = raw.split("#", 1)[0].rstrip()
+            if not line.strip():
+                continue
+            indented = raw[0] in " \t"
+            words = line.split()
+            upper = [w.upper() for w in words]
+            if indented and current is not None:
+                sections[current][1][words[0]] = parse_spec(words[1:], sections[current][0]) if len(words) > 1 else None
+                continue
+            current = None
+            if upper[:2] == ["DEFAULT", "TOLERANCE"]:
+                default = parse_spec(words[2:], default)
+            elif upper[:1] == ["COORDINATES"]:
+                sections["coordinates"] = (parse_spec(words[1:], default), {})
+            elif upper[:2] == ["TIME", "STEPS"]:
+                sections["time"] = (parse_spec(words[2:], default), {})
+            elif len(upper) >= 2 and upper[1] == "VARIABLES" and upper[0] in ("GLOBAL", "NODAL", "ELEMENT"):
+                current = upper[0].lower()
+                sections[current] = (parse_spec(words[2:], default), {})
+            else:
+                raise ValueError(f"{path}: cannot read the line '{line.strip()}'")
+    # Listed variables without their own spec take the section's.
+    for key, (spec, listed) in sections.items():
+        for name in listed:
+            if listed[name] is None:
+                listed[name] = spec
+    return sections
+
+
+def coords(ds):
+    n = ds.dimensions["num_nodes"].size
+    cols = [ds.variables[c][:] if c in ds.variables else np.zeros(n) for c in ("coordx", "coordy", "coordz")]
+    if "coord" in ds.variables:
+        c = ds.variables["coord"][:]
+        cols = [c[k] if k < c.shape[0] else np.zeros(n) for k in range(3)]
+    return np.stack([np.asarray(c, dtype=float) for c in cols], axis=1)
+
+
+def element_values(ds, index, steps):
+    """Element variable `index` (1-based) at its elements' first nodes: [step][node]."""
+    n = ds.dimensions["num_nodes"].size
+    out = np.full((steps, n), np.nan)
+    nblk = ds.dimensions["num_el_blk"].size if "num_el_blk" in ds.dimensions else 0
+    for b in range(1, nblk + 1):
+        name = f"vals_elem_var{index}eb{b}"
+        if name not in ds.variables or f"connect{b}" not in ds.variables:
+            continue
+        first = np.asarray(ds.variables[f"connect{b}"][:])[:, 0] - 1
+        out[:, first] = np.asarray(ds.variables[name][:steps], dtype=float)
+    return out
+
+
+def variable(ds, kind, name, steps):
+    """[step][item] values of a variable, or None when the file lacks it."""
+    if kind == "global":
+        vars_ = names(ds, "name_glo_var")
+        if name not in vars_:
+            return None
+        return np.asarray(ds.variables["vals_glo_var"][:steps], dtype=float)[:, vars_.index(name)][:, None]
+    if kind == "nodal":
+        vars_ = names(ds, "name_nod_var")
+        if name not in vars_:
+            return None
+        k = vars_.index(name) + 1
+        if f"vals_nod_var{k}" in ds.variables:
+            return np.asarray(ds.variables[f"vals_nod_var{k}"][:steps], dtype=float)
+        return np.asarray(ds.variables["vals_nod_var"][:steps, k - 1, :], dtype=float)
+    vars_ = names(ds, "name_elem_var")
+    if name not in vars_:
+        return None
+    return element_values(ds, vars_.index(name) + 1, steps)
+
+
+def node_pairing(xr, xg, spec):
+    """Index into the result's nodes for each gold node, or None."""
+    if xr.shape == xg.shape and np.all(spec.excess(xr, xg) <= 0):
+        return np.arange(len(xg))
+    if xr.shape != xg.shape:
+        return None
+    # By coordinates: sort both lexicographically and require agreement.
+    order_r = np.lexsort((xr[:, 2], xr[:, 1], xr[:, 0]))
+    order_g = np.lexsort((xg[:, 2], xg[:, 1], xg[:, 0]))
+    if np.all(spec.excess(xr[order_r], xg[order_g]) <= 0):
+        pair = np.empty(len(xg), dtype=int)
+        pair[order_g] = order_r
+        return pair
+    return None
+
+
+def compare(result, gold, comp):
+    sections = parse_comp(comp)
+    r = netCDF4.Dataset(result)
+    g = netCDF4.Dataset(gold)
+    tr = np.asarray(r.variables["time_whole"][:], dtype=float) if "time_whole" in r.variables else np.zeros(0)
+    tg = np.asarray(g.variables["time_whole"][:], dtype=float) if "time_whole" in g.variables else np.zeros(0)
+    if len(tr) != len(tg):
+        return 1, f"differs: {len(tr)} time steps, the gold has {len(tg)} (t = {tr[-1] if len(tr) else 0:g} / {tg[-1] if len(tg) else 0:g})"
+    steps = len(tg)
+    if "time" in sections:
+        e = sections["time"][0].excess(tr, tg)
+        if np.any(e > 0):
+            k = int(np.argmax(e))
+            return 1, f"differs: time of step {k + 1}: {tr[k]:.9g} vs gold {tg[k]:.9g} ({sections['time'][0]})"
+    xr, xg = coords(r), coords(g)
+    cspec = sections.get("coordinates", (Spec("absolute", 1e-9), {}))[0]
+    pair = node_pairing(xr, xg, cspec)
+    if pair is None:
+        return 1, f"differs: the nodes ({len(xr)} vs the gold's {len(xg)}) do not pair by coordinates ({cspec})"
+    worst = None  # (excess, text)
+    for kind in ("global", "nodal", "element"):
+        if kind not in sections:
+            continue
+        spec, listed = sections[kind]
+        gold_names = names(g, {"global": "name_glo_var", "nodal": "name_nod_var", "element": "name_elem_var"}[kind])
+        wanted = listed if listed else {n: spec for n in gold_names}
+        for name, s in wanted.items():
+            vg = variable(g, kind, name, steps)
+            if vg is None:
+                continue  # exodiff reports a listed variable absent from both files as a warning only
+            vr = variable(r, kind, name, steps)
+            if vr is None:
+                return 1, f"differs: no {kind} variable {name} in the result"
+            if kind != "global":
+                vr = vr[:, pair]
+            mask = ~(np.isnan(vg) & np.isnan(vr))
+            e = np.where(mask, s.excess(vr, vg), -1.0)
+            k = np.unravel_index(int(np.argmax(e)), e.shape)
+            if e[k] > 0:
+                where = f"step {k[0] + 1}" + (f", node {k[1] + 1}" if kind != "global" else "")
+                rel = e[k] / (s.tol if s.tol > 0 else 1)
+                text = (f"differs: {name} {vr[k]:.6g} vs gold {vg[k]:.6g} (|diff| {abs(vr[k] - vg[k]):.3g}, "
+                        f"{s}) at {where}")
+                if worst is None or rel > worst[0]:
+                    worst = (rel, text)
+    if worst:
+        return 1, worst[1]
+    return 0, "match"
+
+
+def main():
+    if len(sys.argv) != 4:
+        print(__doc__.split("\n\n")[1])
+        return 2
+    try:
+        code, text = compare(*sys.argv[1:])
+    except Exception as e:  # a file that cannot be read is the runner's "error", not a crash
+        print(f"error: {e}")
+        return 2
+    print(text)
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,48 @@
+#pragma once
+// A run's frames as one Exodus II file with Peridigm's variable names (output.format:
+// exodus; docs/input.md, docs/peridigm.md), so that a Peridigm user's scripts, exodiff and
+// ParaView read Horizon's output as they read Peridigm's:
+//   nodal    DisplacementX/Y/Z, VelocityX/Y/Z, Force_DensityX/Y/Z, ForceX/Y/Z (= force
+//            density x volume, as Peridigm's Force), AccelerationX/Y/Z ((f + b) / rho),
+//            External_Force_DensityX/Y/Z (b: body forces and tractions);
+//   element  Element_Id (the particle's 1-based id), Block_Id, Volume, Damage, Dilatation,
+//            Weighted_Volume, Number_Of_Neighbors (its family's bonds),
+//            Stored_Elastic_Energy_Density (the strain energy density W, as of the last
+//            force pass that computed it: history rows and frames), Stored_Elastic_Energy (W V);
+//   global   Global_Kinetic_Energy (sum of rho V |v|^2 / 2).
+// On several MPI ranks every particle is streamed to rank 0 in global order
+// (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
+// byte, as one rank.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "horizon/core/vec3.hpp"
+
+namespace horizon {
+
+struct System;
+struct Decomposition;
+class ExodusWriter;
+
+class ExodusOutput {
+ public:
+  explicit ExodusOutput(std::string path);
+  ~ExodusOutput();
+  // Collective: appends the system's state at `time` as the next time step (the file is
+  // created with the first). Throws OutputError on the writing rank.
+  void write(const System& s, const Decomposition* d, double time);
+  const std::string& path() const { return path_; }
+  // Static solves: the velocities the next write reports, (u - u_before) / dt per held
+  // particle -- the last load step's displacement increment over its pseudo-time
+  // increment, what Peridigm's QuasiStatic solver reports as the velocity.
+  void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
+
+ private:
+  void append(const System& s, const std::vector<std::vector<double>>& rows, double time);
+  std::string path_;
+  std::unique_ptr<ExodusWriter> writer_;
+  std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
+};
+
+}  // namespace horizon
