@@ -36,7 +36,7 @@ ASAN_BUILD ?= build-asan
 test-sanitize: deps
 	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DHORIZON_SANITIZE=ON -DHORIZON_MPI=OFF $(CMAKE_FLAGS)
 	cmake --build $(ASAN_BUILD) -j $(JOBS) --target horizon test_unit test_regression
-	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
+	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 LSAN_OPTIONS=suppressions=$(CURDIR)/scripts/lsan.supp \
 	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ctest -L '^(unit|regression)$$' --output-on-failure -j $(JOBS)
 
 # The deck fuzzer (clang, libFuzzer): FUZZ_SECONDS of fuzzing from the seed corpus.

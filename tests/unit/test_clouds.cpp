@@ -150,6 +150,9 @@ double heap_bytes() {
 }
 
 TEST(Clouds, MemoryEstimateIsNotBelowTheAllocation) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer replaces malloc: the heap counter reads 0 there";
+#endif
   const test::SingleThread one;
   for (double jitter : {0.0, 0.05}) {
     const Config c = deck("lps", jitter, false);
