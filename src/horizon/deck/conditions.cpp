@@ -1,45 +1,18 @@
 #include "horizon/deck/conditions.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace horizon::deck {
 
-PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
-  MapReader m(ctx, item, {"from", "to", "polygon", "bonds"});
-  PrecrackConfig crack;
-  if (ctx.dimension == 1) ctx.fail(item.mark, item.path + ": precracks need a 2-D or 3-D deck");
-  // bonds: removed (default) drops the crossing bonds; broken keeps them as broken bonds,
-  // which model nonlinear_solid lets push in compression (Tupek eq. 6.9).
-  if (auto b = m.find("bonds")) crack.keep_broken = choose_word(ctx, *b, {"removed", "broken"}) == 1;
-  if (ctx.dimension == 2) {
-    // A segment in the plane, cut through the whole thickness.
-    if (auto p = m.find("polygon")) {
-      ctx.fail(*p->key_mark, p->path + ": in a 2-D deck a precrack is a segment: {from: [x, y], to: [x, y]}");
-    }
-    const Vec3 from = read_vector(ctx, m.get("from", "one end of the crack segment"));
-    const Item to_item = m.get("to", "the other end of the crack segment");
-    const Vec3 to = read_vector(ctx, to_item);
-    if (!(norm(to - from) > 0)) ctx.fail(to_item.mark, to_item.path + ": the crack's ends 'from' and 'to' coincide");
-    crack.points = {from, to};
-    return crack;
-  }
-  for (const char* key : {"from", "to"}) {
-    if (auto p = m.find(key)) {
-      ctx.fail(*p->key_mark, p->path +
-                                 ": in a 3-D deck a precrack is a planar polygon: "
-                                 "{polygon: [[x, y, z], [x, y, z], [x, y, z], ...]}");
-    }
-  }
-  const Item poly = m.get("polygon", "the crack's corners, at least 3 points in one plane");
-  if (!poly.node.IsSequence()) fail_expected(ctx, poly, "a list of at least 3 points [x, y, z]");
-  const auto corners = read_list(ctx, poly);
-  if (corners.size() < 3) {
-    ctx.fail(poly.mark, poly.path + ": a polygon needs at least 3 points, found " + std::to_string(corners.size()));
-  }
-  for (const auto& c : corners) crack.points.push_back(read_vector(ctx, c));
-  // The polygon must span a plane: the first corner that is not on the line through the
-  // first two fixes it, and every corner must lie in that plane.
-  const auto& p = crack.points;
+namespace {
+
+// A planar polygon's unit normal, or an error at `poly` when its corners lie on one line
+// or off one plane.
+Vec3 polygon_normal(const DeckContext& ctx, const Item& poly, const std::vector<Item>& corners,
+                    const std::vector<Vec3>& p) {
+  // The first corner that is not on the line through the first two fixes the plane, and
+  // every corner must lie in that plane.
   double size = 0;
   for (const auto& q : p) size = std::max(size, norm(q - p[0]));
   Vec3 normal;
@@ -56,6 +29,76 @@ PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
                                     "a precrack polygon must be planar");
     }
   }
+  return normal;
+}
+
+std::vector<Vec3> read_polygon(const DeckContext& ctx, const Item& poly) {
+  if (!poly.node.IsSequence()) fail_expected(ctx, poly, "a list of at least 3 points [x, y, z]");
+  const auto corners = read_list(ctx, poly);
+  if (corners.size() < 3) {
+    ctx.fail(poly.mark, poly.path + ": a polygon needs at least 3 points, found " + std::to_string(corners.size()));
+  }
+  std::vector<Vec3> p;
+  for (const auto& c : corners) p.push_back(read_vector(ctx, c));
+  polygon_normal(ctx, poly, corners, p);
+  return p;
+}
+
+// disk: {center: [x, y, z], normal: [nx, ny, nz], radius: r} (Peridigm's Disk bond filter).
+PrecrackConfig read_disk(const DeckContext& ctx, const Item& item, PrecrackConfig crack) {
+  MapReader d(ctx, item, {"center", "normal", "radius"});
+  crack.points = {read_vector(ctx, d.get("center", "the disk's centre [x, y, z]"))};
+  const Item n_item = d.get("normal", "the normal of the disk's plane [nx, ny, nz]");
+  const Vec3 n = read_vector(ctx, n_item);
+  if (!(norm(n) > 0)) ctx.fail(n_item.mark, n_item.path + ": the normal must not be zero");
+  crack.normal = n / norm(n);
+  crack.radius = read_positive(ctx, d.get("radius", "the disk's radius, > 0"));
+  return crack;
+}
+
+// facets: [polygon, polygon, ...]: one crack surface of planar polygons (a shell mesh's
+// elements; Peridigm's Exodus Mesh bond filter).
+PrecrackConfig read_facets(const DeckContext& ctx, const Item& item, PrecrackConfig crack) {
+  if (!item.node.IsSequence()) fail_expected(ctx, item, "a list of polygons [[x, y, z], [x, y, z], [x, y, z], ...]");
+  std::vector<std::vector<Vec3>> facets;
+  for (const auto& f : read_list(ctx, item)) facets.push_back(read_polygon(ctx, f));
+  if (facets.empty()) ctx.fail(item.mark, item.path + ": expected at least one polygon");
+  set_facets(crack, std::move(facets));
+  return crack;
+}
+
+}  // namespace
+
+PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
+  MapReader m(ctx, item, {"from", "to", "polygon", "disk", "facets", "bonds"});
+  PrecrackConfig crack;
+  if (ctx.dimension == 1) ctx.fail(item.mark, item.path + ": precracks need a 2-D or 3-D deck");
+  // bonds: removed (default) drops the crossing bonds; broken keeps them as broken bonds,
+  // which model nonlinear_solid lets push in compression (Tupek eq. 6.9).
+  if (auto b = m.find("bonds")) crack.keep_broken = choose_word(ctx, *b, {"removed", "broken"}) == 1;
+  if (ctx.dimension == 2) {
+    // A segment in the plane, cut through the whole thickness.
+    for (const char* key : {"polygon", "disk", "facets"})
+      if (auto p = m.find(key))
+        ctx.fail(*p->key_mark, p->path + ": in a 2-D deck a precrack is a segment: {from: [x, y], to: [x, y]}");
+    const Vec3 from = read_vector(ctx, m.get("from", "one end of the crack segment"));
+    const Item to_item = m.get("to", "the other end of the crack segment");
+    const Vec3 to = read_vector(ctx, to_item);
+    if (!(norm(to - from) > 0)) ctx.fail(to_item.mark, to_item.path + ": the crack's ends 'from' and 'to' coincide");
+    crack.points = {from, to};
+    return crack;
+  }
+  for (const char* key : {"from", "to"}) {
+    if (auto p = m.find(key)) {
+      ctx.fail(*p->key_mark, p->path +
+                                 ": in a 3-D deck a precrack is a planar polygon: "
+                                 "{polygon: [[x, y, z], [x, y, z], [x, y, z], ...]}, a disk or facets");
+    }
+  }
+  const auto shape = m.exactly_one({"polygon", "disk", "facets"}, true);
+  if (*shape == "disk") return read_disk(ctx, *m.find("disk"), crack);
+  if (*shape == "facets") return read_facets(ctx, *m.find("facets"), crack);
+  crack.points = read_polygon(ctx, m.get("polygon", "the crack's corners, at least 3 points in one plane"));
   return crack;
 }
 

@@ -28,6 +28,9 @@ struct DamageConfig {
   // critical stretch per model and dimension (docs/models.md).
   std::optional<double> critical_stretch;
   std::optional<double> fracture_energy;
+  // critical_stretch written as an expression in t (explicit runs): s0(t), evaluated at
+  // each step's new time; critical_stretch holds s0(0).
+  std::optional<Expression> critical_stretch_in_time;
   // Compression raises the critical stretch: s0_i = s00 - alpha * (the smallest stretch
   // among i's bonds at the previous force pass), s00 the value above (Silling and Askari
   // 2005, eq. 25; LAMMPS peri/pmb and peri/lps). 0: the plain critical-stretch law.
@@ -371,6 +374,9 @@ struct Config {
   // false: no bond joins particles of two bodies (Peridigm's Omit Bonds Between Blocks:
   // All); the bodies meet through contact only.
   bool bonds_between_bodies = true;
+  // Set: each family is the box |X_j - X_i| <= family_box per axis (half-widths) instead
+  // of the sphere |xi| <= horizon (Peridigm's PdQuickGrid default neighbourhood).
+  std::optional<Vec3> family_box;
   std::map<std::string, Shape> regions;
   std::vector<std::string> no_fail_regions;
   std::vector<InitialConditionConfig> initial_conditions;

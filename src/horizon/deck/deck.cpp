@@ -34,7 +34,7 @@ const std::vector<std::string> kTopKeys = {
     "horizon_factor", "lattice_origin",  "partial_volume",     "materials", "bodies",  "precracks",
     "regions",        "no_fail_regions", "initial_conditions", "loads",     "solver",  "output",
     "contact",        "thermal",
-    "structure",      "bonds_between_bodies"};
+    "structure",      "bonds_between_bodies", "family_box"};
 
 // A key that only makes sense in one dimension is an error in the others.
 void only_in_dimension(const DeckContext& ctx, const MapReader& m, const char* key, int dimension) {
@@ -606,6 +606,21 @@ Config read_config(DeckContext& ctx, const Item& root) {
         if (body.discretization == Discretization::fe)
           ctx.fail(*b->key_mark, b->path + ": false is not supported with finite-element bodies (body '" +
                                      body.name + "')");
+  }
+  if (auto b = m.find("family_box")) {
+    // Peridigm's box neighbourhood (PdQuickGrid's default): half-widths per axis, >= 0.
+    const Vec3 h = read_vector(ctx, *b);
+    for (int k = 0; k < 3; ++k)
+      if (!(h[k] >= 0) || (k >= config.dimension && h[k] != 0))
+        ctx.fail(b->mark, b->path + ": expected the box's half-widths [hx, hy, hz], each >= 0 (0 beyond the deck's "
+                                    "dimension)");
+    if (!(norm(h) > 0)) ctx.fail(b->mark, b->path + ": the box is empty (every half-width is 0)");
+    for (const auto& body : config.bodies)
+      if (body.discretization == Discretization::fe)
+        ctx.fail(*b->key_mark, b->path + ": not supported with finite-element bodies (body '" + body.name + "')");
+    if (config.partial_volume)
+      ctx.fail(*b->key_mark, b->path + ": not supported with partial_volume (its fractions assume a sphere)");
+    config.family_box = h;
   }
   if (auto n = m.find("no_fail_regions")) {
     if (!n->node.IsSequence()) fail_expected(ctx, *n, "a list of region names, e.g. [top, bottom]");

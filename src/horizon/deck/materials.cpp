@@ -195,8 +195,20 @@ DamageConfig read_damage(const DeckContext& ctx, const Item& item, const ModelTr
     ctx.fail(*p->key_mark, p->path + ": applies to model " + law_owners(true) + " only (law: energy)");
   }
   const auto which = m.exactly_one({"critical_stretch", "fracture_energy"}, true);
-  if (*which == "critical_stretch")
-    d.critical_stretch = read_positive(ctx, *m.find("critical_stretch"));
+  if (*which == "critical_stretch") {
+    const Item cs = *m.find("critical_stretch");
+    // A number, or an expression in t (Peridigm's Time Dependent Critical Stretch): s0(t)
+    // at each step.
+    const Expression e = read_scalar_expr(ctx, cs);
+    if (!e.is_constant()) {
+      const double s0 = e(0.0);
+      if (!(s0 > 0)) ctx.fail(cs.mark, cs.path + ": the critical stretch at t = 0 must be > 0, found " + std::to_string(s0));
+      d.critical_stretch = s0;
+      d.critical_stretch_in_time = e;
+    } else {
+      d.critical_stretch = read_positive(ctx, cs);
+    }
+  }
   else
     d.fracture_energy = read_positive(ctx, *m.find("fracture_energy"));
   if (auto a = m.find("alpha")) d.alpha = read_non_negative(ctx, *a);

@@ -1,5 +1,6 @@
 #include "horizon/family/precrack.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace horizon {
@@ -45,10 +46,55 @@ bool crosses_polygon(const Vec3& a, const Vec3& b, const std::vector<Vec3>& poly
   return inside;
 }
 
+// A disk of radius r about c in the plane normal to n: a and b strictly on opposite
+// sides of the plane, and the crossing point within r of c.
+bool crosses_disk(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n, double r) {
+  const double da = dot(a - c, n), db = dot(b - c, n);
+  if (!(da * db < 0)) return false;
+  const Vec3 x = a + (b - a) * (da / (da - db));
+  return norm(x - c) <= r;
+}
+
+bool crosses_surface(const Vec3& a, const Vec3& b, const Precrack& crack) {
+  Vec3 lo, hi;
+  for (int k = 0; k < 3; ++k) lo[k] = std::min(a[k], b[k]), hi[k] = std::max(a[k], b[k]);
+  for (std::size_t f = 0; f < crack.facets.size(); ++f) {
+    const auto& [flo, fhi] = crack.boxes[f];
+    if (lo.x > fhi.x || hi.x < flo.x || lo.y > fhi.y || hi.y < flo.y || lo.z > fhi.z || hi.z < flo.z) continue;
+    if (crosses_polygon(a, b, crack.facets[f])) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
+void set_facets(Precrack& crack, std::vector<std::vector<Vec3>> facets) {
+  crack.facets = std::move(facets);
+  crack.boxes.clear();
+  for (const auto& f : crack.facets) {
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const Vec3& p : f)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    crack.boxes.emplace_back(lo, hi);
+  }
+}
+
+void bounding_box(const Precrack& crack, Vec3& lo, Vec3& hi) {
+  lo = {1e300, 1e300, 1e300};
+  hi = {-1e300, -1e300, -1e300};
+  auto add = [&](const Vec3& p, double r) {
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k] - r), hi[k] = std::max(hi[k], p[k] + r);
+  };
+  for (const Vec3& p : crack.points) add(p, crack.radius);
+  for (const auto& [flo, fhi] : crack.boxes) add(flo, 0), add(fhi, 0);
+}
+
 bool crosses(const Vec3& a, const Vec3& b, const Precrack& crack, int dimension) {
-  if (dimension == 3) return crack.points.size() >= 3 && crosses_polygon(a, b, crack.points);
+  if (dimension == 3) {
+    if (!crack.facets.empty()) return crosses_surface(a, b, crack);
+    if (crack.radius > 0) return !crack.points.empty() && crosses_disk(a, b, crack.points[0], crack.normal, crack.radius);
+    return crack.points.size() >= 3 && crosses_polygon(a, b, crack.points);
+  }
   return crack.points.size() == 2 && crosses_segment(a, b, crack.points[0], crack.points[1]);
 }
 

@@ -2,6 +2,7 @@
 // Precracks: a bond whose reference segment X_i -> X_j crosses a precrack is removed
 // from both families before the run (a bond filter, as in Peridigm), so the crack
 // faces carry no force and the weighted volumes see the cut.
+#include <utility>
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
@@ -10,13 +11,29 @@
 namespace horizon {
 
 struct Precrack {
-  std::vector<Vec3> points;  // 2-D: a segment (2 points, in x-y); 3-D: a planar polygon
+  std::vector<Vec3> points;  // 2-D: a segment (2 points, in x-y); 3-D: a planar polygon, or a disk's centre
+  // 3-D disk (radius > 0): the points of the plane through points[0] normal to `normal`
+  // (a unit vector) within `radius` of points[0] (Peridigm's Disk bond filter).
+  double radius = 0;
+  Vec3 normal;
+  // 3-D surface (facets not empty): planar polygons, e.g. the elements of a shell mesh
+  // (Peridigm's Exodus Mesh bond filter); a bond crosses the surface when it crosses any
+  // facet. `boxes` holds each facet's bounding box (lo, hi), filled by set_facets.
+  std::vector<std::vector<Vec3>> facets;
+  std::vector<std::pair<Vec3, Vec3>> boxes;
   // false: crossing bonds are removed (the default). true: they stay in the families as
   // broken bonds (intact = 0), which the nonlinear solid lets push in compression
   // (Tupek eq. 6.9): a pre-fractured interface that still resists interpenetration
   // (the Riemann problem, thesis sec. 5.3). Other models never load broken bonds.
   bool keep_broken = false;
 };
+
+// Sets a surface precrack's facets and their bounding boxes.
+void set_facets(Precrack& crack, std::vector<std::vector<Vec3>> facets);
+
+// The crack's bounding box: its points, the disk's square about its centre, or every
+// facet's corners.
+void bounding_box(const Precrack& crack, Vec3& lo, Vec3& hi);
 
 // True when the open segment a-b crosses the crack. In 2-D the two segments must
 // properly intersect: a and b strictly on opposite sides of the crack line, and the

@@ -508,6 +508,43 @@ Mesh read_exodus(const std::string& path, int dimension) {
   return m;
 }
 
+std::vector<std::vector<Vec3>> read_exodus_surface(const std::string& path) {
+  ExodusFile f(path);
+  char title[MAX_LINE_LENGTH + 1] = {0};
+  int ndim = 0, nnodes = 0, nelem = 0, nblk = 0, nns = 0, nss = 0;
+  f.check(ex_get_init(f.id(), title, &ndim, &nnodes, &nelem, &nblk, &nns, &nss), "the header");
+  if (ndim != 3) throw MeshError(path + ": a crack surface must be a 3-D mesh, found a " + std::to_string(ndim) + "-D one");
+  std::vector<double> x(static_cast<std::size_t>(nnodes)), y(x.size()), z(x.size());
+  f.check(ex_get_coord(f.id(), x.data(), y.data(), z.data()), "the coordinates");
+  std::vector<int> ids(static_cast<std::size_t>(nblk));
+  if (nblk > 0) f.check(ex_get_ids(f.id(), EX_ELEM_BLOCK, ids.data()), "the element block ids");
+  std::vector<std::vector<Vec3>> facets;
+  for (int id : ids) {
+    char type[MAX_STR_LENGTH + 1] = {0};
+    int n = 0, npe = 0, nedge = 0, nface = 0, nattr = 0;
+    f.check(ex_get_block(f.id(), EX_ELEM_BLOCK, id, type, &n, &npe, &nedge, &nface, &nattr), "element block " + std::to_string(id));
+    std::string t = type;
+    for (auto& ch : t) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    const bool surface = ((t.rfind("TRI", 0) == 0 || t.rfind("QUAD", 0) == 0 || t.rfind("SHELL", 0) == 0) &&
+                          (npe == 3 || npe == 4));
+    if (!surface || n == 0) continue;
+    std::vector<int> conn(static_cast<std::size_t>(n) * static_cast<std::size_t>(npe));
+    f.check(ex_get_conn(f.id(), EX_ELEM_BLOCK, id, conn.data(), nullptr, nullptr), "the connectivity of block " + std::to_string(id));
+    for (int e = 0; e < n; ++e) {
+      std::vector<Vec3> poly;
+      for (int k = 0; k < npe; ++k) {
+        const int node = conn[static_cast<std::size_t>(e) * npe + k];
+        if (node < 1 || node > nnodes) throw MeshError(path + ": block " + std::to_string(id) + " names node " + std::to_string(node) + " of " + std::to_string(nnodes));
+        const auto i = static_cast<std::size_t>(node - 1);
+        poly.push_back({x[i], y[i], z[i]});
+      }
+      facets.push_back(std::move(poly));
+    }
+  }
+  if (facets.empty()) throw MeshError(path + ": no surface elements (TRI3, QUAD4, SHELL3, SHELL4)");
+  return facets;
+}
+
 Mesh read_mesh(const std::string& path, int dimension) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));

@@ -65,6 +65,11 @@ void check_msh_header(const std::string& path);
 // their volume from the attribute named "volume", else from the second of two attributes
 // (Cubit writes radius, volume), else from a single attribute.
 Mesh read_exodus(const std::string& path, int dimension);
+// The surface elements of an Exodus II mesh (TRI3, QUAD4, SHELL3, SHELL4, TRISHELL3
+// blocks; other blocks are skipped) as polygons of their corner nodes, block by block in
+// the file's order: a crack surface (Peridigm's `Exodus Mesh` bond filter, whose shell
+// meshes are such files). Throws MeshError when the file holds none.
+std::vector<std::vector<Vec3>> read_exodus_surface(const std::string& path);
 // By extension: .msh is Gmsh; .exo, .e, .g, .ex2, .exii are Exodus.
 Mesh read_mesh(const std::string& path, int dimension);
 

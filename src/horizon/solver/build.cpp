@@ -55,9 +55,8 @@ void check_precracks_cut(const System& s, const Config& config, bool global) {
   const int d = config.dimension;
   for (std::size_t c = 0; c < config.precracks.size(); ++c) {
     const PrecrackConfig& pc = config.precracks[c];
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const Vec3& p : pc.points)
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    Vec3 lo, hi;
+    bounding_box(pc, lo, hi);
     bool cuts = false;
     for (std::size_t i = 0; i < X.size() && !cuts; ++i) {
       bool near = true;
@@ -69,7 +68,10 @@ void check_precracks_cut(const System& s, const Config& config, bool global) {
     if (global) cuts = sum_over_ranks(cuts ? 1 : 0) > 0;
     if (!cuts) {
       std::string where;
-      for (const Vec3& p : pc.points) where += (where.empty() ? "" : " - ") + point_text(p, d);
+      if (!pc.facets.empty()) where = fmt::format("(a surface of {} facets)", pc.facets.size());
+      else if (pc.radius > 0) where = fmt::format("(a disk of radius {} about {})", pc.radius, point_text(pc.points[0], d));
+      else
+        for (const Vec3& p : pc.points) where += (where.empty() ? "" : " - ") + point_text(p, d);
       throw Error(fmt::format("{}: precracks[{}] {} crosses no bond: it lies outside the bodies (or between two lattice "
                               "lines); move it into a body, or remove it",
                               config.deck_file, c, where));
@@ -194,7 +196,9 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
       s.particles.no_fail[i] = 1;
   }
 
-  const double radius = family_radius(config.horizon, config.spacing, config.partial_volume.rule);
+  // A box family (family_box) is searched within the box's half-diagonal, then trimmed.
+  const double radius = config.family_box ? norm(*config.family_box)
+                                          : family_radius(config.horizon, config.spacing, config.partial_volume.rule);
   std::vector<uint8_t> ghost;
   build_fe_regions(s, config, radius, ghost);  // fe/fe_region.hpp: no-op without FE bodies
   std::vector<uint8_t> owned, built;  // split: the rows this rank owns, and those it builds
@@ -269,6 +273,17 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
     rewrite_bonds(s.bonds, [&](std::size_t i, uint64_t k) {
       return s.particles.block[i] == s.particles.block[s.bonds.nbr[k]] ? BondAction::keep : BondAction::drop;
     });
+  if (const auto& h = config.family_box) {
+    // Peridigm's PdQuickGrid box: j is in i's family when |X_j - X_i| <= h on every axis
+    // (survey sec. 1.7); a relative 1e-10 of the box's size keeps lattice points on its faces.
+    const double tol = 1e-10 * norm(*h);
+    rewrite_bonds(s.bonds, [&](std::size_t i, uint64_t k) {
+      const Vec3 d = s.particles.X[s.bonds.nbr[k]] - s.particles.X[i];
+      for (int a = 0; a < 3; ++a)
+        if (std::abs(d[a]) > (*h)[a] + tol) return BondAction::drop;
+      return BondAction::keep;
+    });
+  }
   check_precracks_cut(s, config, split);
   // The owned rows' intact bonds: cut_bonds drops a bond or keeps it broken (keep_broken).
   auto owned_intact = [&] {
@@ -285,6 +300,18 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
   // Split: the models' set-up checks the rows built here alone (the rest are empty).
   if (split) s.row_active = built;
   setup_model(s, config.materials, config);
+  // Critical stretches that vary in time: the explicit solver sets them each step.
+  for (std::size_t m = 0; m < config.materials.size(); ++m) {
+    const auto& e = config.materials[m].damage.critical_stretch_in_time;
+    if (!e || !config.materials[m].damage.enabled) continue;
+    if (config.solver.type != SolverType::explicit_dynamic)
+      throw Error(config.deck_file + ": materials." + config.materials[m].name +
+                  ".damage.critical_stretch: an expression in t needs solver type explicit");
+    System::CriticalStretchSchedule schedule{*e, {}};
+    for (std::size_t i = 0; i < s.particles.size(); ++i)
+      if (s.particles.material[i] == static_cast<int32_t>(m)) schedule.particles.push_back(static_cast<uint32_t>(i));
+    s.critical_stretch_schedules.push_back(std::move(schedule));
+  }
   if (s.fe && (s.model.state_based || s.models.owner()))
     throw Error("finite-element bodies couple to bond-based peridynamic models only (a state-based model's force on a "
                 "particle needs its neighbours' full families, which the FE nodes do not have)");

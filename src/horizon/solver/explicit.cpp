@@ -111,6 +111,12 @@ void ExplicitSolver::step(bool energy) {
   s_.time = time_;
   s_.dt = dt;
   if (s_.decomposition) halo_exchange(s_, *s_.decomposition);  // the ghosts' displacements
+  // Critical stretches that vary in time, at the new time: bonds break before the force
+  // pass against s0(t_{n+1}) (Peridigm evaluates its damage model before the forces).
+  for (const auto& c : s_.critical_stretch_schedules) {
+    const double s0 = c.s0(time_);
+    for (uint32_t i : c.particles) s_.model.critical_stretch[i] = s0;
+  }
   compute_forces(s_, energy);
   commit_history_with_heat(s_);  // history models (plasticity, viscosity) accept this step
 

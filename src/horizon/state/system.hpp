@@ -168,6 +168,15 @@ struct System {
   // The factor max(0, 1 + slope_i (T_i - T_ref,i)) on particle i's critical stretch
   // (temperature-dependent critical stretch), else empty; the general force pass applies it.
   std::vector<double> critical_stretch_factor;
+  // Critical stretches that vary in time (a material's damage.critical_stretch written as
+  // an expression in t; Peridigm's Time Dependent Critical Stretch): each such material's
+  // s0(t) and its particles. The explicit solver sets model.critical_stretch of those
+  // particles to s0(t) at the step's new time, before its force pass (set_critical_stretch).
+  struct CriticalStretchSchedule {
+    Expression s0;
+    std::vector<uint32_t> particles;
+  };
+  std::vector<CriticalStretchSchedule> critical_stretch_schedules;
   // Classical finite-element regions coupled to the particles (fe/fe_region.hpp); null
   // without finite-element bodies. Its nodes are particles; compute_forces overwrites
   // the force of the nodes it owns with the element assembly. `fe_coupling` is the same

@@ -149,9 +149,10 @@ void fill_grid(Translation& t, const Grid& g) {
 
 // PdQuickGrid's default neighbourhood is a box of n = round(delta/dx) cells per axis
 // (0.5 rounds up; QuickGrid.cxx getCellNeighborhoodSize, survey sec. 1.7 and 3.4);
-// Horizon's families are spheres |xi| <= delta. The deck runs unchanged when the two
-// give the same bonds on this grid; otherwise it is an error.
-void check_box_neighbourhood(Translation& t, const Grid& g, const Item& where) {
+// Horizon's families are spheres |xi| <= delta unless the deck gives family_box. Where
+// the box bonds other pairs than the sphere on this grid, the native deck gets
+// `family_box: [n_x dx, n_y dy, n_z dz]` (decks whose two agree are left as they were).
+void box_neighbourhood(Translation& t, const Grid& g) {
   const Vec3 d{g.length.x / g.n[0], g.length.y / g.n[1], g.length.z / g.n[2]};
   int cells[3];
   for (int k = 0; k < 3; ++k) cells[k] = static_cast<int>(std::floor(t.horizon / d[k] + 0.5));
@@ -162,14 +163,10 @@ void check_box_neighbourhood(Translation& t, const Grid& g, const Item& where) {
         const bool box = std::abs(a) <= cells[0] && std::abs(b) <= cells[1] && std::abs(c) <= cells[2];
         const double r = std::sqrt(a * a * d.x * d.x + b * b * d.y * d.y + c * c * d.z * d.z);
         const bool sphere = r <= t.horizon * (1 + 1e-12);
-        if (box != sphere)
-          t.ctx.fail(where.mark,
-                     fmt::format("{}: PdQuickGrid's default neighbourhood (a box of round(horizon/spacing) cells per "
-                                 "axis: {} x {} x {}) bonds differently from the sphere |xi| <= horizon = {} Horizon "
-                                 "uses (e.g. the offset of {} x {} x {} cells, length {:.6g}, is {} the box but {} the "
-                                 "sphere); add NeighborhoodType: \"Spherical\", or give the points as a Text File",
-                                 where.path, cells[0], cells[1], cells[2], t.horizon, a, b, c, r,
-                                 box ? "inside" : "outside", sphere ? "inside" : "outside"));
+        if (box != sphere) {
+          t.out["family_box"] = point_row({cells[0] * d.x, cells[1] * d.y, cells[2] * d.z}, std::nullopt);
+          return;
+        }
       }
 }
 
@@ -277,20 +274,54 @@ YAML::Node read_material(Translation& t, const Item& item) {
   return mat;
 }
 
+std::string read_value(Translation& t, const Item& item);
+
+// Appends precracks to the native deck's list.
+void add_precracks(Translation& t, const YAML::Node& cracks) {
+  for (const auto& c : cracks) t.out["precracks"].push_back(c);
+}
+
+// A damage model's native `damage` node; null for Initial Damage, whose bond filters
+// become precracks with broken bonds (and no bond breaks later).
 YAML::Node read_damage(Translation& t, const Item& item) {
-  MapReader m(t.ctx, item, {"Damage Model", "Critical Stretch", "Thermal Expansion Coefficient"});
+  MapReader m(t.ctx, item, {"Damage Model", "Critical Stretch", "Thermal Expansion Coefficient", "Bond Filters",
+                            "Time Dependent Critical Stretch"});
   const Item model_item = m.get("Damage Model", "Critical Stretch");
   const std::string model = read_string(t.ctx, model_item);
+  if (squash(model) == "initialdamage") {
+    // Peridigm's Initial Damage breaks the bonds that cross its filters at the start
+    // (survey sec. 1.3); they stay in the families (Number_Of_Neighbors, Damage).
+    for (const char* k : {"Critical Stretch", "Thermal Expansion Coefficient"})
+      if (auto it = m.find(k)) t.ctx.fail(*it->key_mark, it->path + ": not a parameter of Damage Model '" + model + "'");
+    add_precracks(t, read_bond_filters(t.ctx, m.get("Bond Filters", "the filters whose crossing bonds start broken"),
+                                       true));
+    return YAML::Node();
+  }
+  if (auto it = m.find("Bond Filters"))
+    t.ctx.fail(*it->key_mark, it->path + ": a parameter of Damage Model 'Initial Damage' only");
   // Horizon breaks a bond at the smaller critical stretch of its two ends (solver/forces.cpp):
   // Peridigm's Interface Aware rule. Peridigm's plain Critical Stretch judges each directed
   // bond by its own end's block; the two agree within a block (docs/peridigm.md).
   const std::string w = squash(model);
-  if (w != "criticalstretch" && w != "interfaceaware")
-    fail_choice(t.ctx, model_item, model, {"Critical Stretch", "Interface Aware"}, "Peridigm damage model Horizon reads");
+  if (w != "criticalstretch" && w != "interfaceaware" && w != "timedependentcriticalstretch")
+    fail_choice(t.ctx, model_item, model,
+                {"Critical Stretch", "Interface Aware", "Time Dependent Critical Stretch", "Initial Damage"},
+                "Peridigm damage model Horizon reads");
   if (auto a = m.find("Thermal Expansion Coefficient"); a && read_number(t.ctx, *a) != 0)
     t.ctx.fail(a->mark, a->path + ": thermal strain is not supported; only 0");
   YAML::Node d;
-  d["critical_stretch"] = read_positive(t.ctx, m.get("Critical Stretch", "the critical bond stretch, > 0"));
+  const bool in_time = w == "timedependentcriticalstretch";
+  const char* own = in_time ? "Time Dependent Critical Stretch" : "Critical Stretch";
+  for (const char* k : {"Critical Stretch", "Time Dependent Critical Stretch"})
+    if (auto it = m.find(k); it && std::string(k) != own)
+      t.ctx.fail(*it->key_mark, it->path + ": not a parameter of Damage Model '" + model + "'");
+  if (in_time) {
+    // s_c(t) as a function string (survey sec. 1.3): the native critical stretch as an
+    // expression in t, evaluated at each explicit step.
+    d["critical_stretch"] = read_value(t, m.get(own, "the critical stretch as a function of t"));
+  } else {
+    d["critical_stretch"] = read_positive(t.ctx, m.get(own, "the critical bond stretch, > 0"));
+  }
   return d;
 }
 
@@ -430,7 +461,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   MapReader d(ctx, disc,
               {"Type", "Input Mesh File", "NeighborhoodType", "TensorProduct3DMeshGenerator", "Influence Function",
                "Omit Bonds Between Blocks", "Bond Filters"});
-  if (auto bf = d.find("Bond Filters")) t.out["precracks"] = read_bond_filters(ctx, *bf);
+  if (auto bf = d.find("Bond Filters")) add_precracks(t, read_bond_filters(ctx, *bf));
   const Item type = d.get("Type", "Text File or PdQuickGrid");
   const std::string kind = squash(read_string(ctx, type));
   ExodusDiscretization exodus;  // its node sets and block names, for Type Exodus
@@ -467,7 +498,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       if (w != "spherical") ctx.fail(n->mark, n->path + ": expected Spherical, found " + text_of(*n));
       spherical = true;
     }
-    if (!spherical) check_box_neighbourhood(t, grid, type);
+    if (!spherical) box_neighbourhood(t, grid);
     fill_grid(t, grid);
   } else if (kind == "exodus") {
     for (const char* k : {"NeighborhoodType", "TensorProduct3DMeshGenerator"})
@@ -498,7 +529,12 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     mat["influence"] = influence;
     if (g.damage_item) {
       check_reference(ctx, *g.damage_item, g.damage, damage_names, "damage model");
-      mat["damage"] = read_damage(t, damages.at(g.damage));
+      const YAML::Node damage = read_damage(t, damages.at(g.damage));
+      if (!damage.IsNull()) mat["damage"] = damage;
+      else if (groups.size() > 1)
+        // Horizon's precracks cut the bonds of every body alike.
+        ctx.fail(g.damage_item->mark, g.damage_item->path + ": an Initial Damage model is read for decks of one block "
+                                                            "group only (its filters apply to every block in Horizon)");
     }
     mats[g.name] = mat;
     for (const auto& bn : g.block_names) {

@@ -47,8 +47,10 @@ bool add_global_column(const std::string& variable, YAML::Node& columns);
 
 namespace horizon::peridigm {
 
-// `Discretization: Bond Filters` (survey sec. 1.8): each Rectangular_Plane filter as a
-// native precrack (a planar quadrilateral; bonds that cross it are never made).
-YAML::Node read_bond_filters(const deck::DeckContext& ctx, const deck::Item& item);
+// `Bond Filters` (survey sec. 1.8) as native precracks: Rectangular_Plane as a planar
+// quadrilateral, Disk as a disk, Exodus Mesh (a shell mesh) as a surface of facets.
+// Bonds that cross one are never made (`Discretization: Bond Filters`), or with `broken`
+// (the `Initial Damage` model's filters) made broken.
+YAML::Node read_bond_filters(const deck::DeckContext& ctx, const deck::Item& item, bool broken = false);
 
 }  // namespace horizon::peridigm
