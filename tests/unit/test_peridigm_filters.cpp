@@ -239,16 +239,27 @@ TEST(PeridigmFilters, NativeDiskAndFacetsCutTheBondsTheyCross) {
   EXPECT_FALSE(crosses({0.5, 0.1, 0}, {0.5, 1, 0}, disk, 3));     // one side of the plane
   EXPECT_TRUE(crosses({-1, -1, 0}, {1, 1, 0}, disk, 3));          // oblique, through the centre
   Precrack surface;
-  set_facets(surface, {{{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}, {{0, 0, 1}, {2, 0, 1}, {0, 2, 1}}});
+  set_facets(surface, {{{1, 0, 0}, {1, 1.2, 0}, {1, 1.2, 1.2}, {1, 0, 1.2}}, {{0, 0, 1}, {2.4, 0, 1}, {0, 2.4, 1}}});
   EXPECT_TRUE(crosses({0.5, 0.5, 0.5}, {1.5, 0.5, 0.5}, surface, 3));   // the quad
   EXPECT_FALSE(crosses({0.5, 1.5, 0.5}, {1.5, 1.5, 0.5}, surface, 3));  // beside the quad
   EXPECT_TRUE(crosses({0.5, 0.5, 0.5}, {0.5, 0.5, 1.5}, surface, 3));   // the triangle
-  EXPECT_FALSE(crosses({1.5, 1.5, 0.5}, {1.5, 1.5, 1.5}, surface, 3));  // x + y = 3 > 2
+  EXPECT_FALSE(crosses({1.5, 1.5, 0.5}, {1.5, 1.5, 1.5}, surface, 3));  // x + y = 3 > 2.4
+  // Facets are closed: a bond through the edge two facets share is cut (Peridigm's
+  // QuadBondFilter and PrecrackedPlate golds), where an open polygon keeps it.
+  Precrack two;
+  set_facets(two, {{{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}, {{1, 1, 0}, {1, 2, 0}, {1, 2, 1}, {1, 1, 1}}});
+  EXPECT_TRUE(crosses({0.5, 1, 0.5}, {1.5, 1, 0.5}, two, 3));
+  EXPECT_TRUE(crosses({0.5, 2, 0.5}, {1.5, 2, 0.5}, two, 3));   // the outer edge too
+  EXPECT_FALSE(crosses({0.5, 2.01, 0.5}, {1.5, 2.01, 0.5}, two, 3));
+  Precrack open;
+  open.points = {{1, 0, 0}, {1, 2, 0}, {1, 2, 1}, {1, 0, 1}};
+  EXPECT_TRUE(crosses({0.5, 1, 0.5}, {1.5, 1, 0.5}, open, 3));
+  EXPECT_FALSE(crosses({0.5, 2, 0.5}, {1.5, 2, 0.5}, open, 3));
   Vec3 lo, hi;
   bounding_box(surface, lo, hi);
   EXPECT_EQ(lo.x, 0);
-  EXPECT_EQ(hi.x, 2);
-  EXPECT_EQ(hi.y, 2);
+  EXPECT_EQ(hi.x, 2.4);
+  EXPECT_EQ(hi.y, 2.4);
   EXPECT_EQ(lo.z, 0);
   bounding_box(disk, lo, hi);
   EXPECT_EQ(lo.x, -1);

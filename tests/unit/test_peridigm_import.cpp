@@ -299,13 +299,13 @@ TEST(PeridigmImport, RectangularPlaneBondFilterIsAPrecrack) {
   text.insert(text.find("  Materials:"), filter);
   std::ofstream(path) << text;
   EXPECT_EQ(flow(convert(path)["precracks"]),
-            "[{polygon: [[-10, 0, -10], [0, 0, -10], [0, 0, 10], [-10, 0, 10]]}]");
+            "[{facets: [[[-10, 0, -10], [0, 0, -10], [0, 0, 10], [-10, 0, 10]]]}]");
   // A bottom vector with a part along the normal (PrecrackedPlateTwoCracks): only its part
   // in the plane counts.
   text.replace(text.find("Bottom_Unit_Vector_Y: 0.0"), 25, "Bottom_Unit_Vector_Y: 4.0");
   std::ofstream(path) << text;
   EXPECT_EQ(flow(convert(path)["precracks"]),
-            "[{polygon: [[-10, 0, -10], [0, 0, -10], [0, 0, 10], [-10, 0, 10]]}]");
+            "[{facets: [[[-10, 0, -10], [0, 0, -10], [0, 0, 10], [-10, 0, 10]]]}]");
   text.replace(text.find("Rectangular_Plane"), 17, "Disk");
   std::ofstream(path) << text;
   // A Disk filter reads its own keys (test_peridigm_filters.cpp): the rectangle's are errors.

@@ -18,7 +18,10 @@ bool crosses_segment(const Vec3& a, const Vec3& b, const Vec3& p, const Vec3& q)
   return o3 * o4 <= 0;
 }
 
-bool crosses_polygon(const Vec3& a, const Vec3& b, const std::vector<Vec3>& poly) {
+// `closed`: a crossing point on the polygon's boundary (within 1e-12 of its size) counts
+// as inside. The facets of a surface are closed, so a bond through the edge two facets
+// share is cut (Peridigm's Exodus Mesh filters cut those: QuadBondFilter's gold).
+bool crosses_polygon(const Vec3& a, const Vec3& b, const std::vector<Vec3>& poly, bool closed = false) {
   // Plane normal by Newell's method (robust for any planar polygon).
   Vec3 n;
   for (std::size_t k = 0; k < poly.size(); ++k) {
@@ -36,6 +39,20 @@ bool crosses_polygon(const Vec3& a, const Vec3& b, const std::vector<Vec3>& poly
   if (std::abs(n.y) > std::abs(n[drop])) drop = 1;
   if (std::abs(n.z) > std::abs(n[drop])) drop = 2;
   const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+  if (closed) {
+    double size = 0;
+    for (const Vec3& p : poly) size = std::max(size, std::abs(p[u] - poly[0][u]) + std::abs(p[v] - poly[0][v]));
+    const double tol = 1e-12 * size;
+    for (std::size_t k = 0, m = poly.size() - 1; k < poly.size(); m = k++) {
+      // Distance from x to the edge poly[m] -> poly[k] in the projection.
+      const double ex = poly[k][u] - poly[m][u], ey = poly[k][v] - poly[m][v];
+      const double px = x[u] - poly[m][u], py = x[v] - poly[m][v];
+      const double len2 = ex * ex + ey * ey;
+      const double w = len2 > 0 ? std::clamp((px * ex + py * ey) / len2, 0.0, 1.0) : 0.0;
+      const double dx = px - w * ex, dy = py - w * ey;
+      if (dx * dx + dy * dy <= tol * tol) return true;
+    }
+  }
   bool inside = false;
   for (std::size_t k = 0, m = poly.size() - 1; k < poly.size(); m = k++) {
     const Vec3& p = poly[k];
@@ -61,7 +78,7 @@ bool crosses_surface(const Vec3& a, const Vec3& b, const Precrack& crack) {
   for (std::size_t f = 0; f < crack.facets.size(); ++f) {
     const auto& [flo, fhi] = crack.boxes[f];
     if (lo.x > fhi.x || hi.x < flo.x || lo.y > fhi.y || hi.y < flo.y || lo.z > fhi.z || hi.z < flo.z) continue;
-    if (crosses_polygon(a, b, crack.facets[f])) return true;
+    if (crosses_polygon(a, b, crack.facets[f], true)) return true;
   }
   return false;
 }

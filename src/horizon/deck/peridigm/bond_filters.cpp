@@ -57,10 +57,16 @@ YAML::Node rectangular_plane(const DeckContext& ctx, const Item& item) {
   // corner z = -10 and side 20, spans the plate's thickness z in [-10, 10]).
   const Vec3 side = cross(b, n);
   YAML::Node poly(YAML::NodeType::Sequence);
+  poly.SetStyle(YAML::EmitterStyle::Flow);
   for (const Vec3& p : {corner, corner + b * lb, corner + b * lb + side * ls, corner + side * ls})
     poly.push_back(row_of(p));
+  // A surface of this one facet rather than a `polygon`: a facet includes its boundary,
+  // and Peridigm's filter cuts the bonds through the rectangle's edges (PrecrackedPlate's
+  // gold: 64 neighbours at node 182, where an open rectangle leaves 71).
+  YAML::Node facets(YAML::NodeType::Sequence);
+  facets.push_back(poly);
   YAML::Node crack;
-  crack["polygon"] = poly;
+  crack["facets"] = facets;
   return crack;
 }
 
