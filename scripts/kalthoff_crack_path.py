@@ -18,8 +18,10 @@ plausible ones.
 """
 import math
 import os
+import struct
 import sys
 
+sys.dont_write_bytecode = True  # no __pycache__ in scripts/
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from taylor_bar_metrics import read_vtu  # noqa: E402
 
@@ -104,7 +106,6 @@ def main():
         data = open(os.path.join(fdir, f), "rb").read()
         # TIME is the first appended Float64 (FieldData)
         start = data.index(b"_", data.index(b"<AppendedData")) + 1
-        import struct
         t = struct.unpack_from("<d", data, start + 8)[0]
         out = [f"{f} t={t * 1e6:.1f}us"]
         for tip in ((0.05, 0.025), (0.05, -0.025)):
