@@ -62,7 +62,11 @@ YAML::Node rectangular_plane(const DeckContext& ctx, const Item& item) {
     poly.push_back(row_of(p));
   // A surface of this one facet rather than a `polygon`: a facet includes its boundary,
   // and Peridigm's filter cuts the bonds through the rectangle's edges (PrecrackedPlate's
-  // gold: 64 neighbours at node 182, where an open rectangle leaves 71).
+  // gold: 64 neighbours at node 182, where an open rectangle leaves 71). Not always:
+  // PrecrackedPlateTwoCracks's gold cuts (0.5, 3.5) -> (-0.5, 4.5) but keeps (-0.5, 3.5)
+  // -> (0.5, 4.5), both through the edge x = 0 of its filter at y = 4: Peridigm's lists
+  // are directed and its test rounds differently along each; Horizon's bonds are one
+  // piece, cut in both directions or neither (docs/peridigm.md).
   YAML::Node facets(YAML::NodeType::Sequence);
   facets.push_back(poly);
   YAML::Node crack;

@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# Peridigm's own test suite through Horizon's importer (docs/peridigm.md, "Peridigm's
+# suite"): every deck (YAML or XML) of a Peridigm checkout's test/ and examples/ folders
+# runs unchanged, and each Exodus file it writes is compared with the deck's
+# <Output Filename>_gold.e under the folder's .comp tolerances (compare_exodus.py:
+# Horizon's reading of exodiff's command files; exodiff is not in Debian).
+#
+#   bench/peridigm/run_suite.sh PERIDIGM_CHECKOUT [WORK_DIR]
+#
+# Environment: HORIZON (default build/horizon), HORIZON_MPI (default build/horizon-mpi),
+# TIME_LIMIT seconds per deck and rank count (default 120), NP4=0 to skip the 4-rank runs
+# (run, where the deck's folder has an np4 folder, for decks that ran on 1 rank), ONLY=regex
+# to run the decks whose path matches.
+#
+# Prints one Markdown table row per deck and rank count:
+#   | deck | ranks | result | detail | wall s |
+# result: match (every compared variable within tolerance), differs (the largest excess:
+# variable, values, node, step), refused (Horizon's error for the deck), fails (the run
+# stopped with an error), timeout, runs (no gold to compare). A summary follows.
+set -u
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+[ $# -ge 1 ] || { echo "usage: $0 PERIDIGM_CHECKOUT [WORK_DIR]" >&2; exit 2; }
+checkout=$(cd "$1" && pwd) || exit 2
+work=${2:-$(mktemp -d /tmp/peridigm_suite.XXXXXX)}
+mkdir -p "$work"; work=$(cd "$work" && pwd)
+horizon=${HORIZON:-$root/build/horizon}
+horizon_mpi=${HORIZON_MPI:-$root/build/horizon-mpi}
+limit=${TIME_LIMIT:-120}
+np4=${NP4:-1}
+only=${ONLY:-}
+compare="$here/compare_exodus.py"
+python=/usr/bin/python3  # Debian's, with python3-netcdf4
+[ -x "$horizon" ] || { echo "no Horizon binary at $horizon (set HORIZON)" >&2; exit 2; }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
+
+# Decks: YAML files whose top key is Peridigm, XML files that are a ParameterList.
+mapfile -t decks < <(cd "$checkout" && find test examples \( -name '*.yaml' -o -name '*.xml' \) 2>/dev/null |
+  sort | while read -r f; do grep -qE '^Peridigm:|<ParameterList' "$f" && echo "$f"; done)
+
+n_total=0; n_runs=0; n_match=0; n_refused=0; n_differs=0; n_fails=0; n_timeout=0
+one_line() { tr '\n' ' ' | sed -e 's/|/\\|/g' -e 's/  */ /g' | cut -c1-300; }
+
+# run DECK RANKS: one row.
+run() {
+  local deck=$1 ranks=$2
+  local dir; dir=$(dirname "$checkout/$deck")
+  local wd="$work/$(echo "$deck" | tr '/' '_')_np$ranks"
+  rm -rf "$wd"; mkdir -p "$wd"
+  local result detail
+  local start; start=$(date +%s.%N)
+  # check first: a refused deck is Horizon's error before any run
+  if ! (cd "$wd" && timeout -k 5 "$limit" "$horizon" check "$checkout/$deck" >check.log 2>&1); then
+    result=refused
+    detail=$(grep -m1 -i 'error' "$wd/check.log" | sed "s|$checkout/||g" | one_line)
+    [ -n "$detail" ] || detail=$(tail -n 2 "$wd/check.log" | one_line)
+  else
+    local cmd=("$horizon" run "$checkout/$deck")
+    [ "$ranks" -gt 1 ] && cmd=(mpiexec -n "$ranks" --oversubscribe "$horizon_mpi" run "$checkout/$deck")
+    (cd "$wd" && timeout -k 5 "$limit" "${cmd[@]}" >run.log 2>&1)
+    local rc=$?
+    if [ $rc -eq 124 ]; then
+      result=timeout; detail="over ${limit} s"
+    elif [ $rc -ne 0 ]; then
+      result=fails; detail=$(grep -m1 -i 'error' "$wd/run.log" | sed "s|$checkout/||g" | one_line)
+      [ -n "$detail" ] || detail="exit $rc: $(tail -n 1 "$wd/run.log" | one_line)"
+    else
+      result=runs; detail="no gold"
+      local worst="" e name gold comp out
+      while read -r e; do
+        name=$(basename "$e" .e)
+        gold=""; comp=""
+        for d in "$dir" "$(dirname "$dir")"; do
+          [ -z "$gold" ] && [ -f "$d/${name}_gold.e" ] && gold="$d/${name}_gold.e"
+          [ -z "$comp" ] && [ -f "$d/${name}.comp" ] && comp="$d/${name}.comp"
+        done
+        if [ -z "$comp" ] && [ -n "$gold" ]; then
+          comp=$(ls "$(dirname "$gold")"/*.comp 2>/dev/null | head -n 1)
+        fi
+        [ -n "$gold" ] && [ -n "$comp" ] || continue
+        out=$("$python" "$compare" "$e" "$gold" "$comp" 2>&1 | tail -n 1)
+        case "$out" in
+          match) [ "$result" = runs ] && { result=match; detail="$name"; } || { [ "$result" = match ] && detail="$detail, $name"; } ;;
+          *) result=differs; worst="$name: $out" ;;
+        esac
+      done < <(find "$wd/out" -name '*.e' 2>/dev/null | sort)
+      [ -n "$worst" ] && detail=$(echo "$worst" | one_line)
+    fi
+  fi
+  local wall; wall=$(echo "$(date +%s.%N) - $start" | bc)
+  printf '| %s | %s | %s | %s | %.1f |\n' "$deck" "$ranks" "$result" "$detail" "$wall"
+  n_total=$((n_total + 1))
+  case $result in
+    match) n_match=$((n_match + 1)); n_runs=$((n_runs + 1)) ;;
+    differs) n_differs=$((n_differs + 1)); n_runs=$((n_runs + 1)) ;;
+    runs) n_runs=$((n_runs + 1)) ;;
+    refused) n_refused=$((n_refused + 1)) ;;
+    fails) n_fails=$((n_fails + 1)) ;;
+    timeout) n_timeout=$((n_timeout + 1)) ;;
+  esac
+  last_result=$result
+}
+
+echo "| deck | ranks | result | detail | wall s |"
+echo "|---|---|---|---|---|"
+for deck in "${decks[@]}"; do
+  [ -n "$only" ] && ! [[ $deck =~ $only ]] && continue
+  run "$deck" 1
+  folder=$(dirname "$checkout/$deck")
+  if [ "$np4" = 1 ] && [ -x "$horizon_mpi" ] && { [ -d "$folder/np4" ] || [[ $folder == */np4 ]]; } &&
+     { [ "$last_result" = match ] || [ "$last_result" = differs ] || [ "$last_result" = runs ]; }; then
+    run "$deck" 4
+  fi
+done
+echo
+echo "runs (rank counts x decks): $n_total; run to the end: $n_runs (match $n_match, differ $n_differs," \
+     "no gold $((n_runs - n_match - n_differs))); refused $n_refused; failed $n_fails; timed out $n_timeout"
+echo "work directory: $work"
