@@ -15,12 +15,12 @@ struct Precrack {
   // 3-D disk (radius > 0): the points of the plane through points[0] normal to `normal`
   // (a unit vector) within `radius` of points[0] (Peridigm's Disk bond filter).
   double radius = 0;
-  Vec3 normal;
+  Vec3 normal{};
   // 3-D surface (facets not empty): planar polygons, e.g. the elements of a shell mesh
   // (Peridigm's Exodus Mesh bond filter); a bond crosses the surface when it crosses any
   // facet. `boxes` holds each facet's bounding box (lo, hi), filled by set_facets.
-  std::vector<std::vector<Vec3>> facets;
-  std::vector<std::pair<Vec3, Vec3>> boxes;
+  std::vector<std::vector<Vec3>> facets{};
+  std::vector<std::pair<Vec3, Vec3>> boxes{};
   // false: crossing bonds are removed (the default). true: they stay in the families as
   // broken bonds (intact = 0), which the nonlinear solid lets push in compression
   // (Tupek eq. 6.9): a pre-fractured interface that still resists interpenetration
