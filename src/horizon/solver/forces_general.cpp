@@ -123,6 +123,10 @@ uint64_t general_forces(System& s, bool energy) {
   auto& B = s.bonds;
   auto& M = s.model;
   const std::size_t n = P.size(), nb = B.size();
+  if (affine_general_pass(s)) {
+    pack_positions(s);
+    return affine_forces(s, energy);  // solver/forces_affine.cpp
+  }
   if (M.reverse.size() != nb) M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
   pack_positions(s);
   if (scalar_general_pass(s)) return ordinary_forces(s, energy);  // solver/forces_ordinary.cpp
