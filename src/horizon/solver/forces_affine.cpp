@@ -91,7 +91,7 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* soft, corre
 }  // namespace
 
 bool affine_general_pass(const System& s) {
-  if (general_reference() || s.decomposition || s.models.size() == 0) return false;
+  if (general_reference() || s.models.size() == 0) return false;
   for (const auto& m : s.models)
     if (!m->traits().affine) return false;
   return true;
@@ -106,6 +106,11 @@ uint64_t affine_forces(System& s, bool energy) {
   if (M.affine_position.size() != n) M.affine_position.assign(n, Vec3{});
   const bool after = M.break_after_force;
   const double* soft = s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data();
+  // A decomposed run computes the rows of its active particles alone: its own and their
+  // bond neighbours' (ModelTraits::rows_local), whose records enter the owned rows' sums
+  // (parallel/decomposition.hpp); the sums of the other active rows are not used.
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t rows = act ? act->size() : n;
   if (energy)
     for (std::size_t i = 0; i < n; ++i) P.energy[i] = 0;
 
@@ -118,8 +123,9 @@ uint64_t affine_forces(System& s, bool energy) {
   Model* const* model_of = row_model.data();
 
   uint64_t broken = 0;
-#pragma omp parallel for schedule(static) reduction(+ : broken) if (n > 512)
-  for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static) reduction(+ : broken) if (rows > 512)
+  for (std::size_t a = 0; a < rows; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     correspondence::GradientSums g;
     const RowOut o = break_row(s, i, after, soft, g);
     broken += o.broken;
@@ -138,8 +144,9 @@ uint64_t affine_forces(System& s, bool energy) {
   const uint8_t* intact = B.intact.data();
   const BondKind* kinds = B.kinds.data();
   const KindCoefficients* kc = M.kind.data();
-#pragma omp parallel for schedule(static) if (n > 512)
-  for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static) if (rows > 512)
+  for (std::size_t a = 0; a < rows; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
     const Point4 pi = pt[i];
     const Vec3 xi_i = X[i];
     correspondence::AffineRowSum sum;

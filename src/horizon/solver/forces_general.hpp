@@ -33,8 +33,7 @@ bool scalar_general_pass(const System& s);
 uint64_t ordinary_forces(System& s, bool energy);
 // The affine form (solver/forces_affine.cpp): when every model writes T_ij = omega (M_i xi
 // + g_i Y) (ModelTraits::affine; the correspondence model), one record per particle and
-// the pair form of the sum, with no force state per bond and no reverse-bond index. Serial
-// and threaded runs only (a run split over MPI ranks keeps the vector form).
+// the pair form of the sum, with no force state per bond and no reverse-bond index.
 bool affine_general_pass(const System& s);
 uint64_t affine_forces(System& s, bool energy);
 // Whether set_general_reference(true) holds.
