@@ -165,6 +165,9 @@ uint64_t general_forces(System& s, bool energy) {
     Vec3 f;
     double w = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      // T_ji lies in j's row, up to a horizon of rows away: asked for 64 bonds ahead, as
+      // the scalar form does (forces_ordinary.cpp).
+      if (k + 64 < nb) __builtin_prefetch(T + M.reverse[k + 64]);
       if (B.intact[k]) f += B.volume[k] * (T[k] - T[M.reverse[k]]);
       const KindCoefficients& kc = M.kind[B.kind[k]];
       const Vec3 Y = delta(pi, pt[B.nbr[k]]);
