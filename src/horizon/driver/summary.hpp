@@ -101,6 +101,10 @@ inline void summary_state(nlohmann::ordered_json& j, const System& s, const Ledg
   j["energy"] = {{"initial", g.initial},       {"kinetic", g.kinetic},       {"strain", g.strain},
                  {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
                  {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};
+  // The balance's other terms, where the run books them (Ledger::balance_error counts every
+  // one): the thermal strain's work and the finite-element coupling's work.
+  if (s.heat.active()) j["energy"]["thermal_work"] = g.thermal_work;
+  if (s.fe) j["energy"]["fe_coupling_work"] = g.coupling_work;
   // The parts of the dissipated energy that models report as fields of accumulated
   // density [J/m^3] (ModelField::dissipation_part), in J.
   {
@@ -140,8 +144,9 @@ inline std::string energy_balance_warning(const Config& config, double max_abs_b
   if (!(max_abs_balance_error > limit)) return "";
   return fmt::format("the energy balance error reached {:.3g} % of the largest energy, above "
                      "solver.energy_balance_warning ({:.3g} %): the results may be wrong (a time step too large "
-                     "for the loads or the stiffness, or energy leaving the ledger); history.csv has the error "
-                     "step by step",
+                     "for the loads or the stiffness, or energy leaving the ledger); the balance counts kinetic, "
+                     "strain, dissipated and damped energy, external, thermal and finite-element coupling work; "
+                     "history.csv has the error step by step",
                      100 * max_abs_balance_error, 100 * limit);
 }
 
