@@ -18,6 +18,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -143,6 +144,16 @@ TEST_P(Examples, RunsAtHalfResolution) {
   const auto& e = j["energy"];
   for (const char* key : {"initial", "kinetic", "strain", "external_work", "dissipated", "damped", "balance_error"})
     EXPECT_TRUE(std::isfinite(e[key].get<double>())) << key;
+  // summary.json names the terms the balance counts, each of them a figure of `energy`:
+  // the FE coupling's work among them in a deck with elements; none left out.
+  ASSERT_TRUE(e.contains("balance_terms"));
+  std::set<std::string> terms;
+  for (const auto& name : e["balance_terms"]) {
+    terms.insert(name.get<std::string>());
+    EXPECT_TRUE(e.contains(name.get<std::string>()) && std::isfinite(e[name.get<std::string>()].get<double>())) << name;
+  }
+  EXPECT_EQ(terms.count("fe_coupling_work"), j.contains("fe") ? 1u : 0u);
+  EXPECT_TRUE(e["terms_left_out"].empty()) << e["terms_left_out"];
   // Energy is kept. At half resolution the largest |balance error| is the O(dt^2) error
   // of velocity Verlet in the first steps after a sudden load (measured: block_tension
   // 1.9e-2, elastic_impact 1.9e-2, glass_branching 1.4e-2, wave_in_bar 2.0e-3; each falls
