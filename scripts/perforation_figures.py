@@ -9,7 +9,9 @@ With --png, draws the filtered deceleration history of each run through `horizon
 (one PNG per run; no plotting library needed).
 
   python3 scripts/perforation_figures.py --name ball RUN_DIR [RUN_DIR ...] [--png docs/images/x]
-                                         [--plug-density 2700]
+                                         [--plug-density 2700] [--title TITLE ...]
+
+--title gives each picture's title, one per run in order (default: the run's directory name).
 """
 import argparse
 import csv
@@ -93,9 +95,12 @@ def main():
     ap.add_argument("--png", help="prefix of the PNG files (one per run: PREFIX_<run name>.png)")
     ap.add_argument("--horizon", default="build/horizon")
     ap.add_argument("--plug-density", type=float, help="the target's density: report the plug of the last frame")
+    ap.add_argument("--title", nargs="+", default=[], help="the pictures' titles, one per run")
     a = ap.parse_args()
+    if a.title and len(a.title) != len(a.runs):
+        ap.error(f"--title: {len(a.title)} titles for {len(a.runs)} runs")
     first = None
-    for run in a.runs:
+    for index, run in enumerate(a.runs):
         f = figures(run, a.name, a.plug_density)
         print(f"{run}:")
         for k, v in f.items():
@@ -106,7 +111,8 @@ def main():
         first = first or f
         if a.png:
             out = f"{a.png}_{os.path.basename(os.path.normpath(run))}.png"
-            subprocess.run([a.horizon, "plot", run, "--x", "time", "--y", f"{a.name}_az_filtered",
+            title = ["--title", a.title[index]] if a.title else []
+            subprocess.run([a.horizon, "plot", run, "--x", "time", "--y", f"{a.name}_az_filtered", *title,
                             "-o", out], check=True)
             print(f"  figure {out}")
     return 0

@@ -184,6 +184,12 @@ TEST(Cli, EnergyBalanceAboveTheThresholdWarnsInLogAndSummary) {
   ASSERT_TRUE(j.contains("warnings"));
   EXPECT_NE(j["warnings"][0].get<std::string>().find("above solver.energy_balance_warning (1e-07 %)"), std::string::npos)
       << j["warnings"];
+  // The warning names the terms the balance counts, as summary.json does.
+  EXPECT_NE(j["warnings"][0].get<std::string>().find("the balance counts kinetic, strain, dissipated, damped, initial, "
+                                                      "external_work (summary.json energy.balance_terms)"),
+            std::string::npos)
+      << j["warnings"];
+  EXPECT_EQ(j["energy"]["balance_terms"].size(), 6u);
 
   const Result quiet = run("run " + (d / "default.yaml").string() + " -o " + (d / "default").string() + " -q");
   EXPECT_EQ(quiet.status, 0) << quiet.output;

@@ -18,6 +18,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,39 @@ int run_binary(const std::string& args, std::string& output) {
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
+// The warnings a deck's leading comment explains, one line each:
+//   # Expected warning "<part of its text>": why the run warns and why that is fine.
+std::vector<std::string> explained_warnings(const fs::path& deck) {
+  std::vector<std::string> parts;
+  std::ifstream in(deck);
+  const std::string marker = "expected warning \"";
+  for (std::string line; std::getline(in, line) && line.rfind('#', 0) == 0;) {
+    std::string lower = line;
+    for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const auto at = lower.find(marker);
+    if (at == std::string::npos) continue;
+    const auto from = at + marker.size(), to = line.find('"', from);
+    if (to != std::string::npos && to > from) parts.push_back(line.substr(from, to - from));
+  }
+  return parts;
+}
+
+// Fails on each warning in a run's output or summary.json that the deck does not explain.
+void expect_no_unexplained_warning(const fs::path& deck, const std::string& output, const nlohmann::json& summary) {
+  const std::vector<std::string> explained = explained_warnings(deck);
+  auto check = [&](const std::string& text) {
+    for (const auto& part : explained)
+      if (text.find(part) != std::string::npos) return;
+    ADD_FAILURE() << deck.filename().string() << ": a warning its header comment does not explain (add a line '# "
+                  << "Expected warning \"<text>\": why' if it is meant): " << text;
+  };
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("warning:") != std::string::npos) check(line);
+  if (summary.contains("warnings"))
+    for (const auto& w : summary["warnings"]) check(w.get<std::string>());
+}
+
 class Examples : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Examples, RunsAtHalfResolution) {
@@ -98,6 +132,7 @@ TEST_P(Examples, RunsAtHalfResolution) {
   ASSERT_TRUE(in) << "no summary.json in " << out;
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["status"], "completed");
+  expect_no_unexplained_warning(deck, output, j);
   EXPECT_EQ(j["particles"].get<std::size_t>(), s.particles.size());
   EXPECT_GT(j["particles"].get<std::size_t>(), 0u);
   if (j.contains("fe"))  // finite-element bodies: a deck of elements only has no bond
@@ -109,10 +144,23 @@ TEST_P(Examples, RunsAtHalfResolution) {
   const auto& e = j["energy"];
   for (const char* key : {"initial", "kinetic", "strain", "external_work", "dissipated", "damped", "balance_error"})
     EXPECT_TRUE(std::isfinite(e[key].get<double>())) << key;
+  // summary.json names the terms the balance counts, each of them a figure of `energy`:
+  // the FE coupling's work among them in a deck with elements; none left out.
+  ASSERT_TRUE(e.contains("balance_terms"));
+  std::set<std::string> terms;
+  for (const auto& name : e["balance_terms"]) {
+    terms.insert(name.get<std::string>());
+    EXPECT_TRUE(e.contains(name.get<std::string>()) && std::isfinite(e[name.get<std::string>()].get<double>())) << name;
+  }
+  EXPECT_EQ(terms.count("fe_coupling_work"), j.contains("fe") ? 1u : 0u);
+  EXPECT_TRUE(e["terms_left_out"].empty()) << e["terms_left_out"];
   // Energy is kept. At half resolution the largest |balance error| is the O(dt^2) error
   // of velocity Verlet in the first steps after a sudden load (measured: block_tension
   // 1.9e-2, elastic_impact 1.9e-2, glass_branching 1.4e-2, wave_in_bar 2.0e-3; each falls
   // 4x when the step is halved). A term missing from the ledger would show as more.
+  // Damage lies in [0, 1] exactly (the glass demo once reached 1.0000000000000007).
+  EXPECT_GE(j["damage"]["mean"].get<double>(), 0.0);
+  EXPECT_LE(j["damage"]["max"].get<double>(), 1.0);
   const double max_error = e["max_abs_balance_error"];
   EXPECT_LT(max_error, 0.03) << "energy ledger out of balance";
   EXPECT_TRUE(fs::exists(out / "history.csv"));

@@ -277,7 +277,7 @@ int ExplicitRun::finish() {
     fj["crack_angles_signed_deg"] = signed_angles;
     j["fracture"] = fj;
   }
-  const std::string energy_warning = energy_balance_warning(config, r.max_balance_error);
+  const std::string energy_warning = energy_balance_warning(config, s, r.max_balance_error);
   if (!energy_warning.empty()) j["warnings"] = {energy_warning};
   write_result("summary.json", j.dump(2) + "\n");
   r.summary = j;

@@ -427,7 +427,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   }
   if (!condition.empty()) sj["condition"] = condition;
   j["solver"] = sj;
-  const std::string energy_warning = energy_balance_warning(config, max_balance_error);
+  const std::string energy_warning = energy_balance_warning(config, s, max_balance_error);
   if (!energy_warning.empty()) j["warnings"] = {energy_warning};
   write_result("summary.json", j.dump(2) + "\n");
   if (!energy_warning.empty() && lead) fmt::print(stderr, "horizon: warning: {}\n", energy_warning);

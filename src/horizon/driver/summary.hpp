@@ -2,6 +2,7 @@
 // The part of summary.json every solver writes the same way: what ran, on what, and
 // how it ended. Each driver adds its own figures after these.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -92,6 +93,16 @@ inline nlohmann::ordered_json summary_header(const Config& config, const System&
   return j;
 }
 
+// The terms Ledger::balance_error counts in this run, by their names in summary.json's
+// `energy` (the projectiles' kinetic energy is in `kinetic`, the contact pair's work in
+// `external_work`).
+inline std::vector<std::string> balance_terms(const System& s) {
+  std::vector<std::string> terms = {"kinetic", "strain", "dissipated", "damped", "initial", "external_work"};
+  if (s.heat.active()) terms.push_back("thermal_work");
+  if (s.fe) terms.push_back("fe_coupling_work");
+  return terms;
+}
+
 // The state at the end of a run: the energy ledger, damage and the reaction of each load.
 // Collective when decomposed (damage_stats, body_velocities); s.broken is the whole
 // system's count then (gather_state).
@@ -101,6 +112,13 @@ inline void summary_state(nlohmann::ordered_json& j, const System& s, const Ledg
   j["energy"] = {{"initial", g.initial},       {"kinetic", g.kinetic},       {"strain", g.strain},
                  {"external_work", g.external_work}, {"dissipated", g.dissipated}, {"damped", g.damped},
                  {"balance_error", g.balance_error()}, {"max_abs_balance_error", max_balance_error}};
+  // The balance's other terms, where the run books them (Ledger::balance_error counts every
+  // one): the thermal strain's work and the finite-element coupling's work; then the names
+  // of the terms the balance counts in this run, and of those it leaves out (none).
+  if (s.heat.active()) j["energy"]["thermal_work"] = g.thermal_work;
+  if (s.fe) j["energy"]["fe_coupling_work"] = g.coupling_work;
+  j["energy"]["balance_terms"] = balance_terms(s);
+  j["energy"]["terms_left_out"] = nlohmann::ordered_json::array();
   // The parts of the dissipated energy that models report as fields of accumulated
   // density [J/m^3] (ModelField::dissipation_part), in J.
   {
@@ -135,14 +153,14 @@ inline void summary_state(nlohmann::ordered_json& j, const System& s, const Ledg
 // The warning of a run whose largest |energy balance error| (Ledger::balance_error, a
 // fraction of the largest energy in play) exceeded solver.energy_balance_warning; empty
 // when it did not. The drivers print it and list it under "warnings" in summary.json.
-inline std::string energy_balance_warning(const Config& config, double max_abs_balance_error) {
+inline std::string energy_balance_warning(const Config& config, const System& s, double max_abs_balance_error) {
   const double limit = config.solver.energy_balance_warning;
   if (!(max_abs_balance_error > limit)) return "";
   return fmt::format("the energy balance error reached {:.3g} % of the largest energy, above "
                      "solver.energy_balance_warning ({:.3g} %): the results may be wrong (a time step too large "
-                     "for the loads or the stiffness, or energy leaving the ledger); history.csv has the error "
-                     "step by step",
-                     100 * max_abs_balance_error, 100 * limit);
+                     "for the loads or the stiffness, or energy leaving the ledger); the balance counts {} "
+                     "(summary.json energy.balance_terms) and leaves out none; history.csv has the error step by step",
+                     100 * max_abs_balance_error, 100 * limit, fmt::join(balance_terms(s), ", "));
 }
 
 }  // namespace horizon

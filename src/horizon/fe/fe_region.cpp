@@ -299,6 +299,8 @@ void FeRegion::apply(System& s, bool energy) {
   auto& P = s.particles;
   const int n = nodes_per_element;
   const std::size_t ne = elements();
+  if (!interface_marked) mark_interface(s);
+  const bool account = coupled();
   elem_force.resize(ne * static_cast<std::size_t>(n));
   elem_energy.resize(ne);
   // On ranks: the elements of this rank's FE-owned nodes alone (split).
@@ -404,15 +406,22 @@ void FeRegion::apply(System& s, bool energy) {
     if (!node_owned[a]) continue;
     const uint32_t p = node_particle[a];
     if (d && !d->owns(p)) continue;  // another rank's node: its owner sums it
-    Vec3 f;
-    double w = 0;
+    Vec3 f, fi;
+    double w = 0, wi = 0;
     for (uint64_t k = node_offset[a]; k < node_offset[a + 1]; ++k) {
+      const uint32_t e = node_elem[k] / static_cast<uint32_t>(n);
       f += elem_force[node_elem[k]];
-      w += elem_energy[node_elem[k] / static_cast<uint32_t>(n)] / n;
+      w += elem_energy[e] / n;
+      // The coupling account's share: the interface elements' alone (fe_region.hpp).
+      if (account && interface_element[e]) fi += elem_force[node_elem[k]], wi += elem_energy[e] / n;
     }
     P.f[p] = f / P.volume[p];
     P.damage[p] = 0;
     if (energy) P.energy[p] = w / P.volume[p];
+    if (account) {
+      interface_force[p] = fi;
+      if (energy) interface_energy[p] = wi;
+    }
   }
   // Interpolated particles: their motion is the elements' (interpolate), their own bond
   // forces are not integrated.
@@ -445,15 +454,41 @@ void FeRegion::interpolate(System& s) {
   }
 }
 
+void FeRegion::mark_interface(const System& s) {
+  // Peridynamic particles: those the FE does not own (FeCoupling::owned_particle).
+  has_peridynamics = false;
+  for (uint8_t o : owned_particle) has_peridynamics = has_peridynamics || o == 0;
+  // With local particles a rank may hold elements alone: the account's sums are collective.
+  if (s.decomposition) has_peridynamics = any_rank(*s.decomposition, has_peridynamics);
+  interface_marked = true;
+  if (!has_peridynamics) return;
+  const std::size_t n = static_cast<std::size_t>(nodes_per_element);
+  interface_element.assign(elements(), 0);
+  for (std::size_t e = 0; e < elements(); ++e) {
+    bool touches = !damping_beta.empty() && damping_beta[e] > 0;  // interface damping: the coupling's work
+    for (std::size_t I = 0; I < n; ++I) touches = touches || !node_owned[conn[e * n + I]];
+    interface_element[e] = touches ? 1 : 0;
+  }
+  const std::size_t np = s.particles.size();
+  interface_force.assign(np, Vec3{});
+  interface_energy.assign(np, 0.0);
+  if (interface_dissipated.size() != np) interface_dissipated.assign(np, 0.0);  // a checkpoint may have set it
+}
+
 void FeRegion::update_coupling_account(System& s, bool energy) {
   // This pass is the last of compute_forces (solver/forces.cpp), so P.f is every
-  // particle's final internal force density (bonds, contact, elements).
+  // particle's final internal force density (bonds, contact, elements). Only the
+  // interface set (fe_region.hpp) enters: a peridynamic particle's whole force, an
+  // FE-owned node's interface elements' (interface_force; 0 for interpolated particles).
+  if (!coupled()) return;
   const auto& P = s.particles;
   const std::size_t np = P.size();
+  const auto& owned = owned_particle;
+  auto force = [&](std::size_t i) { return owned[i] ? interface_force[i] : P.f[i] * P.volume[i]; };
   if (!account_started) {
     if (!energy) return;
     account_started = 1;
-    stored_at_start = strain_energy(s) + s.dissipated();
+    account_pending = 2;  // the start: U + D read after the commit (close_account)
   } else {
     // The particles' terms (on ranks the owned ones) added on the grid: the same total at
     // any rank and thread count, and the serial program sums the same terms the same way
@@ -463,31 +498,59 @@ void FeRegion::update_coupling_account(System& s, bool energy) {
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < nt; ++k) {
       const std::size_t i = s.decomposition ? s.owned[k] : k;
-      terms[k] = 0.5 * dot(account_F[i] + P.f[i] * P.volume[i], P.u[i] - account_u[i]);
+      terms[k] = 0.5 * dot(account_F[i] + force(i), P.u[i] - account_u[i]);
     }
     GridSum g = GridSum::exact(s, 1);
     for (double w : terms) g.add(0, w);
     internal_work += g.totals()[0];
-    if (energy) coupling_work = internal_work + strain_energy(s) + s.dissipated() - stored_at_start;
+    if (energy) account_pending = 1;
   }
   account_F.resize(np);
   account_u = P.u;
-  for (std::size_t i = 0; i < np; ++i) account_F[i] = P.f[i] * P.volume[i];
+  for (std::size_t i = 0; i < np; ++i) account_F[i] = force(i);
+}
+
+void FeRegion::close_account(System& s) {
+  if (!account_pending) return;
+  // The interface set's stored and dissipated energy (fe_region.hpp), read after the
+  // commit as the ledger reads U and D (solver/explicit.cpp): the step's plastic work is in.
+  const auto& P = s.particles;
+  const std::size_t nt = s.decomposition ? s.owned.size() : P.size();
+  GridSum g = GridSum::exact(s, 1);
+  for (std::size_t k = 0; k < nt; ++k) {
+    const std::size_t i = s.decomposition ? s.owned[k] : k;
+    g.add(0, owned_particle[i] ? interface_energy[i] + interface_dissipated[i]
+                               : P.energy[i] * P.volume[i] + s.dissipated_at[i]);
+  }
+  const double stored = g.totals()[0];
+  if (account_pending == 2) stored_at_start = stored;
+  else coupling_work = internal_work + stored - stored_at_start;
+  account_pending = 0;
 }
 
 void FeRegion::commit(System& s) {
-  if (!plastic()) return;
-  history = history_trial;
-  const int n = nodes_per_element;
-  const Decomposition* d = s.decomposition;
-  for (std::size_t a = 0; a < nodes(); ++a) {
-    if (!node_owned[a] || (d && !d->owns(node_particle[a]))) continue;
-    double w = 0;
-    for (uint64_t k = node_offset[a]; k < node_offset[a + 1]; ++k) w += elem_work[node_elem[k] / static_cast<uint32_t>(n)];
-    if (w != 0) s.dissipated_at[node_particle[a]] += w / n;
+  if (plastic()) {
+    history = history_trial;
+    const int n = nodes_per_element;
+    const Decomposition* d = s.decomposition;
+    const bool account = coupled();
+    for (std::size_t a = 0; a < nodes(); ++a) {
+      if (!node_owned[a] || (d && !d->owns(node_particle[a]))) continue;
+      double w = 0, wi = 0;
+      for (uint64_t k = node_offset[a]; k < node_offset[a + 1]; ++k) {
+        const uint32_t e = node_elem[k] / static_cast<uint32_t>(n);
+        w += elem_work[e];
+        if (account && interface_element[e]) wi += elem_work[e];
+      }
+      if (w != 0) s.dissipated_at[node_particle[a]] += w / n;
+      // The interface elements' share, for the coupling account (close_account): the same
+      // plastic work, in D once; the account reads its change, not a second copy.
+      if (wi != 0) interface_dissipated[node_particle[a]] += wi / n;
+    }
+    // A second commit without a force pass dissipates nothing more.
+    std::fill(elem_work.begin(), elem_work.end(), 0.0);
   }
-  // A second commit without a force pass dissipates nothing more.
-  std::fill(elem_work.begin(), elem_work.end(), 0.0);
+  close_account(s);
 }
 
 void FeRegion::checkpoint(StateArchive& a) {
@@ -544,6 +607,7 @@ void FeRegion::checkpoint_account(StateArchive& a) {
   // Per particle: on ranks each entry from its owner (the owners' terms are summed).
   a.io_particles("fe_account_force", account_F);
   a.io_particles("fe_account_u", account_u);
+  a.io_particles("fe_account_dissipated", interface_dissipated);
 }
 
 double FeRegion::element_energy(const System&) const {

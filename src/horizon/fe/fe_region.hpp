@@ -114,22 +114,46 @@ struct FeRegion : FeCoupling {
   std::vector<Vec3> elem_force;
   std::vector<double> elem_energy;
 
-  // The coupling's energy account. Force-based coupling derives from no potential, so the
-  // ledger's stored energy (particles' bond energies + FE-owned nodes' element shares)
-  // changes by more or less than the internal forces' work. `coupling_work` is the work
-  // the coupling put in since the first force pass with energies:
-  //   W_c = W_int + (U + D) - (U + D)_start,  W_int = sum over steps and particles of
-  //   1/2 (F_n + F_n+1) . (u_n+1 - u_n)  (F = f V, the internal force; the trapezoid is
-  //   exact for a quadratic energy),
-  // updated at every force pass with energies (U from strain_energy, D the dissipated).
-  // A conservative model has W_c = 0 to the trapezoid's error; the ledger's balance less
-  // W_c is the work-energy theorem's residual (velocity Verlet's error). Written to
-  // history.csv (fe_coupling_work) and summary.json; checkpointed (checkpoint_account).
+  // The coupling's energy account. Force-based coupling derives from no potential: a
+  // peridynamic particle's bond to a point on the FE side pushes the particle but not the
+  // point, and an element with a node a particle holds pushes its FE-owned nodes but not
+  // that one, while the ledger books each owner's energy only. `coupling_work` is the work
+  // these interface forces put in since the first force pass with energies, the
+  // work-energy account of the parts of the model that hold an interface force:
+  //   W_c = W_int + (U + D) - (U + D)_start  over the interface set:
+  //   - every peridynamic particle (owned_particle 0): its whole force F = f V (bonds,
+  //     contact), its energy W V and its dissipated energy;
+  //   - every FE-owned node, with the force, energy share and plastic-work share of its
+  //     interface elements only (interface_element: an element with a node a particle
+  //     holds, or with interface damping, whose work is the coupling's too);
+  //   W_int = sum over steps of 1/2 (F_n + F_n+1) . (u_n+1 - u_n) (the trapezoid, exact for
+  //   a quadratic energy).
+  // The elements away from the interface derive from their energy and are left out, so
+  // their energy and plastic work are checked by the ledger itself, not absorbed here; a
+  // run without peridynamic particles (elements alone) has no interface and W_c = 0.
+  // U + D is read after the step's commit (close_account, at the end of commit), when the
+  // step's plastic work is in D, as the ledger reads it: the plastic dissipation of an
+  // element is counted once, in D, and enters W_c only as the change of D that balances
+  // the interface elements' force work. Written to history.csv (fe_coupling_work) and
+  // summary.json; the ledger counts it (Ledger::coupling_work); checkpointed
+  // (checkpoint_account).
   double internal_work = 0;
   double coupling_work = 0;
   double stored_at_start = 0;
   uint8_t account_started = 0;
   std::vector<Vec3> account_F, account_u;
+  // Per element: 1 for an interface element (above); per particle: an FE-owned node's
+  // force and energy from its interface elements (this pass) and its share of their
+  // plastic work (summed since the start). Empty without peridynamic particles.
+  std::vector<uint8_t> interface_element;
+  std::vector<Vec3> interface_force;
+  std::vector<double> interface_energy, interface_dissipated;
+  // Whether the run has peridynamic particles (the FE regions have an interface), and a
+  // force pass with energies whose account waits for the commit (1: to be closed, 2: the
+  // account's start).
+  bool coupled() const { return has_peridynamics; }
+  bool has_peridynamics = false, interface_marked = false;
+  uint8_t account_pending = 0;
 
   // On MPI ranks (the whole system on every rank, decompose(): parallel/decomposition.hpp)
   // the owner computes: a rank evaluates every element with an FE-owned node it owns
@@ -167,9 +191,15 @@ struct FeRegion : FeCoupling {
   void apply(System& s, bool energy) override;
   // Adds this pass's internal work to the coupling account (above); called by apply.
   void update_coupling_account(System& s, bool energy);
+  // After the step's commit: W_c from the interface set's U + D (above), when the last
+  // force pass had energies. Collective on ranks (every rank commits).
+  void close_account(System& s);
+  // Marks the interface elements and whether there are peridynamic particles (once).
+  void mark_interface(const System& s);
   // Accepts the trial history of the last apply and adds its plastic work to the ledger
   // (System::dissipated_at): each FE-owned node takes 1/n of its elements' work, as it
   // takes their energy (a node a peridynamic particle holds takes none, as for the energy).
+  // Then closes the coupling account (close_account).
   void commit(System& s) override;
   bool plastic() const { return !history.empty(); }
   // The plastic history for checkpoints (per element, from the owner of its keeper

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "horizon/core/parallel_select.hpp"
+#include "horizon/fe/fe_region.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/thermal/heat.hpp"
@@ -12,9 +13,9 @@
 namespace horizon {
 
 double Ledger::balance_error() const {
-  const double scale = std::max(
-      {std::abs(initial), std::abs(external_work), std::abs(thermal_work), kinetic + strain + dissipated + damped, 1e-300});
-  return (kinetic + strain + dissipated + damped - initial - external_work - thermal_work) / scale;
+  const double scale = std::max({std::abs(initial), std::abs(external_work), std::abs(thermal_work),
+                                  std::abs(coupling_work), kinetic + strain + dissipated + damped, 1e-300});
+  return (kinetic + strain + dissipated + damped - initial - external_work - thermal_work - coupling_work) / scale;
 }
 
 namespace {
@@ -200,6 +201,8 @@ void ExplicitSolver::step(bool energy) {
   if (energy) {
     ledger_.strain = strain_energy(s_);
     update_kinetic();
+    // The coupling's account is brought up to date by the same force pass (fe_region.hpp).
+    if (s_.fe) ledger_.coupling_work = s_.fe->coupling_work;
   }
 }
 

@@ -21,8 +21,12 @@ struct Ledger {
   // Energy the temperature put into the stored energy by changing the thermal strain at
   // fixed positions (coupled thermal runs; thermal/heat.hpp thermal_strain_work).
   double thermal_work = 0;
+  // The work the force-based coupling of finite-element regions put in (fe/fe_region.hpp
+  // coupling_work): it derives from no potential, so the ledger closes only with it.
+  double coupling_work = 0;
 
-  // (K + U + D + damped - initial - W_ext) relative to the largest energy in play.
+  // (K + U + D + damped - initial - W_ext - W_thermal - W_coupling) relative to the
+  // largest energy in play. Every term the run books is in it.
   double balance_error() const;
 };
 

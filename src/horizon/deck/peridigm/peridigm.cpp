@@ -261,7 +261,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
     if (auto v = m.find(from)) mat[to] = read_number(t.ctx, *v);
   if (auto a = m.find("Thermal Expansion Coefficient")) {
     if (read_number(t.ctx, *a) != 0)
-      t.ctx.fail(a->mark, a->path + ": thermal strain is not supported (Horizon has no temperature field); only 0");
+      t.ctx.fail(a->mark, a->path + ": thermal strain is not imported (Horizon's temperature is set in its own deck, thermal:); only 0");
   }
   for (const char* flag : {"Apply Shear Correction Factor", "Compute Partial Stress"}) {
     if (auto f = m.find(flag); f && read_bool(t.ctx, *f))
