@@ -1,5 +1,6 @@
 #include "horizon/driver/exodus_output.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "horizon/core/error.hpp"
@@ -130,6 +131,28 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   step.global = {kinetic};
   writer_->append(step);
+}
+
+ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& files, const std::filesystem::path& dir) {
+  for (const auto& f : files) {
+    files_.push_back(std::make_unique<ExodusOutput>((dir / f.file).string()));
+    every_.push_back(std::max(1, f.every));
+  }
+}
+
+bool ExodusSchedule::due(int64_t step) const {
+  for (int64_t e : every_)
+    if (step % e == 0) return true;
+  return false;
+}
+
+void ExodusSchedule::write(const System& s, const Decomposition* d, double time, int64_t step) {
+  for (std::size_t k = 0; k < files_.size(); ++k)
+    if (step % every_[k] == 0) files_[k]->write(s, d, time);
+}
+
+void ExodusSchedule::set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt) {
+  for (auto& f : files_) f->set_step_velocity(u, u_before, dt);
 }
 
 }  // namespace horizon

@@ -13,11 +13,14 @@
 // On several MPI ranks every particle is streamed to rank 0 in global order
 // (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
 // byte, as one rank.
+#include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/deck/config.hpp"
 
 namespace horizon {
 
@@ -43,6 +46,24 @@ class ExodusOutput {
   std::string path_;
   std::unique_ptr<ExodusWriter> writer_;
   std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
+};
+
+// output.exodus_files: Exodus files on their own schedules, each written at step 0 (the
+// initial state) and at every step that its `every` divides -- Peridigm's rule for each of
+// its Output lists (Output Frequency). Static runs count load steps.
+class ExodusSchedule {
+ public:
+  ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& files, const std::filesystem::path& dir);
+  bool empty() const { return files_.empty(); }
+  bool due(int64_t step) const;
+  // Collective: the files due at `step` get the state at `time`.
+  void write(const System& s, const Decomposition* d, double time, int64_t step);
+  // Static solves: as ExodusOutput::set_step_velocity, for every file.
+  void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
+
+ private:
+  std::vector<std::unique_ptr<ExodusOutput>> files_;
+  std::vector<int64_t> every_;
 };
 
 }  // namespace horizon
