@@ -167,7 +167,7 @@ TEST(PeridigmSuiteOptions, OutputListsAreExodusFilesWithTheirFrequencies) {
       "  Output1:\n    Output Filename: \"every_five\"\n    Output Frequency: 5\n"
       "    Output Variables:\n      Displacement: true\n"
       "  Output_2:\n    Output Filename: \"every_two\"\n    Output Frequency: 2\n"
-      "    Output Variables:\n      Global_Kinetic_Energy: true\n"
+      "    Output Variables:\n      Global_Kinetic_Energy: true\n      Velocity: true\n"
       "  Output Data:\n    Output Filename: \"every_step\"\n"
       "    Output Variables:\n      Global_Kinetic_Energy: true\n";
   const std::string deck = write(dir / "outputs.yaml", deck_text(outputs));
@@ -177,13 +177,15 @@ TEST(PeridigmSuiteOptions, OutputListsAreExodusFilesWithTheirFrequencies) {
   EXPECT_EQ(n["output"]["exodus_files"][1]["every"].as<int>(), 2);
   EXPECT_EQ(n["output"]["directory"].as<std::string>(), "out/every_five");
   EXPECT_EQ(n["output"]["history_columns"].size(), 1u);  // one Global_Kinetic_Energy column
+  // A list of global variables alone is Peridigm's history file, .h.
+  EXPECT_EQ(n["output"]["exodus_files"][2]["file"].as<std::string>(), "every_step.h");
   // Run it: each file holds the initial state and every N-th step, at t = n dt.
   Config c = load_deck(deck);
   c.output.directory = (dir / "out").string();
   RunOptions o;
   o.quiet = true;
   ASSERT_EQ(run_deck(c, o), 0);
-  for (const auto& [file, every] : {std::pair{"every_five.e", 5}, std::pair{"every_two.e", 2}, std::pair{"every_step.e", 1}}) {
+  for (const auto& [file, every] : {std::pair{"every_five.e", 5}, std::pair{"every_two.e", 2}, std::pair{"every_step.h", 1}}) {
     const ExodusSeries r = read_exodus_series((dir / "out" / file).string());
     ASSERT_EQ(r.steps.size(), static_cast<std::size_t>(10 / every + 1)) << file;
     for (std::size_t k = 0; k < r.steps.size(); ++k)

@@ -586,16 +586,30 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
   const std::string name = om.find("Output Filename") ? read_string(ctx, *om.find("Output Filename")) : "peridigm";
   if (name.empty() || name.find('/') != std::string::npos)
     fail_expected(ctx, *om.find("Output Filename"), "a file name without folders");
+  // A list that asks for global variables alone (and compute classes' labels) is
+  // Peridigm's history file, <name>.h (MultipleOutputFiles2_gold.h, disk_impact's Output_2);
+  // Horizon writes it in the same layout as the others.
+  bool history_only = false;
+  if (auto vars = om.find("Output Variables")) {
+    history_only = true;
+    for (const auto& e : map_entries(ctx, *vars)) {
+      YAML::Node probe(YAML::NodeType::Sequence);
+      const bool global = e.key == "Global_Kinetic_Energy" || add_global_column(e.key, probe) ||
+                          (labels && labels->count(e.key));
+      if (!global && e.value.node.IsScalar() && e.value.node.Scalar() != "false") history_only = false;
+    }
+  }
+  const std::string file_name = name + (history_only ? ".h" : ".e");
   for (const auto& f : exodus_files)
-    if (f["file"].as<std::string>() == name + ".e")
-      ctx.fail(o.mark, o.path + ": a second output list writes '" + name + ".e'");
+    if (f["file"].as<std::string>() == file_name)
+      ctx.fail(o.mark, o.path + ": a second output list writes '" + file_name + "'");
   int every = 1;
   if (auto f = om.find("Output Frequency")) {
     every = read_int(ctx, *f);
     if (every < 1) ctx.fail(f->mark, f->path + ": expected at least 1");
   }
   YAML::Node file;
-  file["file"] = name + ".e";
+  file["file"] = file_name;
   file["every"] = every;
   exodus_files.push_back(file);
   if (first) {
