@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <fstream>
 #include <string>
 
@@ -218,6 +221,13 @@ TEST(PeridigmSuiteOptions, StaticOutputListCountsLoadSteps) {
   ASSERT_EQ(r.steps.size(), 3u);  // load steps 0, 2, 4
   EXPECT_DOUBLE_EQ(r.steps[1].time, 2.0);
   EXPECT_DOUBLE_EQ(r.steps[2].time, 4.0);
+  // Peridigm's Radius (the sphere of the volume, 1 here) and the Newton iterations.
+  const auto radius = std::find(r.layout.element.begin(), r.layout.element.end(), "Radius") - r.layout.element.begin();
+  ASSERT_LT(static_cast<std::size_t>(radius), r.layout.element.size());
+  EXPECT_DOUBLE_EQ(r.steps[0].element[static_cast<std::size_t>(radius)][0], std::cbrt(3 / (4 * std::numbers::pi)));
+  ASSERT_EQ(r.layout.global, (std::vector<std::string>{"Global_Kinetic_Energy", "Nonlinear_Solver_Iterations"}));
+  EXPECT_EQ(r.steps[0].global[1], 0.0);
+  EXPECT_GE(r.steps[2].global[1], 1.0);
 }
 
 TEST(PeridigmSuiteOptions, FilesNamedFromPeridigmsRunFolder) {

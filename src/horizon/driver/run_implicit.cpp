@@ -265,10 +265,10 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   // output.format exodus or both: one time step of the Exodus file per frame.
   std::unique_ptr<ExodusOutput> exodus;
   if (config.output.writes_exodus())
-    exodus = std::make_unique<ExodusOutput>((dir / config.output.exodus_file).string());
+    exodus = std::make_unique<ExodusOutput>((dir / config.output.exodus_file).string(), true);
   // output.exodus_files: each on its own steps (static: load steps).
   std::unique_ptr<ExodusSchedule> exodus_files;
-  if (!config.output.exodus_files.empty()) exodus_files = std::make_unique<ExodusSchedule>(config.output.exodus_files, dir);
+  if (!config.output.exodus_files.empty()) exodus_files = std::make_unique<ExodusSchedule>(config.output.exodus_files, dir, true);
   auto write_frame = [&](double time, int64_t step) {
     if (exodus) exodus->write(s, dd.get(), time);
     if (!config.output.writes_vtu()) return;
@@ -333,6 +333,8 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       time = statics->time();
       if (exodus) exodus->set_step_velocity(s.particles.u, u_before, time - time_before);
       if (exodus_files) exodus_files->set_step_velocity(s.particles.u, u_before, time - time_before);
+      if (exodus) exodus->set_iterations(statics->last_iterations());
+      if (exodus_files) exodus_files->set_iterations(statics->last_iterations());
       row = {time, statics->increment() * sc.end_time, statics->lambda(), statics->last_report().residual, steps,
              statics->last_iterations(), statics->last_linear_iterations(), statics->last_break_rounds()};
       sync();
@@ -364,6 +366,8 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       steps = dynamics->steps();
       time = dynamics->time();
       row = {time, dynamics->dt(), 0, rep.residual, steps, rep.iterations, rep.linear_iterations, 0};
+      if (exodus) exodus->set_iterations(rep.iterations);
+      if (exodus_files) exodus_files->set_iterations(rep.iterations);
       const int64_t every = std::max(1, config.output.history_every);
       const bool history_due = steps % every == 0 || steps == total;
       const bool frame_due = steps * frames >= static_cast<int64_t>(next_frame) * total;

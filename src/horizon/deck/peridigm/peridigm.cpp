@@ -632,7 +632,8 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Displacement", "Velocity", "Acceleration", "Force", "Force_Density", "Damage", "Dilatation",
         "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
         "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
-        "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain"};
+        "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
+        "Nonlinear_Solver_Iterations"};
     for (const auto& e : map_entries(ctx, *vars)) {
       // The globals Peridigm writes become history columns under their own names (once,
       // whichever lists name them), and compute classes' Output Labels are written by
