@@ -16,7 +16,7 @@ A value pair passes when |a - b| <= T (absolute) or |a - b| <= T max(|a|, |b|)
 (relative), and always when both |a| and |b| are at most the floor F. Sections the file
 does not name are not compared, as with exodiff -f. Every time step is compared; the
 files must hold the same number. Nodes pair by file order when the coordinates agree
-within their tolerance, else by equal coordinates (as exodiff -m); element variables of
+within their tolerance, else by coordinates within the tolerance (as exodiff -m); element variables of
 one-node (SPHERE) elements are compared at their node. Node and side sets are not
 compared.
 
@@ -164,7 +164,25 @@ def node_pairing(xr, xg, spec):
         pair = np.empty(len(xg), dtype=int)
         pair[order_g] = order_r
         return pair
-    return None
+    # Coordinates that agree within the tolerance but not exactly sort differently (a tie
+    # in x broken by 1e-15): match each gold node to an unused result node within the
+    # tolerance, searching a window of x (exodiff -m matches within its tolerance too).
+    width = spec.tol * max(1.0, float(np.abs(xg).max(initial=0.0)), float(np.abs(xr).max(initial=0.0)))
+    by_x = np.argsort(xr[:, 0], kind="stable")
+    xs = xr[by_x, 0]
+    used = np.zeros(len(xr), dtype=bool)
+    pair = np.empty(len(xg), dtype=int)
+    for g, p in enumerate(xg):
+        lo = np.searchsorted(xs, p[0] - width, "left")
+        hi = np.searchsorted(xs, p[0] + width, "right")
+        cand = by_x[lo:hi]
+        cand = cand[~used[cand]]
+        ok = cand[np.all(spec.excess(xr[cand], np.broadcast_to(p, (len(cand), 3))) <= 0, axis=1)] if len(cand) else cand
+        if len(ok) == 0:
+            return None
+        pair[g] = ok[0]
+        used[ok[0]] = True
+    return pair
 
 
 def compare(result, gold, comp):

@@ -50,16 +50,16 @@ run() {
   local result detail
   local start; start=$(date +%s.%N)
   # check first: a refused deck is Horizon's error before any run
-  if ! (cd "$wd" && timeout "$limit" "$horizon" check "$checkout/$deck" >check.log 2>&1); then
+  if ! (cd "$wd" && timeout -k 10 "$limit" "$horizon" check "$checkout/$deck" >check.log 2>&1); then
     result=refused
     detail=$(grep -m1 -i 'error' "$wd/check.log" | sed "s|$checkout/||g" | one_line)
     [ -n "$detail" ] || detail=$(tail -n 2 "$wd/check.log" | one_line)
   else
     local cmd=("$horizon" run "$checkout/$deck")
     [ "$ranks" -gt 1 ] && cmd=(mpiexec -n "$ranks" --oversubscribe "$horizon_mpi" run "$checkout/$deck")
-    (cd "$wd" && timeout "$limit" "${cmd[@]}" >run.log 2>&1)
+    (cd "$wd" && timeout -k 10 "$limit" "${cmd[@]}" >run.log 2>&1)
     local rc=$?
-    if [ $rc -eq 124 ]; then
+    if [ $rc -eq 124 ] || [ $rc -eq 137 ]; then  # 137: killed 10 s after the limit (a run that finishes its frame on SIGTERM)
       result=timeout; detail="over ${limit} s"
     elif [ $rc -ne 0 ]; then
       result=fails; detail=$(grep -m1 -i 'error' "$wd/run.log" | sed "s|$checkout/||g" | one_line)

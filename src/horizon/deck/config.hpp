@@ -207,6 +207,14 @@ struct OutputConfig {
   bool writes_vtu() const { return format != Format::exodus; }
   bool writes_exodus() const { return format != Format::vtu; }
   std::string exodus_file = "frames.e";
+  // output.exodus_files: more Exodus files (the same layout), each with its own schedule:
+  // the initial state and every `every` steps (explicit and implicit dynamics: time steps;
+  // static: load steps), as Peridigm writes each of its Output lists (docs/input.md).
+  struct ExodusFile {
+    std::string file;
+    int every = 1;
+  };
+  std::vector<ExodusFile> exodus_files;
 };
 
 // The partial-volume rule, readable as a boolean (true: any rule but none) so that

@@ -484,7 +484,7 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   const auto item = m.find("output");
   if (!item) return;
   MapReader o(ctx, *item, {"directory", "frames", "history_every", "progress_every", "damage_measure", "checkpoint",
-                           "format", "exodus_file", "history_columns"});
+                           "format", "exodus_file", "exodus_files", "history_columns"});
   if (auto f = o.find("format")) {
     config.output.format = read_enum<OutputConfig::Format>(
         ctx, *f, {{"vtu", OutputConfig::Format::vtu}, {"exodus", OutputConfig::Format::exodus}, {"both", OutputConfig::Format::both}});
@@ -497,6 +497,30 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       fail_expected(ctx, *e, "a file name (inside output.directory)");
   }
   if (auto h = o.find("history_columns")) config.output.history_columns = read_history_columns(ctx, *h, config);
+  if (auto files = o.find("exodus_files")) {
+    if (!files->node.IsSequence() || files->node.size() == 0)
+      fail_expected(ctx, *files, "a list of {file: NAME.e, every: N}");
+    if (config.solver.type == SolverType::heat)
+      ctx.fail(*files->key_mark, files->path + ": exodus output is written by the explicit, implicit and static solvers only");
+    for (std::size_t k = 0; k < files->node.size(); ++k) {
+      const Item entry{files->node[k], index_path(files->path, k), files->node[k].Mark(), std::nullopt};
+      MapReader e(ctx, entry, {"file", "every"});
+      OutputConfig::ExodusFile f;
+      const Item name = e.get("file", "the Exodus file's name, inside output.directory");
+      f.file = read_string(ctx, name);
+      if (f.file.empty() || f.file.find('/') != std::string::npos)
+        fail_expected(ctx, name, "a file name (inside output.directory)");
+      for (const auto& other : config.output.exodus_files)
+        if (other.file == f.file) ctx.fail(name.mark, name.path + ": the file '" + f.file + "' is named twice");
+      if (config.output.writes_exodus() && f.file == config.output.exodus_file)
+        ctx.fail(name.mark, name.path + ": '" + f.file + "' is already output.exodus_file");
+      if (auto ev = e.find("every")) {
+        f.every = read_int(ctx, *ev);
+        if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
+      }
+      config.output.exodus_files.push_back(f);
+    }
+  }
   if (auto d = o.find("damage_measure")) {
     config.output.damage_measure =
         read_enum<DamageMeasure>(ctx, *d, {{"weighted", DamageMeasure::weighted}, {"volume", DamageMeasure::volume}});
@@ -519,6 +543,8 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
     MapReader cp(ctx, *c, {"every"});
     config.output.checkpoint_every = at_least(cp.get("every", "the steps between checkpoints"), 1);
   }
+  if (auto f = o.find("exodus_files"); f && config.output.checkpoint_every)
+    ctx.fail(*f->key_mark, f->path + ": exodus output is not written with checkpoints");
   if (auto f = o.find("format"); f && config.output.writes_exodus()) {
     // A restart rewrites frames.pvd's list; the Exodus file has no such index yet.
     if (config.output.checkpoint_every)

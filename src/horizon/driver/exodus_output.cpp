@@ -1,6 +1,9 @@
 #include "horizon/driver/exodus_output.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <numbers>
 
 #include "horizon/core/error.hpp"
 
@@ -32,7 +35,12 @@ int block_id(const std::vector<std::string>& names, int index) {
 
 }  // namespace
 
-ExodusOutput::ExodusOutput(std::string path) : path_(std::move(path)) {}
+ExodusOutput::ExodusOutput(std::string path, bool iterations)
+    : path_(std::move(path)), iterations_(iterations ? std::optional<int>(0) : std::nullopt) {}
+
+void ExodusOutput::set_iterations(int n) {
+  if (iterations_) iterations_ = n;
+}
 ExodusOutput::~ExodusOutput() = default;
 
 void ExodusOutput::set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt) {
@@ -98,14 +106,15 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "AccelerationX", "AccelerationY", "AccelerationZ", "External_Force_DensityX",
                     "External_Force_DensityY", "External_Force_DensityZ"};
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
-                      "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy"};
+                      "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
     layout.global = {"Global_Kinetic_Energy"};
+    if (iterations_) layout.global.push_back("Nonlinear_Solver_Iterations");
     writer_ = std::make_unique<ExodusWriter>(path_, layout);
   }
   ExodusStep step;
   step.time = time;
   step.nodal.assign(18, std::vector<double>(n));
-  step.element.assign(9, std::vector<double>(n));
+  step.element.assign(10, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = rows[i];
@@ -126,10 +135,40 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     step.element[6][i] = r[18];
     step.element[7][i] = r[22];
     step.element[8][i] = r[22] * r[12];
+    // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
+    step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};
+  if (iterations_) step.global.push_back(static_cast<double>(*iterations_));
   writer_->append(step);
+}
+
+ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& files, const std::filesystem::path& dir,
+                               bool iterations) {
+  for (const auto& f : files) {
+    files_.push_back(std::make_unique<ExodusOutput>((dir / f.file).string(), iterations));
+    every_.push_back(std::max(1, f.every));
+  }
+}
+
+bool ExodusSchedule::due(int64_t step) const {
+  for (int64_t e : every_)
+    if (step % e == 0) return true;
+  return false;
+}
+
+void ExodusSchedule::write(const System& s, const Decomposition* d, double time, int64_t step) {
+  for (std::size_t k = 0; k < files_.size(); ++k)
+    if (step % every_[k] == 0) files_[k]->write(s, d, time);
+}
+
+void ExodusSchedule::set_iterations(int n) {
+  for (auto& f : files_) f->set_iterations(n);
+}
+
+void ExodusSchedule::set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt) {
+  for (auto& f : files_) f->set_step_velocity(u, u_before, dt);
 }
 
 }  // namespace horizon

@@ -8,16 +8,22 @@
 //   element  Element_Id (the particle's 1-based id), Block_Id, Volume, Damage, Dilatation,
 //            Weighted_Volume, Number_Of_Neighbors (its family's bonds),
 //            Stored_Elastic_Energy_Density (the strain energy density W, as of the last
-//            force pass that computed it: history rows and frames), Stored_Elastic_Energy (W V);
-//   global   Global_Kinetic_Energy (sum of rho V |v|^2 / 2).
+//            force pass that computed it: history rows and frames), Stored_Elastic_Energy (W V),
+//            Radius (of the sphere of the particle's volume);
+//   global   Global_Kinetic_Energy (sum of rho V |v|^2 / 2); static and implicit runs also
+//            Nonlinear_Solver_Iterations (Newton's iterations of the step).
 // On several MPI ranks every particle is streamed to rank 0 in global order
 // (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
 // byte, as one rank.
+#include <cstdint>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/deck/config.hpp"
 
 namespace horizon {
 
@@ -27,7 +33,10 @@ class ExodusWriter;
 
 class ExodusOutput {
  public:
-  explicit ExodusOutput(std::string path);
+  // `iterations`: the file also has the global Nonlinear_Solver_Iterations (static and
+  // implicit runs: Newton's iterations of the last step, set_iterations; 0 at t = 0).
+  explicit ExodusOutput(std::string path, bool iterations = false);
+  void set_iterations(int n);
   ~ExodusOutput();
   // Collective: appends the system's state at `time` as the next time step (the file is
   // created with the first). Throws OutputError on the writing rank.
@@ -43,6 +52,27 @@ class ExodusOutput {
   std::string path_;
   std::unique_ptr<ExodusWriter> writer_;
   std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
+  std::optional<int> iterations_;  // Nonlinear_Solver_Iterations, when the file has it
+};
+
+// output.exodus_files: Exodus files on their own schedules, each written at step 0 (the
+// initial state) and at every step that its `every` divides -- Peridigm's rule for each of
+// its Output lists (Output Frequency). Static runs count load steps.
+class ExodusSchedule {
+ public:
+  ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& files, const std::filesystem::path& dir,
+                 bool iterations = false);
+  void set_iterations(int n);
+  bool empty() const { return files_.empty(); }
+  bool due(int64_t step) const;
+  // Collective: the files due at `step` get the state at `time`.
+  void write(const System& s, const Decomposition* d, double time, int64_t step);
+  // Static solves: as ExodusOutput::set_step_velocity, for every file.
+  void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
+
+ private:
+  std::vector<std::unique_ptr<ExodusOutput>> files_;
+  std::vector<int64_t> every_;
 };
 
 }  // namespace horizon

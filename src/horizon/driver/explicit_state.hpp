@@ -58,6 +58,7 @@ struct ExplicitRun::State {
   std::filesystem::path dir;
   std::unique_ptr<PvdIndex> pvd;
   std::unique_ptr<ExodusOutput> exodus;  // output.format exodus or both
+  std::unique_ptr<ExodusSchedule> exodus_files;  // output.exodus_files, on their own steps
   std::unique_ptr<ExplicitSolver> solver;
   std::ostringstream history;
   double max_balance_error = 0;

@@ -72,6 +72,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.pvd = std::make_unique<PvdIndex>((r.dir / "frames.pvd").string());
   if (c.output.writes_exodus()) r.exodus = std::make_unique<ExodusOutput>((r.dir / c.output.exodus_file).string());
+  if (!c.output.exodus_files.empty()) r.exodus_files = std::make_unique<ExodusSchedule>(c.output.exodus_files, r.dir);
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();
@@ -147,6 +148,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
     if (r.local_particles()) r.sync();
     r.record_history();
     r.write_frame();
+    if (r.exodus_files) r.exodus_files->write(r.s, r.dd.get(), r.solver->time(), 0);
     r.crack->record(r.cracks(), 0);
   }
 
@@ -187,10 +189,11 @@ int64_t ExplicitRun::advance(int64_t n) {
       const bool frame_due = r.adaptive ? last || (solver.time() + solver.dt()) * r.frames >= r.next_frame * r.end_time
                                         : step * r.frames >= static_cast<int64_t>(r.next_frame) * r.total;
       const bool history_due = step % r.history_every == 0 || last;
-      solver.step(history_due || frame_due);
+      const bool exodus_due = r.exodus_files && r.exodus_files->due(step);
+      solver.step(history_due || frame_due || exodus_due);
       r.advance_heat();
       ++taken;
-      if (history_due || frame_due) r.sync();
+      if (history_due || frame_due || exodus_due) r.sync();
       if (history_due) {
         r.record_history();
         r.crack->record(r.cracks(), solver.time());
@@ -199,6 +202,7 @@ int64_t ExplicitRun::advance(int64_t n) {
         r.write_frame();
         ++r.next_frame;
       }
+      if (exodus_due) r.exodus_files->write(r.s, r.dd.get(), solver.time(), step);
       if (c.output.checkpoint_every > 0 && solver.steps() % c.output.checkpoint_every == 0 && !r.at_end())
         r.write_checkpoint();
       if (!r.options.quiet) r.progress->update(solver.steps(), solver.time());

@@ -265,7 +265,10 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   // output.format exodus or both: one time step of the Exodus file per frame.
   std::unique_ptr<ExodusOutput> exodus;
   if (config.output.writes_exodus())
-    exodus = std::make_unique<ExodusOutput>((dir / config.output.exodus_file).string());
+    exodus = std::make_unique<ExodusOutput>((dir / config.output.exodus_file).string(), true);
+  // output.exodus_files: each on its own steps (static: load steps).
+  std::unique_ptr<ExodusSchedule> exodus_files;
+  if (!config.output.exodus_files.empty()) exodus_files = std::make_unique<ExodusSchedule>(config.output.exodus_files, dir, true);
   auto write_frame = [&](double time, int64_t step) {
     if (exodus) exodus->write(s, dd.get(), time);
     if (!config.output.writes_vtu()) return;
@@ -301,6 +304,8 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   sync();
   record_history(Row{});
   write_frame(0, 0);
+  if (exodus_files) exodus_files->write(s, dd.get(), 0, 0);
+  int64_t exodus_written = 0;  // static: the last load step the schedule saw
   install_interrupt_handler();
   const int frames = std::max(1, config.output.frames);
   const int64_t total = is_static ? sc.load_steps : step_count(config, *sc.time_step);
@@ -317,7 +322,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       if (statics->done()) break;
       const double time_before = statics->time();
       std::vector<Vec3> u_before;
-      if (exodus) u_before = s.particles.u;
+      if (exodus || exodus_files) u_before = s.particles.u;
       if (!statics->advance()) {
         status = "not converged";
         exit_code = 4;
@@ -327,6 +332,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       steps = statics->steps();
       time = statics->time();
       if (exodus) exodus->set_step_velocity(s.particles.u, u_before, time - time_before);
+      if (exodus_files) exodus_files->set_step_velocity(s.particles.u, u_before, time - time_before);
+      if (exodus) exodus->set_iterations(statics->last_iterations());
+      if (exodus_files) exodus_files->set_iterations(statics->last_iterations());
       row = {time, statics->increment() * sc.end_time, statics->lambda(), statics->last_report().residual, steps,
              statics->last_iterations(), statics->last_linear_iterations(), statics->last_break_rounds()};
       sync();
@@ -334,6 +342,15 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       if (statics->lambda() * frames >= next_frame - 1e-9) {
         write_frame(time, steps);
         while (statics->lambda() * frames >= next_frame - 1e-9) ++next_frame;
+      }
+      if (exodus_files) {
+        // A load step ends at a whole multiple of 1/load_steps (a cut increment's parts do not).
+        const double level = statics->lambda() * sc.load_steps;
+        const int64_t k = std::llround(level);
+        if (std::abs(level - static_cast<double>(k)) < 1e-9 && k > exodus_written) {
+          exodus_written = k;
+          if (exodus_files->due(k)) exodus_files->write(s, dd.get(), time, k);
+        }
       }
       if (!opts.quiet) progress.update(static_cast<int64_t>(std::lround(statics->lambda() * sc.load_steps)), time);
     } else {
@@ -349,15 +366,19 @@ int run_implicit_deck(Config config, const RunOptions& options) {
       steps = dynamics->steps();
       time = dynamics->time();
       row = {time, dynamics->dt(), 0, rep.residual, steps, rep.iterations, rep.linear_iterations, 0};
+      if (exodus) exodus->set_iterations(rep.iterations);
+      if (exodus_files) exodus_files->set_iterations(rep.iterations);
       const int64_t every = std::max(1, config.output.history_every);
       const bool history_due = steps % every == 0 || steps == total;
       const bool frame_due = steps * frames >= static_cast<int64_t>(next_frame) * total;
-      if (history_due || frame_due) sync();
+      const bool exodus_due = exodus_files && exodus_files->due(steps);
+      if (history_due || frame_due || exodus_due) sync();
       if (history_due) record_history(row);
       if (frame_due) {
         write_frame(time, steps);
         ++next_frame;
       }
+      if (exodus_due) exodus_files->write(s, dd.get(), time, steps);
       if (!opts.quiet) progress.update(steps, time);
     }
     if (dd ? any_rank(*dd, interrupt_requested()) : interrupt_requested()) {

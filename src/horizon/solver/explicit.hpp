@@ -52,7 +52,11 @@ class ExplicitSolver {
   int64_t steps() const { return steps_; }
   double dt() const { return dt_; }
   // Changes the step from the next step on (the adaptive step of the nonlinear solid).
-  void set_dt(double dt) { dt_ = dt; }
+  // The adaptive step: from now on the time is the sum of the steps (else n dt).
+  void set_dt(double dt) {
+    dt_ = dt;
+    fixed_dt_ = false;
+  }
   const Ledger& ledger() const { return ledger_; }
   Ledger& ledger() { return ledger_; }
   // Checkpoint and restart: time, step count, step and ledger.
@@ -71,6 +75,7 @@ class ExplicitSolver {
   double dt_, damping_;
   double time_ = 0;
   int64_t steps_ = 0;
+  bool fixed_dt_ = true;  // no set_dt: t = steps * dt
   Ledger ledger_;
   std::vector<Vec3> u_before_, v_before_, b_before_;
   std::vector<double> damped_terms_;  // per owned particle, a decomposed run with damping (step)

@@ -1,4 +1,5 @@
 #include "horizon/deck/peridigm/exodus_discretization.hpp"
+#include "horizon/deck/peridigm/sections.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -41,8 +42,7 @@ Vec3 peridigm_hex_centre(const std::vector<Vec3>& x, const std::vector<uint32_t>
 ExodusDiscretization read_exodus_discretization(const deck::DeckContext& ctx, const deck::Item& file_item,
                                                 const std::string& folder) {
   const std::string name = deck::read_string(ctx, file_item);
-  std::filesystem::path path = name;
-  if (path.is_relative()) path = std::filesystem::path(folder) / path;
+  const std::filesystem::path path = resolve_deck_file(folder, name);
   Mesh mesh;
   try {
     mesh = read_exodus(path.string(), 3);

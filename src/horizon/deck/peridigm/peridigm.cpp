@@ -71,9 +71,7 @@ double value_number(const DeckContext& ctx, const Item& item) { return read_numb
 // --- Discretization --------------------------------------------------------------
 
 void read_text_file(Translation& t, const Item& file_item) {
-  const std::string name = read_string(t.ctx, file_item);
-  fs::path path = name;
-  if (path.is_relative()) path = t.folder / path;
+  const fs::path path = resolve_deck_file(t.folder.string(), read_string(t.ctx, file_item));
   std::ifstream in(path);
   if (!in) t.ctx.fail(file_item.mark, file_item.path + ": cannot open the text-file discretisation '" + path.string() + "'");
   std::string line;
@@ -345,27 +343,49 @@ std::vector<int> read_ids(Translation& t, const Item& item) {
   if (!numeric) {
     // A file of ids, one a line (Peridigm_BoundaryAndInitialConditionManager.cpp).
     ids.clear();
-    fs::path path = text;
-    if (path.is_relative()) path = t.folder / path;
+    const fs::path path = resolve_deck_file(t.folder.string(), text);
     std::ifstream f(path);
     if (!f)
       t.ctx.fail(item.mark, item.path + ": expected node ids (\"1 2 3\") or a file of them; cannot open '" +
                                 path.string() + "'");
-    while (f >> word) {
-      char* end = nullptr;
-      const long v = std::strtol(word.c_str(), &end, 10);
-      if (*end != '\0' || end == word.c_str())
-        t.ctx.fail(item.mark, item.path + ": the node-set file '" + path.string() + "' holds '" + word +
-                                  "', not a node id");
-      ids.push_back(static_cast<int>(v));
+    // Rows starting with #, / or * are comments, as in a text-file discretisation
+    // (PredictorFromPreviousSolver's node-set files open with "# Volume = ...").
+    for (std::string line; std::getline(f, line);) {
+      const auto first = line.find_first_not_of(" \t\r");
+      if (first == std::string::npos || line[first] == '#' || line[first] == '/' || line[first] == '*') continue;
+      std::istringstream row(line);
+      while (row >> word) {
+        char* end = nullptr;
+        const long v = std::strtol(word.c_str(), &end, 10);
+        if (*end != '\0' || end == word.c_str())
+          t.ctx.fail(item.mark, item.path + ": the node-set file '" + path.string() + "' holds '" + word +
+                                    "', not a node id");
+        ids.push_back(static_cast<int>(v));
+      }
     }
   }
   if (ids.empty()) t.ctx.fail(item.mark, item.path + ": the node set is empty");
-  for (int id : ids)
-    if (id < 1 || static_cast<std::size_t>(id) > t.points.size())
-      t.ctx.fail(item.mark, fmt::format("{}: node id {} is out of range: the discretisation has nodes 1 to {}",
-                                        item.path, id, t.points.size()));
   return ids;
+}
+
+// The deck's node-set lists hold 1-based ids (Peridigm's survey sec. 1.6), except in a deck
+// where some list holds the id 0: Peridigm's ElementVariableOutput names its two points
+// "0" and "1", and its gold moves both (the points of Compression_2x1x1, "1" and "2", the
+// same way), so such a deck counts from 0 in every list. Checks each id's range.
+void number_from_one(Translation& t, std::map<std::string, std::vector<int>>& sets,
+                     const std::map<std::string, Item>& items) {
+  bool zero_based = false;
+  for (const auto& [name, item] : items)
+    for (int id : sets[name]) zero_based = zero_based || id == 0;
+  for (const auto& [name, item] : items)
+    for (int& id : sets[name]) {
+      if (zero_based) ++id;
+      if (id < 1 || static_cast<std::size_t>(id) > t.points.size())
+        t.ctx.fail(item.mark,
+                   fmt::format("{}: node id {} is out of range: the discretisation has nodes {} to {}{}", item.path,
+                               zero_based ? id - 1 : id, zero_based ? 0 : 1, zero_based ? t.points.size() - 1 : t.points.size(),
+                               zero_based ? " (the deck's node sets count from 0: one of them holds the id 0)" : ""));
+    }
 }
 
 // An expression in x, y, z, t as Horizon's muParser reads it: kept as written when
@@ -397,7 +417,298 @@ std::string read_value(Translation& t, const Item& item) {
   return translated;
 }
 
+// --- Solvers ---------------------------------------------------------------------------
+
+// Horizon's native solver for a deck's solvers (one, or several in sequence merged).
+struct Solve {
+  YAML::Node solver;       // native `solver`
+  std::string method;      // Verlet, QuasiStatic, NOXQuasiStatic, Implicit
+  double end_time = 1;
+  std::optional<double> fixed_dt;
+  int load_steps = 1;      // static
+};
+
+// A NOX sublist Horizon reads without effect: NOX's own settings of the path its
+// nonlinear iteration takes (line search, linear solve, preconditioner reuse, printing),
+// which do not change the equilibrium it converges to. It must be a map.
+void read_nox_sublist(const DeckContext& ctx, const Item& item) {
+  if (!item.node.IsMap()) fail_expected(ctx, item, "a map (a NOX parameter list)");
+}
+
+// One solver list (Solver, Solver1, ...); `t0` gets its Initial Time.
+Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
+  MapReader s(ctx, item,
+              {"Verbose", "Initial Time", "Final Time", "Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit",
+               "Peridigm Preconditioner", "Initialize Predictor From Previous Solver"});
+  if (auto v = s.find("Verbose")) read_bool(ctx, *v);
+  t0 = 0;
+  if (auto i = s.find("Initial Time")) {
+    t0 = read_number(ctx, *i);
+    if (t0 < 0) fail_expected(ctx, *i, "a time >= 0");
+  }
+  Solve r;
+  // Peridigm's default Final Time is 1 (survey sec. 1.5).
+  r.end_time = s.has("Final Time") ? read_positive(ctx, *s.find("Final Time")) : 1.0;
+  if (auto f = s.find("Final Time"); f && !(r.end_time > t0))
+    ctx.fail(f->mark, fmt::format("{}: expected a time after the Initial Time {}", f->path, t0));
+  // Peridigm Preconditioner (None, Full Tangent, Block 3x3) chooses how NOX's matrix-free
+  // Newton preconditions its linear solves; Horizon assembles its own tangent. Read, no effect.
+  if (auto p = s.find("Peridigm Preconditioner")) {
+    const std::string w = squash(read_string(ctx, *p));
+    if (w != "none" && w != "fulltangent" && w != "block3x3")
+      fail_choice(ctx, *p, read_string(ctx, *p), {"None", "Full Tangent", "Block 3x3"}, "Peridigm Preconditioner");
+  }
+  // Whether Peridigm's Newton starts from the previous solver's last increment: the
+  // equilibrium it converges to is the same. Read, no effect.
+  if (auto p = s.find("Initialize Predictor From Previous Solver")) read_bool(ctx, *p);
+  r.method = *s.exactly_one({"Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit"}, true);
+  const Item mi = *s.find(r.method);
+  YAML::Node& solver = r.solver;
+  if (r.method == "Verlet") {
+    MapReader v(ctx, mi, {"Fixed dt", "Safety Factor"});
+    solver["type"] = "explicit";
+    if (v.has("Fixed dt") && v.has("Safety Factor"))
+      ctx.fail(*v.find("Safety Factor")->key_mark, mi.path + ": give Fixed dt or Safety Factor, not both");
+    if (auto f = v.find("Fixed dt")) r.fixed_dt = read_positive(ctx, *f), solver["time_step"] = number(*r.fixed_dt);
+    if (auto f = v.find("Safety Factor")) solver["safety_factor"] = read_positive(ctx, *f);
+  } else if (r.method == "Implicit") {
+    MapReader v(ctx, mi, {"Fixed dt", "Beta", "Gamma", "Absolute Tolerance", "Maximum Solver Iterations"});
+    solver["type"] = "implicit_dynamic";
+    r.fixed_dt = read_positive(ctx, v.get("Fixed dt", "the time step"));
+    solver["time_step"] = number(*r.fixed_dt);
+    if (auto b = v.find("Beta"); b && read_number(ctx, *b) != 0.25)
+      ctx.fail(b->mark, b->path + ": only 0.25 (Horizon's Newmark is the average-acceleration rule)");
+    if (auto g = v.find("Gamma"); g && read_number(ctx, *g) != 0.5)
+      ctx.fail(g->mark, g->path + ": only 0.5 (Horizon's Newmark is the average-acceleration rule)");
+    if (auto a = v.find("Absolute Tolerance")) read_positive(ctx, *a);
+    if (auto i = v.find("Maximum Solver Iterations")) solver["max_iterations"] = read_int(ctx, *i);
+  } else {
+    // QuasiStatic (Peridigm's Newton) and NOXQuasiStatic (Newton, or nonlinear CG, through
+    // NOX) both map to Horizon's static Newton solve: each finds the equilibrium at each
+    // load step, and their converged answers agree to the tolerance (docs/peridigm.md).
+    const bool nox = r.method == "NOXQuasiStatic";
+    MapReader v(ctx, mi,
+                nox ? std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Relative Tolerance",
+                                               "Max Solver Iterations", "Nonlinear Solver", "Direction", "Line Search",
+                                               "Max Age Of Prec", "Printing", "Solver Options", "Trust Region"}
+                    : std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Relative Tolerance",
+                                               "Maximum Solver Iterations", "Belos Linear Solver"});
+    solver["type"] = "static";
+    solver["method"] = "newton";
+    // Peridigm's Newton, run to its absolute tolerance, ends far below it (its golds'
+    // displacements agree with Horizon's to 1e-15 when Horizon converges to 1e-12; at
+    // Horizon's default 1e-6 they differ by 1e-9 relative, and Peridigm's quasi-static
+    // velocity, the last step's displacement increment over its time increment, by more
+    // than the golds' tolerances). Newton stops anyway where no step lowers the residual.
+    // A Relative Tolerance below 1e-12 tightens it.
+    double tolerance = 1.0e-12;
+    if (auto a = v.find("Absolute Tolerance")) read_positive(ctx, *a);
+    if (auto rt = v.find("Relative Tolerance")) {
+      const double rel = read_positive(ctx, *rt);
+      if (rel >= 1) fail_expected(ctx, *rt, "a relative tolerance < 1");
+      tolerance = std::min(tolerance, rel);
+    }
+    solver["tolerance"] = tolerance == 1.0e-12 ? YAML::Node("1.0e-12") : number(tolerance);
+    if (auto n = v.find("Number of Load Steps")) {
+      r.load_steps = read_int(ctx, *n);
+      if (r.load_steps < 1) fail_expected(ctx, *n, "a whole number >= 1");
+      solver["load_steps"] = r.load_steps;
+    }
+    for (const char* k : {"Maximum Solver Iterations", "Max Solver Iterations"})
+      if (auto i = v.find(k)) solver["max_iterations"] = read_int(ctx, *i);
+    // The Krylov method of Peridigm's linear solves; Horizon's are its own. Read, no effect.
+    if (auto b = v.find("Belos Linear Solver")) read_string(ctx, *b);
+    if (auto n = v.find("Nonlinear Solver")) {
+      // NOX's Newton-type solvers: a line search or a trust region globalises the same
+      // Newton step; Horizon's Newton has its own safeguard (step cuts).
+      const std::string w = squash(read_string(ctx, *n));
+      if (w != "linesearchbased" && w != "inexacttrustregionbased" && w != "trustregionbased")
+        fail_choice(ctx, *n, read_string(ctx, *n), {"Line Search Based", "Trust Region Based", "Inexact Trust Region Based"},
+                    "NOX nonlinear solver Horizon maps to its Newton solve");
+    }
+    if (auto a = v.find("Max Age Of Prec")) read_int(ctx, *a);
+    for (const char* k : {"Line Search", "Printing", "Solver Options", "Trust Region"})
+      if (auto l = v.find(k)) read_nox_sublist(ctx, *l);
+    if (auto dir = v.find("Direction")) {
+      MapReader dm(ctx, *dir, {"Method", "Newton", "Nonlinear CG", "Steepest Descent"});
+      if (auto meth = dm.find("Method")) {
+        // Nonlinear CG minimises the same energy whose stationary point Newton finds.
+        const std::string w = squash(read_string(ctx, *meth));
+        if (w != "newton" && w != "nonlinearcg")
+          fail_choice(ctx, *meth, read_string(ctx, *meth), {"Newton", "NonlinearCG"},
+                      "NOX direction Horizon maps to its Newton solve");
+      }
+      for (const char* k : {"Newton", "Nonlinear CG", "Steepest Descent"})
+        if (auto l = dm.find(k)) read_nox_sublist(ctx, *l);
+    }
+  }
+  return r;
+}
+
+// The deck's solver lists in the order given. Several become one native solver when they
+// are one run cut in pieces: the same method and options, each starting where the one
+// before ended (the first at 0), and the same time step (static: the same time per load
+// step, so their load steps are Horizon's equal increments). Anything else is an error.
+Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys, const MapReader& m) {
+  Solve merged;
+  double end = 0;
+  std::string first_key;
+  for (const auto& key : keys) {
+    const Item item = *m.find(key);
+    double t0 = 0;
+    Solve sv = read_solver_list(ctx, item, t0);
+    const MapReader s(ctx, item, {"Verbose", "Initial Time", "Final Time", "Verlet", "QuasiStatic", "NOXQuasiStatic",
+                                   "Implicit", "Peridigm Preconditioner", "Initialize Predictor From Previous Solver"});
+    const Item at = s.find("Initial Time") ? *s.find("Initial Time") : item;
+    if (first_key.empty()) {
+      if (t0 != 0) ctx.fail(at.mark, at.path + ": only 0 is supported (Horizon's runs start at t = 0)");
+      merged = sv;
+      first_key = key;
+      end = sv.end_time;
+      continue;
+    }
+    auto refuse = [&](const std::string& why) {
+      ctx.fail(item.mark, fmt::format("{}: Horizon runs one solver a deck; {} cannot continue {} as one run: {}", key,
+                                      key, first_key, why));
+    };
+    if (std::abs(t0 - end) > 1e-12 * std::max(1.0, std::abs(end)))
+      refuse(fmt::format("its Initial Time {} is not where the solver before it ended ({})", t0, end));
+    if (sv.method != merged.method && !(sv.solver["type"].as<std::string>() == "static" &&
+                                        merged.solver["type"].as<std::string>() == "static"))
+      refuse(fmt::format("a {} solver after a {} one", sv.method, merged.method));
+    auto emit = [](YAML::Node n) {
+      n.remove("load_steps");
+      YAML::Emitter e;
+      e << n;
+      return std::string(e.c_str());
+    };
+    if (emit(YAML::Clone(sv.solver)) != emit(YAML::Clone(merged.solver)))
+      refuse("its options differ (time step, iterations or tolerances)");
+    if (sv.solver["type"].as<std::string>() == "static") {
+      const double h0 = merged.end_time / merged.load_steps, h = (sv.end_time - t0) / sv.load_steps;
+      if (std::abs(h - h0) > 1e-12 * h0)
+        refuse(fmt::format("its load steps are {} long, the ones before {} (Horizon's load steps are equal)", h, h0));
+      merged.load_steps += sv.load_steps;
+      merged.solver["load_steps"] = merged.load_steps;
+    }
+    merged.end_time = end = sv.end_time;
+  }
+  merged.solver["end_time"] = number(merged.end_time);
+  return merged;
+}
+
+// One output list (Output, Output1, ...): an Exodus file <Output Filename>.e with its own
+// frequency (output.exodus_files). The first list also names the output directory and
+// sets the VTU frames and history.csv's frequency.
+void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve, bool first,
+                      const std::set<std::string>* labels, YAML::Node& output, YAML::Node& exodus_files,
+                      YAML::Node& history_columns) {
+  MapReader om(ctx, o, {"Output File Type", "Output Format", "Output Filename", "Output Frequency", "Parallel Write",
+                        "Output Variables", "Initial Output Step", "Final Output Step"});
+  if (auto f = om.find("Output File Type")) {
+    if (squash(read_string(ctx, *f)) != "exodusii")
+      ctx.fail(f->mark, f->path + ": expected ExodusII, found " + text_of(*f));
+  }
+  if (auto f = om.find("Output Format")) read_string(ctx, *f);
+  if (auto f = om.find("Parallel Write")) read_bool(ctx, *f);
+  for (const char* k : {"Initial Output Step", "Final Output Step"})
+    if (auto it = om.find(k)) ctx.fail(*it->key_mark, it->path + ": not supported");
+  // Without an Output Filename the file is peridigm.e (Horizon's choice).
+  const std::string name = om.find("Output Filename") ? read_string(ctx, *om.find("Output Filename")) : "peridigm";
+  if (name.empty() || name.find('/') != std::string::npos)
+    fail_expected(ctx, *om.find("Output Filename"), "a file name without folders");
+  // A list that asks for global variables alone (and compute classes' labels) is
+  // Peridigm's history file, <name>.h (MultipleOutputFiles2_gold.h, disk_impact's Output_2);
+  // Horizon writes it in the same layout as the others.
+  bool history_only = false;
+  if (auto vars = om.find("Output Variables")) {
+    history_only = true;
+    for (const auto& e : map_entries(ctx, *vars)) {
+      YAML::Node probe(YAML::NodeType::Sequence);
+      const bool global = e.key == "Global_Kinetic_Energy" || add_global_column(e.key, probe) ||
+                          (labels && labels->count(e.key));
+      if (!global && e.value.node.IsScalar() && e.value.node.Scalar() != "false") history_only = false;
+    }
+  }
+  const std::string file_name = name + (history_only ? ".h" : ".e");
+  for (const auto& f : exodus_files)
+    if (f["file"].as<std::string>() == file_name)
+      ctx.fail(o.mark, o.path + ": a second output list writes '" + file_name + "'");
+  int every = 1;
+  if (auto f = om.find("Output Frequency")) {
+    every = read_int(ctx, *f);
+    if (every < 1) ctx.fail(f->mark, f->path + ": expected at least 1");
+  }
+  YAML::Node file;
+  file["file"] = file_name;
+  file["every"] = every;
+  exodus_files.push_back(file);
+  if (first) {
+    output["directory"] = "out/" + name;
+    if (om.find("Output Frequency")) {
+      output["history_every"] = every;
+      if (solve.fixed_dt) {
+        const double steps = std::ceil(solve.end_time / *solve.fixed_dt - 1e-9);
+        output["frames"] = std::max(1, static_cast<int>(std::min(1e6, steps / every)));
+      } else if (solve.solver["type"].as<std::string>() == "static") {
+        output["frames"] = std::max(1, solve.load_steps / every);
+      }
+    }
+  }
+  if (auto vars = om.find("Output Variables")) {
+    // Horizon writes its own set of variables (driver/exodus_output.hpp) whatever the
+    // list asks; a Peridigm variable it does not compute (Deformation_Gradient, ...) is
+    // left out of the file, and a name one letter or two from a known one is a typo.
+    static const std::vector<std::string> known = {
+        "Displacement", "Velocity", "Acceleration", "Force", "Force_Density", "Damage", "Dilatation",
+        "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
+        "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
+        "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
+        "Nonlinear_Solver_Iterations"};
+    for (const auto& e : map_entries(ctx, *vars)) {
+      // The globals Peridigm writes become history columns under their own names (once,
+      // whichever lists name them), and compute classes' Output Labels are written by
+      // their columns.
+      if (labels && labels->count(e.key)) {
+        read_bool(ctx, e.value);
+        continue;
+      }
+      YAML::Node global(YAML::NodeType::Sequence);
+      if (add_global_column(e.key, global)) {
+        bool have = false;
+        for (const auto& c : history_columns) have = have || c["name"].as<std::string>() == global[0]["name"].as<std::string>();
+        if (read_bool(ctx, e.value) && !have) history_columns.push_back(global[0]);
+        continue;
+      }
+      if (std::find(known.begin(), known.end(), e.key) == known.end()) {
+        const auto near = closest_word(e.key, known);
+        if (near && edit_distance(e.key, *near) <= 2)
+          fail_choice(ctx, Item{YAML::Node(e.key), e.value.path, *e.value.key_mark, e.value.key_mark}, e.key, known,
+                      "output variable");
+      }
+      read_bool(ctx, e.value);
+    }
+  }
+}
+
 }  // namespace
+
+std::string resolve_deck_file(const std::string& folder, const std::string& name) {
+  const fs::path given = name;
+  if (given.is_absolute()) return name;
+  const fs::path here = fs::path(folder) / given;
+  std::error_code ec;
+  if (fs::exists(here, ec)) return here.string();
+  // Peridigm's suite runs each deck from an npN/ folder below the deck's: "../x" there.
+  auto part = given.begin();
+  if (part != given.end() && *part == "..") {
+    fs::path rest;
+    for (++part; part != given.end(); ++part) rest /= *part;
+    const fs::path below = fs::path(folder) / rest;
+    if (!rest.empty() && fs::exists(below, ec)) return below.string();
+  }
+  return here.string();
+}
 
 bool is_peridigm_deck(const YAML::Node& root) {
   if (!root.IsMap() || root.size() != 1) return false;
@@ -413,9 +724,18 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   const Item top{root, "", root.Mark(), std::nullopt};
   MapReader outer(ctx, top, {"Peridigm"});
   const Item pd = outer.get("Peridigm", "the deck");
-  MapReader m(ctx, pd,
-              {"Verbose", "Discretization", "Materials", "Damage Models", "Blocks", "Boundary Conditions", "Solver",
-               "Output", "Contact", "Compute Class Parameters"});
+  // Peridigm reads each top-level list whose name starts with "Solver" as a solver and each
+  // one whose name starts with "Output" as an output list (Solver1, Output_1, Output Data).
+  std::vector<std::string> top_keys = {"Verbose", "Discretization", "Materials", "Damage Models", "Blocks",
+                                       "Boundary Conditions", "Contact", "Compute Class Parameters"};
+  std::vector<std::string> solver_keys, output_keys;
+  for (const auto& e : map_entries(ctx, pd)) {
+    if (e.key.rfind("Solver", 0) == 0) solver_keys.push_back(e.key), top_keys.push_back(e.key);
+    if (e.key.rfind("Output", 0) == 0) output_keys.push_back(e.key), top_keys.push_back(e.key);
+  }
+  if (solver_keys.empty()) top_keys.push_back("Solver");  // for the missing-key error below
+  MapReader m(ctx, pd, top_keys);
+  if (solver_keys.empty()) m.get("Solver", "Initial Time, Final Time and one of Verlet, QuasiStatic, NOXQuasiStatic, Implicit");
   if (auto v = m.find("Verbose")) read_bool(ctx, *v);
 
   // Blocks first: the horizon (one for all blocks) shapes the discretisation checks.
@@ -604,12 +924,15 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   if (auto bc = m.find("Boundary Conditions")) {
     std::map<std::string, std::vector<int>> sets = exodus.node_sets;  // an Exodus mesh's, then the deck's
     const auto entries = map_entries(ctx, *bc);
+    std::map<std::string, Item> set_items;  // the deck's own lists (an Exodus mesh's are 1-based)
     for (const auto& e : entries) {
       if (e.value.node.IsMap()) continue;
       if (e.key == "Create Node Set For Rank Deficient Nodes")
         ctx.fail(*e.value.key_mark, e.value.path + ": not supported (Horizon's static solver pins no points itself)");
       sets[e.key] = read_ids(t, e.value);
+      set_items.emplace(e.key, e.value);
     }
+    number_from_one(t, sets, set_items);
     std::vector<std::string> set_names;
     for (const auto& [k, v] : sets) set_names.push_back(k);
     std::set<std::string> used;
@@ -689,138 +1012,23 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   if (ics.size()) out["initial_conditions"] = ics;
   if (loads.size()) out["loads"] = loads;
 
-  // Solver.
-  const Item solver_item = m.get("Solver", "Initial Time, Final Time and one of Verlet, QuasiStatic, "
-                                           "NOXQuasiStatic, Implicit");
-  MapReader s(ctx, solver_item, {"Verbose", "Initial Time", "Final Time", "Verlet", "QuasiStatic", "NOXQuasiStatic",
-                                 "Implicit"});
-  if (auto v = s.find("Verbose")) read_bool(ctx, *v);
-  if (auto t0 = s.find("Initial Time"); t0 && read_number(ctx, *t0) != 0)
-    ctx.fail(t0->mark, t0->path + ": only 0 is supported (Horizon's runs start at t = 0)");
-  // Peridigm's default Final Time is 1 (survey sec. 1.5).
-  const double end_time = s.has("Final Time") ? read_positive(ctx, *s.find("Final Time")) : 1.0;
-  const std::string method = *s.exactly_one({"Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit"}, true);
-  const Item mi = *s.find(method);
-  YAML::Node solver;
-  solver["end_time"] = number(end_time);
-  std::optional<double> fixed_dt;
-  if (method == "Verlet") {
-    MapReader v(ctx, mi, {"Fixed dt", "Safety Factor"});
-    solver["type"] = "explicit";
-    if (v.has("Fixed dt") && v.has("Safety Factor"))
-      ctx.fail(*v.find("Safety Factor")->key_mark, mi.path + ": give Fixed dt or Safety Factor, not both");
-    if (auto f = v.find("Fixed dt")) fixed_dt = read_positive(ctx, *f), solver["time_step"] = number(*fixed_dt);
-    if (auto f = v.find("Safety Factor")) solver["safety_factor"] = read_positive(ctx, *f);
-  } else if (method == "Implicit") {
-    MapReader v(ctx, mi, {"Fixed dt", "Beta", "Gamma", "Absolute Tolerance", "Maximum Solver Iterations"});
-    solver["type"] = "implicit_dynamic";
-    fixed_dt = read_positive(ctx, v.get("Fixed dt", "the time step"));
-    solver["time_step"] = number(*fixed_dt);
-    if (auto b = v.find("Beta"); b && read_number(ctx, *b) != 0.25)
-      ctx.fail(b->mark, b->path + ": only 0.25 (Horizon's Newmark is the average-acceleration rule)");
-    if (auto g = v.find("Gamma"); g && read_number(ctx, *g) != 0.5)
-      ctx.fail(g->mark, g->path + ": only 0.5 (Horizon's Newmark is the average-acceleration rule)");
-    if (auto a = v.find("Absolute Tolerance")) read_positive(ctx, *a);
-    if (auto i = v.find("Maximum Solver Iterations")) solver["max_iterations"] = read_int(ctx, *i);
-  } else {
-    // QuasiStatic (Peridigm's Newton) and NOXQuasiStatic (Newton through NOX) both map
-    // to Horizon's static Newton solve. Their absolute residual tolerances do not carry
-    // over: Horizon stops on the residual relative to the applied load (docs/input.md).
-    MapReader v(ctx, mi,
-                method == "QuasiStatic"
-                    ? std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Maximum Solver Iterations"}
-                    : std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Max Solver Iterations",
-                                               "Nonlinear Solver", "Direction"});
-    solver["type"] = "static";
-    solver["method"] = "newton";
-    // Peridigm's Newton, run to its absolute tolerance, ends far below it (its golds'
-    // displacements agree with Horizon's to 1e-15 when Horizon converges to 1e-12; at
-    // Horizon's default 1e-6 they differ by 1e-9 relative, and Peridigm's quasi-static
-    // velocity, the last step's displacement increment over its time increment, by more
-    // than the golds' tolerances). Newton stops anyway where no step lowers the residual.
-    solver["tolerance"] = "1.0e-12";
-    if (auto n = v.find("Number of Load Steps")) solver["load_steps"] = read_int(ctx, *n);
-    if (auto a = v.find("Absolute Tolerance")) read_positive(ctx, *a);
-    for (const char* k : {"Maximum Solver Iterations", "Max Solver Iterations"})
-      if (auto i = v.find(k)) solver["max_iterations"] = read_int(ctx, *i);
-    if (auto n = v.find("Nonlinear Solver")) {
-      if (squash(read_string(ctx, *n)) != "linesearchbased")
-        ctx.fail(n->mark, n->path + ": only Line Search Based maps to Horizon's Newton solver");
-    }
-    if (auto dir = v.find("Direction")) {
-      MapReader dm(ctx, *dir, {"Method"});
-      const Item meth = dm.get("Method", "Newton");
-      if (squash(read_string(ctx, meth)) != "newton")
-        ctx.fail(meth.mark, meth.path + ": only Newton maps to Horizon's Newton solver");
-    }
-  }
-  out["solver"] = solver;
+  // Solvers: Peridigm runs every top-level list whose name starts with "Solver" in turn
+  // (Solver1, Solver2, ...); Horizon runs one solver a deck, so consecutive solvers that
+  // are one run cut in pieces (the same method and options, each starting where the last
+  // ended, with the same step) become that one run (read_solvers).
+  const Solve solve = read_solvers(ctx, solver_keys, m);
+  out["solver"] = solve.solver;
 
-  // Output: Exodus files become Horizon's VTU frames, history.csv and summary.json.
+  // Output: each top-level list whose name starts with "Output" (Output, Output1,
+  // Output_1, Output Data, ...) is one Exodus file with its own frequency.
   YAML::Node output;
   YAML::Node history_columns(YAML::NodeType::Sequence);
+  YAML::Node exodus_files(YAML::NodeType::Sequence);
   output["directory"] = "out/peridigm";
-  if (auto o = m.find("Output")) {
-    MapReader om(ctx, *o, {"Output File Type", "Output Format", "Output Filename", "Output Frequency",
-                           "Parallel Write", "Output Variables", "Initial Output Step", "Final Output Step"});
-    if (auto f = om.find("Output File Type")) {
-      if (squash(read_string(ctx, *f)) != "exodusii")
-        ctx.fail(f->mark, f->path + ": expected ExodusII, found " + text_of(*f));
-    }
-    if (auto f = om.find("Output Format")) read_string(ctx, *f);
-    if (auto f = om.find("Parallel Write")) read_bool(ctx, *f);
-    for (const char* k : {"Initial Output Step", "Final Output Step"})
-      if (auto it = om.find(k)) ctx.fail(*it->key_mark, it->path + ": not supported");
-    if (auto f = om.find("Output Filename")) output["directory"] = "out/" + read_string(ctx, *f);
-    // Peridigm's ExodusII output (the only file type Horizon accepts, and Peridigm's
-    // default): <Output Filename>.e inside the output directory (driver/exodus_output.hpp),
-    // and Horizon's VTU frames for its own tools.
-    output["format"] = "both";
-    output["exodus_file"] = (om.find("Output Filename") ? read_string(ctx, *om.find("Output Filename")) : "peridigm") + ".e";
-    if (auto f = om.find("Output Frequency")) {
-      const Item fi = *f;
-      const int every = read_int(ctx, fi);
-      if (every < 1) ctx.fail(fi.mark, fi.path + ": expected at least 1");
-      output["history_every"] = every;
-      if (fixed_dt) {
-        const double steps = std::ceil(end_time / *fixed_dt - 1e-9);
-        output["frames"] = std::max(1, static_cast<int>(std::min(1e6, steps / every)));
-      } else if (method == "QuasiStatic" || method == "NOXQuasiStatic") {
-        const int steps = solver["load_steps"] ? solver["load_steps"].as<int>() : 1;
-        output["frames"] = std::max(1, steps / every);
-      }
-    }
-    if (auto vars = om.find("Output Variables")) {
-      // Horizon writes its own set of variables (driver/exodus_output.hpp) whatever the
-      // list asks; a Peridigm variable it does not compute (Deformation_Gradient, ...) is
-      // left out of the file, and a name one letter or two from a known one is a typo.
-      static const std::vector<std::string> known = {
-          "Displacement", "Velocity", "Acceleration", "Force", "Force_Density", "Damage", "Dilatation",
-          "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
-          "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
-          "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain"};
-      for (const auto& e : map_entries(ctx, *vars)) {
-        // The globals Peridigm writes become history columns under their own names, and
-        // compute classes' Output Labels are written by their columns.
-        if (computes && computes->labels.count(e.key)) {
-          read_bool(ctx, e.value);
-          continue;
-        }
-        YAML::Node global(YAML::NodeType::Sequence);
-        if (add_global_column(e.key, global)) {
-          if (read_bool(ctx, e.value)) history_columns.push_back(global[0]);
-          continue;
-        }
-        if (std::find(known.begin(), known.end(), e.key) == known.end()) {
-          const auto near = closest_word(e.key, known);
-          if (near && edit_distance(e.key, *near) <= 2)
-            fail_choice(ctx, Item{YAML::Node(e.key), e.value.path, *e.value.key_mark, e.value.key_mark}, e.key, known,
-                        "output variable");
-        }
-        read_bool(ctx, e.value);
-      }
-    }
-  }
+  for (std::size_t k = 0; k < output_keys.size(); ++k)
+    read_output_list(ctx, *m.find(output_keys[k]), solve, k == 0, computes ? &computes->labels : nullptr, output,
+                     exodus_files, history_columns);
+  if (exodus_files.size()) output["exodus_files"] = exodus_files;
   if (computes)
     for (const auto& col : computes->columns) history_columns.push_back(col);
   if (history_columns.size()) output["history_columns"] = history_columns;

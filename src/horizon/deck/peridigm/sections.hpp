@@ -13,6 +13,13 @@
 
 namespace horizon::peridigm {
 
+// A file a deck names (a mesh, a text-file discretisation, a node-set file): relative to
+// the deck's folder; where no such file exists and the name climbs out of it ("../x"),
+// relative to a folder one level below the deck's, which is where Peridigm's own test
+// suite runs its decks (test/.../np1/: "../mesh.csv" is the deck's folder's mesh.csv).
+// The first candidate when neither exists (the error names it).
+std::string resolve_deck_file(const std::string& folder, const std::string& name);
+
 // Peridigm compares type words without case, spaces or underscores (survey sec. 1.6).
 std::string squash_words(const std::string& s);
 

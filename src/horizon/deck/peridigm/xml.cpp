@@ -107,6 +107,11 @@ std::string xml_to_yaml(const std::string& xml, const std::string& file) {
   auto fail = [&](std::size_t offset, const std::string& msg) { throw DeckError(line_col(offset), msg); };
 
   std::vector<bool> first_child;  // per open ParameterList: no entry written yet
+  // Per open ParameterList: the Parameters given so far, name -> (value as read, offset).
+  // Teuchos's reader (ParameterList::set) keeps the later of two Parameters of one name;
+  // Horizon reads a repeat with the same value as the one Parameter it is (as in Peridigm)
+  // and refuses a repeat with another value, which is most likely a mistake in the deck.
+  std::vector<std::map<std::string, std::pair<std::string, std::size_t>>> given;
   bool root_done = false;
   std::size_t i = 0;
   while (i < xml.size()) {
@@ -143,6 +148,7 @@ std::string xml_to_yaml(const std::string& xml, const std::string& file) {
       if (tag != "ParameterList" || first_child.empty())
         fail(start, "XML: unexpected </" + tag + ">");
       first_child.pop_back();
+      given.pop_back();
       m.at(start, first_child.empty() ? "}}" : "}", 0);
       continue;
     }
@@ -177,8 +183,10 @@ std::string xml_to_yaml(const std::string& xml, const std::string& file) {
         m.at(name->second.offset, quoted(name->second.value) + ": {", name->second.span);
       }
       first_child.push_back(true);
+      given.emplace_back();
       if (empty) {
         first_child.pop_back();
+        given.pop_back();
         m.at(close, first_child.empty() ? "}}" : "}", 0);
       }
     } else if (tag == "Parameter") {
@@ -189,6 +197,22 @@ std::string xml_to_yaml(const std::string& xml, const std::string& file) {
       if (value == attrs.end()) fail(start, "XML: <Parameter name=\"" + name->second.value + "\"> without a value");
       std::string type = attrs.count("type") ? attrs["type"].value : "string";
       std::string v = value->second.value;
+      std::size_t after = i;  // past the element
+      if (!empty) {
+        const auto end = xml.find("</Parameter>", i);
+        if (end == std::string::npos) fail(start, "XML: <Parameter> without </Parameter>");
+        after = end + 12;
+      }
+      const auto [seen, fresh] = given.back().try_emplace(name->second.value, std::make_pair(v, start));
+      if (!fresh) {
+        if (seen->second.first != v)
+          fail(value->second.offset,
+               fmt::format("XML: parameter '{}' is given twice in this list with different values ('{}' at line {}, "
+                           "'{}' here); Peridigm's reader keeps the later one; remove the one you do not mean",
+                           name->second.value, seen->second.first, line_col(seen->second.second).line, v));
+        i = after;  // the same value again: one Parameter
+        continue;
+      }
       std::string token;
       if ((type == "double" || type == "int") && is_number(v)) token = v;
       else if (type == "bool") token = (v == "true" || v == "True" || v == "1") ? "true" : (v == "false" || v == "False" || v == "0") ? "false" : quoted(v);
@@ -201,11 +225,7 @@ std::string xml_to_yaml(const std::string& xml, const std::string& file) {
       } else {
         m.at(name->second.offset, quoted(name->second.value) + ": " + token, name->second.span);
       }
-      if (!empty) {
-        const auto end = xml.find("</Parameter>", i);
-        if (end == std::string::npos) fail(start, "XML: <Parameter> without </Parameter>");
-        i = end + 12;
-      }
+      i = after;
     } else {
       fail(start, "XML: unexpected element <" + tag + ">; a Peridigm deck holds <ParameterList> and <Parameter>");
     }
