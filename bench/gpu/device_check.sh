@@ -7,7 +7,7 @@
 #   rows: PMB and LPS, mean damage and kinetic energy within 1e-9),
 #   4. runs the GPU benchmark (bench/gpu/bench_cuda.cpp): PMB and LPS at 1e6 particles,
 #      PMB at 1e7, with the card's copy bandwidth measured in the same run.
-# Every stage has its own time limit; the whole finishes within 8 minutes. Logs go to
+# Every stage has its own time limit; the whole finishes within 8 minutes. Seven logs go to
 # $OUT (the device tool's folder that comes back) when it is set, else to the build folder.
 #
 #   bench/gpu/device_check.sh            (from the repository root, on the device machine)
