@@ -33,3 +33,12 @@ enable_testing()
 # Exit status 77: no CUDA device here (skipped, with the test's message).
 add_test(NAME gpu_cuda_flat COMMAND test_cuda_flat)
 set_tests_properties(gpu_cuda_flat PROPERTIES LABELS gpu SKIP_RETURN_CODE 77)
+
+# In a whole build (the library is there): the CUDA backend against the CPU backend on a
+# deck, through the flat copy of a System (solver/flat_copy.hpp).
+if(TARGET horizon_lib)
+  add_executable(test_cuda_system ${PROJECT_SOURCE_DIR}/tests/gpu/test_cuda_system.cpp)
+  target_link_libraries(test_cuda_system PRIVATE horizon_lib horizon_cuda)
+  add_test(NAME gpu_cuda_system COMMAND test_cuda_system)
+  set_tests_properties(gpu_cuda_system PROPERTIES LABELS gpu SKIP_RETURN_CODE 77)
+endif()
