@@ -104,7 +104,7 @@ inline Lattice make_lattice(int nx, int ny, int nz, bool lps, double s0 = 0.002,
     double m = 0;
     for (uint64_t k = L.offset[i]; k < L.offset[i + 1]; ++k) {
       const double len = L.kinds[L.kind[k]].length;
-      m += len * len * V;  // m_i = sum omega |xi|^2 V_j
+      m += kernels::weighted_volume_term(1.0, len, V);  // m_i = sum omega |xi|^2 V_j
     }
     L.weighted_volume[i] = m;
     if (lps && m > 0) L.dilatation_coef[i] = 3 * K / m, L.Q[i] = 15 * mu / m;

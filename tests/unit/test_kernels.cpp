@@ -33,7 +33,7 @@ TEST(Kernels, LpsDilatationOfAUniformStretchIsDTimesTheStretch) {
   double sum = 0, m = 0;
   for (double L : lengths) {
     sum += dilatation_term(V, L, extension(L * (1 + s), L, 0));
-    m += V * L * L;
+    m += weighted_volume_term(1.0, L, V);
   }
   EXPECT_NEAR(dilatation(3, sum, m) / (3 * s), 1.0, 1e-12);
   // P = theta (a - b/d): t = omega (P L + Q e) is the LPS force state (seed 003 eq. 112).

@@ -64,6 +64,12 @@ HORIZON_HD inline double bond_work(double t, double e, double volume) { return 0
 // The directed bond's term of LPS's dilatation sum: omega V_j |xi| e.
 HORIZON_HD inline double dilatation_term(double wv, double length, double e) { return wv * length * e; }
 
+// The directed bond's term of the weighted volume m_i = sum_j omega |xi|^2 V_j (seed 003
+// eq. 112), in the set-up's order of operations.
+HORIZON_HD inline double weighted_volume_term(double omega, double length, double volume) {
+  return omega * length * length * volume;
+}
+
 // theta_i = d sum / m_i, and P_i = theta_i (a_i - b_i/d) (seed 003 eq. 112-113).
 HORIZON_HD inline double dilatation(double dim, double sum, double weighted_volume) {
   return dim * sum / weighted_volume;
