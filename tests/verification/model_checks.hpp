@@ -24,6 +24,7 @@
 #include <omp.h>
 
 #include "horizon/deck/deck.hpp"
+#include "horizon/material/models/correspondence_kernels.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/static_driver.hpp"
@@ -76,7 +77,16 @@ struct MaterialPoint {
       // (solver/forces_ordinary.cpp), whichever the pass wrote.
       const auto& M = s.model;
       const Vec3 Y = (P.X[B.nbr[k]] + P.u[B.nbr[k]]) - (P.X[centre] + P.u[centre]);
-      const Vec3 T = M.force_state.size() == B.size() ? M.force_state[k] : M.force_scalar[k] * Y;
+      Vec3 T = M.force_state.size() == B.size() ? M.force_state[k] : Vec3{};
+      if (M.force_state.size() != B.size() && M.force_scalar.size() == B.size()) T = M.force_scalar[k] * Y;
+      if (M.force_state.size() != B.size() && !M.affine_record.empty()) {
+        // The affine pass's record (solver/forces_affine.cpp): T = omega (M_i xi + g_i Y).
+        const double xv[3] = {xi.x, xi.y, xi.z}, yv[3] = {Y.x, Y.y, Y.z};
+        double t[3];
+        correspondence::affine_force_state(M.affine_record.data() + correspondence::kAffineRecord * centre,
+                                           B.intact[k] ? B.weight[k] : 0.0, xv, yv, t);
+        T = {t[0], t[1], t[2]};
+      }
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) sigma(a, b) += T[a] * xi[b] * B.volume[k];
     }

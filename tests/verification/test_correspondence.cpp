@@ -17,6 +17,7 @@
 #include "horizon/loading/loads.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
 #include "horizon/material/models/correspondence.hpp"
+#include "horizon/material/models/correspondence_kernels.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/static_driver.hpp"
@@ -56,6 +57,24 @@ correspondence::LawSettings law_of(const MaterialConfig& m, int d, PlaneMode pla
   return s;
 }
 
+// The force state of bond k of particle i at the last pass, from whichever form of the
+// general pass ran: the vector form's T_k, or the affine form's record of i
+// (solver/forces_affine.cpp: T = omega (M_i xi + g_i Y)).
+Vec3 force_state(const System& s, std::size_t i, uint64_t k) {
+  const auto& M = s.model;
+  const auto& B = s.bonds;
+  if (M.force_state.size() == B.size()) return M.force_state[k];
+  if (!B.intact[k]) return {};
+  const auto& P = s.particles;
+  const std::size_t j = B.nbr[k];
+  const Vec3 xi = P.X[j] - P.X[i], Y = (P.X[j] + P.u[j]) - (P.X[i] + P.u[i]);
+  const double xv[3] = {xi.x, xi.y, xi.z}, yv[3] = {Y.x, Y.y, Y.z};
+  double t[3];
+  correspondence::affine_force_state(M.affine_record.data() + correspondence::kAffineRecord * i, B.weight[k], xv,
+                                     yv, t);
+  return {t[0], t[1], t[2]};
+}
+
 // sum_k T_k (x) xi_k V_k over particle i's bonds: P_i exactly (seed 003 digest sec. 13
 // check 5; the stabilisation adds nothing to it).
 Mat3 collapsed_stress(const System& s, std::size_t i) {
@@ -63,7 +82,7 @@ Mat3 collapsed_stress(const System& s, std::size_t i) {
   const auto& B = s.bonds;
   for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
     if (!B.intact[k]) continue;
-    const Vec3& T = s.model.force_state[k];
+    const Vec3 T = force_state(s, i, k);
     const Vec3 xi = s.particles.X[B.nbr[k]] - s.particles.X[i];
     S += B.volume[k] * correspondence::to_eigen(T) * correspondence::to_eigen(xi).transpose();
   }
@@ -790,7 +809,7 @@ TEST(Correspondence, SingularShapeTensorCarriesNoStress) {
   for (std::size_t i = 0; i < s.particles.size(); ++i) s.particles.u[i] = 0.01 * s.particles.X[i];
   s.particles.u[c] += Vec3{1e-5, -2e-5, 3e-5};
   compute_forces(s, true);
-  for (uint64_t k = B.begin(c); k < B.end(c); ++k) EXPECT_EQ(norm(s.model.force_state[k]), 0.0);
+  for (uint64_t k = B.begin(c); k < B.end(c); ++k) EXPECT_EQ(norm(force_state(s, c, k)), 0.0);
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     EXPECT_TRUE(std::isfinite(s.particles.f[i].x) && std::isfinite(s.particles.f[i].y) &&
                 std::isfinite(s.particles.f[i].z) && std::isfinite(s.particles.energy[i]))

@@ -99,6 +99,13 @@ struct ModelTraits {
   // (below): the general pass then runs in its scalar form (solver/forces_ordinary.cpp),
   // with the breaking, the model's row and the sum of the forces fused per row.
   bool ordinary = false;
+  // The model's force states are affine in the bond, T_ij = omega_ij (M_i xi_ij + g_i Y_ij)
+  // with a 3 x 3 M_i and a scalar g_i per particle (the correspondence model with its
+  // stabilisation, material/models/correspondence_kernels.hpp), it sets rows_local, and it
+  // implements affine_row (below): when every model of a run is such, the general pass
+  // keeps one record per particle instead of a force state per bond and sums the pair form
+  // f_i = sum_j omega V_j ((M_i + M_j) xi + (g_i + g_j) Y) (solver/forces_affine.cpp).
+  bool affine = false;
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
                                         InfluenceKind::gaussian};
   InfluenceKind default_influence = InfluenceKind::constant;
@@ -143,6 +150,17 @@ struct RowPass {
   double* energy = nullptr;          // per particle: W_i [J/m^3]; null when not asked
   double time = 0;                   // the time of this deformation
   double dt = 0;                     // time since the committed state
+};
+
+// One evaluation of the affine general pass (ModelTraits::affine), as a model sees it: for
+// each row i the pass breaks i's bonds, then asks i's model for i's record.
+struct AffineRowPass {
+  const System& system;
+  const Point4* y = nullptr;  // current positions (w: scratch of the pass, not for models)
+  double* record = nullptr;   // per particle, correspondence::kAffineRecord numbers {M_i row by row, g_i}
+  double* energy = nullptr;   // per particle: W_i [J/m^3]; null when not asked
+  double time = 0;            // the time of this deformation
+  double dt = 0;              // time since the committed state
 };
 
 // A per-particle output field (a model's history variable in the frames).
@@ -199,6 +217,15 @@ class Model {
   virtual void begin_rows(const RowPass& pass) { (void)pass; }
   virtual void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
     (void)pass, (void)i, (void)dilatation_sum;
+  }
+
+  // Affine general pass (ModelTraits::affine): for each row i of the model's particles that
+  // this process computes, on the thread that broke i's bonds just before, i's record (and
+  // W_i when pass.energy is set) from `sums`, what the breaking sweep summed over i's acting
+  // bonds: K_i = sum_j omega V_j xi (x) xi, then sum_j omega V_j Y (x) xi, row-major
+  // (correspondence_kernels.hpp GradientSums). Rows run in any order.
+  virtual void affine_row(const AffineRowPass& pass, std::size_t i, const double* sums) {
+    (void)pass, (void)i, (void)sums;
   }
 
   // The trial history of the last force pass becomes the history. Energy the model

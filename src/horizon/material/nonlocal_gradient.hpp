@@ -34,6 +34,13 @@ class NonlocalGradient {
     N_.noalias() += wv * y * a.transpose();
   }
 
+  // The sums of add() gathered elsewhere (the affine force pass sums them in its breaking
+  // sweep: material/models/correspondence_kernels.hpp gradient_add), K and N row-major.
+  void set_sums(const double* K, const double* N) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) K_(r, c) = K[3 * r + c], N_(r, c) = N[3 * r + c];
+  }
+
   const Mat3& shape_tensor() const { return K_; }
 
   // The reciprocal condition number of the d x d shape tensor (smallest over largest

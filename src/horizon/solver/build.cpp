@@ -530,10 +530,13 @@ std::size_t bytes_per_bond(const System& s) {
   // (solver/forces_general.hpp); models keep their own history on top.
   // Its scalar form (solver/forces_ordinary.cpp) keeps a scalar instead, and every bond's |Y|.
   if (!s.models.all_unified() && !s.models.owner()) {
-    if (scalar_general_pass(s))
+    if (affine_general_pass(s)) {
+      // a record per particle (solver/forces_affine.cpp), nothing per bond
+    } else if (scalar_general_pass(s)) {
       per_bond += sizeof(double) + sizeof(uint64_t) + (s.model.state_based ? 0 : sizeof(double));
-    else
+    } else {
       per_bond += sizeof(Vec3) + sizeof(uint64_t);
+    }
   }
   return per_bond;
 }

@@ -38,6 +38,8 @@ void checkpoint_system(System& s, StateArchive& a) {
   a.io_bonds("deformed_length", M.deformed_length);
   a.io_bonds("force_state", M.force_state);
   a.io_bonds("force_scalar", M.force_scalar);
+  a.io_particles("affine_record", M.affine_record);
+  a.io_particles("affine_position", M.affine_position);
 
   a.io("time", s.time);
   a.io("dt", s.dt);

@@ -129,6 +129,10 @@ uint64_t general_forces(System& s, bool energy) {
   auto& B = s.bonds;
   auto& M = s.model;
   const std::size_t n = P.size(), nb = B.size();
+  if (affine_general_pass(s)) {
+    pack_positions(s);
+    return affine_forces(s, energy);  // solver/forces_affine.cpp
+  }
   if (M.reverse.size() != nb) M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
   pack_positions(s);
   if (scalar_general_pass(s)) return ordinary_forces(s, energy);  // solver/forces_ordinary.cpp
@@ -167,6 +171,9 @@ uint64_t general_forces(System& s, bool energy) {
     Vec3 f;
     double w = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      // T_ji lies in j's row, up to a horizon of rows away: asked for 64 bonds ahead, as
+      // the scalar form does (forces_ordinary.cpp).
+      if (k + 64 < nb) __builtin_prefetch(T + M.reverse[k + 64]);
       if (B.intact[k]) f += B.volume[k] * (T[k] - T[M.reverse[k]]);
       const KindCoefficients& kc = M.kind[B.kind[k]];
       const Vec3 Y = delta(pi, pt[B.nbr[k]]);

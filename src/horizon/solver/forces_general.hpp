@@ -31,6 +31,13 @@ uint64_t general_forces(System& s, bool energy);
 // what general_forces prepares (packed positions, reverse-bond index).
 bool scalar_general_pass(const System& s);
 uint64_t ordinary_forces(System& s, bool energy);
+// The affine form (solver/forces_affine.cpp): when every model writes T_ij = omega (M_i xi
+// + g_i Y) (ModelTraits::affine; the correspondence model), one record per particle and
+// the pair form of the sum, with no force state per bond and no reverse-bond index.
+bool affine_general_pass(const System& s);
+uint64_t affine_forces(System& s, bool energy);
+// Whether set_general_reference(true) holds.
+bool general_reference();
 // Tests: true makes general_forces take the vector form (Model::force_state) for every
 // model, the reference the scalar form is checked against.
 void set_general_reference(bool reference);

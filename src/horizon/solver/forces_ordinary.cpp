@@ -119,6 +119,7 @@ void unified_row(System& s, std::size_t i, double dilatation, const double* eps,
 }  // namespace
 
 void set_general_reference(bool reference) { g_reference = reference; }
+bool general_reference() { return g_reference; }
 
 bool scalar_general_pass(const System& s) {
   if (g_reference) return false;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "horizon/core/error.hpp"
+#include "horizon/material/models/correspondence_kernels.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/state/system.hpp"
 
@@ -49,6 +50,7 @@ const ModelTraits& traits() {
         {"stress_law", "classical stress law: linear_elastic (small strain), neo_hookean, j2 (plasticity)",
          {"linear_elastic", "neo_hookean", "j2"}},
     };
+    m.affine = true;      // T = omega (M_i xi + g_i Y): correspondence_kernels.hpp
     m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
     m.adaptive_time_step = true;  // spring_factors: the stable step from the current F_i
     return m;
@@ -63,6 +65,7 @@ class Correspondence final : public Model {
 
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
+  void affine_row(const AffineRowPass& pass, std::size_t i, const double* sums) override;
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
     double sum = 0;
@@ -85,6 +88,7 @@ class Correspondence final : public Model {
   double tolerance_ = 0;  // shape_tolerance
   bool adaptive_ = false;  // solver.adaptive_time_step: spring_factors from the current state
   std::vector<uint32_t> particles_;
+  std::vector<int32_t> local_;  // particle index -> index in particles_ (-1: not ours)
   std::vector<History> committed_, trial_;
   std::vector<double> work_;       // plastic work of the trial step [J/m^3]
   std::vector<double> von_mises_;  // Cauchy von Mises stress of the last pass [Pa]
@@ -121,6 +125,8 @@ void Correspondence::setup(const ModelSetup& in) {
   fill_state_based_coefficients(in, 1.0 + Gs);
 
   const std::size_t n = particles_.size();
+  local_.assign(in.system.particles.size(), -1);
+  for (std::size_t l = 0; l < n; ++l) local_[particles_[l]] = static_cast<int32_t>(l);
   committed_.assign(n, History{});
   trial_.assign(n, History{});
   work_.assign(n, 0.0);
@@ -181,6 +187,53 @@ void Correspondence::force_state(ForcePass& pass) {
     }
     if (pass.energy) pass.energy[i] = W;
   }
+}
+
+// Row i of the affine pass: F_i and the law from the sums of the breaking sweep (those of
+// force_state, the same bits), then the record {A_i - G F_i, G} (correspondence_kernels.hpp)
+// instead of the force state of every bond.
+void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const double* sums) {
+  const System& s = pass.system;
+  const Bonds& B = s.bonds;
+  const Vec3* X = s.particles.X.data();
+  const Point4* y = pass.y;
+  const std::size_t l = static_cast<std::size_t>(local_[i]);
+  const Point4 yi = y[i];
+  NonlocalGradient g;
+  g.set_sums(sums, sums + 9);
+  Mat3 Kinv, F;
+  const bool ok = g.finish(law_.dimension, tolerance_, Kinv, F);
+  singular_[l] = ok ? 0 : 1;
+  double* rec = pass.record + correspondence::kAffineRecord * i;
+  if (!ok) {
+    trial_[l] = committed_[l];
+    work_[l] = 0;
+    von_mises_[l] = 0;
+    correspondence::affine_record(nullptr, nullptr, 0.0, rec);
+    if (pass.energy) pass.energy[i] = 0;
+    return;
+  }
+  const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l]);
+  von_mises_[l] = correspondence::von_mises(r.sigma);
+  double W = 0;
+  // Row-major copies for the flat record (Eigen stores by column).
+  double a[9], f[9];
+  if (r.ok) {
+    const Mat3 A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
+    for (int c = 0; c < 9; ++c) a[c] = A(c / 3, c % 3);
+    W = r.W;
+  }
+  for (int c = 0; c < 9; ++c) f[c] = F(c / 3, c % 3);
+  correspondence::affine_record(r.ok ? a : nullptr, f, G_, rec);
+  if (!pass.energy) return;
+  if (G_ != 0)
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      const Vec3 Y{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z};
+      W += correspondence::bond_stabilization_energy(F, G_, B.weight[k] * B.volume[k], X[j] - X[i], Y);
+    }
+  pass.energy[i] = W;
 }
 
 void Correspondence::commit(System& s) {

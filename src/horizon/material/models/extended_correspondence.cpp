@@ -388,6 +388,14 @@ class ExtendedCorrespondence final : public Model {
   bool vol_gradient_ = false;              // volumetric_strain gradient
   std::vector<uint32_t> acting_;           // its acting-set size (UINT32_MAX: not built)
   std::vector<uint8_t> map_ok_;            // 1: the map and the shape tensor passed the guard
+  // Scratch of one pass (issue 31: each bond's acting flag and strain computed once, in
+  // sweep 1, and read by sweep 2): per particle of the system, 1 when it is ours and its
+  // committed damage passes D_c (omega_D); per bond, 1 when it acts in this pass; per
+  // particle of this material, E of sweep 1 (e_full_, valid when e_fin_) and
+  // sum w Y (x) xi (n_sum_, volumetric_strain gradient).
+  std::vector<uint8_t> failed_at_, acts_, e_fin_;
+  std::vector<Vec6> e_full_;
+  std::vector<Mat3> n_sum_;
 };
 
 void ExtendedCorrespondence::setup(const ModelSetup& in) {
@@ -471,6 +479,10 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   adaptive_ = in.config.solver.adaptive_time_step;
   acting_.assign(n, UINT32_MAX);
   map_ok_.assign(n, 0);
+  failed_at_.assign(s.particles.size(), 0);
+  e_fin_.assign(n, 0);
+  e_full_.assign(n, Vec6::Zero());
+  n_sum_.assign(n, Mat3::Zero());
 }
 
 void ExtendedCorrespondence::force_state(ForcePass& pass) {
@@ -482,6 +494,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
   if (eps_.size() != B.size()) eps_.assign(B.size(), 0.0);
   if (rforce_.size() != B.size()) rforce_.assign(B.size(), 0.0);
   if (acted_.size() != B.size()) acted_.assign(B.size(), 0);
+  if (acts_.size() != B.size()) acts_.assign(B.size(), 0);
   if (stab_yield_ > 0 && rp_committed_.size() != B.size()) {
     rp_committed_.assign(B.size(), 0.0);
     rp_trial_.assign(B.size(), 0.0);
@@ -491,6 +504,8 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
   // stabilisation modulus from their owners (rows_local in traits()).
   exchange_to_ghosts(s, 2, [&](std::size_t l, double* v) { v[0] = committed_[l].damage, v[1] = ks_[l]; },
                      [&](std::size_t l, const double* v) { committed_[l].damage = v[0], ks_[l] = v[1]; });
+  // omega_D's flag of every particle once (bond_acts reads it at both ends).
+  for (std::size_t l = 0; l < n; ++l) failed_at_[particles_[l]] = committed_[l].damage > critical_ ? 1 : 0;
   // Sweep 1: the acting sets and moment maps, and (midpoint residual) every particle's E,
   // which sweep 2's stabilisation reads at both ends of a bond.
 #pragma omp parallel for schedule(static) if (n > 512)
@@ -500,15 +515,22 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     const Point4 yi = y[i];
     auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
     const bool self_failed = committed_[l].damage > critical_;
-    auto acts = [&](uint64_t k) { return bond_acts(B, l, k); };
+    auto acts = [&](uint64_t k) { return acts_[k] != 0; };
     changed_[l] = 0;
     e_ok_[l] = 0;
-    if (self_failed) continue;
+    e_fin_[l] = 0;
+    if (self_failed) {
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) acts_[k] = 0;
+      continue;
+    }
     {
       // The moment map and the shape-tensor guard depend on the acting set only, which
       // only shrinks (bonds break, neighbours fail): its size identifies it.
       uint32_t count = 0;
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) count += acts(k) ? 1 : 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        acts_[k] = B.intact[k] && !failed_at_[B.nbr[k]] ? 1 : 0;  // bond_acts (self_failed is false here)
+        count += acts_[k];
+      }
       if (count != acting_[l]) {
         if (acting_[l] != UINT32_MAX && map_ok_[l]) {
           changed_[l] = 1;
@@ -540,12 +562,25 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
         acting_[l] = count;
       }
     }
-    if (!midpoint_ || !map_ok_[l] || committed_[l].damage >= 1.0) continue;
+    if (!map_ok_[l]) continue;
+    // E over the acting bonds (and sum w Y (x) xi for Fbar), each bond's strain kept in
+    // eps_: sweep 2 reads them instead of summing again (the same sums, the same bits).
     extended::NonlocalStrain E(dim_, m_);
     E.use(maps_[l]);
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k)
-      if (acts(k)) E.add_strain(X[B.nbr[k]] - X[i], deformed(B.nbr[k]), B.weight[k] * B.volume[k]);
-    if (E.finish(false)) {
+    Mat3 N = Mat3::Zero();
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!acts(k)) continue;
+      const uint32_t j = B.nbr[k];
+      const Vec3 xi = X[j] - X[i], Y = deformed(j);
+      const double w = B.weight[k] * B.volume[k];
+      eps_[k] = E.add_strain(xi, Y, w);
+      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+    }
+    if (!E.finish(false)) continue;
+    e_fin_[l] = 1;
+    e_full_[l] = E.strain_vector();
+    if (vol_gradient_) n_sum_[l] = N;
+    if (midpoint_ && committed_[l].damage < 1.0) {
       e_vec_[l] = E.strain_vector();
       e_ok_[l] = 1;
     }
@@ -570,7 +605,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     const Point4 yi = y[i];
     auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
     const bool self_failed = committed_[l].damage > critical_;
-    auto acts = [&](uint64_t k) { return bond_acts(B, l, k); };
+    auto acts = [&](uint64_t k) { return acts_[k] != 0; };
     extended::NonlocalStrain E(dim_, m_);
     bool ok = !self_failed && map_ok_[l] != 0;
     const bool changed = changed_[l] != 0;  // the acting set of an active particle changed in this pass
@@ -579,7 +614,16 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
                                                 [&](uint64_t k) { return acted_[k] != 0; })
                                   : 0.0;
     Mat3 Fbar = Mat3::Identity();  // volumetric_strain gradient: the classical nonlocal F
-    if (ok) {
+    if (ok && !changed) {
+      // Sweep 1's sums (energy_with, for a changed set, overwrites eps_: then again below).
+      E.use(maps_[l]);
+      ok = e_fin_[l] != 0;
+      E.set_strain(e_full_[l]);
+      if (vol_gradient_) {
+        Fbar = n_sum_[l] * kinv_[l];
+        if (dim_ == 2) Fbar(2, 2) = 1.0;
+      }
+    } else if (ok) {
       E.use(maps_[l]);
       Mat3 N = Mat3::Zero();
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {

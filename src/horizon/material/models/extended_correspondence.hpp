@@ -157,6 +157,8 @@ class NonlocalStrain {
     E_ = map_.solve(S_);
     return E_.allFinite();
   }
+  // E of an earlier finish() over the same bonds and map (the force pass's sweep 1).
+  void set_strain(const Vec6& e) { E_ = e; }
   Mat3 strain() const { return to_mat3(E_); }
   const Vec6& strain_vector() const { return E_; }
   Vec6 dual(const Mat3& sigma) const { return map_.dual(sigma); }

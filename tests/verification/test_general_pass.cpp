@@ -1,0 +1,110 @@
+// The affine general force pass (solver/forces_affine.cpp, issue 31 scope 2) against the
+// vector one it replaces for the correspondence model (Model::force_state, kept as the
+// reference behind set_general_reference): 40 steps of an impact that yields and breaks
+// bonds give the same displacements to 1e-12 relative and velocities to 1e-11 (the pair
+// form sums the same terms in another order: round-off only), the same broken bonds, the same
+// energy ledger to 1e-9 of the initial energy (the booking of a broken bond rebuilds the
+// last pass's force state from its record), and the same bits on 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "horizon/solver/forces_general.hpp"
+#include "model_checks.hpp"
+
+namespace horizon::verification {
+namespace {
+
+// A striker bonded to a bar (test_ordinary_pass.cpp's geometry), at 40 m/s, bonds
+// breaking at a stretch of 0.2 %.
+std::string deck(const std::string& a) {
+  return fmt::format(R"(dimension: 3
+spacing: 1.0e-3
+horizon: 3.0e-3
+materials:
+  a: {}
+bodies:
+  - {{name: striker, material: a, shape: {{box: {{min: [0, 0, 0], max: [0.006, 0.004, 0.004]}}}}}}
+  - {{name: bar, material: a, shape: {{box: {{min: [0.006, 0, 0], max: [0.018, 0.004, 0.004]}}}}}}
+regions:
+  striker: {{box: {{min: [0, 0, 0], max: [0.006, 0.004, 0.004]}}}}
+initial_conditions:
+  - {{region: striker, velocity: [40, 6.7, 0]}}
+solver: {{type: explicit, end_time: 1.0, safety_factor: 0.5}}
+)",
+                     a);
+}
+
+const std::string kDamage = ", damage: {critical_stretch: 0.002}}";
+const std::string kJ2 =
+    "{model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, stress_law: j2, "
+    "yield_stress: 100.0e6, hardening_modulus: 2.0e9" + kDamage;
+const std::string kNeo =
+    "{model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, stress_law: neo_hookean, "
+    "stabilization: 0.5" + kDamage;
+
+struct Run {
+  std::vector<Vec3> u, v;
+  uint64_t broken = 0;
+  double dissipated = 0, initial = 0, balance = 0;
+};
+
+Run run(const std::string& text, bool reference, int threads) {
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  set_general_reference(reference);
+  Simulation sim(parse_deck(text, "general.yaml"));
+  EXPECT_EQ(affine_general_pass(sim.system), !reference);
+  for (int n = 0; n < 40; ++n) sim.solver->step(true);
+  set_general_reference(false);
+  omp_set_num_threads(saved);
+  Run r;
+  r.u = sim.system.particles.u;
+  r.v = sim.system.particles.v;
+  r.broken = sim.system.broken;
+  r.dissipated = sim.solver->ledger().dissipated;
+  r.initial = sim.solver->ledger().initial;
+  r.balance = sim.solver->ledger().balance_error();
+  return r;
+}
+
+double relative(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double d = 0, s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    d = std::max(d, norm(a[i] - b[i]));
+    s = std::max(s, norm(b[i]));
+  }
+  return d / s;
+}
+
+void check(const std::string& name, const std::string& text) {
+  const Run ref = run(text, true, 1), fast = run(text, false, 1), two = run(text, false, 2);
+  const double du = relative(fast.u, ref.u), dv = relative(fast.v, ref.v);
+  const double dd = std::abs(fast.dissipated - ref.dissipated) / ref.initial;
+  report("general_pass_" + name, std::max(du, dv),
+         fmt::format("{}: affine against vector general pass, 40 steps of a breaking impact ({} bonds broken): "
+                     "|du|/|u| = {:.1e}, |dv|/|v| = {:.1e}, dissipated {:.6e} against {:.6e} J ({:.1e} of the "
+                     "initial energy), balance error {:.2e} against {:.2e}",
+                     name, fast.broken, du, dv, fast.dissipated, ref.dissipated, dd, fast.balance, ref.balance));
+  EXPECT_GT(ref.broken, 0u) << "the run is meant to break bonds";
+  EXPECT_EQ(fast.broken, ref.broken);
+  EXPECT_LE(du, 1e-12);
+  // The velocities carry the last step's forces, whose round-off the yielding and the
+  // breaking amplify more: 1.1e-12 measured for j2 with 3,652 bonds broken.
+  EXPECT_LE(dv, 1e-11);
+  EXPECT_LE(dd, 1e-9);
+  EXPECT_TRUE(same_bits(fast.u, two.u)) << "the affine pass differs between 1 and 2 threads";
+  EXPECT_TRUE(same_bits(fast.v, two.v));
+}
+
+TEST(GeneralPass, CorrespondenceJ2MatchesTheVectorPass) { check("correspondence_j2", deck(kJ2)); }
+
+TEST(GeneralPass, CorrespondenceNeoHookeanMatchesTheVectorPass) { check("correspondence_neo_hookean", deck(kNeo)); }
+
+}  // namespace
+}  // namespace horizon::verification
