@@ -12,6 +12,12 @@ import sys
 
 # The floors, lowest first; the rooms of a floor are alternatives beside each other.
 # Why each room sits where it does (docs/design.md, "Floors"):
+#   kernels        the device-portable per-bond and per-particle functions (HORIZON_HD)
+#                  over plain doubles and flat arrays: the host's passes and the CUDA
+#                  backend call them, so they stand on core alone.
+#   cuda           the CUDA backend (cuda_backend.cu, built with -DHORIZON_CUDA=ON): a
+#                  backend of the explicit solver beside it; it includes only kernels and
+#                  core, so that the device machine builds it without the Debian libraries.
 #   parallel       the rank decomposition's declarations (parallel/*.hpp, over core types
 #                  only), so that every room can sum over ranks (GridSum) and ask which
 #                  particles a rank holds.
@@ -30,6 +36,7 @@ import sys
 #                  System, its FE regions and its checkpoints) sit beside it.
 FLOORS = [
     ["core"],
+    ["kernels"],
     ["parallel"],
     ["geometry"],
     ["family"],
@@ -39,14 +46,14 @@ FLOORS = [
     ["contact", "damage"],
     ["loading"],
     ["thermal", "fe", "output"],
-    ["solver", "deck", "parallel.run"],
+    ["solver", "deck", "parallel.run", "cuda"],
     ["driver"],
     ["app", "python"],
 ]
 FLOOR = {room: level for level, rooms in enumerate(FLOORS) for room in rooms}
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*"horizon/([^"]+)"')
-SOURCES = (".hpp", ".cpp", ".h", ".hpp.in")
+SOURCES = (".hpp", ".cpp", ".h", ".hpp.in", ".cu")
 
 
 def room_of(path):

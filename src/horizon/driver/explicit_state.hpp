@@ -33,6 +33,7 @@
 #include "horizon/parallel/checkpoint_stream.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/parallel/lead_view.hpp"
+#include "horizon/solver/backend.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/thermal/heat.hpp"
@@ -60,6 +61,8 @@ struct ExplicitRun::State {
   std::unique_ptr<ExodusOutput> exodus;  // output.format exodus or both
   std::unique_ptr<ExodusSchedule> exodus_files;  // output.exodus_files, on their own steps
   std::unique_ptr<ExplicitSolver> solver;
+  // What takes the steps (solver/backend.hpp): the CPU backend, over `solver`.
+  std::unique_ptr<ExplicitBackend> backend;
   std::ostringstream history;
   double max_balance_error = 0;
   int frame_count = 0;

@@ -75,6 +75,7 @@ int ExplicitRun::finish() {
   if (r.finished) return r.exit_code;
   r.stopped = true;
   r.finished = true;
+  if (r.backend) r.backend->copy_fields();  // the final frame and the summary read the System
   const Config& config = r.config;
   const RunOptions& options = r.options;
   System& s = r.s;

@@ -76,6 +76,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();
+  r.backend = std::make_unique<CpuBackend>(*r.solver);
   if (mpi_built() && !r.dd) {
     // An MPI build decomposes every run it can, on one rank too, so that one rank and
     // many give the same bits (parallel/decomposition.hpp); a deck it cannot split runs
@@ -173,8 +174,21 @@ int64_t ExplicitRun::advance(int64_t n) {
   if (r.stopped) return 0;
   const Config& c = r.config;
   ExplicitSolver& solver = *r.solver;
+  ExplicitBackend& backend = *r.backend;
+  // A step with no event (history row, frame, Exodus step, checkpoint, the end): a backend that takes
+  // several steps a call takes these together with the event's step that follows.
+  auto quiet = [&](int64_t step) {
+    return step < r.total && step % r.history_every != 0 &&
+           step * r.frames < static_cast<int64_t>(r.next_frame) * r.total &&
+           !(c.output.checkpoint_every > 0 && step % c.output.checkpoint_every == 0) &&
+           !(r.exodus_files && r.exodus_files->due(step));
+  };
   try {
     while (taken < n && !r.at_end()) {
+      int64_t batch = 1;  // the adaptive step and the heat coupling work between steps
+      if (!r.adaptive && !r.heat)
+        while (batch < backend.batch() && taken + batch < n && quiet(solver.steps() + batch)) ++batch;
+      if (batch > 1) backend.advance(batch - 1, false);  // (the solver's step count moves on)
       const int64_t step = solver.steps() + 1;
       bool last = step == r.total;
       if (r.adaptive) {
@@ -190,9 +204,11 @@ int64_t ExplicitRun::advance(int64_t n) {
                                         : step * r.frames >= static_cast<int64_t>(r.next_frame) * r.total;
       const bool history_due = step % r.history_every == 0 || last;
       const bool exodus_due = r.exodus_files && r.exodus_files->due(step);
-      solver.step(history_due || frame_due || exodus_due);
+      backend.advance(1, history_due || frame_due || exodus_due);
       r.advance_heat();
-      ++taken;
+      taken += batch;
+      const bool checkpoint_due = c.output.checkpoint_every > 0 && solver.steps() % c.output.checkpoint_every == 0;
+      if (history_due || frame_due || exodus_due || checkpoint_due) backend.copy_fields();
       if (history_due || frame_due || exodus_due) r.sync();
       if (history_due) {
         r.record_history();
@@ -233,6 +249,7 @@ int64_t ExplicitRun::advance(int64_t n) {
     return taken;
   }
   if (r.at_end()) r.stopped = true;
+  backend.copy_fields();  // the caller (the Python module) reads the System between calls
   return taken;
 }
 

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "horizon/family/neighbors.hpp"
+#include "horizon/kernels/unified.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/state/system.hpp"
@@ -221,7 +222,8 @@ std::pair<double, double> apply_axis_factors(const ModelSetup& in, const std::ve
   scale_bond_weights(B, g);
   for (uint32_t i : in.particles) {
     double m = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) m += B.weight[k] * B.length[k] * B.length[k] * B.volume[k];
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+      m += kernels::weighted_volume_term(B.weight[k], B.length[k], B.volume[k]);  // kernels/unified.hpp
     s.model.weighted_volume[i] = m;
   }
   if (lo > hi) lo = hi = 1;

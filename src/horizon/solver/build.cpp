@@ -18,6 +18,7 @@
 #include "horizon/family/precrack.hpp"
 #include "horizon/geometry/lattice.hpp"
 #include "horizon/geometry/region_select.hpp"
+#include "horizon/kernels/unified.hpp"
 #include "horizon/material/constants.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/solver/forces.hpp"
@@ -481,7 +482,7 @@ void setup_model(System& s, const std::vector<MaterialConfig>& given, const Conf
   M.weighted_volume.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i)
     for (uint64_t k = B.begin(i); k < B.end(i); ++k)
-      M.weighted_volume[i] += B.weight[k] * B.length[k] * B.length[k] * B.volume[k];
+      M.weighted_volume[i] += kernels::weighted_volume_term(B.weight[k], B.length[k], B.volume[k]);
 
   reset_model_arrays(M, n);
   s.dissipated_at.assign(n, 0);

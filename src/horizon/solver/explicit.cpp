@@ -6,6 +6,7 @@
 
 #include "horizon/core/parallel_select.hpp"
 #include "horizon/fe/fe_region.hpp"
+#include "horizon/kernels/verlet.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/thermal/heat.hpp"
@@ -35,11 +36,11 @@ double kinetic_energy(const System& s) {
   const auto& P = s.particles;
   if (s.decomposition) {
     GridSum g(s, 1);
-    for (uint32_t i : s.owned) g.add(0, 0.5 * P.density[i] * P.volume[i] * norm2(P.v[i]));
+    for (uint32_t i : s.owned) g.add(0, kernels::kinetic(P.density[i], P.volume[i], P.v[i].x, P.v[i].y, P.v[i].z));
     return g.totals()[0];
   }
   double sum = 0;
-  for (std::size_t i = 0; i < P.size(); ++i) sum += 0.5 * P.density[i] * P.volume[i] * norm2(P.v[i]);
+  for (std::size_t i = 0; i < P.size(); ++i) sum += kernels::kinetic(P.density[i], P.volume[i], P.v[i].x, P.v[i].y, P.v[i].z);
   return sum;
 }
 
@@ -95,14 +96,21 @@ void ExplicitSolver::step(bool energy) {
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = own ? (*own)[k] : k;
-    const Vec3 a = (P.f[i] + P.b[i]) / P.density[i] - P.v[i] * damping_;
-    P.v[i] += a * half;
+    // kernels/verlet.hpp, one component at a time (Vec3's division multiplies by 1/rho).
+    const double inv_rho = 1.0 / P.density[i];
+    Vec3& v = P.v[i];
+    v.x = kernels::half_kick(v.x, P.f[i].x, P.b[i].x, inv_rho, damping_, half);
+    v.y = kernels::half_kick(v.y, P.f[i].y, P.b[i].y, inv_rho, damping_, half);
+    v.z = kernels::half_kick(v.z, P.f[i].z, P.b[i].z, inv_rho, damping_, half);
   }
   loads_.prescribe_velocity(s_, time_ + half);
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = own ? (*own)[k] : k;
-    P.u[i] += P.v[i] * dt;
+    Vec3& u = P.u[i];
+    u.x = kernels::drift(u.x, P.v[i].x, dt);
+    u.y = kernels::drift(u.y, P.v[i].y, dt);
+    u.z = kernels::drift(u.z, P.v[i].z, dt);
   }
 
   ++steps_;
@@ -136,7 +144,10 @@ void ExplicitSolver::step(bool energy) {
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = own ? (*own)[k] : k;
     const Vec3 vh = P.v[i];
-    const Vec3 v = (vh + (P.f[i] + P.b[i]) * (half / P.density[i])) * damp;
+    const double h = half / P.density[i];
+    const Vec3 v{kernels::second_half_kick(vh.x, P.f[i].x, P.b[i].x, h, damp),
+                 kernels::second_half_kick(vh.y, P.f[i].y, P.b[i].y, h, damp),
+                 kernels::second_half_kick(vh.z, P.f[i].z, P.b[i].z, h, damp)};
     if (damping_ > 0) {
       const double term = P.density[i] * P.volume[i] * damping_ * half *
                           (loads_.free_speed2(i, v) + loads_.free_speed2(i, v_before_[i]));

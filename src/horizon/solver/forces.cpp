@@ -4,6 +4,7 @@
 #include "horizon/parallel/decomposition.hpp"
 
 #include "horizon/solver/forces_general.hpp"
+#include "horizon/kernels/unified.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -73,9 +74,7 @@ void pack_positions(System& s) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 y = P.X[i] + P.u[i];
-    double s0 = M.critical_stretch[i];
-    if (M.alpha[i] != 0 && std::isfinite(M.min_stretch[i])) s0 -= M.alpha[i] * M.min_stretch[i];
-    if (P.no_fail[i]) s0 = kInf;
+    const double s0 = kernels::critical_stretch_now(M.critical_stretch[i], M.alpha[i], M.min_stretch[i], P.no_fail[i]);
     out[i] = {y.x, y.y, y.z, s0};
   }
 }
@@ -158,13 +157,11 @@ inline double min8(const double* v) {
 // when they are closer than the kind's contact distance. Returns false when apart.
 inline bool bond_contact(const KindCoefficients& c, double Yx, double Yy, double Yz, double r2, double& fx,
                          double& fy, double& fz, double& w) {
-  if (!(r2 < c.contact_d2) || r2 == 0) return false;
-  const double r = std::sqrt(r2), overlap = c.contact_d - r;
-  const double a = -c.contact_k * overlap / r;  // pushes i away from j
+  double a;
+  if (!kernels::contact_coefficient(c.contact_d2, c.contact_d, c.contact_k, r2, a, w)) return false;
   fx = a * Yx;
   fy = a * Yy;
   fz = a * Yz;
-  w = 0.25 * c.contact_k * overlap * overlap;
   return true;
 }
 
@@ -208,22 +205,21 @@ RowOut pair_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
     if (c.intact[k]) {
-      const double r = std::sqrt(r2), e = r - kc.length, stretch = e * kc.inv_length;
-      const double s0 = pi.w < pj.w ? pi.w : pj.w;
-      const bool breaks = stretch > s0;
+      const double r = std::sqrt(r2), e = kernels::extension(r, kc.length, 0), stretch = e * kc.inv_length;
+      const bool breaks = kernels::breaks(stretch, pi.w, pj.w);
       if (kAfter || !breaks) {
-        const double a = kc.pair * e / r;
+        const double a = kernels::pair_bond_coefficient(kc.pair, e, r);
         fx[l] += a * Yx;
         fy[l] += a * Yy;
         fz[l] += a * Yz;
       }
       sm[l] = stretch < sm[l] ? stretch : sm[l];
       if constexpr (kEnergy)
-        if (!breaks) en[l] += 0.5 * Ri * kc.wv * kc.inv_length * e * e;
+        if (!breaks) en[l] += kernels::pmb_bond_energy(kc.wv, Ri, kc.inv_length, e);
       if (breaks) {
         c.intact[k] = 0;
         ++out.broken;
-        out.lost += 0.5 * kc.wv * Ri * kc.inv_length * e * e;  // (1/2) t_ij e V_j, as in break_and_dilate
+        out.lost += kernels::pmb_broken_energy(kc.wv, Ri, kc.inv_length, e);  // (1/2) t_ij e V_j, as in break_and_dilate
         c.intact_weight[i] -= kc.damage;
       }
     }
@@ -259,18 +255,17 @@ RowOut dilate_row_scalar(const Ctx& c, std::size_t i, double Pi, uint64_t /*tota
     const Point4 pj = c.pt[c.nbr[k]];
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
-    const double r = std::sqrt(r2), e = r - kc.length, stretch = e * kc.inv_length;
+    const double r = std::sqrt(r2), e = kernels::extension(r, kc.length, 0), stretch = e * kc.inv_length;
     c.r_of[k] = r;
-    const double s0 = pi.w < pj.w ? pi.w : pj.w;
-    const bool breaks = stretch > s0;
-    if (kAfter || !breaks) th[l] += kc.wv * kc.length * e;
+    const bool breaks = kernels::breaks(stretch, pi.w, pj.w);
+    if (kAfter || !breaks) th[l] += kernels::dilatation_term(kc.wv, kc.length, e);
     sm[l] = stretch < sm[l] ? stretch : sm[l];
     if (breaks) {
       c.intact[k] = kAfter ? 2 : 0;
       ++out.broken;
       // Energy held by this directed bond: (1/2) t_ij e V_j (seed 003 digest sec. 9,
       // W_i = (1/2) sum_j t_ij e_ij V_j for both models), with last pass's P_i.
-      out.lost += 0.5 * kc.wv * (Pi * kc.length + (Qi + Ri * kc.inv_length) * e) * e;
+      out.lost += kernels::unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
       c.intact_weight[i] -= kc.damage;
     }
   });
@@ -296,14 +291,13 @@ RowOut force_row_scalar(const Ctx& c, std::size_t i, uint64_t /*total*/) {
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
     if (c.intact[k]) {
-      const double r = c.r_of[k], L = kc.length, e = r - L;  // |Y| from the dilatation pass
-      const double t = (Pi + pj.w) * L + (Qi + c.Q[j]) * e;
-      const double a = (kc.wv * t + kc.pair * e) / r;
+      const double r = c.r_of[k], L = kc.length, e = kernels::extension(r, L, 0);  // |Y| from the dilatation pass
+      const double a = kernels::pair_force_coefficient(kc.wv, kc.pair, Pi, pj.w, Qi, c.Q[j], L, e, r);
       fx[l] += a * Yx;
       fy[l] += a * Yy;
       fz[l] += a * Yz;
       if constexpr (kEnergy)
-        if (c.intact[k] == 1) en[l] += 0.5 * kc.wv * (Pi * L + (Qi + Ri * kc.inv_length) * e) * e;
+        if (c.intact[k] == 1) en[l] += kernels::unified_bond_energy(kc.wv, Pi, Qi, Ri, L, kc.inv_length, e);
       if (c.intact[k] == 2) c.intact[k] = 0;
     }
     double cx, cy, cz, cw;
@@ -931,9 +925,9 @@ uint64_t break_and_dilate(System& s) {
     P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
     if (M.dilatation_coef[i] != 0) {
-      const double theta = M.dim * o.theta / M.weighted_volume[i];
+      const double theta = kernels::dilatation(M.dim, o.theta, M.weighted_volume[i]);
       M.theta[i] = theta;
-      M.P[i] = theta * (M.dilatation_coef[i] - M.deviatoric_coef[i] / M.dim);
+      M.P[i] = kernels::dilatation_pressure(theta, M.dilatation_coef[i], M.deviatoric_coef[i], M.dim);
     }
   }
   return broken;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "horizon/kernels/unified.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/family/bond_helpers.hpp"
@@ -50,12 +51,12 @@ BreakOut break_row(System& s, std::size_t i, bool after) {
     const Point4 pj = pt[B.nbr[k]];
     const Vec3 Y = delta(pi, pj);
     // The mechanical stretch: less the thermal strain of the bond (thermal_extension).
-    const double r = std::sqrt(dot(Y, Y)), e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length),
+    const double r = kernels::bond_length(Y.x, Y.y, Y.z),
+                 e = kernels::extension(r, kc.length, thermal_extension(eps, i, B.nbr[k], kc.length)),
                  stretch = e * kc.inv_length;
     out.smin = stretch < out.smin ? stretch : out.smin;
     const double wj = soft ? scaled(pj.w, soft[B.nbr[k]]) : pj.w;
-    const double s0 = wi < wj ? wi : wj;
-    if (!(stretch > s0)) continue;
+    if (!kernels::breaks(stretch, wi, wj)) continue;
     B.intact[k] = after ? 2 : 0;
     ++out.broken;
     if (r > 0) out.lost += 0.5 * dot(M.force_state[k], Y) / r * e * B.volume[k];
@@ -91,11 +92,14 @@ void unified_force_states(System& s, bool energy) {
         if (!B.intact[k]) continue;
         const KindCoefficients& kc = M.kind[B.kind[k]];
         const Vec3 Y = delta(pi, pt[B.nbr[k]]);
-        sum += kc.wv * kc.length * (std::sqrt(dot(Y, Y)) - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length));
+        sum += kernels::dilatation_term(
+            kc.wv, kc.length,
+            kernels::extension(kernels::bond_length(Y.x, Y.y, Y.z), kc.length,
+                               thermal_extension(eps, i, B.nbr[k], kc.length)));
       }
-      const double theta = M.dim * sum / M.weighted_volume[i];
+      const double theta = kernels::dilatation(M.dim, sum, M.weighted_volume[i]);
       M.theta[i] = theta;
-      Pi = theta * (M.dilatation_coef[i] - M.deviatoric_coef[i] / M.dim);
+      Pi = kernels::dilatation_pressure(theta, M.dilatation_coef[i], M.deviatoric_coef[i], M.dim);
       M.P[i] = Pi;
     }
     double W = 0;
@@ -106,11 +110,13 @@ void unified_force_states(System& s, bool energy) {
       }
       const KindCoefficients& kc = M.kind[B.kind[k]];
       const Vec3 Y = delta(pi, pt[B.nbr[k]]);
-      const double r = std::sqrt(dot(Y, Y)), e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length);
+      const double r = kernels::bond_length(Y.x, Y.y, Y.z),
+                   e = kernels::extension(r, kc.length, thermal_extension(eps, i, B.nbr[k], kc.length));
       const double omega = B.kinds[B.kind[k]].weight;
-      const double t = omega * (Pi * kc.length + M.deviatoric_coef[i] * e + M.pair_coef[i] * e * kc.inv_length);
+      const double t = kernels::unified_force_scalar(omega, Pi, M.deviatoric_coef[i], M.pair_coef[i], kc.length,
+                                                     kc.inv_length, e);
       M.force_state[k] = (t / r) * Y;
-      W += 0.5 * t * e * B.volume[k];  // W_i = (1/2) sum_j t_ij e_ij V_j (exact for the unified form)
+      W += kernels::bond_work(t, e, B.volume[k]);  // W_i = (1/2) sum_j t_ij e_ij V_j (exact for the unified form)
     }
     if (energy) P.energy[i] = W;
   }

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <limits>
 
+#include "horizon/kernels/unified.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/forces_general.hpp"
 
@@ -60,14 +61,14 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* eps, const 
     const KindCoefficients& kc = kind[B.kind[k]];
     const Point4 pj = pt[B.nbr[k]];
     const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-    const double r = std::sqrt(dot(Y, Y)), r_old = deformed[k];
+    const double r = kernels::bond_length(Y.x, Y.y, Y.z), r_old = deformed[k];
     deformed[k] = r;
     if (!B.intact[k]) continue;
-    const double e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length), stretch = e * kc.inv_length;
+    const double e = kernels::extension(r, kc.length, thermal_extension(eps, i, B.nbr[k], kc.length)),
+                 stretch = e * kc.inv_length;
     out.smin = stretch < out.smin ? stretch : out.smin;
     const double wj = soft ? scaled(pj.w, soft[B.nbr[k]]) : pj.w;
-    const double s0 = wi < wj ? wi : wj;
-    if (stretch > s0) {
+    if (kernels::breaks(stretch, wi, wj)) {
       B.intact[k] = after ? 2 : 0;
       ++out.broken;
       // (1/2) t_old e V_j, t_old = q_old |Y_old| the bond's force state of the previous
@@ -79,7 +80,7 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* eps, const 
       M.intact_weight[i] -= kc.damage;
       if (!after) continue;
     }
-    out.dilatation += kc.wv * kc.length * e;
+    out.dilatation += kernels::dilatation_term(kc.wv, kc.length, e);
   }
   return out;
 }
@@ -93,9 +94,9 @@ void unified_row(System& s, std::size_t i, double dilatation, const double* eps,
   double* q = M.force_scalar.data();
   double Pi = 0;
   if (M.dilatation_coef[i] != 0) {
-    const double theta = M.dim * dilatation / M.weighted_volume[i];
+    const double theta = kernels::dilatation(M.dim, dilatation, M.weighted_volume[i]);
     M.theta[i] = theta;
-    Pi = theta * (M.dilatation_coef[i] - M.deviatoric_coef[i] / M.dim);
+    Pi = kernels::dilatation_pressure(theta, M.dilatation_coef[i], M.deviatoric_coef[i], M.dim);
     M.P[i] = Pi;
   }
   double W = 0;
@@ -105,11 +106,12 @@ void unified_row(System& s, std::size_t i, double dilatation, const double* eps,
       continue;
     }
     const KindCoefficients& kc = kind[B.kind[k]];
-    const double r = deformed[k], e = r - kc.length - thermal_extension(eps, i, B.nbr[k], kc.length);
+    const double r = deformed[k], e = kernels::extension(r, kc.length, thermal_extension(eps, i, B.nbr[k], kc.length));
     const double omega = B.kinds[B.kind[k]].weight;
-    const double t = omega * (Pi * kc.length + M.deviatoric_coef[i] * e + M.pair_coef[i] * e * kc.inv_length);
+    const double t = kernels::unified_force_scalar(omega, Pi, M.deviatoric_coef[i], M.pair_coef[i], kc.length,
+                                                   kc.inv_length, e);
     q[k] = t / r;
-    W += 0.5 * t * e * B.volume[k];  // W_i = (1/2) sum_j t_ij e_ij V_j (exact for the unified form)
+    W += kernels::bond_work(t, e, B.volume[k]);  // W_i = (1/2) sum_j t_ij e_ij V_j (exact for the unified form)
   }
   if (energy) energy[i] = W;
 }

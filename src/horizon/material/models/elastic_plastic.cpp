@@ -244,7 +244,7 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
     if (!intact[k]) continue;
     const KindCoefficients& c = kc[kind[k]];
     const double ede = deviatoric_extension(extension(k, c.length), theta, c.length, dim) - ep[k];
-    n2 += c.wv * ede * ede;
+    n2 += kernels::weighted_square(c.wv, ede);
   }
   n2 *= alpha * alpha;
   const ReturnMap rm = ep_return_map(n2, m, dim, mu_, yield_, hardening_, eps_p_[i]);
@@ -264,19 +264,19 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
       ep_trial[k] = ep[k];
       force_trial[k] = 0;
       if (old_force[k] != 0) {  // it acted at the start of the step
-        work += 0.5 * old_force[k] * (e - old_extension[k]) * vj;
+        work += kernels::released_work(old_force[k], e, old_extension[k], vj);
         inelastic = true;
       }
       continue;
     }
     const double omega = bk.weight;
-    const double ede_trial = deviatoric_extension(e, theta, c.length, dim) - ep[k];
-    const double ede = beta * ede_trial;
-    ep_trial[k] = ep[k] + (1.0 - beta) * ede_trial;
-    dev += c.wv * ede * ede;
-    const double t = p_coef * omega * c.length + alpha * omega * ede;
+    // kernels/ordinary.hpp: the return's scaling of the bond, its force state and work.
+    const kernels::EpBond b = kernels::ep_bond(e, theta, c.length, dim, ep[k], beta);
+    ep_trial[k] = b.plastic;
+    dev += kernels::weighted_square(c.wv, b.elastic);
+    const double t = kernels::ordinary_force_scalar(p_coef, omega, c.length, alpha, b.elastic);
     force_trial[k] = t;
-    work += 0.5 * (old_force[k] + t) * (e - old_extension[k]) * vj;
+    work += kernels::trapezoid_work(old_force[k], t, e, old_extension[k], vj);
     q[k] = t / r[k];
   }
   const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;

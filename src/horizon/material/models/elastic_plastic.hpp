@@ -63,52 +63,23 @@
 // plane-strain plasticity, exact in in-plane shear.
 #include <cmath>
 
+#include "horizon/kernels/ordinary.hpp"
 #include "horizon/material/model.hpp"
 
 namespace horizon {
 
-// c of sigma_eq^2 = c m ||t^d||_w^2: 1/5 in 3-D, 3/8 in 2-D (derivation above).
-inline double ep_equivalent_stress_factor(int dimension) { return dimension == 2 ? 3.0 / 8.0 : 1.0 / 5.0; }
-
-// psi_0 = sigma^2 / (2 c m): 5 sigma^2/(2m) in 3-D, 4 sigma^2/(3m) in 2-D.
-inline double ep_yield_value(double yield_stress, double weighted_volume, int dimension) {
-  return yield_stress * yield_stress / (2.0 * ep_equivalent_stress_factor(dimension) * weighted_volume);
-}
-
-// The equivalent stress of a force state of weighted norm^2 n2 = ||t^d||_w^2.
-inline double ep_equivalent_stress(double norm2, double weighted_volume, int dimension) {
-  return std::sqrt(ep_equivalent_stress_factor(dimension) * weighted_volume * norm2);
-}
+// The kernels of the derivation above (c, psi_0, sigma_eq, e^d, the return mapping) are
+// device-portable functions in kernels/ordinary.hpp (issue 30), which the rows call.
+using kernels::deviatoric_extension;
+using kernels::ep_equivalent_stress;
+using kernels::ep_equivalent_stress_factor;
+using kernels::ep_return_map;
+using kernels::ep_yield_value;
+using kernels::ReturnMap;
 
 // d eps_p per unit ||d e^dp||_o: sqrt(5/m) in 3-D, sqrt(8/(3m)) in 2-D (derivation above).
 inline double ep_plastic_strain_factor(double weighted_volume, int dimension) {
   return std::sqrt((dimension == 2 ? 8.0 / 3.0 : 5.0) / weighted_volume);
-}
-
-// Deviatoric extension e^d = e - theta |xi| / d (seed 003 sec. 15; digest sec. 8).
-inline double deviatoric_extension(double e, double theta, double length, int dimension) {
-  return e - theta * length / dimension;
-}
-
-// The return mapping of one particle. Input: the trial weighted norm^2 ||t^d_tr||_w^2, m,
-// the dimension, mu, sigma_y0, H and eps_p of the committed state. Output: beta (t^d =
-// beta t^d_tr, d e^dp = (1 - beta) e^de_tr), d eps_p, and the yield function of the trial.
-struct ReturnMap {
-  double scale = 1;         // beta
-  double plastic_strain = 0;  // d eps_p
-  double trial_yield = 0;   // f = ||t^d_tr||_w^2/2 - psi_0(eps_p,n): > 0 means plastic flow
-};
-inline ReturnMap ep_return_map(double trial_norm2, double weighted_volume, int dimension, double shear_modulus,
-                               double yield_stress, double hardening, double eps_p) {
-  ReturnMap r;
-  const double sy = yield_stress + hardening * eps_p;
-  r.trial_yield = 0.5 * trial_norm2 - ep_yield_value(sy, weighted_volume, dimension);
-  if (!(r.trial_yield > 0)) return r;
-  const double s_trial = ep_equivalent_stress(trial_norm2, weighted_volume, dimension);
-  // Classical radial return on sigma_eq (derivation above).
-  r.plastic_strain = (s_trial - sy) / (3.0 * shear_modulus + hardening);
-  r.scale = 1.0 - 3.0 * shear_modulus * r.plastic_strain / s_trial;
-  return r;
 }
 
 ModelEntry elastic_plastic_model();

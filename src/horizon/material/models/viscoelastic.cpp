@@ -306,26 +306,26 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
       ed_trial[k] = ed_old_all[k];
       for (int b = 0; b < nbranch; ++b) back_[b].trial()[k] = back_[b].committed()[k];
       force_trial[k] = 0;
-      work += 0.5 * old_force[k] * (e - old_extension[k]) * vj;  // it acted at the start of the step (or 0)
+      work += kernels::released_work(old_force[k], e, old_extension[k], vj);  // it acted at the start of the step (or 0)
       continue;
     }
     const double omega = bk.weight;
-    const double ed = e - theta * c.length / dim;  // e^d (seed 003 sec. 15; digest sec. 8)
+    const double ed = kernels::deviatoric_extension(e, theta, c.length, dim);  // e^d (seed 003 sec. 15; digest sec. 8)
     const double ed_old = ed_old_all[k];
     ed_trial[k] = ed;
     double dev = linf * ed;  // lambda_inf e^d + sum_b lambda_b (e^d - e^b)
-    double springs = linf * ed * ed;
+    double springs = kernels::weighted_square(linf, ed);
     for (int b = 0; b < nbranch; ++b) {
       const double back = sls_back_extension(step_[b], back_[b].committed()[k], ed_old, ed);
       back_[b].trial()[k] = back;
       const double qb = ed - back;
       dev += lambda_[b] * qb;
-      springs += lambda_[b] * qb * qb;
+      springs += kernels::weighted_square(lambda_[b], qb);
     }
     stored += c.wv * springs;
-    const double t = p_coef * omega * c.length + alpha * omega * dev;
+    const double t = kernels::ordinary_force_scalar(p_coef, omega, c.length, alpha, dev);
     force_trial[k] = t;
-    work += 0.5 * (old_force[k] + t) * (e - old_extension[k]) * vj;
+    work += kernels::trapezoid_work(old_force[k], t, e, old_extension[k], vj);
     q[k] = t / r[k];
   }
   const double W = 0.5 * bulk_elastic_ * theta * theta + 0.5 * dilatation_shear_ * dil_springs + 0.5 * alpha * stored;

@@ -44,6 +44,7 @@
 // deformation is exact there.
 #include <cmath>
 
+#include "horizon/kernels/ordinary.hpp"
 #include "horizon/material/model.hpp"
 
 namespace horizon {
@@ -84,8 +85,9 @@ inline SlsStep sls_step(double dt, double tau) {
 }
 
 // The branch update of one bond.
+// (kernels/ordinary.hpp: the device-portable form, which the rows reach through this one.)
 inline double sls_back_extension(const SlsStep& c, double back, double ed_old, double ed_new) {
-  return c.decay * back + c.from_old * ed_old + c.from_new * ed_new;
+  return kernels::sls_back_extension(c.decay, c.from_old, c.from_new, back, ed_old, ed_new);
 }
 
 // The relaxation function of the model, G(t)/mu = lambda_inf + sum_b lambda_b exp(-t/tau_b)

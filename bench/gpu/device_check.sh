@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Issue 30's device check, in one call of the device machine (H200, nvcc, CMake, ninja,
+# 16 cores; none of the Debian libraries the rest of Horizon needs):
+#   1. configures with -DHORIZON_CUDA=ON -DHORIZON_GPU_ONLY=ON (the CUDA backend, its test
+#      and benchmark from the portable kernel headers alone; cmake/cuda.cmake),
+#   2. builds them, 3. runs `ctest -L gpu` (the CUDA backend against the host's portable
+#   rows: PMB and LPS, mean damage and kinetic energy within 1e-9),
+#   4. runs the GPU benchmark (bench/gpu/bench_cuda.cpp): PMB and LPS at 1e6 particles,
+#      PMB at 1e7, with the card's copy bandwidth measured in the same run.
+# Every stage has its own time limit; the whole finishes within 8 minutes. Seven logs go to
+# $OUT (the device tool's folder that comes back) when it is set, else to the build folder.
+#
+#   bench/gpu/device_check.sh            (from the repository root, on the device machine)
+#   SIZES_LARGE=0 bench/gpu/device_check.sh    (skips the 1e7-particle run)
+#
+# Written without a GPU or nvcc at hand (issue 30 part A): its first run is the first
+# build of the CUDA code.
+set -uo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD:-/tmp/horizon-gpu}
+logs=${OUT:-$build}
+mkdir -p "$build" "$logs"
+start=$(date +%s)
+status=0
+stage() {  # stage NAME SECONDS COMMAND...: runs it with a limit, logs it, remembers a failure
+  local name=$1 limit=$2
+  shift 2
+  echo "== $name ($(($(date +%s) - start)) s in)"
+  timeout "$limit" "$@" 2>&1 | tee "$logs/$name.log"
+  local rc=${PIPESTATUS[0]}
+  [ "$rc" -eq 0 ] || { echo "== $name: exit status $rc"; status=1; }
+  return "$rc"
+}
+
+echo "== device"
+nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm --format=csv 2>&1 | tee "$logs/device.log"
+nvcc --version 2>&1 | tail -2 | tee -a "$logs/device.log"
+nproc | tee -a "$logs/device.log"
+generator=
+command -v ninja >/dev/null && generator="-G Ninja"
+
+stage configure 60 cmake -S "$root" -B "$build" $generator -DCMAKE_BUILD_TYPE=Release -DHORIZON_CUDA=ON \
+  -DHORIZON_GPU_ONLY=ON -DCMAKE_CUDA_ARCHITECTURES=90 || exit 1
+stage build 150 cmake --build "$build" -j "$(nproc)" || exit 1
+stage test 60 ctest --test-dir "$build" -L gpu --output-on-failure -V
+stage bench_pmb_1e6 45 "$build/bench_cuda" pmb 100 100 100 100
+stage bench_lps_1e6 45 "$build/bench_cuda" lps 100 100 100 100
+if [ "${SIZES_LARGE:-1}" != 0 ]; then
+  stage bench_pmb_1e7 120 "$build/bench_cuda" pmb 216 216 216 20
+fi
+echo "== done in $(($(date +%s) - start)) s, status $status"
+grep -h "bench_cuda\|PASSED\|FAILED\|SKIPPED" "$logs"/*.log
+exit $status

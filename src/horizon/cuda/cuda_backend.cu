@@ -1,0 +1,222 @@
+// The CUDA backend (cuda_backend.hpp): device copies of the flat arrays and one kernel per
+// stage of a step, each a thread per particle calling the portable row function of
+// kernels/flat_system.hpp, in the order advance_flat calls them on the host. A row is
+// summed by one thread in bond order, so with -fmad=false (cmake/cuda.cmake) the device
+// computes the host's operations in the host's order.
+//
+// NOT YET COMPILED: written without nvcc (issue 30 part A); bench/gpu/device_check.sh is
+// the first build.
+#include "horizon/cuda/cuda_backend.hpp"
+
+#include <cuda_runtime.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace horizon::cuda {
+
+namespace {
+
+using kernels::FlatSystem;
+
+// A failed CUDA call is a bug or a lost device: say where and stop.
+void check(cudaError_t e, const char* what) {
+  if (e == cudaSuccess) return;
+  std::fprintf(stderr, "horizon cuda: %s: %s\n", what, cudaGetErrorString(e));
+  std::abort();
+}
+
+constexpr int kBlock = 256;
+
+__global__ void kick_drift_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::kick_drift_row(s, i);
+}
+__global__ void pack_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::pack_row(s, i);
+}
+__global__ void bond_based_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::bond_based_row(s, i);
+}
+__global__ void dilatation_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::dilatation_row(s, i);
+}
+__global__ void pressure_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::pressure_row(s, i);
+}
+__global__ void force_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::force_row(s, i);
+}
+__global__ void kick_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::kick_row(s, i);
+}
+
+// One device array per host array.
+template <class T>
+T* upload(const T* host, uint64_t count, std::vector<void*>& owned) {
+  T* d = nullptr;
+  if (count == 0) return nullptr;
+  check(cudaMalloc(&d, count * sizeof(T)), "cudaMalloc");
+  owned.push_back(d);
+  if (host) check(cudaMemcpy(d, host, count * sizeof(T), cudaMemcpyHostToDevice), "cudaMemcpy to the device");
+  return d;
+}
+template <class T>
+void download_array(T* host, const T* device, uint64_t count) {
+  if (count) check(cudaMemcpy(host, device, count * sizeof(T), cudaMemcpyDeviceToHost), "cudaMemcpy to the host");
+}
+
+}  // namespace
+
+bool device_available(std::string& why) {
+  int count = 0;
+  const cudaError_t e = cudaGetDeviceCount(&count);
+  if (e != cudaSuccess) {
+    why = std::string("no CUDA device: ") + cudaGetErrorString(e);
+    return false;
+  }
+  if (count == 0) {
+    why = "no CUDA device";
+    return false;
+  }
+  return true;
+}
+
+double copy_bandwidth(uint64_t bytes) {
+  void *a = nullptr, *b = nullptr;
+  check(cudaMalloc(&a, bytes), "cudaMalloc");
+  check(cudaMalloc(&b, bytes), "cudaMalloc");
+  check(cudaMemset(a, 1, bytes), "cudaMemset");
+  cudaEvent_t start, stop;
+  check(cudaEventCreate(&start), "cudaEventCreate");
+  check(cudaEventCreate(&stop), "cudaEventCreate");
+  check(cudaMemcpy(b, a, bytes, cudaMemcpyDeviceToDevice), "cudaMemcpy");  // warm-up
+  const int repeat = 10;
+  check(cudaEventRecord(start), "cudaEventRecord");
+  for (int k = 0; k < repeat; ++k) check(cudaMemcpy(b, a, bytes, cudaMemcpyDeviceToDevice), "cudaMemcpy");
+  check(cudaEventRecord(stop), "cudaEventRecord");
+  check(cudaEventSynchronize(stop), "cudaEventSynchronize");
+  float ms = 0;
+  check(cudaEventElapsedTime(&ms, start, stop), "cudaEventElapsedTime");
+  cudaEventDestroy(start);
+  cudaEventDestroy(stop);
+  cudaFree(a);
+  cudaFree(b);
+  return 2.0 * static_cast<double>(bytes) * repeat / (1e-3 * ms);
+}
+
+struct FlatRun::Impl {
+  FlatSystem d;  // device pointers
+  std::vector<void*> owned;
+  cudaEvent_t start = nullptr, stop = nullptr;
+  double seconds = 0;
+  unsigned grid = 0;
+};
+
+FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
+  Impl& m = *impl_;
+  FlatSystem& d = m.d;
+  auto& o = m.owned;
+  const uint64_t n = h.n, nb = h.nb;
+  d = h;  // the scalars; every pointer is replaced below
+  d.offset = upload(h.offset, n + 1, o);
+  d.nbr = upload(h.nbr, nb, o);
+  d.kind = upload(h.kind, nb, o);
+  d.intact = upload(h.intact, nb, o);
+  d.kinds = upload(h.kinds, h.nkinds, o);
+  d.r_of = upload(h.r_of, nb, o);
+  d.X = upload(h.X, 3 * n, o);
+  d.u = upload(h.u, 3 * n, o);
+  d.v = upload(h.v, 3 * n, o);
+  d.f = upload(h.f, 3 * n, o);
+  d.b = upload(h.b, 3 * n, o);
+  d.density = upload(h.density, n, o);
+  d.volume = upload(h.volume, n, o);
+  d.critical_stretch = upload(h.critical_stretch, n, o);
+  d.alpha = upload(h.alpha, n, o);
+  d.no_fail = upload(h.no_fail, n, o);
+  d.min_stretch = upload(h.min_stretch, n, o);
+  d.min_stretch_next = upload(h.min_stretch_next, n, o);
+  d.dilatation_coef = upload(h.dilatation_coef, n, o);
+  d.Q = upload(h.Q, n, o);
+  d.R = upload(h.R, n, o);
+  d.weighted_volume = upload(h.weighted_volume, n, o);
+  d.theta = upload(h.theta, n, o);
+  d.P = upload(h.P, n, o);
+  d.intact_weight = upload(h.intact_weight, n, o);
+  d.damage_total = upload(h.damage_total, n, o);
+  d.damage = upload(h.damage, n, o);
+  d.energy = upload(h.energy, n, o);
+  d.dissipated = upload(h.dissipated, n, o);
+  d.y4 = upload(h.y4, 4 * n, o);
+  d.broken = upload(h.broken, n, o);
+  m.grid = static_cast<unsigned>((n + kBlock - 1) / kBlock);
+  check(cudaEventCreate(&m.start), "cudaEventCreate");
+  check(cudaEventCreate(&m.stop), "cudaEventCreate");
+}
+
+FlatRun::~FlatRun() {
+  for (void* p : impl_->owned) cudaFree(p);
+  if (impl_->start) cudaEventDestroy(impl_->start);
+  if (impl_->stop) cudaEventDestroy(impl_->stop);
+  delete impl_;
+}
+
+void FlatRun::advance(int64_t steps) {
+  Impl& m = *impl_;
+  const FlatSystem& d = m.d;
+  if (d.n == 0 || steps <= 0) return;
+  check(cudaEventRecord(m.start), "cudaEventRecord");
+  for (int64_t k = 0; k < steps; ++k) {
+    // kernels/flat_system.hpp advance_flat, stage by stage.
+    kick_drift_kernel<<<m.grid, kBlock>>>(d);
+    pack_kernel<<<m.grid, kBlock>>>(d);
+    if (!d.state_based) {
+      bond_based_kernel<<<m.grid, kBlock>>>(d);
+    } else {
+      dilatation_kernel<<<m.grid, kBlock>>>(d);
+      pressure_kernel<<<m.grid, kBlock>>>(d);
+      force_kernel<<<m.grid, kBlock>>>(d);
+    }
+    kick_kernel<<<m.grid, kBlock>>>(d);
+  }
+  check(cudaGetLastError(), "kernel launch");
+  check(cudaEventRecord(m.stop), "cudaEventRecord");
+  check(cudaEventSynchronize(m.stop), "a step on the device");
+  float ms = 0;
+  check(cudaEventElapsedTime(&ms, m.start, m.stop), "cudaEventElapsedTime");
+  m.seconds += 1e-3 * ms;
+}
+
+double FlatRun::device_seconds() {
+  const double s = impl_->seconds;
+  impl_->seconds = 0;
+  return s;
+}
+
+void FlatRun::download(const FlatSystem& h) const {
+  const FlatSystem& d = impl_->d;
+  const uint64_t n = d.n, nb = d.nb;
+  check(cudaDeviceSynchronize(), "cudaDeviceSynchronize");
+  download_array(h.u, d.u, 3 * n);
+  download_array(h.v, d.v, 3 * n);
+  download_array(h.f, d.f, 3 * n);
+  download_array(h.intact, d.intact, nb);
+  download_array(h.damage, d.damage, n);
+  download_array(h.energy, d.energy, n);
+  download_array(h.dissipated, d.dissipated, n);
+  download_array(h.theta, d.theta, n);
+  download_array(h.P, d.P, n);
+  download_array(h.intact_weight, d.intact_weight, n);
+  download_array(h.min_stretch, d.min_stretch, n);
+}
+
+}  // namespace horizon::cuda

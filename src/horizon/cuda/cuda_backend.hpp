@@ -1,0 +1,47 @@
+#pragma once
+// The CUDA backend of explicit runs (issue 30 part B; docs/design.md, "Backends and
+// portable kernels"): the flat state of kernels/flat_system.hpp held on the device, each
+// stage of a step launched as one kernel of one thread a particle over the same portable
+// row functions the host's advance_flat runs. Plain C++ here (no CUDA type), so that host
+// code compiled by the host compiler can call it; built only with -DHORIZON_CUDA=ON.
+//
+// NOT YET COMPILED: this machine has no nvcc; bench/gpu/device_check.sh builds and tests
+// it on the device machine the first time a session has one.
+#include <cstdint>
+#include <string>
+
+#include "horizon/kernels/flat_system.hpp"
+
+namespace horizon::cuda {
+
+// Whether a CUDA device can be used; when not, `why` says why (for the skip message).
+bool device_available(std::string& why);
+
+// Copies a flat state to the device; advance() steps it there; download() copies the
+// fields back into the same host arrays.
+// The device's copy bandwidth, bytes read plus bytes written per second, of a
+// device-to-device copy of `bytes` (the ceiling of a bandwidth-bound bond loop).
+double copy_bandwidth(uint64_t bytes);
+
+class FlatRun {
+ public:
+  explicit FlatRun(const kernels::FlatSystem& host);
+  ~FlatRun();
+  FlatRun(const FlatRun&) = delete;
+  FlatRun& operator=(const FlatRun&) = delete;
+
+  // `steps` explicit steps on the device (no copy back).
+  void advance(int64_t steps);
+  // Waits for the device and copies u, v, f, the intact flags, damage, energy, the
+  // dissipation, theta, P, the intact weights and the smallest stretches back to `host`
+  // (the arrays the constructor copied from, or others of the same sizes).
+  void download(const kernels::FlatSystem& host) const;
+  // Seconds the device spent in advance() since the last call (CUDA events).
+  double device_seconds();
+
+ private:
+  struct Impl;
+  Impl* impl_;
+};
+
+}  // namespace horizon::cuda

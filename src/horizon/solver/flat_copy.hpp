@@ -1,0 +1,45 @@
+#pragma once
+// A System's explicit state as flat arrays (kernels/flat_system.hpp): what a backend that
+// keeps its own copy of the particles and bonds (the CUDA backend, cuda/cuda_backend.hpp)
+// is given, and what the tests step on the host with the portable row functions to check
+// them against the host's own passes (tests/unit/test_portable_kernels.cpp).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "horizon/kernels/flat_system.hpp"
+#include "horizon/state/system.hpp"
+
+namespace horizon {
+
+class Loads;
+
+// Why this run cannot be stepped over flat arrays, or "" when it can: unified models only
+// (PMB, LPS), no loads but initial conditions, no thermal strain, no short-range contact
+// pairs beyond the family's, bonds broken before the force pass, one rank, no FE regions,
+// kinds with their lengths.
+std::string flat_unsupported(const System& s, const Loads& loads);
+
+// Owning copies of every array a FlatSystem points to; view() points into them.
+struct FlatStorage {
+  kernels::FlatSystem view();
+  std::vector<uint64_t> offset;
+  std::vector<uint32_t> nbr, kind;
+  std::vector<uint8_t> intact, no_fail;
+  std::vector<kernels::Kind> kinds;
+  std::vector<double> r_of, X, u, v, f, b, density, volume, critical_stretch, alpha, min_stretch, min_stretch_next,
+      dilatation_coef, Q, R, weighted_volume, theta, P, intact_weight, damage_total, damage, energy, dissipated, y4;
+  std::vector<uint64_t> broken;
+  uint64_t n = 0;
+  bool state_based = false;
+  double dim = 3, dt = 0, damping = 0;
+};
+
+// Copies s (after ExplicitSolver::initialize or any step: forces, damage and the smallest
+// stretches are those of the last pass) with the step dt and the damping.
+FlatStorage flat_copy(const System& s, double dt, double damping);
+
+// Writes the copy's u, v, f, damage, energy, intact flags and dissipation back into s.
+void flat_write_back(const FlatStorage& c, System& s);
+
+}  // namespace horizon

@@ -1,0 +1,116 @@
+#pragma once
+// A block of a simple cubic lattice as a flat state (kernels/flat_system.hpp), built without
+// the library (the device machine has no yaml-cpp, Cairo, ...: the GPU tests and benchmark
+// build with -DHORIZON_GPU_ONLY=ON from the kernel headers alone). Horizon 3 spacings
+// (122 neighbours inside), omega = 1, whole volumes; PMB (c = 18 K/(pi delta^4), seed 002
+// eq. 22, nu = 1/4) or LPS (a = 3K/m, b = 15 mu/m, seed 003 eq. 112-113); a striker of the
+// first `striker` layers moving at (v0, v0/6, 0) into the rest, bonded to it, bonds
+// breaking at the critical stretch s0.
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "horizon/kernels/flat_system.hpp"
+
+namespace horizon::test {
+
+struct Lattice {
+  std::vector<uint64_t> offset;
+  std::vector<uint32_t> nbr, kind;
+  std::vector<uint8_t> intact, no_fail;
+  std::vector<kernels::Kind> kinds;
+  std::vector<double> r_of, X, u, v, f, b, density, volume, critical_stretch, alpha, min_stretch, min_stretch_next,
+      dilatation_coef, Q, R, weighted_volume, theta, P, intact_weight, damage_total, damage, energy, dissipated, y4;
+  std::vector<uint64_t> broken;
+  uint64_t n = 0;
+  bool lps = false;
+  double dt = 0;
+
+  kernels::FlatSystem view() {
+    kernels::FlatSystem s;
+    s.n = n, s.nb = nbr.size(), s.nkinds = kinds.size(), s.state_based = lps, s.dim = 3, s.dt = dt, s.damping = 0;
+    s.offset = offset.data(), s.nbr = nbr.data(), s.kind = kind.data(), s.intact = intact.data();
+    s.kinds = kinds.data(), s.r_of = r_of.data();
+    s.X = X.data(), s.u = u.data(), s.v = v.data(), s.f = f.data(), s.b = b.data();
+    s.density = density.data(), s.volume = volume.data(), s.critical_stretch = critical_stretch.data();
+    s.alpha = alpha.data(), s.no_fail = no_fail.data(), s.min_stretch = min_stretch.data();
+    s.min_stretch_next = min_stretch_next.data(), s.dilatation_coef = dilatation_coef.data(), s.Q = Q.data();
+    s.R = R.data(), s.weighted_volume = weighted_volume.data(), s.theta = theta.data(), s.P = P.data();
+    s.intact_weight = intact_weight.data(), s.damage_total = damage_total.data(), s.damage = damage.data();
+    s.energy = energy.data(), s.dissipated = dissipated.data(), s.y4 = y4.data(), s.broken = broken.data();
+    return s;
+  }
+};
+
+inline Lattice make_lattice(int nx, int ny, int nz, bool lps, double s0 = 0.002, int striker = 6, double v0 = 40) {
+  const double h = 1e-3, delta = 3 * h, E = 200e9, nu = 0.25, rho = 7850, V = h * h * h;
+  const double K = E / (3 * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  const double pi = 3.14159265358979323846, c = 18 * K / (pi * std::pow(delta, 4));
+  Lattice L;
+  L.lps = lps;
+  const uint64_t n = static_cast<uint64_t>(nx) * ny * nz;
+  L.n = n;
+  // Kinds by r^2 = a^2 + b^2 + c^2 of the offset (1..9; 7 is never a sum of three squares).
+  L.kinds.resize(9);
+  double stiffness = 0;  // sum_j V c/|xi| of an interior particle: the stable step below
+  struct Off {
+    int a, b, c;
+    uint32_t kind;
+  };
+  std::vector<Off> offs;
+  for (int a = -3; a <= 3; ++a)
+    for (int b2 = -3; b2 <= 3; ++b2)
+      for (int c2 = -3; c2 <= 3; ++c2) {
+        const int r2 = a * a + b2 * b2 + c2 * c2;
+        if (r2 == 0 || r2 > 9) continue;
+        offs.push_back({a, b2, c2, static_cast<uint32_t>(r2 - 1)});
+        stiffness += V * c / (h * std::sqrt(static_cast<double>(r2)));
+      }
+  for (int r2 = 1; r2 <= 9; ++r2) {
+    const double len = h * std::sqrt(static_cast<double>(r2));
+    L.kinds[r2 - 1] = {len, 1.0 / len, lps ? 0.0 : V * c / len, 0.0, 1.0, V, 0.0, 0.0};
+  }
+  L.dt = 0.5 * std::sqrt(2 * rho / stiffness);
+  L.offset.assign(n + 1, 0);
+  L.nbr.reserve(n * offs.size());
+  L.kind.reserve(n * offs.size());
+  L.X.resize(3 * n);
+  L.v.assign(3 * n, 0.0);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const uint64_t i = (static_cast<uint64_t>(z) * ny + y) * nx + x;
+        L.X[3 * i] = x * h, L.X[3 * i + 1] = y * h, L.X[3 * i + 2] = z * h;
+        if (x < striker) L.v[3 * i] = v0, L.v[3 * i + 1] = v0 / 6;
+        for (const Off& o : offs) {
+          const int X2 = x + o.a, Y2 = y + o.b, Z2 = z + o.c;
+          if (X2 < 0 || Y2 < 0 || Z2 < 0 || X2 >= nx || Y2 >= ny || Z2 >= nz) continue;
+          L.nbr.push_back(static_cast<uint32_t>((static_cast<uint64_t>(Z2) * ny + Y2) * nx + X2));
+          L.kind.push_back(o.kind);
+        }
+        L.offset[i + 1] = L.nbr.size();
+      }
+  const uint64_t nb = L.nbr.size();
+  L.intact.assign(nb, 1);
+  L.r_of.assign(nb, 0.0);
+  L.u.assign(3 * n, 0.0), L.f.assign(3 * n, 0.0), L.b.assign(3 * n, 0.0);
+  L.density.assign(n, rho), L.volume.assign(n, V), L.critical_stretch.assign(n, s0), L.alpha.assign(n, 0.0);
+  L.no_fail.assign(n, 0), L.min_stretch.assign(n, 0.0), L.min_stretch_next.assign(n, 0.0);
+  L.dilatation_coef.assign(n, 0.0), L.Q.assign(n, 0.0), L.R.assign(n, lps ? 0.0 : c / 2);
+  L.weighted_volume.assign(n, 0.0), L.theta.assign(n, 0.0), L.P.assign(n, 0.0);
+  L.intact_weight.resize(n), L.damage_total.resize(n), L.damage.assign(n, 0.0);
+  L.energy.assign(n, 0.0), L.dissipated.assign(n, 0.0), L.y4.assign(4 * n, 0.0), L.broken.assign(n, 0);
+  for (uint64_t i = 0; i < n; ++i) {
+    double m = 0;
+    for (uint64_t k = L.offset[i]; k < L.offset[i + 1]; ++k) {
+      const double len = L.kinds[L.kind[k]].length;
+      m += kernels::weighted_volume_term(1.0, len, V);  // m_i = sum omega |xi|^2 V_j
+    }
+    L.weighted_volume[i] = m;
+    if (lps && m > 0) L.dilatation_coef[i] = 3 * K / m, L.Q[i] = 15 * mu / m;
+    L.intact_weight[i] = L.damage_total[i] = static_cast<double>(L.offset[i + 1] - L.offset[i]);
+  }
+  return L;
+}
+
+}  // namespace horizon::test
