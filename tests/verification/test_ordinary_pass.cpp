@@ -85,18 +85,9 @@ Run run(const std::string& text, bool reference, int threads) {
   return r;
 }
 
-double relative(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double d = 0, s = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    d = std::max(d, norm(a[i] - b[i]));
-    s = std::max(s, norm(b[i]));
-  }
-  return d / s;
-}
-
 void check(const std::string& name, const std::string& text) {
   const Run ref = run(text, true, 1), fast = run(text, false, 1), two = run(text, false, 2);
-  const double du = relative(fast.u, ref.u), dv = relative(fast.v, ref.v);
+  const double du = max_difference(fast.u, ref.u), dv = max_difference(fast.v, ref.v);
   const double dd = std::abs(fast.dissipated - ref.dissipated) / ref.initial;
   report("ordinary_pass_" + name, std::max(du, dv),
          fmt::format("{}: scalar against vector general pass, 40 steps of a breaking impact ({} bonds broken, "
