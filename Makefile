@@ -16,7 +16,9 @@ $(BUILD)/build.ninja:
 build: deps $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
 
-demo: build
+# The demo needs only the program: the tests and benchmarks are built by `make test`.
+demo: deps $(BUILD)/build.ninja
+	cmake --build $(BUILD) -j $(JOBS) --target horizon
 	$(BUILD)/horizon run examples/glass_branching.yaml
 	$(BUILD)/horizon render out/glass_branching --field damage -o out/glass_branching/damage.png
 
