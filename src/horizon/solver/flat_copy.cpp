@@ -7,7 +7,7 @@
 namespace horizon {
 
 std::string flat_unsupported(const System& s, const Loads& loads) {
-  if (s.models.owner() || !s.models.all_unified()) return "a model other than pmb and lps";
+  if (s.models.owner() || !s.models.all_unified()) return "a model without the unified per-bond form (ModelTraits::unified)";
   if (!loads.loads().empty() || !loads.projectiles().empty()) return "loads or projectiles";
   if (!s.thermal_strain.empty() || !s.critical_stretch_factor.empty()) return "temperature";
   if (s.contact.enabled()) return "short-range contact";

@@ -15,7 +15,7 @@ namespace horizon {
 class Loads;
 
 // Why this run cannot be stepped over flat arrays, or "" when it can: unified models only
-// (PMB, LPS), no loads but initial conditions, no thermal strain, no short-range contact
+// (ModelTraits::unified), no loads but initial conditions, no thermal strain, no short-range contact
 // pairs beyond the family's, bonds broken before the force pass, one rank, no FE regions,
 // kinds with their lengths.
 std::string flat_unsupported(const System& s, const Loads& loads);

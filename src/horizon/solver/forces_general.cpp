@@ -20,7 +20,7 @@ inline Vec3 delta(const Point4& a, const Point4& b) { return {b.x - a.x, b.y - a
 // The free thermal extension of bond i-j: eps_ij |xi| with eps_ij = (eps_i + eps_j)/2,
 // eps = alpha (T - T_ref) (System::thermal_strain). A bond-based force then follows the
 // stretch s - alpha dT (Oterkus, Madenci and Agwai 2014, J. Mech. Phys. Solids 64:1;
-// Kilic and Madenci 2010), and the LPS dilatation becomes theta - d alpha dT on a full
+// Kilic and Madenci 2010), and a state-based dilatation becomes theta - d alpha dT on a full
 // family (Madenci and Oterkus 2014, "Peridynamic Theory and Its Applications", sec. 7),
 // so a free body heated uniformly expands without force.
 inline double thermal_extension(const double* eps, std::size_t i, std::size_t j, double length) {
