@@ -67,6 +67,25 @@ class Viscoelastic final : public Model {
     ledger_.checkpoint(a);
   }
  private:
+  // p_i = k theta + (mu/3) [lambda_inf theta + sum_b lambda_b (theta - theta^b_b)] in plane
+  // strain (header); stores the branches' trial back dilatations and theta's trial value, and
+  // returns p_i with the dilatation springs' sum (lambda_inf theta^2 + sum_b lambda_b
+  // (theta - theta^b_b)^2) in `springs`. Shared by force_state and force_row.
+  double pressure(std::size_t i, double theta, const SlsStep* step, double& springs) {
+    double p = bulk_elastic_ * theta;
+    springs = 0;
+    if (dilatation_shear_ == 0) return p;
+    double relaxing = lambda_inf_ * theta;
+    springs = lambda_inf_ * theta * theta;
+    for (int b = 0; b < branches_; ++b) {
+      const double back = sls_back_extension(step[b], theta_back_[b][i], theta_[i], theta);
+      theta_back_trial_[b][i] = back;
+      relaxing += lambda_[b] * (theta - back);
+      springs += lambda_[b] * (theta - back) * (theta - back);
+    }
+    theta_trial_[i] = theta;
+    return p + dilatation_shear_ * relaxing;
+  }
   void size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();
     if (ed_.size() == nb) return;
@@ -190,19 +209,8 @@ void Viscoelastic::force_state(ForcePass& pass) {
     const double theta = dim * sum / m;
     // t^i = (d/m) omega |xi| p_i, p_i = k' theta; in plane strain
     // p_i = k theta + (mu/3) [lambda_inf theta + sum_b lambda_b (theta - theta^b_b)] (header).
-    double pressure = bulk_elastic_ * theta, dil_springs = 0;
-    if (dilatation_shear_ != 0) {
-      double relaxing = linf * theta;
-      dil_springs = linf * theta * theta;
-      for (int b = 0; b < nbranch; ++b) {
-        const double back = sls_back_extension(step[b], theta_back_[b][i], theta_[i], theta);
-        theta_back_trial_[b][i] = back;
-        relaxing += lambda_[b] * (theta - back);
-        dil_springs += lambda_[b] * (theta - back) * (theta - back);
-      }
-      theta_trial_[i] = theta;
-      pressure += dilatation_shear_ * relaxing;
-    }
+    double dil_springs;
+    const double pressure = this->pressure(i, theta, step.data(), dil_springs);
     const double p_coef = dim * pressure / m;
     double work = 0, booked = 0, stored = 0;
     for (uint64_t k = first; k < last; ++k) {
@@ -280,19 +288,8 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   const double m = M.weighted_volume[i];
   const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
   const double theta = dim * dilatation_sum / m;
-  double pressure = bulk_elastic_ * theta, dil_springs = 0;
-  if (dilatation_shear_ != 0) {
-    double relaxing = linf * theta;
-    dil_springs = linf * theta * theta;
-    for (int b = 0; b < nbranch; ++b) {
-      const double back = sls_back_extension(step_[b], theta_back_[b][i], theta_[i], theta);
-      theta_back_trial_[b][i] = back;
-      relaxing += lambda_[b] * (theta - back);
-      dil_springs += lambda_[b] * (theta - back) * (theta - back);
-    }
-    theta_trial_[i] = theta;
-    pressure += dilatation_shear_ * relaxing;
-  }
+  double dil_springs;
+  const double pressure = this->pressure(i, theta, step_.data(), dil_springs);
   const double p_coef = dim * pressure / m;
   double work = 0, booked = 0, stored = 0;
   for (uint64_t k = first; k < last; ++k) {
