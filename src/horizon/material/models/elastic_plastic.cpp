@@ -239,11 +239,17 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const double m = M.weighted_volume[i];
   const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
   const double theta = dim * dilatation_sum / m;
+  // The trial deviatoric extension e^d - e^dp_n of each acting bond, computed once here
+  // and read again by the second visit (kernels::ep_bond's trial: the same operations).
+  thread_local std::vector<double> trial_row;
+  if (trial_row.size() < last - first) trial_row.resize(last - first);
+  double* ede_trial = trial_row.data() - first;
   double n2 = 0;
   for (uint64_t k = first; k < last; ++k) {
     if (!intact[k]) continue;
     const KindCoefficients& c = kc[kind[k]];
     const double ede = deviatoric_extension(extension(k, c.length), theta, c.length, dim) - ep[k];
+    ede_trial[k] = ede;
     n2 += kernels::weighted_square(c.wv, ede);
   }
   n2 *= alpha * alpha;
@@ -271,7 +277,7 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
     }
     const double omega = bk.weight;
     // kernels/ordinary.hpp: the return's scaling of the bond, its force state and work.
-    const kernels::EpBond b = kernels::ep_bond(e, theta, c.length, dim, ep[k], beta);
+    const kernels::EpBond b{beta * ede_trial[k], ep[k] + (1.0 - beta) * ede_trial[k]};  // kernels::ep_bond
     ep_trial[k] = b.plastic;
     dev += kernels::weighted_square(c.wv, b.elastic);
     const double t = kernels::ordinary_force_scalar(p_coef, omega, c.length, alpha, b.elastic);
