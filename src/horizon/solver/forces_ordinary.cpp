@@ -196,6 +196,9 @@ uint64_t ordinary_forces(System& s, bool energy) {
   const uint8_t* intact = B.intact.data();
   const BondKind* kinds = B.kinds.data();
   const KindCoefficients* kc = M.kind.data();
+  // Without the short-range contact between family pairs every kind's contact distance is
+  // 0 (state/kind_coefficients.cpp), and family_contact would only say so, bond by bond.
+  const bool contact = s.contact.acts_on_family();
 #pragma omp parallel for schedule(static)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
@@ -213,7 +216,7 @@ uint64_t ordinary_forces(System& s, bool energy) {
       if (intact[k]) f += (bk.volume * bk.fraction) * (q[k] * Y + q[rev[k]] * Y);  // V_j (q_ij + q_ji) Y
       Vec3 fc;
       double wc = 0;
-      if (family_contact(kc[kind[k]], Y, fc, wc)) {
+      if (contact && family_contact(kc[kind[k]], Y, fc, wc)) {
         f += fc;
         w += wc;
       }
