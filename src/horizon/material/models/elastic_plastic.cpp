@@ -259,12 +259,13 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const double p_coef = dim * bulk_ * theta / m;
   double work = 0, dev = 0, booked = 0;
   bool inelastic = rm.plastic_strain > 0;
+  const HistoryLedger::Row ledger = ledger_.row();
   for (uint64_t k = first; k < last; ++k) {
     const KindCoefficients& c = kc[kind[k]];
     const BondKind& bk = kinds[kind[k]];
     const double vj = bk.volume * bk.fraction;
     const double e = extension(k, c.length);
-    if (ledger_.open_bond(k, intact[k], q[k], r[k], e, vj, booked)) inelastic = true;
+    if (ledger.open_bond(k, intact[k], q[k], r[k], e, vj, booked)) inelastic = true;
     if (!intact[k]) {
       q[k] = 0;
       ep_trial[k] = ep[k];

@@ -166,6 +166,37 @@ struct HistoryLedger {
                  double& booked_sum) {
     return open(k, intact, e, booked_sum, [&] { return broken_bond_booking(t_old, length, e, volume); });
   }
+  // The per-bond arrays of one pass as plain pointers, taken once per row by the scalar
+  // pass's rows: open() through the ledger's vectors reloads their pointers after every
+  // store of a flag (a byte store may alias anything), bond by bond. The same operations
+  // as open() and open_bond() (scalar form) on the same arrays.
+  struct Row {
+    double* extension_trial;
+    const uint8_t* booked_committed;
+    uint8_t* booked_trial;
+    uint8_t* pending_set;
+    double* pending_amount;
+    bool open_bond(uint64_t k, uint8_t intact, double t_old, double length, double e, double volume,
+                   double& booked_sum) const {
+      extension_trial[k] = e;
+      const uint8_t was = booked_committed[k];
+      booked_trial[k] = was;
+      if (bond_booked_now(intact, was)) {
+        if (!pending_set[k]) {
+          pending_amount[k] = broken_bond_booking(t_old, length, e, volume);
+          pending_set[k] = 1;
+        }
+        booked_sum += pending_amount[k];
+        booked_trial[k] = 1;
+        return true;
+      }
+      if (pending_set[k]) pending_set[k] = 0;  // a solver restored the bond (a failed static increment)
+      return false;
+    }
+  };
+  Row row() {
+    return {extension.trial(), booked.committed(), booked.trial(), pending_set.data(), pending_amount.data()};
+  }
   // The trial bond records become the committed ones; true when they changed (a pass ran
   // since the last commit): the model then commits its own bond arrays the same way.
   bool commit_bonds() {

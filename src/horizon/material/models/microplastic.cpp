@@ -139,11 +139,12 @@ class Microplastic final : public Model {
     double* force_trial = ledger_.force.trial();
     double W = 0, work = 0, booked = 0;
     bool inelastic = false;
+    const HistoryLedger::Row ledger = ledger_.row();
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       const BondKind& bk = kinds[kind[k]];
       const double vj = bk.volume * bk.fraction;
       const double e = r[k] - bk.length;
-      inelastic = ledger_.open_bond(k, intact[k], q[k], r[k], e, vj, booked) || inelastic;
+      inelastic = ledger.open_bond(k, intact[k], q[k], r[k], e, vj, booked) || inelastic;
       if (!intact[k]) {
         q[k] = 0;
         sbar_trial[k] = sbar_old[k];

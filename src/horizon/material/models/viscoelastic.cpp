@@ -292,16 +292,25 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   const double pressure = this->pressure(i, theta, step_.data(), dil_springs);
   const double p_coef = dim * pressure / m;
   double work = 0, booked = 0, stored = 0;
+  const HistoryLedger::Row ledger = ledger_.row();
+  // The branches' back extensions, committed and trial, as plain pointers (taken once: see
+  // HistoryLedger::Row).
+  const double* back_old[kMaxViscousBranches];
+  double* back_trial[kMaxViscousBranches];
+  for (int b = 0; b < nbranch; ++b) {
+    back_old[b] = back_[b].committed();
+    back_trial[b] = back_[b].trial();
+  }
   for (uint64_t k = first; k < last; ++k) {
     const KindCoefficients& c = kc[kind[k]];
     const BondKind& bk = kinds[kind[k]];
     const double vj = bk.volume * bk.fraction;
     const double e = r[k] - c.length - (eps ? 0.5 * (eps[i] + eps[B.nbr[k]]) * c.length : 0.0);
-    ledger_.open_bond(k, intact[k], q[k], r[k], e, vj, booked);
+    ledger.open_bond(k, intact[k], q[k], r[k], e, vj, booked);
     if (!intact[k]) {
       q[k] = 0;
       ed_trial[k] = ed_old_all[k];
-      for (int b = 0; b < nbranch; ++b) back_[b].trial()[k] = back_[b].committed()[k];
+      for (int b = 0; b < nbranch; ++b) back_trial[b][k] = back_old[b][k];
       force_trial[k] = 0;
       work += kernels::released_work(old_force[k], e, old_extension[k], vj);  // it acted at the start of the step (or 0)
       continue;
@@ -313,8 +322,8 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
     double dev = linf * ed;  // lambda_inf e^d + sum_b lambda_b (e^d - e^b)
     double springs = kernels::weighted_square(linf, ed);
     for (int b = 0; b < nbranch; ++b) {
-      const double back = sls_back_extension(step_[b], back_[b].committed()[k], ed_old, ed);
-      back_[b].trial()[k] = back;
+      const double back = sls_back_extension(step_[b], back_old[b][k], ed_old, ed);
+      back_trial[b][k] = back;
       const double qb = ed - back;
       dev += lambda_[b] * qb;
       springs += kernels::weighted_square(lambda_[b], qb);
