@@ -66,37 +66,48 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* eps, const 
   auto& M = s.model;
   const Point4* pt = M.packed.data();
   const KindCoefficients* kind = M.kind.data();
+  const uint32_t* kind_of = B.kind.data();
+  const uint32_t* nbr = B.nbr.data();
+  uint8_t* intact = B.intact.data();
   double* deformed = M.deformed_length.data();
   double* q = M.force_scalar.data();
   const Point4 pi = pt[i];
   auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
   const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
-  RowOut out;
+  // The row's sums in locals, not in `out` (the returned object lives in memory: its
+  // sums would carry a store and a load in every bond's chain of additions).
+  double smin = kInf, dilatation = 0, lost = 0;
+  uint64_t broken = 0;
   for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-    const KindCoefficients& kc = kind[B.kind[k]];
-    const Point4 pj = pt[B.nbr[k]];
+    const KindCoefficients& kc = kind[kind_of[k]];
+    const Point4 pj = pt[nbr[k]];
     const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
     const double r = kernels::bond_length(Y.x, Y.y, Y.z), r_old = deformed[k];
     deformed[k] = r;
-    if (!B.intact[k]) continue;
-    const double e = kernels::extension(r, kc.length, thermal_extension(eps, i, B.nbr[k], kc.length)),
+    if (!intact[k]) continue;
+    const double e = kernels::extension(r, kc.length, thermal_extension(eps, i, nbr[k], kc.length)),
                  stretch = e * kc.inv_length;
-    out.smin = smaller(stretch, out.smin);
-    const double wj = soft ? scaled(pj.w, soft[B.nbr[k]]) : pj.w;
+    smin = smaller(stretch, smin);
+    const double wj = soft ? scaled(pj.w, soft[nbr[k]]) : pj.w;
     if (kernels::breaks(stretch, wi, wj)) {
-      B.intact[k] = after ? 2 : 0;
-      ++out.broken;
+      intact[k] = after ? 2 : 0;
+      ++broken;
       // (1/2) t_old e V_j, t_old = q_old |Y_old| the bond's force state of the previous
       // pass; the row's model books the same from q[k] (RowPass::t, history_ledger.hpp
       // broken_bond_booking).
       const double t_old = q[k] * r_old;
       q[k] = t_old;
-      if (r > 0) out.lost += 0.5 * t_old * e * B.volume[k];
+      if (r > 0) lost += 0.5 * t_old * e * B.volume[k];
       M.intact_weight[i] -= kc.damage;
       if (!after) continue;
     }
-    out.dilatation += kernels::dilatation_term(kc.wv, kc.length, e);
+    dilatation += kernels::dilatation_term(kc.wv, kc.length, e);
   }
+  RowOut out;
+  out.smin = smin;
+  out.dilatation = dilatation;
+  out.lost = lost;
+  out.broken = broken;
   return out;
 }
 
