@@ -5,6 +5,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/material/models/history_ledger.hpp"
+#include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -284,8 +285,9 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
     const double t = kernels::ordinary_force_scalar(p_coef, omega, c.length, alpha, b.elastic);
     force_trial[k] = t;
     work += kernels::trapezoid_work(old_force[k], t, e, old_extension[k], vj);
-    q[k] = t / r[k];
   }
+  // q = t/|Y| (0 where the bond does not act), vectorised apart from the sums (ordinary_rows.hpp).
+  rows::force_scalars(force_trial, r, intact, false, first, last, q);
   const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;
   ledger_.stored_trial[i] = W;
   ledger_.loss_trial[i] = inelastic ? inelastic_loss(work, W - ledger_.stored[i], booked) : 0.0;

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "horizon/material/models/history_ledger.hpp"
+#include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -163,8 +164,9 @@ class Microplastic final : public Model {
       W += 0.5 * t * (stretch - sbar) * bk.length * vj;
       force_trial[k] = t;
       work += 0.5 * (old_force[k] + t) * (e - old_extension[k]) * vj;
-      q[k] = r[k] > 0 ? t / r[k] : 0.0;
     }
+    // q = t/|Y| (0 where the bond does not act), vectorised apart from the sums (ordinary_rows.hpp).
+    rows::force_scalars(force_trial, r, intact, true, B.begin(i), B.end(i), q);
     ledger_.stored_trial[i] = W;
     ledger_.loss_trial[i] = inelastic ? inelastic_loss(work, W - ledger_.stored[i], booked) : 0.0;
     if (pass.energy) pass.energy[i] = W;
