@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "horizon/core/error.hpp"
 #include "horizon/material/models/history_ledger.hpp"
@@ -77,6 +78,9 @@ class ElasticPlastic final : public Model {
   // plastic strain and the stored energy density W, committed and trial, and the energy
   // density dissipated in the trial step [J/m^3].
   std::vector<double> eps_p_, eps_p_trial_;
+  // Per particle: it flowed in its last pass of the scalar form (force_row's guess; not
+  // state: whatever it holds, the row computes the same bits).
+  std::vector<uint8_t> flowed_;
   // Per directed bond: the plastic deviatoric extension (history), committed and trial,
   // and what the ledger needs of the step (below).
   BondHistory<double> ep_;
@@ -102,6 +106,7 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   const std::size_t n = s.particles.size();
   eps_p_.assign(n, 0);
   eps_p_trial_.assign(n, 0);
+  flowed_.assign(n, 0);
   ledger_.size_particles(n);
   ep_.assign(0, 0);
   size_bonds(s.bonds);
@@ -240,52 +245,78 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const double m = M.weighted_volume[i];
   const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
   const double theta = dim * dilatation_sum / m;
-  // The trial deviatoric extension e^d - e^dp_n of each acting bond, computed once here
-  // and read again by the second visit (kernels::ep_bond's trial: the same operations).
+  const double p_coef = dim * bulk_ * theta / m;
+  const HistoryLedger::Row ledger = ledger_.row();
+  // The trial deviatoric extension e^d - e^dp_n of each acting bond (kernels::ep_bond's
+  // trial), kept from the visit that computes it for a visit that scales it.
   thread_local std::vector<double> trial_row;
   if (trial_row.size() < last - first) trial_row.resize(last - first);
   double* ede_trial = trial_row.data() - first;
   double n2 = 0;
-  for (uint64_t k = first; k < last; ++k) {
-    if (!intact[k]) continue;
-    const KindCoefficients& c = kc[kind[k]];
-    const double ede = deviatoric_extension(extension(k, c.length), theta, c.length, dim) - ep[k];
-    ede_trial[k] = ede;
-    n2 += kernels::weighted_square(c.wv, ede);
-  }
+  auto trial_norm = [&] {  // ||t^d_tr||^2 / alpha^2, in bond order
+    for (uint64_t k = first; k < last; ++k) {
+      if (!intact[k]) continue;
+      const KindCoefficients& c = kc[kind[k]];
+      const double ede = deviatoric_extension(extension(k, c.length), theta, c.length, dim) - ep[k];
+      ede_trial[k] = ede;
+      n2 += kernels::weighted_square(c.wv, ede);
+    }
+  };
+  // One visit of the row with the return's scaling beta: the force states and trial
+  // records, and the sums of dev and the step's work. With `norm`, the visit also computes
+  // the trial extensions and their norm (trial_norm's operations, in its order).
+  double work = 0, dev = 0, booked = 0;
+  bool inelastic_bonds = false;
+  auto visit = [&](double beta, auto norm) {
+    work = 0, dev = 0, booked = 0;
+    inelastic_bonds = false;
+    for (uint64_t k = first; k < last; ++k) {
+      const KindCoefficients& c = kc[kind[k]];
+      const BondKind& bk = kinds[kind[k]];
+      const double vj = bk.volume * bk.fraction;
+      const double e = extension(k, c.length);
+      if (ledger.open_bond(k, intact[k], q[k], r[k], e, vj, booked)) inelastic_bonds = true;
+      if (!intact[k]) {
+        q[k] = 0;
+        ep_trial[k] = ep[k];
+        force_trial[k] = 0;
+        if (old_force[k] != 0) {  // it acted at the start of the step
+          work += kernels::released_work(old_force[k], e, old_extension[k], vj);
+          inelastic_bonds = true;
+        }
+        continue;
+      }
+      if constexpr (decltype(norm)::value) {
+        const double ede = deviatoric_extension(e, theta, c.length, dim) - ep[k];
+        ede_trial[k] = ede;
+        n2 += kernels::weighted_square(c.wv, ede);
+      }
+      const double omega = bk.weight;
+      // kernels/ordinary.hpp: the return's scaling of the bond, its force state and work.
+      const kernels::EpBond b{beta * ede_trial[k], ep[k] + (1.0 - beta) * ede_trial[k]};  // kernels::ep_bond
+      ep_trial[k] = b.plastic;
+      dev += kernels::weighted_square(c.wv, b.elastic);
+      const double t = kernels::ordinary_force_scalar(p_coef, omega, c.length, alpha, b.elastic);
+      force_trial[k] = t;
+      work += kernels::trapezoid_work(old_force[k], t, e, old_extension[k], vj);
+    }
+  };
+  // The yield norm needs theta, the forces need the return: two visits of the row. A
+  // particle that did not flow in its last pass is taken to stay elastic (beta = 1): one
+  // visit computes the norm and the elastic forces, and only if the return then scales
+  // them (beta != 1) does a second visit write them again. Either way every written value
+  // is the two-visit one, bit for bit; a particle that flowed takes the two visits at once.
+  const bool guess_elastic = !flowed_[i];
+  if (guess_elastic)
+    visit(1.0, std::true_type{});
+  else
+    trial_norm();
   n2 *= alpha * alpha;
   const ReturnMap rm = ep_return_map(n2, m, dim, mu_, yield_, hardening_, eps_p_[i]);
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
-  const double beta = rm.scale;
-  const double p_coef = dim * bulk_ * theta / m;
-  double work = 0, dev = 0, booked = 0;
-  bool inelastic = rm.plastic_strain > 0;
-  const HistoryLedger::Row ledger = ledger_.row();
-  for (uint64_t k = first; k < last; ++k) {
-    const KindCoefficients& c = kc[kind[k]];
-    const BondKind& bk = kinds[kind[k]];
-    const double vj = bk.volume * bk.fraction;
-    const double e = extension(k, c.length);
-    if (ledger.open_bond(k, intact[k], q[k], r[k], e, vj, booked)) inelastic = true;
-    if (!intact[k]) {
-      q[k] = 0;
-      ep_trial[k] = ep[k];
-      force_trial[k] = 0;
-      if (old_force[k] != 0) {  // it acted at the start of the step
-        work += kernels::released_work(old_force[k], e, old_extension[k], vj);
-        inelastic = true;
-      }
-      continue;
-    }
-    const double omega = bk.weight;
-    // kernels/ordinary.hpp: the return's scaling of the bond, its force state and work.
-    const kernels::EpBond b{beta * ede_trial[k], ep[k] + (1.0 - beta) * ede_trial[k]};  // kernels::ep_bond
-    ep_trial[k] = b.plastic;
-    dev += kernels::weighted_square(c.wv, b.elastic);
-    const double t = kernels::ordinary_force_scalar(p_coef, omega, c.length, alpha, b.elastic);
-    force_trial[k] = t;
-    work += kernels::trapezoid_work(old_force[k], t, e, old_extension[k], vj);
-  }
+  flowed_[i] = rm.plastic_strain > 0;
+  if (!guess_elastic || rm.scale != 1.0) visit(rm.scale, std::false_type{});
+  const bool inelastic = rm.plastic_strain > 0 || inelastic_bonds;
   // q = t/|Y| (0 where the bond does not act), vectorised apart from the sums (ordinary_rows.hpp).
   rows::force_scalars(force_trial, r, intact, false, first, last, q);
   const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;
