@@ -4,8 +4,7 @@
 // summed by one thread in bond order, so with -fmad=false (cmake/cuda.cmake) the device
 // computes the host's operations in the host's order.
 //
-// NOT YET COMPILED: written without nvcc (issue 30 part A); bench/gpu/device_check.sh is
-// the first build.
+// Compiled with nvcc 13.0 (sm_90) on a machine without a GPU: it has never run.
 #include "horizon/cuda/cuda_backend.hpp"
 
 #include <cuda_runtime.h>
@@ -58,6 +57,12 @@ __global__ void kick_kernel(FlatSystem s) {
   const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
   if (i < s.n) kernels::kick_row(s, i);
 }
+__global__ void save_tracked_kernel(FlatSystem s) {
+  const uint64_t m = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (m < s.ntracked) kernels::save_tracked_row(s, m);
+}
+// One thread: the loads' work of the step, summed in the host's order.
+__global__ void book_load_work_kernel(FlatSystem s) { kernels::book_load_work(s); }
 
 // One device array per host array.
 template <class T>
@@ -118,7 +123,7 @@ struct FlatRun::Impl {
   std::vector<void*> owned;
   cudaEvent_t start = nullptr, stop = nullptr;
   double seconds = 0;
-  unsigned grid = 0;
+  unsigned grid = 0, tracked_grid = 0;
 };
 
 FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
@@ -158,7 +163,19 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.dissipated = upload(h.dissipated, n, o);
   d.y4 = upload(h.y4, 4 * n, o);
   d.broken = upload(h.broken, n, o);
+  d.fixed = upload(h.fixed, h.fixed ? n : 0, o);
+  d.fixed_value = upload(h.fixed_value, h.fixed_value ? 3 * n : 0, o);
+  d.tracked = upload(h.tracked, h.ntracked, o);
+  d.u_before = upload(h.u_before, 3 * h.ntracked, o);
+  d.v_before = upload(h.v_before, 3 * h.ntracked, o);
+  d.entry_slot = upload(h.entry_slot, h.nentries, o);
+  d.entry_mask = upload(h.entry_mask, h.nentries, o);
+  d.entry_reaction = upload(h.entry_reaction, 3 * h.nentries, o);
+  d.ledger = upload(h.ledger, h.ledger ? 1 : 0, o);
+  d.damped = upload(h.damped, h.damped ? n : 0, o);
+  d.speed2_before = upload(h.speed2_before, h.damped ? n : 0, o);
   m.grid = static_cast<unsigned>((n + kBlock - 1) / kBlock);
+  m.tracked_grid = static_cast<unsigned>((h.ntracked + kBlock - 1) / kBlock);
   check(cudaEventCreate(&m.start), "cudaEventCreate");
   check(cudaEventCreate(&m.stop), "cudaEventCreate");
 }
@@ -177,6 +194,7 @@ void FlatRun::advance(int64_t steps) {
   check(cudaEventRecord(m.start), "cudaEventRecord");
   for (int64_t k = 0; k < steps; ++k) {
     // kernels/flat_system.hpp advance_flat, stage by stage.
+    if (d.ntracked) save_tracked_kernel<<<m.tracked_grid, kBlock>>>(d);
     kick_drift_kernel<<<m.grid, kBlock>>>(d);
     pack_kernel<<<m.grid, kBlock>>>(d);
     if (!d.state_based) {
@@ -187,6 +205,7 @@ void FlatRun::advance(int64_t steps) {
       force_kernel<<<m.grid, kBlock>>>(d);
     }
     kick_kernel<<<m.grid, kBlock>>>(d);
+    if (d.ntracked) book_load_work_kernel<<<1, 1>>>(d);
   }
   check(cudaGetLastError(), "kernel launch");
   check(cudaEventRecord(m.stop), "cudaEventRecord");
@@ -217,6 +236,11 @@ void FlatRun::download(const FlatSystem& h) const {
   download_array(h.P, d.P, n);
   download_array(h.intact_weight, d.intact_weight, n);
   download_array(h.min_stretch, d.min_stretch, n);
+  if (h.ledger) download_array(h.ledger, d.ledger, 1);
+  download_array(h.u_before, d.u_before, 3 * d.ntracked);
+  download_array(h.v_before, d.v_before, 3 * d.ntracked);
+  download_array(h.entry_reaction, d.entry_reaction, 3 * d.nentries);
+  if (h.damped) download_array(h.damped, d.damped, n);
 }
 
 }  // namespace horizon::cuda

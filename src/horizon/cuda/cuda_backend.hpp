@@ -5,8 +5,8 @@
 // row functions the host's advance_flat runs. Plain C++ here (no CUDA type), so that host
 // code compiled by the host compiler can call it; built only with -DHORIZON_CUDA=ON.
 //
-// NOT YET COMPILED: this machine has no nvcc; bench/gpu/device_check.sh builds and tests
-// it on the device machine the first time a session has one.
+// Compiled with nvcc 13.0 (sm_90) on a machine without a GPU: it has never run. The
+// driver chooses it with solver.backend: cuda (driver/backends.cpp, over FlatBackend).
 #include <cstdint>
 #include <string>
 
@@ -33,7 +33,7 @@ class FlatRun {
   // `steps` explicit steps on the device (no copy back).
   void advance(int64_t steps);
   // Waits for the device and copies u, v, f, the intact flags, damage, energy, the
-  // dissipation, theta, P, the intact weights and the smallest stretches back to `host`
+  // dissipation, theta, P, the intact weights, the smallest stretches and the ledger back to `host`
   // (the arrays the constructor copied from, or others of the same sizes).
   void download(const kernels::FlatSystem& host) const;
   // Seconds the device spent in advance() since the last call (CUDA events).

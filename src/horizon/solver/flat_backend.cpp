@@ -1,0 +1,106 @@
+#include "horizon/solver/flat_backend.hpp"
+
+#include <cmath>
+
+#include "horizon/loading/loads.hpp"
+
+namespace horizon {
+
+std::string flat_backend_refusal(const System& s, const Loads& loads, double damping) {
+  (void)damping;  // booked per particle (kernels::kick_row)
+  return flat_unsupported(s, loads);
+}
+
+namespace {
+uint64_t intact_bonds(const FlatStorage& c) {
+  uint64_t n = 0;
+  for (uint8_t f : c.intact) n += f != 0;
+  return n;
+}
+}  // namespace
+
+FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver) : s_(s), loads_(loads), solver_(solver) {
+  copy_from_system();
+}
+
+void FlatBackend::copy_from_system() {
+  storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_);
+  view_ = storage_.view();
+  intact_at_copy_ = intact_bonds(storage_);
+  broken_at_copy_ = s_.broken;
+  damped_at_copy_ = solver_.ledger().damped;
+}
+
+int64_t FlatBackend::first_non_finite() const {
+  const std::vector<double>& u = storage_.u;
+  const std::vector<double>& v = storage_.v;
+  for (std::size_t i = 0; i < storage_.n; ++i)
+    if (!std::isfinite(v[3 * i] + v[3 * i + 1] + v[3 * i + 2] + u[3 * i] + u[3 * i + 1] + u[3 * i + 2]))
+      return static_cast<int64_t>(i);
+  return -1;
+}
+
+void FlatBackend::advance(int64_t n, bool energy) {
+  run_steps(n);
+  fetch();
+  if (first_non_finite() < 0) {
+    solver_.advance_clock(n);
+    energy_ = energy;
+    return;
+  }
+  // Again from the System's state (the last copy_fields: the driver copies at every event,
+  // so at the start of this call), one step at a time, to find the step that failed.
+  copy_from_system();
+  upload();
+  int64_t good = 0, bad = -1;
+  for (; good < n; ++good) {
+    run_steps(1);
+    fetch();
+    if ((bad = first_non_finite()) >= 0) break;
+  }
+  copy_from_system();
+  upload();
+  if (good > 0) {
+    run_steps(good);
+    fetch();
+  }
+  solver_.advance_clock(good);
+  energy_ = false;
+  copy_fields();
+  if (bad < 0) {  // not again (the rows are deterministic): carry on
+    run_steps(n - good);
+    fetch();
+    solver_.advance_clock(n - good);
+    energy_ = energy;
+    return;
+  }
+  const auto i = static_cast<std::size_t>(bad);
+  throw NonFiniteState(i, s_.particles.X[i], solver_.steps() + 1);
+}
+
+void FlatBackend::copy_fields() {
+  flat_write_back(storage_, s_, energy_);
+  s_.broken = broken_at_copy_ + (intact_at_copy_ - intact_bonds(storage_));
+  s_.time = solver_.time();
+  s_.dt = solver_.dt();
+  // The ledger as ExplicitSolver::step leaves it: the work and the dissipation of every
+  // step, the stored and kinetic energies of the last step that computed them.
+  Ledger& g = solver_.ledger();
+  g.external_work = storage_.ledger[0];
+  flat_write_reactions(storage_, loads_);
+  g.dissipated = s_.dissipated();
+  // The damped energy: per particle over the steps, then in index order (thread- and
+  // device-independent; ExplicitSolver::step sums each step's terms first, so the last
+  // bits may differ from the CPU backend's).
+  if (!storage_.damped.empty()) {
+    double d = 0;
+    for (double t : storage_.damped) d += t;
+    g.damped = damped_at_copy_ + d;
+  }
+  if (energy_) {
+    g.strain = strain_energy(s_);
+    solver_.update_kinetic();
+  }
+}
+
+}  // namespace horizon

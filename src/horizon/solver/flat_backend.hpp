@@ -1,0 +1,60 @@
+#pragma once
+// The flat backend of explicit runs (solver.backend: flat, --backend flat; docs/design.md
+// "Backends and portable kernels"): the run's state copied once into flat arrays
+// (solver/flat_copy.hpp) and stepped there by the portable row functions of
+// kernels/flat_system.hpp, many steps a call, on the host's threads. It is the CUDA
+// backend without the device: the same copy, the same rows, the same write-back, the same
+// refusals (the CUDA backend, driver/backends.cpp, derives from it and keeps the arrays
+// on the GPU). The rows sum in the fast loops' lanes, so a run gives the CPU backend's
+// bits: the state, the ledger, history.csv and the frames (tests/regression/test_backend.cpp);
+// with damping, all but the last bits of the damped energy (summed per particle first).
+#include <cstdint>
+#include <string>
+
+#include "horizon/solver/backend.hpp"
+#include "horizon/solver/flat_copy.hpp"
+
+namespace horizon {
+
+// Why the flat (and CUDA) backend cannot take this run, or "" when it can (flat_unsupported).
+std::string flat_backend_refusal(const System& s, const Loads& loads, double damping);
+
+class FlatBackend : public ExplicitBackend {
+ public:
+  // After ExplicitSolver::initialize (or a restart's state): copies the System.
+  FlatBackend(System& s, Loads& loads, ExplicitSolver& solver);
+  const char* name() const override { return "flat"; }
+  int64_t batch() const override { return int64_t{1} << 40; }
+  // n steps over the copy; the solver's clock moves on by n. A state that turns
+  // non-finite is stepped again from the System's copy one step at a time, so that the
+  // System keeps the state before the step that failed and NonFiniteState names that
+  // step and the first particle, as ExplicitSolver::step does.
+  void advance(int64_t n, bool energy) override;
+  void copy_fields() override;
+
+ protected:
+  // Takes n steps over view_ (the CUDA backend: on the device).
+  virtual void run_steps(int64_t n) { kernels::advance_flat(view_, n); }
+  // Brings storage_ up to date with the steps taken (the CUDA backend: copies back).
+  virtual void fetch() {}
+  // storage_ was made again from the System (the CUDA backend: copies it to the device).
+  virtual void upload() {}
+
+  System& s_;
+  Loads& loads_;
+  ExplicitSolver& solver_;
+  FlatStorage storage_;
+  kernels::FlatSystem view_;
+
+ private:
+  void copy_from_system();
+  // The first particle whose u or v is not finite in storage_, or -1.
+  int64_t first_non_finite() const;
+  bool energy_ = true;    // the last step computed what a CPU step with `energy` would
+  bool current_ = true;   // storage_ holds the steps taken (fetch() since the last advance)
+  uint64_t intact_at_copy_ = 0;  // intact bonds when storage_ was copied
+  uint64_t broken_at_copy_ = 0;  // s.broken then
+  double damped_at_copy_ = 0;    // the ledger's damped energy then
+};
+
+}  // namespace horizon
