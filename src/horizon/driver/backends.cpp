@@ -58,7 +58,7 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
                             prefix));
 #else
     std::string why;
-    if (!cuda::device_available(why)) throw Error(fmt::format("{}: no CUDA device: {}", prefix, why));
+    if (!cuda::device_available(why)) throw Error(fmt::format("{}: {}", prefix, why));  // "no CUDA device: ..."
 #endif
   }
   std::string why = flat_backend_refusal(s, loads, c.solver.damping);
@@ -67,8 +67,8 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
   if (why.empty() && c.solver.adaptive_time_step) why = "solver.adaptive_time_step";
   if (!why.empty())
     throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of pmb "
-                            "and lps with initial conditions and force densities fixed in time (docs/input.md, "
-                            "solver.backend); use backend cpu",
+                            "and lps with initial conditions, force densities and prescribed displacements and "
+                            "velocities of constant values (docs/input.md, solver.backend); use backend cpu",
                             prefix, why));
 }
 
