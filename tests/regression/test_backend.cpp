@@ -3,8 +3,9 @@
 // the portable row functions of kernels/flat_system.hpp (the code the CUDA backend
 // launches), which sum each row in the fast loops' eight lanes and book the ledger's terms
 // in the CPU's order: a run with backend flat must give the CPU backend's bits, so these
-// tests ask for identical bytes (history.csv, every frame, summary.json's state_crc32 and
-// final figures), not a tolerance. The runs: the glass demo (examples/glass_branching.yaml,
+// tests ask for identical bytes (history.csv, every frame, checkpoints, summary.json's
+// state_crc32 and final figures), not a tolerance; with damping, the damped energy to
+// 1e-12 (it is summed per particle first). The runs: the glass demo (examples/glass_branching.yaml,
 // tractions held fixed, a branching crack) coarsened 4 times, and a PMB and an LPS impact
 // of a striker on a bar (initial velocity, bonds breaking). Then what the flat (and CUDA)
 // backend refuses, each refusal with its message, naming the deck and the key.
@@ -217,6 +218,54 @@ TEST(Backend, DampedRunFlatGivesTheCpuStateAndLedger) {
   EXPECT_GT(rows, 2);
   std::printf("[ figure ] damped pmb impact: damped energy %.17g (cpu) %.17g (flat), %.1e relative\n", dc, df,
               std::abs(df - dc) / dc);
+}
+
+// A checkpoint written by a flat run is the CPU run's (the same bytes), and a restart from
+// it with backend flat ends where the uninterrupted CPU run ends.
+TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
+  std::string deck = glass_deck();
+  const std::string frames = "frames: 4, history_every: 10}";
+  ASSERT_NE(deck.find(frames), std::string::npos);
+  deck.replace(deck.find(frames), frames.size(), "frames: 4, history_every: 10, checkpoint: {every: 70}}");
+  const Output cpu = run(deck, "ck", "cpu", 4);
+  const fs::path dir = scratch("ck_restart");
+  const fs::path file = dir / "ck.yaml";
+  std::ofstream(file) << deck;
+  RunOptions o;
+  o.quiet = true;
+  o.handle_signals = false;
+  o.output_dir = (dir / "out").string();
+  o.coarsen = 4;
+  o.backend = "flat";
+  ASSERT_EQ(run_deck(load_deck(file.string()), o), 0);
+  EXPECT_TRUE(slurp(dir / "out" / "checkpoint.hzc") == cpu.frames.at("checkpoint.hzc")) << "the checkpoints differ";
+  o.restart = (dir / "out" / "checkpoint.hzc").string();
+  ASSERT_EQ(run_deck(load_deck(file.string()), o), 0);
+  EXPECT_EQ(slurp(dir / "out" / "history.csv"), cpu.history);
+  const auto summary = nlohmann::json::parse(slurp(dir / "out" / "summary.json"));
+  EXPECT_EQ(summary["state_crc32"], cpu.summary["state_crc32"]);
+  EXPECT_EQ(summary["steps"], cpu.summary["steps"]);
+  fs::remove_all(dir);
+}
+
+// A step too large: the state turns non-finite (exit status 2). The flat backend finds the
+// failing step again and leaves the System as ExplicitSolver::step does: the same message,
+// history.csv, final frame and summary.
+TEST(Backend, NonFiniteStateFlatGivesTheCpuEnd) {
+  std::string deck = impact_deck("{model: pmb, density: 7850, youngs_modulus: 200.0e9}");
+  const std::string solver = "end_time: 3.0e-6, safety_factor: 0.5";
+  ASSERT_NE(deck.find(solver), std::string::npos);
+  deck.replace(deck.find(solver), solver.size(), "end_time: 1.0e-3, time_step: 1.0e-6");
+  const Output cpu = run(deck, "non_finite", "cpu");
+  const Output flat = run(deck, "non_finite", "flat");
+  EXPECT_EQ(cpu.exit_code, 2);
+  EXPECT_EQ(flat.exit_code, 2);
+  EXPECT_NE(cpu.summary["message"].get<std::string>().find("non-finite at step"), std::string::npos);
+  EXPECT_EQ(flat.summary["message"], cpu.summary["message"]);
+  EXPECT_EQ(flat.summary["state_crc32"], cpu.summary["state_crc32"]);
+  EXPECT_EQ(flat.history, cpu.history);
+  ASSERT_EQ(flat.frames.size(), cpu.frames.size());
+  for (const auto& [path, bytes] : cpu.frames) EXPECT_TRUE(flat.frames.at(path) == bytes) << path << " differs";
 }
 
 // The message of a run refused by a backend ("" if it ran).

@@ -74,13 +74,29 @@ void FlatBackend::advance(int64_t n, bool energy) {
     energy_ = energy;
     return;
   }
+  // The failing step once more: ExplicitSolver::step restores u, v and its clock alone, so
+  // the failing step's force pass stays in the System (f, damage, the intact flags, the
+  // dissipation, the energy of a step with `energy`, s.time) and its ledger does not move.
+  const std::vector<Vec3> u = s_.particles.u, v = s_.particles.v;
+  run_steps(1);
+  fetch();
+  write_state(good + 1 == n && energy);
+  s_.particles.u = u;
+  s_.particles.v = v;
+  s_.time = static_cast<double>(solver_.steps() + 1) * solver_.dt();  // (a fixed step: t = n dt)
+  failed_ = true;  // copy_fields leaves the System as it is now
   const auto i = static_cast<std::size_t>(bad);
   throw NonFiniteState(i, s_.particles.X[i], solver_.steps() + 1);
 }
 
-void FlatBackend::copy_fields() {
-  flat_write_back(storage_, s_, energy_);
+void FlatBackend::write_state(bool energy) {
+  flat_write_back(storage_, s_, energy);
   s_.broken = broken_at_copy_ + (intact_at_copy_ - intact_bonds(storage_));
+}
+
+void FlatBackend::copy_fields() {
+  if (failed_) return;
+  write_state(energy_);
   s_.time = solver_.time();
   s_.dt = solver_.dt();
   // The ledger as ExplicitSolver::step leaves it: the work and the dissipation of every

@@ -27,8 +27,9 @@ class FlatBackend : public ExplicitBackend {
   int64_t batch() const override { return int64_t{1} << 40; }
   // n steps over the copy; the solver's clock moves on by n. A state that turns
   // non-finite is stepped again from the System's copy one step at a time, so that the
-  // System keeps the state before the step that failed and NonFiniteState names that
-  // step and the first particle, as ExplicitSolver::step does.
+  // System is left as ExplicitSolver::step leaves it (u and v of the start of the failing
+  // step, the rest of its force pass) and NonFiniteState names that step and the first
+  // particle, as step does.
   void advance(int64_t n, bool energy) override;
   void copy_fields() override;
 
@@ -48,10 +49,12 @@ class FlatBackend : public ExplicitBackend {
 
  private:
   void copy_from_system();
+  // The copy's state (not the ledger) into the System; the energy with `energy`.
+  void write_state(bool energy);
   // The first particle whose u or v is not finite in storage_, or -1.
   int64_t first_non_finite() const;
   bool energy_ = true;    // the last step computed what a CPU step with `energy` would
-  bool current_ = true;   // storage_ holds the steps taken (fetch() since the last advance)
+  bool failed_ = false;   // a step turned the state non-finite: the System keeps what advance left
   uint64_t intact_at_copy_ = 0;  // intact bonds when storage_ was copied
   uint64_t broken_at_copy_ = 0;  // s.broken then
   double damped_at_copy_ = 0;    // the ledger's damped energy then
