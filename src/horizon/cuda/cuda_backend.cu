@@ -120,6 +120,7 @@ double copy_bandwidth(uint64_t bytes) {
 
 struct FlatRun::Impl {
   FlatSystem d;  // device pointers
+  FlatSystem h;  // the host arrays copied from
   std::vector<void*> owned;
   cudaEvent_t start = nullptr, stop = nullptr;
   double seconds = 0;
@@ -132,6 +133,7 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   auto& o = m.owned;
   const uint64_t n = h.n, nb = h.nb;
   d = h;  // the scalars; every pointer is replaced below
+  m.h = h;
   d.offset = upload(h.offset, n + 1, o);
   d.nbr = upload(h.nbr, nb, o);
   d.kind = upload(h.kind, nb, o);
@@ -187,7 +189,7 @@ FlatRun::~FlatRun() {
   delete impl_;
 }
 
-void FlatRun::advance(int64_t steps) {
+void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx) {
   Impl& m = *impl_;
   const FlatSystem& d = m.d;
   if (d.n == 0 || steps <= 0) return;
@@ -203,6 +205,14 @@ void FlatRun::advance(int64_t steps) {
       dilatation_kernel<<<m.grid, kBlock>>>(d);
       pressure_kernel<<<m.grid, kBlock>>>(d);
       force_kernel<<<m.grid, kBlock>>>(d);
+    }
+    if (after_forces) {
+      download_array(m.h.y4, d.y4, 4 * d.n);
+      download_array(m.h.f, d.f, 3 * d.n);
+      download_array(m.h.energy, d.energy, d.n);
+      after_forces(ctx);
+      check(cudaMemcpy(d.f, m.h.f, 3 * d.n * sizeof(double), cudaMemcpyHostToDevice), "cudaMemcpy to the device");
+      check(cudaMemcpy(d.energy, m.h.energy, d.n * sizeof(double), cudaMemcpyHostToDevice), "cudaMemcpy to the device");
     }
     kick_kernel<<<m.grid, kBlock>>>(d);
     if (d.ntracked) book_load_work_kernel<<<1, 1>>>(d);

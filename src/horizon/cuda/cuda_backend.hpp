@@ -30,8 +30,11 @@ class FlatRun {
   FlatRun(const FlatRun&) = delete;
   FlatRun& operator=(const FlatRun&) = delete;
 
-  // `steps` explicit steps on the device (no copy back).
-  void advance(int64_t steps);
+  // `steps` explicit steps on the device (no copy back). With `after_forces`, after each
+  // force pass the packed positions (y4), f and the energy are copied to the host arrays
+  // the constructor copied from, after_forces(ctx) runs there (the host's short-range
+  // contact pairs add to f and the energy) and f and the energy go back to the device.
+  void advance(int64_t steps, void (*after_forces)(void*) = nullptr, void* ctx = nullptr);
   // Waits for the device and copies u, v, f, the intact flags, damage, energy, the
   // dissipation, theta, P, the intact weights, the smallest stretches and the ledger back to `host`
   // (the arrays the constructor copied from, or others of the same sizes).

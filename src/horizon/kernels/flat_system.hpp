@@ -399,8 +399,15 @@ inline void flat_forces(const FlatSystem& s) {
   for (uint64_t i = 0; i < n; ++i) force_row(s, i);
 }
 
-// `steps` explicit steps on the host; returns the bonds broken.
-inline uint64_t advance_flat(const FlatSystem& s, int64_t steps) {
+// No work between a step's force pass and its second half kick.
+struct NoHook {
+  void operator()() const {}
+};
+
+// `steps` explicit steps on the host; returns the bonds broken. `after_forces` runs after
+// each force pass (the host's short-range contact pairs: solver/flat_backend.cpp).
+template <class Hook = NoHook>
+inline uint64_t advance_flat(const FlatSystem& s, int64_t steps, Hook&& after_forces = Hook{}) {
   const uint64_t n = s.n;
   uint64_t broken = 0;
   for (int64_t k = 0; k < steps; ++k) {
@@ -408,6 +415,7 @@ inline uint64_t advance_flat(const FlatSystem& s, int64_t steps) {
     HORIZON_FLAT_ROWS
     for (uint64_t i = 0; i < n; ++i) kick_drift_row(s, i);
     flat_forces(s);
+    after_forces();
     HORIZON_FLAT_ROWS_BROKEN
     for (uint64_t i = 0; i < n; ++i) {
       kick_row(s, i);

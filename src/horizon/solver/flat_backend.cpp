@@ -23,6 +23,29 @@ FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver) : s_(s
   copy_from_system();
 }
 
+void FlatBackend::run_steps(int64_t n) {
+  if (s_.contact.enabled())
+    kernels::advance_flat(view_, n, [this] { contact_pass(); });
+  else
+    kernels::advance_flat(view_, n);
+}
+
+void FlatBackend::contact_pass() {
+  const uint64_t n = view_.n;
+  contact_y_.resize(n);
+  contact_f_.resize(n);
+  for (uint64_t i = 0; i < n; ++i) {
+    const double* y = view_.y4 + 4 * i;
+    contact_y_[i] = {y[0], y[1], y[2], y[3]};
+    contact_f_[i] = {view_.f[3 * i], view_.f[3 * i + 1], view_.f[3 * i + 2]};
+  }
+  // The energy of every pass (the flat rows compute it in every pass; the System takes it
+  // only from the passes the CPU backend would have computed it in).
+  s_.contact.add_forces(s_, contact_y_.data(), contact_f_.data(), view_.energy);
+  for (uint64_t i = 0; i < n; ++i)
+    view_.f[3 * i] = contact_f_[i].x, view_.f[3 * i + 1] = contact_f_[i].y, view_.f[3 * i + 2] = contact_f_[i].z;
+}
+
 void FlatBackend::copy_from_system() {
   storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_);
   view_ = storage_.view();

@@ -10,6 +10,10 @@
 // with damping, all but the last bits of the damped energy (summed per particle first).
 #include <cstdint>
 #include <string>
+#include <vector>
+
+#include "horizon/core/point4.hpp"
+#include "horizon/core/vec3.hpp"
 
 #include "horizon/solver/backend.hpp"
 #include "horizon/solver/flat_copy.hpp"
@@ -35,7 +39,12 @@ class FlatBackend : public ExplicitBackend {
 
  protected:
   // Takes n steps over view_ (the CUDA backend: on the device).
-  virtual void run_steps(int64_t n) { kernels::advance_flat(view_, n); }
+  virtual void run_steps(int64_t n);
+  // After a force pass: the short-range contact of the pairs beyond the families (the
+  // host's Verlet lists, state/short_range.hpp) added to view_'s f and energy, as
+  // compute_forces adds them; contact_hook(this) for FlatRun::advance.
+  void contact_pass();
+  static void contact_hook(void* self) { static_cast<FlatBackend*>(self)->contact_pass(); }
   // Brings storage_ up to date with the steps taken (the CUDA backend: copies back).
   virtual void fetch() {}
   // storage_ was made again from the System (the CUDA backend: copies it to the device).
@@ -54,6 +63,8 @@ class FlatBackend : public ExplicitBackend {
   // The first particle whose u or v is not finite in storage_, or -1.
   int64_t first_non_finite() const;
   bool energy_ = true;    // the last step computed what a CPU step with `energy` would
+  std::vector<Point4> contact_y_;  // contact_pass's copies of y4 and f (Point4 is 32-byte aligned)
+  std::vector<Vec3> contact_f_;
   bool failed_ = false;   // a step turned the state non-finite: the System keeps what advance left
   uint64_t intact_at_copy_ = 0;  // intact bonds when storage_ was copied
   uint64_t broken_at_copy_ = 0;  // s.broken then

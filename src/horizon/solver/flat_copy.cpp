@@ -17,7 +17,10 @@ std::string flat_unsupported(const System& s, const Loads& loads) {
   }
   if (!s.thermal_strain.empty() || !s.critical_stretch_factor.empty()) return "temperature";
   if (!s.critical_stretch_schedules.empty()) return "critical stretches that vary in time";
-  if (s.contact.enabled()) return "short-range contact";
+  // Short-range contact: the host's pair lists between the flat passes (FlatBackend);
+  // friction reads the System's velocities, which the copy does not keep up to date.
+  if (s.contact.enabled() && s.contact.config().law == ShortRangeLaw::peridigm && s.contact.config().friction > 0)
+    return "short-range contact with friction (contact.short_range.friction)";
   if (s.model.break_after_force) return "damage.break_after_force";
   if (s.decomposition) return "a run over several ranks";
   if (s.fe_coupling) return "finite-element regions";

@@ -17,9 +17,11 @@ class Loads;
 // Why this run cannot be stepped over flat arrays, or "" when it can: unified models only
 // (ModelTraits::unified), no loads but initial conditions, force densities (traction,
 // body_force, force, pressure) and prescribed velocities and displacements whose values
-// are constants, no thermal strain, no
-// short-range contact pairs beyond the family's, bonds broken before the force pass,
-// critical stretches fixed in time, one rank, no FE regions, kinds with their lengths.
+// are constants, no thermal strain, no contact friction, bonds broken before the force
+// pass, critical stretches fixed in time, one rank, no FE regions, kinds with their
+// lengths. Short-range contact: the flat rows hold the family pairs' part; the pairs
+// beyond the families are the stepper's (FlatBackend adds them between passes with the
+// host's lists; a bare advance_flat leaves them out).
 std::string flat_unsupported(const System& s, const Loads& loads);
 
 // Owning copies of every array a FlatSystem points to; view() points into them.
