@@ -178,6 +178,32 @@ TEST(Backend, PrescribedConditionsFlatGiveTheCpuBits) {
   expect_same(lps_flat, lps_cpu, "lps impact, prescribed conditions");
 }
 
+// Loads and conditions that vary in time and space: FlatBackend evaluates them on the host
+// before each step (the CPU's expressions at the CPU's times) into the flat arrays.
+TEST(Backend, LoadsThatVaryFlatGiveTheCpuBits) {
+  const std::string loads =
+      "loads:\n  - {region: end, displacement: [\"-2.0*t*(1 + 100*y)\", null, 0]}\n"
+      "  - {region: striker, velocity: [null, \"6.5*cos(1.0e6*t)\", null]}\n"
+      "  - {region: end, traction: [0, \"2.0e8*min(t/1.0e-6, 1)*(1 + 50*z)\", 0]}\n";
+  for (const std::string& material : {kPmb, kLps}) {
+    const Output cpu = run(impact_deck(material, loads), "varying", "cpu");
+    const Output flat = run(impact_deck(material, loads), "varying", "flat");
+    EXPECT_NE(cpu.history.find("end:traction_fy"), std::string::npos);
+    expect_same(flat, cpu, material == kPmb ? "pmb impact, loads that vary" : "lps impact, loads that vary");
+  }
+  // The glass demo with its tractions ramped up over 5 us.
+  std::string deck = glass_deck();
+  for (const char* sign : {"[0, 2.0e6]", "[0, -2.0e6]"}) {
+    const std::size_t at = deck.find(sign);
+    ASSERT_NE(at, std::string::npos);
+    const std::string ramp = std::string("[0, \"") + (sign[4] == '-' ? "-" : "") + "2.0e6*min(t/5.0e-6, 1)\"]";
+    deck.replace(at, std::string(sign).size(), ramp);
+  }
+  const Output cpu = run(deck, "glass_ramp", "cpu", 4);
+  const Output flat = run(deck, "glass_ramp", "flat", 4);
+  expect_same(flat, cpu, "glass_branching --coarsen 4, tractions ramped");
+}
+
 // Mass-proportional damping (issue 30 part B, the ledger's damped energy): the flat rows
 // book it per particle over the steps and sum the particles at a copy, ExplicitSolver::step
 // sums each step's particles first, so the damped energy (and the balance error made with
@@ -222,16 +248,16 @@ TEST(Backend, DampedRunFlatGivesTheCpuStateAndLedger) {
 
 // Short-range contact (issue 30 part B): the Kalthoff-Winkler PMB example (a velocity
 // condition, precracks, contact between the crack faces and beyond the families),
-// coarsened 3 times, 30 us; and the striker on the bar through contact alone.
+// coarsened 4 times, 25 us; and the striker on the bar through contact alone.
 TEST(Backend, ShortRangeContactFlatGivesTheCpuBits) {
   std::string deck = slurp(fs::path(HORIZON_SOURCE_DIR) / "examples" / "kalthoff_winkler_pmb.yaml");
   const std::string end = "end_time: 7.0e-5";
   ASSERT_NE(deck.find(end), std::string::npos);
-  deck.replace(deck.find(end), end.size(), "end_time: 3.0e-5");
-  const Output cpu = run(deck, "kalthoff", "cpu", 3);
-  const Output flat = run(deck, "kalthoff", "flat", 3);
+  deck.replace(deck.find(end), end.size(), "end_time: 2.5e-5");
+  const Output cpu = run(deck, "kalthoff", "cpu", 4);
+  const Output flat = run(deck, "kalthoff", "flat", 4);
   EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
-  expect_same(flat, cpu, "kalthoff_winkler_pmb --coarsen 3, 30 us");
+  expect_same(flat, cpu, "kalthoff_winkler_pmb --coarsen 4, 25 us");
   // The striker meets the bar through contact alone (no bonds between the bodies): the
   // pairs are beyond the families, in the host's lists; without contact it passes through.
   const std::string unbonded = "bonds_between_bodies: false\n";
@@ -324,10 +350,6 @@ TEST(Backend, FlatRefusesWhatItDoesNotCover) {
   expect_refused(impact_deck("{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
                              "yield_stress: 100.0e6}"),
                  "a model without the unified per-bond form (ModelTraits::unified)");
-  expect_refused(impact_deck(kPmb, "loads:\n  - {region: end, velocity: [\"100*t\", 0, 0]}\n"),
-                 "the load end:velocity, which varies in time or space ('100*t')");
-  expect_refused(impact_deck(kPmb, "loads:\n  - {region: end, body_force: [\"1e9*t\", 0, 0]}\n"),
-                 "the load end:body_force, which varies in time or space ('1e9*t')");
   expect_refused(impact_deck(kPmb, "contact: {short_range: {law: peridigm, contact_radius: 0.0009, spring_constant: "
                                    "1.0e11, friction: 0.3}}\n"),
                  "short-range contact with friction (contact.short_range.friction)");
@@ -352,7 +374,9 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
   // solver.backend in the deck: the refusal names its line and column.
   const fs::path dir = scratch("deck_key");
   const fs::path file = dir / "keyed.yaml";
-  std::ofstream(file) << impact_deck(kPmb, "loads:\n  - {region: end, body_force: [\"1e9*t\", 0, 0]}\n", ", backend: flat");
+  const std::string after = "{model: pmb, density: 7850, youngs_modulus: 200.0e9, damage: {critical_stretch: 0.002, "
+                            "breaks: after_force}}";
+  std::ofstream(file) << impact_deck(after, "", ", backend: flat");
   RunOptions o;
   o.quiet = true;
   o.handle_signals = false;
@@ -363,8 +387,9 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
   } catch (const Error& e) {
     m = e.what();
   }
-  EXPECT_NE(m.find("keyed.yaml:20:"), std::string::npos) << m;
-  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has the load end:body_force"), std::string::npos) << m;
+  EXPECT_NE(m.find("keyed.yaml:18:"), std::string::npos) << m;
+  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has damage.break_after_force"), std::string::npos)
+      << m;
   // A name that is none of the three: the deck's error, with the choices.
   std::ofstream(file) << impact_deck(kPmb, "", ", backend: gpu");
   try {

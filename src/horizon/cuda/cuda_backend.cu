@@ -167,6 +167,10 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.broken = upload(h.broken, n, o);
   d.fixed = upload(h.fixed, h.fixed ? n : 0, o);
   d.fixed_value = upload(h.fixed_value, h.fixed_value ? 3 * n : 0, o);
+  d.fixed_mid = upload(h.fixed_mid, h.fixed_mid ? 3 * n : 0, o);
+  d.fixed_v = upload(h.fixed_v, h.fixed_v ? 3 * n : 0, o);
+  d.b_next = upload(h.b_next, h.b_next ? 3 * n : 0, o);
+  d.b_before = upload(h.b_before, h.b_before ? 3 * h.ntracked : 0, o);
   d.tracked = upload(h.tracked, h.ntracked, o);
   d.u_before = upload(h.u_before, 3 * h.ntracked, o);
   d.v_before = upload(h.v_before, 3 * h.ntracked, o);
@@ -189,13 +193,23 @@ FlatRun::~FlatRun() {
   delete impl_;
 }
 
-void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx) {
+void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, void (*before_step)(void*, int64_t)) {
   Impl& m = *impl_;
   const FlatSystem& d = m.d;
   if (d.n == 0 || steps <= 0) return;
   check(cudaEventRecord(m.start), "cudaEventRecord");
   for (int64_t k = 0; k < steps; ++k) {
     // kernels/flat_system.hpp advance_flat, stage by stage.
+    if (before_step) {
+      before_step(ctx, k);
+      auto up = [&](double* dev, const double* host, uint64_t count) {
+        if (dev && host) check(cudaMemcpy(dev, host, count * sizeof(double), cudaMemcpyHostToDevice), "cudaMemcpy to the device");
+      };
+      up(d.fixed_value, m.h.fixed_value, 3 * d.n);
+      up(d.fixed_mid, m.h.fixed_mid, 3 * d.n);
+      up(d.fixed_v, m.h.fixed_v, 3 * d.n);
+      up(d.b_next, m.h.b_next, 3 * d.n);
+    }
     if (d.ntracked) save_tracked_kernel<<<m.tracked_grid, kBlock>>>(d);
     kick_drift_kernel<<<m.grid, kBlock>>>(d);
     pack_kernel<<<m.grid, kBlock>>>(d);

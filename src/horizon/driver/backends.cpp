@@ -25,7 +25,9 @@ class CudaBackend final : public FlatBackend {
   const char* name() const override { return "cuda"; }
 
  protected:
-  void run_steps(int64_t n) override { run_->advance(n, s_.contact.enabled() ? &contact_hook : nullptr, this); }
+  void run_steps(int64_t n) override {
+    run_->advance(n, s_.contact.enabled() ? &contact_hook : nullptr, this, varies() ? &step_hook : nullptr);
+  }
   void fetch() override { run_->download(view_); }
   void upload() override {
     run_.reset();

@@ -84,7 +84,7 @@ struct FlatSystem {
   double* u = nullptr;
   double* v = nullptr;
   double* f = nullptr;
-  const double* b = nullptr;  // body force densities (held fixed)
+  double* b = nullptr;  // body force densities (held fixed, or set from b_next each step)
   const double* density = nullptr;
   const double* volume = nullptr;
   const double* critical_stretch = nullptr;
@@ -110,7 +110,15 @@ struct FlatSystem {
   // work over each step booked as ExplicitSolver::step and Loads::update_reactions book it,
   // summed by one thread in their order, so that the ledger keeps the CPU backend's bits.
   const uint8_t* fixed = nullptr;        // n, or null: bit c velocity component c prescribed, bit 3 + c displacement
-  const double* fixed_value = nullptr;   // 3n: the prescribed velocity or displacement
+  double* fixed_value = nullptr;         // 3n: the prescribed velocity or displacement at the step's end
+  // Values that vary (the stepper evaluates the deck's expressions before each step and
+  // sets these; null when every value is a constant): the prescribed velocity at mid-step
+  // (else fixed_value), a prescribed displacement's velocity (g(t) - g(t - dt))/dt (else
+  // 0), the force densities at the step's end (apply_forces at t + dt; else b is held).
+  double* fixed_mid = nullptr;           // 3n
+  double* fixed_v = nullptr;             // 3n
+  double* b_next = nullptr;              // 3n
+  double* b_before = nullptr;            // 3 ntracked: b at the start of the step (its work)
   uint64_t ntracked = 0;                 // the particles loaded (b != 0) or constrained, in index order
   const uint32_t* tracked = nullptr;
   double* u_before = nullptr;            // 3 ntracked: u at the start of the step
@@ -272,6 +280,16 @@ HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
   s.energy[i] = lane_total(en);
 }
 
+// Loads::apply_constraints at the step's end: u = g and v = (g(t) - g(t - dt))/dt on the
+// displaced components, v = h on the velocity components.
+HORIZON_HD inline void constrain_row(const FlatSystem& s, uint64_t i, unsigned fixed) {
+  for (int c = 0; c < 3; ++c) {
+    const uint64_t q = 3 * i + c;
+    if ((fixed >> (3 + c)) & 1u) s.u[q] = s.fixed_value[q], s.v[q] = s.fixed_v ? s.fixed_v[q] : 0.0;
+    if ((fixed >> c) & 1u) s.v[q] = s.fixed_value[q];
+  }
+}
+
 // Verlet's first half kick and drift of particle i (solver/explicit.cpp), with the
 // prescribed velocity at mid-step (Loads::prescribe_velocity) and the prescribed
 // displacement after the drift (Loads::apply_constraints: u = g, v = (g - g)/dt = 0).
@@ -292,13 +310,15 @@ HORIZON_HD inline void kick_drift_row(const FlatSystem& s, uint64_t i) {
     const uint64_t q = 3 * i + c;
     s.v[q] = half_kick(s.v[q], s.f[q], s.b[q], inv_rho, s.damping, half);
   }
-  if (fixed)
+  if (fixed) {
+    const double* mid = s.fixed_mid ? s.fixed_mid : s.fixed_value;
     for (int c = 0; c < 3; ++c)
-      if ((fixed >> c) & 1u) s.v[3 * i + c] = s.fixed_value[3 * i + c];
+      if ((fixed >> c) & 1u) s.v[3 * i + c] = mid[3 * i + c];
+  }
   for (int c = 0; c < 3; ++c) s.u[3 * i + c] = drift(s.u[3 * i + c], s.v[3 * i + c], s.dt);
-  if (fixed)
-    for (int c = 0; c < 3; ++c)
-      if ((fixed >> (3 + c)) & 1u) s.u[3 * i + c] = s.fixed_value[3 * i + c], s.v[3 * i + c] = 0.0;
+  if (fixed) constrain_row(s, i, fixed);
+  if (s.b_next)  // Loads::apply_forces at the step's end
+    for (int c = 0; c < 3; ++c) s.b[3 * i + c] = s.b_next[3 * i + c];
 }
 
 // Verlet's second half kick of particle i, then the constraints (Loads::apply_constraints);
@@ -309,11 +329,7 @@ HORIZON_HD inline void kick_row(const FlatSystem& s, uint64_t i) {
     const uint64_t q = 3 * i + c;
     s.v[q] = second_half_kick(s.v[q], s.f[q], s.b[q], h, damp);
   }
-  if (const unsigned fixed = s.fixed ? s.fixed[i] : 0u)
-    for (int c = 0; c < 3; ++c) {
-      if ((fixed >> c) & 1u) s.v[3 * i + c] = s.fixed_value[3 * i + c];
-      if ((fixed >> (3 + c)) & 1u) s.u[3 * i + c] = s.fixed_value[3 * i + c], s.v[3 * i + c] = 0.0;
-    }
+  if (const unsigned fixed = s.fixed ? s.fixed[i] : 0u) constrain_row(s, i, fixed);
   // The energy damping removed over the step (solver/explicit.cpp: the implicit half step
   // on v(n+1) and v(n), the constrained components left out).
   if (s.damped)
@@ -327,6 +343,7 @@ HORIZON_HD inline void save_tracked_row(const FlatSystem& s, uint64_t m) {
   for (int c = 0; c < 3; ++c) {
     s.u_before[3 * m + c] = s.u[3 * i + c];
     s.v_before[3 * m + c] = s.v[3 * i + c];
+    if (s.b_before) s.b_before[3 * m + c] = s.b[3 * i + c];
   }
 }
 
@@ -360,11 +377,12 @@ HORIZON_HD inline void book_load_work(const FlatSystem& s) {
     for (uint64_t m = 0; m < s.ntracked; ++m) {
       const uint64_t i = s.tracked[m];
       const double* b = s.b + 3 * i;
-      if (b[0] == 0 && b[1] == 0 && b[2] == 0) continue;
+      const double* bb = s.b_before ? s.b_before + 3 * m : b;
+      if (b[0] == 0 && b[1] == 0 && b[2] == 0 && bb[0] == 0 && bb[1] == 0 && bb[2] == 0) continue;
       const double* u = s.u + 3 * i;
       const double* u0 = s.u_before + 3 * m;
       w += 0.5 * s.volume[i] *
-           ((b[0] + b[0]) * (u[0] - u0[0]) + (b[1] + b[1]) * (u[1] - u0[1]) + (b[2] + b[2]) * (u[2] - u0[2]));
+           ((b[0] + bb[0]) * (u[0] - u0[0]) + (b[1] + bb[1]) * (u[1] - u0[1]) + (b[2] + bb[2]) * (u[2] - u0[2]));
     }
     work += w;
   }
@@ -399,18 +417,24 @@ inline void flat_forces(const FlatSystem& s) {
   for (uint64_t i = 0; i < n; ++i) force_row(s, i);
 }
 
-// No work between a step's force pass and its second half kick.
+// No work between a step's force pass and its second half kick, nor before a step.
 struct NoHook {
   void operator()() const {}
 };
+struct NoStepHook {
+  void operator()(int64_t) const {}
+};
 
-// `steps` explicit steps on the host; returns the bonds broken. `after_forces` runs after
-// each force pass (the host's short-range contact pairs: solver/flat_backend.cpp).
-template <class Hook = NoHook>
-inline uint64_t advance_flat(const FlatSystem& s, int64_t steps, Hook&& after_forces = Hook{}) {
+// `steps` explicit steps on the host; returns the bonds broken. `before_step(k)` runs
+// before step k of the call (the loads' values that vary: solver/flat_backend.cpp),
+// `after_forces` after each force pass (the host's short-range contact pairs).
+template <class Hook = NoHook, class StepHook = NoStepHook>
+inline uint64_t advance_flat(const FlatSystem& s, int64_t steps, Hook&& after_forces = Hook{},
+                             StepHook&& before_step = StepHook{}) {
   const uint64_t n = s.n;
   uint64_t broken = 0;
   for (int64_t k = 0; k < steps; ++k) {
+    before_step(k);
     for (uint64_t m = 0; m < s.ntracked; ++m) save_tracked_row(s, m);
     HORIZON_FLAT_ROWS
     for (uint64_t i = 0; i < n; ++i) kick_drift_row(s, i);

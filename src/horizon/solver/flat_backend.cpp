@@ -24,10 +24,47 @@ FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver) : s_(s
 }
 
 void FlatBackend::run_steps(int64_t n) {
-  if (s_.contact.enabled())
+  const bool contact = s_.contact.enabled();
+  if (varies())
+    kernels::advance_flat(
+        view_, n, [this, contact] { if (contact) contact_pass(); }, [this](int64_t k) { prepare_step(k); });
+  else if (contact)
     kernels::advance_flat(view_, n, [this] { contact_pass(); });
   else
     kernels::advance_flat(view_, n);
+}
+
+void FlatBackend::prepare_step(int64_t k) {
+  const double dt = solver_.dt(), half = 0.5 * dt;
+  const int64_t step = solver_.steps() + k;  // steps taken before this one
+  const double t0 = static_cast<double>(step) * dt, t1 = static_cast<double>(step + 1) * dt;  // t = n dt
+  const auto& P = s_.particles;
+  if (storage_.vary_constraints)
+    for (const AppliedLoad& L : loads_.loads()) {
+      const bool velocity = L.kind == LoadKind::velocity;
+      if (!velocity && L.kind != LoadKind::displacement) continue;
+      for (uint32_t i : L.particles) {
+        const Vec3& x = P.X[i];
+        for (int c = 0; c < 3; ++c) {
+          if (!L.value[c]) continue;
+          const Expression& g = *L.value[c];
+          const std::size_t q = 3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(c);
+          if (velocity) {
+            storage_.fixed_mid[q] = g(t0 + half, x.x, x.y, x.z);
+            storage_.fixed_value[q] = g(t1, x.x, x.y, x.z);
+          } else {
+            const double now = g(t1, x.x, x.y, x.z);
+            storage_.fixed_v[q] = dt > 0 ? (now - g(t1 - dt, x.x, x.y, x.z)) / dt : 0.0;
+            storage_.fixed_value[q] = now;
+          }
+        }
+      }
+    }
+  if (storage_.vary_forces) {
+    loads_.apply_forces(s_, t1);  // the System's b: the same sums as the CPU's
+    for (std::size_t i = 0; i < P.size(); ++i)
+      storage_.b_next[3 * i] = P.b[i].x, storage_.b_next[3 * i + 1] = P.b[i].y, storage_.b_next[3 * i + 2] = P.b[i].z;
+  }
 }
 
 void FlatBackend::contact_pass() {
@@ -47,11 +84,15 @@ void FlatBackend::contact_pass() {
 }
 
 void FlatBackend::copy_from_system() {
+  // Force densities that vary: the System's b is the last prepared step's; the copy starts
+  // from the b of the System's state (the last copy_fields).
+  if (!b_at_copy_.empty()) s_.particles.b = b_at_copy_;
   storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_);
   view_ = storage_.view();
   intact_at_copy_ = intact_bonds(storage_);
   broken_at_copy_ = s_.broken;
   damped_at_copy_ = solver_.ledger().damped;
+  if (storage_.vary_forces) b_at_copy_ = s_.particles.b;
 }
 
 int64_t FlatBackend::first_non_finite() const {
@@ -120,6 +161,7 @@ void FlatBackend::write_state(bool energy) {
 void FlatBackend::copy_fields() {
   if (failed_) return;
   write_state(energy_);
+  if (storage_.vary_forces) b_at_copy_ = s_.particles.b;
   s_.time = solver_.time();
   s_.dt = solver_.dt();
   // The ledger as ExplicitSolver::step leaves it: the work and the dissipation of every

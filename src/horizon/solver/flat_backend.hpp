@@ -45,6 +45,13 @@ class FlatBackend : public ExplicitBackend {
   // compute_forces adds them; contact_hook(this) for FlatRun::advance.
   void contact_pass();
   static void contact_hook(void* self) { static_cast<FlatBackend*>(self)->contact_pass(); }
+  // Before step k of a run_steps call (the solver's clock at its start): the loads' values
+  // that vary, evaluated as ExplicitSolver::step evaluates them (Loads::prescribe_velocity
+  // at t + dt/2, apply_constraints and apply_forces at t + dt) into view_; step_hook for
+  // FlatRun::advance. Whether there are any: varies().
+  void prepare_step(int64_t k);
+  bool varies() const { return storage_.vary_constraints || storage_.vary_forces; }
+  static void step_hook(void* self, int64_t k) { static_cast<FlatBackend*>(self)->prepare_step(k); }
   // Brings storage_ up to date with the steps taken (the CUDA backend: copies back).
   virtual void fetch() {}
   // storage_ was made again from the System (the CUDA backend: copies it to the device).
@@ -65,6 +72,7 @@ class FlatBackend : public ExplicitBackend {
   bool energy_ = true;    // the last step computed what a CPU step with `energy` would
   std::vector<Point4> contact_y_;  // contact_pass's copies of y4 and f (Point4 is 32-byte aligned)
   std::vector<Vec3> contact_f_;
+  std::vector<Vec3> b_at_copy_;  // force densities that vary: b at the last copy
   bool failed_ = false;   // a step turned the state non-finite: the System keeps what advance left
   uint64_t intact_at_copy_ = 0;  // intact bonds when storage_ was copied
   uint64_t broken_at_copy_ = 0;  // s.broken then

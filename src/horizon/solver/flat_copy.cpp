@@ -12,8 +12,6 @@ std::string flat_unsupported(const System& s, const Loads& loads) {
   for (const AppliedLoad& L : loads.loads()) {
     if (L.indenter) return "the indenter " + L.name;
     if (L.support >= 0 || !L.share.empty()) return "the support " + L.name;
-    for (const auto& e : L.value)
-      if (e && !e->is_constant()) return "the load " + L.name + ", which varies in time or space ('" + e->text() + "')";
   }
   if (!s.thermal_strain.empty() || !s.critical_stretch_factor.empty()) return "temperature";
   if (!s.critical_stretch_schedules.empty()) return "critical stretches that vary in time";
@@ -83,10 +81,17 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
     for (std::size_t l = 0; l < loads->loads().size(); ++l) {
       const AppliedLoad& L = loads->loads()[l];
       const bool velocity = L.kind == LoadKind::velocity;
+      bool varies = false;
+      for (const auto& e : L.value) varies = varies || (e && !e->is_constant());
       if (!velocity && L.kind != LoadKind::displacement) {
         c.has_forces = true;
+        if (varies) {
+          c.vary_forces = true;
+          for (uint32_t i : L.particles) track[i] = 1;  // their b may be 0 now and not later
+        }
         continue;
       }
+      c.vary_constraints = c.vary_constraints || varies;
       if (c.fixed.empty()) c.fixed.assign(c.n, 0), c.fixed_value.assign(3 * c.n, 0);
       uint8_t mask = 0;
       for (int k = 0; k < 3; ++k)
@@ -97,7 +102,7 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
         for (int k = 0; k < 3; ++k)
           if ((mask >> k) & 1u) {
             c.fixed[i] |= static_cast<uint8_t>(1u << (velocity ? k : 3 + k));
-            c.fixed_value[3 * i + k] = (*L.value[k])(0.0);  // a constant (flat_unsupported)
+            c.fixed_value[3 * i + k] = (*L.value[k])(0.0);  // a constant, or set before each step
           }
         c.entry_load.push_back(static_cast<uint32_t>(l));
         c.entry_index.push_back(static_cast<uint32_t>(m));
@@ -116,6 +121,8 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
   c.v_before.assign(3 * c.tracked.size(), 0);
   c.ledger = {external_work};
   if (damping > 0) c.damped.assign(c.n, 0), c.speed2_before.assign(c.n, 0);
+  if (c.vary_constraints) c.fixed_mid = c.fixed_value, c.fixed_v.assign(3 * c.n, 0);
+  if (c.vary_forces) c.b_next = c.b, c.b_before.assign(3 * c.tracked.size(), 0);
   return c;
 }
 
@@ -136,6 +143,9 @@ kernels::FlatSystem FlatStorage::view() {
   s.has_forces = has_forces, s.nentries = entry_slot.size(), s.entry_slot = entry_slot.data();
   s.entry_mask = entry_mask.data(), s.entry_reaction = entry_reaction.data(), s.ledger = ledger.data();
   s.damped = damped.empty() ? nullptr : damped.data(), s.speed2_before = speed2_before.data();
+  auto or_null = [](std::vector<double>& a) { return a.empty() ? nullptr : a.data(); };
+  s.fixed_mid = or_null(fixed_mid), s.fixed_v = or_null(fixed_v), s.b_next = or_null(b_next);
+  s.b_before = or_null(b_before);
   return s;
 }
 
@@ -176,6 +186,14 @@ void flat_write_reactions(const FlatStorage& c, Loads& loads) {
   }
   for (std::size_t l = 0; l < all.size(); ++l)
     if (constraint[l]) all[l].reaction = sum[l];
+  // Force loads that vary: their applied force now, sum b V (Loads::update_reactions).
+  if (c.b_next.empty()) return;
+  for (AppliedLoad& L : all) {
+    if (L.indenter || L.kind == LoadKind::displacement || L.kind == LoadKind::velocity) continue;
+    Vec3 r;
+    for (uint32_t i : L.particles) r += Vec3{c.b[3 * i], c.b[3 * i + 1], c.b[3 * i + 2]} * c.volume[i];
+    L.reaction = r;
+  }
 }
 
 }  // namespace horizon

@@ -16,8 +16,9 @@ class Loads;
 
 // Why this run cannot be stepped over flat arrays, or "" when it can: unified models only
 // (ModelTraits::unified), no loads but initial conditions, force densities (traction,
-// body_force, force, pressure) and prescribed velocities and displacements whose values
-// are constants, no thermal strain, no contact friction, bonds broken before the force
+// body_force, force, pressure) and prescribed velocities and displacements (values that
+// vary are the stepper's to evaluate before each step: FlatBackend), no thermal strain,
+// no contact friction, bonds broken before the force
 // pass, critical stretches fixed in time, one rank, no FE regions, kinds with their
 // lengths. Short-range contact: the flat rows hold the family pairs' part; the pairs
 // beyond the families are the stepper's (FlatBackend adds them between passes with the
@@ -40,6 +41,9 @@ struct FlatStorage {
   std::vector<uint8_t> fixed, entry_mask;
   std::vector<double> fixed_value, u_before, v_before, entry_reaction, ledger;
   std::vector<double> damped, speed2_before;  // with damping: per particle, since the copy
+  // Loads whose values vary in time or space (the stepper evaluates them before each step).
+  std::vector<double> fixed_mid, fixed_v, b_next, b_before;
+  bool vary_constraints = false, vary_forces = false;
   std::vector<uint32_t> tracked, entry_slot, entry_load, entry_index;
   bool has_forces = false;
   uint64_t n = 0;
