@@ -69,8 +69,8 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
   if (why.empty() && c.solver.adaptive_time_step) why = "solver.adaptive_time_step";
   if (!why.empty())
     throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of pmb "
-                            "and lps with initial conditions, force densities and prescribed displacements and "
-                            "velocities of constant values (docs/input.md, solver.backend); use backend cpu",
+                            "and lps with initial conditions, force densities, prescribed displacements and "
+                            "velocities and short-range contact (docs/input.md, solver.backend); use backend cpu",
                             prefix, why));
 }
 

@@ -11,10 +11,11 @@
 // breaking (with the compression factor alpha and no_fail particles), damage, the
 // family's short-range contact and the strain energy, for bond-based runs (one fused
 // pass, as the fast loops' bond-based pass) and state-based ones (the dilatation pass,
-// then the force pass), force densities, prescribed velocities and displacements held
-// fixed in time and their work. Loads that vary, thermal strains, bonds broken after the
-// force pass and decomposed runs are not here: the host keeps those (solver/flat_copy.hpp
-// says which runs a flat copy takes).
+// then the force pass), force densities, prescribed velocities and displacements and
+// their work (values that vary are set by the stepper before each step), with hooks for
+// the host's work between the passes (the contact pairs beyond the families). Thermal
+// strains, bonds broken after the force pass and decomposed runs are not here
+// (solver/flat_copy.hpp says which runs a flat copy takes).
 #include <cstdint>
 
 #include "horizon/core/portable.hpp"
