@@ -303,21 +303,27 @@ TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
 // A step too large: the state turns non-finite (exit status 2). The flat backend finds the
 // failing step again and leaves the System as ExplicitSolver::step does: the same message,
 // history.csv, final frame and summary.
+// The state fails at step 96: inside a run of quiet steps (history every 7 steps) and at a
+// history row's step (every 8: the quiet steps before it were taken in an earlier call).
 TEST(Backend, NonFiniteStateFlatGivesTheCpuEnd) {
-  std::string deck = impact_deck("{model: pmb, density: 7850, youngs_modulus: 200.0e9}");
-  const std::string solver = "end_time: 3.0e-6, safety_factor: 0.5";
-  ASSERT_NE(deck.find(solver), std::string::npos);
-  deck.replace(deck.find(solver), solver.size(), "end_time: 1.0e-3, time_step: 1.0e-6");
-  const Output cpu = run(deck, "non_finite", "cpu");
-  const Output flat = run(deck, "non_finite", "flat");
-  EXPECT_EQ(cpu.exit_code, 2);
-  EXPECT_EQ(flat.exit_code, 2);
-  EXPECT_NE(cpu.summary["message"].get<std::string>().find("non-finite at step"), std::string::npos);
-  EXPECT_EQ(flat.summary["message"], cpu.summary["message"]);
-  EXPECT_EQ(flat.summary["state_crc32"], cpu.summary["state_crc32"]);
-  EXPECT_EQ(flat.history, cpu.history);
-  ASSERT_EQ(flat.frames.size(), cpu.frames.size());
-  for (const auto& [path, bytes] : cpu.frames) EXPECT_TRUE(flat.frames.at(path) == bytes) << path << " differs";
+  for (const char* every : {"history_every: 7", "history_every: 8"}) {
+    std::string deck = impact_deck("{model: pmb, density: 7850, youngs_modulus: 200.0e9}");
+    const std::string solver = "end_time: 3.0e-6, safety_factor: 0.5";
+    ASSERT_NE(deck.find(solver), std::string::npos);
+    deck.replace(deck.find(solver), solver.size(), "end_time: 1.0e-3, time_step: 1.0e-6");
+    deck.replace(deck.find("history_every: 7"), 16, every);
+    const Output cpu = run(deck, "non_finite", "cpu");
+    const Output flat = run(deck, "non_finite", "flat");
+    EXPECT_EQ(cpu.exit_code, 2);
+    EXPECT_EQ(flat.exit_code, 2);
+    EXPECT_NE(cpu.summary["message"].get<std::string>().find("non-finite at step 96"), std::string::npos)
+        << cpu.summary["message"];
+    EXPECT_EQ(flat.summary["message"], cpu.summary["message"]);
+    EXPECT_EQ(flat.summary["state_crc32"], cpu.summary["state_crc32"]) << every;
+    EXPECT_EQ(flat.history, cpu.history) << every;
+    ASSERT_EQ(flat.frames.size(), cpu.frames.size());
+    for (const auto& [path, bytes] : cpu.frames) EXPECT_TRUE(flat.frames.at(path) == bytes) << path << " differs";
+  }
 }
 
 // The message of a run refused by a backend ("" if it ran).

@@ -179,6 +179,7 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.entry_reaction = upload(h.entry_reaction, 3 * h.nentries, o);
   d.ledger = upload(h.ledger, h.ledger ? 1 : 0, o);
   d.damped = upload(h.damped, h.damped ? n : 0, o);
+  d.nonfinite = upload(h.nonfinite, h.nonfinite ? 1 : 0, o);
   d.speed2_before = upload(h.speed2_before, h.damped ? n : 0, o);
   m.grid = static_cast<unsigned>((n + kBlock - 1) / kBlock);
   m.tracked_grid = static_cast<unsigned>((h.ntracked + kBlock - 1) / kBlock);
@@ -237,6 +238,14 @@ void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, voi
   float ms = 0;
   check(cudaEventElapsedTime(&ms, m.start, m.stop), "cudaEventElapsedTime");
   m.seconds += 1e-3 * ms;
+}
+
+bool FlatRun::nonfinite() const {
+  const FlatSystem& d = impl_->d;
+  if (!d.nonfinite) return false;
+  uint8_t flag = 0;
+  download_array(&flag, d.nonfinite, 1);
+  return flag != 0;
 }
 
 double FlatRun::device_seconds() {

@@ -42,6 +42,9 @@ class FlatRun {
   // dissipation, theta, P, the intact weights, the smallest stretches and the ledger back to `host`
   // (the arrays the constructor copied from, or others of the same sizes).
   void download(const kernels::FlatSystem& host) const;
+  // Whether a row's u or v has turned non-finite since the constructor (kernels'
+  // FlatSystem::nonfinite; one byte copied back).
+  bool nonfinite() const;
   // Seconds the device spent in advance() since the last call (CUDA events).
   double device_seconds();
 

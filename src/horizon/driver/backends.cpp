@@ -25,10 +25,11 @@ class CudaBackend final : public FlatBackend {
   const char* name() const override { return "cuda"; }
 
  protected:
-  void run_steps(int64_t n) override {
+  void take_steps(int64_t n) override {
     run_->advance(n, s_.contact.enabled() ? &contact_hook : nullptr, this, varies() ? &step_hook : nullptr);
   }
   void fetch() override { run_->download(view_); }
+  bool went_non_finite() override { return run_->nonfinite(); }
   void upload() override {
     run_.reset();
     run_ = std::make_unique<cuda::FlatRun>(view_);

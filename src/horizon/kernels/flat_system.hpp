@@ -133,6 +133,9 @@ struct FlatSystem {
   // Mass-proportional damping (damping > 0): the energy it removed, per particle, summed
   // over the steps (the ledger's damped energy is their sum in index order), and each
   // step's |v|^2 at its start over the free components.
+  // Set to 1 by a row whose u or v turned non-finite (every writer writes 1), so that the
+  // stepper need not copy the state back to look (ExplicitSolver::step's check).
+  uint8_t* nonfinite = nullptr;     // 1, or null
   double* damped = nullptr;        // n, or null without damping
   double* speed2_before = nullptr;  // n
 };
@@ -329,6 +332,11 @@ HORIZON_HD inline void kick_row(const FlatSystem& s, uint64_t i) {
   for (int c = 0; c < 3; ++c) {
     const uint64_t q = 3 * i + c;
     s.v[q] = second_half_kick(s.v[q], s.f[q], s.b[q], h, damp);
+  }
+  if (s.nonfinite) {
+    const double* u = s.u + 3 * i;
+    const double* v = s.v + 3 * i;
+    if (!finite(v[0] + v[1] + v[2] + u[0] + u[1] + u[2])) s.nonfinite[0] = 1;
   }
   if (const unsigned fixed = s.fixed ? s.fixed[i] : 0u) constrain_row(s, i, fixed);
   // The energy damping removed over the step (solver/explicit.cpp: the implicit half step

@@ -19,11 +19,17 @@ uint64_t intact_bonds(const FlatStorage& c) {
 }
 }  // namespace
 
-FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver) : s_(s), loads_(loads), solver_(solver) {
+FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver)
+    : s_(s), loads_(loads), solver_(solver), system_steps_(solver.steps()) {
   copy_from_system();
 }
 
 void FlatBackend::run_steps(int64_t n) {
+  take_steps(n);
+  storage_steps_ += n;
+}
+
+void FlatBackend::take_steps(int64_t n) {
   const bool contact = s_.contact.enabled();
   if (varies())
     kernels::advance_flat(
@@ -36,7 +42,7 @@ void FlatBackend::run_steps(int64_t n) {
 
 void FlatBackend::prepare_step(int64_t k) {
   const double dt = solver_.dt(), half = 0.5 * dt;
-  const int64_t step = solver_.steps() + k;  // steps taken before this one
+  const int64_t step = storage_steps_ + k;  // steps taken before this one
   const double t0 = static_cast<double>(step) * dt, t1 = static_cast<double>(step + 1) * dt;  // t = n dt
   const auto& P = s_.particles;
   if (storage_.vary_constraints)
@@ -87,6 +93,7 @@ void FlatBackend::copy_from_system() {
   // Force densities that vary: the System's b is the last prepared step's; the copy starts
   // from the b of the System's state (the last copy_fields).
   if (!b_at_copy_.empty()) s_.particles.b = b_at_copy_;
+  storage_steps_ = system_steps_;
   storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_);
   view_ = storage_.view();
   intact_at_copy_ = intact_bonds(storage_);
@@ -106,35 +113,34 @@ int64_t FlatBackend::first_non_finite() const {
 
 void FlatBackend::advance(int64_t n, bool energy) {
   run_steps(n);
-  fetch();
-  if (first_non_finite() < 0) {
+  fetched_ = false;  // the fields come back at copy_fields, when a frame or a row wants them
+  if (!went_non_finite()) {
     solver_.advance_clock(n);
     energy_ = energy;
     return;
   }
-  // Again from the System's state (the last copy_fields: the driver copies at every event,
-  // so at the start of this call), one step at a time, to find the step that failed.
+  // Again from the System's state (the last copy_fields, perhaps some calls back), one step
+  // at a time, to find the step that failed.
+  const int64_t total = solver_.steps() + n - system_steps_;
   copy_from_system();
   upload();
   int64_t good = 0, bad = -1;
-  for (; good < n; ++good) {
+  for (; good < total; ++good) {
     run_steps(1);
     fetch();
     if ((bad = first_non_finite()) >= 0) break;
   }
   copy_from_system();
   upload();
-  if (good > 0) {
-    run_steps(good);
-    fetch();
-  }
-  solver_.advance_clock(good);
+  if (good > 0) run_steps(good);
+  solver_.advance_clock(system_steps_ + good - solver_.steps());
   energy_ = false;
+  fetched_ = false;
   copy_fields();
   if (bad < 0) {  // not again (the rows are deterministic): carry on
-    run_steps(n - good);
-    fetch();
-    solver_.advance_clock(n - good);
+    run_steps(total - good);
+    fetched_ = false;
+    solver_.advance_clock(total - good);
     energy_ = energy;
     return;
   }
@@ -144,7 +150,7 @@ void FlatBackend::advance(int64_t n, bool energy) {
   const std::vector<Vec3> u = s_.particles.u, v = s_.particles.v;
   run_steps(1);
   fetch();
-  write_state(good + 1 == n && energy);
+  write_state(good + 1 == total && energy);
   s_.particles.u = u;
   s_.particles.v = v;
   s_.time = static_cast<double>(solver_.steps() + 1) * solver_.dt();  // (a fixed step: t = n dt)
@@ -160,7 +166,9 @@ void FlatBackend::write_state(bool energy) {
 
 void FlatBackend::copy_fields() {
   if (failed_) return;
+  if (!fetched_) fetch(), fetched_ = true;
   write_state(energy_);
+  system_steps_ = storage_steps_;
   if (storage_.vary_forces) b_at_copy_ = s_.particles.b;
   s_.time = solver_.time();
   s_.dt = solver_.dt();

@@ -38,14 +38,15 @@ class FlatBackend : public ExplicitBackend {
   void copy_fields() override;
 
  protected:
-  // Takes n steps over view_ (the CUDA backend: on the device).
-  virtual void run_steps(int64_t n);
+  // Takes n steps over view_ (take_steps; the CUDA backend: on the device).
+  void run_steps(int64_t n);
+  virtual void take_steps(int64_t n);
   // After a force pass: the short-range contact of the pairs beyond the families (the
   // host's Verlet lists, state/short_range.hpp) added to view_'s f and energy, as
   // compute_forces adds them; contact_hook(this) for FlatRun::advance.
   void contact_pass();
   static void contact_hook(void* self) { static_cast<FlatBackend*>(self)->contact_pass(); }
-  // Before step k of a run_steps call (the solver's clock at its start): the loads' values
+  // Before step k of a run_steps call (storage_steps_ at its start): the loads' values
   // that vary, evaluated as ExplicitSolver::step evaluates them (Loads::prescribe_velocity
   // at t + dt/2, apply_constraints and apply_forces at t + dt) into view_; step_hook for
   // FlatRun::advance. Whether there are any: varies().
@@ -54,6 +55,8 @@ class FlatBackend : public ExplicitBackend {
   static void step_hook(void* self, int64_t k) { static_cast<FlatBackend*>(self)->prepare_step(k); }
   // Brings storage_ up to date with the steps taken (the CUDA backend: copies back).
   virtual void fetch() {}
+  // Whether a row has turned non-finite since the copy (the CUDA backend: the device's flag).
+  virtual bool went_non_finite() { return storage_.nonfinite[0] != 0; }
   // storage_ was made again from the System (the CUDA backend: copies it to the device).
   virtual void upload() {}
 
@@ -73,7 +76,10 @@ class FlatBackend : public ExplicitBackend {
   std::vector<Point4> contact_y_;  // contact_pass's copies of y4 and f (Point4 is 32-byte aligned)
   std::vector<Vec3> contact_f_;
   std::vector<Vec3> b_at_copy_;  // force densities that vary: b at the last copy
-  bool failed_ = false;   // a step turned the state non-finite: the System keeps what advance left
+  bool failed_ = false;
+  bool fetched_ = true;  // storage_ holds the steps taken (fetch() since the last run_steps)
+  int64_t system_steps_ = 0;   // the step count of the System's state (the last copy_fields)
+  int64_t storage_steps_ = 0;  // the step count of storage_'s state   // a step turned the state non-finite: the System keeps what advance left
   uint64_t intact_at_copy_ = 0;  // intact bonds when storage_ was copied
   uint64_t broken_at_copy_ = 0;  // s.broken then
   double damped_at_copy_ = 0;    // the ledger's damped energy then

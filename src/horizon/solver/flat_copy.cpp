@@ -146,6 +146,7 @@ kernels::FlatSystem FlatStorage::view() {
   auto or_null = [](std::vector<double>& a) { return a.empty() ? nullptr : a.data(); };
   s.fixed_mid = or_null(fixed_mid), s.fixed_v = or_null(fixed_v), s.b_next = or_null(b_next);
   s.b_before = or_null(b_before);
+  s.nonfinite = nonfinite.data();
   return s;
 }
 

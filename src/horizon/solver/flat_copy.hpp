@@ -41,6 +41,7 @@ struct FlatStorage {
   std::vector<uint8_t> fixed, entry_mask;
   std::vector<double> fixed_value, u_before, v_before, entry_reaction, ledger;
   std::vector<double> damped, speed2_before;  // with damping: per particle, since the copy
+  std::vector<uint8_t> nonfinite{0};
   // Loads whose values vary in time or space (the stepper evaluates them before each step).
   std::vector<double> fixed_mid, fixed_v, b_next, b_before;
   bool vary_constraints = false, vary_forces = false;
