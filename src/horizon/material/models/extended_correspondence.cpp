@@ -905,18 +905,20 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
       pair_pk_[l].setZero();
       continue;
     }
-    const Vec6& Ei = e_full_[l];
+    const Vec6 Ei = e_full_[l];
     const double ks = ks_[l];
-    Mat3 R = Mat3::Zero();
+    // stabilisation() without the cap (takes_pair_pass), n from the kind's 1/|xi|, and R
+    // summed as its weighted 6-vector sum w r_force p (the dual's argument) instead of
+    // sum w r_force n (x) n: six multiply-adds a bond instead of nine, no conversion.
+    Vec6 Rp = Vec6::Zero();
     double W = law.out.W;
     if (ks != 0) {
-      // stabilisation() without the cap (takes_pair_pass), n from the kind's 1/|xi|.
+      const double inv_ks = 1.0 / ks;
       double Ws = 0;
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
         if (!acts_[k]) continue;
         const uint32_t j = B.nbr[k];
-        const Vec3 nv = kcs[B.kind[k]].inv_length * (X[j] - X[i]);
-        const Vec6 p = extended::unit_normal_projector(nv);
+        const Vec6 p = extended::unit_normal_projector(kcs[B.kind[k]].inv_length * (X[j] - X[i]));
         const int32_t lj = midpoint_ ? local_[j] : -1;
         double r, coef = ks;
         if (lj >= 0 && e_ok_[lj]) {
@@ -926,17 +928,16 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
           r = eps_[k] - p.dot(Ei);
         }
         const BondKind& bk = kinds[B.kind[k]];
-        const double w = bk.weight * (bk.volume * bk.fraction);
-        const Eigen::Vector3d v(nv.x, nv.y, nv.z);
-        R.noalias() += (w * (r * coef / ks)) * v * v.transpose();
-        Ws += coef * w * r * r;
+        const double w = bk.weight * (bk.volume * bk.fraction), wr = w * r;
+        Rp.noalias() += (wr * (coef * inv_ks)) * p;
+        Ws += coef * wr * r;
       }
       W += Ws;
       ws_[l] = Ws;
     }
     const extended::MomentMap& map = maps_[l];
     rec.A = map.dual(law.out.S);
-    if (ks != 0) rec.A -= (2.0 * ks) * map.dual(R);
+    if (ks != 0) rec.A -= (2.0 * ks) * map.dual_weighted(Rp);
     rec.PK = law.PK;
     pair_pk_[l] = law.PK;
     rec.ks = ks;
@@ -948,14 +949,12 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t rows = act ? act->size() : np;
   const double m = m_;
-  auto side = [&](const PairRecord& a, const PairRecord& b, const Vec6& h, const Vec6& p, double eps) {
-    // s of a's side of the bond to b: A_a . h + 2 coef r (stabilisation()).
-    double v = a.A.dot(h);
-    if (a.ks != 0) {
-      if (b.mid) v += (a.ks + b.ks) * (eps - p.dot(0.5 * (a.E + b.E)));  // 2 coef r, coef = (k_a + k_b)/2
-      else v += 2.0 * a.ks * (eps - p.dot(a.E));
-    }
-    return v;
+  auto stab = [&](const PairRecord& a, const PairRecord& b, const Vec6& p, double eps) {
+    // 2 coef r of a's side of the bond to b (stabilisation()): coef = (k_a + k_b)/2 with
+    // the midpoint residual when b sends its E, else k_a with a's own.
+    if (a.ks == 0) return 0.0;
+    if (b.mid) return (a.ks + b.ks) * (eps - p.dot(0.5 * (a.E + b.E)));
+    return 2.0 * a.ks * (eps - p.dot(a.E));
   };
 #pragma omp parallel for schedule(static) if (rows > 512)
   for (std::size_t row = 0; row < rows; ++row) {
@@ -963,7 +962,7 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
     const Point4 pi = y[i];
     const Vec3 xi_i = X[i];
     const int32_t li = local_[i];
-    Vec3 f;
+    Vec3 f, xw;
     double wc_sum = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       const uint32_t j = B.nbr[k];
@@ -978,11 +977,24 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
         const Vec6 h = extended::unit_shape_state(nv, dim_), p = extended::unit_normal_projector(nv);
         const double inv2 = kc.inv_length * kc.inv_length, c = dot(Y, Y) * inv2, eps = eps_[k];
         const double g = (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) * inv2;
-        const double qi = ri.on ? bk.weight * g * side(ri, rj, h, p, eps) : 0.0;
-        const double qj = rj.on ? bk.weight * g * side(rj, ri, h, p, eps) : 0.0;
+        double si = ri.on ? ri.A.dot(h) : 0.0, sj = rj.on ? rj.A.dot(h) : 0.0;
+        if (ri.mid && rj.mid) {
+          // Both ends take the midpoint residual: one r, the same bits from either end.
+          const double rr = (ri.ks + rj.ks) * (eps - p.dot(0.5 * (ri.E + rj.E)));
+          if (ri.on && ri.ks != 0) si += rr;
+          if (rj.on && rj.ks != 0) sj += rr;
+        } else {
+          if (ri.on) si += stab(ri, rj, p, eps);
+          if (rj.on) sj += stab(rj, ri, p, eps);
+        }
+        const double wg = bk.weight * g, qi = wg * si, V = bk.volume * bk.fraction, wv = bk.weight * V;
         pair_q_[k] = qi;
-        const Eigen::Vector3d t = bk.weight * ((ri.PK + rj.PK) * Eigen::Vector3d(xi.x, xi.y, xi.z));
-        f += (bk.volume * bk.fraction) * ((qi + qj) * Y + Vec3{t[0], t[1], t[2]});
+        f += (V * (qi + wg * sj)) * Y;
+        if (vol_gradient_) {
+          const Eigen::Vector3d t = wv * (rj.PK * Eigen::Vector3d(xi.x, xi.y, xi.z));
+          f += Vec3{t[0], t[1], t[2]};
+          xw += wv * xi;  // omega V_j PK_i xi summed as PK_i (sum omega V_j xi), after the row
+        }
       }
       Vec3 fc;
       double wc = 0;
@@ -990,6 +1002,10 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
         f += fc;
         wc_sum += wc;
       }
+    }
+    if (vol_gradient_) {
+      const Eigen::Vector3d t = pair_[li].PK * Eigen::Vector3d(xw.x, xw.y, xw.z);
+      f += Vec3{t[0], t[1], t[2]};
     }
     P.f[i] = f;
     if (energy) P.energy[i] += wc_sum;

@@ -148,6 +148,9 @@ class MomentMap {
   Vec6 solve(const Vec6& b) const { return inverse_ * b; }
   // The vector a with t : Ht_j = a . h_j for a tensor t (a = M^-T W t).
   Vec6 dual(const Mat3& t) const { return inverse_.transpose() * contraction_weights().cwiseProduct(to_vec6(t)); }
+  // dual of a tensor given as its weighted 6-vector w .* to_vec6(t) (a sum of normal
+  // projectors p: the pair pass's stabilisation, R = sum c n (x) n, is sum c p so).
+  Vec6 dual_weighted(const Vec6& wt) const { return inverse_.transpose() * wt; }
 
  private:
   Mat6 M_ = Mat6::Zero();
