@@ -490,7 +490,7 @@ class ExtendedCorrespondence final : public Model {
   // The pair form (pair_forces): per particle of this material, what the pair sum reads of
   // both ends of a bond; T_ij = omega g (A_i . h + 2 coef r_i) Y + omega PK_i xi
   // (ExtendedCorrespondence::pair_forces).
-  struct PairRecord {
+  struct alignas(64) PairRecord {  // three cache lines
     Vec6 A = Vec6::Zero();   // a - 2 k_s b (a = dual(S), b = dual(R): bond_force_state's)
     Vec6 E = Vec6::Zero();   // the strain its residuals read (e_vec_ when it sends it, else e_full_)
     Mat3 PK = Mat3::Zero();  // p Fbar^-T K^-1 (volumetric_strain gradient), else 0
@@ -790,6 +790,8 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
 // the forces agree with the vector form to round-off (tests/verification/
 // test_general_pass.cpp). The capped stabilisation (stabilization_yield: a per-bond plastic
 // residual of each side) keeps the vector form, as do mixed runs.
+constexpr uint64_t kPairAhead = 8;  // bonds ahead the pair sum asks for a neighbour's record
+
 bool ExtendedCorrespondence::takes_pair_pass(const System& s) const {
   return stab_yield_ == 0 && particles_.size() == s.particles.size() && s.thermal_strain.empty() && !s.fe_coupling;
 }
@@ -964,7 +966,14 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
     const int32_t li = local_[i];
     Vec3 f, xw;
     double wc_sum = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    const uint64_t last = B.end(i);
+    for (uint64_t k = B.begin(i); k < last; ++k) {
+      // The neighbour's record lies up to a horizon of rows away (192 bytes): asked for a
+      // few bonds ahead.
+      if (k + kPairAhead < last) {
+        const char* ahead = reinterpret_cast<const char*>(&pair_[local_[B.nbr[k + kPairAhead]]]);
+        __builtin_prefetch(ahead), __builtin_prefetch(ahead + 64), __builtin_prefetch(ahead + 128);
+      }
       const uint32_t j = B.nbr[k];
       const Point4 pj = y[j];
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
