@@ -260,6 +260,17 @@ class ExtendedCorrespondence final : public Model {
     return r;
   }
 
+  // Sweep 1's end, both forms: particle l's E over its acting bonds (and N = sum w Y (x) xi
+  // for Fbar), kept for sweep 2; with the midpoint residual also sent to the other ends.
+  void keep_strain(std::size_t l, const Vec6& E, const Mat3& N) {
+    e_fin_[l] = 1;
+    e_full_[l] = E;
+    if (vol_gradient_) n_sum_[l] = N;
+    if (midpoint_ && committed_[l].damage < 1.0) {
+      e_vec_[l] = E;
+      e_ok_[l] = 1;
+    }
+  }
   // Sweep 2's per-particle part, both forms: the pricing of a changed acting set (its
   // energy and plastic work over the old set at these positions, energy_with), the law at
   // sweep 1's E (e_full_; Fbar from n_sum_: the same sums over the same acting set as a
@@ -715,14 +726,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       eps_[k] = E.add_strain(xi, Y, w);
       if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
     }
-    if (!E.finish(false)) continue;
-    e_fin_[l] = 1;
-    e_full_[l] = E.strain_vector();
-    if (vol_gradient_) n_sum_[l] = N;
-    if (midpoint_ && committed_[l].damage < 1.0) {
-      e_vec_[l] = E.strain_vector();
-      e_ok_[l] = 1;
-    }
+    if (E.finish(false)) keep_strain(l, E.strain_vector(), N);
   }
   exchange_midpoint(s);
   // Sweep 2: the law, the stabilisation and the force states.
@@ -878,15 +882,8 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
     if (self_failed) continue;
     if (count != acting_[l]) rebuild_map(B, P.X, l, i, count);
     if (!map_ok_[l]) continue;
-    const Vec6 E = maps_[l].solve(S);
-    if (!E.allFinite()) continue;
-    e_fin_[l] = 1;
-    e_full_[l] = E;
-    if (vol_gradient_) n_sum_[l] = N;
-    if (midpoint_ && committed_[l].damage < 1.0) {
-      e_vec_[l] = E;
-      e_ok_[l] = 1;
-    }
+    const Vec6 E = maps_[l].solve(S);  // NonlocalStrain::finish(false)
+    if (E.allFinite()) keep_strain(l, E, N);
   }
   exchange_midpoint(s);
 
