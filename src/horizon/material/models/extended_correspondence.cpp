@@ -501,16 +501,16 @@ class ExtendedCorrespondence final : public Model {
   // The pair form (pair_forces): per particle of this material, what the pair sum reads of
   // both ends of a bond; T_ij = omega g (A_i . h + 2 coef r_i) Y + omega PK_i xi
   // (ExtendedCorrespondence::pair_forces).
-  struct alignas(64) PairRecord {  // three cache lines
+  struct alignas(64) PairRecord {  // two cache lines (PK is pair_pk_'s: the volumetric gradient's only)
     Vec6 A = Vec6::Zero();   // a - 2 k_s b (a = dual(S), b = dual(R): bond_force_state's)
     Vec6 E = Vec6::Zero();   // the strain its residuals read (e_vec_ when it sends it, else e_full_)
-    Mat3 PK = Mat3::Zero();  // p Fbar^-T K^-1 (volumetric_strain gradient), else 0
     double ks = 0;           // k_s (0: no stabilisation)
     uint8_t on = 0;          // carries stress in this pass
     uint8_t mid = 0;         // the other end's residual takes the midpoint with this E (e_ok_)
   };
   std::vector<PairRecord> pair_;
-  std::vector<Mat3> pair_pk_;   // per particle: PK of the last pass (0: no stress), for the booking of breaks
+  std::vector<Mat3> pair_pk_;   // per particle: PK of the pass (0: no stress); the last pass's while the
+                                // breaking sweep books the broken bonds
   std::vector<double> pair_q_;  // per bond: omega g (A_i . h + 2 coef r_i) of the last pass, i's side
   std::vector<Vec3> pair_y_;    // per particle of the system: the positions of the last pass
   std::vector<Vec6> e_full_;
@@ -899,7 +899,6 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
     if (!row_law(pass, l, i, true, law)) {
       rec.on = 0;
       rec.A.setZero();
-      rec.PK.setZero();
       rec.ks = 0;
       pair_pk_[l].setZero();
       continue;
@@ -937,7 +936,6 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
     const extended::MomentMap& map = maps_[l];
     rec.A = map.dual(law.out.S);
     if (ks != 0) rec.A -= (2.0 * ks) * map.dual_weighted(Rp);
-    rec.PK = law.PK;
     pair_pk_[l] = law.PK;
     rec.ks = ks;
     rec.on = 1;
@@ -968,8 +966,10 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
       // The neighbour's record lies up to a horizon of rows away (192 bytes): asked for a
       // few bonds ahead.
       if (k + kPairAhead < last) {
-        const char* ahead = reinterpret_cast<const char*>(&pair_[local_[B.nbr[k + kPairAhead]]]);
-        __builtin_prefetch(ahead), __builtin_prefetch(ahead + 64), __builtin_prefetch(ahead + 128);
+        const std::size_t la = local_[B.nbr[k + kPairAhead]];
+        const char* ahead = reinterpret_cast<const char*>(&pair_[la]);
+        __builtin_prefetch(ahead), __builtin_prefetch(ahead + 64);
+        if (vol_gradient_) __builtin_prefetch(&pair_pk_[la]);
       }
       const uint32_t j = B.nbr[k];
       const Point4 pj = y[j];
@@ -977,7 +977,8 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
       const KindCoefficients& kc = kcs[B.kind[k]];
       if (acts_[k]) {
         const PairRecord& ri = pair_[li];
-        const PairRecord& rj = pair_[local_[j]];
+        const int32_t lj = local_[j];
+        const PairRecord& rj = pair_[lj];
         const BondKind& bk = kinds[B.kind[k]];
         const Vec3 xi = X[j] - xi_i, nv = kc.inv_length * xi;
         const Vec6 h = extended::unit_shape_state(nv, dim_), p = extended::unit_normal_projector(nv);
@@ -997,7 +998,7 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
         pair_q_[k] = qi;
         f += (V * (qi + wg * sj)) * Y;
         if (vol_gradient_) {
-          const Eigen::Vector3d t = wv * (rj.PK * Eigen::Vector3d(xi.x, xi.y, xi.z));
+          const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
           f += Vec3{t[0], t[1], t[2]};
           xw += wv * xi;  // omega V_j PK_i xi summed as PK_i (sum omega V_j xi), after the row
         }
@@ -1010,7 +1011,7 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
       }
     }
     if (vol_gradient_) {
-      const Eigen::Vector3d t = pair_[li].PK * Eigen::Vector3d(xw.x, xw.y, xw.z);
+      const Eigen::Vector3d t = pair_pk_[li] * Eigen::Vector3d(xw.x, xw.y, xw.z);
       f += Vec3{t[0], t[1], t[2]};
     }
     P.f[i] = f;
