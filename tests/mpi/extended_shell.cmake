@@ -10,6 +10,8 @@
 #    factors). Particles must fail (failure energy and the acting-set energy of omega_D)
 #    and the step must change; its 2-rank checkpoint restarted on 3 ranks is identical;
 #    without contact, on 3 ranks with local particles, the serial program's state.
+#    Without the capped stabilisation the model takes its pair form of the pass: the
+#    same checks (below).
 #  - O'Grady's bond-pair shell (tests/mpi/shell.yaml: its own pair pass split by the
 #    nodes each rank owns, the support ghosts' forces gathered in the serial order, the
 #    supports' reactions added once). Pairs must yield and fail; its 2-rank checkpoint
@@ -44,6 +46,25 @@ string(JSON local GET "${extended_local_summary}" particles_local)
 if(NOT local)
   message(FATAL_ERROR "the extended correspondence deck without contact must hold local particles on 3 ranks")
 endif()
+
+# The same deck without the capped stabilisation takes the extended model's pair form of
+# the general pass (extended_correspondence.cpp pair_forces: its own breaking sweep, the
+# midpoint's E from the owners, no force state per bond): the same bytes on 1 to 3 ranks
+# as serially, its 2-rank checkpoint (the last pass's bond scalars, PK and positions for
+# the booking of breaks) restarted on 3 ranks identical, and the local-particle split.
+file(READ ${SOURCE}/tests/mpi/extended.yaml text)
+string(REPLACE "    stabilization_yield: 3.0\n" "" text "${text}")
+string(REPLACE "history_every: 50}" "history_every: 50, checkpoint: {every: 400}}" pair "${text}")
+file(WRITE ${WORK}/extended_pair.yaml "${pair}")
+same_bytes(extended_pair ${WORK}/extended_pair.yaml 2x1 3x1)
+string(JSON failure GET "${extended_pair_summary}" energy dissipated_parts failure_energy)
+if(NOT failure GREATER 0)
+  message(FATAL_ERROR "the extended pair-form deck must fail particles (failure energy ${failure} J)")
+endif()
+restart_on_three(extended_pair ${WORK}/extended_pair.yaml)
+string(REPLACE "contact: {short_range: {max_distance: 0.9}}\n" "" text "${text}")
+file(WRITE ${WORK}/extended_pair_local.yaml "${text}")
+same_bytes(extended_pair_local ${WORK}/extended_pair_local.yaml 3x1)
 
 # O'Grady's bond-pair shell, with a checkpoint every 120 steps (the last at 120 of 210).
 file(READ ${SOURCE}/tests/mpi/shell.yaml text)

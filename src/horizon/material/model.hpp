@@ -228,6 +228,23 @@ class Model {
     (void)pass, (void)i, (void)sums;
   }
 
+  // The pair form of the general pass (issue 31 scope 2; the extended correspondence
+  // model): when the run's only model says yes here (its particles are all of the run's,
+  // and its settings have a pair form), general_forces hands it the whole material pass:
+  // the critical-stretch breaking of its rows with their damage bookkeeping, its force
+  // states, and f_i = sum_j (T_ij - T_ji) V_j with the family contact, over the rows of
+  // System::active_rows (all rows when empty) as the general pass does; the solver adds
+  // the other contact. It returns the directed bonds broken. The vector form
+  // (force_state) stays the reference (set_general_reference(true)).
+  virtual bool takes_pair_pass(const System& s) const {
+    (void)s;
+    return false;
+  }
+  virtual uint64_t pair_forces(System& s, bool energy) {
+    (void)s, (void)energy;
+    return 0;
+  }
+
   // The trial history of the last force pass becomes the history. Energy the model
   // dissipated since the last commit (plastic work, viscous loss) is added to
   // system.dissipated_at [J] of its particles.

@@ -133,6 +133,10 @@ uint64_t general_forces(System& s, bool energy) {
     pack_positions(s);
     return affine_forces(s, energy);  // solver/forces_affine.cpp
   }
+  if (!general_reference() && s.models.size() == 1 && s.models[0].takes_pair_pass(s)) {
+    pack_positions(s);
+    return s.models[0].pair_forces(s, energy);  // the model's pair form (Model::takes_pair_pass)
+  }
   if (M.reverse.size() != nb) M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
   pack_positions(s);
   if (scalar_general_pass(s)) return ordinary_forces(s, energy);  // solver/forces_ordinary.cpp

@@ -1,10 +1,12 @@
 #include "horizon/material/models/extended_correspondence.hpp"
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "horizon/core/error.hpp"
+#include "horizon/kernels/unified.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/state/system.hpp"
@@ -109,6 +111,8 @@ class ExtendedCorrespondence final : public Model {
 
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
+  bool takes_pair_pass(const System& s) const override;
+  uint64_t pair_forces(System& s, bool energy) override;
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
     double sum = 0;
@@ -147,6 +151,17 @@ class ExtendedCorrespondence final : public Model {
       for (std::size_t l = 0; l < kinv.size(); ++l) std::copy(kinv[l].begin(), kinv[l].end(), kinv_[l].data());
     }
     a.io_bonds("acted", acted_);
+    // The pair form's booking of a bond broken in the next pass: its force state of the
+    // last pass, rebuilt from these (pair_forces).
+    std::vector<std::array<double, 9>> pk(pair_pk_.size());
+    for (std::size_t l = 0; l < pair_pk_.size(); ++l) std::copy(pair_pk_[l].data(), pair_pk_[l].data() + 9, pk[l].begin());
+    a.io_listed("pair_pressure_map", pk, particles_);
+    if (a.loading()) {
+      pair_pk_.resize(pk.size());
+      for (std::size_t l = 0; l < pk.size(); ++l) std::copy(pk[l].begin(), pk[l].end(), pair_pk_[l].data());
+    }
+    a.io_bonds("pair_force_scalar", pair_q_);
+    a.io_particles("pair_position", pair_y_);
     if (stab_yield_ > 0) {
       a.io_bonds("plastic_residual", rp_committed_);
       if (a.loading()) rp_trial_ = rp_committed_;
@@ -184,6 +199,11 @@ class ExtendedCorrespondence final : public Model {
     }
   }
   std::vector<std::vector<Vec3>> exchange_;  // exchange_to_ghosts' buffers
+  // Once per pass, both forms: the per-bond scratch sized, the ghosts' committed damage and
+  // stabilisation modulus from their owners, omega_D's flag of every particle.
+  void begin_pass(const System& s);
+  void rebuild_map(const Bonds& B, const std::vector<Vec3>& X, std::size_t l, uint32_t i, uint32_t count);
+  void exchange_midpoint(const System& s);
 
   // Elastic energy released by a particle that fails in this step [J/m^3]: its damage
   // passes D_c (omega_D drops its bonds) or reaches 1 (the law stops carrying stress,
@@ -211,11 +231,10 @@ class ExtendedCorrespondence final : public Model {
     Mat3 pressure_map = Mat3::Zero();  // with Fbar: p Fbar^-T
     bool ok = false;
   };
-  LawPoint run_law(std::size_t l, const extended::NonlocalStrain& E, const Mat3* Fbar, double dt,
-                   StrainLawState& trial) const {
+  LawPoint run_law(std::size_t l, const Mat3& E, const Mat3* Fbar, double dt, StrainLawState& trial) const {
     LawPoint r;
     extended::HenckyMap h;
-    Mat3 strain = E.strain();
+    Mat3 strain = E;
     if (hencky_) {
       h = extended::hencky_of_green(strain);
       strain = h.strain;
@@ -239,6 +258,91 @@ class ExtendedCorrespondence final : public Model {
     }
     r.out.S = hencky_ ? extended::green_stress_of_hencky(h, T) : T;
     return r;
+  }
+
+  // Sweep 1's end, both forms: particle l's E over its acting bonds (and N = sum w Y (x) xi
+  // for Fbar), kept for sweep 2; with the midpoint residual also sent to the other ends.
+  void keep_strain(std::size_t l, const Vec6& E, const Mat3& N) {
+    e_fin_[l] = 1;
+    e_full_[l] = E;
+    if (vol_gradient_) n_sum_[l] = N;
+    if (midpoint_ && committed_[l].damage < 1.0) {
+      e_vec_[l] = E;
+      e_ok_[l] = 1;
+    }
+  }
+  // Sweep 2's per-particle part, both forms: the pricing of a changed acting set (its
+  // energy and plastic work over the old set at these positions, energy_with), the law at
+  // sweep 1's E (e_full_; Fbar from n_sum_: the same sums over the same acting set as a
+  // second summation would give, bit for bit), and the state of a particle that carries
+  // no stress in this pass (false; its force states are the caller's to clear). `pair`:
+  // energy_with overwrote the strains of the old set's bonds, and the acting ones are
+  // written again with the pair pass's pair_strain instead of the vector form's.
+  struct RowLaw {
+    classical::StrainLawOut out;
+    Mat3 law_stress = Mat3::Zero();  // the law's stress (conjugate to its strain argument)
+    Mat3 PK = Mat3::Zero();          // p Fbar^-T K^-1 (volumetric_strain gradient)
+    double before = 0;               // a changed set: energy + plastic work over the old set
+    bool changed = false;            // the acting set of an active particle changed in this pass
+  };
+  bool row_law(const ForcePass& pass, std::size_t l, uint32_t i, bool pair, RowLaw& r) {
+    const System& s = pass.system;
+    const Bonds& B = s.bonds;
+    const std::vector<Vec3>& X = s.particles.X;
+    bool ok = !(committed_[l].damage > critical_) && map_ok_[l] != 0;
+    r.changed = changed_[l] != 0;
+    if (r.changed) {
+      r.before = energy_with(pass, l, old_maps_[l], old_kinv_[l], [&](uint64_t k) { return acted_[k] != 0; });
+      const Point4 yi = pass.y[i];
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!acts_[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const Vec3 xi = X[j] - X[i], Y{pass.y[j].x - yi.x, pass.y[j].y - yi.y, pass.y[j].z - yi.z};
+        const double c = dot(Y, Y) / dot(xi, xi);
+        eps_[k] = pair ? extended::pair_strain(dot(Y, Y) * pair_inv2(s, k), m_) : seth_hill_strain(c, m_);
+      }
+    }
+    ok = ok && e_fin_[l] != 0;
+    if (ok) {
+      Mat3 Fbar = Mat3::Identity();  // volumetric_strain gradient: the classical nonlocal F
+      if (vol_gradient_) {
+        Fbar = n_sum_[l] * kinv_[l];
+        if (dim_ == 2) Fbar(2, 2) = 1.0;
+      }
+      const LawPoint lp =
+          run_law(l, extended::to_mat3(e_full_[l]), vol_gradient_ ? &Fbar : nullptr, pass.dt, trial_[l]);
+      ok = lp.ok;
+      r.out = lp.out;
+      r.law_stress = lp.law_stress;
+      r.PK = lp.pressure_map * kinv_[l];
+    } else {
+      trial_[l] = committed_[l];
+    }
+    inactive_[l] = ok ? 0 : 1;
+    work_[l] = ok ? r.out.plastic_work : 0.0;
+    if (ok) return true;
+    if (!rp_trial_.empty())
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_trial_[k] = rp_committed_[k];
+    energy_[l] = von_mises_[l] = 0;
+    if (pass.energy) pass.energy[i] = 0;
+    if (r.changed) switched_[l] += r.before;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = 0;
+    return false;
+  }
+  // Sweep 2's end for a particle that carries stress, both forms: W its energy density.
+  void row_end(const ForcePass& pass, std::size_t l, uint32_t i, const RowLaw& r, double W) {
+    const Bonds& B = pass.system.bonds;
+    energy_[l] = W;
+    if (r.changed) thinned_[l] += r.before - (W + work_[l]);
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = acts_[k];
+    const Mat3 dev = r.law_stress - (r.law_stress.trace() / 3.0) * Mat3::Identity();
+    von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+    if (pass.energy) pass.energy[i] = W;
+  }
+  // 1/|xi|^2 of bond k from its kind's 1/|xi| (the same bits from either end).
+  static double pair_inv2(const System& s, uint64_t k) {
+    const double v = s.model.kind[s.bonds.kind[k]].inv_length;
+    return v * v;
   }
 
   // The energy density plus the step's plastic work [J/m^3] of particle l at the pass's
@@ -267,7 +371,7 @@ class ExtendedCorrespondence final : public Model {
     Mat3 Fbar = N * Kinv;
     if (dim_ == 2) Fbar(2, 2) = 1.0;
     StrainLawState scratch;
-    const LawPoint lp = run_law(l, E, vol_gradient_ ? &Fbar : nullptr, pass.dt, scratch);
+    const LawPoint lp = run_law(l, E.strain(), vol_gradient_ ? &Fbar : nullptr, pass.dt, scratch);
     if (!lp.ok) return 0.0;
     const classical::StrainLawOut& out = lp.out;
     if (ks_[l] == 0) return out.W + out.plastic_work;
@@ -394,6 +498,21 @@ class ExtendedCorrespondence final : public Model {
   // particle of this material, E of sweep 1 (e_full_, valid when e_fin_) and
   // sum w Y (x) xi (n_sum_, volumetric_strain gradient).
   std::vector<uint8_t> failed_at_, acts_, e_fin_;
+  // The pair form (pair_forces): per particle of this material, what the pair sum reads of
+  // both ends of a bond; T_ij = omega g (A_i . h + 2 coef r_i) Y + omega PK_i xi
+  // (ExtendedCorrespondence::pair_forces).
+  struct alignas(64) PairRecord {  // two cache lines (PK is pair_pk_'s: the volumetric gradient's only)
+    Vec6 A = Vec6::Zero();   // a - 2 k_s b (a = dual(S), b = dual(R): bond_force_state's)
+    Vec6 E = Vec6::Zero();   // the strain its residuals read (e_vec_ when it sends it, else e_full_)
+    double ks = 0;           // k_s (0: no stabilisation)
+    uint8_t on = 0;          // carries stress in this pass
+    uint8_t mid = 0;         // the other end's residual takes the midpoint with this E (e_ok_)
+  };
+  std::vector<PairRecord> pair_;
+  std::vector<Mat3> pair_pk_;   // per particle: PK of the pass (0: no stress); the last pass's while the
+                                // breaking sweep books the broken bonds
+  std::vector<double> pair_q_;  // per bond: omega g (A_i . h + 2 coef r_i) of the last pass, i's side
+  std::vector<Vec3> pair_y_;    // per particle of the system: the positions of the last pass
   std::vector<Vec6> e_full_;
   std::vector<Mat3> n_sum_;
 };
@@ -483,14 +602,13 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   e_fin_.assign(n, 0);
   e_full_.assign(n, Vec6::Zero());
   n_sum_.assign(n, Mat3::Zero());
+  pair_pk_.assign(n, Mat3::Zero());
+  pair_q_.assign(B.size(), 0.0);
+  pair_y_.assign(s.particles.size(), Vec3{});
 }
 
-void ExtendedCorrespondence::force_state(ForcePass& pass) {
-  const System& s = pass.system;
+void ExtendedCorrespondence::begin_pass(const System& s) {
   const Bonds& B = s.bonds;
-  const std::vector<Vec3>& X = s.particles.X;
-  const Point4* y = pass.y;
-  Vec3* T = pass.T;
   if (eps_.size() != B.size()) eps_.assign(B.size(), 0.0);
   if (rforce_.size() != B.size()) rforce_.assign(B.size(), 0.0);
   if (acted_.size() != B.size()) acted_.assign(B.size(), 0);
@@ -506,6 +624,67 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
                      [&](std::size_t l, const double* v) { committed_[l].damage = v[0], ks_[l] = v[1]; });
   // omega_D's flag of every particle once (bond_acts reads it at both ends).
   for (std::size_t l = 0; l < n; ++l) failed_at_[particles_[l]] = committed_[l].damage > critical_ ? 1 : 0;
+}
+
+// The moment map and the shape-tensor guard of particle l (system index i) over the bonds
+// acts_ marks, `count` of them: they depend on the acting set only, which only shrinks
+// (bonds break, neighbours fail), so its size identifies it; the old map is kept for the
+// pricing of the change (energy_with).
+void ExtendedCorrespondence::rebuild_map(const Bonds& B, const std::vector<Vec3>& X, std::size_t l, uint32_t i,
+                                         uint32_t count) {
+  if (acting_[l] != UINT32_MAX && map_ok_[l]) {
+    changed_[l] = 1;
+    old_maps_[l] = maps_[l];
+    old_kinv_[l] = kinv_[l];
+  }
+  NonlocalGradient K;  // the shape tensor, for the conditioning guard only
+  extended::MomentMap map;
+  map.reset(dim_);
+  double acting_weight = 0;
+  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    if (!acts_[k]) continue;
+    const Vec3 xi = X[B.nbr[k]] - X[i];
+    const double w = B.weight[k] * B.volume[k];
+    map.add(xi, w, dim_);
+    K.add(xi, xi, w);
+    acting_weight += w;
+  }
+  // The moment map M = sum w H (x) n n of a family that omega_D has thinned to a
+  // share s of its weight is ~ s M_full: E = M^-1 sum w eps H and the force of
+  // (4.7) both scale as 1/s, so the particle's stiffness grows as 1/s while the
+  // stable step was taken from the full family. min_acting_fraction bounds 1/s.
+  const bool enough = acting_weight >= min_acting_ * family_weight_[l];
+  acting_share_[l] = family_weight_[l] > 0 ? acting_weight / family_weight_[l] : 0.0;
+  Mat3 Kinv, F;
+  map_ok_[l] = enough && K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
+  maps_[l] = map;
+  kinv_[l] = Kinv;
+  acting_[l] = count;
+}
+
+// The midpoint residual reads E of both ends: the ghosts' from their owners.
+void ExtendedCorrespondence::exchange_midpoint(const System& s) {
+  if (midpoint_)
+    exchange_to_ghosts(
+        s, 7,
+        [&](std::size_t l, double* v) {
+          for (int c = 0; c < 6; ++c) v[c] = e_vec_[l][c];
+          v[6] = e_ok_[l];
+        },
+        [&](std::size_t l, const double* v) {
+          for (int c = 0; c < 6; ++c) e_vec_[l][c] = v[c];
+          e_ok_[l] = v[6] != 0 ? 1 : 0;
+        });
+}
+
+void ExtendedCorrespondence::force_state(ForcePass& pass) {
+  const System& s = pass.system;
+  const Bonds& B = s.bonds;
+  const std::vector<Vec3>& X = s.particles.X;
+  const Point4* y = pass.y;
+  Vec3* T = pass.T;
+  begin_pass(s);
+  const std::size_t n = particles_.size();
   // Sweep 1: the acting sets and moment maps, and (midpoint residual) every particle's E,
   // which sweep 2's stabilisation reads at both ends of a bond.
 #pragma omp parallel for schedule(static) if (n > 512)
@@ -531,36 +710,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
         acts_[k] = B.intact[k] && !failed_at_[B.nbr[k]] ? 1 : 0;  // bond_acts (self_failed is false here)
         count += acts_[k];
       }
-      if (count != acting_[l]) {
-        if (acting_[l] != UINT32_MAX && map_ok_[l]) {
-          changed_[l] = 1;
-          old_maps_[l] = maps_[l];
-          old_kinv_[l] = kinv_[l];
-        }
-        NonlocalGradient K;  // the shape tensor, for the conditioning guard only
-        extended::MomentMap map;
-        map.reset(dim_);
-        double acting_weight = 0;
-        for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-          if (!acts(k)) continue;
-          const Vec3 xi = X[B.nbr[k]] - X[i];
-          const double w = B.weight[k] * B.volume[k];
-          map.add(xi, w, dim_);
-          K.add(xi, xi, w);
-          acting_weight += w;
-        }
-        // The moment map M = sum w H (x) n n of a family that omega_D has thinned to a
-        // share s of its weight is ~ s M_full: E = M^-1 sum w eps H and the force of
-        // (4.7) both scale as 1/s, so the particle's stiffness grows as 1/s while the
-        // stable step was taken from the full family. min_acting_fraction bounds 1/s.
-        const bool enough = acting_weight >= min_acting_ * family_weight_[l];
-        acting_share_[l] = family_weight_[l] > 0 ? acting_weight / family_weight_[l] : 0.0;
-        Mat3 Kinv, F;
-        map_ok_[l] = enough && K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
-        maps_[l] = map;
-        kinv_[l] = Kinv;
-        acting_[l] = count;
-      }
+      if (count != acting_[l]) rebuild_map(B, X, l, i, count);
     }
     if (!map_ok_[l]) continue;
     // E over the acting bonds (and sum w Y (x) xi for Fbar), each bond's strain kept in
@@ -576,27 +726,9 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       eps_[k] = E.add_strain(xi, Y, w);
       if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
     }
-    if (!E.finish(false)) continue;
-    e_fin_[l] = 1;
-    e_full_[l] = E.strain_vector();
-    if (vol_gradient_) n_sum_[l] = N;
-    if (midpoint_ && committed_[l].damage < 1.0) {
-      e_vec_[l] = E.strain_vector();
-      e_ok_[l] = 1;
-    }
+    if (E.finish(false)) keep_strain(l, E.strain_vector(), N);
   }
-  // The midpoint residual reads E of both ends: the ghosts' from their owners.
-  if (midpoint_)
-    exchange_to_ghosts(
-        s, 7,
-        [&](std::size_t l, double* v) {
-          for (int c = 0; c < 6; ++c) v[c] = e_vec_[l][c];
-          v[6] = e_ok_[l];
-        },
-        [&](std::size_t l, const double* v) {
-          for (int c = 0; c < 6; ++c) e_vec_[l][c] = v[c];
-          e_ok_[l] = v[6] != 0 ? 1 : 0;
-        });
+  exchange_midpoint(s);
   // Sweep 2: the law, the stabilisation and the force states.
 #pragma omp parallel for schedule(static) if (n > 512)
   for (std::size_t l = 0; l < n; ++l) {
@@ -604,66 +736,17 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
     if (!s.computes_row(i)) continue;
     const Point4 yi = y[i];
     auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
-    const bool self_failed = committed_[l].damage > critical_;
     auto acts = [&](uint64_t k) { return acts_[k] != 0; };
-    extended::NonlocalStrain E(dim_, m_);
-    bool ok = !self_failed && map_ok_[l] != 0;
-    const bool changed = changed_[l] != 0;  // the acting set of an active particle changed in this pass
-    // its energy + plastic work over the old set, at these positions
-    const double before = changed ? energy_with(pass, l, old_maps_[l], old_kinv_[l],
-                                                [&](uint64_t k) { return acted_[k] != 0; })
-                                  : 0.0;
-    Mat3 Fbar = Mat3::Identity();  // volumetric_strain gradient: the classical nonlocal F
-    if (ok && !changed) {
-      // Sweep 1's sums (energy_with, for a changed set, overwrites eps_: then again below).
-      E.use(maps_[l]);
-      ok = e_fin_[l] != 0;
-      E.set_strain(e_full_[l]);
-      if (vol_gradient_) {
-        Fbar = n_sum_[l] * kinv_[l];
-        if (dim_ == 2) Fbar(2, 2) = 1.0;
-      }
-    } else if (ok) {
-      E.use(maps_[l]);
-      Mat3 N = Mat3::Zero();
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-        if (!acts(k)) continue;
-        const uint32_t j = B.nbr[k];
-        const Vec3 xi = X[j] - X[i], Y = deformed(j);
-        const double w = B.weight[k] * B.volume[k];
-        eps_[k] = E.add_strain(xi, Y, w);
-        if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
-      }
-      ok = E.finish(false);
-      if (vol_gradient_) {
-        Fbar = N * kinv_[l];
-        if (dim_ == 2) Fbar(2, 2) = 1.0;
-      }
-    }
-    classical::StrainLawOut out;
-    Mat3 law_stress = Mat3::Zero();  // the law's stress (conjugate to its strain argument)
-    Mat3 PK = Mat3::Zero();          // p Fbar^-T (volumetric_strain gradient)
-    if (ok) {
-      const LawPoint lp = run_law(l, E, vol_gradient_ ? &Fbar : nullptr, pass.dt, trial_[l]);
-      ok = lp.ok;
-      out = lp.out;
-      law_stress = lp.law_stress;
-      PK = lp.pressure_map * kinv_[l];
-    } else {
-      trial_[l] = committed_[l];
-    }
-    inactive_[l] = ok ? 0 : 1;
-    work_[l] = ok ? out.plastic_work : 0.0;
-    if (!ok) {
+    RowLaw law;
+    if (!row_law(pass, l, i, false, law)) {
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) T[k] = {};
-      if (!rp_trial_.empty())
-        for (uint64_t k = B.begin(i); k < B.end(i); ++k) rp_trial_[k] = rp_committed_[k];
-      energy_[l] = von_mises_[l] = 0;
-      if (pass.energy) pass.energy[i] = 0;
-      if (changed) switched_[l] += before;
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = 0;
       continue;
     }
+    const classical::StrainLawOut& out = law.out;
+    const Mat3& PK = law.PK;
+    extended::NonlocalStrain E(dim_, m_);
+    E.use(maps_[l]);
+    E.set_strain(e_full_[l]);
     const Vec6 a = E.dual(out.S);
     Vec6 b = Vec6::Zero();
     double W = out.W;
@@ -689,13 +772,256 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
         T[k] = T[k] + Vec3{t[0], t[1], t[2]};
       }
     }
-    energy_[l] = W;
-    if (changed) thinned_[l] += before - (W + work_[l]);
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = acts(k) ? 1 : 0;
-    const Mat3 dev = law_stress - (law_stress.trace() / 3.0) * Mat3::Identity();
-    von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
-    if (pass.energy) pass.energy[i] = W;
+    row_end(pass, l, i, law, W);
   }
+}
+
+// The pair form of the general pass (Model::takes_pair_pass; issue 31 scope 2). The force
+// state (4.7) with the volumetric gradient's term,
+//   T_ij = omega g_ij (a_i . h_ij + 2 k_s,i (r_force,ij - b_i . h_ij)) Y + omega PK_i xi,
+// g = c^(m-1)/|xi|^2, is omega g (A_i . h + 2 coef_ij r_ij) Y + omega PK_i xi with
+// A_i = a_i - 2 k_s,i b_i and coef r = k_s r_force (stabilisation()): a per-particle record
+// and the bond's geometry, strain and residual, all of them even in xi (h, g, the strain)
+// or computable from either end (the residuals read E of both ends). So the pass keeps no
+// force state per bond and no reverse-bond index, and visits each bond three times:
+//   1. per row: breaking (forces_general.cpp break_row, the same stretch bits), the acting
+//      flags, the sums of E and of Fbar's N over the acting bonds, each bond's strain kept;
+//   2. per row (after the midpoint's exchange): the law, the stabilisation's R and W, the
+//      record;
+//   3. per row: f_i = sum_j V_j (T_ij - T_ji) = sum_j omega V_j (g (s_i + s_j) Y + (PK_i +
+//      PK_j) xi), s_i the scalar of i's side, with the family contact.
+// The geometry takes n = xi/|xi| from the kind's 1/|xi| and the m = 1 strain as (c - 1)/2:
+// the forces agree with the vector form to round-off (tests/verification/
+// test_general_pass.cpp). The capped stabilisation (stabilization_yield: a per-bond plastic
+// residual of each side) keeps the vector form, as do mixed runs.
+constexpr uint64_t kPairAhead = 8;  // bonds ahead the pair sum asks for a neighbour's record
+
+bool ExtendedCorrespondence::takes_pair_pass(const System& s) const {
+  return stab_yield_ == 0 && particles_.size() == s.particles.size() && s.thermal_strain.empty() && !s.fe_coupling;
+}
+
+uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
+  Particles& P = s.particles;
+  Bonds& B = s.bonds;
+  ModelCoefficients& M = s.model;
+  const std::size_t np = P.size(), nb = B.size(), n = particles_.size();
+  begin_pass(s);
+  if (pair_q_.size() != nb) pair_q_.assign(nb, 0.0);
+  if (pair_y_.size() != np) pair_y_.assign(np, Vec3{});
+  if (pair_pk_.size() != n) pair_pk_.assign(n, Mat3::Zero());
+  if (pair_.size() != n) pair_.assign(n, PairRecord{});
+  const Point4* y = M.packed.data();
+  const Vec3* X = P.X.data();
+  const KindCoefficients* kcs = M.kind.data();
+  const BondKind* kinds = B.kinds.data();
+  const bool after = M.break_after_force;
+  // A temperature-dependent critical stretch scales each end's s0 (forces_general.cpp).
+  const double* soft = s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data();
+  auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
+  if (energy)
+    for (std::size_t i = 0; i < np; ++i) P.energy[i] = 0;
+  const ForcePass pass{s, y, nullptr, energy ? P.energy.data() : nullptr, s.time, s.dt};
+
+  // 1. Breaking and the strain sums, row by row.
+  uint64_t broken = 0;
+#pragma omp parallel for schedule(static) reduction(+ : broken) if (n > 512)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    if (!s.computes_row(i)) continue;  // another rank's row
+    const Point4 pi = y[i];
+    const Vec3 xi_i = X[i];
+    const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
+    const bool self_failed = committed_[l].damage > critical_;
+    const Mat3& pk_old = pair_pk_[l];
+    double smin = std::numeric_limits<double>::infinity(), lost = 0;
+    uint64_t row_broken = 0;
+    uint32_t count = 0;
+    Vec6 S = Vec6::Zero();
+    Mat3 N = Mat3::Zero();
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      acts_[k] = 0;
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      const KindCoefficients& kc = kcs[B.kind[k]];
+      const Point4 pj = y[j];
+      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+      const double r = kernels::bond_length(Y.x, Y.y, Y.z), e = kernels::extension(r, kc.length, 0.0),
+                   stretch = e * kc.inv_length;
+      smin = stretch < smin ? stretch : smin;
+      const BondKind& bk = kinds[B.kind[k]];
+      const Vec3 xi = X[j] - xi_i;
+      if (kernels::breaks(stretch, wi, soft ? scaled(pj.w, soft[j]) : pj.w)) {
+        B.intact[k] = after ? 2 : 0;
+        ++row_broken;
+        if (r > 0 && acted_[k]) {
+          // (1/2) (T_old . Y/|Y|) e V_j with T_old the bond's force state of the last pass
+          // (forces_general.cpp break_row), rebuilt from its scalar, PK_i and the positions.
+          const Vec3 Yo = pair_y_[j] - pair_y_[i];
+          const Eigen::Vector3d t = bk.weight * (pk_old * Eigen::Vector3d(xi.x, xi.y, xi.z));
+          const Vec3 T_old = pair_q_[k] * Yo + Vec3{t[0], t[1], t[2]};
+          lost += 0.5 * dot(T_old, Y) / r * e * (bk.volume * bk.fraction);
+        }
+        M.intact_weight[i] -= kc.damage;
+        if (!after) continue;
+      }
+      if (self_failed || failed_at_[j]) continue;  // omega_D (bond_acts)
+      acts_[k] = 1;
+      ++count;
+      const double w = bk.weight * (bk.volume * bk.fraction);
+      const double inv = kc.inv_length, eps = extended::pair_strain(dot(Y, Y) * (inv * inv), m_);
+      eps_[k] = eps;
+      S.noalias() += (w * eps) * extended::unit_shape_state(inv * xi, dim_);
+      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+    }
+    broken += row_broken;
+    if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
+    if (row_broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
+    P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
+    M.min_stretch_next[i] = smin;
+    changed_[l] = e_ok_[l] = e_fin_[l] = 0;
+    if (self_failed) continue;
+    if (count != acting_[l]) rebuild_map(B, P.X, l, i, count);
+    if (!map_ok_[l]) continue;
+    const Vec6 E = maps_[l].solve(S);  // NonlocalStrain::finish(false)
+    if (E.allFinite()) keep_strain(l, E, N);
+  }
+  exchange_midpoint(s);
+
+  // 2. The law, the stabilisation and the record, row by row.
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    if (!s.computes_row(i)) continue;
+    PairRecord& rec = pair_[l];
+    rec.mid = midpoint_ && e_ok_[l];
+    rec.E = rec.mid ? e_vec_[l] : e_full_[l];
+    RowLaw law;
+    if (!row_law(pass, l, i, true, law)) {
+      rec.on = 0;
+      rec.A.setZero();
+      rec.ks = 0;
+      pair_pk_[l].setZero();
+      continue;
+    }
+    const Vec6 Ei = e_full_[l];
+    const double ks = ks_[l];
+    // stabilisation() without the cap (takes_pair_pass), n from the kind's 1/|xi|, and R
+    // summed as its weighted 6-vector sum w r_force p (the dual's argument) instead of
+    // sum w r_force n (x) n: six multiply-adds a bond instead of nine, no conversion.
+    Vec6 Rp = Vec6::Zero();
+    double W = law.out.W;
+    if (ks != 0) {
+      const double inv_ks = 1.0 / ks;
+      double Ws = 0;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!acts_[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const Vec6 p = extended::unit_normal_projector(kcs[B.kind[k]].inv_length * (X[j] - X[i]));
+        const int32_t lj = midpoint_ ? local_[j] : -1;
+        double r, coef = ks;
+        if (lj >= 0 && e_ok_[lj]) {
+          r = eps_[k] - p.dot(0.5 * (Ei + e_vec_[lj]));
+          coef = 0.5 * (ks + ks_[lj]);
+        } else {
+          r = eps_[k] - p.dot(Ei);
+        }
+        const BondKind& bk = kinds[B.kind[k]];
+        const double w = bk.weight * (bk.volume * bk.fraction), wr = w * r;
+        Rp.noalias() += (wr * (coef * inv_ks)) * p;
+        Ws += coef * wr * r;
+      }
+      W += Ws;
+      ws_[l] = Ws;
+    }
+    const extended::MomentMap& map = maps_[l];
+    rec.A = map.dual(law.out.S);
+    if (ks != 0) rec.A -= (2.0 * ks) * map.dual_weighted(Rp);
+    pair_pk_[l] = law.PK;
+    rec.ks = ks;
+    rec.on = 1;
+    row_end(pass, l, i, law, W);
+  }
+
+  // 3. The pair sum with the family contact, over the rows the general pass sums.
+  const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
+  const std::size_t rows = act ? act->size() : np;
+  const double m = m_;
+  auto stab = [&](const PairRecord& a, const PairRecord& b, const Vec6& p, double eps) {
+    // 2 coef r of a's side of the bond to b (stabilisation()): coef = (k_a + k_b)/2 with
+    // the midpoint residual when b sends its E, else k_a with a's own.
+    if (a.ks == 0) return 0.0;
+    if (b.mid) return (a.ks + b.ks) * (eps - p.dot(0.5 * (a.E + b.E)));
+    return 2.0 * a.ks * (eps - p.dot(a.E));
+  };
+#pragma omp parallel for schedule(static) if (rows > 512)
+  for (std::size_t row = 0; row < rows; ++row) {
+    const std::size_t i = act ? (*act)[row] : row;
+    const Point4 pi = y[i];
+    const Vec3 xi_i = X[i];
+    const int32_t li = local_[i];
+    Vec3 f, xw;
+    double wc_sum = 0;
+    const uint64_t last = B.end(i);
+    for (uint64_t k = B.begin(i); k < last; ++k) {
+      // The neighbour's record lies up to a horizon of rows away (192 bytes): asked for a
+      // few bonds ahead.
+      if (k + kPairAhead < last) {
+        const std::size_t la = local_[B.nbr[k + kPairAhead]];
+        const char* ahead = reinterpret_cast<const char*>(&pair_[la]);
+        __builtin_prefetch(ahead), __builtin_prefetch(ahead + 64);
+        if (vol_gradient_) __builtin_prefetch(&pair_pk_[la]);
+      }
+      const uint32_t j = B.nbr[k];
+      const Point4 pj = y[j];
+      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+      const KindCoefficients& kc = kcs[B.kind[k]];
+      if (acts_[k]) {
+        const PairRecord& ri = pair_[li];
+        const int32_t lj = local_[j];
+        const PairRecord& rj = pair_[lj];
+        const BondKind& bk = kinds[B.kind[k]];
+        const Vec3 xi = X[j] - xi_i, nv = kc.inv_length * xi;
+        const Vec6 h = extended::unit_shape_state(nv, dim_), p = extended::unit_normal_projector(nv);
+        const double inv2 = kc.inv_length * kc.inv_length, c = dot(Y, Y) * inv2, eps = eps_[k];
+        const double g = (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) * inv2;
+        double si = ri.on ? ri.A.dot(h) : 0.0, sj = rj.on ? rj.A.dot(h) : 0.0;
+        if (ri.mid && rj.mid) {
+          // Both ends take the midpoint residual: one r, the same bits from either end.
+          const double rr = (ri.ks + rj.ks) * (eps - p.dot(0.5 * (ri.E + rj.E)));
+          if (ri.on && ri.ks != 0) si += rr;
+          if (rj.on && rj.ks != 0) sj += rr;
+        } else {
+          if (ri.on) si += stab(ri, rj, p, eps);
+          if (rj.on) sj += stab(rj, ri, p, eps);
+        }
+        const double wg = bk.weight * g, qi = wg * si, V = bk.volume * bk.fraction, wv = bk.weight * V;
+        pair_q_[k] = qi;
+        f += (V * (qi + wg * sj)) * Y;
+        if (vol_gradient_) {
+          const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
+          f += Vec3{t[0], t[1], t[2]};
+          xw += wv * xi;  // omega V_j PK_i xi summed as PK_i (sum omega V_j xi), after the row
+        }
+      }
+      Vec3 fc;
+      double wc = 0;
+      if (family_contact(kc, Y, fc, wc)) {
+        f += fc;
+        wc_sum += wc;
+      }
+    }
+    if (vol_gradient_) {
+      const Eigen::Vector3d t = pair_pk_[li] * Eigen::Vector3d(xw.x, xw.y, xw.z);
+      f += Vec3{t[0], t[1], t[2]};
+    }
+    P.f[i] = f;
+    if (energy) P.energy[i] += wc_sum;
+  }
+  for (std::size_t i = 0; i < np; ++i) pair_y_[i] = {y[i].x, y[i].y, y[i].z};
+  if (after)
+    for (std::size_t k = 0; k < nb; ++k)
+      if (B.intact[k] == 2) B.intact[k] = 0;
+  return broken;
 }
 
 void ExtendedCorrespondence::commit(System& s) {

@@ -100,6 +100,28 @@ inline Vec6 normal_dyad(const Vec3& xi) {
   return p;
 }
 
+// The pair pass's bond geometry (issue 31 scope 2), from the unit vector n = xi/|xi| taken
+// with the kind's 1/|xi| (a multiplication where shape_state and normal_projector divide
+// by |xi|^2 six times): H<xi> of (4.4) and the normal projector p (p . e = n . e n), equal
+// to those to round-off. Both are even in n: a bond and its reverse get the same bits.
+inline Vec6 unit_shape_state(const Vec3& n, int dimension) {
+  const double a = dimension == 3 ? 2.5 : 2.0;
+  Vec6 h;
+  h << a * n.x * n.x - 0.5, a * n.y * n.y - 0.5, dimension == 3 ? a * n.z * n.z - 0.5 : 0.0, a * n.y * n.z,
+      a * n.x * n.z, a * n.x * n.y;
+  return h;
+}
+inline Vec6 unit_normal_projector(const Vec3& n) {
+  Vec6 p;
+  p << n.x * n.x, n.y * n.y, n.z * n.z, 2 * n.y * n.z, 2 * n.x * n.z, 2 * n.x * n.y;
+  return p;
+}
+// The Seth-Hill strain of (4.2) in the pair pass: for m = 1 (the hencky measure's Green
+// bond strain) (c - 1)/2, exact in c (Sterbenz: c - 1 is exact for c in [1/2, 2]), where
+// seth_hill_strain's expm1(ln c)/2 rounds twice and costs a logarithm and an exponential
+// per bond; the last bits differ from it.
+inline double pair_strain(double c, double m) { return m == 1.0 ? 0.5 * (c - 1.0) : seth_hill_strain(c, m); }
+
 // d eps_(m) / d Y = c^(m-1) Y / |xi|^2 (digest sec. 3.2), as the scalar factor of Y.
 inline double strain_gradient_factor(double c, double m, double xi2) {
   return (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) / xi2;
@@ -126,6 +148,9 @@ class MomentMap {
   Vec6 solve(const Vec6& b) const { return inverse_ * b; }
   // The vector a with t : Ht_j = a . h_j for a tensor t (a = M^-T W t).
   Vec6 dual(const Mat3& t) const { return inverse_.transpose() * contraction_weights().cwiseProduct(to_vec6(t)); }
+  // dual of a tensor given as its weighted 6-vector w .* to_vec6(t) (a sum of normal
+  // projectors p: the pair pass's stabilisation, R = sum c n (x) n, is sum c p so).
+  Vec6 dual_weighted(const Vec6& wt) const { return inverse_.transpose() * wt; }
 
  private:
   Mat6 M_ = Mat6::Zero();
