@@ -4,7 +4,11 @@
 // - Peridigm's partitioned Exodus meshes (mesh.g.N.i, each piece with its node and element
 //   number maps) merged by global id into the serial mesh's particles, in its order;
 // - particles without neighbours (LPS: dilatation 0, no bond force; contact moves them);
-// - a friction coefficient that is a function string of t (Time Dependent Short Range Force).
+// - a friction coefficient that is a function string of t (Time Dependent Short Range Force);
+// - QuasiStatic's Adaptive Load-Stepping read (its Switch to Verlet refused);
+// - the CG path's dense solve of a small tangent CG cannot finish (singular, not symmetric:
+//   PredictorFromPreviousSolver's finite-difference correspondence tangent of a body held
+//   in y alone).
 #include <exodusII.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -23,6 +27,7 @@
 #include "horizon/deck/peridigm/peridigm.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/solver/linear.hpp"
 #include "test_helpers.hpp"
 
 namespace horizon {
@@ -320,6 +325,8 @@ TEST(PeridigmRuns, FrictionCoefficientInTime) {
     </ParameterList>
   </ParameterList>
   <ParameterList name="Contact">
+    <Parameter name="Search Radius" type="double" value="0.01"/>
+    <Parameter name="Search Frequency" type="int" value="100"/>
     <ParameterList name="Models">
       <ParameterList name="My Contact Model">
         <Parameter name="Contact Model" type="string" value="Time Dependent Short Range Force"/>
@@ -360,6 +367,83 @@ TEST(PeridigmRuns, FrictionCoefficientInTime) {
   compute_forces(s, false);
   EXPECT_EQ(s.particles.f[1].y, 0.0) << mu;
   EXPECT_NEAR(s.particles.f[1].x, fn, 1e-12 * fn);
+}
+
+TEST(PeridigmRuns, AdaptiveLoadSteppingIsReadSwitchToVerletRefused) {
+  const fs::path dir = fresh_dir("horizon_pdruns_adaptive");
+  std::ofstream(dir / "points.txt") << "0 0 0 1 1\n1 0 0 1 1\n2 0 0 1 1\n";
+  auto deck = [](const std::string& extra) {
+    return std::string(R"(Peridigm:
+  Discretization: {Type: "Text File", Input Mesh File: "points.txt"}
+  Materials:
+    Steel: {Material Model: "Elastic", Density: 7800.0, Bulk Modulus: 130.0e9, Shear Modulus: 78.0e9}
+  Blocks:
+    All: {Block Names: "block_1", Material: "Steel", Horizon: 1.5}
+  Boundary Conditions:
+    Left: "1"
+    Right: "3"
+    Hold: {Type: "Prescribed Displacement", Node Set: "Left", Coordinate: "x", Value: "0.0"}
+    Pull: {Type: "Prescribed Displacement", Node Set: "Right", Coordinate: "x", Value: "0.001*t"}
+  Solver:
+    Final Time: 1.0
+    QuasiStatic:
+      Number of Load Steps: 2
+      Maximum Solver Iterations: 10
+      Adaptive Load-Stepping:
+        Maximum load step reductions in one step: 1
+        Maximum total load step reductions: 5
+        Reduce all remaining load steps: true
+        Adaptive output frequency: true
+)") + extra;
+  };
+  const YAML::Node n = convert(dir, deck(""));
+  EXPECT_EQ(n["solver"]["type"].as<std::string>(), "static");
+  EXPECT_EQ(n["solver"]["load_steps"].as<int>(), 2);
+  try {
+    convert(dir, deck("        Switch to Verlet: {Safety Factor: 0.6, Output Frequency: 10}\n"));
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("deck.yaml:22:9: error:"), std::string::npos) << m;
+    EXPECT_NE(m.find("Switch to Verlet: not supported"), std::string::npos) << m;
+  }
+}
+
+TEST(PeridigmRuns, SmallTangentCgCannotFinishIsSolvedDense) {
+  // A free chain of 40 unit springs (the Laplacian: singular, its null space the uniform
+  // translation) made slightly unsymmetric, as a finite-difference tangent is: CG does
+  // not converge on it; the dense solve returns K x = r with no translation added.
+  const int n = 40;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i + 1 < n; ++i) {
+    t.emplace_back(i, i, 1.0), t.emplace_back(i + 1, i + 1, 1.0);
+    t.emplace_back(i, i + 1, -1.0 + 1e-3 * (i % 3)), t.emplace_back(i + 1, i, -1.0 - 1e-3 * (i % 3));
+  }
+  SparseMatrix K(n, n);
+  K.setFromTriplets(t.begin(), t.end());
+  // The diagonal keeps each column's sum 0: the translation stays in the null space of
+  // the stored matrix's transpose (the solve's K, linear.cpp).
+  for (int c = 0; c < n; ++c) {
+    double sum = 0;
+    for (SparseMatrix::InnerIterator it(K, c); it; ++it)
+      if (it.row() != c) sum += it.value();
+    K.coeffRef(c, c) = -sum;
+  }
+  const Eigen::MatrixXd Kt = Eigen::MatrixXd(K).transpose();  // the operator solved
+  // A residual in the operator's range (a free body's balanced forces): that of a
+  // displacement with no translation, which is then the minimum-norm solution.
+  Eigen::VectorXd x_true(n);
+  for (int i = 0; i < n; ++i) x_true[i] = std::sin(0.3 * i) * (i - 19.5);
+  x_true.array() -= x_true.mean();
+  const Eigen::VectorXd r = Kt * x_true;
+  Eigen::VectorXd x;
+  LinearSolver cg(LinearSolverKind::cg);
+  SparseMatrix work = K;
+  const LinearStats st = cg.solve(work, Eigen::VectorXd(), r, x, 1e-12, 20000);
+  ASSERT_TRUE(st.ok);
+  EXPECT_EQ(st.iterations, 2 * n + 1);  // 2n CG iterations, then the dense solve
+  EXPECT_LT((Kt * x - r).norm(), 1e-10 * r.norm());
+  EXPECT_LT((x - x_true).norm(), 1e-9 * x_true.norm());  // no translation added
 }
 
 }  // namespace
