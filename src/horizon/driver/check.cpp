@@ -67,14 +67,18 @@ namespace {
 
 // Particles whose family is empty (a model that allows them: material/model.hpp
 // fill_state_based_coefficients), over the whole system: a decomposed run counts the
-// particles each rank owns.
+// particles each rank owns. The nodes the finite elements own have no bonds by design.
 std::size_t isolated_particles(const System& s) {
   const auto& B = s.bonds;
+  const std::vector<uint8_t>* fe = s.fe_coupling ? &s.fe_coupling->owned_particle : nullptr;
+  auto alone = [&](std::size_t i) {
+    return B.begin(i) == B.end(i) && !(fe && i < fe->size() && (*fe)[i]) ? 1u : 0u;
+  };
   uint64_t n = 0;
   if (s.decomposition && !s.owned.empty()) {
-    for (uint32_t i : s.owned) n += B.begin(i) == B.end(i) ? 1 : 0;
+    for (uint32_t i : s.owned) n += alone(i);
   } else if (!s.decomposition) {
-    for (std::size_t i = 0; i < s.particles.size(); ++i) n += B.begin(i) == B.end(i) ? 1 : 0;
+    for (std::size_t i = 0; i < s.particles.size(); ++i) n += alone(i);
   }
   return static_cast<std::size_t>(s.decomposition ? sum_over_ranks(n) : n);
 }
