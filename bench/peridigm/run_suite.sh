@@ -12,11 +12,20 @@
 # (run, where the deck's folder has an np4 folder, for decks that ran on 1 rank), ONLY=regex
 # to run the decks whose path matches.
 #
+# Each deck runs as Peridigm's own test scripts run it (test/.../npN/*.py: `cd npN;
+# mpiexec -np N Peridigm ../deck.xml`): from a scratch folder holding links to the files
+# of the deck's npN/ folder (its np1/mesh.g, its np4/mesh.g.4.0..3), so that a mesh the
+# deck names relative to the working directory is found there (docs/peridigm.md, "File
+# names"). A deck file inside an npN/ folder (a copy some folders hold; Peridigm's scripts
+# run the deck above it) runs from a folder linking its own folder's files.
+#
 # Prints one Markdown table row per deck and rank count:
 #   | deck | ranks | result | detail | wall s |
 # result: match (every compared variable within tolerance), differs (the largest excess:
-# variable, values, node, step), refused (Horizon's error for the deck), fails (the run
-# stopped with an error), timeout, runs (no gold to compare). A summary follows.
+# variable, values, node, step), refused (Horizon's error for the deck), missing (the deck
+# names an input file that exists nowhere in the checkout: Peridigm's snapshot lacks it,
+# e.g. a mesh its scripts or Cubit generate, or a name no file has), fails (the run stopped
+# with an error), timeout, runs (no gold to compare). A summary follows.
 set -u
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -38,7 +47,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS
 mapfile -t decks < <(cd "$checkout" && find test examples \( -name '*.yaml' -o -name '*.xml' \) 2>/dev/null |
   sort | while read -r f; do grep -qE '^Peridigm:|<ParameterList' "$f" && echo "$f"; done)
 
-n_total=0; n_runs=0; n_match=0; n_refused=0; n_differs=0; n_fails=0; n_timeout=0
+n_total=0; n_runs=0; n_match=0; n_refused=0; n_missing=0; n_differs=0; n_fails=0; n_timeout=0; n_copies=0
 one_line() { tr '\n' ' ' | sed -e 's/|/\\|/g' -e 's/  */ /g' | cut -c1-300; }
 
 # run DECK RANKS: one row.
@@ -47,6 +56,14 @@ run() {
   local dir; dir=$(dirname "$checkout/$deck")
   local wd="$work/$(echo "$deck" | tr '/' '_')_np$ranks"
   rm -rf "$wd"; mkdir -p "$wd"
+  # The working directory Peridigm's scripts give the deck: its npN/ folder (N = ranks),
+  # or for a copy inside an npN/ folder, that folder.
+  local from=""
+  if [[ $dir =~ /np[0-9]+$ ]]; then from=$dir; elif [ -d "$dir/np$ranks" ]; then from="$dir/np$ranks"; fi
+  if [ -n "$from" ]; then
+    local f
+    for f in "$from"/*; do [ -f "$f" ] && ln -s "$f" "$wd/$(basename "$f")"; done
+  fi
   local result detail
   local start; start=$(date +%s.%N)
   # check first: a refused deck is Horizon's error before any run
@@ -54,6 +71,15 @@ run() {
     result=refused
     detail=$(grep -m1 -i 'error' "$wd/check.log" | sed "s|$checkout/||g" | one_line)
     [ -n "$detail" ] || detail=$(tail -n 2 "$wd/check.log" | one_line)
+    # An input file that exists nowhere in the checkout (nor as partitioned pieces).
+    local missing
+    missing=$(grep -m1 -oE "cannot open [^']*'[^']+'" "$wd/check.log" | sed -E "s/.*'([^']+)'$/\1/")
+    if [ -n "$missing" ]; then
+      missing=$(basename "$missing")
+      if [ -z "$(find "$checkout" -name "$missing" -o -name "$missing.*.*" 2>/dev/null | head -n 1)" ]; then
+        result=missing; detail="'$missing' exists nowhere in the checkout; $detail"
+      fi
+    fi
   else
     local cmd=("$horizon" run "$checkout/$deck")
     [ "$ranks" -gt 1 ] && cmd=(mpiexec -n "$ranks" --oversubscribe "$horizon_mpi" run "$checkout/$deck")
@@ -88,13 +114,16 @@ run() {
     fi
   fi
   local wall; wall=$(echo "$(date +%s.%N) - $start" | bc)
-  printf '| %s | %s | %s | %s | %.1f |\n' "$deck" "$ranks" "$result" "$detail" "$wall"
+  local shown=$deck
+  if [[ $dir =~ /np[0-9]+$ ]]; then shown="$deck (copy in ${dir##*/}/)"; [ "$ranks" = 1 ] && n_copies=$((n_copies + 1)); fi
+  printf '| %s | %s | %s | %s | %.1f |\n' "$shown" "$ranks" "$result" "$detail" "$wall"
   n_total=$((n_total + 1))
   case $result in
     match) n_match=$((n_match + 1)); n_runs=$((n_runs + 1)) ;;
     differs) n_differs=$((n_differs + 1)); n_runs=$((n_runs + 1)) ;;
     runs) n_runs=$((n_runs + 1)) ;;
     refused) n_refused=$((n_refused + 1)) ;;
+    missing) n_missing=$((n_missing + 1)) ;;
     fails) n_fails=$((n_fails + 1)) ;;
     timeout) n_timeout=$((n_timeout + 1)) ;;
   esac
@@ -114,5 +143,6 @@ for deck in "${decks[@]}"; do
 done
 echo
 echo "runs (rank counts x decks): $n_total; run to the end: $n_runs (match $n_match, differ $n_differs," \
-     "no gold $((n_runs - n_match - n_differs))); refused $n_refused; failed $n_fails; timed out $n_timeout"
+     "no gold $((n_runs - n_match - n_differs))); refused $n_refused; missing input $n_missing; failed $n_fails;" \
+     "timed out $n_timeout; deck files that are copies in npN/ folders: $n_copies"
 echo "work directory: $work"

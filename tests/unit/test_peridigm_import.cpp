@@ -190,9 +190,20 @@ TEST(PeridigmImport, ContactInteractionsBecomePeridigmLaw) {
     std::ofstream(path) << text;
     EXPECT_NE(error_of(path).find("None, All; found 'Some'"), std::string::npos) << error_of(path);
   }
+  // A coefficient that varies in time (Time Dependent Short Range Force): its translation.
   std::string timed = contact;
   timed.replace(timed.find("0.3"), 3, "\"if(t < 1)\\{ value = 1; \\} else\\{ value = 0; \\}\"");
-  EXPECT_NE(error_of(write_deck("timed.yaml", timed)).find("varies in time"), std::string::npos);
+  const YAML::Node tn = convert(write_deck("timed.yaml", timed));
+  EXPECT_EQ(tn["contact"]["short_range"]["friction"].as<std::string>(), "(((t)<1)?1:0)");
+  const Config tc = parse_deck(convert_peridigm_deck(write_deck("timed.yaml", timed)), "t.yaml");
+  ASSERT_TRUE(tc.contact.short_range.friction_in_time.has_value());
+  EXPECT_EQ((*tc.contact.short_range.friction_in_time)(0.5), 1.0);
+  EXPECT_EQ((*tc.contact.short_range.friction_in_time)(1.5), 0.0);
+  // A string that does not set value on every path is an error naming the key.
+  timed = contact;
+  timed.replace(timed.find("0.3"), 3, "\"if(t < 1)\\{ value = 1; \\}\"");
+  EXPECT_NE(error_of(write_deck("timed.yaml", timed)).find("cannot read the friction coefficient"), std::string::npos)
+      << error_of(write_deck("timed.yaml", timed));
 }
 
 // --- compute classes and globals ---

@@ -197,10 +197,14 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   // partner j's data come from the ghost arrays, term for term the same arithmetic. The
   // flag is a compile-time constant so the serial loop reads the particle arrays alone.
   const bool peridigm = config_.law == ShortRangeLaw::peridigm;
-  if (peridigm && config_.friction > 0 && !ghost_y_.empty())
+  if (peridigm && (config_.friction > 0 || config_.friction_in_time) && !ghost_y_.empty())
     throw Error("contact.short_range.friction is not supported yet on several ranks with local particles");
   const Vec3* v = P.v.data();
-  const double mu = config_.friction;
+  // A coefficient that varies in time: mu at the time of the state the pass sees.
+  const double mu = config_.friction_in_time ? (*config_.friction_in_time)(s.time) : config_.friction;
+  if (!(mu >= 0))
+    throw Error("contact.short_range.friction is " + std::to_string(mu) + " at t = " + std::to_string(s.time) +
+                "; a friction coefficient must be >= 0");
   auto pass = [&](auto with_ghosts, auto peridigm_law) {
     constexpr bool ghosts = decltype(with_ghosts)::value;
     constexpr bool pd = decltype(peridigm_law)::value;

@@ -254,6 +254,9 @@ struct ShortRangeContactConfig {
   double contact_radius = 0;   // peridigm: R_c [m]
   double spring_constant = 0;  // peridigm: k [Pa]
   double friction = 0;         // peridigm: mu
+  // peridigm: mu(t) where `friction` is an expression in t (Peridigm's Time Dependent
+  // Short Range Force), evaluated at each force pass's time; `friction` is then mu(0).
+  std::optional<Expression> friction_in_time;
   std::vector<std::pair<std::string, std::string>> pairs;
 };
 

@@ -56,7 +56,18 @@ ShortRangeContactConfig read_short_range(const DeckContext& ctx, const Item& ite
   if (pd) {
     c.contact_radius = read_positive(ctx, m.get("contact_radius", "the contact radius R_c [m], > 0"));
     c.spring_constant = read_positive(ctx, m.get("spring_constant", "the spring constant k [Pa], > 0"));
-    if (auto f = m.find("friction")) c.friction = read_non_negative(ctx, *f);
+    if (auto f = m.find("friction")) {
+      // A number, or an expression in t (Peridigm's Time Dependent Short Range Force).
+      const Expression e = read_scalar_expr(ctx, *f);
+      if (e.is_constant()) {
+        c.friction = read_non_negative(ctx, *f);
+      } else {
+        c.friction = e(0.0);
+        if (!(c.friction >= 0))
+          ctx.fail(f->mark, f->path + ": the friction coefficient at t = 0 must be >= 0, found " + std::to_string(c.friction));
+        c.friction_in_time = e;
+      }
+    }
   }
   if (auto p = m.find("pairs")) {
     if (!p->node.IsSequence()) fail_expected(ctx, *p, "a list of body pairs, e.g. [[disk, ball], [disk, disk]]");

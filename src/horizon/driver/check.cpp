@@ -63,8 +63,31 @@ int64_t step_count(const Config& c, double dt) {
   return static_cast<int64_t>(steps);
 }
 
+namespace {
+
+// Particles whose family is empty (a model that allows them: material/model.hpp
+// fill_state_based_coefficients), over the whole system: a decomposed run counts the
+// particles each rank owns. The nodes the finite elements own have no bonds by design.
+std::size_t isolated_particles(const System& s) {
+  const auto& B = s.bonds;
+  const std::vector<uint8_t>* fe = s.fe_coupling ? &s.fe_coupling->owned_particle : nullptr;
+  auto alone = [&](std::size_t i) {
+    return B.begin(i) == B.end(i) && !(fe && i < fe->size() && (*fe)[i]) ? 1u : 0u;
+  };
+  uint64_t n = 0;
+  if (s.decomposition && !s.owned.empty()) {
+    for (uint32_t i : s.owned) n += alone(i);
+  } else if (!s.decomposition) {
+    for (std::size_t i = 0; i < s.particles.size(); ++i) n += alone(i);
+  }
+  return static_cast<std::size_t>(s.decomposition ? sum_over_ranks(n) : n);
+}
+
+}  // namespace
+
 CheckReport check_system(const Config& c, const System& s) {
   CheckReport r;
+  r.isolated = isolated_particles(s);
   // With local particles (parallel/decomposition.hpp) a rank holds part of them.
   r.particles = s.decomposition && s.decomposition->local_particles ? s.decomposition->global_particles
                                                                     : s.particles.size();
@@ -113,6 +136,10 @@ std::string format_check(const Config& c, const CheckReport& r) {
   o << fmt::format("bonds           {} directed ({:.1f} per particle), {} cut by precracks\n", r.bonds,
                    r.particles ? static_cast<double>(r.bonds) / static_cast<double>(r.particles) : 0.0,
                    r.precrack_bonds);
+  if (r.isolated)
+    o << fmt::format("warning         {} particle(s) have no neighbours (the horizon is smaller than their spacing): "
+                     "no bond acts on them; loads and contact move them alone\n",
+                     r.isolated);
   if (r.fe_elements)
     o << fmt::format("fe              {} {} elements, {} nodes ({} of them peridynamic particles)\n", r.fe_elements,
                      r.fe_nodes_per_element == 8 ? "hex8" : "tet4", r.fe_nodes, r.fe_shared_nodes);

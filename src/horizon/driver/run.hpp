@@ -33,6 +33,7 @@ struct CheckReport {
   std::size_t particles = 0;
   std::size_t bonds = 0;             // directed
   std::size_t precrack_bonds = 0;    // directed bonds removed by precracks
+  std::size_t isolated = 0;          // particles without a bond (loads and contact move them alone)
   std::size_t memory_bytes = 0;
   double stable_dt = 0;
   double dt = 0;                     // the step the run will use

@@ -414,7 +414,12 @@ std::vector<double> sphere_volumes(const ExodusFile& f, int id, int n, int nattr
 
 }  // namespace
 
-Mesh read_exodus(const std::string& path, int dimension) {
+namespace {
+
+// read_exodus, and where `node_ids`/`cell_ids` are given, the file's node and element
+// number maps (the global ids of a piece of a partitioned mesh) for its nodes and cells.
+Mesh read_exodus_with_ids(const std::string& path, int dimension, std::vector<int64_t>* node_ids,
+                          std::vector<int64_t>* cell_ids) {
   ExodusFile f(path);
   Mesh m;
   m.file = path;
@@ -430,12 +435,26 @@ Mesh read_exodus(const std::string& path, int dimension) {
   m.nodes.resize(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) m.nodes[i] = {x[i], ndim > 1 ? y[i] : 0.0, ndim > 2 ? z[i] : 0.0};
 
+  std::vector<int> elem_map;
+  if (node_ids) {
+    std::vector<int> map(static_cast<std::size_t>(nnodes));
+    if (nnodes > 0) f.check(ex_get_id_map(f.id(), EX_NODE_MAP, map.data()), "the node number map");
+    node_ids->assign(map.begin(), map.end());
+  }
+  if (cell_ids) {
+    elem_map.resize(static_cast<std::size_t>(nelem));
+    if (nelem > 0) f.check(ex_get_id_map(f.id(), EX_ELEM_MAP, elem_map.data()), "the element number map");
+    cell_ids->clear();
+  }
   std::vector<int> ids(static_cast<std::size_t>(nblk));
   if (nblk > 0) f.check(ex_get_ids(f.id(), EX_ELEM_BLOCK, ids.data()), "the element block ids");
+  std::size_t first_element = 0;  // the block's first element in the file's element order
   for (int id : ids) {
     char type[MAX_STR_LENGTH + 1] = {0};
     int n = 0, npe = 0, nedge = 0, nface = 0, nattr = 0;
     f.check(ex_get_block(f.id(), EX_ELEM_BLOCK, id, type, &n, &npe, &nedge, &nface, &nattr), "element block " + std::to_string(id));
+    const std::size_t block_first = first_element;
+    first_element += static_cast<std::size_t>(n);
     CellType cell{};
     if (!exodus_cell(type, npe, cell)) {
       throw MeshError(path + ": element block " + std::to_string(id) + " ('" + f.name(EX_ELEM_BLOCK, id) + "') has " +
@@ -467,6 +486,11 @@ Mesh read_exodus(const std::string& path, int dimension) {
         nodes[static_cast<std::size_t>(k)] = static_cast<uint32_t>(node - 1);
       }
       block.members.push_back(static_cast<uint32_t>(m.cell_nodes.size()));
+      if (cell_ids) {
+        const std::size_t k = block_first + static_cast<std::size_t>(e);
+        if (k >= elem_map.size()) throw MeshError(path + ": more elements in its blocks than its header counts");
+        cell_ids->push_back(elem_map[k]);
+      }
       m.cell_type.push_back(cell);
       m.cell_nodes.push_back(std::move(nodes));
     }
@@ -506,6 +530,118 @@ Mesh read_exodus(const std::string& path, int dimension) {
   read_sets(EX_SIDE_SET, nss);
   finish(m);
   return m;
+}
+
+}  // namespace
+
+Mesh read_exodus(const std::string& path, int dimension) { return read_exodus_with_ids(path, dimension, nullptr, nullptr); }
+
+std::vector<std::string> exodus_pieces(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path base(path);
+  const fs::path dir = base.has_parent_path() ? base.parent_path() : fs::path(".");
+  const std::string stem = base.filename().string() + ".";
+  std::map<int, std::set<int>> found;  // N -> the i of the pieces present
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= stem.size() || name.compare(0, stem.size(), stem) != 0) continue;
+    const std::string tail = name.substr(stem.size());  // "N.i"
+    const auto dot = tail.find('.');
+    if (dot == std::string::npos || dot == 0 || dot + 1 == tail.size()) continue;
+    const std::string a = tail.substr(0, dot), b = tail.substr(dot + 1);
+    auto digits = [](const std::string& w) {
+      return w.size() <= 6 && std::all_of(w.begin(), w.end(), [](char c) { return c >= '0' && c <= '9'; });
+    };
+    if (!digits(a) || !digits(b)) continue;
+    found[std::stoi(a)].insert(std::stoi(b));
+  }
+  for (const auto& [n, pieces] : found) {  // the smallest complete set
+    if (n < 1 || static_cast<int>(pieces.size()) != n || *pieces.rbegin() != n - 1) continue;
+    std::vector<std::string> out;
+    for (int i = 0; i < n; ++i) out.push_back((dir / (stem + std::to_string(n) + "." + std::to_string(i))).string());
+    return out;
+  }
+  return {};
+}
+
+Mesh read_exodus_pieces(const std::vector<std::string>& pieces, int dimension) {
+  if (pieces.empty()) throw MeshError("no pieces of a partitioned Exodus mesh to read");
+  struct Cell {
+    CellType type{};
+    std::vector<int64_t> nodes;  // global node ids
+    double measure = 0;          // sphere cells: their volume attribute
+  };
+  struct Group {
+    std::string name;
+    std::set<int64_t> members;  // global ids: elements (blocks) or nodes (sets)
+  };
+  std::map<int64_t, Vec3> nodes;
+  std::map<int64_t, Cell> cells;
+  std::map<int64_t, Group> blocks, node_sets, side_sets;
+  for (const auto& piece : pieces) {
+    std::vector<int64_t> nid, cid;
+    const Mesh m = read_exodus_with_ids(piece, dimension, &nid, &cid);
+    for (std::size_t k = 0; k < m.nodes.size(); ++k) {
+      const auto [it, fresh] = nodes.emplace(nid[k], m.nodes[k]);
+      // A node on the border of two pieces is in both, at one place.
+      if (!fresh && norm(it->second - m.nodes[k]) > 1e-12 * (1 + norm(m.nodes[k])))
+        throw MeshError(piece + ": node " + std::to_string(nid[k]) + " is at another place than in " + pieces[0] +
+                        "'s set of pieces (the pieces are not of one mesh)");
+    }
+    for (const auto& b : m.blocks) {
+      Group& g = blocks[b.id];
+      if (g.name.empty()) g.name = b.name;
+      for (uint32_t c : b.members) {
+        Cell cell{m.cell_type[c], {}, m.measure[c]};
+        for (uint32_t k : m.cell_nodes[c]) cell.nodes.push_back(nid[k]);
+        if (!cells.emplace(cid[c], std::move(cell)).second)
+          throw MeshError(piece + ": element " + std::to_string(cid[c]) + " is in two pieces");
+        g.members.insert(cid[c]);
+      }
+    }
+    for (std::size_t s = 0; s < m.sets.size(); ++s) {
+      Group& g = (s < m.node_sets ? node_sets : side_sets)[m.sets[s].id];
+      if (g.name.empty()) g.name = m.sets[s].name;
+      for (uint32_t k : m.sets[s].members) g.members.insert(nid[k]);
+    }
+  }
+  // Nodes and elements in the order of their global ids (Peridigm's element ids).
+  Mesh out;
+  out.file = pieces[0];
+  out.dimension = dimension;
+  std::map<int64_t, uint32_t> node_index, cell_index;
+  for (const auto& [id, x] : nodes) {
+    node_index[id] = static_cast<uint32_t>(out.nodes.size());
+    out.nodes.push_back(x);
+  }
+  for (const auto& [id, c] : cells) {
+    cell_index[id] = static_cast<uint32_t>(out.cell_nodes.size());
+    std::vector<uint32_t> conn;
+    for (int64_t n : c.nodes) conn.push_back(node_index.at(n));
+    out.cell_type.push_back(c.type);
+    out.cell_nodes.push_back(std::move(conn));
+    out.cell_tag.push_back(id);
+    out.measure.push_back(c.type == CellType::sphere ? c.measure : 0.0);
+  }
+  for (const auto& [id, g] : blocks) {
+    MeshGroup b{g.name, id, {}};
+    for (int64_t c : g.members) b.members.push_back(cell_index.at(c));
+    std::sort(b.members.begin(), b.members.end());
+    out.blocks.push_back(std::move(b));
+  }
+  auto add_sets = [&](const std::map<int64_t, Group>& sets) {
+    for (const auto& [id, g] : sets) {
+      MeshGroup s{g.name, id, {}};
+      for (int64_t n : g.members) s.members.push_back(node_index.at(n));
+      out.sets.push_back(std::move(s));
+    }
+  };
+  add_sets(node_sets);
+  out.node_sets = out.sets.size();
+  add_sets(side_sets);
+  finish(out);
+  return out;
 }
 
 std::vector<std::vector<Vec3>> read_exodus_surface(const std::string& path) {

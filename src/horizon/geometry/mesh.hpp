@@ -65,6 +65,15 @@ void check_msh_header(const std::string& path);
 // their volume from the attribute named "volume", else from the second of two attributes
 // (Cubit writes radius, volume), else from a single attribute.
 Mesh read_exodus(const std::string& path, int dimension);
+// Peridigm's partitioned copies of an Exodus mesh (SEACAS's decomposition: `path.N.i`,
+// i = 0..N-1, each a valid Exodus file whose node and element number maps give the global
+// ids): the pieces of the smallest N present in full beside `path`, in order of i; empty
+// when there are none.
+std::vector<std::string> exodus_pieces(const std::string& path);
+// The one mesh the pieces make: nodes and elements merged by their global ids and
+// ordered by them (a node on the border of two pieces is one node), blocks and node sets
+// by their ids, the members of each the union of the pieces'.
+Mesh read_exodus_pieces(const std::vector<std::string>& pieces, int dimension);
 // The surface elements of an Exodus II mesh (TRI3, QUAD4, SHELL3, SHELL4, TRISHELL3
 // blocks; other blocks are skipped) as polygons of their corner nodes, block by block in
 // the file's order: a crack surface (Peridigm's `Exodus Mesh` bond filter, whose shell

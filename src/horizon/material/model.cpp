@@ -39,7 +39,7 @@ std::vector<std::string> model_names() {
   return names;
 }
 
-void fill_state_based_coefficients(const ModelSetup& in, double spring_factor) {
+void fill_state_based_coefficients(const ModelSetup& in, double spring_factor, bool isolated_allowed) {
   const MaterialConfig& mat = in.material;
   auto& M = in.system.model;
   const double spring =
@@ -52,7 +52,7 @@ void fill_state_based_coefficients(const ModelSetup& in, double spring_factor) {
              : lps_critical_stretch(*mat.damage.fracture_energy, mat.bulk_modulus, mat.shear_modulus, in.dims);
   for (uint32_t i : in.particles) {
     // A row another MPI rank holds is empty here (local rows, parallel/decomposition.hpp).
-    if (M.weighted_volume[i] <= 0 && in.system.computes_row(i))
+    if (M.weighted_volume[i] <= 0 && in.system.computes_row(i) && !isolated_allowed)
       throw Error("particle " + std::to_string(i) + " has no neighbours: the horizon is smaller than the spacing");
     M.spring[i] = spring;
     M.contact_micromodulus[i] = contact_c;

@@ -329,9 +329,10 @@ class Model {
 // same bulk modulus, times spring_factor for models stiffer than that), the contact
 // micromodulus (omega = 1, as LAMMPS peri/lps), the critical stretch (given, or from
 // fracture_energy by the LPS formula of material/constants.hpp) and its compression
-// factor; it refuses a particle without neighbours and marks the run state-based (the
-// tangent probes two horizons out).
-void fill_state_based_coefficients(const ModelSetup& in, double spring_factor = 1.0);
+// factor; it refuses a particle without neighbours (unless `isolated_allowed`: a model
+// whose row of no bonds has no force and dilatation 0, the LPS) and marks the run
+// state-based (the tangent probes two horizons out).
+void fill_state_based_coefficients(const ModelSetup& in, double spring_factor = 1.0, bool isolated_allowed = false);
 
 // The registry: one entry per model (material/registry.cpp).
 struct ModelEntry {

@@ -1,7 +1,9 @@
 #include "horizon/solver/linear.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
 #include <Eigen/IterativeLinearSolvers>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -26,6 +28,10 @@ void add_to_diagonal(SparseMatrix& K, const Eigen::VectorXd& shift) {
 }
 
 namespace {
+
+// The largest system the CG path may finish with a dense solve (about 2 s of a complete
+// orthogonal decomposition at 3000 unknowns; 1029 for a 343-particle body).
+constexpr Eigen::Index kDenseFallbackDofs = 3000;
 
 uint64_t pattern_checksum(const SparseMatrix& K) {
   uint64_t h = 1469598103934665603ull ^ static_cast<uint64_t>(K.rows());
@@ -122,14 +128,42 @@ LinearStats LinearSolver::solve(SparseMatrix& K, const Eigen::VectorXd& shift, c
   }
   // The matrix holds K^T (tangent.hpp), so the parallel row-major product of the
   // transposed view gives K x; Eigen's CG does the same for Lower|Upper.
+  // A small system (kDenseFallbackDofs unknowns at most) gets 2n CG iterations, more than
+  // CG needs in exact arithmetic (n), and where they do not reach the tolerance, the dense
+  // solve below: CG stalls on a tangent that is singular or nearly so (a body held in one
+  // direction alone: PredictorFromPreviousSolver's decks fix y only, so x and z translate
+  // freely, and CG ran 20,000 iterations of about 1e6 entries per Newton iteration, 79 % of
+  // the run under perf). Larger systems keep the given iteration limit.
+  const Eigen::Index n = K.rows();
+  const bool small = n > 0 && n <= kDenseFallbackDofs;
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg;
   cg.setTolerance(tol);
-  cg.setMaxIterations(max_iterations);
+  cg.setMaxIterations(small ? std::min<Eigen::Index>(max_iterations, 2 * n) : max_iterations);
   cg.compute(K);
   x = cg.solve(r);
   st.iterations = static_cast<int>(cg.iterations());
   st.residual = cg.error();
   st.ok = cg.info() == Eigen::Success && x.allFinite();
+  if (small && !st.ok) {
+    // The minimum-norm least-squares solution (a complete orthogonal decomposition, rank
+    // revealing): for a singular K and a residual with no part along its null space (the
+    // internal forces of a free motion balance), the solution CG converges to from 0 in
+    // exact arithmetic. The matrix holds K^T (above).
+    // Pivots below 1e-8 of the largest count as zero: a finite-difference tangent (the
+    // correspondence models') leaves its rigid modes at round-off of the difference
+    // quotient, not at 0, and solving along them would add a large free motion (the
+    // displacements of PredictorFromPreviousSolver drifted 6e-3 along z, 250 times the
+    // gold's largest, with Eigen's default threshold of n eps).
+    const Eigen::MatrixXd D = Eigen::MatrixXd(K).transpose();
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+    cod.setThreshold(1e-8);
+    cod.compute(D);
+    x = cod.solve(r);
+    const double rn = r.norm();
+    st.residual = rn > 0 ? (D * x - r).norm() / rn : 0.0;
+    st.iterations += 1;
+    st.ok = x.allFinite();
+  }
   return st;
 }
 

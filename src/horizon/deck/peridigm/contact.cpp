@@ -9,6 +9,9 @@
 #include <cstdlib>
 #include <optional>
 
+#include "horizon/core/error.hpp"
+#include "horizon/core/expression.hpp"
+#include "horizon/deck/peridigm/function_string.hpp"
 #include "horizon/deck/peridigm/sections.hpp"
 
 namespace horizon::peridigm {
@@ -25,7 +28,8 @@ std::string squash_words(const std::string& s) {
 namespace {
 
 struct Model {
-  double radius = 0, spring = 0, friction = 0;
+  double radius = 0, spring = 0;
+  std::string friction;  // a number, or a muParser expression in t; empty: none
   Item item;
 };
 
@@ -37,20 +41,32 @@ Model read_model(const DeckContext& ctx, const Item& item, double horizon) {
     fail_choice(ctx, kind, read_string(ctx, kind), {"Short Range Force", "Time Dependent Short Range Force"},
                 "Peridigm contact model Horizon reads");
   Model md{read_positive(ctx, m.get("Contact Radius", "the contact radius, > 0")),
-           read_positive(ctx, m.get("Spring Constant", "the spring constant, > 0")), 0, item};
+           read_positive(ctx, m.get("Spring Constant", "the spring constant, > 0")), "", item};
   if (auto f = m.find("Friction Coefficient")) {
-    // Time Dependent Short Range Force gives the coefficient as a function string of t;
-    // Horizon's friction is one number for the run.
+    // A number, or (Time Dependent Short Range Force) a function string of t, which
+    // becomes the native friction's expression in t.
     const std::string text = f->node.IsScalar() ? f->node.Scalar() : "";
     char* end = nullptr;
     const double mu = std::strtod(text.c_str(), &end);
     const bool number = !text.empty() && end != text.c_str() &&
                         std::all_of(static_cast<const char*>(end), text.c_str() + text.size(), [](char c) { return std::isspace(static_cast<unsigned char>(c)); });
-    if (!number)
-      ctx.fail(f->mark, f->path + ": a friction coefficient that varies in time ('" + text +
-                            "') is not supported yet; Horizon's friction is one number for the run");
-    if (!(mu >= 0) || !std::isfinite(mu)) ctx.fail(f->mark, f->path + ": expected a number >= 0, found " + text_of(*f));
-    md.friction = mu;
+    if (number) {
+      if (!(mu >= 0) || !std::isfinite(mu)) ctx.fail(f->mark, f->path + ": expected a number >= 0, found " + text_of(*f));
+      if (mu > 0) md.friction = fmt::format("{}", mu);
+    } else {
+      std::string expr;
+      try {
+        expr = function_string_to_muparser(text);
+        Expression e(expr);
+        const double mu0 = e(0.0);
+        if (!(mu0 >= 0)) throw FunctionStringError(0, "the coefficient at t = 0 is " + std::to_string(mu0) + ", not >= 0");
+      } catch (const FunctionStringError& err) {
+        ctx.fail(f->mark, f->path + ": cannot read the friction coefficient '" + text + "': " + err.what());
+      } catch (const Error& err) {
+        ctx.fail(f->mark, f->path + ": cannot read the friction coefficient '" + text + "': " + err.what());
+      }
+      md.friction = expr;
+    }
   }
   if (auto h = m.find("Horizon"); h && read_positive(ctx, *h) != horizon)
     ctx.fail(h->mark, fmt::format("{}: the contact horizon must be the blocks' horizon ({}); Horizon has one "
@@ -126,7 +142,7 @@ YAML::Node read_contact_section(const DeckContext& ctx, const Item& item, double
   sr["law"] = "peridigm";
   sr["contact_radius"] = fmt::format("{}", m.radius);
   sr["spring_constant"] = fmt::format("{}", m.spring);
-  if (m.friction > 0) sr["friction"] = fmt::format("{}", m.friction);
+  if (!m.friction.empty()) sr["friction"] = m.friction;
   // General Contact: every pair of particles not bonded at the start.
   if (!general) sr["pairs"] = pairs;
   YAML::Node out;

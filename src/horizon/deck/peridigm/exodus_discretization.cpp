@@ -42,10 +42,29 @@ Vec3 peridigm_hex_centre(const std::vector<Vec3>& x, const std::vector<uint32_t>
 ExodusDiscretization read_exodus_discretization(const deck::DeckContext& ctx, const deck::Item& file_item,
                                                 const std::string& folder) {
   const std::string name = deck::read_string(ctx, file_item);
-  const std::filesystem::path path = resolve_deck_file(folder, name);
+  const auto candidates = deck_file_candidates(folder, name);
+  std::filesystem::path path = resolve_deck_file(folder, name);
   Mesh mesh;
   try {
-    mesh = read_exodus(path.string(), 3);
+    std::error_code ec;
+    std::vector<std::string> pieces;
+    if (!std::filesystem::exists(path, ec)) {
+      // No serial mesh anywhere: Peridigm's partitioned copies (np4/mesh.g.4.0..3), which
+      // Horizon merges and splits over its own ranks.
+      for (const auto& c : candidates)
+        if (pieces.empty()) pieces = exodus_pieces(c);
+    }
+    if (!pieces.empty()) {
+      mesh = read_exodus_pieces(pieces, 3);
+    } else {
+      if (!std::filesystem::exists(path, ec)) {
+        std::string looked;
+        for (const auto& c : candidates) looked += (looked.empty() ? "" : ", ") + c;
+        ctx.fail(file_item.mark, file_item.path + ": cannot open mesh '" + name + "': no such file, nor its partitioned "
+                                 "pieces '" + name + ".N.i' (looked for " + looked + ")");
+      }
+      mesh = read_exodus(path.string(), 3);
+    }
   } catch (const MeshError& e) {
     ctx.fail(file_item.mark, file_item.path + ": " + e.what());
   }

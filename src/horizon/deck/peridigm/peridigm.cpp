@@ -435,6 +435,27 @@ void read_nox_sublist(const DeckContext& ctx, const Item& item) {
   if (!item.node.IsMap()) fail_expected(ctx, item, "a map (a NOX parameter list)");
 }
 
+// QuasiStatic's `Adaptive Load-Stepping` (Peridigm cuts a load step whose Newton solve
+// fails, up to the reductions it allows, then optionally finishes with Verlet): Horizon's
+// static driver cuts a failing load step itself (solver/static_driver.hpp), so the list is
+// read, its values checked, without effect. `Switch to Verlet`, Peridigm's explicit
+// fallback once its reductions are spent, is an error: Horizon runs one solver a deck, and
+// the decks that give it (AdaptiveQuasiStaticSolver: 2 Newton iterations to an absolute
+// 1e-3) count on the switch (docs/peridigm.md, "Adaptive Load-Stepping").
+void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item) {
+  MapReader a(ctx, item,
+              {"Maximum load step reductions in one step", "Maximum total load step reductions",
+               "Reduce all remaining load steps", "Adaptive output frequency", "Switch to Verlet"});
+  for (const char* k : {"Maximum load step reductions in one step", "Maximum total load step reductions"})
+    if (auto n = a.find(k); n && read_int(ctx, *n) < 0) fail_expected(ctx, *n, "a whole number >= 0");
+  for (const char* k : {"Reduce all remaining load steps", "Adaptive output frequency"})
+    if (auto b = a.find(k)) read_bool(ctx, *b);
+  if (auto v = a.find("Switch to Verlet"))
+    ctx.fail(*v->key_mark, v->path + ": not supported: Peridigm's switch to explicit dynamics once its load-step "
+                                     "reductions are spent; Horizon runs one solver a deck (its static driver cuts "
+                                     "failing load steps, without a switch)");
+}
+
 // One solver list (Solver, Solver1, ...); `t0` gets its Initial Time.
 Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
   MapReader s(ctx, item,
@@ -492,7 +513,8 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
                                                "Max Solver Iterations", "Nonlinear Solver", "Direction", "Line Search",
                                                "Max Age Of Prec", "Printing", "Solver Options", "Trust Region"}
                     : std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Relative Tolerance",
-                                               "Maximum Solver Iterations", "Belos Linear Solver"});
+                                               "Maximum Solver Iterations", "Belos Linear Solver",
+                                               "Adaptive Load-Stepping"});
     solver["type"] = "static";
     solver["method"] = "newton";
     // Peridigm's Newton, run to its absolute tolerance, ends far below it (its golds'
@@ -518,6 +540,7 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
       if (auto i = v.find(k)) solver["max_iterations"] = read_int(ctx, *i);
     // The Krylov method of Peridigm's linear solves; Horizon's are its own. Read, no effect.
     if (auto b = v.find("Belos Linear Solver")) read_string(ctx, *b);
+    if (auto a = v.find("Adaptive Load-Stepping")) read_adaptive_load_stepping(ctx, *a);
     if (auto n = v.find("Nonlinear Solver")) {
       // NOX's Newton-type solvers: a line search or a trust region globalises the same
       // Newton step; Horizon's Newton has its own safeguard (step cuts).
@@ -693,21 +716,35 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
 
 }  // namespace
 
-std::string resolve_deck_file(const std::string& folder, const std::string& name) {
+std::vector<std::string> deck_file_candidates(const std::string& folder, const std::string& name) {
   const fs::path given = name;
-  if (given.is_absolute()) return name;
-  const fs::path here = fs::path(folder) / given;
+  if (given.is_absolute()) return {name};
+  std::vector<std::string> out{(fs::path(folder) / given).string()};
+  // Peridigm opens a relative name from the directory it runs in; its test scripts run
+  // each deck from an npN/ folder below it (`cd np4; Peridigm ../deck.xml`), whose mesh
+  // (np1/mesh.g, np4/mesh.g.4.i) the deck's folder does not hold.
   std::error_code ec;
-  if (fs::exists(here, ec)) return here.string();
-  // Peridigm's suite runs each deck from an npN/ folder below the deck's: "../x" there.
+  const fs::path cwd = fs::current_path(ec);
+  if (!ec) {
+    const std::string there = (cwd / given).lexically_normal().string();
+    if (there != fs::path(out[0]).lexically_normal().string()) out.push_back(there);
+  }
+  // "../x" from that npN/ folder is the deck's folder's x.
   auto part = given.begin();
   if (part != given.end() && *part == "..") {
     fs::path rest;
     for (++part; part != given.end(); ++part) rest /= *part;
-    const fs::path below = fs::path(folder) / rest;
-    if (!rest.empty() && fs::exists(below, ec)) return below.string();
+    if (!rest.empty()) out.push_back((fs::path(folder) / rest).string());
   }
-  return here.string();
+  return out;
+}
+
+std::string resolve_deck_file(const std::string& folder, const std::string& name) {
+  const auto candidates = deck_file_candidates(folder, name);
+  std::error_code ec;
+  for (const auto& c : candidates)
+    if (fs::exists(c, ec)) return c;
+  return candidates.front();
 }
 
 bool is_peridigm_deck(const YAML::Node& root) {

@@ -13,11 +13,14 @@
 
 namespace horizon::peridigm {
 
-// A file a deck names (a mesh, a text-file discretisation, a node-set file): relative to
-// the deck's folder; where no such file exists and the name climbs out of it ("../x"),
-// relative to a folder one level below the deck's, which is where Peridigm's own test
-// suite runs its decks (test/.../np1/: "../mesh.csv" is the deck's folder's mesh.csv).
-// The first candidate when neither exists (the error names it).
+// Where a file a deck names (a mesh, a text-file discretisation, a node-set file) may be,
+// in the order tried: relative to the deck's folder; relative to the working directory
+// (Peridigm's own rule: its test scripts run `cd npN; Peridigm ../deck.xml`, and the
+// deck's `mesh.g` is npN/mesh.g); and where the name climbs out ("../x"), relative to a
+// folder one level below the deck's (from np1/, "../mesh.csv" is the deck's folder's).
+// An absolute name is its only candidate. docs/peridigm.md, "File names".
+std::vector<std::string> deck_file_candidates(const std::string& folder, const std::string& name);
+// The first candidate that exists; the first one when none does (the error names it).
 std::string resolve_deck_file(const std::string& folder, const std::string& name);
 
 // Peridigm compares type words without case, spaces or underscores (survey sec. 1.6).

@@ -96,7 +96,11 @@ class Lps final : public Model {
     const double alpha_mu = lps_deviatoric_factor(dim) * mat.shear_modulus;
     const bool corrected = Model::parameter(mat, "surface_correction") != 0;
     if (corrected) apply_axis_factors(in, axis_factors(in, axis_dilatation, kSurfacePasses));
-    fill_state_based_coefficients(in);
+    // A particle without neighbours (Peridigm's Contact_2x1x1: two particles a horizon
+    // apart, which meet through contact alone) has m_i = 0: its coefficients below are 0,
+    // so the force passes skip its dilatation (theta stays 0, Peridigm's gold) and its
+    // row of no bonds has no force; check_system counts such particles and warns.
+    fill_state_based_coefficients(in, 1.0, true);
     // Step 2's reference: the continuum (above), not the lattice's interior particle.
     const double dev_inf = corrected ? deviatoric_energy(continuum_family(in.config, mat), dim) : 0.0;
     for (uint32_t i : in.particles) {
