@@ -20,7 +20,10 @@ struct Mesh;  // geometry/mesh.hpp
 
 enum class PlaneMode { none, stress, strain };
 // tupek: the normalised (6.6)/(6.7) functions (nonlinear_solid only).
-enum class InfluenceKind { constant, inverse, linear, gaussian, tupek };
+// inverse: delta/|xi| (dimensionless); inverse_length: 1/|xi| [1/m], Peridigm's "1.0/zeta",
+// whose weighted volume m is delta times smaller (the forces of the state-based models
+// do not change: omega enters them as omega/m).
+enum class InfluenceKind { constant, inverse, linear, gaussian, tupek, inverse_length };
 
 struct DamageConfig {
   bool enabled = false;
@@ -213,6 +216,15 @@ struct OutputConfig {
   struct ExodusFile {
     std::string file;
     int every = 1;
+    // More variables than the fixed set (driver/exodus_output.hpp): `Lambda` (element: the
+    // plastic multiplier of elastic_plastic), `Deformation_Gradient` (element: XX ... ZZ),
+    // or the name of an output.history_columns column (global: its value, vectors X Y Z).
+    std::vector<std::string> variables;
+    // velocity: verlet (explicit runs): at a prescribed component the file reports the
+    // prescribed rate plus dt/2 (f + b)/rho of the step's new forces, the velocity
+    // Peridigm's Verlet integrator reports there (its second half-kick is not masked);
+    // default (false): the particle's own velocity, the prescribed rate.
+    bool verlet_velocity = false;
   };
   std::vector<ExodusFile> exodus_files;
 };

@@ -504,7 +504,7 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       ctx.fail(*files->key_mark, files->path + ": exodus output is written by the explicit, implicit and static solvers only");
     for (std::size_t k = 0; k < files->node.size(); ++k) {
       const Item entry{files->node[k], index_path(files->path, k), files->node[k].Mark(), std::nullopt};
-      MapReader e(ctx, entry, {"file", "every"});
+      MapReader e(ctx, entry, {"file", "every", "variables", "velocity"});
       OutputConfig::ExodusFile f;
       const Item name = e.get("file", "the Exodus file's name, inside output.directory");
       f.file = read_string(ctx, name);
@@ -517,6 +517,30 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       if (auto ev = e.find("every")) {
         f.every = read_int(ctx, *ev);
         if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
+      }
+      if (auto vars = e.find("variables")) {
+        // Lambda, Deformation_Gradient or a history column (driver/exodus_output.hpp).
+        std::vector<std::string> known = {"Lambda", "Deformation_Gradient"};
+        for (const auto& c : config.output.history_columns) known.push_back(c.name);
+        if (!vars->node.IsSequence()) fail_expected(ctx, *vars, "a list of variable names");
+        for (std::size_t v = 0; v < vars->node.size(); ++v) {
+          const Item var{vars->node[v], index_path(vars->path, v), vars->node[v].Mark(), std::nullopt};
+          const std::string name = read_string(ctx, var);
+          if (std::find(known.begin(), known.end(), name) == known.end()) {
+            std::string list;
+            for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+            ctx.fail(var.mark, var.path + ": unknown variable '" + name + "'; known: " + list +
+                                   " (the last ones: output.history_columns)");
+          }
+          if (std::find(f.variables.begin(), f.variables.end(), name) != f.variables.end())
+            ctx.fail(var.mark, var.path + ": '" + name + "' is named twice");
+          f.variables.push_back(name);
+        }
+      }
+      if (auto vel = e.find("velocity")) {
+        f.verlet_velocity = read_enum<bool>(ctx, *vel, {{"state", false}, {"verlet", true}});
+        if (f.verlet_velocity && config.solver.type != SolverType::explicit_dynamic)
+          ctx.fail(vel->mark, vel->path + ": verlet applies to explicit runs (solver.type explicit) only");
       }
       config.output.exodus_files.push_back(f);
     }
