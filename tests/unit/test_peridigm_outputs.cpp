@@ -59,6 +59,9 @@ ExodusSeries run_and_read(const std::string& deck, const fs::path& dir, const st
   return read_exodus_series((dir / "out" / file).string());
 }
 
+// The native deck's first material (materials are a map by name).
+YAML::Node first_material(const YAML::Node& native) { return native["materials"].begin()->second; }
+
 std::size_t index_of(const std::vector<std::string>& names, const std::string& name) {
   const auto it = std::find(names.begin(), names.end(), name);
   EXPECT_NE(it, names.end()) << name;
@@ -149,7 +152,7 @@ TEST(PeridigmOutputs, LambdaOfElasticPlasticIsMitchellsPlasticMultiplier) {
   const std::string deck = write(dir / "ep.yaml", cube_deck(material, "0.02*y*t/1.0e-7", "0.005*y*t/1.0e-7", "0.0", 1,
                                                             "      Lambda: true\n      Dilatation: true\n"));
   const YAML::Node native = YAML::Load(convert_peridigm_deck(deck));
-  EXPECT_EQ(native["materials"][0]["yield_reference"].as<std::string>(), "continuum");
+  EXPECT_EQ(first_material(native)["yield_reference"].as<std::string>(), "continuum");
   EXPECT_EQ(native["output"]["exodus_files"][0]["variables"][0].as<std::string>(), "Lambda");
   const ExodusSeries r = run_and_read(deck, dir, "cube.e");
   ASSERT_EQ(r.steps.size(), 2u);
@@ -192,7 +195,7 @@ TEST(PeridigmOutputs, LambdaOfElasticPlasticIsMitchellsPlasticMultiplier) {
 TEST(PeridigmOutputs, ComputeClassesAreExodusGlobals) {
   const fs::path dir = test_dir();
   std::string text = cube_deck(kElastic, "0.0", "0.0", "0.001*x*t/1.0e-7", 2,
-                               "      Volume_Block_1: true\n      Top_Force: true\n");
+                               "      Displacement: true\n      Volume_Block_1: true\n      Top_Force: true\n");
   text.insert(text.find("  Output:"),
               "  Compute Class Parameters:\n"
               "    Volume Block 1:\n      Compute Class: \"Block_Data\"\n      Calculation Type: \"Sum\"\n"
@@ -252,13 +255,13 @@ TEST(PeridigmOutputs, InverseLengthInfluenceGivesPeridigmsWeightedVolume) {
                            "  Output:\n    Output Filename: \"w\"\n    Output Frequency: 1\n";
   const std::string deck = write(dir / "w.yaml", text);
   YAML::Node native = YAML::Load(convert_peridigm_deck(deck));
-  EXPECT_EQ(native["materials"][0]["influence"].as<std::string>(), "inverse_length");
+  EXPECT_EQ(first_material(native)["influence"].as<std::string>(), "inverse_length");
   const ExodusSeries r = run_and_read(deck, dir, "w.e");
   const std::size_t wv = index_of(r.layout.element, "Weighted_Volume");
   const std::vector<double> expected = {1, 2, 2, 1};
   for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(r.steps[0].element[wv][i], expected[i], 1e-15);
   // The native deck with influence: inverse (delta/|xi|).
-  native["materials"][0]["influence"] = "inverse";
+  native["materials"]["All"]["influence"] = "inverse";
   YAML::Emitter out;
   out << native;
   const fs::path other = dir / "other";
@@ -292,10 +295,10 @@ TEST(PeridigmOutputs, PlanarBondBasedMicromodulus) {
   for (const char* mode : {"Plane Strain", "Plane Stress"}) {
     const YAML::Node n = YAML::Load(convert_peridigm_deck(
         deck("plane.yaml", "      Bulk Modulus: 200.0e9\n      " + std::string(mode) + ": true\n      Height: 0.25\n")));
-    EXPECT_NEAR(n["materials"][0]["micromodulus"].as<double>(), 12 * 200e9 / (std::numbers::pi * 0.25 * 1.5 * 1.5 * 1.5),
+    EXPECT_NEAR(first_material(n)["micromodulus"].as<double>(), 12 * 200e9 / (std::numbers::pi * 0.25 * 1.5 * 1.5 * 1.5),
                 1e-3)
         << mode;
-    EXPECT_FALSE(n["materials"][0]["bulk_modulus"]) << mode;
+    EXPECT_FALSE(first_material(n)["bulk_modulus"]) << mode;
     EXPECT_NO_THROW(load_deck(deck("plane_loads.yaml", "      Bulk Modulus: 200.0e9\n      " + std::string(mode) +
                                                            ": true\n      Height: 0.25\n")));
   }
