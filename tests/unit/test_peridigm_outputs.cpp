@@ -337,6 +337,41 @@ TEST(PeridigmOutputs, LambdaIsUndefinedOutsideElasticPlastic) {
   }
 }
 
+// Disable Plasticity: elastic_plastic with plasticity off, the LPS forces and Lambda 0 (the
+// yield stress, 0 in BondBreakingInitialVelocity-EP, is not used). A pulled row of four
+// points against the same row of Elastic material.
+TEST(PeridigmOutputs, DisablePlasticityIsTheElasticPart) {
+  const fs::path dir = test_dir();
+  write(dir / "points.txt", "0 0 0 1 1\n1 0 0 1 1\n2 0 0 1 1\n3 0 0 1 1\n");
+  auto deck = [&](const std::string& name, const std::string& material) {
+    return write(dir / (name + ".yaml"),
+                 "Peridigm:\n"
+                 "  Discretization:\n    Type: \"Text File\"\n    Input Mesh File: \"points.txt\"\n"
+                 "  Materials:\n    Steel: {" + material + ", Density: 7800.0, Bulk Modulus: 130.0e9, "
+                 "Shear Modulus: 78.0e9}\n"
+                 "  Blocks:\n    All: {Block Names: \"block_1\", Material: \"Steel\", Horizon: 1.5}\n"
+                 "  Boundary Conditions:\n    Right: \"4\"\n"
+                 "    Pull: {Type: \"Prescribed Displacement\", Node Set: \"Right\", Coordinate: \"x\", "
+                 "Value: \"100.0*t\"}\n"
+                 "  Solver:\n    Final Time: 3.0e-5\n    Verlet:\n      Fixed dt: 1.0e-5\n"
+                 "  Output:\n    Output Filename: \"" + name + "\"\n    Output Variables:\n      Lambda: true\n");
+  };
+  const std::string off = deck("off", "Material Model: \"Elastic Plastic\", Disable Plasticity: true, Yield Stress: 0.0");
+  const YAML::Node native = YAML::Load(convert_peridigm_deck(off));
+  EXPECT_EQ(first_material(native)["model"].as<std::string>(), "elastic_plastic");
+  EXPECT_EQ(first_material(native)["plasticity"].as<std::string>(), "off");
+  const ExodusSeries r = run_and_read(off, dir, "off.e");
+  const ExodusSeries e = run_and_read(deck("lps", "Material Model: \"Elastic\""), dir, "lps.e");
+  const std::size_t lambda = index_of(r.layout.element, "Lambda"), fx = index_of(r.layout.nodal, "Force_DensityX");
+  ASSERT_EQ(r.steps.size(), e.steps.size());
+  for (std::size_t k = 0; k < r.steps.size(); ++k)
+    for (std::size_t i = 0; i < 4; ++i) {
+      EXPECT_EQ(r.steps[k].element[lambda][i], 0.0);
+      EXPECT_NEAR(r.steps[k].nodal[fx][i], e.steps[k].nodal[fx][i], 1e-9 * std::abs(e.steps[k].nodal[fx][i]) + 1e-6);
+    }
+  EXPECT_GT(std::abs(r.steps.back().nodal[fx][3]), 1e6);  // the pull acts
+}
+
 // Peridigm's Verlet reports at a prescribed component the prescribed rate plus dt/2 (f + b)/rho
 // (ElasticBondBased2DPlaneStrain's gold): the native `velocity: verlet`. A row of four points
 // pulled at its right end at 100 m/s; the free points' velocities are the integrator's own.
