@@ -124,6 +124,44 @@ TEST_F(PlotTest, FindsThePeakAndDrawsTheCurveWhereItIs) {
   }
 }
 
+// The frame ends at the data when the data passes its last tick by less than a tenth of
+// a step (no tick of empty axis), and keeps room above a marked peak for its label.
+TEST_F(PlotTest, FrameEndsAtTheDataAndLeavesRoomForThePeakLabel) {
+  fs::create_directories(dir_ / "ball");
+  {
+    std::ofstream out(dir_ / "ball" / "history.csv");
+    out << "time,step,kinetic_energy\n";
+    for (int k = 0; k <= 121; ++k) out << 1e-6 * k << "," << k << "," << 100.0 * std::exp(-std::pow((k - 36) / 20.0, 2)) << "\n";
+  }
+  PlotRequest q;
+  q.histories = {(dir_ / "ball").string()};
+  q.x_column = "time";
+  q.y_columns = {"kinetic_energy"};
+  const PlotCommandResult r = plot_history(q);
+  ASSERT_EQ(r.peaks.size(), 1u);
+  EXPECT_DOUBLE_EQ(r.x_factor, 1e6);  // µs
+  // 121 µs on ticks of 20 µs: the frame ends at 121, not at a tick of 140.
+  EXPECT_NEAR(r.frame.x1, 121, 1e-9);
+  // The peak (100 J) sits at least a tenth of the range below the frame's top.
+  EXPECT_GE(r.frame.y1, 110 - 1e-9);
+  const Picture png = read_png(r.path);
+  // The peak's label is above the dot, clear of the curve: red ink up and to the right of
+  // the peak, none below it where the curve falls.
+  auto red_in = [&](double x0, double x1, double y0, double y1) {
+    int n = 0;
+    for (int y = int(y0); y <= int(y1); ++y)
+      for (int x = int(x0); x <= int(x1); ++x) {
+        if (x < 0 || y < 0 || x >= png.width || y >= png.height) continue;
+        const Rgb8 c = png.at(x, y);
+        n += c.r > 150 && c.g < 100 && c.b < 100;
+      }
+    return n;
+  };
+  const double cx = r.frame.px(36), cy = r.frame.py(100);
+  EXPECT_GT(red_in(cx + 8, cx + 200, cy - 30, cy - 8), 20);
+  EXPECT_EQ(red_in(cx + 8, cx + 200, cy + 8, cy + 40), 0);
+}
+
 TEST_F(PlotTest, SvgParsesAsXmlAndNamesTheAxesAndCurves) {
   PlotRequest q;
   q.histories = {history("beam")};

@@ -86,9 +86,10 @@ struct Range {
   }
 };
 
-// The axis from the data's range, widened to whole ticks.
+// The axis from the data's range: ticks at whole steps from t0 to t1, the frame from lo
+// to hi.
 struct Axis {
-  double lo, hi, step;
+  double lo, hi, step, t0, t1;
 };
 Axis make_axis(Range r, bool include_zero, int ticks) {
   if (include_zero) r.lo = std::min(r.lo, 0.0), r.hi = std::max(r.hi, 0.0);
@@ -97,9 +98,11 @@ Axis make_axis(Range r, bool include_zero, int ticks) {
     r.lo -= pad, r.hi += pad;
   }
   const double step = nice_step(r.lo, r.hi, ticks);
-  // Data past a tick by less than 1 % of a step (a run that ends at 1.0002 ms) does not
-  // add a tick of empty axis.
-  return {std::floor(r.lo / step + 1e-2) * step, std::ceil(r.hi / step - 1e-2) * step, step};
+  // Data past its last tick by less than a tenth of a step (a run that ends at 120.3 us
+  // on a 20 us step) ends the frame at the data instead of adding a tick of empty axis.
+  constexpr double slack = 0.1;
+  const double t0 = std::floor(r.lo / step + slack) * step, t1 = std::ceil(r.hi / step - slack) * step;
+  return {std::min(t0, r.lo), std::max(t1, r.hi), step, t0, t1};
 }
 
 }  // namespace
@@ -114,6 +117,19 @@ PlotFrame write_line_plot(const std::vector<Series>& series, const PlotOptions& 
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) xr.add(s.x[i]), yr.add(s.y[i]), ++finite;
     if (finite < 2) throw Error("a plot needs at least two points" + (s.label.empty() ? "" : " (curve '" + s.label + "')"));
   }
+  // A peak inside the curve is marked; a largest value at either end (a curve that only
+  // rises or only falls) is no peak.
+  std::size_t first = 0, last = 0;
+  if (series.size() == 1) {
+    const Series& s = series[0];
+    first = s.x.size(), last = 0;
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) first = std::min(first, i), last = i;
+  }
+  const CurvePeak p = series.size() == 1 ? curve_peak(series[0].x, series[0].y) : CurvePeak{};
+  const bool marked = series.size() == 1 && o.mark_peak && p.index != first && p.index != last;
+  // Room above a marked peak for its label (a line of text is about 7 % of the frame).
+  if (marked) yr.add(p.y + 0.1 * (std::max(yr.hi, 0.0) - std::min(yr.lo, 0.0)));
   Canvas canvas(path, o.width, o.height);
   cairo_t* cr = canvas.cr();
   const double u = std::min(o.width / 900.0, o.height / 560.0);  // text and lines grow with the picture
@@ -123,7 +139,7 @@ PlotFrame write_line_plot(const std::vector<Series>& series, const PlotOptions& 
   const Axis ax = make_axis(xr, false, 7), ay = make_axis(yr, true, 6);
 
   double label_w = 0;
-  for (double v = ay.lo; v <= ay.hi + 0.5 * ay.step; v += ay.step)
+  for (double v = ay.t0; v <= ay.t1 + 0.5 * ay.step; v += ay.step)
     label_w = std::max(label_w, canvas.text_width(tick_label(v, ay.step), tick_size));
   PlotFrame f;
   f.left = 18 * u + title_size + 12 * u + label_w + 10 * u;
@@ -136,19 +152,19 @@ PlotFrame write_line_plot(const std::vector<Series>& series, const PlotOptions& 
   // Grid and tick labels.
   cairo_set_line_width(cr, 1 * u);
   canvas.set_colour(grid);
-  for (double v = ax.lo; v <= ax.hi + 0.5 * ax.step; v += ax.step) {
+  for (double v = ax.t0; v <= ax.t1 + 0.5 * ax.step; v += ax.step) {
     cairo_move_to(cr, f.px(v), f.top);
     cairo_line_to(cr, f.px(v), f.top + f.height);
   }
-  for (double v = ay.lo; v <= ay.hi + 0.5 * ay.step; v += ay.step) {
+  for (double v = ay.t0; v <= ay.t1 + 0.5 * ay.step; v += ay.step) {
     cairo_move_to(cr, f.left, f.py(v));
     cairo_line_to(cr, f.left + f.width, f.py(v));
   }
   cairo_stroke(cr);
   canvas.set_colour(ink);
-  for (double v = ax.lo; v <= ax.hi + 0.5 * ax.step; v += ax.step)
+  for (double v = ax.t0; v <= ax.t1 + 0.5 * ax.step; v += ax.step)
     canvas.text(f.px(v), f.top + f.height + 8 * u, tick_label(v, ax.step), tick_size, 0.5, 0);
-  for (double v = ay.lo; v <= ay.hi + 0.5 * ay.step; v += ay.step)
+  for (double v = ay.t0; v <= ay.t1 + 0.5 * ay.step; v += ay.step)
     canvas.text(f.left - 8 * u, f.py(v), tick_label(v, ay.step), tick_size, 1, 0.5);
   cairo_set_line_width(cr, 1.5 * u);
   cairo_rectangle(cr, f.left, f.top, f.width, f.height);
@@ -195,17 +211,7 @@ PlotFrame write_line_plot(const std::vector<Series>& series, const PlotOptions& 
   }
 
   std::string description = "x: " + o.x_title + "; y: " + o.y_title;
-  // A peak inside the curve is marked; a largest value at either end (a curve that only
-  // rises or only falls) is no peak.
-  std::size_t first = 0, last = 0;
-  if (series.size() == 1) {
-    const Series& s = series[0];
-    first = s.x.size(), last = 0;
-    for (std::size_t i = 0; i < s.x.size(); ++i)
-      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) first = std::min(first, i), last = i;
-  }
-  const CurvePeak p = series.size() == 1 ? curve_peak(series[0].x, series[0].y) : CurvePeak{};
-  if (series.size() == 1 && o.mark_peak && p.index != first && p.index != last) {
+  if (marked) {
     const double cx = f.px(p.x), cy = f.py(p.y);
     canvas.set_colour(peak_colour);
     cairo_arc(cr, cx, cy, 5 * u, 0, 2 * M_PI);
@@ -214,6 +220,7 @@ PlotFrame write_line_plot(const std::vector<Series>& series, const PlotOptions& 
                                          short_number(p.x), o.peak_x_unit.empty() ? "" : " " + o.peak_x_unit);
     const double w = canvas.text_width(note, tick_size);
     const double tx = std::clamp(cx + 10 * u, f.left + 6 * u, f.left + f.width - w - 6 * u);
+    // Above the dot, where the axis keeps room for it: below, the falling curve runs through it.
     const double ty = cy - 10 * u < f.top + tick_size + 4 * u ? cy + 10 * u + tick_size : cy - 10 * u;
     canvas.text(tx, ty, note, tick_size, 0, 1);
     description += "; " + note;
