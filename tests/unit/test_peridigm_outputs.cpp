@@ -453,6 +453,35 @@ TEST(PeridigmOutputs, BodyForceWithoutTimeIsConstant) {
   }
 }
 
+// Peridigm's Implicit (Newmark, average acceleration) starts from a_0 = 0: two bonded points
+// under the same body force b fall rigidly as u_n = dt^2 (b/rho) (1/4 + n(n - 1)/2)
+// (Body_Force_Implicit's gold: 0.0030025 at n = 25), not (b/rho) t^2/2 = 0.003125.
+TEST(PeridigmOutputs, ImplicitStartsFromZeroAcceleration) {
+  const fs::path dir = test_dir();
+  write(dir / "points.txt", "0 0 0 1 1\n1 0 0 1 1\n");
+  const std::string deck = write(
+      dir / "fall.yaml",
+      "Peridigm:\n"
+      "  Discretization:\n    Type: \"Text File\"\n    Input Mesh File: \"points.txt\"\n"
+      "  Materials:\n    Steel: {Material Model: \"Elastic\", Density: 1000.0, Bulk Modulus: 130.0e9, "
+      "Shear Modulus: 78.0e9}\n"
+      "  Blocks:\n    All: {Block Names: \"block_1\", Material: \"Steel\", Horizon: 1.5}\n"
+      "  Boundary Conditions:\n    Both: \"1 2\"\n"
+      "    Fall: {Type: \"Body Force\", Node Set: \"Both\", Coordinate: \"z\", Value: \"100.0\"}\n"
+      "  Solver:\n    Final Time: 0.25\n    Implicit:\n      Fixed dt: 0.01\n      Beta: 0.25\n      Gamma: 0.5\n"
+      "  Output:\n    Output Filename: \"fall\"\n    Output Frequency: 5\n");
+  const YAML::Node native = YAML::Load(convert_peridigm_deck(deck));
+  EXPECT_EQ(native["solver"]["initial_acceleration"].as<std::string>(), "zero");
+  const ExodusSeries r = run_and_read(deck, dir, "fall.e");
+  ASSERT_EQ(r.steps.size(), 6u);
+  const std::size_t uz = index_of(r.layout.nodal, "DisplacementZ");
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    const double n = 5.0 * static_cast<double>(k);
+    const double expected = k == 0 ? 0.0 : 1e-4 * 0.1 * (0.25 + n * (n - 1) / 2);
+    for (std::size_t i = 0; i < 2; ++i) EXPECT_NEAR(r.steps[k].nodal[uz][i], expected, 1e-15) << k;
+  }
+}
+
 // Native decks: an exodus_files variable Horizon does not know is an error at its place.
 TEST(PeridigmOutputs, UnknownExodusVariableIsAnError) {
   const fs::path dir = test_dir();

@@ -161,6 +161,9 @@ struct SolverConfig {
   int load_steps = 1;                   // static: equal increments of the pseudo-time
   int max_step_cuts = 6;                // halvings of one increment before giving up
   int max_break_rounds = 100;           // break-and-re-equilibrate rounds per load step
+  // implicit_dynamic: initial_acceleration: zero starts Newmark with a_0 = 0 (Peridigm's
+  // Implicit solver: Body_Force_Implicit's gold) instead of the equilibrium (f + b)/rho.
+  bool zero_initial_acceleration = false;
   bool condition_number = false;        // estimate the tangent's condition number
   // Explicit, models with ModelTraits::adaptive_time_step (nonlinear_solid): recompute the
   // stable step from the current bond tangent stiffness every adaptive_every steps.

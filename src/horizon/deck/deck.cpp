@@ -370,7 +370,8 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   MapReader s(ctx, m.get("solver", "at least {end_time: ...}"),
               {"type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
                "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds",
-               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning"});
+               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning",
+               "initial_acceleration"});
   SolverConfig& sc = config.solver;
   std::string type = "explicit";
   if (auto t = s.find("type")) {
@@ -392,6 +393,9 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   only_for(ctx, s, "method", is_static, kStatic, type);
   only_for(ctx, s, "load_steps", is_static, kStatic, type);
   only_for(ctx, s, "max_step_cuts", is_static, kStatic, type);
+  only_for(ctx, s, "initial_acceleration", sc.type == SolverType::implicit_dynamic, "type: implicit_dynamic", type);
+  if (auto a = s.find("initial_acceleration"))
+    sc.zero_initial_acceleration = read_enum<bool>(ctx, *a, {{"equilibrium", false}, {"zero", true}});
   for (const char* key : {"linear_solver", "tangent", "tolerance", "max_iterations", "max_break_rounds",
                           "condition_number"})
     only_for(ctx, s, key, !is_explicit && !is_heat, kImplicit, type);

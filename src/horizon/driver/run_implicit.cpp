@@ -190,6 +190,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     statics->initialize();
   } else {
     dynamics = std::make_unique<NewmarkSolver>(s, loads, *sc.time_step, sc.damping, newton, sc.max_break_rounds);
+    dynamics->set_zero_initial_acceleration(sc.zero_initial_acceleration);
     dynamics->initialize();
   }
   const DofMap& dofs = is_static ? statics->dofs() : dynamics->dofs();
