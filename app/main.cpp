@@ -42,6 +42,11 @@ int horizon_main(int argc, char** argv) {
   run->add_option("--end-time", end_time, "override solver.end_time [s]")->check(CLI::PositiveNumber);
   run->add_option("--threads", run_opts.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_flag("-q,--quiet", run_opts.quiet, "no progress line");
+  std::string backend;
+  run->add_option("--backend", backend,
+                  "what takes the explicit steps: cpu, flat (the portable kernels on the host) or cuda (overrides "
+                  "solver.backend)")
+      ->check(CLI::IsMember({"cpu", "flat", "cuda"}));
   std::string restart_path;
   run->add_option("--restart", restart_path,
                   "continue from a checkpoint (output.checkpoint) of this deck, in its output directory");
@@ -121,6 +126,7 @@ int horizon_main(int argc, char** argv) {
       if (!out_dir.empty()) run_opts.output_dir = out_dir;
       if (end_time > 0) run_opts.end_time = end_time;
       if (!restart_path.empty()) run_opts.restart = restart_path;
+      if (!backend.empty()) run_opts.backend = backend;
       Config config = load_deck(deck_path);
       for (const auto& w : config.warnings) fmt::print(stderr, "{}\n", w);
       return run_deck(std::move(config), run_opts);

@@ -4,8 +4,7 @@
 # device machine: nvcc, CMake and ninja, none of the Debian libraries the rest needs).
 # The CUDA sources include only the portable kernel headers (src/horizon/kernels/, core/).
 #
-# NOT YET COMPILED: written on a machine without nvcc; bench/gpu/device_check.sh is the
-# first build, on the device machine.
+# Compiled with nvcc 13.0 (sm_90) on the development machine, which has no GPU: never run yet.
 if(NOT DEFINED CMAKE_CUDA_ARCHITECTURES)
   set(CMAKE_CUDA_ARCHITECTURES 90)  # Hopper (H100, H200): sm_90 machine code
 endif()
@@ -34,9 +33,14 @@ enable_testing()
 add_test(NAME gpu_cuda_flat COMMAND test_cuda_flat)
 set_tests_properties(gpu_cuda_flat PROPERTIES LABELS gpu SKIP_RETURN_CODE 77)
 
-# In a whole build (the library is there): the CUDA backend against the CPU backend on a
+# In a whole build (the library is there): the driver's backend cuda (solver.backend,
+# driver/backends.cpp) over FlatRun, and the CUDA backend against the CPU backend on a
 # deck, through the flat copy of a System (solver/flat_copy.hpp).
 if(TARGET horizon_lib)
+  set_property(TARGET horizon_cuda PROPERTY POSITION_INDEPENDENT_CODE ON)  # the Python module links the library
+  target_link_libraries(horizon_lib PUBLIC horizon_cuda)
+  set_source_files_properties(${PROJECT_SOURCE_DIR}/src/horizon/driver/backends.cpp PROPERTIES
+                              COMPILE_DEFINITIONS HORIZON_CUDA_BACKEND=1)
   add_executable(test_cuda_system ${PROJECT_SOURCE_DIR}/tests/gpu/test_cuda_system.cpp)
   target_link_libraries(test_cuda_system PRIVATE horizon_lib horizon_cuda)
   add_test(NAME gpu_cuda_system COMMAND test_cuda_system)

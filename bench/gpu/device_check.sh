@@ -4,7 +4,10 @@
 #   1. configures with -DHORIZON_CUDA=ON -DHORIZON_GPU_ONLY=ON (the CUDA backend, its test
 #      and benchmark from the portable kernel headers alone; cmake/cuda.cmake),
 #   2. builds them, 3. runs `ctest -L gpu` (the CUDA backend against the host's portable
-#   rows: PMB and LPS, mean damage and kinetic energy within 1e-9),
+#   rows: PMB and LPS, without and with loads (a clamped end, a held velocity, a body
+#   force and their work), mean damage, kinetic energy and the loads' work within 1e-9;
+#   it prints whether the bits agree, which they should: the same rows, lanes and order,
+#   -fmad=false),
 #   4. runs the GPU benchmark (bench/gpu/bench_cuda.cpp): PMB and LPS at 1e6 particles,
 #      PMB at 1e7, with the card's copy bandwidth measured in the same run.
 # Every stage has its own time limit; the whole finishes within 8 minutes. Seven logs go to
@@ -13,8 +16,13 @@
 #   bench/gpu/device_check.sh            (from the repository root, on the device machine)
 #   SIZES_LARGE=0 bench/gpu/device_check.sh    (skips the 1e7-particle run)
 #
-# Written without a GPU or nvcc at hand (issue 30 part A): its first run is the first
-# build of the CUDA code.
+# The driver's `solver.backend: cuda` (driver/backends.cpp) is the flat backend with its
+# arrays on the device (cuda::FlatRun); it needs the whole build, which needs the Debian
+# libraries the device machine lacks, so the check goes through FlatRun directly: the flat
+# backend gives the CPU backend's bits (tests/regression/test_backend.cpp, on any
+# machine), and gpu_cuda_flat asks the device for the flat rows' answer.
+# Built here with nvcc 13.0 on a machine without a GPU (the tests and benchmarks skip,
+# exit 77); it has never run on a device.
 set -uo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD:-/tmp/horizon-gpu}

@@ -22,6 +22,11 @@ struct Lattice {
   std::vector<double> r_of, X, u, v, f, b, density, volume, critical_stretch, alpha, min_stretch, min_stretch_next,
       dilatation_coef, Q, R, weighted_volume, theta, P, intact_weight, damage_total, damage, energy, dissipated, y4;
   std::vector<uint64_t> broken;
+  // Loads (add_loads): constraints, the tracked particles, the constraints' entries.
+  std::vector<uint8_t> fixed, entry_mask;
+  std::vector<double> fixed_value, u_before, v_before, entry_reaction, ledger{0.0};
+  std::vector<uint32_t> tracked, entry_slot;
+  bool has_forces = false;
   uint64_t n = 0;
   bool lps = false;
   double dt = 0;
@@ -38,6 +43,10 @@ struct Lattice {
     s.R = R.data(), s.weighted_volume = weighted_volume.data(), s.theta = theta.data(), s.P = P.data();
     s.intact_weight = intact_weight.data(), s.damage_total = damage_total.data(), s.damage = damage.data();
     s.energy = energy.data(), s.dissipated = dissipated.data(), s.y4 = y4.data(), s.broken = broken.data();
+    s.fixed = fixed.empty() ? nullptr : fixed.data(), s.fixed_value = fixed.empty() ? nullptr : fixed_value.data();
+    s.ntracked = tracked.size(), s.tracked = tracked.data(), s.u_before = u_before.data(), s.v_before = v_before.data();
+    s.has_forces = has_forces, s.nentries = entry_slot.size(), s.entry_slot = entry_slot.data();
+    s.entry_mask = entry_mask.data(), s.entry_reaction = entry_reaction.data(), s.ledger = ledger.data();
     return s;
   }
 };
@@ -111,6 +120,28 @@ inline Lattice make_lattice(int nx, int ny, int nz, bool lps, double s0 = 0.002,
     L.intact_weight[i] = L.damage_total[i] = static_cast<double>(L.offset[i + 1] - L.offset[i]);
   }
   return L;
+}
+
+// The loads of solver/flat_copy.cpp on the lattice: the far end (the last layer in x)
+// clamped in x (displacement 0), the striker's first layer held at its y-velocity
+// (velocity), a body force in y on the far end; their work goes to ledger[0].
+inline void add_loads(Lattice& L, int nx, double b) {
+  const double h = 1e-3;
+  L.fixed.assign(L.n, 0), L.fixed_value.assign(3 * L.n, 0.0);
+  std::vector<uint32_t> ends, firsts;
+  for (uint64_t i = 0; i < L.n; ++i) {
+    const int x = static_cast<int>(std::lround(L.X[3 * i] / h));
+    if (x == nx - 1) ends.push_back(static_cast<uint32_t>(i)), L.fixed[i] |= 1u << 3, L.b[3 * i + 1] = b;
+    if (x == 0) firsts.push_back(static_cast<uint32_t>(i)), L.fixed[i] |= 1u << 1, L.fixed_value[3 * i + 1] = L.v[3 * i + 1];
+  }
+  L.has_forces = true;
+  std::vector<uint32_t> slot(L.n, 0);
+  for (uint64_t i = 0; i < L.n; ++i)
+    if (L.fixed[i]) slot[i] = static_cast<uint32_t>(L.tracked.size()), L.tracked.push_back(static_cast<uint32_t>(i));
+  for (uint32_t i : ends) L.entry_slot.push_back(slot[i]), L.entry_mask.push_back(1u);
+  for (uint32_t i : firsts) L.entry_slot.push_back(slot[i]), L.entry_mask.push_back(2u);
+  L.entry_reaction.assign(3 * L.entry_slot.size(), 0.0);
+  L.u_before.assign(3 * L.tracked.size(), 0.0), L.v_before.assign(3 * L.tracked.size(), 0.0);
 }
 
 }  // namespace horizon::test

@@ -1,11 +1,11 @@
 // The device-portable kernels (src/horizon/kernels/, issue 30) against the host's own
 // passes: a run stepped over flat arrays with the portable row functions
 // (kernels/flat_system.hpp advance_flat, the code the CUDA backend launches) gives the
-// SIMD fast loops' answer on 40 steps of a breaking impact, PMB and LPS: displacements,
-// velocities, damage, strain and kinetic energy and dissipation to 1e-12 relative, the
-// same broken bonds (model_checks.hpp impact_deck at 40 m/s, bonds breaking at a stretch of
-// 0.2 %). The fast loops sum each row in eight lanes, the portable rows in bond
-// order, so the bits may differ; the formulas may not.
+// SIMD fast loops' answer on 40 steps of a breaking impact, PMB and LPS: the same
+// displacements, velocities, damage, strain and kinetic energy and dissipation, bit for bit,
+// and the same broken bonds (model_checks.hpp impact_deck at 40 m/s, bonds breaking at a
+// stretch of 0.2 %). The portable rows sum each row in the fast loops' eight lanes, in
+// the same order, so the bits agree (tests/regression/test_backend.cpp runs whole decks).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -57,18 +57,18 @@ void compare(const std::string& material, bool state_based) {
   ASSERT_GT(s.broken - broken_before, 0u);  // the impact breaks bonds
   EXPECT_EQ(flat_broken, s.broken - broken_before);
   EXPECT_EQ(copy.intact, s.bonds.intact);
-  EXPECT_LE(relative(copy.u, flat(s.particles.u)), 1e-12);
-  EXPECT_LE(relative(copy.v, flat(s.particles.v)), 1e-12);
-  EXPECT_LE(relative(copy.damage, s.particles.damage), 1e-12);
-  EXPECT_LE(relative(copy.dissipated, s.dissipated_at), 1e-12);
+  EXPECT_LE(relative(copy.u, flat(s.particles.u)), 0.0);
+  EXPECT_LE(relative(copy.v, flat(s.particles.v)), 0.0);
+  EXPECT_LE(relative(copy.damage, s.particles.damage), 0.0);
+  EXPECT_LE(relative(copy.dissipated, s.dissipated_at), 0.0);
   const kernels::FlatTotals t = kernels::flat_totals(view);
-  EXPECT_LE(rel(t.kinetic, kinetic_energy(s)), 1e-12);
-  EXPECT_LE(rel(t.strain, strain_energy(s)), 1e-12);
+  EXPECT_LE(rel(t.kinetic, kinetic_energy(s)), 0.0);
+  EXPECT_LE(rel(t.strain, strain_energy(s)), 0.0);
   double mean = 0;
   for (double d : s.particles.damage) mean += d;
   mean /= static_cast<double>(s.particles.size());
   EXPECT_GT(mean, 0);
-  EXPECT_LE(rel(t.mean_damage, mean), 1e-12);
+  EXPECT_LE(rel(t.mean_damage, mean), 0.0);
   std::printf("[ figure ] %s: flat portable rows against the fast loops (%s), 40 steps, %llu bonds broken: "
               "|du|/|u| = %.1e, |dv|/|v| = %.1e, damage %.1e, kinetic %.1e, strain %.1e relative; mean damage %.6f\n",
               state_based ? "lps" : "pmb", kernel_path_name(), static_cast<unsigned long long>(flat_broken),

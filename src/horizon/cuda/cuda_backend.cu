@@ -4,8 +4,7 @@
 // summed by one thread in bond order, so with -fmad=false (cmake/cuda.cmake) the device
 // computes the host's operations in the host's order.
 //
-// NOT YET COMPILED: written without nvcc (issue 30 part A); bench/gpu/device_check.sh is
-// the first build.
+// Compiled with nvcc 13.0 (sm_90) on a machine without a GPU: it has never run.
 #include "horizon/cuda/cuda_backend.hpp"
 
 #include <cuda_runtime.h>
@@ -58,6 +57,12 @@ __global__ void kick_kernel(FlatSystem s) {
   const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
   if (i < s.n) kernels::kick_row(s, i);
 }
+__global__ void save_tracked_kernel(FlatSystem s) {
+  const uint64_t m = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (m < s.ntracked) kernels::save_tracked_row(s, m);
+}
+// One thread: the loads' work of the step, summed in the host's order.
+__global__ void book_load_work_kernel(FlatSystem s) { kernels::book_load_work(s); }
 
 // One device array per host array.
 template <class T>
@@ -115,10 +120,11 @@ double copy_bandwidth(uint64_t bytes) {
 
 struct FlatRun::Impl {
   FlatSystem d;  // device pointers
+  FlatSystem h;  // the host arrays copied from
   std::vector<void*> owned;
   cudaEvent_t start = nullptr, stop = nullptr;
   double seconds = 0;
-  unsigned grid = 0;
+  unsigned grid = 0, tracked_grid = 0;
 };
 
 FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
@@ -127,6 +133,7 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   auto& o = m.owned;
   const uint64_t n = h.n, nb = h.nb;
   d = h;  // the scalars; every pointer is replaced below
+  m.h = h;
   d.offset = upload(h.offset, n + 1, o);
   d.nbr = upload(h.nbr, nb, o);
   d.kind = upload(h.kind, nb, o);
@@ -158,7 +165,24 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.dissipated = upload(h.dissipated, n, o);
   d.y4 = upload(h.y4, 4 * n, o);
   d.broken = upload(h.broken, n, o);
+  d.fixed = upload(h.fixed, h.fixed ? n : 0, o);
+  d.fixed_value = upload(h.fixed_value, h.fixed_value ? 3 * n : 0, o);
+  d.fixed_mid = upload(h.fixed_mid, h.fixed_mid ? 3 * n : 0, o);
+  d.fixed_v = upload(h.fixed_v, h.fixed_v ? 3 * n : 0, o);
+  d.b_next = upload(h.b_next, h.b_next ? 3 * n : 0, o);
+  d.b_before = upload(h.b_before, h.b_before ? 3 * h.ntracked : 0, o);
+  d.tracked = upload(h.tracked, h.ntracked, o);
+  d.u_before = upload(h.u_before, 3 * h.ntracked, o);
+  d.v_before = upload(h.v_before, 3 * h.ntracked, o);
+  d.entry_slot = upload(h.entry_slot, h.nentries, o);
+  d.entry_mask = upload(h.entry_mask, h.nentries, o);
+  d.entry_reaction = upload(h.entry_reaction, 3 * h.nentries, o);
+  d.ledger = upload(h.ledger, h.ledger ? 1 : 0, o);
+  d.damped = upload(h.damped, h.damped ? n : 0, o);
+  d.nonfinite = upload(h.nonfinite, h.nonfinite ? 1 : 0, o);
+  d.speed2_before = upload(h.speed2_before, h.damped ? n : 0, o);
   m.grid = static_cast<unsigned>((n + kBlock - 1) / kBlock);
+  m.tracked_grid = static_cast<unsigned>((h.ntracked + kBlock - 1) / kBlock);
   check(cudaEventCreate(&m.start), "cudaEventCreate");
   check(cudaEventCreate(&m.stop), "cudaEventCreate");
 }
@@ -170,13 +194,24 @@ FlatRun::~FlatRun() {
   delete impl_;
 }
 
-void FlatRun::advance(int64_t steps) {
+void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, void (*before_step)(void*, int64_t)) {
   Impl& m = *impl_;
   const FlatSystem& d = m.d;
   if (d.n == 0 || steps <= 0) return;
   check(cudaEventRecord(m.start), "cudaEventRecord");
   for (int64_t k = 0; k < steps; ++k) {
     // kernels/flat_system.hpp advance_flat, stage by stage.
+    if (before_step) {
+      before_step(ctx, k);
+      auto up = [&](double* dev, const double* host, uint64_t count) {
+        if (dev && host) check(cudaMemcpy(dev, host, count * sizeof(double), cudaMemcpyHostToDevice), "cudaMemcpy to the device");
+      };
+      up(d.fixed_value, m.h.fixed_value, 3 * d.n);
+      up(d.fixed_mid, m.h.fixed_mid, 3 * d.n);
+      up(d.fixed_v, m.h.fixed_v, 3 * d.n);
+      up(d.b_next, m.h.b_next, 3 * d.n);
+    }
+    if (d.ntracked) save_tracked_kernel<<<m.tracked_grid, kBlock>>>(d);
     kick_drift_kernel<<<m.grid, kBlock>>>(d);
     pack_kernel<<<m.grid, kBlock>>>(d);
     if (!d.state_based) {
@@ -186,7 +221,16 @@ void FlatRun::advance(int64_t steps) {
       pressure_kernel<<<m.grid, kBlock>>>(d);
       force_kernel<<<m.grid, kBlock>>>(d);
     }
+    if (after_forces) {
+      download_array(m.h.y4, d.y4, 4 * d.n);
+      download_array(m.h.f, d.f, 3 * d.n);
+      download_array(m.h.energy, d.energy, d.n);
+      after_forces(ctx);
+      check(cudaMemcpy(d.f, m.h.f, 3 * d.n * sizeof(double), cudaMemcpyHostToDevice), "cudaMemcpy to the device");
+      check(cudaMemcpy(d.energy, m.h.energy, d.n * sizeof(double), cudaMemcpyHostToDevice), "cudaMemcpy to the device");
+    }
     kick_kernel<<<m.grid, kBlock>>>(d);
+    if (d.ntracked) book_load_work_kernel<<<1, 1>>>(d);
   }
   check(cudaGetLastError(), "kernel launch");
   check(cudaEventRecord(m.stop), "cudaEventRecord");
@@ -194,6 +238,14 @@ void FlatRun::advance(int64_t steps) {
   float ms = 0;
   check(cudaEventElapsedTime(&ms, m.start, m.stop), "cudaEventElapsedTime");
   m.seconds += 1e-3 * ms;
+}
+
+bool FlatRun::nonfinite() const {
+  const FlatSystem& d = impl_->d;
+  if (!d.nonfinite) return false;
+  uint8_t flag = 0;
+  download_array(&flag, d.nonfinite, 1);
+  return flag != 0;
 }
 
 double FlatRun::device_seconds() {
@@ -217,6 +269,11 @@ void FlatRun::download(const FlatSystem& h) const {
   download_array(h.P, d.P, n);
   download_array(h.intact_weight, d.intact_weight, n);
   download_array(h.min_stretch, d.min_stretch, n);
+  if (h.ledger) download_array(h.ledger, d.ledger, 1);
+  download_array(h.u_before, d.u_before, 3 * d.ntracked);
+  download_array(h.v_before, d.v_before, 3 * d.ntracked);
+  download_array(h.entry_reaction, d.entry_reaction, 3 * d.nentries);
+  if (h.damped) download_array(h.damped, d.damped, n);
 }
 
 }  // namespace horizon::cuda

@@ -5,8 +5,8 @@
 // row functions the host's advance_flat runs. Plain C++ here (no CUDA type), so that host
 // code compiled by the host compiler can call it; built only with -DHORIZON_CUDA=ON.
 //
-// NOT YET COMPILED: this machine has no nvcc; bench/gpu/device_check.sh builds and tests
-// it on the device machine the first time a session has one.
+// Compiled with nvcc 13.0 (sm_90) on a machine without a GPU: it has never run. The
+// driver chooses it with solver.backend: cuda (driver/backends.cpp, over FlatBackend).
 #include <cstdint>
 #include <string>
 
@@ -30,12 +30,21 @@ class FlatRun {
   FlatRun(const FlatRun&) = delete;
   FlatRun& operator=(const FlatRun&) = delete;
 
-  // `steps` explicit steps on the device (no copy back).
-  void advance(int64_t steps);
+  // `steps` explicit steps on the device (no copy back). With `after_forces`, after each
+  // force pass the packed positions (y4), f and the energy are copied to the host arrays
+  // the constructor copied from, after_forces(ctx) runs there (the host's short-range
+  // contact pairs add to f and the energy) and f and the energy go back to the device.
+  // With `before_step`, before_step(ctx, k) runs on the host before step k and the loads'
+  // values it sets (fixed_value, fixed_mid, fixed_v, b_next, where present) go to the device.
+  void advance(int64_t steps, void (*after_forces)(void*) = nullptr, void* ctx = nullptr,
+               void (*before_step)(void*, int64_t) = nullptr);
   // Waits for the device and copies u, v, f, the intact flags, damage, energy, the
-  // dissipation, theta, P, the intact weights and the smallest stretches back to `host`
+  // dissipation, theta, P, the intact weights, the smallest stretches and the ledger back to `host`
   // (the arrays the constructor copied from, or others of the same sizes).
   void download(const kernels::FlatSystem& host) const;
+  // Whether a row's u or v has turned non-finite since the constructor (kernels'
+  // FlatSystem::nonfinite; one byte copied back).
+  bool nonfinite() const;
   // Seconds the device spent in advance() since the last call (CUDA events).
   double device_seconds();
 

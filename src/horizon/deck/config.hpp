@@ -172,6 +172,11 @@ struct SolverConfig {
   // Explicit and implicit dynamics: a run whose |energy balance error| (relative to the
   // largest energy of the ledger) exceeds this warns in the log and in summary.json.
   double energy_balance_warning = 0.05;
+  // Explicit: what takes the steps (solver/backend.hpp, docs/input.md solver.backend): cpu
+  // (the solver's own passes), flat (the portable kernels over flat arrays, on the host) or
+  // cuda (the same kernels on a GPU, builds with -DHORIZON_CUDA=ON). --backend overrides it.
+  std::string backend = "cpu";
+  std::string backend_at;  // where it was chosen, for messages: "deck:line:column", "--backend" or ""
 };
 
 // How the damage field weighs the bonds: phi_i = 1 - sum(intact) w / sum(all) w with

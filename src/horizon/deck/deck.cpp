@@ -370,7 +370,7 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   MapReader s(ctx, m.get("solver", "at least {end_time: ...}"),
               {"type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
                "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds",
-               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning",
+               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend",
                "initial_acceleration"});
   SolverConfig& sc = config.solver;
   std::string type = "explicit";
@@ -475,6 +475,14 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
     if (sc.adaptive_time_step && sc.time_step) {
       ctx.fail(a->mark, a->path + ": give either time_step (fixed) or adaptive_time_step: true, not both");
     }
+  }
+  // The explicit backend (solver/backend.hpp): which runs it takes is known once the
+  // system is built (driver/backends.cpp refuses the others, naming this key).
+  only_for(ctx, s, "backend", is_explicit, "type: explicit", type);
+  if (auto b = s.find("backend")) {
+    const std::vector<std::string> names = {"cpu", "flat", "cuda"};
+    sc.backend = names[choose_word(ctx, *b, names)];
+    sc.backend_at = fmt::format("{}:{}:{}", ctx.file, b->mark.line + 1, b->mark.column + 1);
   }
   if (auto a = s.find("adaptive_every")) {
     sc.adaptive_every = at_least(*a, 1);
@@ -605,7 +613,8 @@ void check_thermal(const DeckContext& ctx, const MapReader& m, const Config& con
     const MapReader s(ctx, *m.find("solver"), {"type", "end_time", "time_step", "safety_factor", "damping", "method",
                                                "linear_solver", "tangent", "tolerance", "max_iterations", "load_steps",
                                                "max_step_cuts", "max_break_rounds", "condition_number",
-                                               "adaptive_time_step", "adaptive_every"});
+                                               "adaptive_time_step", "adaptive_every", "energy_balance_warning",
+                                               "backend"});
     ctx.fail(s.find("type")->mark, "solver.type: heat needs a thermal section (thermal: {initial_temperature: ...})");
   }
   if (!thermal) return;

@@ -19,6 +19,13 @@ void apply_run_options(Config& c, const RunOptions& o) {
   if (o.output_dir) c.output.directory = *o.output_dir;
   if (o.end_time) c.solver.end_time = *o.end_time;
   if (o.max_memory_gib > 0) c.memory_limit_bytes = o.max_memory_gib * 1024.0 * 1024.0 * 1024.0;
+  if (o.backend) {
+    if (*o.backend != "cpu" && c.solver.type != SolverType::explicit_dynamic)
+      throw Error(fmt::format("{}: --backend {}: the backends take explicit runs only (solver.type explicit)",
+                              c.deck_file, *o.backend));
+    c.solver.backend = *o.backend;
+    c.solver.backend_at = "--backend";
+  }
   if (o.coarsen != 1) {
     c.spacing *= o.coarsen;
     c.horizon *= o.coarsen;

@@ -46,6 +46,14 @@ double whole_stable_step(const System& s);
 // CPU time of the process so far, all threads [s] (driver/explicit_summary.cpp).
 double cpu_seconds();
 
+// The backend solver.backend (or --backend) names, over the solver's state; throws an
+// Error naming the deck and the key for a run the backend cannot take (driver/backends.cpp).
+std::unique_ptr<ExplicitBackend> make_backend(const Config& c, System& s, Loads& loads, ExplicitSolver& solver);
+// The same refusals alone, before the first frame is written.
+void check_backend(const Config& c, const System& s, const Loads& loads);
+// "deck:line:column: solver.backend: NAME" or "deck: --backend NAME", for messages.
+std::string backend_choice_prefix(const Config& c);
+
 // The explicit run as an object: the constructor sets up the system, the solver and the
 // output and writes the first frame; advance() takes steps; finish() writes history.csv
 // and summary.json. run_deck is constructor, advance to the end, finish.
@@ -61,7 +69,8 @@ struct ExplicitRun::State {
   std::unique_ptr<ExodusOutput> exodus;  // output.format exodus or both
   std::unique_ptr<ExodusSchedule> exodus_files;  // output.exodus_files, on their own steps
   std::unique_ptr<ExplicitSolver> solver;
-  // What takes the steps (solver/backend.hpp): the CPU backend, over `solver`.
+  // What takes the steps (solver/backend.hpp): the CPU backend over `solver`, or the flat
+  // or CUDA backend over a copy of its state (solver.backend; driver/backends.cpp).
   std::unique_ptr<ExplicitBackend> backend;
   std::ostringstream history;
   double max_balance_error = 0;

@@ -115,6 +115,7 @@ int ExplicitRun::finish() {
   j["time"] = solver.time();
   j["threads"] = omp_get_max_threads();
   j["ranks"] = r.dd ? r.dd->size : 1;
+  j["backend"] = r.backend ? r.backend->name() : "cpu";  // solver.backend (solver/backend.hpp)
   j["state_crc32"] = r.local_particles() ? streamed_state_digest(s, *r.dd) : state_digest(s);
   if (r.dd) {
     // Halo traffic per rank and step (docs/benchmarks.md), from every rank.

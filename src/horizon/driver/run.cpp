@@ -51,9 +51,16 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   // particles it reads (local particles; a restart too: each rank reads its particles'
   // entries of the checkpoint by global id); HORIZON_MPI_LOCAL_PARTICLES=0 keeps every particle
   // on every rank with local rows (the comparison of docs/benchmarks.md).
+  // The flat and CUDA backends take one rank's whole system (driver/backends.cpp): an MPI
+  // build does not decompose their runs on one rank and refuses them on more.
+  const bool cpu_backend = c.solver.backend == "cpu";
+  if (!cpu_backend && world_size() > 1)
+    throw Error(fmt::format("{} cannot take a run over {} MPI ranks; run it on one rank (or with backend cpu)",
+                            backend_choice_prefix(c), world_size()));
   const char* whole = std::getenv("HORIZON_MPI_WHOLE_SYSTEM");
   const char* particles_env = std::getenv("HORIZON_MPI_LOCAL_PARTICLES");
-  const bool local_rows = mpi_built() && local_rows_allowed(c) && !(whole && std::string(whole) == "1");
+  const bool local_rows =
+      cpu_backend && mpi_built() && local_rows_allowed(c) && !(whole && std::string(whole) == "1");
   const bool local_particles = local_rows && world_size() > 1 && local_particles_allowed(c) &&
                                !(particles_env && std::string(particles_env) == "0");
   if (local_particles) r.dd = std::make_unique<Decomposition>();
@@ -76,8 +83,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();
-  r.backend = std::make_unique<CpuBackend>(*r.solver);
-  if (mpi_built() && !r.dd) {
+  if (cpu_backend && mpi_built() && !r.dd) {
     // An MPI build decomposes every run it can, on one rank too, so that one rank and
     // many give the same bits (parallel/decomposition.hpp); a deck it cannot split runs
     // serially on one rank and is refused on more.
@@ -103,6 +109,8 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
                  c.thermal.integration == HeatIntegration::implicit_euler ? "backward" : "forward", h,
                  c.thermal.time_scale, r.heat_substeps, r.heat_stable);
   }
+
+  check_backend(c, r.s, *r.loads);  // before the first frame (the backend itself after a restart)
 
   // History columns: the ledger, damage, and the force each load applies.
   r.history << "time,step,dt,kinetic_energy,strain_energy,external_work,dissipated_energy,damped_energy,"
@@ -152,6 +160,10 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
     if (r.exodus_files) r.exodus_files->write(r.s, r.dd.get(), r.solver->time(), 0);
     r.crack->record(r.cracks(), 0);
   }
+
+  // After the restart: a backend with its own copy of the state copies the restored one.
+  r.backend = make_backend(c, r.s, *r.loads, *r.solver);
+  if (!r.options.quiet && !cpu_backend) fmt::print(stderr, "backend         {}\n", r.backend->name());
 
   if (options.handle_signals) install_interrupt_handler();
   r.progress = std::make_unique<Progress>(r.total, static_cast<double>(r.s.bonds.size()), c.output.progress_every);

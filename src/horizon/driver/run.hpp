@@ -25,6 +25,8 @@ struct RunOptions {
   // A checkpoint (output/checkpoint.hpp) to continue from: explicit runs only; the deck
   // must build the same particles, bonds and materials.
   std::optional<std::string> restart;
+  // --backend: overrides solver.backend (cpu, flat or cuda; solver/backend.hpp).
+  std::optional<std::string> backend;
 };
 
 struct CheckReport {

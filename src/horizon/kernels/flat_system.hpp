@@ -11,8 +11,10 @@
 // breaking (with the compression factor alpha and no_fail particles), damage, the
 // family's short-range contact and the strain energy, for bond-based runs (one fused
 // pass, as the fast loops' bond-based pass) and state-based ones (the dilatation pass,
-// then the force pass). Loads other than initial velocities, thermal strains, bonds
-// broken after the force pass and decomposed runs are not here: the host keeps those
+// then the force pass), force densities, prescribed velocities and displacements and
+// their work (values that vary are set by the stepper before each step), with hooks for
+// the host's work between the passes (the contact pairs beyond the families). Thermal
+// strains, bonds broken after the force pass and decomposed runs are not here
 // (solver/flat_copy.hpp says which runs a flat copy takes).
 #include <cstdint>
 
@@ -27,6 +29,44 @@ namespace horizon::kernels {
 struct Kind {
   double length, inv_length, pair, contact_d2, damage, wv, contact_d, contact_k;
 };
+
+// A row's sums in the host's lanes (solver/forces.cpp): bond k of a row adds into lane
+// (k - begin) mod 8 and the lanes are added as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) +
+// (l6 + l7)) at the end of the row, the smallest stretch as std::min over the lanes. The
+// fast loops (scalar, AVX2, AVX-512) all sum so, so a flat row gives their bits and a
+// flat run the CPU backend's (tests/regression/test_backend.cpp). The lane is a constant
+// once the loop is unrolled, so the eight partial sums stay in registers.
+constexpr int kLanes = 8;
+#if defined(__CUDA_ARCH__)  // nvcc's device pass
+#define HORIZON_UNROLL _Pragma("unroll")
+#elif defined(__CUDACC__)  // nvcc's host pass (the host compiler unrolls on its own)
+#define HORIZON_UNROLL
+#elif defined(__clang__)
+#define HORIZON_UNROLL _Pragma("clang loop unroll(full)")
+#elif defined(__GNUC__)
+#define HORIZON_UNROLL _Pragma("GCC unroll 8")
+#else
+#define HORIZON_UNROLL
+#endif
+template <class F>
+HORIZON_HD inline void for_each_lane(uint64_t begin, uint64_t end, F&& f) {
+  uint64_t k = begin;
+  for (; k + kLanes <= end; k += kLanes) {
+    HORIZON_UNROLL
+    for (int l = 0; l < kLanes; ++l) f(k + static_cast<uint64_t>(l), l);
+  }
+  HORIZON_UNROLL
+  for (int l = 0; l < kLanes - 1; ++l)
+    if (k + static_cast<uint64_t>(l) < end) f(k + static_cast<uint64_t>(l), l);
+}
+HORIZON_HD inline double lane_total(const double* v) {
+  return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
+}
+HORIZON_HD inline double lane_min(const double* v) {
+  double m = v[0];
+  for (int l = 1; l < kLanes; ++l) m = v[l] < m ? v[l] : m;  // std::min(m, v[l])
+  return m;
+}
 
 struct FlatSystem {
   uint64_t n = 0, nb = 0, nkinds = 0;
@@ -45,7 +85,7 @@ struct FlatSystem {
   double* u = nullptr;
   double* v = nullptr;
   double* f = nullptr;
-  const double* b = nullptr;  // body force densities (held fixed)
+  double* b = nullptr;  // body force densities (held fixed, or set from b_next each step)
   const double* density = nullptr;
   const double* volume = nullptr;
   const double* critical_stretch = nullptr;
@@ -66,6 +106,38 @@ struct FlatSystem {
   double* dissipated = nullptr;  // per particle: the energy of i's broken bonds (times V_i)
   double* y4 = nullptr;          // 4n: y = X + u and s0 (then P, in the state-based force pass)
   uint64_t* broken = nullptr;    // n: bonds broken by row i in the last pass
+  // Loads, each value a constant (the kernels evaluate no expression of the deck): the
+  // force densities b above, prescribed velocities and displacements (`fixed`), and their
+  // work over each step booked as ExplicitSolver::step and Loads::update_reactions book it,
+  // summed by one thread in their order, so that the ledger keeps the CPU backend's bits.
+  const uint8_t* fixed = nullptr;        // n, or null: bit c velocity component c prescribed, bit 3 + c displacement
+  double* fixed_value = nullptr;         // 3n: the prescribed velocity or displacement at the step's end
+  // Values that vary (the stepper evaluates the deck's expressions before each step and
+  // sets these; null when every value is a constant): the prescribed velocity at mid-step
+  // (else fixed_value), a prescribed displacement's velocity (g(t) - g(t - dt))/dt (else
+  // 0), the force densities at the step's end (apply_forces at t + dt; else b is held).
+  double* fixed_mid = nullptr;           // 3n
+  double* fixed_v = nullptr;             // 3n
+  double* b_next = nullptr;              // 3n
+  double* b_before = nullptr;            // 3 ntracked: b at the start of the step (its work)
+  uint64_t ntracked = 0;                 // the particles loaded (b != 0) or constrained, in index order
+  const uint32_t* tracked = nullptr;
+  double* u_before = nullptr;            // 3 ntracked: u at the start of the step
+  double* v_before = nullptr;            // 3 ntracked: v at the start of the step
+  bool has_forces = false;               // the deck has force loads (step adds their work)
+  uint64_t nentries = 0;                 // the constraints' (load, particle) pairs, in the loads' order
+  const uint32_t* entry_slot = nullptr;  // the particle's place in tracked
+  const uint8_t* entry_mask = nullptr;   // bit c: the load prescribes component c
+  double* entry_reaction = nullptr;      // 3 nentries: the reaction at the last step (Loads' reaction_old)
+  double* ledger = nullptr;              // [0]: the external work so far
+  // Mass-proportional damping (damping > 0): the energy it removed, per particle, summed
+  // over the steps (the ledger's damped energy is their sum in index order), and each
+  // step's |v|^2 at its start over the free components.
+  // Set to 1 by a row whose u or v turned non-finite (every writer writes 1), so that the
+  // stepper need not copy the state back to look (ExplicitSolver::step's check).
+  uint8_t* nonfinite = nullptr;     // 1, or null
+  double* damped = nullptr;        // n, or null without damping
+  double* speed2_before = nullptr;  // n
 };
 
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).
@@ -77,12 +149,14 @@ HORIZON_HD inline void pack_row(const FlatSystem& s, uint64_t i) {
   y[3] = critical_stretch_now(s.critical_stretch[i], s.alpha[i], s.min_stretch[i], s.no_fail[i] != 0);
 }
 
-// The damage weight of i's intact bonds, summed afresh in bond order.
+// The damage weight of i's intact bonds, summed afresh in the lanes (as
+// state/kind_coefficients.cpp intact_damage_weight sums it).
 HORIZON_HD inline double intact_weight_row(const FlatSystem& s, uint64_t i) {
-  double w = 0;
-  for (uint64_t k = s.offset[i]; k < s.offset[i + 1]; ++k)
-    if (s.intact[k] == 1) w += s.kinds[s.kind[k]].damage;
-  return w;
+  double w[kLanes] = {};
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
+    if (s.intact[k] == 1) w[l] += s.kinds[s.kind[k]].damage;
+  });
+  return lane_total(w);
 }
 
 // After a row broke bonds: its energy, intact weight and damage.
@@ -94,13 +168,15 @@ HORIZON_HD inline void finish_breaks(const FlatSystem& s, uint64_t i, uint64_t b
 }
 
 // Bond-based runs, one fused row: breaking, the smallest stretch, force, contact, energy
-// (solver/forces.cpp pair_row_scalar, summed in bond order).
+// (solver/forces.cpp pair_row_scalar, summed in its lanes).
 HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i];
-  double fx = 0, fy = 0, fz = 0, en = 0, smin = INFINITY, lost = 0;
+  double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {}, sm[kLanes];
+  for (int l = 0; l < kLanes; ++l) sm[l] = INFINITY;
+  double lost = 0;
   uint64_t broken = 0;
-  for (uint64_t k = s.offset[i]; k < s.offset[i + 1]; ++k) {
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const Kind kc = s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
@@ -110,12 +186,12 @@ HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
       const bool brk = breaks(stretch, pi[3], pj[3]);
       if (!brk) {
         const double a = pair_bond_coefficient(kc.pair, e, r);
-        fx += a * Yx;
-        fy += a * Yy;
-        fz += a * Yz;
-        en += pmb_bond_energy(kc.wv, Ri, kc.inv_length, e);
+        fx[l] += a * Yx;
+        fy[l] += a * Yy;
+        fz[l] += a * Yz;
       }
-      smin = stretch < smin ? stretch : smin;
+      sm[l] = stretch < sm[l] ? stretch : sm[l];
+      if (!brk) en[l] += pmb_bond_energy(kc.wv, Ri, kc.inv_length, e);
       if (brk) {
         s.intact[k] = 0;
         ++broken;
@@ -125,47 +201,49 @@ HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
     }
     double a, w;
     if (contact_coefficient(kc.contact_d2, kc.contact_d, kc.contact_k, r2, a, w)) {
-      fx += a * Yx;
-      fy += a * Yy;
-      fz += a * Yz;
-      en += w;
+      fx[l] += a * Yx;
+      fy[l] += a * Yy;
+      fz[l] += a * Yz;
+      en[l] += w;
     }
-  }
+  });
   finish_breaks(s, i, broken, lost);
-  s.min_stretch_next[i] = smin;
-  s.f[3 * i] = fx, s.f[3 * i + 1] = fy, s.f[3 * i + 2] = fz;
-  s.energy[i] = en;
+  s.min_stretch_next[i] = lane_min(sm);
+  s.f[3 * i] = lane_total(fx), s.f[3 * i + 1] = lane_total(fy), s.f[3 * i + 2] = lane_total(fz);
+  s.energy[i] = lane_total(en);
 }
 
 // State-based runs, pass 1 of a row: breaking, the smallest stretch, |Y| of each bond, the
-// dilatation and P_i (solver/forces.cpp dilate_row_scalar; the broken bond's energy with
-// the last pass's P_i).
+// dilatation and P_i (solver/forces.cpp dilate_row_scalar, in its lanes; the broken
+// bond's energy with the last pass's P_i).
 HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i], Qi = s.Q[i], Pi = s.P[i];
-  double sum = 0, smin = INFINITY, lost = 0;
+  double th[kLanes] = {}, sm[kLanes];
+  for (int l = 0; l < kLanes; ++l) sm[l] = INFINITY;
+  double lost = 0;
   uint64_t broken = 0;
-  for (uint64_t k = s.offset[i]; k < s.offset[i + 1]; ++k) {
-    if (!s.intact[k]) continue;
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
+    if (!s.intact[k]) return;
     const Kind kc = s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double r = bond_length(pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]);
     const double e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
     s.r_of[k] = r;
     const bool brk = breaks(stretch, pi[3], pj[3]);
-    if (!brk) sum += dilatation_term(kc.wv, kc.length, e);
-    smin = stretch < smin ? stretch : smin;
+    if (!brk) th[l] += dilatation_term(kc.wv, kc.length, e);
+    sm[l] = stretch < sm[l] ? stretch : sm[l];
     if (brk) {
       s.intact[k] = 0;
       ++broken;
       lost += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
       s.intact_weight[i] -= kc.damage;
     }
-  }
+  });
   finish_breaks(s, i, broken, lost);
-  s.min_stretch_next[i] = smin;
+  s.min_stretch_next[i] = lane_min(sm);
   if (s.dilatation_coef[i] != 0) {
-    const double theta = dilatation(s.dim, sum, s.weighted_volume[i]);
+    const double theta = dilatation(s.dim, lane_total(th), s.weighted_volume[i]);
     s.theta[i] = theta;
     s.P[i] = dilatation_pressure(theta, s.dilatation_coef[i], s.Q[i], s.dim);
   }
@@ -175,12 +253,12 @@ HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
 HORIZON_HD inline void pressure_row(const FlatSystem& s, uint64_t i) { s.y4[4 * i + 3] = s.P[i]; }
 
 // State-based runs, pass 2 of a row: the pair form of the force, contact, energy
-// (solver/forces.cpp force_row_scalar).
+// (solver/forces.cpp force_row_scalar, in its lanes).
 HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i], Pi = pi[3], Qi = s.Q[i];
-  double fx = 0, fy = 0, fz = 0, en = 0;
-  for (uint64_t k = s.offset[i]; k < s.offset[i + 1]; ++k) {
+  double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {};
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const uint32_t j = s.nbr[k];
     const Kind kc = s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(j);
@@ -189,65 +267,194 @@ HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
     if (s.intact[k]) {
       const double r = s.r_of[k], e = extension(r, kc.length, 0);
       const double a = pair_force_coefficient(kc.wv, kc.pair, Pi, pj[3], Qi, s.Q[j], kc.length, e, r);
-      fx += a * Yx;
-      fy += a * Yy;
-      fz += a * Yz;
-      en += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
+      fx[l] += a * Yx;
+      fy[l] += a * Yy;
+      fz[l] += a * Yz;
+      en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
     }
     double a, w;
     if (contact_coefficient(kc.contact_d2, kc.contact_d, kc.contact_k, r2, a, w)) {
-      fx += a * Yx;
-      fy += a * Yy;
-      fz += a * Yz;
-      en += w;
+      fx[l] += a * Yx;
+      fy[l] += a * Yy;
+      fz[l] += a * Yz;
+      en[l] += w;
     }
-  }
-  s.f[3 * i] = fx, s.f[3 * i + 1] = fy, s.f[3 * i + 2] = fz;
-  s.energy[i] = en;
+  });
+  s.f[3 * i] = lane_total(fx), s.f[3 * i + 1] = lane_total(fy), s.f[3 * i + 2] = lane_total(fz);
+  s.energy[i] = lane_total(en);
 }
 
-// Verlet's first half kick and drift of particle i (solver/explicit.cpp).
+// Loads::apply_constraints at the step's end: u = g and v = (g(t) - g(t - dt))/dt on the
+// displaced components, v = h on the velocity components.
+HORIZON_HD inline void constrain_row(const FlatSystem& s, uint64_t i, unsigned fixed) {
+  for (int c = 0; c < 3; ++c) {
+    const uint64_t q = 3 * i + c;
+    if ((fixed >> (3 + c)) & 1u) s.u[q] = s.fixed_value[q], s.v[q] = s.fixed_v ? s.fixed_v[q] : 0.0;
+    if ((fixed >> c) & 1u) s.v[q] = s.fixed_value[q];
+  }
+}
+
+// Verlet's first half kick and drift of particle i (solver/explicit.cpp), with the
+// prescribed velocity at mid-step (Loads::prescribe_velocity) and the prescribed
+// displacement after the drift (Loads::apply_constraints: u = g, v = (g - g)/dt = 0).
+// |v|^2 over the components no constraint prescribes (Loads::free_speed2).
+HORIZON_HD inline double free_speed2(const FlatSystem& s, uint64_t i) {
+  const unsigned fixed = s.fixed ? s.fixed[i] : 0u;
+  double vv = 0;
+  for (int c = 0; c < 3; ++c)
+    if (!(((fixed >> c) | (fixed >> (3 + c))) & 1u)) vv += s.v[3 * i + c] * s.v[3 * i + c];
+  return vv;
+}
+
 HORIZON_HD inline void kick_drift_row(const FlatSystem& s, uint64_t i) {
   const double inv_rho = 1.0 / s.density[i], half = 0.5 * s.dt;
+  const unsigned fixed = s.fixed ? s.fixed[i] : 0u;
+  if (s.damped) s.speed2_before[i] = free_speed2(s, i);
   for (int c = 0; c < 3; ++c) {
     const uint64_t q = 3 * i + c;
     s.v[q] = half_kick(s.v[q], s.f[q], s.b[q], inv_rho, s.damping, half);
   }
+  if (fixed) {
+    const double* mid = s.fixed_mid ? s.fixed_mid : s.fixed_value;
+    for (int c = 0; c < 3; ++c)
+      if ((fixed >> c) & 1u) s.v[3 * i + c] = mid[3 * i + c];
+  }
   for (int c = 0; c < 3; ++c) s.u[3 * i + c] = drift(s.u[3 * i + c], s.v[3 * i + c], s.dt);
+  if (fixed) constrain_row(s, i, fixed);
+  if (s.b_next)  // Loads::apply_forces at the step's end
+    for (int c = 0; c < 3; ++c) s.b[3 * i + c] = s.b_next[3 * i + c];
 }
 
-// Verlet's second half kick of particle i; the smallest stretch becomes the last pass's.
+// Verlet's second half kick of particle i, then the constraints (Loads::apply_constraints);
+// the smallest stretch becomes the last pass's.
 HORIZON_HD inline void kick_row(const FlatSystem& s, uint64_t i) {
   const double half = 0.5 * s.dt, damp = 1.0 / (1.0 + s.damping * half), h = half / s.density[i];
   for (int c = 0; c < 3; ++c) {
     const uint64_t q = 3 * i + c;
     s.v[q] = second_half_kick(s.v[q], s.f[q], s.b[q], h, damp);
   }
+  if (s.nonfinite) {
+    const double* u = s.u + 3 * i;
+    const double* v = s.v + 3 * i;
+    if (!finite(v[0] + v[1] + v[2] + u[0] + u[1] + u[2])) s.nonfinite[0] = 1;
+  }
+  if (const unsigned fixed = s.fixed ? s.fixed[i] : 0u) constrain_row(s, i, fixed);
+  // The energy damping removed over the step (solver/explicit.cpp: the implicit half step
+  // on v(n+1) and v(n), the constrained components left out).
+  if (s.damped)
+    s.damped[i] += s.density[i] * s.volume[i] * s.damping * half * (free_speed2(s, i) + s.speed2_before[i]);
   s.min_stretch[i] = s.min_stretch_next[i];
 }
 
-// The force pass on the host, row by row (the CUDA backend launches each loop as a kernel).
-inline void flat_forces(const FlatSystem& s) {
-  for (uint64_t i = 0; i < s.n; ++i) pack_row(s, i);
-  if (!s.state_based) {
-    for (uint64_t i = 0; i < s.n; ++i) bond_based_row(s, i);
-    return;
+// Before a step's first half kick: the tracked particles' u and v.
+HORIZON_HD inline void save_tracked_row(const FlatSystem& s, uint64_t m) {
+  const uint64_t i = s.tracked[m];
+  for (int c = 0; c < 3; ++c) {
+    s.u_before[3 * m + c] = s.u[3 * i + c];
+    s.v_before[3 * m + c] = s.v[3 * i + c];
+    if (s.b_before) s.b_before[3 * m + c] = s.b[3 * i + c];
   }
-  for (uint64_t i = 0; i < s.n; ++i) dilatation_row(s, i);
-  for (uint64_t i = 0; i < s.n; ++i) pressure_row(s, i);
-  for (uint64_t i = 0; i < s.n; ++i) force_row(s, i);
 }
 
-// `steps` explicit steps on the host; returns the bonds broken.
-inline uint64_t advance_flat(const FlatSystem& s, int64_t steps) {
+// After the second half kick and the constraints, one thread: the step's work into the
+// ledger, with the operations and order of Loads::update_reactions (each constraint's
+// reaction r = -(f + b) V on its components, 1/2 (r_old + r) . du, then the inertial
+// part 1/2 m (v^2 - v_before^2) of each component) and of ExplicitSolver::step (plus, with
+// force loads, 1/2 V (b + b_before) . du over the loaded particles; b is held fixed).
+HORIZON_HD inline void book_load_work(const FlatSystem& s) {
+  double work = 0;
+  for (uint64_t e = 0; e < s.nentries; ++e) {
+    const uint64_t m = s.entry_slot[e], i = s.tracked[m];
+    const unsigned mask = s.entry_mask[e];
+    const double V = s.volume[i];
+    double r[3];
+    for (int c = 0; c < 3; ++c) r[c] = ((mask >> c) & 1u) ? -(s.f[3 * i + c] + s.b[3 * i + c]) * V : 0.0;
+    double* ro = s.entry_reaction + 3 * e;
+    const double* u = s.u + 3 * i;
+    const double* u0 = s.u_before + 3 * m;
+    work += 0.5 * ((ro[0] + r[0]) * (u[0] - u0[0]) + (ro[1] + r[1]) * (u[1] - u0[1]) + (ro[2] + r[2]) * (u[2] - u0[2]));
+    for (int c = 0; c < 3; ++c) ro[c] = r[c];
+    const double mass = 1.0 * s.density[i] * V;
+    for (int c = 0; c < 3; ++c)
+      if ((mask >> c) & 1u) {
+        const double v = s.v[3 * i + c], v0 = s.v_before[3 * m + c];
+        work += 0.5 * mass * (v * v - v0 * v0);
+      }
+  }
+  if (s.has_forces) {
+    double w = 0;
+    for (uint64_t m = 0; m < s.ntracked; ++m) {
+      const uint64_t i = s.tracked[m];
+      const double* b = s.b + 3 * i;
+      const double* bb = s.b_before ? s.b_before + 3 * m : b;
+      if (b[0] == 0 && b[1] == 0 && b[2] == 0 && bb[0] == 0 && bb[1] == 0 && bb[2] == 0) continue;
+      const double* u = s.u + 3 * i;
+      const double* u0 = s.u_before + 3 * m;
+      w += 0.5 * s.volume[i] *
+           ((b[0] + bb[0]) * (u[0] - u0[0]) + (b[1] + bb[1]) * (u[1] - u0[1]) + (b[2] + bb[2]) * (u[2] - u0[2]));
+    }
+    work += w;
+  }
+  s.ledger[0] += work + 0.0;
+}
+
+// The host's loops over the rows: each row is written by one thread (the CUDA backend
+// launches each loop as a kernel), so the answer does not depend on the thread count.
+#if defined(_OPENMP)
+#define HORIZON_FLAT_ROWS _Pragma("omp parallel for schedule(static)")
+#define HORIZON_FLAT_ROWS_BROKEN _Pragma("omp parallel for schedule(static) reduction(+ : broken)")
+#else
+#define HORIZON_FLAT_ROWS
+#define HORIZON_FLAT_ROWS_BROKEN
+#endif
+
+// The force pass on the host.
+inline void flat_forces(const FlatSystem& s) {
+  const uint64_t n = s.n;
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) pack_row(s, i);
+  if (!s.state_based) {
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) bond_based_row(s, i);
+    return;
+  }
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) dilatation_row(s, i);
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) pressure_row(s, i);
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) force_row(s, i);
+}
+
+// No work between a step's force pass and its second half kick, nor before a step.
+struct NoHook {
+  void operator()() const {}
+};
+struct NoStepHook {
+  void operator()(int64_t) const {}
+};
+
+// `steps` explicit steps on the host; returns the bonds broken. `before_step(k)` runs
+// before step k of the call (the loads' values that vary: solver/flat_backend.cpp),
+// `after_forces` after each force pass (the host's short-range contact pairs).
+template <class Hook = NoHook, class StepHook = NoStepHook>
+inline uint64_t advance_flat(const FlatSystem& s, int64_t steps, Hook&& after_forces = Hook{},
+                             StepHook&& before_step = StepHook{}) {
+  const uint64_t n = s.n;
   uint64_t broken = 0;
   for (int64_t k = 0; k < steps; ++k) {
-    for (uint64_t i = 0; i < s.n; ++i) kick_drift_row(s, i);
+    before_step(k);
+    for (uint64_t m = 0; m < s.ntracked; ++m) save_tracked_row(s, m);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) kick_drift_row(s, i);
     flat_forces(s);
-    for (uint64_t i = 0; i < s.n; ++i) {
+    after_forces();
+    HORIZON_FLAT_ROWS_BROKEN
+    for (uint64_t i = 0; i < n; ++i) {
       kick_row(s, i);
       broken += s.broken[i];
     }
+    if (s.ntracked) book_load_work(s);
   }
   return broken;
 }

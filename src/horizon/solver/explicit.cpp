@@ -74,6 +74,15 @@ void ExplicitSolver::initialize() {
   ledger_.initial = ledger_.kinetic + ledger_.strain;
 }
 
+void ExplicitSolver::advance_clock(int64_t n) {
+  for (int64_t k = 0; k < n; ++k) {
+    ++steps_;
+    time_ = fixed_dt_ ? static_cast<double>(steps_) * dt_ : time_ + dt_;  // as step() does
+  }
+  s_.time = time_;
+  s_.dt = dt_;
+}
+
 void ExplicitSolver::step(bool energy) {
   auto& P = s_.particles;
   // A decomposed run integrates its own particles alone (state/system.hpp).

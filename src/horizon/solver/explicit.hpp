@@ -57,6 +57,10 @@ class ExplicitSolver {
     dt_ = dt;
     fixed_dt_ = false;
   }
+  double damping() const { return damping_; }
+  // A backend that took n fixed steps over its own copy of the state (solver/backend.hpp):
+  // the step count and the time move on as step() moves them (t = steps dt).
+  void advance_clock(int64_t n);
   const Ledger& ledger() const { return ledger_; }
   Ledger& ledger() { return ledger_; }
   // Checkpoint and restart: time, step count, step and ledger.

@@ -8,9 +8,17 @@ namespace horizon {
 
 std::string flat_unsupported(const System& s, const Loads& loads) {
   if (s.models.owner() || !s.models.all_unified()) return "a model without the unified per-bond form (ModelTraits::unified)";
-  if (!loads.loads().empty() || !loads.projectiles().empty()) return "loads or projectiles";
+  if (!loads.projectiles().empty()) return "projectiles";
+  for (const AppliedLoad& L : loads.loads()) {
+    if (L.indenter) return "the indenter " + L.name;
+    if (L.support >= 0 || !L.share.empty()) return "the support " + L.name;
+  }
   if (!s.thermal_strain.empty() || !s.critical_stretch_factor.empty()) return "temperature";
-  if (s.contact.enabled()) return "short-range contact";
+  if (!s.critical_stretch_schedules.empty()) return "critical stretches that vary in time";
+  // Short-range contact: the host's pair lists between the flat passes (FlatBackend);
+  // friction reads the System's velocities, which the copy does not keep up to date.
+  if (s.contact.enabled() && s.contact.config().law == ShortRangeLaw::peridigm && s.contact.config().friction > 0)
+    return "short-range contact with friction (contact.short_range.friction)";
   if (s.model.break_after_force) return "damage.break_after_force";
   if (s.decomposition) return "a run over several ranks";
   if (s.fe_coupling) return "finite-element regions";
@@ -30,7 +38,7 @@ void unflat3(const std::vector<double>& a, std::vector<Vec3>& out) {
 }
 }  // namespace
 
-FlatStorage flat_copy(const System& s, double dt, double damping) {
+FlatStorage flat_copy(const System& s, double dt, double damping, double external_work, const Loads* loads) {
   const auto& P = s.particles;
   const auto& B = s.bonds;
   const auto& M = s.model;
@@ -63,6 +71,58 @@ FlatStorage flat_copy(const System& s, double dt, double damping) {
   c.dissipated.resize(c.n, 0);
   c.y4.assign(4 * c.n, 0);
   c.broken.assign(c.n, 0);
+  // The loads: each constraint's components and values per particle, the particles whose
+  // work ExplicitSolver::step books (b != 0, b held fixed, or constrained), the entries of
+  // Loads::update_reactions in its order.
+  std::vector<uint8_t> track(c.n, 0);
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.b[i].x != 0 || P.b[i].y != 0 || P.b[i].z != 0) track[i] = 1;
+  if (loads) {
+    for (std::size_t l = 0; l < loads->loads().size(); ++l) {
+      const AppliedLoad& L = loads->loads()[l];
+      const bool velocity = L.kind == LoadKind::velocity;
+      bool varies = false;
+      for (const auto& e : L.value) varies = varies || (e && !e->is_constant());
+      if (!velocity && L.kind != LoadKind::displacement) {
+        c.has_forces = true;
+        if (varies) {
+          c.vary_forces = true;
+          for (uint32_t i : L.particles) track[i] = 1;  // their b may be 0 now and not later
+        }
+        continue;
+      }
+      c.vary_constraints = c.vary_constraints || varies;
+      if (c.fixed.empty()) c.fixed.assign(c.n, 0), c.fixed_value.assign(3 * c.n, 0);
+      uint8_t mask = 0;
+      for (int k = 0; k < 3; ++k)
+        if (L.value[k]) mask |= static_cast<uint8_t>(1u << k);
+      for (std::size_t m = 0; m < L.particles.size(); ++m) {
+        const uint32_t i = L.particles[m];
+        track[i] = 1;
+        for (int k = 0; k < 3; ++k)
+          if ((mask >> k) & 1u) {
+            c.fixed[i] |= static_cast<uint8_t>(1u << (velocity ? k : 3 + k));
+            c.fixed_value[3 * i + k] = (*L.value[k])(0.0);  // a constant, or set before each step
+          }
+        c.entry_load.push_back(static_cast<uint32_t>(l));
+        c.entry_index.push_back(static_cast<uint32_t>(m));
+        c.entry_slot.push_back(i);  // the particle for now; its place in `tracked` below
+        c.entry_mask.push_back(mask);
+        const Vec3 r = m < L.reaction_old.size() ? L.reaction_old[m] : Vec3{};
+        c.entry_reaction.insert(c.entry_reaction.end(), {r.x, r.y, r.z});
+      }
+    }
+  }
+  std::vector<uint32_t> slot(c.n, 0);
+  for (std::size_t i = 0; i < c.n; ++i)
+    if (track[i]) slot[i] = static_cast<uint32_t>(c.tracked.size()), c.tracked.push_back(static_cast<uint32_t>(i));
+  for (uint32_t& e : c.entry_slot) e = slot[e];
+  c.u_before.assign(3 * c.tracked.size(), 0);
+  c.v_before.assign(3 * c.tracked.size(), 0);
+  c.ledger = {external_work};
+  if (damping > 0) c.damped.assign(c.n, 0), c.speed2_before.assign(c.n, 0);
+  if (c.vary_constraints) c.fixed_mid = c.fixed_value, c.fixed_v.assign(3 * c.n, 0);
+  if (c.vary_forces) c.b_next = c.b, c.b_before.assign(3 * c.tracked.size(), 0);
   return c;
 }
 
@@ -78,22 +138,63 @@ kernels::FlatSystem FlatStorage::view() {
   s.R = R.data(), s.weighted_volume = weighted_volume.data(), s.theta = theta.data(), s.P = P.data();
   s.intact_weight = intact_weight.data(), s.damage_total = damage_total.data(), s.damage = damage.data();
   s.energy = energy.data(), s.dissipated = dissipated.data(), s.y4 = y4.data(), s.broken = broken.data();
+  s.fixed = fixed.empty() ? nullptr : fixed.data(), s.fixed_value = fixed_value.empty() ? nullptr : fixed_value.data();
+  s.ntracked = tracked.size(), s.tracked = tracked.data(), s.u_before = u_before.data(), s.v_before = v_before.data();
+  s.has_forces = has_forces, s.nentries = entry_slot.size(), s.entry_slot = entry_slot.data();
+  s.entry_mask = entry_mask.data(), s.entry_reaction = entry_reaction.data(), s.ledger = ledger.data();
+  s.damped = damped.empty() ? nullptr : damped.data(), s.speed2_before = speed2_before.data();
+  auto or_null = [](std::vector<double>& a) { return a.empty() ? nullptr : a.data(); };
+  s.fixed_mid = or_null(fixed_mid), s.fixed_v = or_null(fixed_v), s.b_next = or_null(b_next);
+  s.b_before = or_null(b_before);
+  s.nonfinite = nonfinite.data();
   return s;
 }
 
-void flat_write_back(const FlatStorage& c, System& s) {
+void flat_write_back(const FlatStorage& c, System& s, bool energy) {
   auto& P = s.particles;
   unflat3(c.u, P.u);
   unflat3(c.v, P.v);
   unflat3(c.f, P.f);
   P.damage = c.damage;
-  P.energy = c.energy;
+  if (energy) P.energy = c.energy;
   s.bonds.intact = c.intact;
   s.dissipated_at = c.dissipated;
   s.model.min_stretch = c.min_stretch;
   s.model.intact_weight = c.intact_weight;
   s.model.theta = c.theta;
   s.model.P = c.P;
+}
+
+}  // namespace horizon
+
+namespace horizon {
+
+void flat_write_reactions(const FlatStorage& c, Loads& loads) {
+  auto& all = loads.loads();
+  std::vector<Vec3> sum(all.size());
+  std::vector<uint8_t> constraint(all.size(), 0);
+  for (std::size_t e = 0; e < c.entry_slot.size(); ++e) {
+    const uint32_t l = c.entry_load[e], m = c.entry_slot[e], i = c.tracked[m];
+    AppliedLoad& L = all[l];
+    Vec3 r{c.entry_reaction[3 * e], c.entry_reaction[3 * e + 1], c.entry_reaction[3 * e + 2]};
+    if (c.entry_index[e] < L.reaction_old.size()) L.reaction_old[c.entry_index[e]] = r;
+    // The inertial part, as Loads::update_reactions adds it after keeping reaction_old.
+    const double mass = 1.0 * c.density[i] * c.volume[i];
+    for (int k = 0; k < 3; ++k)
+      if ((c.entry_mask[e] >> k) & 1u) r[k] += mass * (c.v[3 * i + k] - c.v_before[3 * m + k]) / c.dt;
+    sum[l] += r;
+    constraint[l] = 1;
+  }
+  for (std::size_t l = 0; l < all.size(); ++l)
+    if (constraint[l]) all[l].reaction = sum[l];
+  // Force loads that vary: their applied force now, sum b V (Loads::update_reactions).
+  if (c.b_next.empty()) return;
+  for (AppliedLoad& L : all) {
+    if (L.indenter || L.kind == LoadKind::displacement || L.kind == LoadKind::velocity) continue;
+    Vec3 r;
+    for (uint32_t i : L.particles) r += Vec3{c.b[3 * i], c.b[3 * i + 1], c.b[3 * i + 2]} * c.volume[i];
+    L.reaction = r;
+  }
 }
 
 }  // namespace horizon

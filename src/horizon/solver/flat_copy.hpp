@@ -15,9 +15,14 @@ namespace horizon {
 class Loads;
 
 // Why this run cannot be stepped over flat arrays, or "" when it can: unified models only
-// (ModelTraits::unified), no loads but initial conditions, no thermal strain, no short-range contact
-// pairs beyond the family's, bonds broken before the force pass, one rank, no FE regions,
-// kinds with their lengths.
+// (ModelTraits::unified), no loads but initial conditions, force densities (traction,
+// body_force, force, pressure) and prescribed velocities and displacements (values that
+// vary are the stepper's to evaluate before each step: FlatBackend), no thermal strain,
+// no contact friction, bonds broken before the force
+// pass, critical stretches fixed in time, one rank, no FE regions, kinds with their
+// lengths. Short-range contact: the flat rows hold the family pairs' part; the pairs
+// beyond the families are the stepper's (FlatBackend adds them between passes with the
+// host's lists; a bare advance_flat leaves them out).
 std::string flat_unsupported(const System& s, const Loads& loads);
 
 // Owning copies of every array a FlatSystem points to; view() points into them.
@@ -30,16 +35,35 @@ struct FlatStorage {
   std::vector<double> r_of, X, u, v, f, b, density, volume, critical_stretch, alpha, min_stretch, min_stretch_next,
       dilatation_coef, Q, R, weighted_volume, theta, P, intact_weight, damage_total, damage, energy, dissipated, y4;
   std::vector<uint64_t> broken;
+  // Loads (kernels::FlatSystem): the constraints per particle, the tracked particles, the
+  // constraints' (load, particle) entries and where each comes from (entry_load, entry_index:
+  // the load and the particle's place in its list; the host's, for the reactions).
+  std::vector<uint8_t> fixed, entry_mask;
+  std::vector<double> fixed_value, u_before, v_before, entry_reaction, ledger;
+  std::vector<double> damped, speed2_before;  // with damping: per particle, since the copy
+  std::vector<uint8_t> nonfinite{0};
+  // Loads whose values vary in time or space (the stepper evaluates them before each step).
+  std::vector<double> fixed_mid, fixed_v, b_next, b_before;
+  bool vary_constraints = false, vary_forces = false;
+  std::vector<uint32_t> tracked, entry_slot, entry_load, entry_index;
+  bool has_forces = false;
   uint64_t n = 0;
   bool state_based = false;
   double dim = 3, dt = 0, damping = 0;
 };
 
 // Copies s (after ExplicitSolver::initialize or any step: forces, damage and the smallest
-// stretches are those of the last pass) with the step dt and the damping.
-FlatStorage flat_copy(const System& s, double dt, double damping);
+// stretches are those of the last pass) with the step dt and the damping; the ledger's
+// external work starts at external_work; with `loads`, their constraints and work.
+FlatStorage flat_copy(const System& s, double dt, double damping, double external_work = 0,
+                      const Loads* loads = nullptr);
 
-// Writes the copy's u, v, f, damage, energy, intact flags and dissipation back into s.
-void flat_write_back(const FlatStorage& c, System& s);
+// The loads' reactions at the copy's last step, as Loads::update_reactions leaves them
+// (each constraint's reaction_old and reaction; the force loads' are constants).
+void flat_write_reactions(const FlatStorage& c, Loads& loads);
+
+// Writes the copy's u, v, f, damage, energy (with `energy`: a pass the CPU backend would
+// have computed it in), intact flags and dissipation back into s.
+void flat_write_back(const FlatStorage& c, System& s, bool energy = true);
 
 }  // namespace horizon

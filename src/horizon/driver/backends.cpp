@@ -1,0 +1,88 @@
+// The choice of the explicit backend (solver.backend, --backend; solver/backend.hpp): the
+// CPU backend, the flat backend (solver/flat_backend.hpp) and, in builds with
+// -DHORIZON_CUDA=ON, the CUDA backend: the flat backend with its arrays on the GPU
+// (cuda/cuda_backend.hpp). The flat and CUDA backends refuse the same runs, with the
+// deck's name and the key's place.
+#include <fmt/format.h>
+
+#include "horizon/driver/explicit_state.hpp"
+#include "horizon/solver/flat_backend.hpp"
+
+#if defined(HORIZON_CUDA_BACKEND)
+#include "horizon/cuda/cuda_backend.hpp"
+#endif
+
+namespace horizon {
+
+namespace {
+
+#if defined(HORIZON_CUDA_BACKEND)
+// The flat backend over device copies of its arrays (cuda::FlatRun): the steps run on the
+// GPU, fetch() copies the fields back, a new copy of the System goes to the device.
+class CudaBackend final : public FlatBackend {
+ public:
+  CudaBackend(System& s, Loads& loads, ExplicitSolver& solver) : FlatBackend(s, loads, solver) { upload(); }
+  const char* name() const override { return "cuda"; }
+
+ protected:
+  void take_steps(int64_t n) override {
+    run_->advance(n, s_.contact.enabled() ? &contact_hook : nullptr, this, varies() ? &step_hook : nullptr);
+  }
+  void fetch() override { run_->download(view_); }
+  bool went_non_finite() override { return run_->nonfinite(); }
+  void upload() override {
+    run_.reset();
+    run_ = std::make_unique<cuda::FlatRun>(view_);
+  }
+
+ private:
+  std::unique_ptr<cuda::FlatRun> run_;
+};
+#endif
+
+}  // namespace
+
+// What a message about the choice starts with: the deck and the key's place, or --backend.
+std::string backend_choice_prefix(const Config& c) {
+  const SolverConfig& sc = c.solver;
+  if (sc.backend_at == "--backend") return fmt::format("{}: --backend {}", c.deck_file, sc.backend);
+  if (!sc.backend_at.empty()) return fmt::format("{}: solver.backend: {}", sc.backend_at, sc.backend);
+  return fmt::format("{}: backend {}", c.deck_file, sc.backend);
+}
+
+void check_backend(const Config& c, const System& s, const Loads& loads) {
+  const std::string& name = c.solver.backend;
+  if (name == "cpu") return;
+  const std::string prefix = backend_choice_prefix(c);
+  if (name == "cuda") {
+#if !defined(HORIZON_CUDA_BACKEND)
+    throw Error(fmt::format("{}: this horizon was built without CUDA (configure with -DHORIZON_CUDA=ON, which needs "
+                            "nvcc); backend flat runs the same kernels on the host",
+                            prefix));
+#else
+    std::string why;
+    if (!cuda::device_available(why)) throw Error(fmt::format("{}: {}", prefix, why));  // "no CUDA device: ..."
+#endif
+  }
+  std::string why = flat_backend_refusal(s, loads, c.solver.damping);
+  if (why.empty() && s.heat.active()) why = "heat conduction";
+  if (why.empty() && s.fe) why = "finite-element regions";
+  if (why.empty() && c.solver.adaptive_time_step) why = "solver.adaptive_time_step";
+  if (!why.empty())
+    throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of pmb "
+                            "and lps with initial conditions, force densities, prescribed displacements and "
+                            "velocities and short-range contact (docs/input.md, solver.backend); use backend cpu",
+                            prefix, why));
+}
+
+std::unique_ptr<ExplicitBackend> make_backend(const Config& c, System& s, Loads& loads, ExplicitSolver& solver) {
+  const std::string& name = c.solver.backend;
+  if (name == "cpu") return std::make_unique<CpuBackend>(solver);
+  check_backend(c, s, loads);
+#if defined(HORIZON_CUDA_BACKEND)
+  if (name == "cuda") return std::make_unique<CudaBackend>(s, loads, solver);
+#endif
+  return std::make_unique<FlatBackend>(s, loads, solver);
+}
+
+}  // namespace horizon

@@ -1,0 +1,195 @@
+#include "horizon/solver/flat_backend.hpp"
+
+#include <cmath>
+
+#include "horizon/loading/loads.hpp"
+
+namespace horizon {
+
+std::string flat_backend_refusal(const System& s, const Loads& loads, double damping) {
+  (void)damping;  // booked per particle (kernels::kick_row)
+  return flat_unsupported(s, loads);
+}
+
+namespace {
+uint64_t intact_bonds(const FlatStorage& c) {
+  uint64_t n = 0;
+  for (uint8_t f : c.intact) n += f != 0;
+  return n;
+}
+}  // namespace
+
+FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver)
+    : s_(s), loads_(loads), solver_(solver), system_steps_(solver.steps()) {
+  copy_from_system();
+}
+
+void FlatBackend::run_steps(int64_t n) {
+  take_steps(n);
+  storage_steps_ += n;
+}
+
+void FlatBackend::take_steps(int64_t n) {
+  const bool contact = s_.contact.enabled();
+  if (varies())
+    kernels::advance_flat(
+        view_, n, [this, contact] { if (contact) contact_pass(); }, [this](int64_t k) { prepare_step(k); });
+  else if (contact)
+    kernels::advance_flat(view_, n, [this] { contact_pass(); });
+  else
+    kernels::advance_flat(view_, n);
+}
+
+void FlatBackend::prepare_step(int64_t k) {
+  const double dt = solver_.dt(), half = 0.5 * dt;
+  const int64_t step = storage_steps_ + k;  // steps taken before this one
+  const double t0 = static_cast<double>(step) * dt, t1 = static_cast<double>(step + 1) * dt;  // t = n dt
+  const auto& P = s_.particles;
+  if (storage_.vary_constraints)
+    for (const AppliedLoad& L : loads_.loads()) {
+      const bool velocity = L.kind == LoadKind::velocity;
+      if (!velocity && L.kind != LoadKind::displacement) continue;
+      for (uint32_t i : L.particles) {
+        const Vec3& x = P.X[i];
+        for (int c = 0; c < 3; ++c) {
+          if (!L.value[c]) continue;
+          const Expression& g = *L.value[c];
+          const std::size_t q = 3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(c);
+          if (velocity) {
+            storage_.fixed_mid[q] = g(t0 + half, x.x, x.y, x.z);
+            storage_.fixed_value[q] = g(t1, x.x, x.y, x.z);
+          } else {
+            const double now = g(t1, x.x, x.y, x.z);
+            storage_.fixed_v[q] = dt > 0 ? (now - g(t1 - dt, x.x, x.y, x.z)) / dt : 0.0;
+            storage_.fixed_value[q] = now;
+          }
+        }
+      }
+    }
+  if (storage_.vary_forces) {
+    loads_.apply_forces(s_, t1);  // the System's b: the same sums as the CPU's
+    for (std::size_t i = 0; i < P.size(); ++i)
+      storage_.b_next[3 * i] = P.b[i].x, storage_.b_next[3 * i + 1] = P.b[i].y, storage_.b_next[3 * i + 2] = P.b[i].z;
+  }
+}
+
+void FlatBackend::contact_pass() {
+  const uint64_t n = view_.n;
+  contact_y_.resize(n);
+  contact_f_.resize(n);
+  for (uint64_t i = 0; i < n; ++i) {
+    const double* y = view_.y4 + 4 * i;
+    contact_y_[i] = {y[0], y[1], y[2], y[3]};
+    contact_f_[i] = {view_.f[3 * i], view_.f[3 * i + 1], view_.f[3 * i + 2]};
+  }
+  // The energy of every pass (the flat rows compute it in every pass; the System takes it
+  // only from the passes the CPU backend would have computed it in).
+  s_.contact.add_forces(s_, contact_y_.data(), contact_f_.data(), view_.energy);
+  for (uint64_t i = 0; i < n; ++i)
+    view_.f[3 * i] = contact_f_[i].x, view_.f[3 * i + 1] = contact_f_[i].y, view_.f[3 * i + 2] = contact_f_[i].z;
+}
+
+void FlatBackend::copy_from_system() {
+  // Force densities that vary: the System's b is the last prepared step's; the copy starts
+  // from the b of the System's state (the last copy_fields).
+  if (!b_at_copy_.empty()) s_.particles.b = b_at_copy_;
+  storage_steps_ = system_steps_;
+  storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_);
+  view_ = storage_.view();
+  intact_at_copy_ = intact_bonds(storage_);
+  broken_at_copy_ = s_.broken;
+  damped_at_copy_ = solver_.ledger().damped;
+  if (storage_.vary_forces) b_at_copy_ = s_.particles.b;
+}
+
+int64_t FlatBackend::first_non_finite() const {
+  const std::vector<double>& u = storage_.u;
+  const std::vector<double>& v = storage_.v;
+  for (std::size_t i = 0; i < storage_.n; ++i)
+    if (!std::isfinite(v[3 * i] + v[3 * i + 1] + v[3 * i + 2] + u[3 * i] + u[3 * i + 1] + u[3 * i + 2]))
+      return static_cast<int64_t>(i);
+  return -1;
+}
+
+void FlatBackend::advance(int64_t n, bool energy) {
+  run_steps(n);
+  fetched_ = false;  // the fields come back at copy_fields, when a frame or a row wants them
+  if (!went_non_finite()) {
+    solver_.advance_clock(n);
+    energy_ = energy;
+    return;
+  }
+  // Again from the System's state (the last copy_fields, perhaps some calls back), one step
+  // at a time, to find the step that failed.
+  const int64_t total = solver_.steps() + n - system_steps_;
+  copy_from_system();
+  upload();
+  int64_t good = 0, bad = -1;
+  for (; good < total; ++good) {
+    run_steps(1);
+    fetch();
+    if ((bad = first_non_finite()) >= 0) break;
+  }
+  copy_from_system();
+  upload();
+  if (good > 0) run_steps(good);
+  solver_.advance_clock(system_steps_ + good - solver_.steps());
+  energy_ = false;
+  fetched_ = false;
+  copy_fields();
+  if (bad < 0) {  // not again (the rows are deterministic): carry on
+    run_steps(total - good);
+    fetched_ = false;
+    solver_.advance_clock(total - good);
+    energy_ = energy;
+    return;
+  }
+  // The failing step once more: ExplicitSolver::step restores u, v and its clock alone, so
+  // the failing step's force pass stays in the System (f, damage, the intact flags, the
+  // dissipation, the energy of a step with `energy`, s.time) and its ledger does not move.
+  const std::vector<Vec3> u = s_.particles.u, v = s_.particles.v;
+  run_steps(1);
+  fetch();
+  write_state(good + 1 == total && energy);
+  s_.particles.u = u;
+  s_.particles.v = v;
+  s_.time = static_cast<double>(solver_.steps() + 1) * solver_.dt();  // (a fixed step: t = n dt)
+  failed_ = true;  // copy_fields leaves the System as it is now
+  const auto i = static_cast<std::size_t>(bad);
+  throw NonFiniteState(i, s_.particles.X[i], solver_.steps() + 1);
+}
+
+void FlatBackend::write_state(bool energy) {
+  flat_write_back(storage_, s_, energy);
+  s_.broken = broken_at_copy_ + (intact_at_copy_ - intact_bonds(storage_));
+}
+
+void FlatBackend::copy_fields() {
+  if (failed_) return;
+  if (!fetched_) fetch(), fetched_ = true;
+  write_state(energy_);
+  system_steps_ = storage_steps_;
+  if (storage_.vary_forces) b_at_copy_ = s_.particles.b;
+  s_.time = solver_.time();
+  s_.dt = solver_.dt();
+  // The ledger as ExplicitSolver::step leaves it: the work and the dissipation of every
+  // step, the stored and kinetic energies of the last step that computed them.
+  Ledger& g = solver_.ledger();
+  g.external_work = storage_.ledger[0];
+  flat_write_reactions(storage_, loads_);
+  g.dissipated = s_.dissipated();
+  // The damped energy: per particle over the steps, then in index order (thread- and
+  // device-independent; ExplicitSolver::step sums each step's terms first, so the last
+  // bits may differ from the CPU backend's).
+  if (!storage_.damped.empty()) {
+    double d = 0;
+    for (double t : storage_.damped) d += t;
+    g.damped = damped_at_copy_ + d;
+  }
+  if (energy_) {
+    g.strain = strain_energy(s_);
+    solver_.update_kinetic();
+  }
+}
+
+}  // namespace horizon

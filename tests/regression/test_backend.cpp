@@ -1,0 +1,424 @@
+// The explicit backends against each other (solver.backend, --backend; docs/design.md
+// "Backends and portable kernels"). The flat backend steps a copy of the run's state with
+// the portable row functions of kernels/flat_system.hpp (the code the CUDA backend
+// launches), which sum each row in the fast loops' eight lanes and book the ledger's terms
+// in the CPU's order: a run with backend flat must give the CPU backend's bits, so these
+// tests ask for identical bytes (history.csv, every frame, checkpoints, summary.json's
+// state_crc32 and final figures), not a tolerance; with damping, the damped energy to
+// 1e-12 (it is summed per particle first). The runs: the glass demo (examples/glass_branching.yaml,
+// tractions held fixed, a branching crack) coarsened 4 times, and a PMB and an LPS impact
+// of a striker on a bar (initial velocity, bonds breaking). Then what the flat (and CUDA)
+// backend refuses, each refusal with its message, naming the deck and the key.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "horizon/core/error.hpp"
+#include "horizon/deck/deck.hpp"
+#include "horizon/driver/run.hpp"
+#include "../test_paths.hpp"
+
+namespace fs = std::filesystem;
+
+namespace horizon {
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("horizon_test_backend_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+struct Output {
+  std::string history;
+  std::map<std::string, std::string> frames;  // every file of the output directory but summary.json
+  nlohmann::json summary;
+  int exit_code = -1;
+};
+
+// Runs deck text with a backend; returns what it wrote.
+Output run(const std::string& deck, const std::string& name, const std::string& backend, double coarsen = 1) {
+  const fs::path dir = scratch(name + "_" + backend);
+  const fs::path file = dir / (name + ".yaml");
+  std::ofstream(file) << deck;
+  RunOptions o;
+  o.quiet = true;
+  o.handle_signals = false;
+  o.output_dir = (dir / "out").string();
+  o.coarsen = coarsen;
+  o.backend = backend;
+  Output out;
+  out.exit_code = run_deck(load_deck(file.string()), o);
+  for (const auto& e : fs::recursive_directory_iterator(dir / "out"))
+    if (e.is_regular_file() && e.path().filename() != "summary.json")
+      out.frames[fs::relative(e.path(), dir / "out").string()] = slurp(e.path());
+  out.history = slurp(dir / "out" / "history.csv");
+  out.summary = nlohmann::json::parse(slurp(dir / "out" / "summary.json"));
+  fs::remove_all(dir);
+  return out;
+}
+
+// The two runs wrote the same bytes, and their summaries the same figures.
+void expect_same(const Output& flat, const Output& cpu, const std::string& what) {
+  EXPECT_EQ(flat.exit_code, 0);
+  EXPECT_EQ(cpu.exit_code, 0);
+  EXPECT_EQ(flat.summary["backend"], "flat");
+  EXPECT_EQ(cpu.summary["backend"], "cpu");
+  EXPECT_EQ(flat.history, cpu.history) << what << ": history.csv";
+  ASSERT_EQ(flat.frames.size(), cpu.frames.size());
+  for (const auto& [path, bytes] : cpu.frames) {
+    ASSERT_TRUE(flat.frames.count(path)) << path;
+    EXPECT_TRUE(flat.frames.at(path) == bytes) << what << ": " << path << " differs";
+  }
+  EXPECT_EQ(flat.summary["state_crc32"], cpu.summary["state_crc32"]);
+  EXPECT_EQ(flat.summary["steps"], cpu.summary["steps"]);
+  EXPECT_EQ(flat.summary["energy"], cpu.summary["energy"]);
+  EXPECT_EQ(flat.summary["damage"], cpu.summary["damage"]);
+  std::printf("[ figure ] %s: flat and cpu backends, %s steps: the same bytes (history.csv, %zu files), state_crc32 "
+              "%s, summary energy %s\n",
+              what.c_str(), cpu.summary["steps"].dump().c_str(), cpu.frames.size(),
+              cpu.summary["state_crc32"].dump().c_str(), cpu.summary["energy"].dump().c_str());
+}
+
+// examples/glass_branching.yaml with fewer frames; coarsened 4 times (4000 particles).
+std::string glass_deck() {
+  std::string deck = slurp(fs::path(HORIZON_SOURCE_DIR) / "examples" / "glass_branching.yaml");
+  const std::string output = "output: {directory: out/glass_branching, frames: 43, history_every: 10}";
+  const std::size_t at = deck.find(output);
+  if (at == std::string::npos) return "";
+  return deck.replace(at, output.size(), "output: {directory: out/glass_branching, frames: 4, history_every: 10}");
+}
+
+const std::string kPmb = "{model: pmb, density: 7850, youngs_modulus: 200.0e9, damage: {critical_stretch: 0.002}}";
+const std::string kLps =
+    "{model: lps, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, damage: {critical_stretch: 0.002}}";
+
+// A striker at 40 m/s on a bar (the verification tests' impact): bonds break at the contact.
+std::string impact_deck(const std::string& material, const std::string& extra = "",
+                        const std::string& solver_extra = "") {
+  return fmt::format(R"(dimension: 3
+spacing: 1.0e-3
+horizon: 3.0e-3
+materials:
+  steel: {}
+bodies:
+  - name: striker
+    material: steel
+    shape: {{box: {{min: [0, 0, 0], max: [0.006, 0.004, 0.004]}}}}
+  - name: bar
+    material: steel
+    shape: {{box: {{min: [0.006, 0, 0], max: [0.018, 0.004, 0.004]}}}}
+regions:
+  striker: {{box: {{min: [0, 0, 0], max: [0.006, 0.004, 0.004]}}}}
+  end: {{box: {{min: [0.017, 0, 0], max: [0.018, 0.004, 0.004]}}}}
+initial_conditions:
+  - {{region: striker, velocity: [40, 6.5, 0]}}
+{}solver: {{type: explicit, end_time: 3.0e-6, safety_factor: 0.5, energy_balance_warning: 0.5{}}}
+output: {{frames: 3, history_every: 7}}
+)",
+                     material, extra, solver_extra);
+}
+
+TEST(Backend, GlassDemoFlatGivesTheCpuBits) {
+  const std::string deck = glass_deck();
+  ASSERT_FALSE(deck.empty()) << "examples/glass_branching.yaml's output line changed";
+  const Output cpu = run(deck, "glass", "cpu", 4);
+  const Output flat = run(deck, "glass", "flat", 4);
+  // The crack has grown (the demo breaks bonds) and the tractions did work.
+  EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0.01);
+  expect_same(flat, cpu, "glass_branching --coarsen 4");
+}
+
+TEST(Backend, PmbImpactFlatGivesTheCpuBits) {
+  const Output cpu = run(impact_deck(kPmb), "pmb_impact", "cpu");
+  const Output flat = run(impact_deck(kPmb), "pmb_impact", "flat");
+  EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+  expect_same(flat, cpu, "pmb impact");
+}
+
+TEST(Backend, LpsImpactFlatGivesTheCpuBits) {
+  const Output cpu = run(impact_deck(kLps), "lps_impact", "cpu");
+  const Output flat = run(impact_deck(kLps), "lps_impact", "flat");
+  EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+  expect_same(flat, cpu, "lps impact");
+}
+
+// Prescribed conditions (issue 30 part B): a clamped end (displacement), the striker's
+// y-velocity held (velocity) and a traction on the end's free component, with their
+// reactions in history.csv and their work in the ledger.
+TEST(Backend, PrescribedConditionsFlatGiveTheCpuBits) {
+  const std::string loads =
+      "loads:\n  - {region: end, displacement: [0, null, 0]}\n  - {region: striker, velocity: [null, 3, null]}\n"
+      "  - {region: end, traction: [0, 2.0e8, 0]}\n";
+  const Output cpu = run(impact_deck(kPmb, loads), "prescribed", "cpu");
+  const Output flat = run(impact_deck(kPmb, loads), "prescribed", "flat");
+  EXPECT_NE(cpu.history.find("end:displacement_fx"), std::string::npos);
+  EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+  expect_same(flat, cpu, "pmb impact, prescribed conditions");
+  const Output lps_cpu = run(impact_deck(kLps, loads), "prescribed_lps", "cpu");
+  const Output lps_flat = run(impact_deck(kLps, loads), "prescribed_lps", "flat");
+  expect_same(lps_flat, lps_cpu, "lps impact, prescribed conditions");
+}
+
+// Loads and conditions that vary in time and space: FlatBackend evaluates them on the host
+// before each step (the CPU's expressions at the CPU's times) into the flat arrays.
+TEST(Backend, LoadsThatVaryFlatGiveTheCpuBits) {
+  const std::string loads =
+      "loads:\n  - {region: end, displacement: [\"-2.0*t*(1 + 100*y)\", null, 0]}\n"
+      "  - {region: striker, velocity: [null, \"6.5*cos(1.0e6*t)\", null]}\n"
+      "  - {region: end, traction: [0, \"2.0e8*min(t/1.0e-6, 1)*(1 + 50*z)\", 0]}\n";
+  for (const std::string& material : {kPmb, kLps}) {
+    const Output cpu = run(impact_deck(material, loads), "varying", "cpu");
+    const Output flat = run(impact_deck(material, loads), "varying", "flat");
+    EXPECT_NE(cpu.history.find("end:traction_fy"), std::string::npos);
+    expect_same(flat, cpu, material == kPmb ? "pmb impact, loads that vary" : "lps impact, loads that vary");
+  }
+  // The glass demo with its tractions ramped up over 5 us.
+  std::string deck = glass_deck();
+  for (const char* sign : {"[0, 2.0e6]", "[0, -2.0e6]"}) {
+    const std::size_t at = deck.find(sign);
+    ASSERT_NE(at, std::string::npos);
+    const std::string ramp = std::string("[0, \"") + (sign[4] == '-' ? "-" : "") + "2.0e6*min(t/5.0e-6, 1)\"]";
+    deck.replace(at, std::string(sign).size(), ramp);
+  }
+  const Output cpu = run(deck, "glass_ramp", "cpu", 4);
+  const Output flat = run(deck, "glass_ramp", "flat", 4);
+  expect_same(flat, cpu, "glass_branching --coarsen 4, tractions ramped");
+}
+
+// Mass-proportional damping (issue 30 part B, the ledger's damped energy): the flat rows
+// book it per particle over the steps and sum the particles at a copy, ExplicitSolver::step
+// sums each step's particles first, so the damped energy (and the balance error made with
+// it) may differ in the last bits; the state does not (damping enters the kicks alone).
+TEST(Backend, DampedRunFlatGivesTheCpuStateAndLedger) {
+  const std::string deck = impact_deck(kPmb, "loads:\n  - {region: end, displacement: [0, null, 0]}\n", ", damping: 20000");
+  const Output cpu = run(deck, "damped", "cpu");
+  const Output flat = run(deck, "damped", "flat");
+  EXPECT_EQ(flat.exit_code, 0);
+  EXPECT_EQ(flat.summary["state_crc32"], cpu.summary["state_crc32"]);
+  for (const auto& [path, bytes] : cpu.frames)
+    if (path != "history.csv") {
+      EXPECT_TRUE(flat.frames.at(path) == bytes) << path << " differs";
+    }
+  const double dc = cpu.summary["energy"]["damped"].get<double>(), df = flat.summary["energy"]["damped"].get<double>();
+  EXPECT_GT(dc, 0);
+  EXPECT_LE(std::abs(df - dc), 1e-12 * dc);
+  // history.csv: every column the same text but damped_energy and energy_balance_error.
+  std::istringstream a(cpu.history), b(flat.history);
+  std::string la, lb;
+  std::getline(a, la), std::getline(b, lb);
+  ASSERT_EQ(la, lb);
+  const std::string header = la;
+  int rows = 0;
+  while (std::getline(a, la)) {
+    ASSERT_TRUE(std::getline(b, lb));
+    std::istringstream ca(la), cb(lb), names(header);
+    std::string x, y, name;
+    while (std::getline(names, name, ',')) {
+      std::getline(ca, x, ',');
+      std::getline(cb, y, ',');
+      if (name == "damped_energy") EXPECT_LE(std::abs(std::stod(x) - std::stod(y)), 1e-12 * std::abs(std::stod(x))) << la;
+      else if (name == "energy_balance_error") EXPECT_LE(std::abs(std::stod(x) - std::stod(y)), 1e-12) << la;
+      else EXPECT_EQ(x, y) << name << " in " << la;
+    }
+    ++rows;
+  }
+  EXPECT_GT(rows, 2);
+  std::printf("[ figure ] damped pmb impact: damped energy %.17g (cpu) %.17g (flat), %.1e relative\n", dc, df,
+              std::abs(df - dc) / dc);
+}
+
+// Short-range contact (issue 30 part B): the Kalthoff-Winkler PMB example (a velocity
+// condition, precracks, contact between the crack faces and beyond the families),
+// coarsened 4 times, 25 us; and the striker on the bar through contact alone.
+TEST(Backend, ShortRangeContactFlatGivesTheCpuBits) {
+  std::string deck = slurp(fs::path(HORIZON_SOURCE_DIR) / "examples" / "kalthoff_winkler_pmb.yaml");
+  const std::string end = "end_time: 7.0e-5";
+  ASSERT_NE(deck.find(end), std::string::npos);
+  deck.replace(deck.find(end), end.size(), "end_time: 2.5e-5");
+  const Output cpu = run(deck, "kalthoff", "cpu", 4);
+  const Output flat = run(deck, "kalthoff", "flat", 4);
+  EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+  expect_same(flat, cpu, "kalthoff_winkler_pmb --coarsen 4, 25 us");
+  // The striker meets the bar through contact alone (no bonds between the bodies): the
+  // pairs are beyond the families, in the host's lists; without contact it passes through.
+  const std::string unbonded = "bonds_between_bodies: false\n";
+  const std::string contact = unbonded + "contact: {short_range: {max_distance: 1.35}}\n";
+  const Output lps_cpu = run(impact_deck(kLps, contact), "contact_lps", "cpu");
+  const Output lps_flat = run(impact_deck(kLps, contact), "contact_lps", "flat");
+  const Output lps_apart = run(impact_deck(kLps, unbonded), "contact_lps_apart", "cpu");
+  EXPECT_NE(lps_cpu.summary["state_crc32"], lps_apart.summary["state_crc32"]);
+  expect_same(lps_flat, lps_cpu, "lps striker on a bar through short-range contact");
+  const Output pmb_cpu = run(impact_deck(kPmb, contact), "contact_pmb", "cpu");
+  const Output pmb_flat = run(impact_deck(kPmb, contact), "contact_pmb", "flat");
+  expect_same(pmb_flat, pmb_cpu, "pmb striker on a bar through short-range contact");
+}
+
+// A checkpoint written by a flat run is the CPU run's (the same bytes), and a restart from
+// it with backend flat ends where the uninterrupted CPU run ends.
+TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
+  std::string deck = glass_deck();
+  const std::string frames = "frames: 4, history_every: 10}";
+  ASSERT_NE(deck.find(frames), std::string::npos);
+  deck.replace(deck.find(frames), frames.size(), "frames: 4, history_every: 10, checkpoint: {every: 70}}");
+  const Output cpu = run(deck, "ck", "cpu", 4);
+  const fs::path dir = scratch("ck_restart");
+  const fs::path file = dir / "ck.yaml";
+  std::ofstream(file) << deck;
+  RunOptions o;
+  o.quiet = true;
+  o.handle_signals = false;
+  o.output_dir = (dir / "out").string();
+  o.coarsen = 4;
+  o.backend = "flat";
+  ASSERT_EQ(run_deck(load_deck(file.string()), o), 0);
+  EXPECT_TRUE(slurp(dir / "out" / "checkpoint.hzc") == cpu.frames.at("checkpoint.hzc")) << "the checkpoints differ";
+  o.restart = (dir / "out" / "checkpoint.hzc").string();
+  ASSERT_EQ(run_deck(load_deck(file.string()), o), 0);
+  EXPECT_EQ(slurp(dir / "out" / "history.csv"), cpu.history);
+  const auto summary = nlohmann::json::parse(slurp(dir / "out" / "summary.json"));
+  EXPECT_EQ(summary["state_crc32"], cpu.summary["state_crc32"]);
+  EXPECT_EQ(summary["steps"], cpu.summary["steps"]);
+  fs::remove_all(dir);
+}
+
+// A step too large: the state turns non-finite (exit status 2). The flat backend finds the
+// failing step again and leaves the System as ExplicitSolver::step does: the same message,
+// history.csv, final frame and summary.
+// The state fails at step 96: inside a run of quiet steps (history every 7 steps) and at a
+// history row's step (every 8: the quiet steps before it were taken in an earlier call).
+TEST(Backend, NonFiniteStateFlatGivesTheCpuEnd) {
+  for (const char* every : {"history_every: 7", "history_every: 8"}) {
+    std::string deck = impact_deck("{model: pmb, density: 7850, youngs_modulus: 200.0e9}");
+    const std::string solver = "end_time: 3.0e-6, safety_factor: 0.5";
+    ASSERT_NE(deck.find(solver), std::string::npos);
+    deck.replace(deck.find(solver), solver.size(), "end_time: 1.0e-3, time_step: 1.0e-6");
+    deck.replace(deck.find("history_every: 7"), 16, every);
+    const Output cpu = run(deck, "non_finite", "cpu");
+    const Output flat = run(deck, "non_finite", "flat");
+    EXPECT_EQ(cpu.exit_code, 2);
+    EXPECT_EQ(flat.exit_code, 2);
+    EXPECT_NE(cpu.summary["message"].get<std::string>().find("non-finite at step 96"), std::string::npos)
+        << cpu.summary["message"];
+    EXPECT_EQ(flat.summary["message"], cpu.summary["message"]);
+    EXPECT_EQ(flat.summary["state_crc32"], cpu.summary["state_crc32"]) << every;
+    EXPECT_EQ(flat.history, cpu.history) << every;
+    ASSERT_EQ(flat.frames.size(), cpu.frames.size());
+    for (const auto& [path, bytes] : cpu.frames) EXPECT_TRUE(flat.frames.at(path) == bytes) << path << " differs";
+  }
+}
+
+// The message of a run refused by a backend ("" if it ran).
+std::string refusal(const std::string& deck, const std::string& backend = "flat") {
+  const fs::path dir = scratch("refusal");
+  const fs::path file = dir / "refused.yaml";
+  std::ofstream(file) << deck;
+  RunOptions o;
+  o.quiet = true;
+  o.handle_signals = false;
+  o.output_dir = (dir / "out").string();
+  o.backend = backend;
+  std::string message;
+  try {
+    run_deck(load_deck(file.string()), o);
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  fs::remove_all(dir);
+  return message;
+}
+
+void expect_refused(const std::string& deck, const std::string& why) {
+  const std::string m = refusal(deck);
+  EXPECT_NE(m.find("refused.yaml: --backend flat cannot take this run: it has " + why), std::string::npos) << m;
+  EXPECT_NE(m.find("use backend cpu"), std::string::npos) << m;
+}
+
+TEST(Backend, FlatRefusesWhatItDoesNotCover) {
+  expect_refused(impact_deck("{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
+                             "yield_stress: 100.0e6}"),
+                 "a model without the unified per-bond form (ModelTraits::unified)");
+  expect_refused(impact_deck(kPmb, "contact: {short_range: {law: peridigm, contact_radius: 0.0009, spring_constant: "
+                                   "1.0e11, friction: 0.3}}\n"),
+                 "short-range contact with friction (contact.short_range.friction)");
+  expect_refused(impact_deck("{model: pmb, density: 7850, youngs_modulus: 200.0e9, damage: {critical_stretch: 0.002, "
+                             "breaks: after_force}}"),
+                 "damage.break_after_force");
+  expect_refused(impact_deck("{model: pmb, density: 7850, youngs_modulus: 200.0e9, damage: {critical_stretch: 0.002}, "
+                             "thermal: {conductivity: 30, specific_heat: 880}}",
+                             "thermal: {initial_temperature: 300}\n"),
+                 "heat conduction");
+}
+
+TEST(Backend, CudaIsRefusedWithoutCuda) {
+  const std::string m = refusal(impact_deck(kPmb), "cuda");
+  // A build without -DHORIZON_CUDA=ON, or one on a machine without a device.
+  const bool no_build = m.find("refused.yaml: --backend cuda: this horizon was built without CUDA") != std::string::npos;
+  const bool no_device = m.find("refused.yaml: --backend cuda: no CUDA device") != std::string::npos;
+  EXPECT_TRUE(no_build || no_device || m.empty()) << m;
+}
+
+TEST(Backend, DeckKeyIsReadAndPlaced) {
+  // solver.backend in the deck: the refusal names its line and column.
+  const fs::path dir = scratch("deck_key");
+  const fs::path file = dir / "keyed.yaml";
+  const std::string after = "{model: pmb, density: 7850, youngs_modulus: 200.0e9, damage: {critical_stretch: 0.002, "
+                            "breaks: after_force}}";
+  std::ofstream(file) << impact_deck(after, "", ", backend: flat");
+  RunOptions o;
+  o.quiet = true;
+  o.handle_signals = false;
+  o.output_dir = (dir / "out").string();
+  std::string m;
+  try {
+    run_deck(load_deck(file.string()), o);
+  } catch (const Error& e) {
+    m = e.what();
+  }
+  EXPECT_NE(m.find("keyed.yaml:18:"), std::string::npos) << m;
+  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has damage.break_after_force"), std::string::npos)
+      << m;
+  // A name that is none of the three: the deck's error, with the choices.
+  std::ofstream(file) << impact_deck(kPmb, "", ", backend: gpu");
+  try {
+    load_deck(file.string());
+    ADD_FAILURE() << "backend: gpu was read";
+  } catch (const Error& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("keyed.yaml:18:"), std::string::npos) << w;
+    EXPECT_NE(w.find("cuda"), std::string::npos) << w;
+  }
+  // Explicit runs only.
+  std::ofstream(file) << "dimension: 3\nspacing: 1.0e-3\nhorizon: 3.0e-3\nmaterials:\n  steel: " + kPmb +
+                             "\nbodies:\n  - {name: bar, material: steel, shape: {box: {min: [0, 0, 0], max: [0.004, "
+                             "0.004, 0.004]}}}\nsolver: {type: static, backend: flat}\n";
+  try {
+    load_deck(file.string());
+    ADD_FAILURE() << "backend with type static was read";
+  } catch (const Error& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("solver.backend: applies to type: explicit only"), std::string::npos) << w;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace horizon
