@@ -20,7 +20,10 @@ struct Mesh;  // geometry/mesh.hpp
 
 enum class PlaneMode { none, stress, strain };
 // tupek: the normalised (6.6)/(6.7) functions (nonlinear_solid only).
-enum class InfluenceKind { constant, inverse, linear, gaussian, tupek };
+// inverse: delta/|xi| (dimensionless); inverse_length: 1/|xi| [1/m], Peridigm's "1.0/zeta",
+// whose weighted volume m is delta times smaller (the forces of the state-based models
+// do not change: omega enters them as omega/m).
+enum class InfluenceKind { constant, inverse, linear, gaussian, tupek, inverse_length };
 
 struct DamageConfig {
   bool enabled = false;
@@ -158,6 +161,9 @@ struct SolverConfig {
   int load_steps = 1;                   // static: equal increments of the pseudo-time
   int max_step_cuts = 6;                // halvings of one increment before giving up
   int max_break_rounds = 100;           // break-and-re-equilibrate rounds per load step
+  // implicit_dynamic: initial_acceleration: zero starts Newmark with a_0 = 0 (Peridigm's
+  // Implicit solver: Body_Force_Implicit's gold) instead of the equilibrium (f + b)/rho.
+  bool zero_initial_acceleration = false;
   bool condition_number = false;        // estimate the tangent's condition number
   // Explicit, models with ModelTraits::adaptive_time_step (nonlinear_solid): recompute the
   // stable step from the current bond tangent stiffness every adaptive_every steps.
@@ -218,6 +224,15 @@ struct OutputConfig {
   struct ExodusFile {
     std::string file;
     int every = 1;
+    // More variables than the fixed set (driver/exodus_output.hpp): `Lambda` (element: the
+    // plastic multiplier of elastic_plastic), `Deformation_Gradient` (element: XX ... ZZ),
+    // or the name of an output.history_columns column (global: its value, vectors X Y Z).
+    std::vector<std::string> variables;
+    // velocity: verlet (explicit runs): at a prescribed component the file reports the
+    // prescribed rate plus dt/2 (f + b)/rho of the step's new forces, the velocity
+    // Peridigm's Verlet integrator reports there (its second half-kick is not masked);
+    // default (false): the particle's own velocity, the prescribed rate.
+    bool verlet_velocity = false;
   };
   std::vector<ExodusFile> exodus_files;
 };

@@ -370,7 +370,8 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   MapReader s(ctx, m.get("solver", "at least {end_time: ...}"),
               {"type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
                "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds",
-               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend"});
+               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend",
+               "initial_acceleration"});
   SolverConfig& sc = config.solver;
   std::string type = "explicit";
   if (auto t = s.find("type")) {
@@ -392,6 +393,9 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   only_for(ctx, s, "method", is_static, kStatic, type);
   only_for(ctx, s, "load_steps", is_static, kStatic, type);
   only_for(ctx, s, "max_step_cuts", is_static, kStatic, type);
+  only_for(ctx, s, "initial_acceleration", sc.type == SolverType::implicit_dynamic, "type: implicit_dynamic", type);
+  if (auto a = s.find("initial_acceleration"))
+    sc.zero_initial_acceleration = read_enum<bool>(ctx, *a, {{"equilibrium", false}, {"zero", true}});
   for (const char* key : {"linear_solver", "tangent", "tolerance", "max_iterations", "max_break_rounds",
                           "condition_number"})
     only_for(ctx, s, key, !is_explicit && !is_heat, kImplicit, type);
@@ -512,7 +516,7 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       ctx.fail(*files->key_mark, files->path + ": exodus output is written by the explicit, implicit and static solvers only");
     for (std::size_t k = 0; k < files->node.size(); ++k) {
       const Item entry{files->node[k], index_path(files->path, k), files->node[k].Mark(), std::nullopt};
-      MapReader e(ctx, entry, {"file", "every"});
+      MapReader e(ctx, entry, {"file", "every", "variables", "velocity"});
       OutputConfig::ExodusFile f;
       const Item name = e.get("file", "the Exodus file's name, inside output.directory");
       f.file = read_string(ctx, name);
@@ -525,6 +529,30 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       if (auto ev = e.find("every")) {
         f.every = read_int(ctx, *ev);
         if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
+      }
+      if (auto vars = e.find("variables")) {
+        // Lambda, Deformation_Gradient or a history column (driver/exodus_output.hpp).
+        std::vector<std::string> known = {"Lambda", "Deformation_Gradient"};
+        for (const auto& c : config.output.history_columns) known.push_back(c.name);
+        if (!vars->node.IsSequence()) fail_expected(ctx, *vars, "a list of variable names");
+        for (std::size_t v = 0; v < vars->node.size(); ++v) {
+          const Item var{vars->node[v], index_path(vars->path, v), vars->node[v].Mark(), std::nullopt};
+          const std::string name = read_string(ctx, var);
+          if (std::find(known.begin(), known.end(), name) == known.end()) {
+            std::string list;
+            for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+            ctx.fail(var.mark, var.path + ": unknown variable '" + name + "'; known: " + list +
+                                   " (the last ones: output.history_columns)");
+          }
+          if (std::find(f.variables.begin(), f.variables.end(), name) != f.variables.end())
+            ctx.fail(var.mark, var.path + ": '" + name + "' is named twice");
+          f.variables.push_back(name);
+        }
+      }
+      if (auto vel = e.find("velocity")) {
+        f.verlet_velocity = read_enum<bool>(ctx, *vel, {{"state", false}, {"verlet", true}});
+        if (f.verlet_velocity && config.solver.type != SolverType::explicit_dynamic)
+          ctx.fail(vel->mark, vel->path + ": verlet applies to explicit runs (solver.type explicit) only");
       }
       config.output.exodus_files.push_back(f);
     }

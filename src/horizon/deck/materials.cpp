@@ -243,6 +243,7 @@ const char* influence_name(InfluenceKind k) {
     case InfluenceKind::linear: return "linear";
     case InfluenceKind::gaussian: return "gaussian";
     case InfluenceKind::tupek: return "tupek";
+    case InfluenceKind::inverse_length: return "inverse_length";
   }
   return "constant";
 }
@@ -344,7 +345,7 @@ MaterialConfig read_material(const DeckContext& ctx, const std::string& name, co
   if (auto i = m.find("influence")) {
     std::vector<std::pair<std::string, InfluenceKind>> all;
     for (InfluenceKind k : {InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
-                            InfluenceKind::gaussian, InfluenceKind::tupek})
+                            InfluenceKind::gaussian, InfluenceKind::tupek, InfluenceKind::inverse_length})
       all.emplace_back(influence_name(k), k);
     mat.influence = read_enum<InfluenceKind>(ctx, *i, all);
     const auto& ok = traits.influences;

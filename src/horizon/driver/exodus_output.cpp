@@ -1,11 +1,17 @@
 #include "horizon/driver/exodus_output.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 
 #include "horizon/core/error.hpp"
+#include "horizon/driver/history_columns.hpp"
+#include "horizon/loading/loads.hpp"
+#include "horizon/material/model.hpp"
+#include "horizon/material/nonlocal_gradient.hpp"
 
 #include "horizon/output/exodus.hpp"
 #include "horizon/parallel/decomposition.hpp"
@@ -33,10 +39,49 @@ int block_id(const std::vector<std::string>& names, int index) {
   return index + 1;
 }
 
+// The nonlocal deformation gradient of particle i over its intact bonds, row by row
+// (material/nonlocal_gradient.hpp; the identity where the shape tensor is singular).
+std::array<double, 9> deformation_gradient(const System& s, std::size_t i) {
+  const Particles& P = s.particles;
+  const Bonds& B = s.bonds;
+  NonlocalGradient g;
+  if (i + 1 < B.offset.size())
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      g.add(P.X[j] - P.X[i], (P.X[j] + P.u[j]) - (P.X[i] + P.u[i]), B.weight[k] * B.volume[k]);
+    }
+  NonlocalGradient::Mat3 Kinv, F;
+  g.finish(s.dimension, 1e-12, Kinv, F);
+  std::array<double, 9> out{};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out[static_cast<std::size_t>(3 * r + c)] = F(r, c);
+  return out;
+}
+
 }  // namespace
 
 ExodusOutput::ExodusOutput(std::string path, bool iterations)
     : path_(std::move(path)), iterations_(iterations ? std::optional<int>(0) : std::nullopt) {}
+
+ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<std::string>& variables,
+                           const Config& config, bool verlet_velocity)
+    : ExodusOutput(std::move(path), iterations) {
+  verlet_ = verlet_velocity;
+  columns_.deck_file = config.deck_file;
+  columns_.regions = config.regions;
+  for (const auto& v : variables) {
+    if (v == "Lambda") {
+      lambda_ = true;
+    } else if (v == "Deformation_Gradient") {
+      gradient_ = true;
+    } else {
+      // The deck reader has checked that a history column of this name exists.
+      for (const auto& c : config.output.history_columns)
+        if (c.name == v) columns_.output.history_columns.push_back(c);
+    }
+  }
+}
 
 void ExodusOutput::set_iterations(int n) {
   if (iterations_) iterations_ = n;
@@ -53,30 +98,72 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
   const Particles& P = s.particles;
   const ModelCoefficients& M = s.model;
   std::vector<std::vector<double>> rows;  // on the writing process: [particle][value]
-  const std::vector<Vec3>& velocity = velocity_.size() == P.size() ? velocity_ : P.v;
+  std::vector<Vec3> kicked;  // velocity: verlet (set_verlet)
+  if (verlet_ && loads_ && verlet_dt_ > 0) {
+    kicked = P.v;
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      const double rho = i < P.density.size() ? P.density[i] : 0.0;
+      if (!(rho > 0)) continue;
+      const Vec3 b = i < P.b.size() ? P.b[i] : Vec3{};
+      for (int c = 0; c < 3; ++c)
+        if (loads_->is_constrained(i, c)) kicked[i][c] += 0.5 * verlet_dt_ * (P.f[i][c] + b[c]) / rho;
+    }
+  }
+  const std::vector<Vec3>& velocity = velocity_.size() == P.size() ? velocity_ : kicked.size() ? kicked : P.v;
+  // The file's own variables (header): the plastic multiplier field of the models, and
+  // the globals, computed on every rank (the history columns are collective).
+  // Lambda is NaN (undefined) at the particles of models without it: Peridigm leaves the
+  // variable out of those blocks (Bar_TwoBlocks_TwoDifferentMaterial_QS's gold), which
+  // exodiff and netCDF readers see as missing values.
+  std::vector<double> lambda, dilatation;
+  {
+    std::vector<ModelField> fields;
+    for (const auto& m : s.models) m->fields(s, fields);
+    std::vector<uint8_t> plastic(P.size(), 0);
+    for (std::size_t m = 0; m < s.models.size(); ++m)  // s.models[m]: material m's model
+      if (s.models[m].traits().name == "elastic_plastic")
+        for (std::size_t i = 0; i < P.size(); ++i)
+          if (P.material[i] == static_cast<int32_t>(m)) plastic[i] = 1;
+    if (lambda_) lambda.assign(P.size(), std::numeric_limits<double>::quiet_NaN());
+    for (const auto& f : fields) {
+      if (f.values.size() != P.size()) continue;
+      if (f.name == "plastic_multiplier" && lambda_)
+        for (std::size_t i = 0; i < P.size(); ++i)
+          if (plastic[i]) lambda[i] = f.values[i];
+      // Models whose rows compute theta themselves publish it as a field (elastic_plastic).
+      if (f.name == "dilatation" && dilatation.empty()) dilatation = f.values;
+    }
+  }
+  const std::vector<double> globals = history_columns_values(columns_, s);
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
   auto pack = [&](uint32_t i, std::vector<double>& out) {
     for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
     out.push_back(i < P.density.size() ? P.density[i] : 0.0);
     out.push_back(P.damage[i]);
-    out.push_back(i < M.theta.size() ? M.theta[i] : 0.0);
+    out.push_back((i < M.theta.size() ? M.theta[i] : 0.0) + (i < dilatation.size() ? dilatation[i] : 0.0));
     out.push_back(i < M.weighted_volume.size() ? M.weighted_volume[i] : 0.0);
     out.push_back(static_cast<double>(P.block[i]));
     out.push_back(i + 1 < s.bonds.offset.size() ? static_cast<double>(s.bonds.offset[i + 1] - s.bonds.offset[i]) : 0.0);
     const Vec3 b = i < P.b.size() ? P.b[i] : Vec3{};
     out.insert(out.end(), {b.x, b.y, b.z});
     out.push_back(i < P.energy.size() ? P.energy[i] : 0.0);
+    if (lambda_) out.push_back(lambda[i]);
+    if (gradient_) {
+      const auto F = deformation_gradient(s, i);
+      out.insert(out.end(), F.begin(), F.end());
+    }
   };
   auto take = [&](std::size_t g, const double* v) {
     if (rows.size() <= g) rows.resize(g + 1);
-    rows[g].assign(v, v + kWidth);
+    rows[g].assign(v, v + width);
   };
-  stream_on_lead(s, d, kWidth, pack, take);
+  stream_on_lead(s, d, width, pack, take);
   const bool lead = !d || d->rank == 0;
   std::string failure;
   if (lead) {
     try {
-      append(s, rows, time);
+      append(s, rows, globals, time);
     } catch (const OutputError& e) {
       failure = e.what();
     }
@@ -86,7 +173,8 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     throw OutputError(lead ? failure : "rank 0 could not write the Exodus file '" + path_ + "'");
 }
 
-void ExodusOutput::append(const System& s, const std::vector<std::vector<double>>& rows, double time) {
+void ExodusOutput::append(const System& s, const std::vector<std::vector<double>>& rows,
+                          const std::vector<double>& globals, double time) {
 
   const std::size_t n = rows.size();
   if (!writer_) {
@@ -107,14 +195,20 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "External_Force_DensityY", "External_Force_DensityZ"};
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
+    if (lambda_) layout.element.push_back("Lambda");
+    if (gradient_)
+      for (const char* r : {"X", "Y", "Z"})
+        for (const char* c : {"X", "Y", "Z"}) layout.element.push_back(std::string("Deformation_Gradient") + r + c);
     layout.global = {"Global_Kinetic_Energy"};
     if (iterations_) layout.global.push_back("Nonlinear_Solver_Iterations");
+    for (const auto& name : history_columns_names(columns_)) layout.global.push_back(name);
     writer_ = std::make_unique<ExodusWriter>(path_, layout);
   }
   ExodusStep step;
   step.time = time;
   step.nodal.assign(18, std::vector<double>(n));
-  step.element.assign(10, std::vector<double>(n));
+  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
+  step.element.assign(10 + extra, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = rows[i];
@@ -137,17 +231,20 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     step.element[8][i] = r[22] * r[12];
     // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
     step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
+    for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};
   if (iterations_) step.global.push_back(static_cast<double>(*iterations_));
+  step.global.insert(step.global.end(), globals.begin(), globals.end());
   writer_->append(step);
 }
 
 ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& files, const std::filesystem::path& dir,
-                               bool iterations) {
+                               bool iterations, const Config& config) {
   for (const auto& f : files) {
-    files_.push_back(std::make_unique<ExodusOutput>((dir / f.file).string(), iterations));
+    files_.push_back(
+        std::make_unique<ExodusOutput>((dir / f.file).string(), iterations, f.variables, config, f.verlet_velocity));
     every_.push_back(std::max(1, f.every));
   }
 }
@@ -161,6 +258,10 @@ bool ExodusSchedule::due(int64_t step) const {
 void ExodusSchedule::write(const System& s, const Decomposition* d, double time, int64_t step) {
   for (std::size_t k = 0; k < files_.size(); ++k)
     if (step % every_[k] == 0) files_[k]->write(s, d, time);
+}
+
+void ExodusSchedule::set_verlet(const Loads* loads, double dt) {
+  for (auto& f : files_) f->set_verlet(loads, dt);
 }
 
 void ExodusSchedule::set_iterations(int n) {

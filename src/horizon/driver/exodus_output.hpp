@@ -12,6 +12,18 @@
 //            Radius (of the sphere of the particle's volume);
 //   global   Global_Kinetic_Energy (sum of rho V |v|^2 / 2); static and implicit runs also
 //            Nonlinear_Solver_Iterations (Newton's iterations of the step).
+// A file with `velocity: verlet` reports at prescribed components v + dt/2 (f + b)/rho
+// (Peridigm's Verlet; set_verlet).
+// A file's `variables` (output.exodus_files) add (element variables after the fixed set,
+// Lambda first; globals in the order given):
+//   Lambda                element: the plastic multiplier of elastic_plastic (its field
+//                         plastic_multiplier; 0 at particles of other models);
+//   Deformation_Gradient  element Deformation_GradientXX, XY, XZ, YX, ..., ZZ: the nonlocal
+//                         deformation gradient F_i = (sum_j omega V_j Y (x) xi) K_i^-1 over the
+//                         intact bonds (Silling et al. 2007, seed 003 eq. 17 and 134;
+//                         material/nonlocal_gradient.hpp), exact for a homogeneous deformation;
+//   a history column's name  global: its value (vectors NAMEX, NAMEY, NAMEZ), as in history.csv
+//                         but at full precision: Peridigm's compute classes' Output Labels.
 // On several MPI ranks every particle is streamed to rank 0 in global order
 // (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
 // byte, as one rank.
@@ -30,12 +42,16 @@ namespace horizon {
 struct System;
 struct Decomposition;
 class ExodusWriter;
+class Loads;
 
 class ExodusOutput {
  public:
   // `iterations`: the file also has the global Nonlinear_Solver_Iterations (static and
   // implicit runs: Newton's iterations of the last step, set_iterations; 0 at t = 0).
   explicit ExodusOutput(std::string path, bool iterations = false);
+  // With a file's `variables` (above); `config` gives the history columns they name.
+  ExodusOutput(std::string path, bool iterations, const std::vector<std::string>& variables, const Config& config,
+               bool verlet_velocity = false);
   void set_iterations(int n);
   ~ExodusOutput();
   // Collective: appends the system's state at `time` as the next time step (the file is
@@ -46,13 +62,22 @@ class ExodusOutput {
   // particle -- the last load step's displacement increment over its pseudo-time
   // increment, what Peridigm's QuasiStatic solver reports as the velocity.
   void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
+  // Explicit runs: the constraints and the step of the next write, for `velocity: verlet`
+  // files (deck/config.hpp ExodusFile); dt = 0 (the initial state) adds nothing.
+  void set_verlet(const Loads* loads, double dt) { loads_ = loads, verlet_dt_ = dt; }
 
  private:
-  void append(const System& s, const std::vector<std::vector<double>>& rows, double time);
+  void append(const System& s, const std::vector<std::vector<double>>& rows, const std::vector<double>& globals,
+              double time);
   std::string path_;
   std::unique_ptr<ExodusWriter> writer_;
   std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
   std::optional<int> iterations_;  // Nonlinear_Solver_Iterations, when the file has it
+  bool lambda_ = false, gradient_ = false;  // the element variables asked for
+  bool verlet_ = false;                      // velocity: verlet
+  const Loads* loads_ = nullptr;
+  double verlet_dt_ = 0;
+  Config columns_;  // the history columns written as globals (with the regions they read)
 };
 
 // output.exodus_files: Exodus files on their own schedules, each written at step 0 (the
@@ -61,7 +86,7 @@ class ExodusOutput {
 class ExodusSchedule {
  public:
   ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& files, const std::filesystem::path& dir,
-                 bool iterations = false);
+                 bool iterations, const Config& config);
   void set_iterations(int n);
   bool empty() const { return files_.empty(); }
   bool due(int64_t step) const;
@@ -69,6 +94,8 @@ class ExodusSchedule {
   void write(const System& s, const Decomposition* d, double time, int64_t step);
   // Static solves: as ExodusOutput::set_step_velocity, for every file.
   void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
+  // As ExodusOutput::set_verlet, for every file.
+  void set_verlet(const Loads* loads, double dt);
 
  private:
   std::vector<std::unique_ptr<ExodusOutput>> files_;

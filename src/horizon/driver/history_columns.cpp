@@ -52,6 +52,17 @@ Vec3 value_of(const System& s, std::size_t i, HistoryQuantity q) {
 
 }  // namespace
 
+std::vector<std::string> history_columns_names(const Config& config) {
+  std::vector<std::string> names;
+  for (const auto& c : config.output.history_columns) {
+    if (c.field.empty() && is_vector(c.quantity))
+      for (const char* x : {"X", "Y", "Z"}) names.push_back(c.name + x);
+    else
+      names.push_back(c.name);
+  }
+  return names;
+}
+
 std::string history_columns_header(const Config& config) {
   std::string h;
   for (const auto& c : config.output.history_columns) {
@@ -65,6 +76,12 @@ std::string history_columns_header(const Config& config) {
 
 std::string history_columns_row(const Config& config, const System& s) {
   std::string row;
+  for (double v : history_columns_values(config, s)) row += fmt::format(",{:.9e}", v);
+  return row;
+}
+
+std::vector<double> history_columns_values(const Config& config, const System& s) {
+  std::vector<double> row;
   const auto& columns = config.output.history_columns;
   if (columns.empty()) return row;
   const Particles& p = s.particles;
@@ -146,7 +163,7 @@ std::string history_columns_row(const Config& config, const System& s) {
       });
       for (int k = 0; k < 3; ++k) out[k] = sign * (s.decomposition ? min_over_ranks(low[k]) : low[k]);
     }
-    for (int k = 0; k < n; ++k) row += fmt::format(",{:.9e}", out[k]);
+    for (int k = 0; k < n; ++k) row.push_back(out[k]);
   }
   return row;
 }

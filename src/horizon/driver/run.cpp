@@ -79,7 +79,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.pvd = std::make_unique<PvdIndex>((r.dir / "frames.pvd").string());
   if (c.output.writes_exodus()) r.exodus = std::make_unique<ExodusOutput>((r.dir / c.output.exodus_file).string());
-  if (!c.output.exodus_files.empty()) r.exodus_files = std::make_unique<ExodusSchedule>(c.output.exodus_files, r.dir);
+  if (!c.output.exodus_files.empty()) r.exodus_files = std::make_unique<ExodusSchedule>(c.output.exodus_files, r.dir, false, c);
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();
@@ -230,7 +230,10 @@ int64_t ExplicitRun::advance(int64_t n) {
         r.write_frame();
         ++r.next_frame;
       }
-      if (exodus_due) r.exodus_files->write(r.s, r.dd.get(), solver.time(), step);
+      if (exodus_due) {
+        r.exodus_files->set_verlet(r.loads.get(), solver.dt());  // velocity: verlet files
+        r.exodus_files->write(r.s, r.dd.get(), solver.time(), step);
+      }
       if (c.output.checkpoint_every > 0 && solver.steps() % c.output.checkpoint_every == 0 && !r.at_end())
         r.write_checkpoint();
       if (!r.options.quiet) r.progress->update(solver.steps(), solver.time());

@@ -190,6 +190,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     statics->initialize();
   } else {
     dynamics = std::make_unique<NewmarkSolver>(s, loads, *sc.time_step, sc.damping, newton, sc.max_break_rounds);
+    dynamics->set_zero_initial_acceleration(sc.zero_initial_acceleration);
     dynamics->initialize();
   }
   const DofMap& dofs = is_static ? statics->dofs() : dynamics->dofs();
@@ -268,7 +269,7 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     exodus = std::make_unique<ExodusOutput>((dir / config.output.exodus_file).string(), true);
   // output.exodus_files: each on its own steps (static: load steps).
   std::unique_ptr<ExodusSchedule> exodus_files;
-  if (!config.output.exodus_files.empty()) exodus_files = std::make_unique<ExodusSchedule>(config.output.exodus_files, dir, true);
+  if (!config.output.exodus_files.empty()) exodus_files = std::make_unique<ExodusSchedule>(config.output.exodus_files, dir, true, config);
   auto write_frame = [&](double time, int64_t step) {
     if (exodus) exodus->write(s, dd.get(), time);
     if (!config.output.writes_vtu()) return;

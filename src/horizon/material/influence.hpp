@@ -12,6 +12,7 @@ inline double influence(InfluenceKind kind, double r, double horizon) {
   switch (kind) {
     case InfluenceKind::constant: return 1.0;
     case InfluenceKind::inverse: return horizon / r;                 // delta/|xi|
+    case InfluenceKind::inverse_length: return 1.0 / r;              // 1/|xi| (Peridigm's "1.0/zeta")
     // Clamped at 0: with partial volumes, families reach horizon + spacing/2 and a
     // negative weight would subtract those bonds from m and from the force.
     case InfluenceKind::linear: return std::max(0.0, 1.0 - r / horizon);  // 1 - |xi|/delta

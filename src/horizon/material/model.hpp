@@ -107,7 +107,7 @@ struct ModelTraits {
   // f_i = sum_j omega V_j ((M_i + M_j) xi + (g_i + g_j) Y) (solver/forces_affine.cpp).
   bool affine = false;
   std::vector<InfluenceKind> influences{InfluenceKind::constant, InfluenceKind::inverse, InfluenceKind::linear,
-                                        InfluenceKind::gaussian};
+                                        InfluenceKind::gaussian, InfluenceKind::inverse_length};
   InfluenceKind default_influence = InfluenceKind::constant;
   std::vector<ParameterSpec> parameters;
   std::vector<ChoiceSpec> choices;

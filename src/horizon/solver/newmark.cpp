@@ -43,7 +43,8 @@ void NewmarkSolver::initialize() {
   for (std::size_t k = 0; k < dofs_.size(); ++k) {
     const uint32_t i = dofs_.particle[k];
     const int c = dofs_.component[k];
-    a_[static_cast<Eigen::Index>(k)] = (P.f[i][c] + P.b[i][c]) / P.density[i] - damping_ * P.v[i][c];
+    a_[static_cast<Eigen::Index>(k)] =
+        zero_start_ ? 0.0 : (P.f[i][c] + P.b[i][c]) / P.density[i] - damping_ * P.v[i][c];
   }
   // Split over ranks: distributed vectors (equilibrium.hpp), other ranks' dofs 0, so that
   // their displacements stay as they are and their velocities are not integrated here.

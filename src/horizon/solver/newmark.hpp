@@ -23,6 +23,9 @@ class NewmarkSolver {
 
   // Loads at t = 0, first forces and accelerations, the ledger's initial energies.
   void initialize();
+  // Starts from a_0 = 0 instead of the equilibrium (f + b)/rho (solver.initial_acceleration:
+  // zero, Peridigm's Implicit); call before initialize().
+  void set_zero_initial_acceleration(bool zero) { zero_start_ = zero; }
   // One step with bond breaking (break, re-solve, until no bond breaks). Returns the
   // last Newton report; on failure the state is restored to the start of the step.
   SolveReport step();
@@ -47,6 +50,7 @@ class NewmarkSolver {
   int64_t steps_ = 0;
   int64_t newton_iterations_ = 0, linear_iterations_ = 0;
   Eigen::VectorXd a_;  // acceleration of the free dofs
+  bool zero_start_ = false;
   Ledger ledger_;
 };
 

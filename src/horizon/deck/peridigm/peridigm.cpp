@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -179,29 +180,67 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                    "Yield Stress",    "Disable Plasticity", "Hardening Modulus",
                                    "Hourglass Coefficient", "lambda_i", "tau b", "Finite Difference Probe Length",
                                    "Enable Flaw", "Flaw Location X", "Flaw Location Y", "Flaw Location Z",
-                                   "Flaw Size", "Flaw Magnitude"};
+                                   "Flaw Size", "Flaw Magnitude", "Plane Strain", "Plane Stress", "Height"};
   MapReader m(t.ctx, item, keys);
   const Item model_item = m.get("Material Model", "Elastic, Elastic Bond Based, Elastic Plastic, ...");
   const std::string model = read_string(t.ctx, model_item);
   const std::string w = squash(model);
   YAML::Node mat;
   std::vector<std::string> own;  // the model-specific keys this model accepts
+  bool planar_c = false;         // Elastic Bond Based in a plane: c given, no moduli
   if (w == "elastic") {
     mat["model"] = "lps";
   } else if (w == "elasticbondbased") {
     mat["model"] = "pmb";
+    own = {"Plane Strain", "Plane Stress", "Height"};
+    bool planar = false;
+    for (const char* k : {"Plane Strain", "Plane Stress"})
+      if (auto f = m.find(k); f && read_bool(t.ctx, *f)) {
+        if (planar) t.ctx.fail(*f->key_mark, f->path + ": give Plane Strain or Plane Stress, not both");
+        planar = true;
+      }
+    if (planar) {
+      // Peridigm's planar bond-based solid (a one-layer mesh of thickness h = Height):
+      // c = 12 K/(pi h delta^3). It is Horizon's 2-D micromodulus (material/constants.cpp)
+      // in either plane mode when K is the in-plane bulk modulus: plane stress (nu = 1/3)
+      // c = 9E/(pi h delta^3), E = 2K(1 - nu) = 4K/3; plane strain (nu = 1/4)
+      // c = 48E/(5 pi h delta^3), E = 2K(1 + nu)(1 - 2 nu) = 5K/4. Both golds
+      // (ElasticBondBased2DPlaneStrain, ...PlaneStress) have the same forces, and their c
+      // fitted from them is 7.2144221e12 = 12 K/(pi h delta^3) to 1e-13 (docs/peridigm.md).
+      // The mesh's particles keep their 3-D volumes A h in their plane, so the native deck
+      // stays 3-D and takes c directly.
+      const double h = read_positive(t.ctx, m.get("Height", "the thickness h of the planar body"));
+      const Item k = m.get("Bulk Modulus", "the bulk modulus K (c = 12 K/(pi h delta^3))");
+      for (const char* other : {"Shear Modulus", "Young's Modulus", "Poisson's Ratio"})
+        if (auto it = m.find(other))
+          t.ctx.fail(*it->key_mark, it->path + ": a planar Elastic Bond Based material takes the Bulk Modulus alone");
+      const double K = read_positive(t.ctx, k);
+      mat["micromodulus"] = number(12 * K / (std::numbers::pi * h * std::pow(t.horizon, 3)));
+      planar_c = true;  // the moduli are not given with c (below)
+    } else if (auto hk = m.find("Height")) {
+      t.ctx.fail(*hk->key_mark, hk->path + ": a parameter of the planar model only (Plane Strain or Plane Stress: true)");
+    }
   } else if (w == "elasticplastic" || w == "elasticplastichardening") {
     own = {"Yield Stress", "Disable Plasticity"};
     if (w == "elasticplastichardening") own.push_back("Hardening Modulus");
     bool disabled = false;
     if (auto d = m.find("Disable Plasticity")) disabled = read_bool(t.ctx, *d);
+    mat["model"] = "elastic_plastic";
     if (disabled) {
-      // Disable Plasticity leaves Peridigm's elastic LPS part (elastic_plastic.cxx).
-      mat["model"] = "lps";
+      // Disable Plasticity leaves the model's elastic part, the LPS forces; its Lambda
+      // stays 0 (Bar_TwoBlocks_TwoDifferentMaterial_QS's gold has it 0 in that block and
+      // undefined in the Elastic one).
+      mat["plasticity"] = "off";
+      // The yield stress is not used then (BondBreakingInitialVelocity-EP gives 0).
+      const double sy = m.find("Yield Stress") ? read_non_negative(t.ctx, *m.find("Yield Stress")) : 0.0;
+      mat["yield_stress"] = sy > 0 ? sy : 1.0;
+      if (auto h = m.find("Hardening Modulus")) read_non_negative(t.ctx, *h);
     } else {
-      mat["model"] = "elastic_plastic";
       mat["yield_stress"] = read_positive(t.ctx, m.get("Yield Stress", "the yield stress [Pa]"));
       if (auto h = m.find("Hardening Modulus")) mat["hardening_modulus"] = read_non_negative(t.ctx, *h);
+      // Peridigm's yield function is Mitchell's psi_0 = 25 sigma_y^2/(8 pi delta^5), the
+      // continuum sphere's m whatever the lattice (ep_cube's gold, docs/peridigm.md).
+      mat["yield_reference"] = "continuum";
     }
   } else if (w == "viscoelastic") {
     own = {"lambda_i", "tau b"};
@@ -245,7 +284,8 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                std::string("lambda_i"), std::string("tau b"), std::string("Enable Flaw"),
                                std::string("Flaw Location X"), std::string("Flaw Location Y"),
                                std::string("Flaw Location Z"), std::string("Flaw Size"),
-                               std::string("Flaw Magnitude")}) {
+                               std::string("Flaw Magnitude"), std::string("Plane Strain"), std::string("Plane Stress"),
+                               std::string("Height")}) {
     if (std::find(own.begin(), own.end(), k) != own.end()) continue;
     if (auto it = m.find(k))
       t.ctx.fail(*it->key_mark, it->path + ": not a parameter of Material Model '" + model + "'");
@@ -255,8 +295,10 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                                         {"Shear Modulus", "shear_modulus"},
                                                         {"Young's Modulus", "youngs_modulus"},
                                                         {"Poisson's Ratio", "poissons_ratio"}};
-  for (const auto& [from, to] : moduli)
-    if (auto v = m.find(from)) mat[to] = read_number(t.ctx, *v);
+  if (!planar_c) {
+    for (const auto& [from, to] : moduli)
+      if (auto v = m.find(from)) mat[to] = read_number(t.ctx, *v);
+  }
   if (auto a = m.find("Thermal Expansion Coefficient")) {
     if (read_number(t.ctx, *a) != 0)
       t.ctx.fail(a->mark, a->path + ": thermal strain is not imported (Horizon's temperature is set in its own deck, thermal:); only 0");
@@ -273,6 +315,15 @@ YAML::Node read_material(Translation& t, const Item& item) {
 }
 
 std::string read_value(Translation& t, const Item& item);
+
+// Whether an expression's text names the time t (a word t, as the static solver reads it:
+// solver/static_driver.cpp uses_time).
+bool mentions_t(const std::string& s) {
+  auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s[i] == 't' && (i == 0 || !word(s[i - 1])) && (i + 1 == s.size() || !word(s[i + 1]))) return true;
+  return false;
+}
 
 // Appends precracks to the native deck's list.
 void add_precracks(Translation& t, const YAML::Node& cracks) {
@@ -495,6 +546,9 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
   } else if (r.method == "Implicit") {
     MapReader v(ctx, mi, {"Fixed dt", "Beta", "Gamma", "Absolute Tolerance", "Maximum Solver Iterations"});
     solver["type"] = "implicit_dynamic";
+    // Peridigm's Newmark starts from a_0 = 0: Body_Force_Implicit's free body under b falls
+    // u_n = dt^2 (b/rho) (1/4 + n(n - 1)/2) (its gold's 0.0030025 at n = 25), not (b/rho) t^2/2.
+    solver["initial_acceleration"] = "zero";
     r.fixed_dt = read_positive(ctx, v.get("Fixed dt", "the time step"));
     solver["time_step"] = number(*r.fixed_dt);
     if (auto b = v.find("Beta"); b && read_number(ctx, *b) != 0.25)
@@ -616,6 +670,16 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
     }
     merged.end_time = end = sv.end_time;
   }
+  // Peridigm's Verlet takes int(T/dt) whole steps and ends there: InitialDamage's 1e-2/2e-5
+  // is 499.99999999999994 in floating point, and its gold's last output (every 50 steps)
+  // is step 450, t = 0.009; ElasticPlasticCorrespondenceFullyPrescribedTension's
+  // 1e-7/2e-9 = 49.999... steps end at 9.8e-8. Horizon's explicit solver takes
+  // ceil(T/dt - 1e-9) whole steps (driver/check.cpp: 500 and 50 there), so the native deck
+  // ends at int(T/dt) dt, where both codes take the same steps.
+  if (merged.method == "Verlet" && merged.fixed_dt) {
+    const double steps = std::floor(merged.end_time / *merged.fixed_dt);
+    if (steps >= 1) merged.end_time = steps * *merged.fixed_dt;
+  }
   merged.solver["end_time"] = number(merged.end_time);
   return merged;
 }
@@ -665,6 +729,10 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
   YAML::Node file;
   file["file"] = file_name;
   file["every"] = every;
+  // Peridigm's Verlet reports at a prescribed component the prescribed rate plus
+  // dt/2 (f + b)/rho (its second half-kick; ElasticBondBased2DPlaneStrain's gold to 3e-10):
+  // the native `velocity: verlet` (docs/input.md).
+  if (solve.method == "Verlet") file["velocity"] = "verlet";
   exodus_files.push_back(file);
   if (first) {
     output["directory"] = "out/" + name;
@@ -678,22 +746,25 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
       }
     }
   }
+  std::vector<std::string> variables;  // the file's own variables beyond Horizon's set
   if (auto vars = om.find("Output Variables")) {
     // Horizon writes its own set of variables (driver/exodus_output.hpp) whatever the
-    // list asks; a Peridigm variable it does not compute (Deformation_Gradient, ...) is
-    // left out of the file, and a name one letter or two from a known one is a typo.
+    // list asks, and Lambda, Deformation_Gradient and compute classes' labels where asked;
+    // a Peridigm variable it does not compute (Hourglass_Force_Density, ...) is left out
+    // of the file, and a name one letter or two from a known one is a typo.
     static const std::vector<std::string> known = {
         "Displacement", "Velocity", "Acceleration", "Force", "Force_Density", "Damage", "Dilatation",
         "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
         "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
         "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
-        "Nonlinear_Solver_Iterations"};
+        "Nonlinear_Solver_Iterations", "Deformation_Gradient"};
     for (const auto& e : map_entries(ctx, *vars)) {
       // The globals Peridigm writes become history columns under their own names (once,
       // whichever lists name them), and compute classes' Output Labels are written by
       // their columns.
       if (labels && labels->count(e.key)) {
-        read_bool(ctx, e.value);
+        // ... and are the file's global variables too (WaveInBar_MultiBlock's Volume_Block_1).
+        if (read_bool(ctx, e.value)) variables.push_back(e.key);
         continue;
       }
       YAML::Node global(YAML::NodeType::Sequence);
@@ -703,14 +774,31 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         if (read_bool(ctx, e.value) && !have) history_columns.push_back(global[0]);
         continue;
       }
+      // Peridigm also takes the components' names (Deformation_GradientXX, ...).
+      const bool gradient = e.key.rfind("Deformation_Gradient", 0) == 0 &&
+                            (e.key.size() == 20 || (e.key.size() == 22 && std::string("XYZ").find(e.key[20]) != std::string::npos &&
+                                                    std::string("XYZ").find(e.key[21]) != std::string::npos));
+      if (gradient) {
+        if (read_bool(ctx, e.value) &&
+            std::find(variables.begin(), variables.end(), "Deformation_Gradient") == variables.end())
+          variables.push_back("Deformation_Gradient");
+        continue;
+      }
       if (std::find(known.begin(), known.end(), e.key) == known.end()) {
         const auto near = closest_word(e.key, known);
         if (near && edit_distance(e.key, *near) <= 2)
           fail_choice(ctx, Item{YAML::Node(e.key), e.value.path, *e.value.key_mark, e.value.key_mark}, e.key, known,
                       "output variable");
       }
-      read_bool(ctx, e.value);
+      // Lambda (elastic_plastic's plastic multiplier) and Deformation_Gradient are written
+      // where asked (output.exodus_files' variables, driver/exodus_output.hpp).
+      if (read_bool(ctx, e.value) && e.key == "Lambda") variables.push_back(e.key);
     }
+  }
+  if (variables.size()) {
+    YAML::Node list(YAML::NodeType::Sequence);
+    for (const auto& v : variables) list.push_back(v);
+    exodus_files[exodus_files.size() - 1]["variables"] = list;
   }
 }
 
@@ -828,9 +916,9 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     if (w == "one" || w == "1" || w == "1.0") {
       influence = "constant";
     } else if (w == "1.0/zeta" || w == "1/zeta") {
-      // omega = 1/|xi|; Horizon's inverse is delta/|xi|. A constant factor in omega
-      // cancels in every ordinary state-based force (m scales with it).
-      influence = "inverse";
+      // omega = 1/|xi|: Horizon's inverse_length (its inverse is delta/|xi|, whose weighted
+      // volume, an output, is delta times Peridigm's: Compression_3x1x1_InfluenceFunction).
+      influence = "inverse_length";
     } else {
       ctx.fail(f->mark, f->path + ": expected One or \"1.0/zeta\" (the influence functions Horizon maps), found " +
                             text_of(*f));
@@ -999,7 +1087,14 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       used.insert(set);
       const Item coord = c.get("Coordinate", "x, y or z");
       const int axis = static_cast<int>(choose_word(ctx, coord, {"x", "y", "z"}));
-      const std::string value = read_value(t, c.get("Value", "a number or an expression in x, y, z, t"));
+      std::string value = read_value(t, c.get("Value", "a number or an expression in x, y, z, t"));
+      if (kind == "body_force" && !mentions_t(value)) {
+        // Peridigm evaluates a Body Force at each step's time, so one without t acts in
+        // full from t = 0 (CentrifugalLoad's gold has it in its t = 0 output); Horizon's
+        // static solver ramps a load written without t (docs/input.md, "Static
+        // solves") and takes one written in t as written. Explicit runs: the same force.
+        value = "(" + value + ") + 0*t";
+      }
       auto it = std::find_if(conds.begin(), conds.end(),
                              [&](const Cond& k) { return k.set == set && k.kind == kind; });
       if (it == conds.end()) {

@@ -3,8 +3,10 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+#include <numbers>
 
 #include "horizon/core/error.hpp"
+#include "horizon/material/influence.hpp"
 #include "horizon/material/models/history_ledger.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
@@ -26,6 +28,18 @@ const ModelTraits& traits() {
          "linear isotropic hardening modulus H [Pa]: sigma_y + H eps_p; uniaxial tangent slope E H/(E + H); 0: "
          "perfect plasticity",
          ParameterSpec::Range::non_negative, 0.0},
+    };
+    m.choices = {
+        {"yield_reference",
+         "the weighted volume of the yield function psi_0 = sigma_y^2/(2 c m): particle (each particle's own m, "
+         "so a homogeneous test yields at sigma_y on any lattice) or continuum (the full sphere's m = 4 pi "
+         "int omega r^4 dr, 3-D only: Mitchell's psi_0 = 25 sigma_y^2/(8 pi delta^5) for omega = 1, Peridigm's "
+         "Elastic Plastic)",
+         {"particle", "continuum"}},
+        {"plasticity",
+         "on, or off: the model's elastic part alone (the LPS forces; plastic_multiplier stays 0), Peridigm's "
+         "Disable Plasticity",
+         {"on", "off"}},
     };
     m.thermal_strain = true;  // force_state subtracts eps_ij |xi| from e (docs/models/heat.md)
     m.rows_local = true;      // row i reads i's family, eps_p_i and e^dp of i's bonds alone
@@ -51,14 +65,21 @@ class ElasticPlastic final : public Model {
     return ledger_.pending_energy(particles_, s.particles.volume);
   }
   void fields(const System& s, std::vector<ModelField>& out) const override {
-    // The equivalent plastic strain, measured like the classical one (header).
+    // The equivalent plastic strain, measured like the classical one, and the plastic
+    // multiplier lambda (header).
     (void)s;
     out.push_back({"plastic_strain", eps_p_});
+    out.push_back({"plastic_multiplier", lambda_});
+    // theta of the last force pass: this model's rows compute it themselves, so the
+    // general pass's System::model.theta (the Exodus file's Dilatation) stays 0 here.
+    out.push_back({"dilatation", theta_});
   }
 
   void checkpoint(StateArchive& a) override {
     a.io_particles("eps_p", eps_p_);
     a.io_particles("eps_p_trial", eps_p_trial_);
+    a.io_particles("lambda", lambda_);
+    a.io_particles("lambda_trial", lambda_trial_);
     ep_.checkpoint(a, "ep", "ep_trial", ledger_.fresh);
     ledger_.checkpoint(a);
   }
@@ -74,6 +95,11 @@ class ElasticPlastic final : public Model {
   int dim_ = 3;
   double bulk_ = 0;  // k' (lps_bulk_modulus)
   double mu_ = 0, yield_ = 0, hardening_ = 0;
+  // The weighted volume of the yield function: 0 for each particle's own m, else the
+  // continuum's (yield_reference).
+  double yield_volume_ = 0;
+  bool plastic_ = true;  // plasticity: off leaves every step elastic (beta = 1)
+  double yield_m(double m) const { return yield_volume_ > 0 ? yield_volume_ : m; }
   // Per particle (indexed by particle, only this material's filled): the equivalent
   // plastic strain and the stored energy density W, committed and trial, and the energy
   // density dissipated in the trial step [J/m^3].
@@ -81,6 +107,9 @@ class ElasticPlastic final : public Model {
   // Per particle: it flowed in its last pass of the scalar form (force_row's guess; not
   // state: whatever it holds, the row computes the same bits).
   std::vector<uint8_t> flowed_;
+  // The plastic multiplier, committed and trial: the sum of the steps' d lambda (header).
+  std::vector<double> lambda_, lambda_trial_;
+  std::vector<double> theta_;  // the dilatation of the last force pass (an output)
   // Per directed bond: the plastic deviatoric extension (history), committed and trial,
   // and what the ledger needs of the step (below).
   BondHistory<double> ep_;
@@ -107,7 +136,19 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   eps_p_.assign(n, 0);
   eps_p_trial_.assign(n, 0);
   flowed_.assign(n, 0);
+  lambda_.assign(n, 0);
+  lambda_trial_.assign(n, 0);
+  theta_.assign(n, 0);
   ledger_.size_particles(n);
+  plastic_ = Model::choice(mat, "plasticity") == "on";
+  yield_volume_ = 0;
+  if (Model::choice(mat, "yield_reference") == "continuum") {
+    if (dim_ != 3)
+      throw Error("material '" + mat.name + "': yield_reference: continuum is defined in 3-D only (m = 4 pi int omega "
+                  "r^4 dr over the sphere)");
+    // m of the full sphere: 4 pi int_0^delta omega(r) r^4 dr (= 4 pi delta^5/5 for omega = 1).
+    yield_volume_ = 4.0 * std::numbers::pi * influence_moment(mat.influence, in.config.horizon, 4);
+  }
   ep_.assign(0, 0);
   size_bonds(s.bonds);
 
@@ -161,6 +202,7 @@ void ElasticPlastic::force_state(ForcePass& pass) {
     for (uint64_t k = first; k < last; ++k)
       if (B.intact[k]) sum += kc[B.kind[k]].wv * kc[B.kind[k]].length * extension(k);
     const double theta = dim * sum / m;
+    theta_[i] = theta;
     // Trial: t^d_tr = alpha omega (e^d - e^dp_n); its weighted norm^2 (header).
     double n2 = 0;
     for (uint64_t k = first; k < last; ++k) {
@@ -170,9 +212,10 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       n2 += c.wv * ede * ede;
     }
     n2 *= alpha * alpha;
-    const ReturnMap r = ep_return_map(n2, m, dim, mu_, yield_, hardening_, eps_p_[i]);
+    const ReturnMap r = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
     eps_p_trial_[i] = eps_p_[i] + r.plastic_strain;
     const double beta = r.scale;
+    lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(beta, alpha);
     const double p_coef = dim * bulk_ * theta / m;  // t^i = (d k' theta/m) omega |xi|
     double work = 0, dev = 0, booked = 0;
     bool inelastic = r.plastic_strain > 0;
@@ -252,6 +295,7 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   thread_local std::vector<double> trial_row;
   if (trial_row.size() < last - first) trial_row.resize(last - first);
   double* ede_trial = trial_row.data() - first;
+  theta_[i] = theta;
   double n2 = 0;
   auto trial_norm = [&] {  // ||t^d_tr||^2 / alpha^2, in bond order
     for (uint64_t k = first; k < last; ++k) {
@@ -312,9 +356,10 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   else
     trial_norm();
   n2 *= alpha * alpha;
-  const ReturnMap rm = ep_return_map(n2, m, dim, mu_, yield_, hardening_, eps_p_[i]);
+  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
   flowed_[i] = rm.plastic_strain > 0;
+  lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
   if (!guess_elastic || rm.scale != 1.0) visit(rm.scale, std::false_type{});
   const bool inelastic = rm.plastic_strain > 0 || inelastic_bonds;
   // q = t/|Y| (0 where the bond does not act), vectorised apart from the sums (ordinary_rows.hpp).
@@ -333,6 +378,7 @@ void ElasticPlastic::commit(System& s) {
     const uint32_t i = particles_[q];
     if (!s.computes_row(i)) continue;
     eps_p_[i] = eps_p_trial_[i];
+    lambda_[i] = lambda_trial_[i];
     const double loss = ledger_.commit_particle(i);
     if (loss != 0) s.dissipated_at[i] += loss * P.volume[i];
   }

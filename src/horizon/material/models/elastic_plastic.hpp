@@ -50,6 +50,20 @@
 // and a homogeneous uniaxial test has the classical tangent slope E H/(E + H) (H = 0:
 // perfect plasticity, Silling's eq. 128-129).
 //
+// The plastic multiplier lambda (Mitchell's, the variable Peridigm writes as Lambda). The
+// flow rule in backward Euler is e^dp_n+1 = e^dp_n + d lambda grad psi(t^d_n+1), with
+// grad psi = t^d/omega (= t^d for omega = 1, Mitchell's case). The return above gives
+// d e^dp = (1 - beta) e^de_tr and t^d_n+1 = alpha omega beta e^de_tr, so
+//   d lambda = (1 - beta) / (alpha beta)      (0 in an elastic step, beta = 1),
+// and lambda is the sum of the committed steps' d lambda. With perfect plasticity and
+// yield_reference particle this is lambda = m eps_p / (5 sigma_y) in 3-D.
+//
+// yield_reference: continuum takes psi_0 = sigma_y^2/(2 c m_c) with m_c = 4 pi int omega r^4 dr
+// of the full sphere instead of the particle's m: Mitchell's psi_0 = 25 sigma_y^2/(8 pi
+// delta^5) for omega = 1 (SAND2011-3166), which Peridigm uses whatever the lattice, so
+// that the discrete model yields below sigma_y where m < m_c (ep_cube: m = 0.375 against
+// m_c = 41.2; checked against Peridigm's gold, docs/peridigm.md).
+//
 // Energy: W = k' theta^2/2 + (alpha/2) sum_j omega (e^de)^2 V_j (seed 003 eq. 104 with the
 // elastic part). The dissipated energy of a step (material/models/history_ledger.hpp) is
 // the trapezoidal work of the step less the change of W; without broken bonds that is
@@ -80,6 +94,11 @@ using kernels::ReturnMap;
 // d eps_p per unit ||d e^dp||_o: sqrt(5/m) in 3-D, sqrt(8/(3m)) in 2-D (derivation above).
 inline double ep_plastic_strain_factor(double weighted_volume, int dimension) {
   return std::sqrt((dimension == 2 ? 8.0 / 3.0 : 5.0) / weighted_volume);
+}
+
+// d lambda of a step whose return scaled the trial deviatoric state by beta (above).
+inline double plastic_multiplier_step(double beta, double alpha) {
+  return beta < 1.0 ? (1.0 - beta) / (alpha * beta) : 0.0;
 }
 
 ModelEntry elastic_plastic_model();
