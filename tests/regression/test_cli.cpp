@@ -151,6 +151,44 @@ TEST(Cli, InterruptWritesAFinalFrameAndAValidIndex) {
   EXPECT_EQ(j["steps"].get<int64_t>(), last.step);
 }
 
+// An adaptive run whose step shrinks (a nonlinear-solid plate squeezed to the stiff side
+// of its bond law) takes more steps than `check` estimates from the reference state. It
+// still writes its frames and history rows by time: before the fix every step past the
+// estimate counted as the last one and wrote a frame and a row (a 28,421-particle Taylor
+// bar wrote 6,800 frames of 4.8 MB).
+TEST(Cli, AdaptiveRunPastItsEstimatedStepsWritesItsFramesByTime) {
+  const fs::path d = scratch("adaptive");
+  write(d / "squeeze.yaml",
+        "dimension: 2\nplane: stress\nthickness: 1.0e-3\nspacing: 5.0e-4\nhorizon_factor: 3\n"
+        "materials:\n  steel: {model: nonlinear_solid, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3}\n"
+        "bodies:\n  - {name: plate, material: steel, shape: {box: {min: [0, 0], max: [0.01, 0.01]}}}\n"
+        "initial_conditions:\n  - {velocity: [\"-2000*(x-0.005)/0.005\", 0]}\n"
+        "solver: {type: explicit, end_time: 3.0e-6, safety_factor: 0.5, adaptive_time_step: true, adaptive_every: 1}\n"
+        "output: {frames: 4, history_every: 10}\n");
+  const Result check = run("check " + (d / "squeeze.yaml").string());
+  ASSERT_EQ(check.status, 0) << check.output;
+  const auto at = check.output.find("steps");
+  ASSERT_NE(at, std::string::npos) << check.output;
+  const long estimated = std::stol(check.output.substr(check.output.find_first_of("0123456789", at)));
+  const Result r = run("run " + (d / "squeeze.yaml").string() + " -o " + (d / "out").string() + " -q");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream js(d / "out" / "summary.json");
+  const auto j = nlohmann::json::parse(js);
+  const int64_t steps = j["steps"].get<int64_t>();
+  ASSERT_GT(steps, estimated + 3) << "the step did not shrink enough to test the case";
+  EXPECT_NEAR(j["time"].get<double>(), 3.0e-6, 1e-18);
+  // The initial frame and four by time, the last at the end time.
+  const auto entries = horizon::read_pvd((d / "out" / "frames.pvd").string());
+  EXPECT_EQ(entries.size(), 5u);
+  EXPECT_EQ(horizon::read_vtu(entries.back().second).step, steps);
+  // History: the initial row, every 10th step and the last.
+  std::ifstream h(d / "out" / "history.csv");
+  std::string line;
+  int rows = -1;  // the header
+  while (std::getline(h, line)) ++rows;
+  EXPECT_EQ(rows, 1 + steps / 10 + (steps % 10 != 0));
+}
+
 TEST(Cli, NonFiniteStateStopsWithParticleAndStep) {
   const fs::path d = scratch("nonfinite");
   // Fifty times the stable step: the explicit scheme diverges within a few hundred steps.

@@ -202,7 +202,8 @@ int64_t ExplicitRun::advance(int64_t n) {
         while (batch < backend.batch() && taken + batch < n && quiet(solver.steps() + batch)) ++batch;
       if (batch > 1) backend.advance(batch - 1, false);  // (the solver's step count moves on)
       const int64_t step = solver.steps() + 1;
-      bool last = step == r.total;
+      // An adaptive run ends by time: its step count (r.total, moved on below) is no end.
+      bool last = !r.adaptive && step == r.total;
       if (r.adaptive) {
         if (solver.steps() % r.adaptive_every == 0) r.dt_nominal = c.solver.safety_factor * whole_stable_step(r.s);
         double dt = r.dt_nominal;
