@@ -4,8 +4,13 @@
 // (cuda/cuda_backend.hpp). The flat and CUDA backends refuse the same runs, with the
 // deck's name and the key's place.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <string>
+#include <vector>
 
 #include "horizon/driver/explicit_state.hpp"
+#include "horizon/material/model.hpp"
 #include "horizon/solver/flat_backend.hpp"
 
 #if defined(HORIZON_CUDA_BACKEND)
@@ -68,11 +73,17 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
   if (why.empty() && s.heat.active()) why = "heat conduction";
   if (why.empty() && s.fe) why = "finite-element regions";
   if (why.empty() && c.solver.adaptive_time_step) why = "solver.adaptive_time_step";
-  if (!why.empty())
-    throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of pmb "
-                            "and lps with initial conditions, force densities, prescribed displacements and "
-                            "velocities and short-range contact (docs/input.md, solver.backend); use backend cpu",
-                            prefix, why));
+  if (!why.empty()) {
+    // The models the flat rows run: the registry's unified ones (ModelTraits::unified).
+    std::vector<std::string> unified;
+    for (const ModelEntry& e : model_registry())
+      if (e.traits.unified) unified.push_back(e.traits.name);
+    throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of "
+                            "the unified models ({}) with initial conditions, force densities, prescribed "
+                            "displacements and velocities and short-range contact (docs/input.md, solver.backend); "
+                            "use backend cpu",
+                            prefix, why, fmt::join(unified, ", ")));
+  }
 }
 
 std::unique_ptr<ExplicitBackend> make_backend(const Config& c, System& s, Loads& loads, ExplicitSolver& solver) {
