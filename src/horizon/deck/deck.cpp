@@ -531,8 +531,12 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
         if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
       }
       if (auto vars = e.find("variables")) {
-        // Lambda, Deformation_Gradient or a history column (driver/exodus_output.hpp).
+        // Lambda, Deformation_Gradient, a model's field or a history column
+        // (driver/exodus_output.hpp).
         std::vector<std::string> known = {"Lambda", "Deformation_Gradient"};
+        // The models' own fields by their Exodus names (ModelTraits::exodus_fields: pals').
+        for (const auto& m : model_registry())
+          for (const auto& name : m.traits.exodus_fields) known.push_back(name);
         for (const auto& c : config.output.history_columns) known.push_back(c.name);
         if (!vars->node.IsSequence()) fail_expected(ctx, *vars, "a list of variable names");
         for (std::size_t v = 0; v < vars->node.size(); ++v) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -59,6 +60,19 @@ std::array<double, 9> deformation_gradient(const System& s, std::size_t i) {
   return out;
 }
 
+// A name some model publishes as an Exodus variable (ModelTraits::exodus_fields).
+bool is_model_field(const std::string& name) {
+  for (const auto& e : model_registry())
+    for (const auto& f : e.traits.exodus_fields)
+      if (f == name) return true;
+  return false;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 }  // namespace
 
 ExodusOutput::ExodusOutput(std::string path, bool iterations)
@@ -75,6 +89,8 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
       lambda_ = true;
     } else if (v == "Deformation_Gradient") {
       gradient_ = true;
+    } else if (is_model_field(v)) {
+      fields_.push_back(v);
     } else {
       // The deck reader has checked that a history column of this name exists.
       for (const auto& c : config.output.history_columns)
@@ -116,6 +132,9 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
   // variable out of those blocks (Bar_TwoBlocks_TwoDifferentMaterial_QS's gold), which
   // exodiff and netCDF readers see as missing values.
   std::vector<double> lambda, dilatation;
+  // The models' fields the file asks for (NaN where no model defines them).
+  std::vector<std::vector<double>> asked(fields_.size(),
+                                         std::vector<double>(P.size(), std::numeric_limits<double>::quiet_NaN()));
   {
     std::vector<ModelField> fields;
     for (const auto& m : s.models) m->fields(s, fields);
@@ -130,12 +149,30 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
       if (f.name == "plastic_multiplier" && lambda_)
         for (std::size_t i = 0; i < P.size(); ++i)
           if (plastic[i]) lambda[i] = f.values[i];
-      // Models whose rows compute theta themselves publish it as a field (elastic_plastic).
-      if (f.name == "dilatation" && dilatation.empty()) dilatation = f.values;
+      // Models whose rows compute theta themselves publish it as a field (elastic_plastic,
+      // pals), 0 at other particles: the fields of several such materials add.
+      if (f.name == "dilatation") {
+        if (dilatation.empty()) dilatation.assign(P.size(), 0.0);
+        for (std::size_t i = 0; i < P.size(); ++i) dilatation[i] += f.values[i];
+      }
     }
   }
+  // Each model's own fields at its own particles (materials of one model are separate
+  // model objects, each with its field over all particles).
+  if (!fields_.empty())
+    for (std::size_t m = 0; m < s.models.size(); ++m) {  // s.models[m]: material m's model
+      const auto& own = s.models[m].traits().exodus_fields;
+      std::vector<ModelField> mine;
+      s.models[m].fields(s, mine);
+      for (const auto& f : mine)
+        for (std::size_t a = 0; a < fields_.size(); ++a)
+          if (f.values.size() == P.size() && f.name == lower(fields_[a]) &&
+              std::find(own.begin(), own.end(), fields_[a]) != own.end())
+            for (std::size_t i = 0; i < P.size(); ++i)
+              if (P.material[i] == static_cast<int32_t>(m)) asked[a][i] = f.values[i];
+    }
   const std::vector<double> globals = history_columns_values(columns_, s);
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + static_cast<int>(fields_.size());
   auto pack = [&](uint32_t i, std::vector<double>& out) {
     for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
@@ -153,6 +190,7 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
       const auto F = deformation_gradient(s, i);
       out.insert(out.end(), F.begin(), F.end());
     }
+    for (const auto& a : asked) out.push_back(a[i]);
   };
   auto take = [&](std::size_t g, const double* v) {
     if (rows.size() <= g) rows.resize(g + 1);
@@ -199,6 +237,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     if (gradient_)
       for (const char* r : {"X", "Y", "Z"})
         for (const char* c : {"X", "Y", "Z"}) layout.element.push_back(std::string("Deformation_Gradient") + r + c);
+    for (const auto& f : fields_) layout.element.push_back(f);
     layout.global = {"Global_Kinetic_Energy"};
     if (iterations_) layout.global.push_back("Nonlinear_Solver_Iterations");
     for (const auto& name : history_columns_names(columns_)) layout.global.push_back(name);
@@ -207,7 +246,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   ExodusStep step;
   step.time = time;
   step.nodal.assign(18, std::vector<double>(n));
-  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
+  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + fields_.size();
   step.element.assign(10 + extra, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -22,6 +22,9 @@
 //                         deformation gradient F_i = (sum_j omega V_j Y (x) xi) K_i^-1 over the
 //                         intact bonds (Silling et al. 2007, seed 003 eq. 17 and 134;
 //                         material/nonlocal_gradient.hpp), exact for a homogeneous deformation;
+//   a model's field       element: a name in a model's ModelTraits::exodus_fields (pals'
+//                         Lagrange_Multiplier_Dilatation_1, ...), from the field of that
+//                         name in lower case (NaN at particles of models without it);
 //   a history column's name  global: its value (vectors NAMEX, NAMEY, NAMEZ), as in history.csv
 //                         but at full precision: Peridigm's compute classes' Output Labels.
 // On several MPI ranks every particle is streamed to rank 0 in global order
@@ -74,6 +77,7 @@ class ExodusOutput {
   std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
   std::optional<int> iterations_;  // Nonlinear_Solver_Iterations, when the file has it
   bool lambda_ = false, gradient_ = false;  // the element variables asked for
+  std::vector<std::string> fields_;          // models' fields asked for, by their Exodus names
   bool verlet_ = false;                      // velocity: verlet
   const Loads* loads_ = nullptr;
   double verlet_dt_ = 0;

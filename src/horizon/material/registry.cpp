@@ -5,9 +5,11 @@
 #include "horizon/material/models/correspondence.hpp"
 #include "horizon/material/models/elastic_plastic.hpp"
 #include "horizon/material/models/extended_correspondence.hpp"
+#include "horizon/material/models/linear_lps.hpp"
 #include "horizon/material/models/lps.hpp"
 #include "horizon/material/models/microplastic.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
+#include "horizon/material/models/pals.hpp"
 #include "horizon/material/models/pmb.hpp"
 #include "horizon/material/models/viscoelastic.hpp"
 
@@ -24,6 +26,8 @@ const std::vector<ModelEntry>& model_registry() {
       extended_correspondence_model(),
       microplastic_model(),
       bond_pair_model(),
+      pals_model(),
+      linear_lps_model(),
   };
   return registry;
 }

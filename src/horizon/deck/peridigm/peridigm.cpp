@@ -180,7 +180,8 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                    "Yield Stress",    "Disable Plasticity", "Hardening Modulus",
                                    "Hourglass Coefficient", "lambda_i", "tau b", "Finite Difference Probe Length",
                                    "Enable Flaw", "Flaw Location X", "Flaw Location Y", "Flaw Location Z",
-                                   "Flaw Size", "Flaw Magnitude", "Plane Strain", "Plane Stress", "Height"};
+                                   "Flaw Size", "Flaw Magnitude", "Plane Strain", "Plane Stress", "Height",
+                                   "Dilatation Influence Function", "Deviatoric Influence Function"};
   MapReader m(t.ctx, item, keys);
   const Item model_item = m.get("Material Model", "Elastic, Elastic Bond Based, Elastic Plastic, ...");
   const std::string model = read_string(t.ctx, model_item);
@@ -188,8 +189,14 @@ YAML::Node read_material(Translation& t, const Item& item) {
   YAML::Node mat;
   std::vector<std::string> own;  // the model-specific keys this model accepts
   bool planar_c = false;         // Elastic Bond Based in a plane: c given, no moduli
-  if (w == "elastic") {
+  if (w == "elastic" || w == "elasticpartialvolume") {
+    // Elastic Partial Volume is the LPS with Peridigm's partial volumes when its mesh asks
+    // for element-horizon intersections (USE_PV builds, survey sec. 1.2); without them (no
+    // such key is read here) it is the LPS: LinearLPSBar's gold (docs/peridigm.md).
     mat["model"] = "lps";
+  } else if (w == "linearlpspartialvolume") {
+    // The linearised LPS (material/models/linear_lps.hpp), without partial volumes as above.
+    mat["model"] = "linear_lps";
   } else if (w == "elasticbondbased") {
     mat["model"] = "pmb";
     own = {"Plane Strain", "Plane Stress", "Height"};
@@ -270,12 +277,33 @@ YAML::Node read_material(Translation& t, const Item& item) {
       for (const char* k : {"Flaw Location X", "Flaw Location Y", "Flaw Location Z", "Flaw Size", "Flaw Magnitude"})
         if (auto f = m.find(k)) read_number(t.ctx, *f);
     }
+  } else if (w == "pals") {
+    // The position-aware linear solid (Mitchell, Silling, Littlewood 2015): Horizon's pals
+    // (material/models/pals.hpp), its two influence functions as Peridigm names them.
+    // Peridigm's Pals has no hourglass force: the InterfaceAwareDamageModel decks give it
+    // an Hourglass Coefficient, which Peridigm ignores; read, no effect.
+    own = {"Hourglass Coefficient", "Dilatation Influence Function", "Deviatoric Influence Function"};
+    mat["model"] = "pals";
+    if (auto h = m.find("Hourglass Coefficient")) read_non_negative(t.ctx, *h);
+    const std::pair<const char*, const char*> functions[] = {{"Dilatation Influence Function", "dilatation_influence"},
+                                                             {"Deviatoric Influence Function", "deviatoric_influence"}};
+    for (const auto& [from, to] : functions) {
+      auto f = m.find(from);
+      if (!f) continue;  // the native default: the deck's influence function (One unless given)
+      const std::string v = squash(read_string(t.ctx, *f));
+      if (v == "one" || v == "1" || v == "1.0") mat[to] = "constant";
+      else if (v == "1.0/zeta" || v == "1/zeta") mat[to] = "inverse_length";
+      else
+        t.ctx.fail(f->mark, f->path + ": expected One or \"1.0/zeta\" (the influence functions Horizon maps for Pals), found " +
+                                text_of(*f));
+    }
   } else {
     // The models of Peridigm's suite Horizon does not map yet (docs/peridigm.md lists the
     // decks each blocks).
     fail_choice(t.ctx, model_item, model,
                 {"Elastic", "Elastic Bond Based", "Elastic Plastic", "Elastic Plastic Hardening", "Viscoelastic",
-                 "Elastic Correspondence", "Elastic Plastic Correspondence", "Isotropic Hardening Correspondence"},
+                 "Elastic Correspondence", "Elastic Plastic Correspondence", "Isotropic Hardening Correspondence",
+                 "Pals", "Elastic Partial Volume", "Linear LPS Partial Volume"},
                 "Peridigm material model Horizon reads");
   }
   // A model-specific key given to another model is an error (Peridigm ignores it).
@@ -285,7 +313,8 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                std::string("Flaw Location X"), std::string("Flaw Location Y"),
                                std::string("Flaw Location Z"), std::string("Flaw Size"),
                                std::string("Flaw Magnitude"), std::string("Plane Strain"), std::string("Plane Stress"),
-                               std::string("Height")}) {
+                               std::string("Height"), std::string("Dilatation Influence Function"),
+                               std::string("Deviatoric Influence Function")}) {
     if (std::find(own.begin(), own.end(), k) != own.end()) continue;
     if (auto it = m.find(k))
       t.ctx.fail(*it->key_mark, it->path + ": not a parameter of Material Model '" + model + "'");
@@ -757,7 +786,11 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
         "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
         "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
-        "Nonlinear_Solver_Iterations", "Deformation_Gradient"};
+        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Dilatation_Normalization", "Deviatoric_Normalization",
+        "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2", "Lagrange_Multiplier_Dilatation_3",
+        "Lagrange_Multiplier_Dilatation_4", "Lagrange_Multiplier_Dilatation_5", "Lagrange_Multiplier_Dilatation_6",
+        "Lagrange_Multiplier_Deviatoric_1", "Lagrange_Multiplier_Deviatoric_2", "Lagrange_Multiplier_Deviatoric_3",
+        "Lagrange_Multiplier_Deviatoric_4", "Lagrange_Multiplier_Deviatoric_5", "Lagrange_Multiplier_Deviatoric_6"};
     for (const auto& e : map_entries(ctx, *vars)) {
       // The globals Peridigm writes become history columns under their own names (once,
       // whichever lists name them), and compute classes' Output Labels are written by
@@ -793,6 +826,9 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
       // Lambda (elastic_plastic's plastic multiplier) and Deformation_Gradient are written
       // where asked (output.exodus_files' variables, driver/exodus_output.hpp).
       if (read_bool(ctx, e.value) && e.key == "Lambda") variables.push_back(e.key);
+      // Pals' normalisations and Lagrange multipliers: its fields (material/models/pals.hpp).
+      if (read_bool(ctx, e.value) && (e.key.rfind("Lagrange_Multiplier_", 0) == 0 || e.key.find("_Normalization") != std::string::npos))
+        variables.push_back(e.key);
     }
   }
   if (variables.size()) {

@@ -1,0 +1,299 @@
+#include "horizon/material/models/pals.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "horizon/core/error.hpp"
+#include "horizon/material/influence.hpp"
+#include "horizon/state/system.hpp"
+
+namespace horizon {
+
+namespace pals {
+
+namespace {
+
+// Solves the 6 x 6 system a x = b by Gaussian elimination with partial pivoting; false
+// when a pivot is below 1e-13 of the largest entry (a family too small or too flat to
+// carry the six constraints).
+bool solve6(double a[6][6], double b[6], double x[6]) {
+  double scale = 0;
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) scale = std::max(scale, std::abs(a[r][c]));
+  if (!(scale > 0)) return false;
+  for (int c = 0; c < 6; ++c) {
+    int p = c;
+    for (int r = c + 1; r < 6; ++r)
+      if (std::abs(a[r][c]) > std::abs(a[p][c])) p = r;
+    if (!(std::abs(a[p][c]) > 1e-13 * scale)) return false;
+    if (p != c) {
+      for (int k = 0; k < 6; ++k) std::swap(a[p][k], a[c][k]);
+      std::swap(b[p], b[c]);
+    }
+    for (int r = c + 1; r < 6; ++r) {
+      const double f = a[r][c] / a[c][c];
+      for (int k = c; k < 6; ++k) a[r][k] -= f * a[c][k];
+      b[r] -= f * b[c];
+    }
+  }
+  for (int r = 5; r >= 0; --r) {
+    double s = b[r];
+    for (int k = r + 1; k < 6; ++k) s -= a[r][k] * x[k];
+    x[r] = s / a[r][r];
+  }
+  return true;
+}
+
+// The dilatation constraints' measures of a bond: xi_a xi_b in the order xx, yy, zz, xy,
+// xz, yz (Peridigm's order of Lagrange_Multiplier_Dilatation_1..6).
+void quadratic(const Vec3& x, double q[6]) {
+  q[0] = x.x * x.x, q[1] = x.y * x.y, q[2] = x.z * x.z;
+  q[3] = x.x * x.y, q[4] = x.x * x.z, q[5] = x.y * x.z;
+}
+
+// g_k(xi) = (xi . D_k . xi)^2 / |xi|^2 of the six deviatoric modes (header): D_a = e_a e_a
+// - I/3 (xi . D . xi = xi_a^2 - |xi|^2/3), then the shears xy, xz, yz (2 xi_a xi_b).
+void modes(const Vec3& x, double g[6]) {
+  const double r2 = dot(x, x);
+  const double s[6] = {x.x * x.x - r2 / 3, x.y * x.y - r2 / 3, x.z * x.z - r2 / 3,
+                       2 * x.x * x.y,      2 * x.x * x.z,      2 * x.y * x.z};
+  for (int k = 0; k < 6; ++k) g[k] = s[k] * s[k] / r2;
+}
+
+// D_k : D_k of the modes: 2/3 for the deviatoric uniaxial strains, 2 for the shears.
+constexpr double kModeNorm[6] = {2.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0, 2.0, 2.0, 2.0};
+
+}  // namespace
+
+double dilatation_factor(const double lambda[6], const Vec3& x) {
+  double q[6];
+  quadratic(x, q);
+  // Lambda : xi (x) xi with Lambda symmetric: the off-diagonal terms twice.
+  return 1 + lambda[0] * q[0] + lambda[1] * q[1] + lambda[2] * q[2] +
+         2 * (lambda[3] * q[3] + lambda[4] * q[4] + lambda[5] * q[5]);
+}
+
+double deviatoric_factor(const double mu[6], const Vec3& x) {
+  double g[6];
+  modes(x, g);
+  double s = 1;
+  for (int k = 0; k < 6; ++k) s += mu[k] * g[k];
+  return s;
+}
+
+bool dilatation_multipliers(const std::vector<Vec3>& xi, const std::vector<double>& wv, double out[6]) {
+  // sum_j omega V (1 + Lambda : xi xi) xi_a xi_b = delta_ab.
+  double a[6][6] = {}, b[6] = {1, 1, 1, 0, 0, 0};
+  for (std::size_t j = 0; j < xi.size(); ++j) {
+    double q[6];
+    quadratic(xi[j], q);
+    for (int r = 0; r < 6; ++r) {
+      b[r] -= wv[j] * q[r];
+      for (int c = 0; c < 6; ++c) a[r][c] += wv[j] * q[r] * q[c] * (c < 3 ? 1.0 : 2.0);
+    }
+  }
+  return solve6(a, b, out);
+}
+
+bool deviatoric_multipliers(const std::vector<Vec3>& xi, const std::vector<double>& wv, double out[6]) {
+  // sum_j omega V (1 + sum_l mu_l g_l) g_k = D_k : D_k.
+  double a[6][6] = {}, b[6];
+  for (int k = 0; k < 6; ++k) b[k] = kModeNorm[k];
+  for (std::size_t j = 0; j < xi.size(); ++j) {
+    double g[6];
+    modes(xi[j], g);
+    for (int r = 0; r < 6; ++r) {
+      b[r] -= wv[j] * g[r];
+      for (int c = 0; c < 6; ++c) a[r][c] += wv[j] * g[r] * g[c];
+    }
+  }
+  return solve6(a, b, out);
+}
+
+}  // namespace pals
+
+namespace {
+
+const std::vector<std::string> kInfluenceChoices = {"influence", "constant", "inverse", "inverse_length", "linear",
+                                                    "gaussian"};
+
+const ModelTraits& traits() {
+  static const ModelTraits t = [] {
+    ModelTraits m;
+    m.name = "pals";
+    m.summary = "position-aware linear solid: the LPS with per-particle dilatation and deviatoric influence "
+                "functions exact for homogeneous strains at surfaces (Mitchell, Silling, Littlewood 2015)";
+    m.min_dimension = 3;
+    m.choices = {
+        {"dilatation_influence",
+         "omega of the dilatation influence function sigma = omega (1 + Lambda : xi xi): influence (the "
+         "material's influence), constant, inverse, inverse_length, linear or gaussian (material/influence.hpp)",
+         kInfluenceChoices},
+        {"deviatoric_influence",
+         "omega of the deviatoric influence function tau = omega (1 + sum_k mu_k g_k): as dilatation_influence",
+         kInfluenceChoices},
+    };
+    m.rows_local = true;  // row i reads i's family and the sigma, tau of i's bonds alone
+    m.exodus_fields = {"Dilatation_Normalization",         "Deviatoric_Normalization",
+                       "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2",
+                       "Lagrange_Multiplier_Dilatation_3", "Lagrange_Multiplier_Dilatation_4",
+                       "Lagrange_Multiplier_Dilatation_5", "Lagrange_Multiplier_Dilatation_6",
+                       "Lagrange_Multiplier_Deviatoric_1", "Lagrange_Multiplier_Deviatoric_2",
+                       "Lagrange_Multiplier_Deviatoric_3", "Lagrange_Multiplier_Deviatoric_4",
+                       "Lagrange_Multiplier_Deviatoric_5", "Lagrange_Multiplier_Deviatoric_6"};
+    return m;
+  }();
+  return t;
+}
+
+// omega of a bond under a choice of kInfluenceChoices ("influence": the bond's own weight).
+double choice_weight(const std::string& choice, const BondKind& b, double horizon) {
+  if (choice == "influence") return b.weight;
+  InfluenceKind k = InfluenceKind::constant;
+  if (choice == "inverse") k = InfluenceKind::inverse;
+  else if (choice == "inverse_length") k = InfluenceKind::inverse_length;
+  else if (choice == "linear") k = InfluenceKind::linear;
+  else if (choice == "gaussian") k = InfluenceKind::gaussian;
+  return influence(k, b.length, horizon);
+}
+
+class Pals final : public Model {
+ public:
+  std::unique_ptr<Model> clone() const override { return std::make_unique<Pals>(*this); }
+  const ModelTraits& traits() const override { return horizon::traits(); }
+
+  void setup(const ModelSetup& in) override;
+  void force_state(ForcePass& pass) override;
+  void fields(const System& s, std::vector<ModelField>& out) const override {
+    (void)s;
+    // Horizon's sigma and tau carry no normalisation of omega: 1, Peridigm's value for One.
+    out.push_back({"dilatation", theta_});
+    out.push_back({"dilatation_normalization", normalization_});
+    out.push_back({"deviatoric_normalization", normalization_});
+    for (int k = 0; k < 12; ++k) {
+      std::vector<double> v(multipliers_.size() / 12);
+      for (std::size_t i = 0; i < v.size(); ++i) v[i] = multipliers_[12 * i + static_cast<std::size_t>(k)];
+      out.push_back({std::string("lagrange_multiplier_") + (k < 6 ? "dilatation_" : "deviatoric_") +
+                         std::to_string(k % 6 + 1),
+                     std::move(v)});
+    }
+  }
+
+ private:
+  std::vector<uint32_t> particles_;
+  double kappa_ = 0, mu_ = 0;
+  std::vector<double> sigma_, tau_;       // per bond (of this material's rows): sigma_ij, tau_ij
+  std::vector<double> multipliers_;       // per particle: Lambda (6) then mu (6)
+  std::vector<double> normalization_;     // per particle: 1 at this model's particles
+  std::vector<double> theta_;             // per particle: the dilatation of the last pass
+};
+
+void Pals::setup(const ModelSetup& in) {
+  const MaterialConfig& mat = in.material;
+  System& s = in.system;
+  if (in.config.dimension != 3)
+    throw Error("material '" + mat.name + "': model pals is defined in 3-D only (its modes are the six of a 3-D strain)");
+  particles_ = in.particles;
+  kappa_ = mat.bulk_modulus;
+  mu_ = mat.shear_modulus;
+  const std::string& sigma_choice = Model::choice(mat, "dilatation_influence");
+  const std::string& tau_choice = Model::choice(mat, "deviatoric_influence");
+  const auto& B = s.bonds;
+  const auto& X = s.particles.X;
+  const std::size_t n = s.particles.size();
+  sigma_.assign(B.nbr.size(), 0);
+  tau_.assign(B.nbr.size(), 0);
+  multipliers_.assign(12 * n, 0);
+  normalization_.assign(n, 0);
+  theta_.assign(n, 0);
+  fill_state_based_coefficients(in);
+  for (uint32_t i : particles_) {
+    normalization_[i] = 1;
+    if (!s.computes_row(i)) continue;
+    std::vector<Vec3> xi;
+    std::vector<double> ws, wd;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const BondKind& b = B.kind_of(k);
+      xi.push_back(X[B.nbr[k]] - X[i]);
+      const double v = b.volume * b.fraction;
+      ws.push_back(choice_weight(sigma_choice, b, in.config.horizon) * v);
+      wd.push_back(choice_weight(tau_choice, b, in.config.horizon) * v);
+    }
+    double* lm = &multipliers_[12 * static_cast<std::size_t>(i)];
+    if (!pals::dilatation_multipliers(xi, ws, lm) || !pals::deviatoric_multipliers(xi, wd, lm + 6)) {
+      const Vec3& x = X[i];
+      throw Error("material '" + mat.name + "': model pals: particle " + std::to_string(i) + " at (" +
+                  std::to_string(x.x) + ", " + std::to_string(x.y) + ", " + std::to_string(x.z) + ") has " +
+                  std::to_string(xi.size()) +
+                  " bonds, too few or too flat for the six constraints of its influence functions (a 6 x 6 system "
+                  "that is singular); give a larger horizon");
+    }
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const Vec3 x = xi[k - B.begin(i)];
+      sigma_[k] = ws[k - B.begin(i)] / (B.kind_of(k).volume * B.kind_of(k).fraction) * pals::dilatation_factor(lm, x);
+      tau_[k] = wd[k - B.begin(i)] / (B.kind_of(k).volume * B.kind_of(k).fraction) * pals::deviatoric_factor(lm + 6, x);
+    }
+  }
+}
+
+void Pals::force_state(ForcePass& pass) {
+  const System& s = pass.system;
+  const auto& B = s.bonds;
+  const Point4* y = pass.y;
+  Vec3* T = pass.T;
+  const std::size_t count = particles_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t q = 0; q < count; ++q) {
+    const uint32_t i = particles_[q];
+    if (!s.computes_row(i)) continue;  // another rank's row (ModelTraits::rows_local)
+    const Point4 pi = y[i];
+    const uint64_t first = B.begin(i), last = B.end(i);
+    thread_local std::vector<double> ext;
+    ext.resize(last - first);
+    // theta = sum sigma |xi| e V over the acting bonds (header).
+    double theta = 0;
+    for (uint64_t k = first; k < last; ++k) {
+      const Point4 pj = y[B.nbr[k]];
+      const double dx = pj.x - pi.x, dy = pj.y - pi.y, dz = pj.z - pi.z;
+      const BondKind& b = B.kind_of(k);
+      const double e = std::sqrt(dx * dx + dy * dy + dz * dz) - b.length;
+      ext[k - first] = e;
+      if (B.intact[k]) theta += sigma_[k] * b.length * e * b.volume * b.fraction;
+    }
+    // S = sum tau e^d |xi| V and the deviatoric energy sum tau (e^d)^2 V.
+    double S = 0, dev = 0;
+    for (uint64_t k = first; k < last; ++k) {
+      if (!B.intact[k]) continue;
+      const BondKind& b = B.kind_of(k);
+      const double ed = ext[k - first] - theta * b.length / 3;
+      const double v = b.volume * b.fraction;
+      S += tau_[k] * ed * b.length * v;
+      dev += tau_[k] * ed * ed * v;
+    }
+    for (uint64_t k = first; k < last; ++k) {
+      if (!B.intact[k]) {
+        T[k] = {};
+        continue;
+      }
+      const BondKind& b = B.kind_of(k);
+      const double ed = ext[k - first] - theta * b.length / 3;
+      const double t = kappa_ * theta * sigma_[k] * b.length + 2 * mu_ * tau_[k] * ed -
+                       (2 * mu_ / 3) * S * sigma_[k] * b.length;
+      const Point4 pj = y[B.nbr[k]];
+      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+      const double r = ext[k - first] + b.length;
+      T[k] = r > 0 ? (t / r) * Y : Vec3{};
+    }
+    theta_[i] = theta;
+    if (pass.energy) pass.energy[i] = 0.5 * kappa_ * theta * theta + mu_ * dev;
+  }
+}
+
+}  // namespace
+
+ModelEntry pals_model() {
+  return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Pals>()); }};
+}
+
+}  // namespace horizon
