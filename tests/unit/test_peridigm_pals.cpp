@@ -82,7 +82,7 @@ TEST(PeridigmPals, PalsWithItsInfluenceFunctions) {
   // An influence function Horizon does not map: the error names the key's line.
   const std::string e = error_of(write_deck("parabolic.yaml", "      Material Model: Pals\n"
                                                               "      Dilatation Influence Function: Parabolic Decay\n"));
-  EXPECT_NE(e.find("parabolic.yaml:7:"), std::string::npos) << e;
+  EXPECT_NE(e.find("parabolic.yaml:8:38:"), std::string::npos) << e;
   EXPECT_NE(e.find("Dilatation Influence Function: expected One or \"1.0/zeta\""), std::string::npos) << e;
   // The influence functions belong to Pals.
   const std::string other = error_of(write_deck("elastic.yaml", "      Material Model: Elastic\n"
