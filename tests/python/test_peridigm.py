@@ -201,7 +201,7 @@ def test_cli_runs_and_converts(peridigm_dir, tmp_path, horizon_binary):
     # A misspelled material key (Peridigm ignores it; Horizon names it).
     (("Bulk Modulus:", "Bulk Modulos:"), 23, 7, ["Bulk Modulos", "did you mean 'Bulk Modulus'"]),
     # A material model Horizon does not map.
-    (('Material Model: "Elastic"', 'Material Model: "Pals"'), 21, 23, ["Pals", "Elastic Bond Based"]),
+    (('Material Model: "Elastic"', 'Material Model: "Vector Poisson"'), 21, 23, ["Vector Poisson", "Elastic Bond Based"]),
     # A boundary-condition type Horizon does not have.
     (('Type: "Initial Velocity"\n      Node Set: "Left End"', 'Type: "Prescribed Temperature"\n      Node Set: "Left End"'),
      34, 13, ["Prescribed Temperature"]),
@@ -243,7 +243,7 @@ def test_xml_deck_runs_like_its_yaml_twin(peridigm_dir, tmp_path, horizon_binary
     # Messages point at the XML attribute: here the name of the misspelled parameter.
     (('name="Bulk Modulus"', 'name="Bulk Modulos"'), 23, 23, ["Bulk Modulos", "did you mean 'Bulk Modulus'"]),
     # ... and here its value.
-    (('value="Elastic"', 'value="Pals"'), 21, 60, ["Pals"]),
+    (('value="Elastic"', 'value="Vector Poisson"'), 21, 60, ["Vector Poisson"]),
     # Malformed XML.
     (('<ParameterList name="Solver">', '<ParameterList name="Solver">\n    <Oops/>'), 51, 5, ["unexpected element <Oops>"]),
 ])
