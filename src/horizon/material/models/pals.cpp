@@ -212,13 +212,15 @@ void Pals::setup(const ModelSetup& in) {
     normalization_[i] = 1;
     if (!s.computes_row(i)) continue;
     std::vector<Vec3> xi;
-    std::vector<double> ws, wd;
+    std::vector<double> os, od, ws, wd;  // omega of sigma and tau; omega V
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       const BondKind& b = B.kind_of(k);
       xi.push_back(X[B.nbr[k]] - X[i]);
       const double v = b.volume * b.fraction;
-      ws.push_back(choice_weight(sigma_choice, b, in.config.horizon) * v);
-      wd.push_back(choice_weight(tau_choice, b, in.config.horizon) * v);
+      os.push_back(choice_weight(sigma_choice, b, in.config.horizon));
+      od.push_back(choice_weight(tau_choice, b, in.config.horizon));
+      ws.push_back(os.back() * v);
+      wd.push_back(od.back() * v);
     }
     double* lm = &multipliers_[12 * static_cast<std::size_t>(i)];
     if (!pals::dilatation_multipliers(xi, ws, lm) || !pals::deviatoric_multipliers(xi, wd, lm + 6)) {
@@ -230,9 +232,9 @@ void Pals::setup(const ModelSetup& in) {
                   "that is singular); give a larger horizon");
     }
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const Vec3 x = xi[k - B.begin(i)];
-      sigma_[k] = ws[k - B.begin(i)] / (B.kind_of(k).volume * B.kind_of(k).fraction) * pals::dilatation_factor(lm, x);
-      tau_[k] = wd[k - B.begin(i)] / (B.kind_of(k).volume * B.kind_of(k).fraction) * pals::deviatoric_factor(lm + 6, x);
+      const std::size_t j = k - B.begin(i);
+      sigma_[k] = os[j] * pals::dilatation_factor(lm, xi[j]);
+      tau_[k] = od[j] * pals::deviatoric_factor(lm + 6, xi[j]);
     }
   }
 }
