@@ -531,9 +531,9 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
         if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
       }
       if (auto vars = e.find("variables")) {
-        // Lambda, Deformation_Gradient, a model's field or a history column
-        // (driver/exodus_output.hpp).
-        std::vector<std::string> known = {"Lambda", "Deformation_Gradient"};
+        // Lambda, Deformation_Gradient, Contact_Force_Density, a model's field or a history
+        // column (driver/exodus_output.hpp).
+        std::vector<std::string> known = {"Lambda", "Deformation_Gradient", "Contact_Force_Density"};
         // The models' own fields by their Exodus names (ModelTraits::exodus_fields: pals').
         for (const auto& m : model_registry())
           for (const auto& name : m.traits.exodus_fields) known.push_back(name);

@@ -786,7 +786,8 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
         "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
         "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
-        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Dilatation_Normalization", "Deviatoric_Normalization",
+        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density", "Dilatation_Normalization",
+        "Deviatoric_Normalization",
         "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2", "Lagrange_Multiplier_Dilatation_3",
         "Lagrange_Multiplier_Dilatation_4", "Lagrange_Multiplier_Dilatation_5", "Lagrange_Multiplier_Dilatation_6",
         "Lagrange_Multiplier_Deviatoric_1", "Lagrange_Multiplier_Deviatoric_2", "Lagrange_Multiplier_Deviatoric_3",
@@ -825,9 +826,10 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
       }
       // Lambda (elastic_plastic's plastic multiplier) and Deformation_Gradient are written
       // where asked (output.exodus_files' variables, driver/exodus_output.hpp).
-      if (read_bool(ctx, e.value) && e.key == "Lambda") variables.push_back(e.key);
+      if (read_bool(ctx, e.value) && (e.key == "Lambda" || e.key == "Contact_Force_Density")) variables.push_back(e.key);
       // Pals' normalisations and Lagrange multipliers: its fields (material/models/pals.hpp).
-      if (read_bool(ctx, e.value) && (e.key.rfind("Lagrange_Multiplier_", 0) == 0 || e.key.find("_Normalization") != std::string::npos))
+      if (read_bool(ctx, e.value) &&
+          (e.key.rfind("Lagrange_Multiplier_", 0) == 0 || e.key.find("_Normalization") != std::string::npos))
         variables.push_back(e.key);
     }
   }
