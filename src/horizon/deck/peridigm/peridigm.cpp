@@ -294,8 +294,8 @@ YAML::Node read_material(Translation& t, const Item& item) {
       if (v == "one" || v == "1" || v == "1.0") mat[to] = "constant";
       else if (v == "1.0/zeta" || v == "1/zeta") mat[to] = "inverse_length";
       else
-        t.ctx.fail(f->mark, f->path + ": expected One or \"1.0/zeta\" (the influence functions Horizon maps for Pals), found " +
-                                text_of(*f));
+        t.ctx.fail(f->mark, f->path + ": expected One or \"1.0/zeta\" (the influence functions Horizon maps for "
+                                      "Pals), found " + text_of(*f));
     }
   } else {
     // The models of Peridigm's suite Horizon does not map yet (docs/peridigm.md lists the
