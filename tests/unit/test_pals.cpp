@@ -20,6 +20,7 @@
 #include "horizon/material/model.hpp"
 #include "horizon/material/models/pals.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/solver/forces_general.hpp"
 #include "test_helpers.hpp"
 
 namespace horizon {
@@ -207,6 +208,33 @@ void check_gradient(const std::string& model) {
 }
 
 TEST(Pals, ForceIsMinusGradientOfEnergy) { check_gradient("pals"); }
+
+// PALS takes the scalar general pass (ModelTraits::ordinary, force_row); its forces and
+// energies are the vector pass's (force_state) bit for bit, on 1 and 2 threads.
+TEST(Pals, ScalarPassIsTheVectorPassBitForBit) {
+  const BlockSpec b = cube(5);
+  System s = test::make_block(b, material("pals"));
+  test::Rng rng(11);
+  const double amp = 1e-3 * b.spacing;
+  for (auto& u : s.particles.u) u = Vec3{rng.uniform(-amp, amp), rng.uniform(-amp, amp), rng.uniform(-amp, amp)};
+  auto forces = [&](bool reference, int threads) {
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    set_general_reference(reference);
+    compute_forces(s, true);
+    set_general_reference(false);
+    omp_set_num_threads(saved);
+    return std::make_pair(s.particles.f, s.particles.energy);
+  };
+  const auto ref = forces(true, 1), fast = forces(false, 1), two = forces(false, 2);
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(fast.first[i][a], ref.first[i][a]) << "particle " << i;
+      EXPECT_EQ(two.first[i][a], ref.first[i][a]) << "particle " << i;
+    }
+    EXPECT_EQ(fast.second[i], ref.second[i]);
+  }
+}
 TEST(LinearLps, ForceIsMinusGradientOfEnergy) { check_gradient("linear_lps"); }
 
 TEST(LinearLps, LinearInTheDisplacementsAndTheLpsAtSmallStrain) {

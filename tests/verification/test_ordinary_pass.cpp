@@ -55,6 +55,7 @@ const std::string kViscous =
 const std::string kMicro =
     "{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.0005" + kDamage;
 const std::string kLps = "{model: lps, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3" + kDamage;
+const std::string kPals = "{model: pals, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3" + kDamage;
 
 struct Run {
   std::vector<Vec3> u, v;
@@ -111,6 +112,8 @@ TEST(OrdinaryPass, ElasticPlasticMatchesTheVectorPass) {
 TEST(OrdinaryPass, ViscoelasticMatchesTheVectorPass) { check("viscoelastic", deck(kViscous, kViscous)); }
 
 TEST(OrdinaryPass, MicroplasticMatchesTheVectorPass) { check("microplastic", deck(kMicro, kMicro)); }
+
+TEST(OrdinaryPass, PalsMatchesTheVectorPass) { check("pals", deck(kPals, kPals)); }
 
 TEST(OrdinaryPass, LpsBesideAnOrdinaryModelMatchesTheVectorPass) { check("lps_and_elastic_plastic", deck(kLps, kPlastic)); }
 

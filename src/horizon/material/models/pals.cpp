@@ -135,6 +135,7 @@ const ModelTraits& traits() {
          kInfluenceChoices},
     };
     m.rows_local = true;  // row i reads i's family and the sigma, tau of i's bonds alone
+    m.ordinary = true;    // T = t Y/|Y|: the scalar general pass (force_row)
     m.exodus_fields = {"Dilatation_Normalization",         "Deviatoric_Normalization",
                        "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2",
                        "Lagrange_Multiplier_Dilatation_3", "Lagrange_Multiplier_Dilatation_4",
@@ -165,6 +166,9 @@ class Pals final : public Model {
 
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
+  // The scalar pass's row: force_state's sums in its order on the pass's |Y| (the same
+  // bits), q = t/|Y| per bond.
+  void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
   void fields(const System& s, std::vector<ModelField>& out) const override {
     (void)s;
     // Horizon's sigma and tau carry no normalisation of omega: 1, Peridigm's value for One.
@@ -290,6 +294,42 @@ void Pals::force_state(ForcePass& pass) {
     theta_[i] = theta;
     if (pass.energy) pass.energy[i] = 0.5 * kappa_ * theta * theta + mu_ * dev;
   }
+}
+
+void Pals::force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
+  (void)dilatation_sum;  // omega-weighted: PALS weighs theta with sigma instead
+  const auto& B = pass.system.bonds;
+  const double* r = pass.deformed;
+  double* q = pass.t;
+  const uint64_t first = B.begin(i), last = B.end(i);
+  double theta = 0;
+  for (uint64_t k = first; k < last; ++k) {
+    const BondKind& b = B.kind_of(k);
+    const double e = r[k] - b.length;
+    if (B.intact[k]) theta += sigma_[k] * b.length * e * b.volume * b.fraction;
+  }
+  double S = 0, dev = 0;
+  for (uint64_t k = first; k < last; ++k) {
+    if (!B.intact[k]) continue;
+    const BondKind& b = B.kind_of(k);
+    const double ed = (r[k] - b.length) - theta * b.length / 3;
+    const double v = b.volume * b.fraction;
+    S += tau_[k] * ed * b.length * v;
+    dev += tau_[k] * ed * ed * v;
+  }
+  for (uint64_t k = first; k < last; ++k) {
+    if (!B.intact[k]) {
+      q[k] = 0;
+      continue;
+    }
+    const BondKind& b = B.kind_of(k);
+    const double ed = (r[k] - b.length) - theta * b.length / 3;
+    const double t = kappa_ * theta * sigma_[k] * b.length + 2 * mu_ * tau_[k] * ed -
+                     (2 * mu_ / 3) * S * sigma_[k] * b.length;
+    q[k] = r[k] > 0 ? t / r[k] : 0.0;
+  }
+  theta_[i] = theta;
+  if (pass.energy) pass.energy[i] = 0.5 * kappa_ * theta * theta + mu_ * dev;
 }
 
 }  // namespace
