@@ -114,6 +114,41 @@ BreakOut break_row_portable(const Sweep& s, std::size_t i, double* sums) {
   return out;
 }
 
+void sum_row_portable(const Sweep& s, std::size_t i, double* f, double& energy) {
+  const Point4 pi = s.pt[i], xi_i = s.ref[i];
+  double sxi[3][8] = {}, sy[3][8] = {}, acc[3][8] = {}, w[8] = {};
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, auto lane) {
+    constexpr int l = decltype(lane)::value;
+    const uint32_t j = s.nbr[k];
+    const Point4 pj = s.pt[j];
+    const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+    if (s.intact[k]) {
+      const Point4 xj = s.ref[j];
+      const double* m = s.record + correspondence::kAffineRecord * static_cast<std::size_t>(j);
+      const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
+      const double wv = s.kind_record[s.kind[k]].z;  // omega V_j of the kind
+      // correspondence_kernels.hpp affine_pair_add, lane by lane.
+      const double a[3] = {wv * xi[0], wv * xi[1], wv * xi[2]};
+      const double gy = wv * m[9];
+      for (int r = 0; r < 3; ++r) {
+        sxi[r][l] += a[r];
+        sy[r][l] += wv * Y[r];
+        acc[r][l] += m[3 * r] * a[0] + m[3 * r + 1] * a[1] + m[3 * r + 2] * a[2] + gy * Y[r];
+      }
+    }
+    Vec3 fc;
+    double wc = 0;
+    if (s.contact && family_contact(s.kc[s.kind[k]], Vec3{Y[0], Y[1], Y[2]}, fc, wc)) {
+      acc[0][l] += fc.x, acc[1][l] += fc.y, acc[2][l] += fc.z;
+      w[l] += wc;
+    }
+  });
+  correspondence::AffineRowSum sum;
+  for (int r = 0; r < 3; ++r) sum.sxi[r] = total8(sxi[r]), sum.sy[r] = total8(sy[r]), sum.acc[r] = total8(acc[r]);
+  correspondence::affine_pair_finish(sum, s.record + correspondence::kAffineRecord * i, f);
+  energy = total8(w);
+}
+
 #if defined(HORIZON_SWEEPS_X86)
 
 // The eight-lane vectors below never cross a call (every function that takes or returns
@@ -171,6 +206,7 @@ struct Pointers {
   const double* pt[8];
   const double* ref[8];
   const double* kind[8];
+  const double* record[8];  // the neighbour's record of this pass (the sum)
 };
 inline void pointers(const Sweep& s, std::size_t i, uint64_t k, int count, Pointers& p) {
   for (int l = 0; l < 8; ++l) {
@@ -180,8 +216,14 @@ inline void pointers(const Sweep& s, std::size_t i, uint64_t k, int count, Point
     p.pt[l] = &s.pt[j].x;
     p.ref[l] = &s.ref[j].x;
     p.kind[l] = &s.kind_record[s.kind[kk]].x;
+    p.record[l] = s.record + correspondence::kAffineRecord * j;
   }
 }
+
+// The neighbours' records {M row by row, g} of a block, in lanes.
+struct Records {
+  v8d m[9], g;
+};
 
 // The row's arithmetic, written once for the per-target rows below (a macro: a template
 // could not call the targets' loaders, whose intrinsics need the caller's target), on a
@@ -201,8 +243,10 @@ inline void pointers(const Sweep& s, std::size_t i, uint64_t k, int count, Point
     const int count = end - k < 8 ? static_cast<int>(end - k) : 8;                                \
     const uint64_t flags = flags_of(s, k, count);                                                 \
     if (!flags) continue;                                                                         \
+    Pointers p;                                                                                   \
+    pointers(s, i, k, count, p);                                                                  \
     Block b;                                                                                      \
-    Target::load(s, i, k, count, flags, b);                                                       \
+    Target::load(p, flags, b);                                                                    \
     const v8d Yx = b.Yx - pi.x, Yy = b.Yy - pi.y, Yz = b.Yz - pi.z;                               \
     const v8d xi[3] = {b.xx - xi_i.x, b.xy - xi_i.y, b.xz - xi_i.z};                              \
     const v8d r = Target::sqrt(Yx * Yx + Yy * Yy + Yz * Yz), e = r - b.L, stretch = e * b.iL;     \
@@ -230,6 +274,48 @@ inline void pointers(const Sweep& s, std::size_t i, uint64_t k, int count, Point
   return out;                                                                                     \
   static_assert(true)
 
+// The sum's arithmetic, written once for the per-target rows below (as the breaking
+// row's; correspondence_kernels.hpp affine_pair_add lane by lane, then affine_pair_finish).
+#define HORIZON_AFFINE_SUM_ROW(Target) \
+  const Point4 pi = s.pt[i], xi_i = s.ref[i];                                                       \
+  const v8d zero = {};                                                                              \
+  v8d sxi[3] = {zero, zero, zero}, sy[3] = {zero, zero, zero}, acc[3] = {zero, zero, zero};         \
+  const uint64_t begin = s.offset[i], end = s.offset[i + 1];                                        \
+  for (uint64_t k = begin; k < end; k += 8) {                                                       \
+    const int count = end - k < 8 ? static_cast<int>(end - k) : 8;                                  \
+    const uint64_t flags = flags_of(s, k, count);                                                   \
+    if (!flags) continue;                                                                           \
+    Pointers p;                                                                                     \
+    pointers(s, i, k, count, p);                                                                    \
+    Block b;                                                                                        \
+    Target::load(p, flags, b);                                                                      \
+    Records m;                                                                                      \
+    Target::records(p, m);                                                                          \
+    const v8d Y[3] = {b.Yx - pi.x, b.Yy - pi.y, b.Yz - pi.z};                                       \
+    const v8d xi[3] = {b.xx - xi_i.x, b.xy - xi_i.y, b.xz - xi_i.z};                                \
+    const v8d a[3] = {b.w * xi[0], b.w * xi[1], b.w * xi[2]};                                       \
+    const v8d gy = b.w * m.g;                                                                       \
+    for (int r = 0; r < 3; ++r) {                                                                   \
+      sxi[r] += reinterpret_cast<v8d>(b.live & reinterpret_cast<v8l>(a[r]));                        \
+      sy[r] += reinterpret_cast<v8d>(b.live & reinterpret_cast<v8l>(b.w * Y[r]));                   \
+      const v8d t = m.m[3 * r] * a[0] + m.m[3 * r + 1] * a[1] + m.m[3 * r + 2] * a[2] + gy * Y[r];  \
+      acc[r] += reinterpret_cast<v8d>(b.live & reinterpret_cast<v8l>(t));                           \
+    }                                                                                               \
+  }                                                                                                 \
+  correspondence::AffineRowSum sum;                                                                 \
+  alignas(64) double lanes[8];                                                                      \
+  for (int r = 0; r < 3; ++r) {                                                                     \
+    std::memcpy(lanes, &sxi[r], sizeof lanes);                                                      \
+    sum.sxi[r] = total8(lanes);                                                                     \
+    std::memcpy(lanes, &sy[r], sizeof lanes);                                                       \
+    sum.sy[r] = total8(lanes);                                                                      \
+    std::memcpy(lanes, &acc[r], sizeof lanes);                                                      \
+    sum.acc[r] = total8(lanes);                                                                     \
+  }                                                                                                 \
+  correspondence::affine_pair_finish(sum, s.record + correspondence::kAffineRecord * i, f);         \
+  energy = 0;                                                                                       \
+  static_assert(true)
+
 // AVX2: records loaded as 16-byte halves, one unpack per column (solver/forces.cpp load_quad).
 struct Avx2 {
   HORIZON_AVX2 __attribute__((always_inline)) static __m256d halves(const double* a, const double* b) {
@@ -247,9 +333,7 @@ struct Avx2 {
     a = __builtin_shufflevector(lo[0], lo[1], 0, 1, 2, 3, 4, 5, 6, 7);
     b = __builtin_shufflevector(hi[0], hi[1], 0, 1, 2, 3, 4, 5, 6, 7);
   }
-  HORIZON_AVX2 __attribute__((always_inline)) static void load(const Sweep& s, std::size_t i, uint64_t k, int count, uint64_t flags, Block& b) {
-    Pointers p;
-    pointers(s, i, k, count, p);
+  HORIZON_AVX2 __attribute__((always_inline)) static void load(const Pointers& p, uint64_t flags, Block& b) {
     v8d unused;
     columns(p.pt, 0, b.Yx, b.Yy);
     columns(p.pt, 2, b.Yz, b.wj);
@@ -263,6 +347,10 @@ struct Avx2 {
     const l4 a = reinterpret_cast<l4>(_mm256_cmpgt_epi64(lo, _mm256_setzero_si256()));
     const l4 c = reinterpret_cast<l4>(_mm256_cmpgt_epi64(hi, _mm256_setzero_si256()));
     b.live = __builtin_shufflevector(a, c, 0, 1, 2, 3, 4, 5, 6, 7);
+  }
+  HORIZON_AVX2 __attribute__((always_inline)) static void records(const Pointers& p, Records& r) {
+    for (int c = 0; c < 4; ++c) columns(p.record, 2 * c, r.m[2 * c], r.m[2 * c + 1]);
+    columns(p.record, 8, r.m[8], r.g);
   }
   HORIZON_AVX2 __attribute__((always_inline)) static v8d sqrt(v8d x) {
     d4 lo = __builtin_shufflevector(x, x, 0, 1, 2, 3), hi = __builtin_shufflevector(x, x, 4, 5, 6, 7);
@@ -297,15 +385,33 @@ struct Avx512 {
     c = reinterpret_cast<v8d>(_mm512_permutex2var_pd(t0, second, t2));
     d = reinterpret_cast<v8d>(_mm512_permutex2var_pd(t1, second, t3));
   }
-  HORIZON_AVX512 __attribute__((always_inline)) static void load(const Sweep& s, std::size_t i, uint64_t k, int count, uint64_t flags, Block& b) {
-    Pointers p;
-    pointers(s, i, k, count, p);
+  HORIZON_AVX512 __attribute__((always_inline)) static void load(const Pointers& p, uint64_t flags, Block& b) {
     v8d unused;
     transpose8(p.pt, b.Yx, b.Yy, b.Yz, b.wj);
     transpose8(p.ref, b.xx, b.xy, b.xz, unused);
     transpose8(p.kind, b.L, b.iL, b.w, unused);
     const __m512i f = _mm512_cvtepu8_epi64(_mm_cvtsi64_si128(static_cast<long long>(flags)));
     b.live = reinterpret_cast<v8l>(_mm512_movm_epi64(_mm512_test_epi64_mask(f, f)));
+  }
+  // The records' last two numbers (loaded two by two: a record may end the array).
+  HORIZON_AVX512 __attribute__((always_inline)) static void pairs8(const double* const* rec, v8d& a, v8d& b) {
+    const __m512d z0 = join8(_mm256_maskz_loadu_pd(3, rec[0]), _mm256_maskz_loadu_pd(3, rec[1]));
+    const __m512d z1 = join8(_mm256_maskz_loadu_pd(3, rec[2]), _mm256_maskz_loadu_pd(3, rec[3]));
+    const __m512d z2 = join8(_mm256_maskz_loadu_pd(3, rec[4]), _mm256_maskz_loadu_pd(3, rec[5]));
+    const __m512d z3 = join8(_mm256_maskz_loadu_pd(3, rec[6]), _mm256_maskz_loadu_pd(3, rec[7]));
+    const __m512d t0 = _mm512_unpacklo_pd(z0, z1), t1 = _mm512_unpackhi_pd(z0, z1);
+    const __m512d t2 = _mm512_unpacklo_pd(z2, z3), t3 = _mm512_unpackhi_pd(z2, z3);
+    const __m512i first = _mm512_setr_epi64(0, 4, 1, 5, 8, 12, 9, 13);
+    a = reinterpret_cast<v8d>(_mm512_permutex2var_pd(t0, first, t2));
+    b = reinterpret_cast<v8d>(_mm512_permutex2var_pd(t1, first, t3));
+  }
+  HORIZON_AVX512 __attribute__((always_inline)) static void records(const Pointers& p, Records& r) {
+    const double* q[8];
+    transpose8(p.record, r.m[0], r.m[1], r.m[2], r.m[3]);
+    for (int l = 0; l < 8; ++l) q[l] = p.record[l] + 4;
+    transpose8(q, r.m[4], r.m[5], r.m[6], r.m[7]);
+    for (int l = 0; l < 8; ++l) q[l] = p.record[l] + 8;
+    pairs8(q, r.m[8], r.g);
   }
   HORIZON_AVX512 __attribute__((always_inline)) static v8d sqrt(v8d x) { return reinterpret_cast<v8d>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(x))); }
   HORIZON_AVX512 __attribute__((always_inline)) static unsigned bits(v8l m) { return _mm512_movepi64_mask(reinterpret_cast<__m512i>(m)); }
@@ -317,7 +423,14 @@ HORIZON_AVX2 BreakOut break_row_avx2(const Sweep& s, std::size_t i, double* sums
 HORIZON_AVX512 BreakOut break_row_avx512(const Sweep& s, std::size_t i, double* sums) {
   HORIZON_AFFINE_BREAK_ROW(Avx512);
 }
+HORIZON_AVX2 void sum_row_avx2(const Sweep& s, std::size_t i, double* f, double& energy) {
+  HORIZON_AFFINE_SUM_ROW(Avx2);
+}
+HORIZON_AVX512 void sum_row_avx512(const Sweep& s, std::size_t i, double* f, double& energy) {
+  HORIZON_AFFINE_SUM_ROW(Avx512);
+}
 #undef HORIZON_AFFINE_BREAK_ROW
+#undef HORIZON_AFFINE_SUM_ROW
 
 enum class Isa { base, avx2, avx512 };
 Isa isa() {
@@ -328,6 +441,11 @@ Isa isa() {
                                                             : Isa::base;
   return level;
 }
+// The fast loops' choice (set_kernel_path): "scalar" the portable rows, "avx2" no wider.
+Isa isa_now() {
+  const std::string_view path = kernel_path_name();
+  return path == "scalar" ? Isa::base : path == "avx2" && isa() == Isa::avx512 ? Isa::avx2 : isa();
+}
 #endif  // HORIZON_SWEEPS_X86
 
 }  // namespace
@@ -335,13 +453,23 @@ Isa isa() {
 BreakRow break_row_for(const Sweep& s) {
 #if defined(HORIZON_SWEEPS_X86)
   if (!s.soft && s.kinds_have_lengths) {
-    const std::string_view path = kernel_path_name();  // the fast loops' choice (set_kernel_path)
-    const Isa level = path == "scalar" ? Isa::base : path == "avx2" && isa() == Isa::avx512 ? Isa::avx2 : isa();
+    const Isa level = isa_now();
     if (level == Isa::avx512) return break_row_avx512;
     if (level == Isa::avx2) return break_row_avx2;
   }
 #endif
   return break_row_portable;
+}
+
+SumRow sum_row_for(const Sweep& s) {
+#if defined(HORIZON_SWEEPS_X86)
+  if (!s.contact && s.kinds_have_lengths) {
+    const Isa level = isa_now();
+    if (level == Isa::avx512) return sum_row_avx512;
+    if (level == Isa::avx2) return sum_row_avx2;
+  }
+#endif
+  return sum_row_portable;
 }
 
 }  // namespace horizon::affine_sweeps

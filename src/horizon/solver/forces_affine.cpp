@@ -84,9 +84,13 @@ uint64_t affine_forces(System& s, bool energy) {
   sw.soft = soft;
   sw.total = nb;
   sw.after = after;
+  // Without the short-range contact between family pairs every kind's contact distance is
+  // 0 (state/kind_coefficients.cpp), and family_contact would only say so, bond by bond.
+  sw.contact = s.contact.acts_on_family();
   sw.kinds_have_lengths = !B.length_per_bond;
   // The breaking sweep in the fast loops' lanes, per target (solver/affine_sweeps.hpp).
   const affine_sweeps::BreakRow break_row = affine_sweeps::break_row_for(sw);
+  const affine_sweeps::SumRow sum_row = affine_sweeps::sum_row_for(sw);
 
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (rows > 512)
@@ -102,44 +106,16 @@ uint64_t affine_forces(System& s, bool energy) {
     model_of[P.material[i]]->affine_row(pass, i, sums);
   }
 
-  const Point4* pt = M.packed.data();
-  const Vec3* X = P.X.data();
-  const double* rec = M.affine_record.data();
-  const uint32_t* nbr = B.nbr.data();
-  const uint32_t* kind = B.kind.data();
-  const uint8_t* intact = B.intact.data();
-  const BondKind* kinds = B.kinds.data();
-  const KindCoefficients* kc = M.kind.data();
+  // The sum, once every row has its record (this pass's: sw.record is the same array).
 #pragma omp parallel for schedule(static) if (rows > 512)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
-    const Point4 pi = pt[i];
-    const Vec3 xi_i = X[i];
-    correspondence::AffineRowSum sum;
-    double w = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const uint32_t j = nbr[k];
-      const Point4 pj = pt[j];
-      const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-      if (intact[k]) {
-        const BondKind& bk = kinds[kind[k]];
-        const Vec3 xj = X[j];
-        const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
-        correspondence::affine_pair_add(sum, rec + kRec * static_cast<std::size_t>(j),
-                                        bk.weight * (bk.volume * bk.fraction), xi, Y);
-      }
-      Vec3 fc;
-      double wc = 0;
-      if (family_contact(kc[kind[k]], Vec3{Y[0], Y[1], Y[2]}, fc, wc)) {
-        sum.acc[0] += fc.x, sum.acc[1] += fc.y, sum.acc[2] += fc.z;
-        w += wc;
-      }
-    }
-    double f[3];
-    correspondence::affine_pair_finish(sum, rec + kRec * i, f);
+    double f[3], w = 0;
+    sum_row(sw, i, f, w);
     P.f[i] = {f[0], f[1], f[2]};
     if (energy) P.energy[i] += w;
   }
+  const Point4* pt = M.packed.data();
   // The positions of this pass, for the booking of the next one's breaks.
   for (std::size_t i = 0; i < n; ++i) M.affine_position[i] = {pt[i].x, pt[i].y, pt[i].z};
   if (after)
