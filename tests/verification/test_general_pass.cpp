@@ -5,8 +5,8 @@
 // form sums the same terms in another order: round-off only), the same broken bonds, the same
 // energy ledger to 1e-9 of the initial energy (the booking of a broken bond rebuilds the
 // last pass's force state from its record), and the same bits on 1 and 2 threads and
-// whichever rows the affine sweep takes (AVX-512, AVX2 or the portable lanes,
-// solver/affine_sweeps.hpp; chosen as the fast loops' set_kernel_path).
+// whichever rows the affine sweeps take (AVX-512 or the portable lanes,
+// solver/affine_sweeps.hpp; set_kernel_path(avx2) and (scalar) take the portable ones).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -17,7 +17,6 @@
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 #define HORIZON_SWEEPS_X86 1
-#define HORIZON_AVX2 __attribute__((target("avx2")))
 #define HORIZON_AVX512 __attribute__((target("avx2,avx512f,avx512vl,avx512bw,avx512dq")))
 #endif
 
@@ -158,12 +157,14 @@ void sum_row_portable(const Sweep& s, std::size_t i, double* f, double& energy) 
 
 // ------------------------------------------------------------------------------------
 // The vector rows: the arithmetic written once on eight-lane vectors (GCC's vector
-// extensions: one 512-bit register with AVX-512, two of 256 bits with AVX2), the loads
-// written per target.
+// extensions), the loads per target. Only AVX-512 takes them: an AVX2 build of the same
+// rows (each eight-lane vector in two 256-bit registers: the 18 sums of the breaking
+// sweep alone fill 36 of its 16 registers) ran 15.5 ns a bond-step against 13.6 for the
+// portable rows and 12.8 for the bond-order loop before them (docs/benchmarks.md), so
+// AVX2 machines take the portable rows.
 
 using v8d = double __attribute__((vector_size(64)));
 using v8l = int64_t __attribute__((vector_size(64)));
-using d4 = double __attribute__((vector_size(32)));
 
 // Eight bonds k .. k + count - 1 of row i in lanes 0..7; lanes past the row's end are
 // padding (the particle itself, bond k's kind) and never live.
@@ -316,56 +317,6 @@ struct Records {
   energy = 0;                                                                                       \
   static_assert(true)
 
-// AVX2: records loaded as 16-byte halves, one unpack per column (solver/forces.cpp load_quad).
-struct Avx2 {
-  HORIZON_AVX2 __attribute__((always_inline)) static __m256d halves(const double* a, const double* b) {
-    return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(a)), _mm_loadu_pd(b), 1);
-  }
-  // Columns `from`, `from + 1` of records 0-3 (a) and 4-7 (b) of rec, as lanes 0..7.
-  HORIZON_AVX2 __attribute__((always_inline)) static void columns(const double* const* rec, int from, v8d& a, v8d& b) {
-    d4 lo[2], hi[2];
-    for (int h = 0; h < 2; ++h) {
-      const double* const* q = rec + 4 * h;
-      const __m256d A = halves(q[0] + from, q[2] + from), B = halves(q[1] + from, q[3] + from);
-      lo[h] = reinterpret_cast<d4>(_mm256_unpacklo_pd(A, B));
-      hi[h] = reinterpret_cast<d4>(_mm256_unpackhi_pd(A, B));
-    }
-    a = __builtin_shufflevector(lo[0], lo[1], 0, 1, 2, 3, 4, 5, 6, 7);
-    b = __builtin_shufflevector(hi[0], hi[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  }
-  HORIZON_AVX2 __attribute__((always_inline)) static void load(const Pointers& p, uint64_t flags, Block& b) {
-    v8d unused;
-    columns(p.pt, 0, b.Yx, b.Yy);
-    columns(p.pt, 2, b.Yz, b.wj);
-    columns(p.ref, 0, b.xx, b.xy);
-    columns(p.ref, 2, b.xz, unused);
-    columns(p.kind, 0, b.L, b.iL);
-    columns(p.kind, 2, b.w, unused);
-    const __m256i lo = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(flags)));
-    const __m256i hi = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(static_cast<int>(flags >> 32)));
-    using l4 = int64_t __attribute__((vector_size(32)));
-    const l4 a = reinterpret_cast<l4>(_mm256_cmpgt_epi64(lo, _mm256_setzero_si256()));
-    const l4 c = reinterpret_cast<l4>(_mm256_cmpgt_epi64(hi, _mm256_setzero_si256()));
-    b.live = __builtin_shufflevector(a, c, 0, 1, 2, 3, 4, 5, 6, 7);
-  }
-  HORIZON_AVX2 __attribute__((always_inline)) static void records(const Pointers& p, Records& r) {
-    for (int c = 0; c < 4; ++c) columns(p.record, 2 * c, r.m[2 * c], r.m[2 * c + 1]);
-    columns(p.record, 8, r.m[8], r.g);
-  }
-  HORIZON_AVX2 __attribute__((always_inline)) static v8d sqrt(v8d x) {
-    d4 lo = __builtin_shufflevector(x, x, 0, 1, 2, 3), hi = __builtin_shufflevector(x, x, 4, 5, 6, 7);
-    lo = reinterpret_cast<d4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(lo)));
-    hi = reinterpret_cast<d4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(hi)));
-    return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
-  }
-  HORIZON_AVX2 __attribute__((always_inline)) static unsigned bits(v8l m) {
-    using l4 = int64_t __attribute__((vector_size(32)));
-    const l4 lo = __builtin_shufflevector(m, m, 0, 1, 2, 3), hi = __builtin_shufflevector(m, m, 4, 5, 6, 7);
-    return static_cast<unsigned>(_mm256_movemask_pd(reinterpret_cast<__m256d>(lo))) |
-           static_cast<unsigned>(_mm256_movemask_pd(reinterpret_cast<__m256d>(hi))) << 4;
-  }
-};
-
 // AVX-512: eight 32-byte records transposed into four registers (solver/forces.cpp transpose8).
 struct Avx512 {
   HORIZON_AVX512 __attribute__((always_inline)) static __m512d join8(__m256d a, __m256d b) {
@@ -417,14 +368,8 @@ struct Avx512 {
   HORIZON_AVX512 __attribute__((always_inline)) static unsigned bits(v8l m) { return _mm512_movepi64_mask(reinterpret_cast<__m512i>(m)); }
 };
 
-HORIZON_AVX2 BreakOut break_row_avx2(const Sweep& s, std::size_t i, double* sums) {
-  HORIZON_AFFINE_BREAK_ROW(Avx2);
-}
 HORIZON_AVX512 BreakOut break_row_avx512(const Sweep& s, std::size_t i, double* sums) {
   HORIZON_AFFINE_BREAK_ROW(Avx512);
-}
-HORIZON_AVX2 void sum_row_avx2(const Sweep& s, std::size_t i, double* f, double& energy) {
-  HORIZON_AFFINE_SUM_ROW(Avx2);
 }
 HORIZON_AVX512 void sum_row_avx512(const Sweep& s, std::size_t i, double* f, double& energy) {
   HORIZON_AFFINE_SUM_ROW(Avx512);
@@ -432,19 +377,13 @@ HORIZON_AVX512 void sum_row_avx512(const Sweep& s, std::size_t i, double* f, dou
 #undef HORIZON_AFFINE_BREAK_ROW
 #undef HORIZON_AFFINE_SUM_ROW
 
-enum class Isa { base, avx2, avx512 };
-Isa isa() {
-  static const Isa level = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-                                   __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq")
-                               ? Isa::avx512
-                           : __builtin_cpu_supports("avx2") ? Isa::avx2
-                                                            : Isa::base;
-  return level;
-}
-// The fast loops' choice (set_kernel_path): "scalar" the portable rows, "avx2" no wider.
-Isa isa_now() {
+// The AVX-512 rows where the machine has them and set_kernel_path leaves the fast loops'
+// widest path ("scalar" and "avx2" take the portable rows).
+bool use_avx512() {
+  static const bool available = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                                __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
   const std::string_view path = kernel_path_name();
-  return path == "scalar" ? Isa::base : path == "avx2" && isa() == Isa::avx512 ? Isa::avx2 : isa();
+  return available && path != "scalar" && path != "avx2";
 }
 #endif  // HORIZON_SWEEPS_X86
 
@@ -452,22 +391,14 @@ Isa isa_now() {
 
 BreakRow break_row_for(const Sweep& s) {
 #if defined(HORIZON_SWEEPS_X86)
-  if (!s.soft && s.kinds_have_lengths) {
-    const Isa level = isa_now();
-    if (level == Isa::avx512) return break_row_avx512;
-    if (level == Isa::avx2) return break_row_avx2;
-  }
+  if (!s.soft && s.kinds_have_lengths && use_avx512()) return break_row_avx512;
 #endif
   return break_row_portable;
 }
 
 SumRow sum_row_for(const Sweep& s) {
 #if defined(HORIZON_SWEEPS_X86)
-  if (!s.contact && s.kinds_have_lengths) {
-    const Isa level = isa_now();
-    if (level == Isa::avx512) return sum_row_avx512;
-    if (level == Isa::avx2) return sum_row_avx2;
-  }
+  if (!s.contact && s.kinds_have_lengths && use_avx512()) return sum_row_avx512;
 #endif
   return sum_row_portable;
 }

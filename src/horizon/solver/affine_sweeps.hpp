@@ -4,14 +4,14 @@
 // each lane keeps its own partial sums (of K = sum w xi (x) xi and N = sum w Y (x) xi in
 // the breaking sweep, of the pair form's three sums in the force sum), and the lanes are
 // added as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)) at the end of
-// the row. Three implementations follow this rule, chosen once per pass: AVX-512 (eight
-// lanes in one register), AVX2 (the same vectors as two registers of four) and a portable
-// one (eight scalar accumulators per sum), with the same IEEE operations in the same
-// order, so the same bits on every target and thread count. The vector ones run the
-// common case (no temperature-dependent critical stretch, no short-range contact between
-// family pairs, bonds with kinds); the portable
-// one runs all. A bond that breaks leaves the vector path and is booked bond by bond in
-// order, as forces_general.cpp books it.
+// the row. Two implementations follow this rule, chosen once per pass: AVX-512 (eight
+// lanes in one register) and a portable one (eight scalar accumulators per sum), with the
+// same IEEE operations in the same order, so the same bits on every machine and thread
+// count (AVX2 machines take the portable rows: solver/affine_sweeps.cpp says why). The
+// vector rows run the common case (no temperature-dependent critical stretch, no
+// short-range contact between family pairs, bonds with kinds); the portable ones run all.
+// A bond that breaks leaves the vector rows and is booked bond by bond in order, as
+// forces_general.cpp books it.
 #include <cstddef>
 #include <cstdint>
 
@@ -57,8 +57,8 @@ using BreakRow = BreakOut (*)(const Sweep&, std::size_t, double* sums);
 // (w: its energy density).
 using SumRow = void (*)(const Sweep&, std::size_t, double* f, double& w);
 
-// The rows for this pass: the machine's widest (as the fast loops: set_kernel_path's
-// "scalar" takes the portable rows, "avx2" no wider than AVX2) where the settings allow.
+// The rows for this pass: AVX-512 where the machine has it and the settings allow (as the
+// fast loops: set_kernel_path's "scalar" or "avx2" takes the portable rows), else portable.
 BreakRow break_row_for(const Sweep& s);
 SumRow sum_row_for(const Sweep& s);
 
