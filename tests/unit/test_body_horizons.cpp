@@ -166,7 +166,8 @@ TEST(BodyHorizons, OneHorizonLeavesTheBondsAsTheyWere) {
   // (the unified fast loops stay).
   const System a = build_system(parse_deck(deck("1.001"), "same.yaml"));
   std::string plain = deck("1.001");
-  plain.replace(plain.find(", horizon: 1.001"), 15, "");
+  const std::string key = ", horizon: 1.001";
+  plain.replace(plain.find(key), key.size(), "");
   const System b = build_system(parse_deck(plain, "plain.yaml"));
   EXPECT_FALSE(a.one_way_bonds);
   EXPECT_EQ(a.bonds.nbr, b.bonds.nbr);
@@ -185,11 +186,14 @@ TEST(BodyHorizons, ExpressionHorizonAndErrors) {
     EXPECT_NE(what.find("bodies.narrow.horizon: 1.15"), std::string::npos) << what;
     EXPECT_NE(what.find("at the particle (25, 0, 0)"), std::string::npos) << what;
   }
-  // Below the deck's: 0.95 + x/1000 at x = 25 is 0.975: the mixed centre lists the 45-degree
-  // point alone (0.765).
-  System s = build_system(parse_deck(deck("0.95 + x/1000"), "expr.yaml"));
-  EXPECT_EQ(family_count(s, at(s, 25, 0, 0)), 1u);
+  // Below the deck's: 0.9004 + x/250 is 1.0004 at x = 25, where the mixed centre lists all
+  // seven, and 0.9204 at x = 5, where the centre lists none; (6, 0, 0): the 45-degree point.
+  System s = build_system(parse_deck(deck("0.9004 + x/250"), "expr.yaml"));
+  EXPECT_EQ(family_count(s, at(s, 25, 0, 0)), 7u);
   EXPECT_EQ(family_count(s, at(s, 5, 0, 0)), 0u);
+  EXPECT_EQ(family_count(s, at(s, 6, 0, 0)), 1u);
+  // Every pair is then in both families or in neither: no one-way bond, the fast loops.
+  EXPECT_FALSE(s.one_way_bonds);
   // A number above the deck's horizon, at its line and column.
   try {
     parse_deck(deck("1.5"), "big.yaml");
