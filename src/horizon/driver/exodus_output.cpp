@@ -79,6 +79,8 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
       horizon_ = true;
       deck_horizon_ = config.horizon;
       for (const auto& b : config.bodies) body_horizon_.push_back(b.horizon);
+    } else if (v == "Contact_Force_Density") {
+      contact_ = true;
     } else {
       // The deck reader has checked that a history column of this name exists.
       for (const auto& c : config.output.history_columns)
@@ -139,7 +141,8 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     }
   }
   const std::vector<double> globals = history_columns_values(columns_, s);
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0);
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0) + (contact_ ? 3 : 0);
+  const std::vector<Vec3>& contact = s.contact.recorded_forces();
   // Number_Of_Neighbors: i's family, without the bonds in the neighbour's family alone
   // (BondKind::one_way: bodies of different horizons).
   auto neighbours = [&](uint32_t i) {
@@ -170,6 +173,10 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
       const auto b = static_cast<std::size_t>(P.block[i]);
       const auto& h = b < body_horizon_.size() ? body_horizon_[b] : std::nullopt;
       out.push_back(h ? (*h)(0, P.X[i].x, P.X[i].y, P.X[i].z) : deck_horizon_);
+    }
+    if (contact_) {
+      const Vec3 fc = i < contact.size() ? contact[i] : Vec3{};
+      out.insert(out.end(), {fc.x, fc.y, fc.z});
     }
   };
   auto take = [&](std::size_t g, const double* v) {
@@ -211,6 +218,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ",
                     "AccelerationX", "AccelerationY", "AccelerationZ", "External_Force_DensityX",
                     "External_Force_DensityY", "External_Force_DensityZ"};
+    if (contact_)
+      for (const char* a : {"X", "Y", "Z"}) layout.nodal.push_back(std::string("Contact_Force_Density") + a);
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
     if (lambda_) layout.element.push_back("Lambda");
@@ -225,7 +234,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   ExodusStep step;
   step.time = time;
-  step.nodal.assign(18, std::vector<double>(n));
+  step.nodal.assign(contact_ ? 21 : 18, std::vector<double>(n));
   const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0);
   step.element.assign(10 + extra, std::vector<double>(n));
   double kinetic = 0;
@@ -251,6 +260,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
     step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
     for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
+    if (contact_)
+      for (std::size_t c = 0; c < 3; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};
@@ -266,6 +277,11 @@ ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& file
         std::make_unique<ExodusOutput>((dir / f.file).string(), iterations, f.variables, config, f.verlet_velocity));
     every_.push_back(std::max(1, f.every));
   }
+}
+
+void ExodusSchedule::prepare(System& s) const {
+  for (const auto& f : files_)
+    if (f->contact_forces()) s.contact.record_forces(true);
 }
 
 bool ExodusSchedule::due(int64_t step) const {
