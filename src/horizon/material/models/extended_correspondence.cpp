@@ -818,11 +818,14 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
 // The geometry takes n = xi/|xi| from the kind's 1/|xi| and the m = 1 strain as (c - 1)/2:
 // the forces agree with the vector form to round-off (tests/verification/
 // test_general_pass.cpp). The capped stabilisation (stabilization_yield: a per-bond plastic
-// residual of each side) keeps the vector form, as do mixed runs.
+// residual of each side) keeps the vector form, as do mixed runs and runs with one-way
+// bonds (bodies of different horizons).
 constexpr uint64_t kPairAhead = 8;  // bonds ahead the pair sum asks for a neighbour's record
 
 bool ExtendedCorrespondence::takes_pair_pass(const System& s) const {
-  return stab_yield_ == 0 && particles_.size() == s.particles.size() && s.thermal_strain.empty() && !s.fe_coupling;
+  // One-way bonds (bodies of different horizons) have omega_ij != omega_ji: no pair form.
+  return stab_yield_ == 0 && particles_.size() == s.particles.size() && s.thermal_strain.empty() && !s.fe_coupling &&
+         !s.one_way_bonds;
 }
 
 // 1. Row l's breaking and strain sums (pair_forces); returns the bonds it broke.
