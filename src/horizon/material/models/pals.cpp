@@ -149,8 +149,10 @@ const ModelTraits& traits() {
 }
 
 // omega of a bond under a choice of kInfluenceChoices ("influence": the bond's own weight).
+// A bond of weight 0 does not act in this direction (a one-way bond between bodies of
+// different horizons, docs/input.md): 0 whatever the choice.
 double choice_weight(const std::string& choice, const BondKind& b, double horizon) {
-  if (choice == "influence") return b.weight;
+  if (choice == "influence" || b.weight == 0) return b.weight;
   InfluenceKind k = InfluenceKind::constant;
   if (choice == "inverse") k = InfluenceKind::inverse;
   else if (choice == "inverse_length") k = InfluenceKind::inverse_length;
