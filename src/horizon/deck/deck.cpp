@@ -14,6 +14,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/deck/conditions.hpp"
 #include "horizon/deck/contact.hpp"
+#include "horizon/deck/exodus_variables.hpp"
 #include "horizon/deck/history_columns.hpp"
 #include "horizon/deck/materials.hpp"
 #include "horizon/deck/peridigm/function_string.hpp"
@@ -531,8 +532,10 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
         if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
       }
       if (auto vars = e.find("variables")) {
-        // Lambda, Deformation_Gradient or a history column (driver/exodus_output.hpp).
+        // Lambda, Deformation_Gradient, a model field variable or a history column
+        // (driver/exodus_output.hpp).
         std::vector<std::string> known = {"Lambda", "Deformation_Gradient"};
+        for (const auto& m : model_field_variables()) known.push_back(m);
         for (const auto& c : config.output.history_columns) known.push_back(c.name);
         if (!vars->node.IsSequence()) fail_expected(ctx, *vars, "a list of variable names");
         for (std::size_t v = 0; v < vars->node.size(); ++v) {

@@ -32,6 +32,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
@@ -43,6 +44,14 @@ struct System;
 struct Decomposition;
 class ExodusWriter;
 class Loads;
+
+// Whether `name` is one of Peridigm's variables written from the models' fields:
+// Hourglass_Force_Density (nodal X Y Z: correspondence's Peridigm hourglass force),
+// Left_Stretch_Tensor, Rotation_Tensor, Shape_Tensor_Inverse,
+// Unrotated_Rate_Of_Deformation, Cauchy_Stress, Unrotated_Cauchy_Stress (element XX ... ZZ:
+// correspondence's hypoelastic laws), Von_Mises_Stress, Equivalent_Plastic_Strain
+// (element); 0 at particles whose model has no such field.
+bool exodus_field_variable(const std::string& name);
 
 class ExodusOutput {
  public:
@@ -74,6 +83,8 @@ class ExodusOutput {
   std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
   std::optional<int> iterations_;  // Nonlinear_Solver_Iterations, when the file has it
   bool lambda_ = false, gradient_ = false;  // the element variables asked for
+  // Models' fields asked for (exodus_field_variable): (Exodus name, field name) per column.
+  std::vector<std::pair<std::string, std::string>> nodal_fields_, element_fields_;
   bool verlet_ = false;                      // velocity: verlet
   const Loads* loads_ = nullptr;
   double verlet_dt_ = 0;

@@ -16,6 +16,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/expression.hpp"
+#include "horizon/deck/exodus_variables.hpp"
 #include "horizon/deck/peridigm/exodus_discretization.hpp"
 #include "horizon/deck/peridigm/function_string.hpp"
 #include "horizon/deck/peridigm/sections.hpp"
@@ -248,27 +249,52 @@ YAML::Node read_material(Translation& t, const Item& item) {
     mat["lambda_1"] = read_number(t.ctx, m.get("lambda_i", "the weight of the Maxwell branch"));
     mat["tau_1"] = read_positive(t.ctx, m.get("tau b", "the Maxwell branch's decay time [s]"));
   } else if (w == "elasticcorrespondence") {
+    // Peridigm's correspondence materials integrate the unrotated Cauchy stress in rate
+    // form (Flanagan and Taylor 1987): stress_law hypoelastic, which its golds' Cauchy
+    // stresses and left stretches fix (material/classical/hypoelastic.hpp), and control
+    // zero-energy modes by Littlewood's hourglass force, coefficient Hourglass Coefficient
+    // (stabilization_form peridigm; 0 without the key, as Peridigm's default).
     own = {"Hourglass Coefficient"};
     mat["model"] = "correspondence";
-    mat["stress_law"] = "linear_elastic";
+    mat["stress_law"] = "hypoelastic";
+    mat["stabilization_form"] = "peridigm";
+    mat["stabilization"] = 0.0;
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
   } else if (w == "elasticplasticcorrespondence" || w == "isotropichardeningcorrespondence") {
-    // Correspondence with J2 plasticity (perfect, or with linear isotropic hardening):
-    // Horizon's correspondence model with stress_law j2 (docs/peridigm.md).
+    // Correspondence with J2 plasticity (perfect, or with linear isotropic hardening) on
+    // the same rate form: stress_law hypoelastic_j2 (docs/peridigm.md).
     own = {"Hourglass Coefficient", "Yield Stress"};
     mat["model"] = "correspondence";
-    mat["stress_law"] = "j2";
+    mat["stress_law"] = "hypoelastic_j2";
+    mat["stabilization_form"] = "peridigm";
+    mat["stabilization"] = 0.0;
     mat["yield_stress"] = read_positive(t.ctx, m.get("Yield Stress", "the yield stress [Pa]"));
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
     if (w == "isotropichardeningcorrespondence") {
       own.insert(own.end(), {"Hardening Modulus", "Enable Flaw", "Flaw Location X", "Flaw Location Y",
                              "Flaw Location Z", "Flaw Size", "Flaw Magnitude"});
       if (auto h = m.find("Hardening Modulus")) mat["hardening_modulus"] = read_non_negative(t.ctx, *h);
-      // The flaw (a local knock-down of the yield stress) is not modelled: only off.
-      if (auto f = m.find("Enable Flaw"); f && read_bool(t.ctx, *f))
-        t.ctx.fail(f->mark, f->path + ": the yield-stress flaw is not supported; only false");
-      for (const char* k : {"Flaw Location X", "Flaw Location Y", "Flaw Location Z", "Flaw Size", "Flaw Magnitude"})
-        if (auto f = m.find(k)) read_number(t.ctx, *f);
+      // The flaw: a local knock-down of the yield stress, sigma_y (1 - m exp(-|x -
+      // x_f|^2/s^2)) (fitted from IsotropicHardeningPlasticFullyPrescribedTension_WithFlaw's
+      // gold; material/models/correspondence.hpp Flaw). Its keys are read either way.
+      const bool flaw = m.find("Enable Flaw") && read_bool(t.ctx, *m.find("Enable Flaw"));
+      const std::pair<const char*, const char*> keys[] = {{"Flaw Location X", "flaw_x"},
+                                                          {"Flaw Location Y", "flaw_y"},
+                                                          {"Flaw Location Z", "flaw_z"}};
+      for (const auto& [from, to] : keys) {
+        if (flaw) mat[to] = read_number(t.ctx, m.get(from, "the flaw's centre coordinate"));
+        else if (auto f = m.find(from)) read_number(t.ctx, *f);
+      }
+      if (flaw) {
+        mat["flaw_size"] = read_positive(t.ctx, m.get("Flaw Size", "the flaw's length s (exp(-r^2/s^2))"));
+        const Item mag = m.get("Flaw Magnitude", "the flaw's knock-down m of the yield stress, in (0, 1]");
+        const double mm = read_number(t.ctx, mag);
+        if (!(mm >= 0 && mm <= 1)) fail_expected(t.ctx, mag, "a number in [0, 1]");
+        mat["flaw_magnitude"] = mm;
+      } else {
+        for (const char* k : {"Flaw Size", "Flaw Magnitude"})
+          if (auto f = m.find(k)) read_number(t.ctx, *f);
+      }
     }
   } else {
     // The models of Peridigm's suite Horizon does not map yet (docs/peridigm.md lists the
@@ -757,7 +783,9 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
         "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
         "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
-        "Nonlinear_Solver_Iterations", "Deformation_Gradient"};
+        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Hourglass_Force_Density", "Left_Stretch_Tensor",
+        "Rotation_Tensor", "Shape_Tensor_Inverse", "Unrotated_Rate_Of_Deformation", "Cauchy_Stress",
+        "Unrotated_Cauchy_Stress", "Von_Mises_Stress"};
     for (const auto& e : map_entries(ctx, *vars)) {
       // The globals Peridigm writes become history columns under their own names (once,
       // whichever lists name them), and compute classes' Output Labels are written by
@@ -793,6 +821,12 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
       // Lambda (elastic_plastic's plastic multiplier) and Deformation_Gradient are written
       // where asked (output.exodus_files' variables, driver/exodus_output.hpp).
       if (read_bool(ctx, e.value) && e.key == "Lambda") variables.push_back(e.key);
+      // The models' fields under Peridigm's names (Hourglass_Force_Density, Cauchy_Stress,
+      // ...; deck/exodus_variables.hpp), 0 at particles whose model has none.
+      const auto& mf = model_field_variables();
+      if (read_bool(ctx, e.value) && std::find(mf.begin(), mf.end(), e.key) != mf.end() &&
+          std::find(variables.begin(), variables.end(), e.key) == variables.end())
+        variables.push_back(e.key);
     }
   }
   if (variables.size()) {

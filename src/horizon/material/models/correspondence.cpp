@@ -41,14 +41,28 @@ const ModelTraits& traits() {
          ParameterSpec::Range::non_negative, 0.0},
         {"hardening_modulus", "stress_law j2: linear isotropic hardening modulus H [Pa]",
          ParameterSpec::Range::non_negative, 0.0},
+        {"flaw_magnitude",
+         "stress_law hypoelastic_j2: Peridigm's yield-stress flaw, sigma_y (1 - m exp(-|x - x_f|^2/s^2)): m "
+         "(0: no flaw)",
+         ParameterSpec::Range::fraction, 0.0},
+        {"flaw_size", "the flaw's length s [m]", ParameterSpec::Range::positive, 1.0},
+        {"flaw_x", "the flaw's centre x_f: x [m]", ParameterSpec::Range::any, 0.0},
+        {"flaw_y", "the flaw's centre x_f: y [m]", ParameterSpec::Range::any, 0.0},
+        {"flaw_z", "the flaw's centre x_f: z [m]", ParameterSpec::Range::any, 0.0},
         {"shape_tolerance",
          "smallest reciprocal condition number of the shape tensor; below it the particle carries no stress "
          "(contact only)",
          ParameterSpec::Range::fraction, 1e-4},
     };
     m.choices = {
-        {"stress_law", "classical stress law: linear_elastic (small strain), neo_hookean, j2 (plasticity)",
-         {"linear_elastic", "neo_hookean", "j2"}},
+        {"stress_law",
+         "classical stress law: linear_elastic (small strain), neo_hookean, j2 (plasticity), hypoelastic and "
+         "hypoelastic_j2 (Peridigm's rate form in the unrotated frame, Flanagan and Taylor 1987)",
+         {"linear_elastic", "neo_hookean", "j2", "hypoelastic", "hypoelastic_j2"}},
+        {"stabilization_form",
+         "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).n "
+         "/|xi|) n (Littlewood 2011) with C = stabilization",
+         {"silling", "peridigm"}},
     };
     m.affine = true;      // T = omega (M_i xi + g_i Y): correspondence_kernels.hpp
     m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
@@ -61,7 +75,17 @@ const ModelTraits& traits() {
 class Correspondence final : public Model {
  public:
   std::unique_ptr<Model> clone() const override { return std::make_unique<Correspondence>(*this); }
-  const ModelTraits& traits() const override { return horizon::traits(); }
+  // Peridigm's hourglass force is not affine in the bond: with it the run leaves the
+  // affine pass (ModelTraits::affine) for the general one.
+  const ModelTraits& traits() const override {
+    if (Cc_ == 0) return horizon::traits();
+    static const ModelTraits general = [] {
+      ModelTraits m = horizon::traits();
+      m.affine = false;
+      return m;
+    }();
+    return general;
+  }
 
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
@@ -73,6 +97,7 @@ class Correspondence final : public Model {
     return sum;
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
+  void tensor_fields(const System& s, std::vector<ModelField>& out) const;
   bool spring_factors(const System& s, std::vector<double>& g) const override;
 
   void checkpoint(StateArchive& a) override {
@@ -84,7 +109,11 @@ class Correspondence final : public Model {
   }
  private:
   LawSettings law_;
-  double G_ = 0;          // stabilisation modulus G_s c / delta [N/m^7]
+  double G_ = 0;          // stabilisation modulus G_s c / delta [N/m^7] (silling form)
+  double Cc_ = 0;         // C_hg c of Peridigm's hourglass force [N/m^6] (peridigm form)
+  correspondence::Stabilization form_ = correspondence::Stabilization::silling;
+  correspondence::Flaw flaw_;
+  bool hypo_ = false;     // a hypoelastic law: the Peridigm tensors are fields
   double tolerance_ = 0;  // shape_tolerance
   bool adaptive_ = false;  // solver.adaptive_time_step: spring_factors from the current state
   std::vector<uint32_t> particles_;
@@ -93,6 +122,17 @@ class Correspondence final : public Model {
   std::vector<double> work_;       // plastic work of the trial step [J/m^3]
   std::vector<double> von_mises_;  // Cauchy von Mises stress of the last pass [Pa]
   std::vector<uint8_t> singular_;  // 1: the shape tensor was refused at the last pass
+  std::vector<double> yield_factor_;  // the flaw's factor on sigma_y (1 without a flaw)
+  // Of the last pass, for the output (hypoelastic laws): K^-1, F, sigma, unrotated d.
+  std::vector<Mat3> kinv_, F_, sigma_, rate_;
+  // Row l's law at F from the committed history (the flaw's factor, the rate kept).
+  classical::LawResult law_at(std::size_t l, const Mat3& F, const Mat3& Kinv, double dt) {
+    Mat3 d = Mat3::Zero();
+    const classical::LawResult r =
+        correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l], dt, yield_factor_[l], &d);
+    if (hypo_) kinv_[l] = Kinv, F_[l] = F, sigma_[l] = r.sigma, rate_[l] = d;
+    return r;
+  }
 };
 
 void Correspondence::setup(const ModelSetup& in) {
@@ -101,13 +141,28 @@ void Correspondence::setup(const ModelSetup& in) {
   if (dim < 2) throw Error("material '" + mat.name + "': the correspondence model needs dimension 2 or 3");
 
   const std::string& law = choice(mat, "stress_law");
-  law_.law = law == "neo_hookean" ? StressLaw::neo_hookean : law == "j2" ? StressLaw::j2 : StressLaw::linear_elastic;
+  law_.law = law == "neo_hookean"      ? StressLaw::neo_hookean
+             : law == "j2"             ? StressLaw::j2
+             : law == "hypoelastic"    ? StressLaw::hypoelastic
+             : law == "hypoelastic_j2" ? StressLaw::hypoelastic_j2
+                                       : StressLaw::linear_elastic;
+  hypo_ = law_.law == StressLaw::hypoelastic || law_.law == StressLaw::hypoelastic_j2;
   law_.elastic = classical::elastic_from_bulk_shear(mat.bulk_modulus, mat.shear_modulus);
   law_.j2 = {parameter(mat, "yield_stress"), parameter(mat, "hardening_modulus")};
   law_.dimension = dim;
   law_.plane = in.dims.plane;
-  if (law_.law == StressLaw::j2 && !(law_.j2.yield_stress > 0))
-    throw Error("material '" + mat.name + "': stress_law j2 needs a positive yield_stress [Pa]");
+  if ((law_.law == StressLaw::j2 || law_.law == StressLaw::hypoelastic_j2) && !(law_.j2.yield_stress > 0))
+    throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
+  if (hypo_ && dim == 2 && law_.plane == PlaneMode::stress)
+    throw Error("material '" + mat.name + "': stress_law " + law + " is not available in plane stress");
+  flaw_.magnitude = parameter(mat, "flaw_magnitude");
+  flaw_.on = flaw_.magnitude > 0;
+  if (flaw_.on && law_.law != StressLaw::hypoelastic_j2)
+    throw Error("material '" + mat.name + "': flaw_magnitude applies to stress_law hypoelastic_j2 only");
+  flaw_.size = parameter(mat, "flaw_size");
+  flaw_.centre = {parameter(mat, "flaw_x"), parameter(mat, "flaw_y"), parameter(mat, "flaw_z")};
+  form_ = choice(mat, "stabilization_form") == "peridigm" ? correspondence::Stabilization::peridigm
+                                                          : correspondence::Stabilization::silling;
   tolerance_ = parameter(mat, "shape_tolerance");
   adaptive_ = in.config.solver.adaptive_time_step;
 
@@ -115,7 +170,10 @@ void Correspondence::setup(const ModelSetup& in) {
   // in 3-D): the scale of the stabilisation and of the short-range contact, as the LPS.
   const double c = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, in.dims);
   const double Gs = parameter(mat, "stabilization");
-  G_ = correspondence::stabilization_modulus(Gs, c, in.dims.horizon);
+  if (form_ == correspondence::Stabilization::silling)
+    G_ = correspondence::stabilization_modulus(Gs, c, in.dims.horizon);
+  else
+    Cc_ = Gs * c;
   // Stable time step (Silling-Askari bound on the shared spring): the bond-based spring of
   // the same bulk modulus, stiffened by the stabilisation, which adds at most G_s times it
   // on a bond (omega |xi|/delta <= 1 for the influence functions offered).
@@ -132,6 +190,14 @@ void Correspondence::setup(const ModelSetup& in) {
   work_.assign(n, 0.0);
   von_mises_.assign(n, 0.0);
   singular_.assign(n, 0);
+  yield_factor_.assign(n, 1.0);
+  for (std::size_t l = 0; l < n; ++l) yield_factor_[l] = flaw_.factor(in.system.particles.X[particles_[l]]);
+  if (hypo_ || Cc_ != 0) {
+    kinv_.assign(n, Mat3::Zero());
+    F_.assign(n, Mat3::Identity());
+    sigma_.assign(n, Mat3::Zero());
+    rate_.assign(n, Mat3::Zero());
+  }
 }
 
 void Correspondence::force_state(ForcePass& pass) {
@@ -163,7 +229,8 @@ void Correspondence::force_state(ForcePass& pass) {
     Mat3 A = Mat3::Zero();
     double W = 0;
     if (ok) {
-      const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l]);
+      const classical::LawResult r = law_at(l, F, Kinv, pass.dt);
+      if (Cc_ != 0) F_[l] = F;
       if (r.ok) {
         A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
         W = r.W;
@@ -183,6 +250,7 @@ void Correspondence::force_state(ForcePass& pass) {
       const Vec3 xi = X[j] - X[i], Y = deformed(j);
       const double omega = B.weight[k];
       T[k] = correspondence::bond_force_state(A, F, G_, omega, xi, Y);
+      if (Cc_ != 0) T[k] += correspondence::peridigm_hourglass(F, Cc_, omega, xi, Y);
       if (pass.energy && G_ != 0) W += correspondence::bond_stabilization_energy(F, G_, omega * B.volume[k], xi, Y);
     }
     if (pass.energy) pass.energy[i] = W;
@@ -213,7 +281,7 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     if (pass.energy) pass.energy[i] = 0;
     return;
   }
-  const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l]);
+  const classical::LawResult r = law_at(l, F, Kinv, pass.dt);
   von_mises_[l] = correspondence::von_mises(r.sigma);
   double W = 0;
   // Row-major copies for the flat record (Eigen stores by column).
@@ -309,6 +377,73 @@ void Correspondence::fields(const System& s, std::vector<ModelField>& out) const
   out.push_back(std::move(vm));
   out.push_back(std::move(ep));
   out.push_back(std::move(sg));
+  tensor_fields(s, out);
+}
+
+// The tensors of the hypoelastic laws under Peridigm's names (lower case: the Exodus
+// writer's Left_Stretch_Tensor etc., driver/exodus_output.hpp), each as 9 fields
+// <name>_xx, _xy, ..., _zz, and Peridigm's hourglass force density (3 fields
+// hourglass_force_density_x/y/z): published only where a model has them.
+void Correspondence::tensor_fields(const System& s, std::vector<ModelField>& out) const {
+  const std::size_t n = s.particles.size();
+  bool hypo = false, hourglass = false;
+  for (const auto& model : s.models)
+    if (const auto* c = dynamic_cast<const Correspondence*>(model.get())) {
+      hypo = hypo || c->hypo_;
+      hourglass = hourglass || c->form_ == correspondence::Stabilization::peridigm;
+    }
+  static const char* rc[9] = {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"};
+  if (hypo) {
+    const char* names[6] = {"left_stretch_tensor", "rotation_tensor", "shape_tensor_inverse",
+                            "unrotated_rate_of_deformation", "cauchy_stress", "unrotated_cauchy_stress"};
+    std::vector<ModelField> f;
+    for (const char* name : names)
+      for (const char* c : rc) f.push_back({std::string(name) + "_" + c, std::vector<double>(n, 0.0)});
+    for (const auto& model : s.models) {
+      const auto* c = dynamic_cast<const Correspondence*>(model.get());
+      if (!c || !c->hypo_) continue;
+      for (std::size_t l = 0; l < c->particles_.size(); ++l) {
+        const uint32_t i = c->particles_[l];
+        const classical::HypoState& h = c->committed_[l].hypo;
+        const Mat3* m[6] = {&h.V, &h.R, &c->kinv_[l], &c->rate_[l], &c->sigma_[l], &h.sigma_u};
+        for (int t = 0; t < 6; ++t)
+          for (int k = 0; k < 9; ++k) f[static_cast<std::size_t>(9 * t + k)].values[i] = (*m[t])(k / 3, k % 3);
+      }
+    }
+    for (auto& x : f) out.push_back(std::move(x));
+  }
+  if (hourglass) {
+    // f_hg,i = sum_j (T_hg,ij - T_hg,ji) V_j over the acting bonds, T_hg,ji with F_j and
+    // the reversed bond (-xi, -Y). A neighbour whose row another rank computes has no F_j
+    // here: its term is left out (output only; the forces themselves are exact).
+    std::vector<Vec3> f(n, Vec3{});
+    std::vector<const Mat3*> Fof(n, nullptr);
+    std::vector<double> Ccof(n, 0.0);
+    for (const auto& model : s.models)
+      if (const auto* c = dynamic_cast<const Correspondence*>(model.get()); c && c->Cc_ != 0)
+        for (std::size_t l = 0; l < c->particles_.size(); ++l)
+          if (!c->singular_[l] && s.computes_row(c->particles_[l]))
+            Fof[c->particles_[l]] = &c->F_[l], Ccof[c->particles_[l]] = c->Cc_;
+    const Bonds& B = s.bonds;
+    const Particles& P = s.particles;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!Fof[i] || i + 1 >= B.offset.size()) continue;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!B.intact[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const Vec3 xi = P.X[j] - P.X[i], Y = P.position(j) - P.position(i);
+        Vec3 t = correspondence::peridigm_hourglass(*Fof[i], Ccof[i], B.weight[k], xi, Y);
+        if (Fof[j]) t -= correspondence::peridigm_hourglass(*Fof[j], Ccof[j], B.weight[k], -xi, -Y);
+        f[i] += t * B.volume[k];
+      }
+    }
+    const char* xyz[3] = {"x", "y", "z"};
+    for (int c = 0; c < 3; ++c) {
+      ModelField h{std::string("hourglass_force_density_") + xyz[c], std::vector<double>(n, 0.0)};
+      for (std::size_t i = 0; i < n; ++i) h.values[i] = f[i][c];
+      out.push_back(std::move(h));
+    }
+  }
 }
 
 }  // namespace
