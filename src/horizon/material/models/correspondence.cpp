@@ -130,7 +130,12 @@ class Correspondence final : public Model {
     Mat3 d = Mat3::Zero();
     const classical::LawResult r =
         correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l], dt, yield_factor_[l], &d);
-    if (hypo_) kinv_[l] = Kinv, F_[l] = F, sigma_[l] = r.sigma, rate_[l] = d;
+    if (hypo_) {
+      kinv_[l] = Kinv;
+      F_[l] = F;
+      sigma_[l] = r.sigma;
+      rate_[l] = d;
+    }
     return r;
   }
 };
