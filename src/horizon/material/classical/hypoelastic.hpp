@@ -53,8 +53,11 @@ inline Mat3 skew_of(const Eigen::Vector3d& a) {
 inline Eigen::Vector3d axial_of(const Mat3& S) { return {S(2, 1), S(0, 2), S(1, 0)}; }
 
 // `yield` <= 0: elastic. `plastic_work`: sigma_y Delta alpha + H (alpha^2 - alpha_n^2)/2.
+// `Fdot`, when given, is F_dot (the caller's, from the displacement increments: free of
+// the cancellation of F - F_n); else (F - F_n)/dt.
 inline HypoResult hypoelastic_step(const Elastic& c, double yield, double hardening, const HypoState& n,
-                                   const Mat3& F, double dt, HypoState& trial, double& plastic_work) {
+                                   const Mat3& F, double dt, HypoState& trial, double& plastic_work,
+                                   const Mat3* Fdot = nullptr) {
   HypoResult out;
   trial = n;
   plastic_work = 0;
@@ -66,7 +69,7 @@ inline HypoResult hypoelastic_step(const Elastic& c, double yield, double harden
   }
   const Mat3 Finv = F.inverse();
   if (dt > 0) {
-    const Mat3 L = ((F - n.F) / dt) * Finv;
+    const Mat3 L = (Fdot ? *Fdot : Mat3((F - n.F) / dt)) * Finv;
     const Mat3 D = 0.5 * (L + L.transpose()), W = 0.5 * (L - L.transpose());
     const Mat3 C = D * n.V - n.V * D;  // skew
     const Mat3 M = n.V.trace() * I - n.V;

@@ -126,10 +126,31 @@ class Correspondence final : public Model {
   // Of the last pass, for the output (hypoelastic laws): K^-1, F, sigma, unrotated d.
   std::vector<Mat3> kinv_, F_, sigma_, rate_;
   // Row l's law at F from the committed history (the flaw's factor, the rate kept).
-  classical::LawResult law_at(std::size_t l, const Mat3& F, const Mat3& Kinv, double dt) {
-    Mat3 d = Mat3::Zero();
-    const classical::LawResult r =
-        correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l], dt, yield_factor_[l], &d);
+  std::vector<Vec3> u_committed_;  // hypoelastic laws: every particle's u at the last commit
+  // Row l's law at F from the committed history (the flaw's factor, the rate kept).
+  // Hypoelastic laws take F_dot = (sum_j omega V_j (du_j - du_i) (x) xi) K^-1 / dt, du =
+  // u - u_committed: the nonlocal gradient of the step's displacement increment (Peridigm
+  // takes it from the velocities, which its Verlet and quasi-static steps make du/dt),
+  // free of the rounding of F - F_n (1e-11 of D on ElasticCorrespondenceFullyPrescribedTension).
+  classical::LawResult law_at(const System& s, std::size_t l, const Mat3& F, const Mat3& Kinv, double dt) {
+    Mat3 d = Mat3::Zero(), Fdot = Mat3::Zero();
+    const bool rate = hypo_ && dt > 0 && u_committed_.size() == s.particles.size();
+    if (rate) {
+      const uint32_t i = particles_[l];
+      const Bonds& B = s.bonds;
+      const Vec3 dui = s.particles.u[i] - u_committed_[i];
+      Mat3 N = Mat3::Zero();
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!B.intact[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui;
+        N += (B.weight[k] * B.volume[k]) * correspondence::to_eigen(du) *
+             correspondence::to_eigen(s.particles.X[j] - s.particles.X[i]).transpose();
+      }
+      Fdot = N * Kinv / dt;
+    }
+    const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l], dt,
+                                                                yield_factor_[l], &d, rate ? &Fdot : nullptr);
     if (hypo_) {
       kinv_[l] = Kinv;
       F_[l] = F;
@@ -197,6 +218,7 @@ void Correspondence::setup(const ModelSetup& in) {
   singular_.assign(n, 0);
   yield_factor_.assign(n, 1.0);
   for (std::size_t l = 0; l < n; ++l) yield_factor_[l] = flaw_.factor(in.system.particles.X[particles_[l]]);
+  if (hypo_) u_committed_ = in.system.particles.u;
   if (hypo_ || Cc_ != 0) {
     kinv_.assign(n, Mat3::Zero());
     F_.assign(n, Mat3::Identity());
@@ -234,7 +256,7 @@ void Correspondence::force_state(ForcePass& pass) {
     Mat3 A = Mat3::Zero();
     double W = 0;
     if (ok) {
-      const classical::LawResult r = law_at(l, F, Kinv, pass.dt);
+      const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
       if (Cc_ != 0) F_[l] = F;
       if (r.ok) {
         A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
@@ -286,7 +308,7 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     if (pass.energy) pass.energy[i] = 0;
     return;
   }
-  const classical::LawResult r = law_at(l, F, Kinv, pass.dt);
+  const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
   von_mises_[l] = correspondence::von_mises(r.sigma);
   double W = 0;
   // Row-major copies for the flat record (Eigen stores by column).
@@ -310,6 +332,7 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
 }
 
 void Correspondence::commit(System& s) {
+  if (hypo_) u_committed_ = s.particles.u;
   for (std::size_t l = 0; l < particles_.size(); ++l) {
     if (!s.computes_row(particles_[l])) continue;
     committed_[l] = trial_[l];

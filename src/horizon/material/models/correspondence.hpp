@@ -97,13 +97,14 @@ struct History {
 // deformation.
 inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, const History& committed,
                                          History& trial, double& plastic_work, double dt = 0,
-                                         double yield_factor = 1, Mat3* rate = nullptr) {
+                                         double yield_factor = 1, Mat3* rate = nullptr,
+                                         const Mat3* Fdot = nullptr) {
   trial = committed;
   plastic_work = 0;
   if (s.law == StressLaw::hypoelastic || s.law == StressLaw::hypoelastic_j2) {
     const double yield = s.law == StressLaw::hypoelastic_j2 ? s.j2.yield_stress * yield_factor : 0.0;
     const classical::HypoResult h = classical::hypoelastic_step(s.elastic, yield, s.j2.hardening_modulus,
-                                                                committed.hypo, F, dt, trial.hypo, plastic_work);
+                                                                committed.hypo, F, dt, trial.hypo, plastic_work, Fdot);
     if (rate) *rate = h.d;
     trial.plastic.alpha = trial.hypo.alpha;
     return h.law;
@@ -114,6 +115,8 @@ inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, co
       case StressLaw::neo_hookean: return classical::neo_hookean(s.elastic, F3);
       case StressLaw::j2:
         return classical::j2_plasticity(s.elastic, s.j2, committed.plastic, F3, trial.plastic, plastic_work);
+      case StressLaw::hypoelastic:
+      case StressLaw::hypoelastic_j2: break;  // handled above
     }
     return {};
   };
