@@ -93,8 +93,9 @@ TEST(CorrespondencePeridigm, HypoelasticRigidRotation) {
   EXPECT_LT(s1 / s2, 12.0);
 }
 
-// Uniaxial strain with nu = 0.3 past yield: q = sqrt(3/2)|s| lands on sigma_y + H alpha,
-// and the plastic work is sigma_y Delta alpha + H (alpha^2 - alpha_n^2)/2.
+// Uniaxial strain with nu = 0.3 past yield: q = sqrt(3/2)|s| lands on y_n + H Delta alpha
+// with Delta alpha = (q_trial^2 - y_n^2)/(6 mu q_trial), y_n = sigma_y + H alpha_n, and
+// the plastic work is sigma_y Delta alpha + H (alpha^2 - alpha_n^2)/2.
 TEST(CorrespondencePeridigm, HypoelasticJ2Return) {
   const double nu = 0.3, sy = 460e6, H = 5e9;
   const classical::Elastic c = classical::elastic_from_bulk_shear(kE / (3 * (1 - 2 * nu)), kE / (2 * (1 + nu)));
@@ -105,8 +106,13 @@ TEST(CorrespondencePeridigm, HypoelasticJ2Return) {
     const auto r = classical::hypoelastic_step(c, sy, H, n, stretch_y(1 + 1e-4 * s), 1.0, trial, work);
     const Mat3 dev = trial.sigma_u - trial.sigma_u.trace() / 3 * Mat3::Identity();
     const double q = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+    // The trial stress: the committed one plus the elastic increment (no rotation).
+    const Mat3 tr = n.sigma_u + (c.lambda * r.d.trace() * Mat3::Identity() + 2 * c.mu * r.d);
+    const Mat3 tdev = tr - tr.trace() / 3 * Mat3::Identity();
+    const double qt = std::sqrt(1.5 * (tdev.array() * tdev.array()).sum()), yn = sy + H * n.alpha;
     if (trial.alpha > n.alpha) {
       yielded = true;
+      EXPECT_NEAR(trial.alpha - n.alpha, (qt * qt - yn * yn) / (6 * c.mu * qt), 1e-12);
       EXPECT_NEAR(q, sy + H * trial.alpha, 1e-9 * sy);
       const double expect = sy * (trial.alpha - n.alpha) + 0.5 * H * (trial.alpha * trial.alpha - n.alpha * n.alpha);
       EXPECT_NEAR(work, expect, 1e-12 * std::abs(expect));

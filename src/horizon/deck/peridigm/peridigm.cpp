@@ -812,6 +812,25 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
           variables.push_back("Deformation_Gradient");
         continue;
       }
+      // ... and the tensors' and vectors' of the models' fields (Left_Stretch_TensorXX,
+      // Hourglass_Force_DensityX, ...): the whole variable is written.
+      {
+        auto component_of = [&](const std::string& base) {
+          const std::string xyz = "XYZ";
+          if (e.key.rfind(base, 0) != 0) return false;
+          const std::string tail = e.key.substr(base.size());
+          return (tail.size() == 1 || tail.size() == 2) &&
+                 std::all_of(tail.begin(), tail.end(), [&](char ch) { return xyz.find(ch) != std::string::npos; });
+        };
+        const std::string* base = nullptr;
+        for (const auto& v : model_field_variables())
+          if (v != "Von_Mises_Stress" && v != "Equivalent_Plastic_Strain" && component_of(v)) base = &v;
+        if (base) {
+          if (read_bool(ctx, e.value) && std::find(variables.begin(), variables.end(), *base) == variables.end())
+            variables.push_back(*base);
+          continue;
+        }
+      }
       if (std::find(known.begin(), known.end(), e.key) == known.end()) {
         const auto near = closest_word(e.key, known);
         if (near && edit_distance(e.key, *near) <= 2)
