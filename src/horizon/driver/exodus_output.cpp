@@ -121,6 +121,8 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
         if (v == fv.name)
           for (const auto& [exo, field] : field_components(fv))
             (fv.nodal ? nodal_fields_ : element_fields_).push_back({exo, field});
+    } else if (v == "Contact_Force_Density") {
+      contact_ = true;
     } else {
       // The deck reader has checked that a history column of this name exists.
       for (const auto& c : config.output.history_columns)
@@ -190,7 +192,9 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
         if (!col && f.name == field && f.values.size() == P.size()) col = &f.values;
       extra_columns.push_back(col);
     }
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + static_cast<int>(extra_columns.size());
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (contact_ ? 3 : 0) +
+                    static_cast<int>(extra_columns.size());
+  const std::vector<Vec3>& contact = s.contact.recorded_forces();
   auto pack = [&](uint32_t i, std::vector<double>& out) {
     for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
@@ -207,6 +211,10 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     if (gradient_) {
       const auto F = deformation_gradient(s, i);
       out.insert(out.end(), F.begin(), F.end());
+    }
+    if (contact_) {
+      const Vec3 fc = i < contact.size() ? contact[i] : Vec3{};
+      out.insert(out.end(), {fc.x, fc.y, fc.z});
     }
     for (const auto* col : extra_columns) out.push_back(col ? (*col)[i] : 0.0);
   };
@@ -249,6 +257,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ",
                     "AccelerationX", "AccelerationY", "AccelerationZ", "External_Force_DensityX",
                     "External_Force_DensityY", "External_Force_DensityZ"};
+    if (contact_)
+      for (const char* a : {"X", "Y", "Z"}) layout.nodal.push_back(std::string("Contact_Force_Density") + a);
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
     if (lambda_) layout.element.push_back("Lambda");
@@ -264,8 +274,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   ExodusStep step;
   step.time = time;
-  const std::size_t nodal_extra = nodal_fields_.size();
-  step.nodal.assign(18 + nodal_extra, std::vector<double>(n));
+  const std::size_t contact_columns = contact_ ? 3 : 0, nodal_extra = nodal_fields_.size();
+  step.nodal.assign(18 + contact_columns + nodal_extra, std::vector<double>(n));
   const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
   const std::size_t element_extra = extra + element_fields_.size();
   step.element.assign(10 + element_extra, std::vector<double>(n));
@@ -291,11 +301,14 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     step.element[8][i] = r[22] * r[12];
     // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
     step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
-    // Row layout past kWidth: Lambda, F (extra), the nodal fields, the element fields.
+    // Row layout past kWidth: Lambda, F (extra), contact, the nodal fields, the element fields.
     for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
-    for (std::size_t c = 0; c < nodal_extra; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
+    if (contact_)
+      for (std::size_t c = 0; c < 3; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
+    for (std::size_t c = 0; c < nodal_extra; ++c)
+      step.nodal[18 + contact_columns + c][i] = r[kWidth + extra + contact_columns + c];
     for (std::size_t c = 0; c < element_fields_.size(); ++c)
-      step.element[10 + extra + c][i] = r[kWidth + extra + nodal_extra + c];
+      step.element[10 + extra + c][i] = r[kWidth + extra + contact_columns + nodal_extra + c];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};
@@ -311,6 +324,11 @@ ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& file
         std::make_unique<ExodusOutput>((dir / f.file).string(), iterations, f.variables, config, f.verlet_velocity));
     every_.push_back(std::max(1, f.every));
   }
+}
+
+void ExodusSchedule::prepare(System& s) const {
+  for (const auto& f : files_)
+    if (f->contact_forces()) s.contact.record_forces(true);
 }
 
 bool ExodusSchedule::due(int64_t step) const {
