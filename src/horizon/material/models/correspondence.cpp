@@ -106,6 +106,8 @@ class Correspondence final : public Model {
     a.io_listed("work", work_, particles_);
     a.io_listed("von_mises", von_mises_, particles_);
     a.io_listed("singular", singular_, particles_);
+    // The rate form's displacement at the last commit (every particle; empty otherwise).
+    a.io("u_committed", u_committed_, Extent::particles);
   }
  private:
   LawSettings law_;
