@@ -116,6 +116,10 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
       lambda_ = true;
     } else if (v == "Deformation_Gradient") {
       gradient_ = true;
+    } else if (v == "Horizon") {
+      horizon_ = true;
+      deck_horizon_ = config.horizon;
+      for (const auto& b : config.bodies) body_horizon_.push_back(b.horizon);
     } else if (exodus_field_variable(v)) {
       for (const auto& fv : kFieldVariables)
         if (v == fv.name)
@@ -192,9 +196,18 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
         if (!col && f.name == field && f.values.size() == P.size()) col = &f.values;
       extra_columns.push_back(col);
     }
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (contact_ ? 3 : 0) +
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0) + (contact_ ? 3 : 0) +
                     static_cast<int>(extra_columns.size());
   const std::vector<Vec3>& contact = s.contact.recorded_forces();
+  // Number_Of_Neighbors: i's family, without the bonds in the neighbour's family alone
+  // (BondKind::one_way: bodies of different horizons).
+  auto neighbours = [&](uint32_t i) {
+    if (i + 1 >= s.bonds.offset.size()) return 0.0;
+    uint64_t count = s.bonds.end(i) - s.bonds.begin(i);
+    if (s.one_way_bonds)
+      for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) count -= s.bonds.kinds[s.bonds.kind[k]].one_way ? 1 : 0;
+    return static_cast<double>(count);
+  };
   auto pack = [&](uint32_t i, std::vector<double>& out) {
     for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
@@ -203,7 +216,7 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     out.push_back((i < M.theta.size() ? M.theta[i] : 0.0) + (i < dilatation.size() ? dilatation[i] : 0.0));
     out.push_back(i < M.weighted_volume.size() ? M.weighted_volume[i] : 0.0);
     out.push_back(static_cast<double>(P.block[i]));
-    out.push_back(i + 1 < s.bonds.offset.size() ? static_cast<double>(s.bonds.offset[i + 1] - s.bonds.offset[i]) : 0.0);
+    out.push_back(neighbours(i));
     const Vec3 b = i < P.b.size() ? P.b[i] : Vec3{};
     out.insert(out.end(), {b.x, b.y, b.z});
     out.push_back(i < P.energy.size() ? P.energy[i] : 0.0);
@@ -211,6 +224,11 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     if (gradient_) {
       const auto F = deformation_gradient(s, i);
       out.insert(out.end(), F.begin(), F.end());
+    }
+    if (horizon_) {
+      const auto b = static_cast<std::size_t>(P.block[i]);
+      const auto& h = b < body_horizon_.size() ? body_horizon_[b] : std::nullopt;
+      out.push_back(h ? (*h)(0, P.X[i].x, P.X[i].y, P.X[i].z) : deck_horizon_);
     }
     if (contact_) {
       const Vec3 fc = i < contact.size() ? contact[i] : Vec3{};
@@ -265,6 +283,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     if (gradient_)
       for (const char* r : {"X", "Y", "Z"})
         for (const char* c : {"X", "Y", "Z"}) layout.element.push_back(std::string("Deformation_Gradient") + r + c);
+    if (horizon_) layout.element.push_back("Horizon");
     for (const auto& f : nodal_fields_) layout.nodal.push_back(f.first);
     for (const auto& f : element_fields_) layout.element.push_back(f.first);
     layout.global = {"Global_Kinetic_Energy"};
@@ -276,7 +295,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   step.time = time;
   const std::size_t contact_columns = contact_ ? 3 : 0, nodal_extra = nodal_fields_.size();
   step.nodal.assign(18 + contact_columns + nodal_extra, std::vector<double>(n));
-  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
+  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0);
   const std::size_t element_extra = extra + element_fields_.size();
   step.element.assign(10 + element_extra, std::vector<double>(n));
   double kinetic = 0;
@@ -301,7 +320,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     step.element[8][i] = r[22] * r[12];
     // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
     step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
-    // Row layout past kWidth: Lambda, F (extra), contact, the nodal fields, the element fields.
+    // Row layout past kWidth: Lambda, F, Horizon (extra), contact, the nodal fields, the element fields.
     for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
     if (contact_)
       for (std::size_t c = 0; c < 3; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
