@@ -405,15 +405,19 @@ bool Correspondence::spring_factors(const System& s, std::vector<double>& g) con
 // committed history: the consistent tangent of the step for j2), so every law of the model
 // has its tangent; the linear elastic law is linear in F and its difference quotient is
 // exact to round-off. Taken when this material holds every particle of a serial run (the
-// pair form's M_j of a neighbour of another model would need that model's tangent) and
-// every bond acts both ways; otherwise the static solvers take finite differences of the
-// forces.
+// pair form's M_j of a neighbour of another model would need that model's tangent), every
+// bond acts both ways, the law is not a rate form and the stabilisation is Silling's;
+// otherwise the static solvers take finite differences of the forces.
 bool Correspondence::stiffness(const System& s, StiffnessSink& out) const {
   const Particles& P = s.particles;
   const Bonds& B = s.bonds;
   const std::size_t n = P.size();
   // One-way bonds (bodies of different horizons) have omega_ij != omega_ji: no pair form.
-  if (s.decomposition || s.one_way_bonds || particles_.size() != n) return false;
+  // The rate-form laws (their stress follows the step's increments, not F alone) and
+  // Peridigm's hourglass force (not affine in the bond) are left to finite differences.
+  if (s.decomposition || s.one_way_bonds || particles_.size() != n || hypo_ ||
+      (form_ == correspondence::Stabilization::peridigm && Cc_ != 0))
+    return false;
   const int dim = law_.dimension;
   using Mat9 = Eigen::Matrix<double, 9, 9>;
   std::vector<Mat3> Kinv(n, Mat3::Zero());
