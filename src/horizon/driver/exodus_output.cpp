@@ -135,7 +135,11 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     }
   }
   const std::vector<double> globals = history_columns_values(columns_, s);
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
+  // A run with a temperature field (thermal section) adds the nodal Temperature and
+  // Temperature_Change (T - T_ref, the change that strains the mechanics; Peridigm's
+  // names, its T - T(0) with reference_temperature: initial).
+  const bool heat = s.heat.active();
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (heat ? 2 : 0);
   auto pack = [&](uint32_t i, std::vector<double>& out) {
     for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
@@ -153,6 +157,7 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
       const auto F = deformation_gradient(s, i);
       out.insert(out.end(), F.begin(), F.end());
     }
+    if (heat) out.insert(out.end(), {s.heat.T[i], s.heat.T[i] - s.heat.reference[i]});
   };
   auto take = [&](std::size_t g, const double* v) {
     if (rows.size() <= g) rows.resize(g + 1);
@@ -193,6 +198,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ",
                     "AccelerationX", "AccelerationY", "AccelerationZ", "External_Force_DensityX",
                     "External_Force_DensityY", "External_Force_DensityZ"};
+    if (s.heat.active()) layout.nodal.insert(layout.nodal.end(), {"Temperature", "Temperature_Change"});
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
     if (lambda_) layout.element.push_back("Lambda");
@@ -206,7 +212,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   ExodusStep step;
   step.time = time;
-  step.nodal.assign(18, std::vector<double>(n));
+  const bool heat = s.heat.active();
+  step.nodal.assign(heat ? 20 : 18, std::vector<double>(n));
   const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
   step.element.assign(10 + extra, std::vector<double>(n));
   double kinetic = 0;
@@ -232,6 +239,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
     step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
     for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
+    if (heat)
+      for (std::size_t c = 0; c < 2; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};

@@ -33,8 +33,8 @@ struct RowOut {
   uint64_t broken = 0;
 };
 
-// Pass 1 of row i before its model: the breaking of forces_general.cpp break_row (the
-// affine models take no thermal strain: ModelTraits::thermal_strain is false for them),
+// Pass 1 of row i before its model: the breaking of forces_general.cpp break_row (no
+// thermal strain: a run with one takes the general pass, affine_general_pass),
 // and over the bonds that act in this pass the sums of K_i and of the deformation
 // gradient (correspondence_kernels.hpp gradient_add) while the bond is in registers.
 RowOut break_row(System& s, std::size_t i, bool after, const double* soft, correspondence::GradientSums& g) {
@@ -91,7 +91,10 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* soft, corre
 }  // namespace
 
 bool affine_general_pass(const System& s) {
-  if (general_reference() || s.models.size() == 0) return false;
+  // Its breaking sweep knows no thermal strain: a temperature field takes the general pass,
+  // whose breaking test takes the mechanical stretch and whose rows call the model's
+  // force_state (correspondence subtracts the strain there).
+  if (general_reference() || s.models.size() == 0 || !s.thermal_strain.empty()) return false;
   for (const auto& m : s.models)
     if (!m->traits().affine) return false;
   return true;

@@ -4,6 +4,7 @@
 
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
@@ -65,6 +66,8 @@ SolveReport NewmarkSolver::step() {
 
   advance_constraints(loads_, s_, time_, t1);
   loads_.apply_forces(s_, t1);
+  // A prescribed temperature field (thermal.conduction: false) at the step's end.
+  if (s_.heat.active()) set_temperature_field(s_, t1);
   s_.time = t1;
   s_.dt = dt;
   const Eigen::VectorXd u_n = gather_displacement(s_, dofs_);
@@ -101,6 +104,7 @@ SolveReport NewmarkSolver::step() {
     s_.bonds.intact = intact_before;
     s_.dissipated_at = dissipated_before;
     s_.broken = broken_before;
+    if (s_.heat.active()) set_temperature_field(s_, time_);
     {
       FixedBonds fixed(s_);
       equilibrium_forces(s_, true);

@@ -23,6 +23,24 @@ using correspondence::LawSettings;
 using correspondence::Mat3;
 using correspondence::StressLaw;
 
+// The law with thermal expansion (System::thermal_strain eps of the particle; docs/models/
+// heat.md): the multiplicative split F = F_e F_th with F_th = (1 + eps) on the body's axes
+// (Lu and Pister 1975, Int. J. Solids Struct. 11:927), the law's energy per intermediate
+// volume: W = J_th W_e(F_e), P = dW/dF = J_th P_e(F_e) F_th^-T, J_th = det F_th; sigma is
+// the law's. A free expansion F = F_th is stress-free for every law.
+classical::LawResult evaluate_with_expansion(const LawSettings& law, const Mat3& F, double eps,
+                                             const History& committed, History& trial, double& work) {
+  if (eps == 0) return correspondence::evaluate_law(law, F, committed, trial, work);
+  Mat3 inverse = Mat3::Identity();
+  for (int a = 0; a < law.dimension; ++a) inverse(a, a) = 1.0 / (1.0 + eps);
+  classical::LawResult r = correspondence::evaluate_law(law, F * inverse, committed, trial, work);
+  const double J = 1.0 / inverse.determinant();
+  r.P = J * r.P * inverse.transpose();
+  r.W *= J;
+  work *= J;  // per reference volume, as the ledger books it
+  return r;
+}
+
 const ModelTraits& traits() {
   static const ModelTraits t = [] {
     ModelTraits m;
@@ -53,6 +71,7 @@ const ModelTraits& traits() {
     m.affine = true;      // T = omega (M_i xi + g_i Y): correspondence_kernels.hpp
     m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
     m.adaptive_time_step = true;  // spring_factors: the stable step from the current F_i
+    m.thermal_strain = true;      // evaluate_with_expansion
     return m;
   }();
   return t;
@@ -163,7 +182,8 @@ void Correspondence::force_state(ForcePass& pass) {
     Mat3 A = Mat3::Zero();
     double W = 0;
     if (ok) {
-      const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l]);
+      const double eps = i < s.thermal_strain.size() ? s.thermal_strain[i] : 0.0;
+      const classical::LawResult r = evaluate_with_expansion(law_, F, eps, committed_[l], trial_[l], work_[l]);
       if (r.ok) {
         A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
         W = r.W;
@@ -213,7 +233,8 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     if (pass.energy) pass.energy[i] = 0;
     return;
   }
-  const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l]);
+  const double eps = i < s.thermal_strain.size() ? s.thermal_strain[i] : 0.0;
+  const classical::LawResult r = evaluate_with_expansion(law_, F, eps, committed_[l], trial_[l], work_[l]);
   von_mises_[l] = correspondence::von_mises(r.sigma);
   double W = 0;
   // Row-major copies for the flat record (Eigen stores by column).
