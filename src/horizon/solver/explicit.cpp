@@ -15,7 +15,8 @@ namespace horizon {
 
 double Ledger::balance_error() const {
   const double scale = std::max({std::abs(initial), std::abs(external_work), std::abs(thermal_work),
-                                  std::abs(coupling_work), kinetic + strain + dissipated + damped, 1e-300});
+                                  std::abs(coupling_work), kinetic + strain + dissipated + damped, thermal_scale,
+                                  1e-300});
   return (kinetic + strain + dissipated + damped - initial - external_work - thermal_work - coupling_work) / scale;
 }
 

@@ -225,6 +225,13 @@ bool StaticSolver::advance() {
   }
   ++steps_;
   failure_.clear();
+  if (temperature && s_.heat.expands) {
+    // The energy scale of the thermal load (Ledger::thermal_scale): the body held at u = 0.
+    const std::vector<Vec3> u = P.u;
+    std::fill(P.u.begin(), P.u.end(), Vec3{});
+    ledger_.thermal_scale = std::max(ledger_.thermal_scale, current_strain_energy(s_));
+    P.u = u;
+  }
   current_strain_energy(s_);  // the trial history of the converged state ...
   commit_history(s_);         // ... becomes the history (material/model.hpp)
   if (temperature && s_.heat.expands && strain_before.size() == s_.thermal_strain.size()) {
