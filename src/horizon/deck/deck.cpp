@@ -531,8 +531,9 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
         if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
       }
       if (auto vars = e.find("variables")) {
-        // Lambda, Deformation_Gradient or a history column (driver/exodus_output.hpp).
-        std::vector<std::string> known = {"Lambda", "Deformation_Gradient"};
+        // Lambda, Deformation_Gradient, Contact_Force_Density or a history column
+        // (driver/exodus_output.hpp).
+        std::vector<std::string> known = {"Lambda", "Deformation_Gradient", "Contact_Force_Density"};
         for (const auto& c : config.output.history_columns) known.push_back(c.name);
         if (!vars->node.IsSequence()) fail_expected(ctx, *vars, "a list of variable names");
         for (std::size_t v = 0; v < vars->node.size(); ++v) {

@@ -75,6 +75,8 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
       lambda_ = true;
     } else if (v == "Deformation_Gradient") {
       gradient_ = true;
+    } else if (v == "Contact_Force_Density") {
+      contact_ = true;
     } else {
       // The deck reader has checked that a history column of this name exists.
       for (const auto& c : config.output.history_columns)
@@ -137,9 +139,10 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
   const std::vector<double> globals = history_columns_values(columns_, s);
   // A run with a temperature field (thermal section) adds the nodal Temperature and
   // Temperature_Change (T - T_ref, the change that strains the mechanics; Peridigm's
-  // names, its T - T(0) with reference_temperature: initial).
+  // names, its T - T(0) with reference_temperature: initial), after the contact force.
   const bool heat = s.heat.active();
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (heat ? 2 : 0);
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (contact_ ? 3 : 0) + (heat ? 2 : 0);
+  const std::vector<Vec3>& contact = s.contact.recorded_forces();
   auto pack = [&](uint32_t i, std::vector<double>& out) {
     for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
@@ -156,6 +159,10 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     if (gradient_) {
       const auto F = deformation_gradient(s, i);
       out.insert(out.end(), F.begin(), F.end());
+    }
+    if (contact_) {
+      const Vec3 fc = i < contact.size() ? contact[i] : Vec3{};
+      out.insert(out.end(), {fc.x, fc.y, fc.z});
     }
     if (heat) out.insert(out.end(), {s.heat.T[i], s.heat.T[i] - s.heat.reference[i]});
   };
@@ -198,6 +205,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ",
                     "AccelerationX", "AccelerationY", "AccelerationZ", "External_Force_DensityX",
                     "External_Force_DensityY", "External_Force_DensityZ"};
+    if (contact_)
+      for (const char* a : {"X", "Y", "Z"}) layout.nodal.push_back(std::string("Contact_Force_Density") + a);
     if (s.heat.active()) layout.nodal.insert(layout.nodal.end(), {"Temperature", "Temperature_Change"});
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
@@ -213,7 +222,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   ExodusStep step;
   step.time = time;
   const bool heat = s.heat.active();
-  step.nodal.assign(heat ? 20 : 18, std::vector<double>(n));
+  const std::size_t contact_columns = contact_ ? 3 : 0;
+  step.nodal.assign(18 + contact_columns + (heat ? 2 : 0), std::vector<double>(n));
   const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
   step.element.assign(10 + extra, std::vector<double>(n));
   double kinetic = 0;
@@ -239,8 +249,11 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
     step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
     for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
+    if (contact_)
+      for (std::size_t c = 0; c < 3; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
     if (heat)
-      for (std::size_t c = 0; c < 2; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
+      for (std::size_t c = 0; c < 2; ++c)
+        step.nodal[18 + contact_columns + c][i] = r[kWidth + extra + contact_columns + c];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};
@@ -256,6 +269,11 @@ ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& file
         std::make_unique<ExodusOutput>((dir / f.file).string(), iterations, f.variables, config, f.verlet_velocity));
     every_.push_back(std::max(1, f.every));
   }
+}
+
+void ExodusSchedule::prepare(System& s) const {
+  for (const auto& f : files_)
+    if (f->contact_forces()) s.contact.record_forces(true);
 }
 
 bool ExodusSchedule::due(int64_t step) const {

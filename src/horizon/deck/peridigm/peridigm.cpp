@@ -796,7 +796,8 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
         "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
         "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
-        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Temperature", "Temperature_Change"};
+        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density", "Temperature",
+        "Temperature_Change"};
     for (const auto& e : map_entries(ctx, *vars)) {
       // The globals Peridigm writes become history columns under their own names (once,
       // whichever lists name them), and compute classes' Output Labels are written by
@@ -831,7 +832,7 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
       }
       // Lambda (elastic_plastic's plastic multiplier) and Deformation_Gradient are written
       // where asked (output.exodus_files' variables, driver/exodus_output.hpp).
-      if (read_bool(ctx, e.value) && e.key == "Lambda") variables.push_back(e.key);
+      if (read_bool(ctx, e.value) && (e.key == "Lambda" || e.key == "Contact_Force_Density")) variables.push_back(e.key);
     }
   }
   if (variables.size()) {
