@@ -75,6 +75,10 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
       lambda_ = true;
     } else if (v == "Deformation_Gradient") {
       gradient_ = true;
+    } else if (v == "Horizon") {
+      horizon_ = true;
+      deck_horizon_ = config.horizon;
+      for (const auto& b : config.bodies) body_horizon_.push_back(b.horizon);
     } else if (v == "Contact_Force_Density") {
       contact_ = true;
     } else {
@@ -141,8 +145,18 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
   // Temperature_Change (T - T_ref, the change that strains the mechanics; Peridigm's
   // names, its T - T(0) with reference_temperature: initial), after the contact force.
   const bool heat = s.heat.active();
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (contact_ ? 3 : 0) + (heat ? 2 : 0);
+  const int width =
+      kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0) + (contact_ ? 3 : 0) + (heat ? 2 : 0);
   const std::vector<Vec3>& contact = s.contact.recorded_forces();
+  // Number_Of_Neighbors: i's family, without the bonds in the neighbour's family alone
+  // (BondKind::one_way: bodies of different horizons).
+  auto neighbours = [&](uint32_t i) {
+    if (i + 1 >= s.bonds.offset.size()) return 0.0;
+    uint64_t count = s.bonds.end(i) - s.bonds.begin(i);
+    if (s.one_way_bonds)
+      for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) count -= s.bonds.kinds[s.bonds.kind[k]].one_way ? 1 : 0;
+    return static_cast<double>(count);
+  };
   auto pack = [&](uint32_t i, std::vector<double>& out) {
     for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
@@ -151,7 +165,7 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     out.push_back((i < M.theta.size() ? M.theta[i] : 0.0) + (i < dilatation.size() ? dilatation[i] : 0.0));
     out.push_back(i < M.weighted_volume.size() ? M.weighted_volume[i] : 0.0);
     out.push_back(static_cast<double>(P.block[i]));
-    out.push_back(i + 1 < s.bonds.offset.size() ? static_cast<double>(s.bonds.offset[i + 1] - s.bonds.offset[i]) : 0.0);
+    out.push_back(neighbours(i));
     const Vec3 b = i < P.b.size() ? P.b[i] : Vec3{};
     out.insert(out.end(), {b.x, b.y, b.z});
     out.push_back(i < P.energy.size() ? P.energy[i] : 0.0);
@@ -159,6 +173,11 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     if (gradient_) {
       const auto F = deformation_gradient(s, i);
       out.insert(out.end(), F.begin(), F.end());
+    }
+    if (horizon_) {
+      const auto b = static_cast<std::size_t>(P.block[i]);
+      const auto& h = b < body_horizon_.size() ? body_horizon_[b] : std::nullopt;
+      out.push_back(h ? (*h)(0, P.X[i].x, P.X[i].y, P.X[i].z) : deck_horizon_);
     }
     if (contact_) {
       const Vec3 fc = i < contact.size() ? contact[i] : Vec3{};
@@ -214,6 +233,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     if (gradient_)
       for (const char* r : {"X", "Y", "Z"})
         for (const char* c : {"X", "Y", "Z"}) layout.element.push_back(std::string("Deformation_Gradient") + r + c);
+    if (horizon_) layout.element.push_back("Horizon");
     layout.global = {"Global_Kinetic_Energy"};
     if (iterations_) layout.global.push_back("Nonlinear_Solver_Iterations");
     for (const auto& name : history_columns_names(columns_)) layout.global.push_back(name);
@@ -224,7 +244,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   const bool heat = s.heat.active();
   const std::size_t contact_columns = contact_ ? 3 : 0;
   step.nodal.assign(18 + contact_columns + (heat ? 2 : 0), std::vector<double>(n));
-  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
+  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0);
   step.element.assign(10 + extra, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {

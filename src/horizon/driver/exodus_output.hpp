@@ -80,8 +80,11 @@ class ExodusOutput {
   std::unique_ptr<ExodusWriter> writer_;
   std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
   std::optional<int> iterations_;  // Nonlinear_Solver_Iterations, when the file has it
-  bool lambda_ = false, gradient_ = false;  // the element variables asked for
+  bool lambda_ = false, gradient_ = false, horizon_ = false;  // the element variables asked for
   bool contact_ = false;                     // Contact_Force_Density (nodal)
+  // Horizon: each particle's (its body's own, BodyConfig::horizon, else the deck's).
+  std::vector<std::optional<Expression>> body_horizon_;
+  double deck_horizon_ = 0;
   bool verlet_ = false;                      // velocity: verlet
   const Loads* loads_ = nullptr;
   double verlet_dt_ = 0;
