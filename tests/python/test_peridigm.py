@@ -202,9 +202,9 @@ def test_cli_runs_and_converts(peridigm_dir, tmp_path, horizon_binary):
     (("Bulk Modulus:", "Bulk Modulos:"), 23, 7, ["Bulk Modulos", "did you mean 'Bulk Modulus'"]),
     # A material model Horizon does not map.
     (('Material Model: "Elastic"', 'Material Model: "Pals"'), 21, 23, ["Pals", "Elastic Bond Based"]),
-    # A boundary-condition type Horizon does not have.
-    (('Type: "Initial Velocity"\n      Node Set: "Left End"', 'Type: "Prescribed Temperature"\n      Node Set: "Left End"'),
-     34, 13, ["Prescribed Temperature"]),
+    # A boundary-condition type Horizon does not have (Peridigm's multiphysics pressure).
+    (('Type: "Initial Velocity"\n      Node Set: "Left End"', 'Type: "Prescribed Fluid Pressure U"\n      Node Set: "Left End"'),
+     34, 13, ["Prescribed Fluid Pressure U"]),
     # A node set that is not defined.
     (('Node Set: "Right End"', 'Node Set: "Right Ends"'), 40, 17, ["Right Ends", "Right End"]),
     # A function string that sets value on one path only: at its place inside the string.

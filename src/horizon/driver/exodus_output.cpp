@@ -196,8 +196,12 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
         if (!col && f.name == field && f.values.size() == P.size()) col = &f.values;
       extra_columns.push_back(col);
     }
+  // A run with a temperature field (thermal section) adds the nodal Temperature and
+  // Temperature_Change (T - T_ref, the change that strains the mechanics; Peridigm's
+  // names, its T - T(0) with reference_temperature: initial), after the contact force.
+  const bool heat = s.heat.active();
   const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0) + (contact_ ? 3 : 0) +
-                    static_cast<int>(extra_columns.size());
+                    (heat ? 2 : 0) + static_cast<int>(extra_columns.size());
   const std::vector<Vec3>& contact = s.contact.recorded_forces();
   // Number_Of_Neighbors: i's family, without the bonds in the neighbour's family alone
   // (BondKind::one_way: bodies of different horizons).
@@ -234,6 +238,7 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
       const Vec3 fc = i < contact.size() ? contact[i] : Vec3{};
       out.insert(out.end(), {fc.x, fc.y, fc.z});
     }
+    if (heat) out.insert(out.end(), {s.heat.T[i], s.heat.T[i] - s.heat.reference[i]});
     for (const auto* col : extra_columns) out.push_back(col ? (*col)[i] : 0.0);
   };
   auto take = [&](std::size_t g, const double* v) {
@@ -277,6 +282,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "External_Force_DensityY", "External_Force_DensityZ"};
     if (contact_)
       for (const char* a : {"X", "Y", "Z"}) layout.nodal.push_back(std::string("Contact_Force_Density") + a);
+    if (s.heat.active()) layout.nodal.insert(layout.nodal.end(), {"Temperature", "Temperature_Change"});
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
     if (lambda_) layout.element.push_back("Lambda");
@@ -293,8 +299,10 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   ExodusStep step;
   step.time = time;
-  const std::size_t contact_columns = contact_ ? 3 : 0, nodal_extra = nodal_fields_.size();
-  step.nodal.assign(18 + contact_columns + nodal_extra, std::vector<double>(n));
+  const bool heat = s.heat.active();
+  const std::size_t contact_columns = contact_ ? 3 : 0, heat_columns = heat ? 2 : 0,
+                    nodal_extra = nodal_fields_.size();
+  step.nodal.assign(18 + contact_columns + heat_columns + nodal_extra, std::vector<double>(n));
   const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0);
   const std::size_t element_extra = extra + element_fields_.size();
   step.element.assign(10 + element_extra, std::vector<double>(n));
@@ -324,10 +332,14 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
     if (contact_)
       for (std::size_t c = 0; c < 3; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
+    if (heat)
+      for (std::size_t c = 0; c < 2; ++c)
+        step.nodal[18 + contact_columns + c][i] = r[kWidth + extra + contact_columns + c];
+    const std::size_t base = kWidth + extra + contact_columns + heat_columns;
     for (std::size_t c = 0; c < nodal_extra; ++c)
-      step.nodal[18 + contact_columns + c][i] = r[kWidth + extra + contact_columns + c];
+      step.nodal[18 + contact_columns + heat_columns + c][i] = r[base + c];
     for (std::size_t c = 0; c < element_fields_.size(); ++c)
-      step.element[10 + extra + c][i] = r[kWidth + extra + contact_columns + nodal_extra + c];
+      step.element[10 + extra + c][i] = r[base + nodal_extra + c];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};

@@ -4,7 +4,8 @@
 // ParaView read Horizon's output as they read Peridigm's:
 //   nodal    DisplacementX/Y/Z, VelocityX/Y/Z, Force_DensityX/Y/Z, ForceX/Y/Z (= force
 //            density x volume, as Peridigm's Force), AccelerationX/Y/Z ((f + b) / rho),
-//            External_Force_DensityX/Y/Z (b: body forces and tractions);
+//            External_Force_DensityX/Y/Z (b: body forces and tractions); with a
+//            thermal section Temperature and Temperature_Change (T - T_ref);
 //   element  Element_Id (the particle's 1-based id), Block_Id, Volume, Damage, Dilatation,
 //            Weighted_Volume, Number_Of_Neighbors (its family's bonds),
 //            Stored_Elastic_Energy_Density (the strain energy density W, as of the last

@@ -196,11 +196,29 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                    "Yield Stress",    "Disable Plasticity", "Hardening Modulus",
                                    "Hourglass Coefficient", "lambda_i", "tau b", "Finite Difference Probe Length",
                                    "Enable Flaw", "Flaw Location X", "Flaw Location Y", "Flaw Location Z",
-                                   "Flaw Size", "Flaw Magnitude", "Plane Strain", "Plane Stress", "Height"};
+                                   "Flaw Size", "Flaw Magnitude", "Plane Strain", "Plane Stress", "Height",
+                                   "Coefficient", "Use Improved Quadrature"};
   MapReader m(t.ctx, item, keys);
   const Item model_item = m.get("Material Model", "Elastic, Elastic Bond Based, Elastic Plastic, ...");
   const std::string model = read_string(t.ctx, model_item);
   const std::string w = squash(model);
+  if (w == "diffusion") {
+    // Peridigm's Diffusion material is Horizon's conduction operator: its Flux_Divergence in
+    // SimpleImplicitDiffusion's gold is sum_j kappa (T_j - T_i)/|xi| V_j with kappa =
+    // 6 k/(pi delta^4), k = Coefficient, at every prescribed point to 1e-15 (docs/peridigm.md),
+    // Horizon's inverse kernel with the continuum calibration. What its decks also need is
+    // not there: the ImplicitDiffusion solver's steady solve at each load step (Horizon's
+    // heat solver integrates rho c dT/dt), Exodus output of heat-only runs with
+    // Flux_Divergence, a material without mechanics, and the improved quadrature's per-point
+    // weights.
+    t.ctx.fail(model_item.mark, model_item.path + ": the Diffusion material is not read yet: its decks' steady "
+                                                  "ImplicitDiffusion solve, Exodus output of heat-only runs "
+                                                  "(Flux_Divergence) and materials without mechanics are not in "
+                                                  "Horizon (docs/peridigm.md)");
+  }
+  for (const char* k : {"Coefficient", "Use Improved Quadrature"})
+    if (auto it = m.find(k))
+      t.ctx.fail(*it->key_mark, it->path + ": a parameter of Material Model 'Diffusion' only");
   YAML::Node mat;
   std::vector<std::string> own;  // the model-specific keys this model accepts
   bool planar_c = false;         // Elastic Bond Based in a plane: c given, no moduli
@@ -344,8 +362,14 @@ YAML::Node read_material(Translation& t, const Item& item) {
       if (auto v = m.find(from)) mat[to] = read_number(t.ctx, *v);
   }
   if (auto a = m.find("Thermal Expansion Coefficient")) {
-    if (read_number(t.ctx, *a) != 0)
-      t.ctx.fail(a->mark, a->path + ": thermal strain is not imported (Horizon's temperature is set in its own deck, thermal:); only 0");
+    // The thermal strain alpha (T - T(0)) of Horizon's thermal expansion (docs/models/heat.md;
+    // Kilic and Madenci 2010, Oterkus, Madenci and Agwai 2014: the bond's mechanical stretch
+    // s - alpha dT), its reference each particle's temperature at t = 0 (ThermalExpansionCube's
+    // gold: Temperature_Change = T - 273 and displacements alpha dT x from it).
+    if (const double alpha = read_number(t.ctx, *a); alpha != 0) {
+      mat["thermal"]["expansion"] = number(alpha);
+      mat["thermal"]["reference_temperature"] = "initial";
+    }
   }
   for (const char* flag : {"Apply Shear Correction Factor", "Compute Partial Stress"}) {
     if (auto f = m.find(flag); f && read_bool(t.ctx, *f))
@@ -400,8 +424,9 @@ YAML::Node read_damage(Translation& t, const Item& item) {
     fail_choice(t.ctx, model_item, model,
                 {"Critical Stretch", "Interface Aware", "Time Dependent Critical Stretch", "Initial Damage"},
                 "Peridigm damage model Horizon reads");
-  if (auto a = m.find("Thermal Expansion Coefficient"); a && read_number(t.ctx, *a) != 0)
-    t.ctx.fail(a->mark, a->path + ": thermal strain is not supported; only 0");
+  // A Thermal Expansion Coefficient here is checked against the block's material's
+  // (same_damage_expansion, below).
+  if (auto a = m.find("Thermal Expansion Coefficient")) read_number(t.ctx, *a);
   YAML::Node d;
   const bool in_time = w == "timedependentcriticalstretch";
   const char* own = in_time ? "Time Dependent Critical Stretch" : "Critical Stretch";
@@ -416,6 +441,20 @@ YAML::Node read_damage(Translation& t, const Item& item) {
     d["critical_stretch"] = read_positive(t.ctx, m.get(own, "the critical bond stretch, > 0"));
   }
   return d;
+}
+
+// Peridigm's damage models judge the stretch less their own alpha dT; Horizon's breaking
+// test takes the mechanical stretch of the material's thermal strain (docs/models/heat.md),
+// so the two coefficients must agree.
+void same_damage_expansion(Translation& t, const Item& damage, const YAML::Node& mat) {
+  if (!damage.node.IsMap()) return;
+  const double material = mat["thermal"] ? mat["thermal"]["expansion"].as<double>() : 0.0;
+  for (const auto& e : map_entries(t.ctx, damage))
+    if (e.key == "Thermal Expansion Coefficient" && read_number(t.ctx, e.value) != material)
+      t.ctx.fail(e.value.mark, fmt::format("{}: {} differs from the block's material's Thermal Expansion Coefficient "
+                                           "({}); Horizon's bonds break on the stretch less the material's own "
+                                           "thermal strain",
+                                           e.value.path, read_number(t.ctx, e.value), material));
 }
 
 // --- Boundary conditions -----------------------------------------------------------
@@ -803,7 +842,7 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
         "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density", "Hourglass_Force_Density",
         "Left_Stretch_Tensor", "Rotation_Tensor", "Shape_Tensor_Inverse", "Unrotated_Rate_Of_Deformation",
-        "Cauchy_Stress", "Unrotated_Cauchy_Stress", "Von_Mises_Stress"};
+        "Cauchy_Stress", "Unrotated_Cauchy_Stress", "Von_Mises_Stress", "Temperature", "Temperature_Change"};
     for (const auto& e : map_entries(ctx, *vars)) {
       // The globals Peridigm writes become history columns under their own names (once,
       // whichever lists name them), and compute classes' Output Labels are written by
@@ -1087,6 +1126,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     if (g.damage_item) {
       check_reference(ctx, *g.damage_item, g.damage, damage_names, "damage model");
       const YAML::Node damage = read_damage(t, damages.at(g.damage));
+      same_damage_expansion(t, damages.at(g.damage), mat);
       if (!damage.IsNull()) mat["damage"] = damage;
       else if (groups.size() > 1)
         // Horizon's precracks cut the bonds of every body alike.
@@ -1184,6 +1224,13 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
 
   // Boundary conditions: node sets are the non-map entries; the rest are conditions.
   YAML::Node regions(YAML::NodeType::Map), ics(YAML::NodeType::Sequence), loads(YAML::NodeType::Sequence);
+  // Prescribed and Initial Temperature conditions (the native thermal section, below).
+  struct TemperatureCond {
+    std::string set, value;
+    bool initial;
+    Item item;
+  };
+  std::vector<TemperatureCond> temperatures;
   std::optional<ComputeClasses> computes;  // Compute Class Parameters (compute_classes.cpp)
   const auto compute_item = m.find("Compute Class Parameters");
   if (auto bc = m.find("Boundary Conditions")) {
@@ -1212,6 +1259,18 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       MapReader c(ctx, e.value, {"Type", "Node Set", "Coordinate", "Value"});
       const Item type_item = c.get("Type", "Prescribed Displacement, Initial Velocity, ...");
       const std::string w = squash(read_string(ctx, type_item));
+      if (w == "prescribedtemperature" || w == "initialtemperature") {
+        // A scalar field: no Coordinate (temperature_conditions, below).
+        if (auto k = c.find("Coordinate"))
+          ctx.fail(*k->key_mark, k->path + ": a temperature condition has no Coordinate");
+        const Item set_item = c.get("Node Set", "the name of a node set defined in Boundary Conditions");
+        const std::string set = read_string(ctx, set_item);
+        check_reference(ctx, set_item, set, set_names, "node set");
+        const Item value = c.get("Value", "a number or an expression in x, y, z, t");
+        temperatures.push_back({set, read_value(t, value), w == "initialtemperature", value});
+        if (w == "prescribedtemperature") used.insert(set);
+        continue;
+      }
       std::string kind;
       if (w == "prescribeddisplacement") kind = "displacement";
       else if (w == "initialdisplacement") kind = "initial_displacement";
@@ -1219,7 +1278,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       else if (w == "bodyforce") kind = "body_force";
       else
         fail_choice(ctx, type_item, read_string(ctx, type_item),
-                    {"Prescribed Displacement", "Initial Displacement", "Initial Velocity", "Body Force"},
+                    {"Prescribed Displacement", "Initial Displacement", "Initial Velocity", "Body Force",
+                     "Prescribed Temperature", "Initial Temperature"},
                     "boundary condition Horizon reads");
       const Item set_item = c.get("Node Set", "the name of a node set defined in Boundary Conditions");
       const std::string set = read_string(ctx, set_item);
@@ -1250,6 +1310,17 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       computes = read_compute_classes(ctx, *compute_item, set_names, present);
       used.insert(computes->node_sets.begin(), computes->node_sets.end());
     }
+    // Initial Temperature over the whole body is thermal.initial_temperature.
+    for (const auto& k : temperatures)
+      if (k.initial) {
+        std::set<int> ids(sets[k.set].begin(), sets[k.set].end());
+        if (ids.size() != t.points.size())
+          ctx.fail(k.item.mark, k.item.path + ": an Initial Temperature is read for a node set that holds every "
+                                              "point (Horizon's thermal.initial_temperature); '" + k.set +
+                                              "' holds " + std::to_string(ids.size()) + " of " +
+                                              std::to_string(t.points.size()));
+        if (mentions_t(k.value)) ctx.fail(k.item.mark, k.item.path + ": an initial temperature in t");
+      }
     for (const auto& set : used) {
       YAML::Node rows(YAML::NodeType::Sequence);
       for (int id : sets[set]) rows.push_back(point_row(t.points[static_cast<std::size_t>(id - 1)].x, std::nullopt));
@@ -1279,6 +1350,30 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     }
   }
   if (compute_item && !computes) computes = read_compute_classes(ctx, *compute_item, {}, present);
+  // A temperature field: Peridigm's Temperature, 0 unless an Initial Temperature or a
+  // Prescribed Temperature sets it, prescribed without conduction (thermal.conduction:
+  // false) where no Diffusion material conducts it; it strains the materials with a
+  // Thermal Expansion Coefficient (read_material).
+  bool expands = false;
+  for (const auto& mt : mats) expands = expands || mt.second["thermal"];
+  if (expands || !temperatures.empty()) {
+    YAML::Node thermal;
+    thermal["conduction"] = false;
+    thermal["initial_temperature"] = 0;
+    for (const auto& k : temperatures) {
+      if (k.initial) {
+        thermal["initial_temperature"] = k.value;
+        continue;
+      }
+      YAML::Node bc;
+      bc["region"] = k.set;
+      bc["temperature"] = k.value;
+      thermal["boundary"].push_back(bc);
+    }
+    for (auto mt : mats)
+      if (!mt.second["thermal"]) mt.second["thermal"]["expansion"] = 0;
+    out["thermal"] = thermal;
+  }
   if (auto c = m.find("Contact")) out["contact"] = read_contact_section(ctx, *c, t.horizon, present);
   if (regions.size()) out["regions"] = regions;
   if (ics.size()) out["initial_conditions"] = ics;

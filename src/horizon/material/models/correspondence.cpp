@@ -24,6 +24,28 @@ using correspondence::LawSettings;
 using correspondence::Mat3;
 using correspondence::StressLaw;
 
+// The law with thermal expansion (System::thermal_strain eps of the particle; docs/models/
+// heat.md): the multiplicative split F = F_e F_th with F_th = (1 + eps) on the body's axes
+// (Lu and Pister 1975, Int. J. Solids Struct. 11:927), the law's energy per intermediate
+// volume: W = J_th W_e(F_e), P = dW/dF = J_th P_e(F_e) F_th^-T, J_th = det F_th; sigma is
+// the law's. A free expansion F = F_th is stress-free for every law.
+// The rate-form laws' arguments (dt, yield_factor, rate, Fdot) pass through unchanged.
+classical::LawResult evaluate_with_expansion(const LawSettings& law, const Mat3& F, double eps,
+                                             const History& committed, History& trial, double& work, double dt = 0,
+                                             double yield_factor = 1, Mat3* rate = nullptr,
+                                             const Mat3* Fdot = nullptr) {
+  if (eps == 0) return correspondence::evaluate_law(law, F, committed, trial, work, dt, yield_factor, rate, Fdot);
+  Mat3 inverse = Mat3::Identity();
+  for (int a = 0; a < law.dimension; ++a) inverse(a, a) = 1.0 / (1.0 + eps);
+  classical::LawResult r =
+      correspondence::evaluate_law(law, F * inverse, committed, trial, work, dt, yield_factor, rate, Fdot);
+  const double J = 1.0 / inverse.determinant();
+  r.P = J * r.P * inverse.transpose();
+  r.W *= J;
+  work *= J;  // per reference volume, as the ledger books it
+  return r;
+}
+
 const ModelTraits& traits() {
   static const ModelTraits t = [] {
     ModelTraits m;
@@ -68,6 +90,7 @@ const ModelTraits& traits() {
     m.affine = true;      // T = omega (M_i xi + g_i Y): correspondence_kernels.hpp
     m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
     m.adaptive_time_step = true;  // spring_factors: the stable step from the current F_i
+    m.thermal_strain = true;      // evaluate_with_expansion
     return m;
   }();
   return t;
@@ -129,7 +152,6 @@ class Correspondence final : public Model {
   std::vector<double> yield_factor_;  // the flaw's factor on sigma_y (1 without a flaw)
   // Of the last pass, for the output (hypoelastic laws): K^-1, F, sigma, unrotated d.
   std::vector<Mat3> kinv_, F_, sigma_, rate_;
-  // Row l's law at F from the committed history (the flaw's factor, the rate kept).
   std::vector<Vec3> u_committed_;  // hypoelastic laws: every particle's u at the last commit
   // Row l's law at F from the committed history (the flaw's factor, the rate kept).
   // Hypoelastic laws take F_dot = (sum_j omega V_j (du_j - du_i) (x) xi) K^-1 / dt, du =
@@ -153,8 +175,10 @@ class Correspondence final : public Model {
       }
       Fdot = N * Kinv / dt;
     }
-    const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l], dt,
-                                                                yield_factor_[l], &d, rate ? &Fdot : nullptr);
+    const uint32_t i = particles_[l];
+    const double eps = i < s.thermal_strain.size() ? s.thermal_strain[i] : 0.0;
+    const classical::LawResult r = evaluate_with_expansion(law_, F, eps, committed_[l], trial_[l], work_[l], dt,
+                                                           yield_factor_[l], &d, rate ? &Fdot : nullptr);
     if (hypo_) {
       kinv_[l] = Kinv;
       F_[l] = F;
@@ -435,15 +459,17 @@ bool Correspondence::stiffness(const System& s, StiffnessSink& out) const {
     const std::size_t l = static_cast<std::size_t>(local_[i]);
     History trial;
     double work = 0;
-    if (!correspondence::evaluate_law(law_, F, committed_[l], trial, work).ok) continue;  // A = 0: G alone
+    // The law as the force pass takes it: with the particle's thermal strain.
+    const double eps = i < s.thermal_strain.size() ? s.thermal_strain[i] : 0.0;
+    if (!evaluate_with_expansion(law_, F, eps, committed_[l], trial, work).ok) continue;  // A = 0: G alone
     constexpr double h = 1e-6;
     for (int a = 0; a < dim; ++a)
       for (int c = 0; c < dim; ++c) {
         Mat3 Fp = F, Fm = F;
         Fp(a, c) += h;
         Fm(a, c) -= h;
-        const classical::LawResult rp = correspondence::evaluate_law(law_, Fp, committed_[l], trial, work);
-        const classical::LawResult rm = correspondence::evaluate_law(law_, Fm, committed_[l], trial, work);
+        const classical::LawResult rp = evaluate_with_expansion(law_, Fp, eps, committed_[l], trial, work);
+        const classical::LawResult rm = evaluate_with_expansion(law_, Fm, eps, committed_[l], trial, work);
         if (!rp.ok || !rm.ok) continue;
         const Mat3 dP = (rp.P - rm.P) / (2 * h);
         for (int r = 0; r < 3; ++r)
