@@ -111,10 +111,6 @@ struct ModelTraits {
   InfluenceKind default_influence = InfluenceKind::constant;
   std::vector<ParameterSpec> parameters;
   std::vector<ChoiceSpec> choices;
-  // Per-particle fields (Model::fields) an Exodus file may ask for by name
-  // (output.exodus_files' variables): the variable NAME is written from the field whose
-  // name is NAME in lower case (driver/exodus_output.cpp).
-  std::vector<std::string> exodus_fields;
 };
 
 // What a model's setup is given.

@@ -32,8 +32,11 @@ constexpr int kRec = correspondence::kAffineRecord;
 }  // namespace
 
 bool affine_general_pass(const System& s) {
-  // One-way bonds: the record sum takes one omega for both directions of a bond.
-  if (general_reference() || s.models.size() == 0 || s.one_way_bonds) return false;
+  // Its breaking sweep knows no thermal strain: a temperature field takes the general pass,
+  // whose breaking test takes the mechanical stretch and whose rows call the model's
+  // force_state (correspondence subtracts the strain there). One-way bonds: the record sum
+  // takes one omega for both directions of a bond.
+  if (general_reference() || s.models.size() == 0 || !s.thermal_strain.empty() || s.one_way_bonds) return false;
   for (const auto& m : s.models)
     if (!m->traits().affine) return false;
   return true;

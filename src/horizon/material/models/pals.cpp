@@ -136,13 +136,6 @@ const ModelTraits& traits() {
     };
     m.rows_local = true;  // row i reads i's family and the sigma, tau of i's bonds alone
     m.ordinary = true;    // T = t Y/|Y|: the scalar general pass (force_row)
-    m.exodus_fields = {"Dilatation_Normalization",         "Deviatoric_Normalization",
-                       "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2",
-                       "Lagrange_Multiplier_Dilatation_3", "Lagrange_Multiplier_Dilatation_4",
-                       "Lagrange_Multiplier_Dilatation_5", "Lagrange_Multiplier_Dilatation_6",
-                       "Lagrange_Multiplier_Deviatoric_1", "Lagrange_Multiplier_Deviatoric_2",
-                       "Lagrange_Multiplier_Deviatoric_3", "Lagrange_Multiplier_Deviatoric_4",
-                       "Lagrange_Multiplier_Deviatoric_5", "Lagrange_Multiplier_Deviatoric_6"};
     return m;
   }();
   return t;
