@@ -32,6 +32,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "horizon/core/vec3.hpp"
@@ -81,8 +82,10 @@ class ExodusOutput {
 };
 
 // output.exodus_files: Exodus files on their own schedules, each written at step 0 (the
-// initial state) and at every step that its `every` divides -- Peridigm's rule for each of
-// its Output lists (Output Frequency). Static runs count load steps.
+// initial state) and at every step that its `every` divides, within its first_step and
+// last_step -- Peridigm's rule for each of its Output lists (Output Frequency, Initial and
+// Final Output Step). Static runs count load steps; a staged run counts on across its
+// stages (driver/static_stage.cpp).
 class ExodusSchedule {
  public:
   ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& files, const std::filesystem::path& dir,
@@ -98,8 +101,10 @@ class ExodusSchedule {
   void set_verlet(const Loads* loads, double dt);
 
  private:
+  bool due_file(std::size_t k, int64_t step) const;
   std::vector<std::unique_ptr<ExodusOutput>> files_;
   std::vector<int64_t> every_;
+  std::vector<std::pair<int64_t, int64_t>> range_;  // first_step, last_step
 };
 
 }  // namespace horizon
