@@ -176,6 +176,49 @@ TEST(StagedRun, StageErrorsNameTheirPlace) {
   EXPECT_NE(range.find("a step number >= first_step (3)"), std::string::npos) << range;
 }
 
+// on_failure: explicit: a static stage whose increment fails (Newton held to one iteration,
+// no cuts) hands over at once: the explicit stage runs from t = 0 to its end_time, its
+// output steps counted from the switch (step 1), explicit_every taking over there: the
+// pattern of Peridigm's Switch to Verlet (AdaptiveQuasiStaticSolver's gold: t = 9 dt,
+// 19 dt, ... with Output Frequency 10).
+TEST(StagedRun, StaticStageThatFailsSwitchesToExplicit) {
+  const fs::path dir = test_dir();
+  std::string deck = staged_deck(R"(solver:
+  - {type: static, end_time: 2.0e-6, load_steps: 1, max_iterations: 1, max_step_cuts: 0, tolerance: 1.0e-12,
+     on_failure: explicit}
+  - {type: explicit, end_time: 2.0e-6, time_step: 1.0e-7}
+)");
+  deck.replace(deck.find("    - {file: all.e}"), 19, "    - {file: all.e, explicit_every: 5}");
+  Config c = load_deck(write(dir / "switch.yaml", deck));
+  ASSERT_TRUE(c.static_stage);
+  EXPECT_TRUE(c.static_stage->switch_on_failure);
+  c.output.directory = (dir / "out").string();
+  RunOptions o;
+  o.quiet = true;
+  ASSERT_EQ(run_deck(c, o), 0);
+  const ExodusSeries r = read_exodus_series((dir / "out" / "all.e").string());
+  ASSERT_EQ(r.steps.size(), 5u);
+  EXPECT_EQ(r.steps[0].time, 0.0);
+  for (std::size_t k = 1; k < 5; ++k) EXPECT_NEAR(r.steps[k].time, kDt * (5.0 * static_cast<double>(k) - 1), 1e-18) << k;
+  // The pushed face follows its function from t = 0 in the explicit stage.
+  for (std::size_t i = 0; i < r.layout.points.size(); ++i)
+    if (r.layout.points[i].x > 0.5) EXPECT_NEAR(at(r, 4, 0, i), -0.01 * r.steps[4].time / kT1, 1e-15);
+  // Without on_failure the same failure stops the run (not converged, exit code 4).
+  std::string stop = deck;
+  stop.replace(stop.find(",
+     on_failure: explicit"), 26, "");
+  Config s = load_deck(write(dir / "stop.yaml", stop));
+  s.output.directory = (dir / "out_stop").string();
+  EXPECT_EQ(run_deck(s, o), 4);
+  // on_failure in a deck of one solver, explicit_every without stages: errors.
+  const std::string alone = error_of(write(dir / "alone.yaml", staged_deck("solver: {type: static, on_failure: explicit}\n")));
+  EXPECT_NE(alone.find("explicit applies to the static stage of a staged run"), std::string::npos) << alone;
+  std::string every = staged_deck("solver: {type: static}\n");
+  every.replace(every.find("    - {file: all.e}"), 19, "    - {file: all.e, explicit_every: 5}");
+  const std::string lone = error_of(write(dir / "every.yaml", every));
+  EXPECT_NE(lone.find("applies to staged runs"), std::string::npos) << lone;
+}
+
 // Peridigm: a QuasiStatic solver followed by Verlet becomes the native stages; Initial and
 // Final Output Step become first_step and last_step.
 const char* kPoints = "0 0 0 1 1\n1 0 0 1 1\n2 0 0 1 1\n3 0 0 1 1\n";
@@ -240,6 +283,43 @@ TEST(StagedRun, PeridigmQuasiStaticThenVerletMapsToStages) {
   backwards.replace(backwards.find("Initial Output Step: 3"), 22, "Initial Output Step: 3\n    Final Output Step: 1");
   const std::string bad = error_of(write(dir / "bad.yaml", peridigm_deck(kQsThenVerlet, backwards)));
   EXPECT_NE(bad.find("a step number >= the Initial Output Step (3)"), std::string::npos) << bad;
+}
+
+// Switch to Verlet: the static stage with on_failure: explicit, then its Verlet fallback to
+// the same Final Time; its Output Frequency the lists' explicit_every.
+TEST(StagedRun, PeridigmSwitchToVerletMapsToOnFailure) {
+  const fs::path dir = test_dir();
+  write(dir / "points.txt", kPoints);
+  const std::string solver =
+      "  Solver:\n    Initial Time: 0.0\n    Final Time: 5.0e-3\n"
+      "    QuasiStatic:\n      Number of Load Steps: 1\n      Absolute Tolerance: 1.0e-3\n"
+      "      Maximum Solver Iterations: 2\n"
+      "      Adaptive Load-Stepping:\n        Maximum load step reductions in one step: 1\n"
+      "        Maximum total load step reductions: 5\n"
+      "        Switch to Verlet:\n          Safety Factor: 0.6\n          Output Frequency: 10\n";
+  const std::string output = "  Output1:\n    Output Filename: \"adaptive\"\n    Output Frequency: 1\n";
+  const std::string deck = write(dir / "switch.yaml", peridigm_deck(solver, output));
+  const YAML::Node n = YAML::Load(convert_peridigm_deck(deck));
+  const YAML::Node s = n["solver"];
+  ASSERT_TRUE(s.IsSequence());
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0]["type"].as<std::string>(), "static");
+  EXPECT_EQ(s[0]["on_failure"].as<std::string>(), "explicit");
+  EXPECT_EQ(s[0]["max_iterations"].as<int>(), 2);
+  EXPECT_EQ(s[0]["max_step_cuts"].as<int>(), 1);  // Maximum load step reductions in one step
+  EXPECT_EQ(s[1]["type"].as<std::string>(), "explicit");
+  EXPECT_DOUBLE_EQ(s[1]["safety_factor"].as<double>(), 0.6);
+  EXPECT_DOUBLE_EQ(s[1]["end_time"].as<double>(), 5e-3);
+  EXPECT_EQ(n["output"]["exodus_files"][0]["every"].as<int>(), 1);
+  EXPECT_EQ(n["output"]["exodus_files"][0]["explicit_every"].as<int>(), 10);
+  EXPECT_TRUE(load_deck(deck).static_stage->switch_on_failure);
+  // A solver after one that switches is an error.
+  const std::string after = error_of(write(
+      dir / "after.yaml",
+      peridigm_deck(solver + "  Solver2:\n    Initial Time: 5.0e-3\n    Final Time: 6.0e-3\n    Verlet:\n"
+                             "      Fixed dt: 1.0e-4\n",
+                    output)));
+  EXPECT_NE(after.find("Switch to Verlet is staged alone"), std::string::npos) << after;
 }
 
 }  // namespace

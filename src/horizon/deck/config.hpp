@@ -165,6 +165,10 @@ struct SolverConfig {
   std::optional<int> max_iterations;    // per solve; default 30 (Newton) or 100000 (ADR)
   int load_steps = 1;                   // static: equal increments of the pseudo-time
   int max_step_cuts = 6;                // halvings of one increment before giving up
+  // The static stage of a staged run: on_failure: explicit starts the explicit stage from
+  // the last converged state when an increment fails after its cuts (Peridigm's Switch to
+  // Verlet), instead of stopping the run.
+  bool switch_on_failure = false;
   int max_break_rounds = 100;           // break-and-re-equilibrate rounds per load step
   // implicit_dynamic: initial_acceleration: zero starts Newmark with a_0 = 0 (Peridigm's
   // Implicit solver: Body_Force_Implicit's gold) instead of the equilibrium (f + b)/rho.
@@ -243,6 +247,9 @@ struct OutputConfig {
     // of a staged run count on across its stages (docs/input.md "Solver stages").
     int64_t first_step = 0;
     int64_t last_step = std::numeric_limits<int64_t>::max();
+    // explicit_every: the frequency from a staged run's explicit stage on (0: `every`;
+    // Peridigm's Switch to Verlet's own Output Frequency).
+    int explicit_every = 0;
   };
   std::vector<ExodusFile> exodus_files;
 };

@@ -369,7 +369,8 @@ void only_for(const DeckContext& ctx, const MapReader& m, const char* key, bool 
 const std::vector<std::string> kSolverKeys = {
     "type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
     "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds", "condition_number",
-    "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend", "initial_acceleration"};
+    "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend", "initial_acceleration",
+    "on_failure"};
 
 // One solver map (the deck's `solver`, or one stage of a staged deck) into `sc`.
 void read_solver_map(const DeckContext& ctx, const Item& item, const Config& config, SolverConfig& sc) {
@@ -394,6 +395,9 @@ void read_solver_map(const DeckContext& ctx, const Item& item, const Config& con
   only_for(ctx, s, "method", is_static, kStatic, type);
   only_for(ctx, s, "load_steps", is_static, kStatic, type);
   only_for(ctx, s, "max_step_cuts", is_static, kStatic, type);
+  only_for(ctx, s, "on_failure", is_static, kStatic, type);
+  if (auto f = s.find("on_failure"))
+    sc.switch_on_failure = read_enum<bool>(ctx, *f, {{"stop", false}, {"explicit", true}});
   only_for(ctx, s, "initial_acceleration", sc.type == SolverType::implicit_dynamic, "type: implicit_dynamic", type);
   if (auto a = s.find("initial_acceleration"))
     sc.zero_initial_acceleration = read_enum<bool>(ctx, *a, {{"equilibrium", false}, {"zero", true}});
@@ -500,6 +504,11 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   const Item solver = m.get("solver", "at least {end_time: ...}");
   if (!solver.node.IsSequence()) {
     read_solver_map(ctx, solver, config, config.solver);
+    if (config.solver.switch_on_failure) {
+      const Item f = *MapReader(ctx, solver, kSolverKeys).find("on_failure");
+      ctx.fail(f.mark, f.path + ": explicit applies to the static stage of a staged run (solver: a list of a "
+                                "static stage and an explicit one), which it starts early");
+    }
     return;
   }
   const std::vector<Item> stages = read_list(ctx, solver);
@@ -521,7 +530,10 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
                                                     "static solve followed by an explicit run)");
   if (config.solver.adaptive_time_step)
     ctx.fail(stages[1].mark, stages[1].path + ": adaptive_time_step is not available in a staged run");
-  if (!(config.solver.end_time > first.end_time)) {
+  // With on_failure: explicit the explicit stage may end where the static one does: it
+  // runs only when an increment fails, from there (Peridigm's Switch to Verlet).
+  if (!(config.solver.end_time > first.end_time) &&
+      !(first.switch_on_failure && config.solver.end_time >= first.end_time)) {
     const Item e = *MapReader(ctx, stages[1], kSolverKeys).find("end_time");
     ctx.fail(e.mark, fmt::format("{}: expected a time after the static stage's end_time {} (the explicit stage "
                                  "runs from there)", e.path, first.end_time));
@@ -572,7 +584,7 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       ctx.fail(*files->key_mark, files->path + ": exodus output is written by the explicit, implicit and static solvers only");
     for (std::size_t k = 0; k < files->node.size(); ++k) {
       const Item entry{files->node[k], index_path(files->path, k), files->node[k].Mark(), std::nullopt};
-      MapReader e(ctx, entry, {"file", "every", "variables", "velocity", "first_step", "last_step"});
+      MapReader e(ctx, entry, {"file", "every", "variables", "velocity", "first_step", "last_step", "explicit_every"});
       OutputConfig::ExodusFile f;
       const Item name = e.get("file", "the Exodus file's name, inside output.directory");
       f.file = read_string(ctx, name);
@@ -585,6 +597,12 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       if (auto ev = e.find("every")) {
         f.every = read_int(ctx, *ev);
         if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
+      }
+      if (auto ee = e.find("explicit_every")) {
+        if (!config.static_stage)
+          ctx.fail(*ee->key_mark, ee->path + ": applies to staged runs (solver: a static and an explicit stage) only");
+        f.explicit_every = read_int(ctx, *ee);
+        if (f.explicit_every < 1) fail_expected(ctx, *ee, "a whole number >= 1");
       }
       if (auto fs = e.find("first_step")) {
         f.first_step = read_int(ctx, *fs);

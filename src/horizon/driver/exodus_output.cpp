@@ -247,6 +247,7 @@ ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& file
         std::make_unique<ExodusOutput>((dir / f.file).string(), iterations, f.variables, config, f.verlet_velocity));
     every_.push_back(std::max(1, f.every));
     range_.emplace_back(f.first_step, f.last_step);
+    explicit_every_.push_back(f.explicit_every);
   }
 }
 
@@ -254,7 +255,8 @@ ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& file
 // Initial and Final Output Step (Compression_QS_Explicit_MultiFreqOutput's gold: every 100
 // from step 21 writes steps 100, ..., 500, not 21, 121, ...).
 bool ExodusSchedule::due_file(std::size_t k, int64_t step) const {
-  return step % every_[k] == 0 && step >= range_[k].first && step <= range_[k].second;
+  const int64_t every = step >= explicit_from_ && explicit_every_[k] > 0 ? explicit_every_[k] : every_[k];
+  return step % every == 0 && step >= range_[k].first && step <= range_[k].second;
 }
 
 bool ExodusSchedule::due(int64_t step) const {

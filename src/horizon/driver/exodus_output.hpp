@@ -28,6 +28,7 @@
 // (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
 // byte, as one rank.
 #include <cstdint>
+#include <limits>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -99,12 +100,17 @@ class ExodusSchedule {
   void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
   // As ExodusOutput::set_verlet, for every file.
   void set_verlet(const Loads* loads, double dt);
+  // A staged run's explicit stage starts at this step: from it on a file's explicit_every
+  // (deck/config.hpp ExodusFile) replaces its every.
+  void set_explicit_from(int64_t step) { explicit_from_ = step; }
 
  private:
   bool due_file(std::size_t k, int64_t step) const;
   std::vector<std::unique_ptr<ExodusOutput>> files_;
   std::vector<int64_t> every_;
   std::vector<std::pair<int64_t, int64_t>> range_;  // first_step, last_step
+  std::vector<int64_t> explicit_every_;             // 0: every_
+  int64_t explicit_from_ = std::numeric_limits<int64_t>::max();
 };
 
 }  // namespace horizon

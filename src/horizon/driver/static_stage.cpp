@@ -31,10 +31,17 @@ void ExplicitRun::State::run_static_stage() {
   int next = 1;
   int64_t last_whole = 0;  // the last whole load step written
   double h = 0;            // the last increment's time
+  std::string switched;    // on_failure: explicit: why the static stage ended early
   while (!statics.done()) {
     const double before = statics.time();
     const std::vector<Vec3> u_before = P.u;
     if (!statics.advance()) {
+      // The state is the last converged one (the velocity its increment's, or the initial
+      // one); on_failure: explicit goes on from it explicitly (Peridigm's Switch to Verlet).
+      if (sc.switch_on_failure) {
+        switched = statics.failure();
+        break;
+      }
       status = "not converged";
       exit_code = 4;
       message = "static stage: " + statics.failure();
@@ -67,9 +74,23 @@ void ExplicitRun::State::run_static_stage() {
                    {"strain_energy", statics.ledger().strain}};
   if (stopped) return;
   // The explicit stage: from T1, prescribed velocities the displacements' rate over the
-  // last increment (the same quasi-static velocity), the others as set above.
+  // last increment (the same quasi-static velocity), the others as set above. After a
+  // failed increment (on_failure: explicit): from the last converged state, at its time
+  // and after its whole load steps, to the explicit stage's end_time.
+  double t0 = config.solver.start_time;
   step_offset = sc.load_steps + 1;
-  solver->initialize(config.solver.start_time, h);
+  if (!switched.empty()) {
+    t0 = statics.time();
+    step_offset = last_whole + 1;
+    stage_summary["switched_to_explicit"] = {{"time", t0}, {"after_load_steps", last_whole}, {"failure", switched}};
+    if (!options.quiet)
+      fmt::print(stderr, "stage 1         switched to explicit at t = {:.4e} s after {} load step(s): {}\n", t0,
+                 last_whole, switched);
+  }
+  solver->initialize(t0, h);
+  // The steps left to end_time from the switch, as the check counts them from T1.
+  total = static_cast<int64_t>(std::ceil((config.solver.end_time - t0) / solver->dt() - 1e-9));
+  if (exodus_files) exodus_files->set_explicit_from(step_offset);
   record_history();
   write_frame();
   if (exodus_files) {

@@ -482,6 +482,10 @@ struct Solve {
   // A QuasiStatic solver followed by Verlet: the static stage (native `solver: [static,
   // explicit]`, docs/input.md "Solver stages"); this Solve is then the Verlet stage.
   std::shared_ptr<Solve> static_stage;
+  // A QuasiStatic solver's Adaptive Load-Stepping.Switch to Verlet: the explicit stage it
+  // falls back to (native `explicit` solver map), and its Output Frequency (0: none).
+  YAML::Node switch_to_verlet;
+  int switch_output_every = 0;
 };
 
 // A NOX sublist Horizon reads without effect: NOX's own settings of the path its
@@ -493,12 +497,12 @@ void read_nox_sublist(const DeckContext& ctx, const Item& item) {
 
 // QuasiStatic's `Adaptive Load-Stepping` (Peridigm cuts a load step whose Newton solve
 // fails, up to the reductions it allows, then optionally finishes with Verlet): Horizon's
-// static driver cuts a failing load step itself (solver/static_driver.hpp), so the list is
-// read, its values checked, without effect. `Switch to Verlet`, Peridigm's explicit
-// fallback once its reductions are spent, is an error: Horizon runs one solver a deck, and
-// the decks that give it (AdaptiveQuasiStaticSolver: 2 Newton iterations to an absolute
-// 1e-3) count on the switch (docs/peridigm.md, "Adaptive Load-Stepping").
-void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item) {
+// static driver cuts a failing load step itself (solver/static_driver.hpp), so the
+// reductions are read, their values checked, without effect (with a Switch to Verlet the
+// reductions in one step are max_step_cuts). `Switch to Verlet` {Safety
+// Factor or Fixed dt, Output Frequency}, Peridigm's explicit fallback once its reductions
+// are spent, becomes a staged run whose static stage has on_failure: explicit (read_solvers).
+void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item, Solve& r) {
   MapReader a(ctx, item,
               {"Maximum load step reductions in one step", "Maximum total load step reductions",
                "Reduce all remaining load steps", "Adaptive output frequency", "Switch to Verlet"});
@@ -506,10 +510,27 @@ void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item) {
     if (auto n = a.find(k); n && read_int(ctx, *n) < 0) fail_expected(ctx, *n, "a whole number >= 0");
   for (const char* k : {"Reduce all remaining load steps", "Adaptive output frequency"})
     if (auto b = a.find(k)) read_bool(ctx, *b);
-  if (auto v = a.find("Switch to Verlet"))
-    ctx.fail(*v->key_mark, v->path + ": not supported: Peridigm's switch to explicit dynamics once its load-step "
-                                     "reductions are spent; Horizon runs one solver a deck (its static driver cuts "
-                                     "failing load steps, without a switch)");
+  if (auto v = a.find("Switch to Verlet")) {
+    MapReader sv(ctx, *v, {"Safety Factor", "Fixed dt", "Output Frequency"});
+    YAML::Node e;
+    e["type"] = "explicit";
+    if (sv.has("Fixed dt") && sv.has("Safety Factor"))
+      ctx.fail(*sv.find("Safety Factor")->key_mark, v->path + ": give Fixed dt or Safety Factor, not both");
+    if (auto f = sv.find("Fixed dt")) e["time_step"] = number(read_positive(ctx, *f));
+    if (auto f = sv.find("Safety Factor")) {
+      const double sf = read_positive(ctx, *f);
+      if (sf > 1) fail_expected(ctx, *f, "a safety factor in (0, 1]");
+      e["safety_factor"] = number(sf);
+    }
+    if (auto f = sv.find("Output Frequency")) {
+      r.switch_output_every = read_int(ctx, *f);
+      if (r.switch_output_every < 1) fail_expected(ctx, *f, "a whole number >= 1");
+    }
+    r.switch_to_verlet = e;
+    // With the switch the reductions decide when the run turns explicit: Peridigm's
+    // reductions in one step are Horizon's halvings of one increment (max_step_cuts).
+    if (auto n = a.find("Maximum load step reductions in one step")) r.solver["max_step_cuts"] = read_int(ctx, *n);
+  }
 }
 
 // One solver list (Solver, Solver1, ...); `t0` gets its Initial Time.
@@ -599,7 +620,7 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
       if (auto i = v.find(k)) solver["max_iterations"] = read_int(ctx, *i);
     // The Krylov method of Peridigm's linear solves; Horizon's are its own. Read, no effect.
     if (auto b = v.find("Belos Linear Solver")) read_string(ctx, *b);
-    if (auto a = v.find("Adaptive Load-Stepping")) read_adaptive_load_stepping(ctx, *a);
+    if (auto a = v.find("Adaptive Load-Stepping")) read_adaptive_load_stepping(ctx, *a, r);
     if (auto n = v.find("Nonlinear Solver")) {
       // NOX's Newton-type solvers: a line search or a trust region globalises the same
       // Newton step; Horizon's Newton has its own safeguard (step cuts).
@@ -654,6 +675,8 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
       ctx.fail(item.mark, fmt::format("{}: Horizon runs one solver a deck; {} cannot continue {} as one run: {}", key,
                                       key, first_key, why));
     };
+    if (merged.switch_to_verlet.IsDefined() || sv.switch_to_verlet.IsDefined())
+      refuse("a QuasiStatic solver with Switch to Verlet is staged alone (its explicit fallback ends the run)");
     if (std::abs(t0 - end) > 1e-12 * std::max(1.0, std::abs(end)))
       refuse(fmt::format("its Initial Time {} is not where the solver before it ended ({})", t0, end));
     // A Verlet solver after QuasiStatic ones: Horizon's staged run (the static solve, then
@@ -713,6 +736,25 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
   }
   merged.solver["end_time"] = number(merged.end_time);
   merged.static_stage = static_stage;
+  // A QuasiStatic solver with Switch to Verlet: the static stage with on_failure: explicit,
+  // then its Verlet fallback to the same Final Time (AdaptiveQuasiStaticSolver).
+  if (merged.switch_to_verlet.IsDefined()) {
+    auto stage = std::make_shared<Solve>();
+    stage->solver = YAML::Clone(merged.solver);
+    stage->solver["on_failure"] = "explicit";
+    stage->method = merged.method;
+    stage->end_time = merged.end_time;
+    stage->load_steps = merged.load_steps;
+    Solve verlet;
+    verlet.solver = YAML::Clone(merged.switch_to_verlet);
+    verlet.solver["end_time"] = number(merged.end_time);
+    verlet.method = "Verlet";
+    verlet.start_time = verlet.end_time = merged.end_time;
+    if (verlet.solver["time_step"]) verlet.fixed_dt = verlet.solver["time_step"].as<double>();
+    verlet.static_stage = stage;
+    verlet.switch_output_every = merged.switch_output_every;
+    return verlet;
+  }
   return merged;
 }
 
@@ -780,6 +822,8 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
   // dt/2 (f + b)/rho (its second half-kick; ElasticBondBased2DPlaneStrain's gold to 3e-10):
   // the native `velocity: verlet` (docs/input.md).
   if (solve.method == "Verlet") file["velocity"] = "verlet";
+  // Switch to Verlet's Output Frequency: each list's frequency once the run turned explicit.
+  if (solve.switch_output_every > 0) file["explicit_every"] = solve.switch_output_every;
   exodus_files.push_back(file);
   if (first) {
     output["directory"] = "out/" + name;
