@@ -513,8 +513,8 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   }
   const std::vector<Item> stages = read_list(ctx, solver);
   if (stages.size() != 2)
-    fail_expected(ctx, solver, "one solver map, or a list of two stages: a static solve, then an explicit run "
-                               "from its state (found " + std::to_string(stages.size()) + " stages)");
+    fail_expected(ctx, solver, "a map (one solver) or a list of two stages (a static solve, then an explicit run "
+                               "from its state)");
   SolverConfig first;
   read_solver_map(ctx, stages[0], config, first);
   read_solver_map(ctx, stages[1], config, config.solver);

@@ -675,7 +675,7 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
       ctx.fail(item.mark, fmt::format("{}: Horizon runs one solver a deck; {} cannot continue {} as one run: {}", key,
                                       key, first_key, why));
     };
-    if (merged.switch_to_verlet.IsDefined() || sv.switch_to_verlet.IsDefined())
+    if (merged.switch_to_verlet.IsMap() || sv.switch_to_verlet.IsMap())
       refuse("a QuasiStatic solver with Switch to Verlet is staged alone (its explicit fallback ends the run)");
     if (std::abs(t0 - end) > 1e-12 * std::max(1.0, std::abs(end)))
       refuse(fmt::format("its Initial Time {} is not where the solver before it ended ({})", t0, end));
@@ -738,7 +738,7 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
   merged.static_stage = static_stage;
   // A QuasiStatic solver with Switch to Verlet: the static stage with on_failure: explicit,
   // then its Verlet fallback to the same Final Time (AdaptiveQuasiStaticSolver).
-  if (merged.switch_to_verlet.IsDefined()) {
+  if (merged.switch_to_verlet.IsMap()) {
     auto stage = std::make_shared<Solve>();
     stage->solver = YAML::Clone(merged.solver);
     stage->solver["on_failure"] = "explicit";
