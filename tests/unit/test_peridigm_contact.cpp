@@ -1,6 +1,8 @@
 // Short-range contact with law peridigm (Peridigm's Short Range Force, users' guide
 // SAND2012-7800; state/short_range.hpp): force density on i
-// 9k/(pi delta^4) V_j (R_c - r)/delta away from j when r < R_c, only between pairs not
+// 2 x 9k/(pi delta^4) V_j (R_c - r)/delta away from j when r < R_c (Peridigm's c = 9k/(pi
+// delta^4), which each particle of a pair receives from both particles' contact lists:
+// Contact_2x1x1's gold, docs/peridigm.md "Contact"), only between pairs not
 // bonded at the start, Coulomb friction mu |f_n| against the sliding, and `pairs`.
 #include <gtest/gtest.h>
 
@@ -44,7 +46,7 @@ System bodies(int count, const ShortRangeContactConfig& contact) {
 }
 
 double peridigm_force(double V, double radius, double r) {
-  return 9 * kSpring / (kPi * std::pow(kDelta, 4)) * V * (radius - r) / kDelta;
+  return 18 * kSpring / (kPi * std::pow(kDelta, 4)) * V * (radius - r) / kDelta;
 }
 
 TEST(PeridigmContact, ForceIsPeridigmsShortRangeForce) {

@@ -415,6 +415,43 @@ TEST(PeridigmOutputs, VerletVelocityAtPrescribedComponents) {
   }
 }
 
+// Contact_Force_Density: two points 0.19 apart, unbonded (horizon 0.1), inside the contact
+// radius 0.2 of Peridigm's Short Range Force and at rest: each feels 2 x 9k/(pi delta^4) V
+// (R_c - r)/delta away from the other (docs/peridigm.md "Contact"; Contact_2x1x1's gold
+// fixes the factor 2), all of its force density, since no bond acts.
+TEST(PeridigmOutputs, ContactForceDensityIsTheShortRangeForce) {
+  const fs::path dir = test_dir();
+  write(dir / "points.txt", "0 0 0 1 0.001\n0 0.19 0 1 0.001\n");
+  const std::string deck = write(
+      dir / "touch.yaml",
+      "Peridigm:\n"
+      "  Discretization:\n    Type: \"Text File\"\n    Input Mesh File: \"points.txt\"\n"
+      "  Materials:\n    Copper: {Material Model: \"Elastic\", Density: 8960.0, Bulk Modulus: 140.0e9, "
+      "Shear Modulus: 48.0e9}\n"
+      "  Blocks:\n    All: {Block Names: \"block_1\", Material: \"Copper\", Horizon: 0.1}\n"
+      "  Contact:\n    Search Radius: 1.0\n    Search Frequency: 1\n"
+      "    Models:\n      Touch: {Contact Model: \"Short Range Force\", Contact Radius: 0.2, Spring Constant: 1.0e12, "
+      "Horizon: 0.1}\n"
+      "    Interactions:\n      General Contact: {Contact Model: \"Touch\"}\n"
+      "  Solver:\n    Final Time: 1.0e-6\n    Verlet:\n      Fixed dt: 1.0e-6\n"
+      "  Output:\n    Output Filename: \"touch\"\n    Output Frequency: 1\n"
+      "    Output Variables:\n      Contact_Force_Density: true\n      Force_Density: true\n");
+  YAML::Node native = YAML::Load(convert_peridigm_deck(deck));
+  EXPECT_EQ(native["output"]["exodus_files"][0]["variables"][0].as<std::string>(), "Contact_Force_Density");
+  const ExodusSeries r = run_and_read(deck, dir, "touch.e");
+  ASSERT_EQ(r.steps.size(), 2u);
+  const std::size_t cy = index_of(r.layout.nodal, "Contact_Force_DensityY"),
+                    cx = index_of(r.layout.nodal, "Contact_Force_DensityX"),
+                    fy = index_of(r.layout.nodal, "Force_DensityY");
+  const double delta = 0.1, k = 1.0e12, V = 0.001;
+  const double expected = 2 * 9 * k / (std::numbers::pi * std::pow(delta, 4)) * V * (0.2 - 0.19) / delta;
+  const auto& s0 = r.steps[0];
+  EXPECT_NEAR(s0.nodal[cy][0], -expected, 1e-12 * expected);  // pushed away from the other point
+  EXPECT_NEAR(s0.nodal[cy][1], expected, 1e-12 * expected);
+  EXPECT_EQ(s0.nodal[cx][0], 0.0);
+  for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(s0.nodal[cy][i], s0.nodal[fy][i]) << i;
+}
+
 // A Body Force without t acts in full from t = 0 (Peridigm evaluates it at each step's time:
 // CentrifugalLoad's gold has it in the t = 0 output): the native value is written in t.
 TEST(PeridigmOutputs, BodyForceWithoutTimeIsConstant) {

@@ -280,8 +280,9 @@ TEST(PeridigmRuns, ParticlesWithoutNeighboursTakeContactAlone) {
   EXPECT_NE(format_check(c, run.check).find("2 particle(s) have no neighbours"), std::string::npos);
   compute_forces(s, true);
   // Peridigm's force at r = 2h < R_c, and nothing from a bond; dilatation and weighted
-  // volume 0 (Contact_2x1x1's gold), the strain energy finite.
-  const double f = 9 * kSpring / (kPi * std::pow(kDelta, 4)) * s.particles.volume[1] * (0.5 * kH) / kDelta;
+  // volume 0 (Contact_2x1x1's gold), the strain energy finite. Each particle receives
+  // Peridigm's c = 9k/(pi delta^4) from both contact lists (docs/peridigm.md "Contact").
+  const double f = 2 * 9 * kSpring / (kPi * std::pow(kDelta, 4)) * s.particles.volume[1] * (0.5 * kH) / kDelta;
   EXPECT_NEAR(s.particles.f[0].x, -f, 1e-12 * f);
   EXPECT_NEAR(s.particles.f[1].x, f, 1e-12 * f);
   for (int i = 0; i < 2; ++i) {
@@ -359,7 +360,7 @@ TEST(PeridigmRuns, FrictionCoefficientInTime) {
   law.friction_in_time = Expression(mu);
   law.friction = 1;
   s.contact.setup(law, kH, kDelta);
-  const double fn = 9 * kSpring / (kPi * std::pow(kDelta, 4)) * s.particles.volume[1] * (0.5 * kH) / kDelta;
+  const double fn = 2 * 9 * kSpring / (kPi * std::pow(kDelta, 4)) * s.particles.volume[1] * (0.5 * kH) / kDelta;
   s.time = 4e-5;  // mu = 1: particle 1 is held back by mu fn
   compute_forces(s, false);
   EXPECT_NEAR(s.particles.f[1].y, -fn, 1e-12 * fn) << mu;

@@ -17,8 +17,14 @@ void ShortRangeContact::setup(const ShortRangeContactConfig& config, double spac
   config_ = config;
   horizon_ = horizon;
   cutoff_ = config.law == ShortRangeLaw::peridigm ? config.contact_radius : config.max_distance * spacing;
-  // Peridigm's c = 9k/(pi delta^4), over delta once more for the force density's (d - r)/delta.
-  peridigm_k_ = 9.0 * config.spring_constant / (3.14159265358979323846 * std::pow(horizon, 4)) / horizon;
+  // Peridigm's c = 9k/(pi delta^4) (half the PMB micromodulus, users' guide SAND2012-7800),
+  // which each particle of a pair receives twice: once from its own contact list and once
+  // from its partner's, both lists holding the pair. Contact_2x1x1's gold fixes the sum:
+  // two free particles oscillate at omega^2 = 36 k V/(pi delta^5 rho), omega = 75,695 rad/s
+  // (peak u = 1/omega = 1.32111e-5 there), i.e. 2 c per pair; Horizon visits each pair once
+  // per particle, so its one coefficient is 18k/(pi delta^4). Over delta once more for the
+  // force density's (d - r)/delta.
+  peridigm_k_ = 18.0 * config.spring_constant / (3.14159265358979323846 * std::pow(horizon, 4)) / horizon;
   touch_.clear();
   touch_bodies_ = 0;
   // Half a spacing of skin: a particle is updated after it moves a quarter spacing.
@@ -151,6 +157,7 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   const auto& P = s.particles;
   const auto& M = s.model;
   const std::size_t n = P.size();
+  if (record_) recorded_.assign(n, Vec3{});  // zero where no pair touches
   // Local particles on ranks: the contact ghosts' current positions (the same sum as the
   // owner's packed position), and the lists built again for a new ghost set.
   const Decomposition* dec = s.decomposition;
@@ -205,6 +212,7 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
   if (!(mu >= 0))
     throw Error("contact.short_range.friction is " + std::to_string(mu) + " at t = " + std::to_string(s.time) +
                 "; a friction coefficient must be >= 0");
+  Vec3* kept = record_ ? recorded_.data() : nullptr;
   auto pass = [&](auto with_ghosts, auto peridigm_law) {
     constexpr bool ghosts = decltype(with_ghosts)::value;
     constexpr bool pd = decltype(peridigm_law)::value;
@@ -252,6 +260,7 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
       }
       f[i] += fi;
       if (W) W[i] += wi;
+      if (kept) kept[i] = fi;
     }
   };
   if (peridigm) {

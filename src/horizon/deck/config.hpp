@@ -100,6 +100,11 @@ struct BodyConfig {
   std::string material;
   Shape shape;
   Discretization discretization = Discretization::peridynamic;
+  // The body's own horizon delta (a number, or an expression in x, y, z of the reference
+  // position): unset, the deck's `horizon`, which bounds it from above (the search
+  // radius). Particles of different horizons bond as Peridigm's directed families do
+  // (family/neighbors.hpp restrict_to_horizons; docs/input.md "Bodies of different horizons").
+  std::optional<Expression> horizon{};
   FeElement element = FeElement::hex8;  // fe only
   double hourglass = 0.1;               // fe hex8 only: hourglass stiffness coefficient kappa
   // fe box bodies only: elements of about this many spacings (nodes on every n-th lattice

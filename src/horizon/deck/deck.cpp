@@ -283,6 +283,23 @@ void read_fe_mesh(const DeckContext& ctx, const MeshSelection& sel, const MapRea
   body.fe_mesh_scale = sel.scale;
 }
 
+// A body's own horizon (BodyConfig::horizon): a number in (0, deck horizon], or an
+// expression in x, y, z checked at each particle when the system is built.
+void read_body_horizon(const DeckContext& ctx, const Item& h, const Config& config, BodyConfig& body) {
+  if (body.discretization == Discretization::fe)
+    ctx.fail(*h.key_mark, h.path + ": applies to peridynamic bodies only");
+  const Expression e = read_scalar_expr(ctx, h);
+  if (e.is_constant()) {
+    const double v = e(0);
+    if (!(v > 0)) ctx.fail(h.mark, h.path + ": expected a horizon > 0, found " + text_of(h));
+    if (v > config.horizon * (1 + 1e-12))
+      ctx.fail(h.mark, fmt::format("{}: {} is larger than the deck's horizon {}, which bounds every body's (the "
+                                   "families are searched within it); set horizon: {} at the top",
+                                   h.path, text_of(h), config.horizon, text_of(h)));
+  }
+  body.horizon = e;
+}
+
 void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
   const Item item = m.get("bodies", "a list of bodies, each {name, material, shape}");
   if (!item.node.IsSequence()) fail_expected(ctx, item, "a list of bodies (lines starting with '- ')");
@@ -292,7 +309,7 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
   for (const auto& mat : config.materials) materials.push_back(mat.name);
   for (std::size_t i = 0; i < items.size(); ++i) {
     MapReader b(ctx, items[i],
-                {"name", "material", "shape", "discretization", "element", "hourglass", "j2", "element_size"});
+                {"name", "material", "shape", "discretization", "element", "hourglass", "j2", "element_size", "horizon"});
     BodyConfig body;
     body.name = "body" + std::to_string(i + 1);
     if (auto n = b.find("name")) {
@@ -353,6 +370,7 @@ void read_bodies(const DeckContext& ctx, const MapReader& m, Config& config) {
     }
     if (fe && ctx.dimension != 3)
       ctx.fail(b.find("discretization")->mark, "discretization: fe needs a 3-D deck (dimension: 3)");
+    if (auto h = b.find("horizon")) read_body_horizon(ctx, *h, config, body);
     config.bodies.push_back(std::move(body));
   }
 }
@@ -614,8 +632,9 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
           fail_expected(ctx, *ls, "a step number >= first_step (" + std::to_string(f.first_step) + ")");
       }
       if (auto vars = e.find("variables")) {
-        // Lambda, Deformation_Gradient or a history column (driver/exodus_output.hpp).
-        std::vector<std::string> known = {"Lambda", "Deformation_Gradient"};
+        // Lambda, Deformation_Gradient, Contact_Force_Density, Horizon or a history column
+        // (driver/exodus_output.hpp).
+        std::vector<std::string> known = {"Lambda", "Deformation_Gradient", "Contact_Force_Density", "Horizon"};
         for (const auto& c : config.output.history_columns) known.push_back(c.name);
         if (!vars->node.IsSequence()) fail_expected(ctx, *vars, "a list of variable names");
         for (std::size_t v = 0; v < vars->node.size(); ++v) {
@@ -795,7 +814,7 @@ Config read_config(DeckContext& ctx, const Item& root) {
     for (std::size_t i = 0; i < config.bodies.size(); ++i)
       if (config.bodies[i].discretization == Discretization::fe) {
         const Item d = *MapReader(ctx, items[i], {"name", "material", "shape", "discretization", "element",
-                                                  "hourglass", "j2", "element_size"}).find("discretization");
+                                                  "hourglass", "j2", "element_size", "horizon"}).find("discretization");
         ctx.fail(d.mark, d.path + ": finite-element bodies run with solver type explicit, in solid decks (no "
                                   "structure)");
       }

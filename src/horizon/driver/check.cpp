@@ -29,6 +29,11 @@ void apply_run_options(Config& c, const RunOptions& o) {
   if (o.coarsen != 1) {
     c.spacing *= o.coarsen;
     c.horizon *= o.coarsen;
+    // Bodies' own horizons scale with the deck's (an expression is scaled as a whole).
+    for (auto& b : c.bodies)
+      if (b.horizon)
+        b.horizon = b.horizon->is_constant() ? Expression((*b.horizon)(0) * o.coarsen)
+                                             : Expression(fmt::format("({})*{}", b.horizon->text(), o.coarsen));
     if (c.solver.time_step) *c.solver.time_step *= o.coarsen;
   }
 }

@@ -75,6 +75,12 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
       lambda_ = true;
     } else if (v == "Deformation_Gradient") {
       gradient_ = true;
+    } else if (v == "Horizon") {
+      horizon_ = true;
+      deck_horizon_ = config.horizon;
+      for (const auto& b : config.bodies) body_horizon_.push_back(b.horizon);
+    } else if (v == "Contact_Force_Density") {
+      contact_ = true;
     } else {
       // The deck reader has checked that a history column of this name exists.
       for (const auto& c : config.output.history_columns)
@@ -135,7 +141,17 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     }
   }
   const std::vector<double> globals = history_columns_values(columns_, s);
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0) + (contact_ ? 3 : 0);
+  const std::vector<Vec3>& contact = s.contact.recorded_forces();
+  // Number_Of_Neighbors: i's family, without the bonds in the neighbour's family alone
+  // (BondKind::one_way: bodies of different horizons).
+  auto neighbours = [&](uint32_t i) {
+    if (i + 1 >= s.bonds.offset.size()) return 0.0;
+    uint64_t count = s.bonds.end(i) - s.bonds.begin(i);
+    if (s.one_way_bonds)
+      for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) count -= s.bonds.kinds[s.bonds.kind[k]].one_way ? 1 : 0;
+    return static_cast<double>(count);
+  };
   auto pack = [&](uint32_t i, std::vector<double>& out) {
     for (const Vec3* v : {&P.X[i], &P.u[i], &velocity[i], &P.f[i]}) out.insert(out.end(), {v->x, v->y, v->z});
     out.push_back(P.volume[i]);
@@ -144,7 +160,7 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     out.push_back((i < M.theta.size() ? M.theta[i] : 0.0) + (i < dilatation.size() ? dilatation[i] : 0.0));
     out.push_back(i < M.weighted_volume.size() ? M.weighted_volume[i] : 0.0);
     out.push_back(static_cast<double>(P.block[i]));
-    out.push_back(i + 1 < s.bonds.offset.size() ? static_cast<double>(s.bonds.offset[i + 1] - s.bonds.offset[i]) : 0.0);
+    out.push_back(neighbours(i));
     const Vec3 b = i < P.b.size() ? P.b[i] : Vec3{};
     out.insert(out.end(), {b.x, b.y, b.z});
     out.push_back(i < P.energy.size() ? P.energy[i] : 0.0);
@@ -152,6 +168,15 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     if (gradient_) {
       const auto F = deformation_gradient(s, i);
       out.insert(out.end(), F.begin(), F.end());
+    }
+    if (horizon_) {
+      const auto b = static_cast<std::size_t>(P.block[i]);
+      const auto& h = b < body_horizon_.size() ? body_horizon_[b] : std::nullopt;
+      out.push_back(h ? (*h)(0, P.X[i].x, P.X[i].y, P.X[i].z) : deck_horizon_);
+    }
+    if (contact_) {
+      const Vec3 fc = i < contact.size() ? contact[i] : Vec3{};
+      out.insert(out.end(), {fc.x, fc.y, fc.z});
     }
   };
   auto take = [&](std::size_t g, const double* v) {
@@ -193,12 +218,15 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "Force_DensityX", "Force_DensityY", "Force_DensityZ", "ForceX", "ForceY", "ForceZ",
                     "AccelerationX", "AccelerationY", "AccelerationZ", "External_Force_DensityX",
                     "External_Force_DensityY", "External_Force_DensityZ"};
+    if (contact_)
+      for (const char* a : {"X", "Y", "Z"}) layout.nodal.push_back(std::string("Contact_Force_Density") + a);
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
     if (lambda_) layout.element.push_back("Lambda");
     if (gradient_)
       for (const char* r : {"X", "Y", "Z"})
         for (const char* c : {"X", "Y", "Z"}) layout.element.push_back(std::string("Deformation_Gradient") + r + c);
+    if (horizon_) layout.element.push_back("Horizon");
     layout.global = {"Global_Kinetic_Energy"};
     if (iterations_) layout.global.push_back("Nonlinear_Solver_Iterations");
     for (const auto& name : history_columns_names(columns_)) layout.global.push_back(name);
@@ -206,8 +234,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   ExodusStep step;
   step.time = time;
-  step.nodal.assign(18, std::vector<double>(n));
-  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0);
+  step.nodal.assign(contact_ ? 21 : 18, std::vector<double>(n));
+  const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0);
   step.element.assign(10 + extra, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -232,6 +260,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
     step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
     for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
+    if (contact_)
+      for (std::size_t c = 0; c < 3; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};
@@ -257,6 +287,11 @@ ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& file
 bool ExodusSchedule::due_file(std::size_t k, int64_t step) const {
   const int64_t every = step >= explicit_from_ && explicit_every_[k] > 0 ? explicit_every_[k] : every_[k];
   return step % every == 0 && step >= range_[k].first && step <= range_[k].second;
+}
+
+void ExodusSchedule::prepare(System& s) const {
+  for (const auto& f : files_)
+    if (f->contact_forces()) s.contact.record_forces(true);
 }
 
 bool ExodusSchedule::due(int64_t step) const {

@@ -24,6 +24,10 @@
 //                         material/nonlocal_gradient.hpp), exact for a homogeneous deformation;
 //   a history column's name  global: its value (vectors NAMEX, NAMEY, NAMEZ), as in history.csv
 //                         but at full precision: Peridigm's compute classes' Output Labels.
+//   Contact_Force_Density nodal Contact_Force_DensityX, Y, Z (after the fixed set): the
+//                         short-range contact's force density of the last force pass
+//                         (friction included; state/short_range.hpp record_forces), 0
+//                         where no pair touches.
 // On several MPI ranks every particle is streamed to rank 0 in global order
 // (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
 // byte, as one rank.
@@ -60,6 +64,8 @@ class ExodusOutput {
   // created with the first). Throws OutputError on the writing rank.
   void write(const System& s, const Decomposition* d, double time);
   const std::string& path() const { return path_; }
+  // Whether the file has Contact_Force_Density (the contact keeps its forces for it).
+  bool contact_forces() const { return contact_; }
   // Static solves: the velocities the next write reports, (u - u_before) / dt per held
   // particle -- the last load step's displacement increment over its pseudo-time
   // increment, what Peridigm's QuasiStatic solver reports as the velocity.
@@ -75,7 +81,11 @@ class ExodusOutput {
   std::unique_ptr<ExodusWriter> writer_;
   std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
   std::optional<int> iterations_;  // Nonlinear_Solver_Iterations, when the file has it
-  bool lambda_ = false, gradient_ = false;  // the element variables asked for
+  bool lambda_ = false, gradient_ = false, horizon_ = false;  // the element variables asked for
+  bool contact_ = false;                     // Contact_Force_Density (nodal)
+  // Horizon: each particle's (its body's own, BodyConfig::horizon, else the deck's).
+  std::vector<std::optional<Expression>> body_horizon_;
+  double deck_horizon_ = 0;
   bool verlet_ = false;                      // velocity: verlet
   const Loads* loads_ = nullptr;
   double verlet_dt_ = 0;
@@ -94,6 +104,9 @@ class ExodusSchedule {
   void set_iterations(int n);
   bool empty() const { return files_.empty(); }
   bool due(int64_t step) const;
+  // Before the first force pass: the contact keeps its per-particle forces where a file
+  // writes Contact_Force_Density (ShortRangeContact::record_forces).
+  void prepare(System& s) const;
   // Collective: the files due at `step` get the state at `time`.
   void write(const System& s, const Decomposition* d, double time, int64_t step);
   // Static solves: as ExodusOutput::set_step_velocity, for every file.

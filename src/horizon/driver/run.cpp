@@ -88,7 +88,10 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.pvd = std::make_unique<PvdIndex>((r.dir / "frames.pvd").string());
   if (c.output.writes_exodus()) r.exodus = std::make_unique<ExodusOutput>((r.dir / c.output.exodus_file).string());
-  if (!c.output.exodus_files.empty()) r.exodus_files = std::make_unique<ExodusSchedule>(c.output.exodus_files, r.dir, false, c);
+  if (!c.output.exodus_files.empty()) {
+    r.exodus_files = std::make_unique<ExodusSchedule>(c.output.exodus_files, r.dir, false, c);
+    r.exodus_files->prepare(r.s);
+  }
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();

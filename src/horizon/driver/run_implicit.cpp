@@ -269,7 +269,10 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     exodus = std::make_unique<ExodusOutput>((dir / config.output.exodus_file).string(), true);
   // output.exodus_files: each on its own steps (static: load steps).
   std::unique_ptr<ExodusSchedule> exodus_files;
-  if (!config.output.exodus_files.empty()) exodus_files = std::make_unique<ExodusSchedule>(config.output.exodus_files, dir, true, config);
+  if (!config.output.exodus_files.empty()) {
+    exodus_files = std::make_unique<ExodusSchedule>(config.output.exodus_files, dir, true, config);
+    exodus_files->prepare(s);
+  }
   auto write_frame = [&](double time, int64_t step) {
     if (exodus) exodus->write(s, dd.get(), time);
     if (!config.output.writes_vtu()) return;

@@ -40,6 +40,10 @@ struct BondKind {
   double fraction = 1;  // partial-volume factor: the bond uses fraction * volume
   double weight = 1;    // influence function omega_ij
   int32_t material_i = 0, material_j = 0;  // materials of the two ends (for weight and coefficients)
+  // Bodies of different horizons (restrict_to_horizons, family/neighbors.hpp): |xi| lies
+  // beyond the horizon of end i but within that of end j, so the bond is in j's family
+  // alone; setup_model gives it omega_ij = 0, and it acts through t_ji.
+  bool one_way = false;
 };
 
 struct Bonds;

@@ -38,20 +38,22 @@ CellGrid make_grid(const std::vector<Vec3>& points, double radius) {
 struct KindKey {
   uint64_t length, volume, fraction, weight;
   int32_t mi, mj;
+  bool one_way;
   bool operator==(const KindKey&) const = default;
-  auto tie() const { return std::tie(length, volume, fraction, weight, mi, mj); }
+  auto tie() const { return std::tie(length, volume, fraction, weight, mi, mj, one_way); }
   bool operator<(const KindKey& o) const { return tie() < o.tie(); }
 };
 
 KindKey key_of(const BondKind& c) {
   return {std::bit_cast<uint64_t>(c.length), std::bit_cast<uint64_t>(c.volume), std::bit_cast<uint64_t>(c.fraction),
-          std::bit_cast<uint64_t>(c.weight), c.material_i, c.material_j};
+          std::bit_cast<uint64_t>(c.weight), c.material_i, c.material_j, c.one_way};
 }
 
 uint64_t hash_of(const KindKey& k) {
   uint64_t h = 0x9e3779b97f4a7c15ull;
   for (uint64_t v : {k.length, k.volume, k.fraction, k.weight,
-                     (static_cast<uint64_t>(static_cast<uint32_t>(k.mi)) << 32) | static_cast<uint32_t>(k.mj)}) {
+                     (static_cast<uint64_t>(static_cast<uint32_t>(k.mi)) << 32) | static_cast<uint32_t>(k.mj),
+                     static_cast<uint64_t>(k.one_way)}) {
     h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
     h *= 0xff51afd7ed558ccdull;
   }
@@ -372,6 +374,25 @@ void scale_bond_weights(Bonds& bonds, const std::vector<double>& factor) {
     c.weight *= factor[k];
     return c;
   });
+}
+
+uint64_t restrict_to_horizons(Bonds& bonds, const std::vector<double>& horizon) {
+  rewrite_bonds(bonds, [&](std::size_t i, uint64_t k) {
+    const double L = bonds.length_of(k);
+    return within_horizon(L, horizon[i]) || within_horizon(L, horizon[bonds.nbr[k]]) ? BondAction::keep
+                                                                                      : BondAction::drop;
+  });
+  uint64_t one_way = 0;
+  for (std::size_t i = 0; i < bonds.particles(); ++i)
+    for (uint64_t k = bonds.begin(i); k < bonds.end(i); ++k) one_way += within_horizon(bonds.length_of(k), horizon[i]) ? 0 : 1;
+  if (one_way == 0) return 0;  // every pair in both families: the kinds stay as they are
+  const std::vector<BondKind> old = bonds.kinds;
+  regroup(bonds, [&](std::size_t i, uint64_t k) {
+    BondKind c = old[bonds.kind[k]];
+    c.one_way = !within_horizon(bonds.length_of(k), horizon[i]);
+    return c;
+  });
+  return one_way;
 }
 
 }  // namespace horizon

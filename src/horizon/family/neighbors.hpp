@@ -57,4 +57,21 @@ void split_kinds_by_material(Bonds& bonds, const std::vector<int32_t>& material)
 // material/surface_correction.hpp).
 void scale_bond_weights(Bonds& bonds, const std::vector<double>& factor);
 
+// Families of particles with their own horizons (bodies' `horizon`, docs/input.md):
+// `horizon` has one value per particle, none above the search radius the bonds were found
+// with. j is in i's family when |xi| <= delta_i (1 + kOwnHorizonTolerance): Peridigm's
+// directed neighbour lists (its MultipleHorizons gold: each particle lists the points
+// within its own block's horizon, whatever the neighbour's). A pair in neither family is
+// dropped; a pair in one family alone stays a bond at both ends (the rows hold both
+// directions), the direction outside i's family marked BondKind::one_way (omega_ij = 0
+// once the models are set up, so it adds to neither m_i nor theta_i nor t_ij, and the
+// pair acts through t_ji alone). Returns the number of one-way bonds (directed).
+uint64_t restrict_to_horizons(Bonds& bonds, const std::vector<double>& horizon);
+// Tighter than the search's 1e-10: MultipleHorizons tells apart horizons 1e-12 apart
+// (0.999999999999 leaves out the points at 1, 1.000000000001 those at 1.000000000002).
+constexpr double kOwnHorizonTolerance = 1e-13;
+inline bool within_horizon(double length, double horizon) {
+  return length <= horizon * (1 + kOwnHorizonTolerance);
+}
+
 }  // namespace horizon

@@ -14,6 +14,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/fe/fe_region.hpp"
+#include "horizon/family/bond_helpers.hpp"
 #include "horizon/family/neighbors.hpp"
 #include "horizon/family/precrack.hpp"
 #include "horizon/geometry/lattice.hpp"
@@ -137,6 +138,66 @@ void keep_local_particles(System& s, std::vector<uint8_t>& built, std::vector<ui
   built = std::move(built_l);
   owned = std::move(owned_l);
   owner = std::move(owner_l);
+}
+
+// Each particle's own horizon (BodyConfig::horizon: its body's, else the deck's), or
+// empty when no body gives one. The options that read one horizon for every bond are
+// refused with per-body horizons.
+std::vector<double> particle_horizons(const System& s, const Config& config) {
+  bool any = false;
+  for (const auto& b : config.bodies) any = any || b.horizon.has_value();
+  if (!any) return {};
+  auto refuse = [&](const std::string& what) {
+    throw Error(config.deck_file + ": bodies with their own horizon: " + what +
+                " reads one horizon for every bond; not supported with bodies.horizon");
+  };
+  if (config.partial_volume) refuse("partial_volume");
+  if (config.family_box) refuse("family_box");
+  if (s.fe) refuse("a finite-element body's coupling");
+  if (config.thermal.enabled) refuse("heat conduction (its moments)");
+  for (const auto& mat : config.materials) {
+    if (mat.influence != InfluenceKind::constant && mat.influence != InfluenceKind::inverse_length)
+      refuse("material '" + mat.name + "': an influence function of |xi|/delta (only constant and inverse_length)");
+    if (const auto sc = mat.parameters.find("surface_correction"); sc != mat.parameters.end() && sc->second != 0)
+      refuse("material '" + mat.name + "': surface_correction");
+  }
+  const auto& P = s.particles;
+  std::vector<double> h(P.size(), config.horizon);
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const BodyConfig& body = config.bodies[static_cast<std::size_t>(P.block[i])];
+    if (!body.horizon) continue;
+    const Vec3& X = P.X[i];
+    const double v = (*body.horizon)(0, X.x, X.y, X.z);
+    if (!(v > 0) || !(v <= config.horizon * (1 + 1e-12)))
+      throw Error(fmt::format("{}: bodies.{}.horizon: {} at the particle ({}, {}, {}); expected a value in (0, {}] (the "
+                              "deck's horizon bounds every body's: the families are searched within it)",
+                              config.deck_file, body.name, v, X.x, X.y, X.z, config.horizon));
+    h[i] = v;
+  }
+  return h;
+}
+
+// The horizon material m's constants take (ModelSetup::config.horizon and dims.horizon):
+// the one horizon of its bodies, or, where its particles have several (bodies of
+// different horizons, or one that varies in space), the deck's, for the models whose
+// forces do not scale with it (lps: m_i is each particle's own; correspondence: its
+// stabilisation modulus alone reads it). Decided from the deck alone, so every rank agrees.
+double material_horizon(const Config& config, const MaterialConfig& mat) {
+  std::optional<double> one;
+  bool several = false;
+  for (const auto& body : config.bodies) {
+    if (body.material != mat.name || body.discretization == Discretization::fe) continue;
+    const double v = !body.horizon ? config.horizon : body.horizon->is_constant() ? (*body.horizon)(0) : -1;
+    if (v < 0 || (one && *one != v)) several = true;
+    one = v;
+  }
+  if (!several) return one ? *one : config.horizon;
+  if ((mat.model != "lps" && mat.model != "correspondence") || mat.damage.fracture_energy)
+    throw Error(config.deck_file + ": material '" + mat.name + "' (model " + mat.model +
+                "): its particles have different horizons (bodies of different horizons, or one that varies in space), "
+                "and its constants" + (mat.damage.fracture_energy ? " (the critical stretch from fracture_energy)" : "") +
+                " depend on the horizon; give each horizon its own material");
+  return config.horizon;
 }
 
 // `split`: the rows of this rank alone (build_system_split, parallel/decomposition.hpp).
@@ -285,6 +346,11 @@ System build(const Config& config, bool split, Decomposition* local = nullptr, b
       return BondAction::keep;
     });
   }
+  // Bodies of their own horizons: each particle's family within its own horizon.
+  if (const std::vector<double> own = particle_horizons(s, config); !own.empty()) {
+    const uint64_t one_way = restrict_to_horizons(s.bonds, own);
+    s.one_way_bonds = (split ? sum_over_ranks(one_way) : one_way) > 0;
+  }
   check_precracks_cut(s, config, split);
   // The owned rows' intact bonds: cut_bonds drops a bond or keeps it broken (keep_broken).
   auto owned_intact = [&] {
@@ -358,6 +424,9 @@ System build_system_split(const Config& config, Decomposition& d) {
   // without alpha is built with the owned rows first, and again with the neighbours'
   // rows when any rank's models turn out state-based.
   bool neighbour_rows = false;
+  // Bodies of their own horizons may give one-way bonds: the general pass, which reads
+  // t_ji from j's row.
+  for (const auto& body : config.bodies) neighbour_rows = neighbour_rows || body.horizon.has_value();
   for (const auto& mat : config.materials) {
     const ModelEntry* e = find_model(mat.model);
     neighbour_rows = neighbour_rows || !e || !e->traits.unified || (mat.damage.enabled && mat.damage.alpha != 0);
@@ -477,6 +546,7 @@ void setup_model(System& s, const std::vector<MaterialConfig>& given, const Conf
   for (auto& c : B.kinds) {
     c.weight = 0.5 * (influence(materials[c.material_i].influence, c.length, cfg.horizon) +
                       influence(materials[c.material_j].influence, c.length, cfg.horizon));
+    if (c.one_way) c.weight = 0;  // beyond i's own horizon: in j's family alone (restrict_to_horizons)
   }
 
   M.weighted_volume.assign(n, 0);
@@ -491,8 +561,18 @@ void setup_model(System& s, const std::vector<MaterialConfig>& given, const Conf
 
   std::vector<std::vector<uint32_t>> members(materials.size());
   for (std::size_t i = 0; i < n; ++i) members[P.material[i]].push_back(static_cast<uint32_t>(i));
-  for (std::size_t m = 0; m < materials.size(); ++m)
-    s.models[m].setup(ModelSetup{s, cfg, materials[m], static_cast<int>(m), std::move(members[m]), dims});
+  bool own_horizons = false;
+  for (const auto& body : cfg.bodies) own_horizons = own_horizons || body.horizon.has_value();
+  for (std::size_t m = 0; m < materials.size(); ++m) {
+    if (!own_horizons) {
+      s.models[m].setup(ModelSetup{s, cfg, materials[m], static_cast<int>(m), std::move(members[m]), dims});
+      continue;
+    }
+    // Bodies of their own horizons: each material's constants with its bodies' horizon.
+    Config own = cfg;
+    own.horizon = material_horizon(cfg, materials[m]);
+    s.models[m].setup(ModelSetup{s, own, materials[m], static_cast<int>(m), std::move(members[m]), dimensioning(own)});
+  }
   M.break_after_force = false;
   for (const auto& mat : materials)
     if (mat.damage.enabled) M.break_after_force = M.break_after_force || mat.damage.break_after_force;
@@ -530,12 +610,23 @@ double stable_time_step(const System& s) {
   // rank does not compute.
   const std::vector<uint32_t>* own = s.decomposition && !s.owned.empty() ? &s.owned : nullptr;
   const std::size_t n = own ? own->size() : P.size();
+  std::vector<uint64_t> reverse;
+  if (s.one_way_bonds) reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
+  const std::vector<uint64_t>* rev = s.one_way_bonds ? &reverse : nullptr;
 #pragma omp parallel for schedule(static) reduction(min : dt)
   for (std::size_t a = 0; a < n; ++a) {
     const std::size_t i = own ? (*own)[a] : a;
     double sum = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       const uint32_t j = B.nbr[k];
+      if (rev) {
+        // One-way bonds: each direction's spring with its own weight, omega_ij and omega_ji
+        // (the sum below when they are equal).
+        const double si = gp ? s.model.spring[i] * gp[i] : s.model.spring[i];
+        const double sj = gp ? s.model.spring[j] * gp[j] : s.model.spring[j];
+        sum += B.volume[k] * (B.weight[k] * si + B.weight[(*rev)[k]] * sj) / B.length[k];
+        continue;
+      }
       const double spring = gp ? s.model.spring[i] * gp[i] + s.model.spring[j] * gp[j]
                                : s.model.spring[i] + s.model.spring[j];
       sum += B.volume[k] * B.weight[k] * spring / B.length[k];

@@ -8,6 +8,7 @@ namespace horizon {
 
 std::string flat_unsupported(const System& s, const Loads& loads) {
   if (s.models.owner() || !s.models.all_unified()) return "a model without the unified per-bond form (ModelTraits::unified)";
+  if (s.one_way_bonds) return "bodies of different horizons (one-way bonds: the general force pass)";
   if (!loads.projectiles().empty()) return "projectiles";
   for (const AppliedLoad& L : loads.loads()) {
     if (L.indenter) return "the indenter " + L.name;

@@ -1005,8 +1005,10 @@ ForceStats compute_forces(System& s, bool energy) {
     build_kind_coefficients(s, DamageMeasure::weighted);
   // The fast loops know no temperature: a thermal strain or a temperature-dependent
   // critical stretch takes the general pass.
+  // One-way bonds (bodies of different horizons) need t_ji with j's own weight: the
+  // general pass too (the fast loops take omega_ij for both directions).
   if (!s.models.all_unified() || g_path == KernelPath::general || !s.thermal_strain.empty() ||
-      !s.critical_stretch_factor.empty()) {
+      !s.critical_stretch_factor.empty() || s.one_way_bonds) {
     if (s.bonds.length_per_bond) {
       // The general pass reads kinds with their lengths: regrouped, the same damage weights
       // (the running intact sums stay valid). Setup does this for the decks that need it

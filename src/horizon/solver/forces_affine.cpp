@@ -91,7 +91,8 @@ RowOut break_row(System& s, std::size_t i, bool after, const double* soft, corre
 }  // namespace
 
 bool affine_general_pass(const System& s) {
-  if (general_reference() || s.models.size() == 0) return false;
+  // One-way bonds: the record sum takes one omega for both directions of a bond.
+  if (general_reference() || s.models.size() == 0 || s.one_way_bonds) return false;
   for (const auto& m : s.models)
     if (!m->traits().affine) return false;
   return true;

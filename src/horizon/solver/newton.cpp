@@ -51,7 +51,7 @@ SolveReport newton_solve(System& s, const DofMap& d, const NewtonOptions& o, Lin
   const bool unified = unified_form(s);
   if (!unified && o.linear_solver == LinearSolverKind::matrix_free) {
     rep.failure = "the matrix-free product needs the analytic tangent of the unified models (`horizon models`: Model::unified), which this run's models lack: use "
-                  "solver.linear_solver cg or cholesky (finite-difference tangent)";
+                  "solver.linear_solver cg or cholesky (the model's assembled tangent, or finite differences of the forces)";
     return rep;
   }
   // The round-off bound of the residual (needed only when the residual stagnates): from

@@ -541,11 +541,18 @@ double round_off_residual(const System& s, const DofMap& d, const SparseMatrix& 
 namespace horizon {
 
 bool model_tangent(const System& s, const DofMap& d, SparseMatrix& K) {
-  const Model* owner = s.models.owner();
-  if (!owner) return false;
   StiffnessSink sink;
   sink.dof = d.index.data();
-  if (!owner->stiffness(s, sink)) return false;
+  // The owner of the force pass, or a model whose stiffness covers the whole system (the
+  // correspondence model when it holds every particle).
+  bool have = false;
+  if (const Model* owner = s.models.owner()) {
+    have = owner->stiffness(s, sink);
+  } else {
+    for (const auto& m : s.models)
+      if ((have = m->stiffness(s, sink))) break;
+  }
+  if (!have) return false;
   std::vector<Eigen::Triplet<double, int>> triplets;
   triplets.reserve(sink.entries.size());
   for (const StiffnessEntry& e : sink.entries) triplets.emplace_back(e.row, e.col, e.value);

@@ -55,8 +55,9 @@ int64_t tangent_nonzeros(const System& s, const DofMap& d, const Linearization& 
 // forces are restored. probe: the displacement step [m] (default 1e-6 spacing).
 SparseMatrix finite_difference_tangent(System& s, const DofMap& d, double probe = 0);
 
-// The analytic tangent of the model that owns the force pass (Model::stiffness), at the
-// state of the last compute_forces: false when there is no such model or it has none.
+// The analytic tangent of the model that owns the force pass, or of a model that holds
+// every particle (Model::stiffness; the correspondence model), at the current
+// displacements: false when there is no such model or it has none.
 bool model_tangent(const System& s, const DofMap& d, SparseMatrix& K);
 
 // The assembled tangent a static or implicit solver uses: the unified analytic one, the

@@ -49,6 +49,7 @@ void build_kind_tables(System& s, DamageMeasure measure) {
     c.inv_length = 1.0 / b.length;  // (bonds with their own lengths: set below)
     c.wv = b.weight * b.volume * b.fraction;
     c.damage = measure == DamageMeasure::weighted ? c.wv : b.volume;
+    if (b.one_way) c.damage = 0;  // outside i's family (restrict_to_horizons): not in i's damage
     if (end_i[q] < 0) continue;  // no bond of this kind left (all cut by precracks)
     const auto i = static_cast<std::size_t>(end_i[q]), j = static_cast<std::size_t>(end_j[q]);
     if (B.length_per_bond) {

@@ -74,6 +74,14 @@ class ShortRangeContact {
   double reach() const { return enabled_ ? cutoff_ : 0.0; }
   double cutoff() const { return cutoff_; }
 
+  // Keep each particle's contact force density of the last add_forces (the pairs of its
+  // own list, friction included): Exodus output's Contact_Force_Density. Off by default
+  // (one store a particle per pass when on). For the LAMMPS law it leaves out the family
+  // pairs' contact, which the bond loops add to the bond forces.
+  void record_forces(bool on) { record_ = on; }
+  bool records_forces() const { return record_; }
+  const std::vector<Vec3>& recorded_forces() const { return recorded_; }
+
   // Particle updates so far (each particle counts once per update), and pairs listed now.
   std::size_t rebuilds() const { return rebuilds_; }
   std::size_t candidates() const { return candidates_; }
@@ -85,7 +93,9 @@ class ShortRangeContact {
   bool enabled_ = false;
   ShortRangeContactConfig config_;
   double cutoff_ = 0, skin_ = 0, horizon_ = 0;
-  double peridigm_k_ = 0;              // law peridigm: 9 k/(pi delta^4)/delta
+  double peridigm_k_ = 0;              // law peridigm: 2 x 9 k/(pi delta^4)/delta
+  bool record_ = false;
+  std::vector<Vec3> recorded_;         // record_forces: per particle, the last pass's sum
   std::vector<uint8_t> touch_;         // pairs: bodies a, b touch when touch_[a * bodies + b]
   std::size_t touch_bodies_ = 0;
   std::vector<Vec3> y_built_;                  // position at each particle's last update

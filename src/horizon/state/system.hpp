@@ -145,8 +145,13 @@ struct System {
   // all three for shells (deck structure, docs/input.md). 0: by the dimension.
   uint8_t active_components = 0;
   bool active(int c) const { return active_components ? ((active_components >> c) & 1u) != 0 : c < dimension; }
-  double horizon = 0;
+  double horizon = 0;  // the deck's: with bodies of their own horizons, the largest
   double spacing = 0;
+  // Some bond lies in one end's family alone (bodies of different horizons: BondKind::one_way,
+  // omega_ij = 0 on it). The force passes that evaluate both directions of a bond from one
+  // row's weight (the unified fast loops, the affine pass, the analytic tangent) assume
+  // omega_ij = omega_ji; such a run takes the general pass, which reads t_ji from j's row.
+  bool one_way_bonds = false;
   // The largest particle-side penalty stiffness of the rigid projectiles' contact, d b / d d
   // [N/m^4] (contact/rigid_contact.hpp penalty_stiffness): stable_time_step adds it to every
   // particle's bond stiffness. 0 without projectiles.

@@ -49,9 +49,10 @@ struct Translation {
   const DeckContext& ctx;
   fs::path folder;
   std::vector<Point> points;  // in Peridigm's global id order (id = index + 1)
-  double horizon = 0;
+  double horizon = 0;  // the blocks' (with several, the group's being read, then the largest)
   YAML::Node out;
   std::optional<Item> horizon_item;
+  bool several_horizons = false;  // block groups of different horizons, or one that varies in space
 };
 
 // Numbers as their shortest exact decimal text (reads back to the same double).
@@ -65,6 +66,16 @@ YAML::Node point_row(const Vec3& x, std::optional<double> volume) {
   row.push_back(number(x.z));
   if (volume) row.push_back(number(*volume));
   return row;
+}
+
+// Whether the text is a number alone (spaces around it allowed), as strtod reads one.
+bool whole_number_text(const std::string& text) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  std::strtod(begin, &end);
+  if (end == begin) return false;
+  while (*end == ' ' || *end == '\t') ++end;
+  return *end == '\0';
 }
 
 // A value that may be a number or a string holding one.
@@ -153,6 +164,10 @@ void fill_grid(Translation& t, const Grid& g) {
 // the box bonds other pairs than the sphere on this grid, the native deck gets
 // `family_box: [n_x dx, n_y dy, n_z dz]` (decks whose two agree are left as they were).
 void box_neighbourhood(Translation& t, const Grid& g) {
+  if (t.several_horizons)
+    t.ctx.fail(t.horizon_item->mark, t.horizon_item->path + ": PdQuickGrid's box neighbourhood (no NeighborhoodType) "
+                                                            "with blocks of different horizons is not supported; give "
+                                                            "NeighborhoodType: Spherical");
   const Vec3 d{g.length.x / g.n[0], g.length.y / g.n[1], g.length.z / g.n[2]};
   int cells[3];
   for (int k = 0; k < 3; ++k) cells[k] = static_cast<int>(std::floor(t.horizon / d[k] + 0.5));
@@ -216,6 +231,9 @@ YAML::Node read_material(Translation& t, const Item& item) {
         if (auto it = m.find(other))
           t.ctx.fail(*it->key_mark, it->path + ": a planar Elastic Bond Based material takes the Bulk Modulus alone");
       const double K = read_positive(t.ctx, k);
+      if (!(t.horizon > 0))
+        t.ctx.fail(k.mark, k.path + ": a planar Elastic Bond Based material needs one horizon for its blocks (c = 12 K/(pi h "
+                                    "delta^3)), not one that varies in space");
       mat["micromodulus"] = number(12 * K / (std::numbers::pi * h * std::pow(t.horizon, 3)));
       planar_c = true;  // the moduli are not given with c (below)
     } else if (auto hk = m.find("Height")) {
@@ -848,7 +866,7 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
         "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
         "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
-        "Nonlinear_Solver_Iterations", "Deformation_Gradient"};
+        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density"};
     for (const auto& e : map_entries(ctx, *vars)) {
       // The globals Peridigm writes become history columns under their own names (once,
       // whichever lists name them), and compute classes' Output Labels are written by
@@ -883,7 +901,8 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
       }
       // Lambda (elastic_plastic's plastic multiplier) and Deformation_Gradient are written
       // where asked (output.exodus_files' variables, driver/exodus_output.hpp).
-      if (read_bool(ctx, e.value) && e.key == "Lambda") variables.push_back(e.key);
+      if (read_bool(ctx, e.value) && (e.key == "Lambda" || e.key == "Contact_Force_Density" || e.key == "Horizon"))
+        variables.push_back(e.key);
     }
   }
   if (variables.size()) {
@@ -943,7 +962,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   // Peridigm reads each top-level list whose name starts with "Solver" as a solver and each
   // one whose name starts with "Output" as an output list (Solver1, Output_1, Output Data).
   std::vector<std::string> top_keys = {"Verbose", "Discretization", "Materials", "Damage Models", "Blocks",
-                                       "Boundary Conditions", "Contact", "Compute Class Parameters"};
+                                       "Boundary Conditions", "Contact", "Compute Class Parameters", "Restart"};
   std::vector<std::string> solver_keys, output_keys;
   for (const auto& e : map_entries(ctx, pd)) {
     if (e.key.rfind("Solver", 0) == 0) solver_keys.push_back(e.key), top_keys.push_back(e.key);
@@ -953,8 +972,42 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   MapReader m(ctx, pd, top_keys);
   if (solver_keys.empty()) m.get("Solver", "Initial Time, Final Time and one of Verlet, QuasiStatic, NOXQuasiStatic, Implicit");
   if (auto v = m.find("Verbose")) read_bool(ctx, *v);
+  if (auto r = m.find("Restart")) {
+    // Peridigm's Restart (Contact_Perforation_With_Restart's Run1, Run2): the run writes its
+    // state at its end into ./restart-N/, and a later deck whose Initial Time is that end
+    // continues from the newest such folder in the working directory. Horizon's checkpoints
+    // (output.checkpoint, `horizon run DECK --restart FILE`; docs/input.md) continue the
+    // same deck to its own end: written every N steps but not at the last, without Exodus
+    // files, from t = 0 decks only. Read as a map; `Restart: false` has no effect.
+    MapReader rm(ctx, *r, {"Restart"});
+    const Item on = rm.get("Restart", "true or false");
+    if (read_bool(ctx, on))
+      ctx.fail(on.mark, on.path + ": Peridigm's restart (write the state at the end of this run into restart-N/, "
+                                  "continued by another deck whose Initial Time is this run's Final Time) is not "
+                                  "mapped: Horizon's checkpoints continue the same deck (output.checkpoint and `horizon "
+                                  "run DECK --restart FILE`, docs/input.md), are not written at the last step and not "
+                                  "with Exodus output; run the whole time span as one deck (Initial Time 0 to the "
+                                  "last Final Time)");
+  }
 
-  // Blocks first: the horizon (one for all blocks) shapes the discretisation checks.
+  // Blocks first: their horizons shape the discretisation checks. A group without its own
+  // Horizon takes the Discretization's (Peridigm's older place for it: SurfaceFactorCube).
+  const Item disc = m.get("Discretization", "Type: Text File or PdQuickGrid");
+  MapReader d(ctx, disc,
+              {"Type", "Input Mesh File", "NeighborhoodType", "TensorProduct3DMeshGenerator", "Influence Function",
+               "Omit Bonds Between Blocks", "Bond Filters", "Horizon", "Compute Element-Horizon Intersections",
+               "Element-Horizon Intersection Recursion Level", "Element-Horizon Intersection Number Of Samples"});
+  const std::optional<Item> disc_horizon = d.find("Horizon");
+  // Peridigm's element-horizon intersections (NeighborhoodVolume): each neighbour counted
+  // by the part of its element inside the horizon sphere, found by sampling the element
+  // recursively. Not mapped (Horizon's partial volumes are per lattice cell, docs/models.md
+  // sec. 4); `false` has no effect, and the sampling keys are read with it.
+  if (auto ci = d.find("Compute Element-Horizon Intersections"); ci && read_bool(ctx, *ci))
+    ctx.fail(ci->mark, ci->path + ": Peridigm's element-horizon intersections (each neighbour's volume cut by the "
+                                  "horizon sphere, sampled element by element) are not mapped; Horizon counts whole "
+                                  "volumes for a mesh's particles");
+  for (const char* k : {"Element-Horizon Intersection Recursion Level", "Element-Horizon Intersection Number Of Samples"})
+    if (auto it = d.find(k)) read_int(ctx, *it);
   const Item blocks = m.get("Blocks", "a map of block groups {Block Names, Material, Horizon}");
   struct Group {
     std::string name;
@@ -963,40 +1016,41 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     std::string material, damage;
     Item material_item;
     std::optional<Item> damage_item;
+    std::optional<double> horizon;  // the group's horizon; unset: an expression in x, y, z
+    std::string horizon_text;       // the expression (muParser), when it varies in space
+    Item horizon_item;
   };
   std::vector<Group> groups;
   for (const auto& e : map_entries(ctx, blocks)) {
     MapReader b(ctx, e.value, {"Block Names", "Material", "Damage Model", "Horizon"});
     Group g{e.key, {}, b.get("Block Names", "e.g. \"block_1 block_2\" or default"), "", "",
-            b.get("Material", "the name of one of the Materials"), b.find("Damage Model")};
+            b.get("Material", "the name of one of the Materials"), b.find("Damage Model"), std::nullopt, "", Item{}};
     std::istringstream names(read_string(ctx, g.names_item));
     for (std::string w; names >> w;) g.block_names.push_back(w);
     g.material = read_string(ctx, g.material_item);
     if (g.damage_item) g.damage = read_string(ctx, *g.damage_item);
-    const Item h = b.get("Horizon", "the horizon of these blocks");
-    if (h.node.IsScalar() && !h.node.Scalar().empty()) {
-      char* end = nullptr;
-      std::strtod(h.node.Scalar().c_str(), &end);
-      if (*end != '\0')
-        ctx.fail(h.mark, h.path + ": a horizon that varies in space ('" + h.node.Scalar() +
-                             "') is not supported; Horizon has one horizon for the whole deck");
+    // Each group its own horizon (a number, or an expression in x, y, z: Peridigm's
+    // variable horizon); groups of different horizons become bodies with their own
+    // (docs/input.md "Bodies of different horizons"), bonded as Peridigm's directed lists.
+    const std::optional<Item> own = b.find("Horizon");
+    const Item h = own ? *own : disc_horizon ? *disc_horizon : b.get("Horizon", "the horizon of these blocks");
+    g.horizon_item = h;
+    if (h.node.IsScalar() && whole_number_text(h.node.Scalar())) {
+      g.horizon = read_positive(ctx, h);
+    } else {
+      g.horizon_text = read_value(t, h);
+      if (mentions_t(g.horizon_text))
+        ctx.fail(h.mark, h.path + ": a horizon is a function of x, y, z (the reference position), not of t");
+      t.several_horizons = true;
     }
-    const double delta = read_positive(ctx, h);
-    if (t.horizon_item && delta != t.horizon)
-      ctx.fail(h.mark, fmt::format("{}: blocks with different horizons ({} here, {} at line {}) are not supported; "
-                                   "Horizon has one horizon for the whole deck",
-                                   h.path, delta, t.horizon, t.horizon_item->mark.line + 1));
-    t.horizon = delta;
-    t.horizon_item = h;
+    if (g.horizon && t.horizon_item && *g.horizon != t.horizon) t.several_horizons = true;
+    if (g.horizon && (!t.horizon_item || *g.horizon > t.horizon)) t.horizon = *g.horizon;
+    if (!t.horizon_item || g.horizon) t.horizon_item = h;
     groups.push_back(std::move(g));
   }
   if (groups.empty()) ctx.fail(blocks.mark, "Blocks: expected at least one block group");
 
   // Discretization.
-  const Item disc = m.get("Discretization", "Type: Text File or PdQuickGrid");
-  MapReader d(ctx, disc,
-              {"Type", "Input Mesh File", "NeighborhoodType", "TensorProduct3DMeshGenerator", "Influence Function",
-               "Omit Bonds Between Blocks", "Bond Filters"});
   if (auto bf = d.find("Bond Filters")) add_precracks(t, read_bond_filters(ctx, *bf));
   const Item type = d.get("Type", "Text File or PdQuickGrid");
   const std::string kind = squash(read_string(ctx, type));
@@ -1061,7 +1115,12 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   for (const auto& p : t.points) present.insert(p.block);
   for (const auto& g : groups) {
     check_reference(ctx, g.material_item, g.material, material_names, "material");
+    // The group's own horizon while its material is read (the planar micromodulus reads it;
+    // 0: one that varies in space).
+    const double largest = t.horizon;
+    t.horizon = g.horizon ? *g.horizon : 0;
     YAML::Node mat = read_material(t, materials.at(g.material));
+    t.horizon = largest;
     mat["influence"] = influence;
     if (g.damage_item) {
       check_reference(ctx, *g.damage_item, g.damage, damage_names, "damage model");
@@ -1110,6 +1169,32 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     if (!group_of_block.count(id))
       ctx.fail(blocks.mark, fmt::format("Blocks: block_{} of the discretisation is in no block group", id));
 
+  // Blocks of different horizons: the deck's horizon is the largest at any point (the
+  // search radius), and each body whose group has another gets its own (a number, or the
+  // expression in x, y, z the engine evaluates at each particle).
+  std::map<std::string, const Group*> group_named;
+  for (const auto& g : groups) group_named[g.name] = &g;
+  if (t.several_horizons) {
+    double largest = 0;
+    std::map<std::string, Expression> compiled;
+    for (const auto& p : t.points) {
+      const Group& g = *group_named.at(group_of_block.at(p.block));
+      double v = 0;
+      if (g.horizon) {
+        v = *g.horizon;
+      } else {
+        auto it = compiled.find(g.name);
+        if (it == compiled.end()) it = compiled.emplace(g.name, Expression(g.horizon_text)).first;
+        v = it->second(0, p.x.x, p.x.y, p.x.z);
+        if (!(v > 0) || !std::isfinite(v))
+          ctx.fail(g.horizon_item.mark, fmt::format("{}: the horizon is {} at the point ({}, {}, {}) of block_{}; "
+                                                    "expected > 0", g.horizon_item.path, v, p.x.x, p.x.y, p.x.z, p.block));
+      }
+      largest = std::max(largest, v);
+    }
+    t.horizon = largest;
+  }
+
   // The lattice keys Horizon needs: the spacing only bounds the horizon from below
   // for listed points (each point keeps its own volume); its smallest cube root.
   double spacing = 1e300;
@@ -1125,6 +1210,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     YAML::Node body;
     body["name"] = fmt::format("block_{}", id);
     body["material"] = group_of_block[id];
+    if (const Group& g = *group_named.at(group_of_block[id]); t.several_horizons && (!g.horizon || *g.horizon != t.horizon))
+      body["horizon"] = g.horizon ? number(*g.horizon) : YAML::Node(g.horizon_text);
     YAML::Node rows(YAML::NodeType::Sequence);
     for (const auto& p : t.points)
       if (p.block == id) rows.push_back(point_row(p.x, p.volume));

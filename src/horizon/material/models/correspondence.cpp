@@ -1,5 +1,6 @@
 #include "horizon/material/models/correspondence.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -74,6 +75,7 @@ class Correspondence final : public Model {
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
   bool spring_factors(const System& s, std::vector<double>& g) const override;
+  bool stiffness(const System& s, StiffnessSink& out) const override;
 
   void checkpoint(StateArchive& a) override {
     a.io_listed("committed", committed_, particles_);
@@ -285,6 +287,140 @@ bool Correspondence::spring_factors(const System& s, std::vector<double>& g) con
       den += w;
     }
     if (den > 0 && std::isfinite(num)) g[i] = num / den;
+  }
+  return true;
+}
+
+// The analytic tangent K = -dF/du (F_i = f_i V_i) of the pair form of the force density
+// (correspondence_kernels.hpp):
+//   f_i = sum_j w_ij ((M_i + M_j) xi_ij + (g_i + g_j) Y_ij),   w_ij = omega V_j,
+//   M_m = A_m - G F_m,  A_m = P(F_m) K_m^-1,  g_m = G  (M_m = 0, g_m = 0: m carries no stress).
+// With q_mk = w_mk K_m^-1 xi_mk and Q_m = sum_k q_mk, dF_m = sum_k du_k (x) q_mk - du_m (x) Q_m
+// (seed 003 eq. 134 differentiated; K_m symmetric), and for a vector v
+//   dM_m v = D_m[dF_m] K_m^-1 v - G dF_m v,   D_m = dP/dF at F_m,
+// so du_k = e_a moves dM_m v by R_m(v, q)_ra = sum_sc D_m[(r,s),(a,c)] (K_m^-1 v)_s q_c - G delta_ra (q . v)
+// with q = q_mk (and -Q_m for k = m). Row i then gathers
+//   R_i(s_i, .) over i's family, s_i = sum_j w_ij xi_ij (zero in the bulk: the surface's share),
+//   R_j(w_ij xi_ij, .) over the family of each neighbour j (the tangent reaches two horizons),
+//   (g_i + g_j) w_ij I for the Y of each bond.
+// D_m comes from central differences of the stress law at F_m (step 1e-6, from the
+// committed history: the consistent tangent of the step for j2), so every law of the model
+// has its tangent; the linear elastic law is linear in F and its difference quotient is
+// exact to round-off. Taken when this material holds every particle of a serial run (the
+// pair form's M_j of a neighbour of another model would need that model's tangent) and
+// every bond acts both ways; otherwise the static solvers take finite differences of the
+// forces.
+bool Correspondence::stiffness(const System& s, StiffnessSink& out) const {
+  const Particles& P = s.particles;
+  const Bonds& B = s.bonds;
+  const std::size_t n = P.size();
+  // One-way bonds (bodies of different horizons) have omega_ij != omega_ji: no pair form.
+  if (s.decomposition || s.one_way_bonds || particles_.size() != n) return false;
+  const int dim = law_.dimension;
+  using Mat9 = Eigen::Matrix<double, 9, 9>;
+  std::vector<Mat3> Kinv(n, Mat3::Zero());
+  std::vector<Mat9> D(n, Mat9::Zero());
+  std::vector<uint8_t> carries(n, 0);
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 yi = P.position(i);
+    NonlocalGradient grad;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+      if (B.intact[k]) grad.add(P.X[B.nbr[k]] - P.X[i], P.position(B.nbr[k]) - yi, B.weight[k] * B.volume[k]);
+    Mat3 F;
+    if (!grad.finish(dim, tolerance_, Kinv[i], F)) continue;
+    carries[i] = 1;
+    const std::size_t l = static_cast<std::size_t>(local_[i]);
+    History trial;
+    double work = 0;
+    if (!correspondence::evaluate_law(law_, F, committed_[l], trial, work).ok) continue;  // A = 0: G alone
+    constexpr double h = 1e-6;
+    for (int a = 0; a < dim; ++a)
+      for (int c = 0; c < dim; ++c) {
+        Mat3 Fp = F, Fm = F;
+        Fp(a, c) += h;
+        Fm(a, c) -= h;
+        const classical::LawResult rp = correspondence::evaluate_law(law_, Fp, committed_[l], trial, work);
+        const classical::LawResult rm = correspondence::evaluate_law(law_, Fm, committed_[l], trial, work);
+        if (!rp.ok || !rm.ok) continue;
+        const Mat3 dP = (rp.P - rm.P) / (2 * h);
+        for (int r = 0; r < 3; ++r)
+          for (int q = 0; q < 3; ++q) D[i](3 * r + q, 3 * a + c) = dP(r, q);
+      }
+  }
+  // q_mk of every acting bond and Q_m.
+  std::vector<Eigen::Vector3d> q(B.size(), Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> Q(n, Eigen::Vector3d::Zero());
+  for (std::size_t m = 0; m < n; ++m) {
+    if (!carries[m]) continue;
+    for (uint64_t k = B.begin(m); k < B.end(m); ++k) {
+      if (!B.intact[k]) continue;
+      const Vec3 xi = P.X[B.nbr[k]] - P.X[m];
+      q[k] = B.weight[k] * B.volume[k] * (Kinv[m] * correspondence::to_eigen(xi));
+      Q[m] += q[k];
+    }
+  }
+  // Row i's blocks by column particle (scratch: slot of each particle, -1 when untouched).
+  std::vector<int32_t> slot(n, -1);
+  std::vector<uint32_t> cols;
+  std::vector<Mat3> blocks;
+  auto block = [&](uint32_t k) -> Mat3& {
+    if (slot[k] < 0) {
+      slot[k] = static_cast<int32_t>(cols.size());
+      cols.push_back(k);
+      blocks.push_back(Mat3::Zero());
+    }
+    return blocks[static_cast<std::size_t>(slot[k])];
+  };
+  // Adds R_m(v, .) of every column particle of m's dF to row i's blocks.
+  auto add_response = [&](uint32_t m, const Eigen::Vector3d& v) {
+    const Eigen::Vector3d p = Kinv[m] * v;
+    std::array<double, 27> E{};  // E[(r, a, c)] = sum_s D[(r,s),(a,c)] p_s
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) {
+          double e = 0;
+          for (int t = 0; t < 3; ++t) e += D[m](3 * r + t, 3 * a + c) * p[t];
+          E[static_cast<std::size_t>(9 * r + 3 * a + c)] = e;
+        }
+    auto response = [&](const Eigen::Vector3d& qq) {
+      Mat3 R;
+      for (int r = 0; r < 3; ++r)
+        for (int a = 0; a < 3; ++a) {
+          const std::size_t e = static_cast<std::size_t>(9 * r + 3 * a);
+          R(r, a) = E[e] * qq[0] + E[e + 1] * qq[1] + E[e + 2] * qq[2];
+        }
+      R.diagonal().array() -= G_ * qq.dot(v);
+      return R;
+    };
+    for (uint64_t k = B.begin(m); k < B.end(m); ++k)
+      if (B.intact[k]) block(B.nbr[k]) += response(q[k]);
+    block(m) -= response(Q[m]);
+  };
+  for (uint32_t i = 0; i < n; ++i) {
+    const double gi = carries[i] ? G_ : 0.0;
+    Eigen::Vector3d si = Eigen::Vector3d::Zero();
+    block(i);  // the diagonal block first
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      const double w = B.weight[k] * B.volume[k];
+      const Eigen::Vector3d b = w * correspondence::to_eigen(P.X[j] - P.X[i]);
+      si += b;
+      if (carries[j]) add_response(j, b);
+      const double spring = (gi + (carries[j] ? G_ : 0.0)) * w;
+      block(j).diagonal().array() += spring;
+      block(i).diagonal().array() -= spring;
+    }
+    if (carries[i]) add_response(i, si);
+    const double V = P.volume[i];
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      for (int r = 0; r < dim; ++r)
+        for (int a = 0; a < dim; ++a) out.add(i, r, cols[c], a, -V * blocks[c](r, a));
+      slot[cols[c]] = -1;
+    }
+    cols.clear();
+    blocks.clear();
   }
   return true;
 }
