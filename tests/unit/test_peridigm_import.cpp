@@ -274,12 +274,14 @@ TEST(PeridigmImport, CorrespondencePlasticity) {
                           "      Flaw Size: 0.1\n";
   const YAML::Node n = convert(write_deck("ihc.yaml", "", "", mat));
   EXPECT_EQ(flow(n["materials"]["All"]),
-            "{model: correspondence, stress_law: j2, yield_stress: 250000000, stabilization: 0.02, "
-            "hardening_modulus: 1000000000, density: 7800, youngs_modulus: 200000000000, poissons_ratio: 0.29999999999999999, "
-            "influence: constant}");
+            "{model: correspondence, stress_law: hypoelastic_j2, stabilization_form: peridigm, stabilization: 0.02, "
+            "yield_stress: 250000000, hardening_modulus: 1000000000, density: 7800, youngs_modulus: 200000000000, "
+            "poissons_ratio: 0.29999999999999999, influence: constant}");
+  // Enable Flaw needs the flaw's centre (its other keys too).
   std::string flaw = mat;
   flaw.replace(flaw.find("false"), 5, "true");
-  EXPECT_NE(error_of(write_deck("flaw.yaml", "", "", flaw)).find("flaw is not supported"), std::string::npos);
+  const std::string e = error_of(write_deck("flaw.yaml", "", "", flaw));
+  EXPECT_NE(e.find("Flaw Location X"), std::string::npos) << e;
   std::string epc = "      Material Model: \"Elastic Plastic Correspondence\"\n"
                     "      Density: 7800.0\n"
                     "      Young's Modulus: 200.0e9\n"

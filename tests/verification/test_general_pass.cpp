@@ -4,7 +4,9 @@
 // bonds (model_checks.hpp impact_deck at 40 m/s, bonds breaking at a stretch of 0.2 %) give the same displacements to 1e-12 relative and velocities to 1e-11 (the pair
 // form sums the same terms in another order: round-off only), the same broken bonds, the same
 // energy ledger to 1e-9 of the initial energy (the booking of a broken bond rebuilds the
-// last pass's force state from its record), and the same bits on 1 and 2 threads.
+// last pass's force state from its record), and the same bits on 1 and 2 threads and
+// whichever rows the affine sweeps take (AVX-512 or the portable lanes,
+// solver/affine_sweeps.hpp; set_kernel_path(avx2) and (scalar) take the portable ones).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +16,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include "horizon/solver/forces.hpp"
 #include "horizon/solver/forces_general.hpp"
 #include "model_checks.hpp"
 
@@ -34,10 +37,11 @@ struct Run {
   double dissipated = 0, initial = 0, balance = 0;
 };
 
-Run run(const std::string& text, bool reference, int threads) {
+Run run(const std::string& text, bool reference, int threads, KernelPath path = KernelPath::automatic) {
   const int saved = omp_get_max_threads();
   omp_set_num_threads(threads);
   set_general_reference(reference);
+  set_kernel_path(path);
   Simulation sim(parse_deck(text, "general.yaml"));
   if (sim.system.models[0].traits().affine)
     EXPECT_EQ(affine_general_pass(sim.system), !reference);
@@ -45,6 +49,7 @@ Run run(const std::string& text, bool reference, int threads) {
     EXPECT_TRUE(sim.system.models[0].takes_pair_pass(sim.system)) << "the deck is meant for the pair form";
   for (int n = 0; n < 40; ++n) sim.solver->step(true);
   set_general_reference(false);
+  set_kernel_path(KernelPath::automatic);
   omp_set_num_threads(saved);
   Run r;
   r.u = sim.system.particles.u;
@@ -74,6 +79,11 @@ void check(const std::string& name, const std::string& text) {
   EXPECT_LE(dd, 1e-9);
   EXPECT_TRUE(same_bits(fast.u, two.u)) << "the fast form differs between 1 and 2 threads";
   EXPECT_TRUE(same_bits(fast.v, two.v));
+  for (const KernelPath path : {KernelPath::avx2, KernelPath::scalar}) {
+    const Run other = run(text, false, 1, path);
+    EXPECT_TRUE(same_bits(fast.u, other.u)) << "the fast form differs between its rows (" << int(path) << ")";
+    EXPECT_TRUE(same_bits(fast.v, other.v));
+  }
 }
 
 TEST(GeneralPass, CorrespondenceJ2MatchesTheVectorPass) {

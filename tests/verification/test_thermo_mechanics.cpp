@@ -248,7 +248,7 @@ spacing: 0.0005
 horizon_factor: 3
 materials:
   steel:
-    model: correspondence
+    model: nonlinear_solid
     density: 7850
     youngs_modulus: 200.0e9
     poissons_ratio: 0.3
@@ -265,7 +265,7 @@ solver: {end_time: 1.0e-6}
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("thermal expansion acts on models pmb, lps"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("material 'steel' (model correspondence)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("material 'steel' (model nonlinear_solid)"), std::string::npos) << e.what();
   }
 }
 

@@ -65,6 +65,9 @@ struct ThermalMaterialConfig {
   double specific_heat = 0;          // c [J/(kg K)]: heat capacity per volume rho c
   double expansion = 0;              // linear thermal expansion coefficient alpha [1/K]
   double reference_temperature = 0;  // T_ref [K]: no thermal strain at T = T_ref
+  // reference_temperature: initial -- T_ref,i is particle i's own temperature at t = 0
+  // (Peridigm's Temperature_Change = T - T(0), docs/peridigm.md).
+  bool reference_initial = false;
   double plastic_heat_fraction = 0;  // Taylor-Quinney beta: share of the dissipated plastic work turned to heat
   // Temperature-dependent critical stretch: s0(T) = s0 max(0, 1 + slope (T - T_ref)) [1/K].
   double critical_stretch_slope = 0;
@@ -379,6 +382,10 @@ struct ThermalConfig {
   // advances time_scale times the mechanical step per step (1: real time; > 1 accelerates
   // a slow heat transfer for a mechanical response that stays quasi-static).
   double time_scale = 1;
+  // false: no conduction; the temperature is a prescribed field (initial_temperature and
+  // the boundary's temperature conditions, which may cover the whole body) that strains the
+  // mechanics with any solver, static included (docs/input.md, "thermal").
+  bool conduction = true;
   std::vector<ThermalBoundaryConfig> boundary;
 };
 

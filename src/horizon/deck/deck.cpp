@@ -14,6 +14,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/deck/conditions.hpp"
 #include "horizon/deck/contact.hpp"
+#include "horizon/deck/exodus_variables.hpp"
 #include "horizon/deck/history_columns.hpp"
 #include "horizon/deck/materials.hpp"
 #include "horizon/deck/peridigm/function_string.hpp"
@@ -632,9 +633,10 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
           fail_expected(ctx, *ls, "a step number >= first_step (" + std::to_string(f.first_step) + ")");
       }
       if (auto vars = e.find("variables")) {
-        // Lambda, Deformation_Gradient, Contact_Force_Density, Horizon or a history column
-        // (driver/exodus_output.hpp).
+        // Lambda, Deformation_Gradient, Contact_Force_Density, Horizon, a model field
+        // variable or a history column (driver/exodus_output.hpp).
         std::vector<std::string> known = {"Lambda", "Deformation_Gradient", "Contact_Force_Density", "Horizon"};
+        for (const auto& m : model_field_variables()) known.push_back(m);
         for (const auto& c : config.output.history_columns) known.push_back(c.name);
         if (!vars->node.IsSequence()) fail_expected(ctx, *vars, "a list of variable names");
         for (std::size_t v = 0; v < vars->node.size(); ++v) {
@@ -721,11 +723,27 @@ void check_thermal(const DeckContext& ctx, const MapReader& m, const Config& con
   }
   if (!thermal) return;
   const MapReader t(ctx, *thermal, {"initial_temperature", "kernel", "calibration", "integration", "time_scale",
-                                    "boundary"});
-  if (type == SolverType::static_equilibrium || type == SolverType::implicit_dynamic) {
+                                    "conduction", "boundary"});
+  const bool conduction = config.thermal.conduction;
+  // Conduction needs each material's conductivity and heat capacity; a prescribed field
+  // (conduction: false) neither.
+  for (const auto& mat : config.materials) {
+    if (!conduction) continue;
+    const ThermalMaterialConfig& th = mat.thermal;
+    if (th.conductivity > 0 && th.specific_heat > 0) continue;
+    ctx.fail(materials.node[mat.name]["thermal"].Mark(),
+             "materials." + mat.name + ".thermal: expected " +
+                 (th.conductivity > 0 ? "specific_heat" : "conductivity") +
+                 " (heat conduction needs the conductivity k [W/(m K)] and the specific heat c [J/(kg K)]; "
+                 "thermal.conduction: false prescribes the temperature instead)");
+  }
+  if (!conduction && type == SolverType::heat)
+    ctx.fail(t.find("conduction")->mark, "thermal.conduction: false leaves solver.type: heat nothing to solve");
+  if (conduction && (type == SolverType::static_equilibrium || type == SolverType::implicit_dynamic)) {
     ctx.fail(thermal->key_mark ? *thermal->key_mark : thermal->mark,
              "thermal: heat conduction runs with solver type heat (heat alone) or explicit (coupled); this deck has "
-             "a static or implicit_dynamic solver");
+             "a static or implicit_dynamic solver (a prescribed temperature field, thermal.conduction: false, runs "
+             "with any solver)");
   }
   if (auto s = t.find("time_scale"); s && type == SolverType::heat) {
     ctx.fail(*s->key_mark, s->path + ": applies to coupled runs (solver type explicit) only; a heat run takes "

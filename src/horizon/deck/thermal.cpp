@@ -10,11 +10,15 @@ ThermalMaterialConfig read_thermal_material(const DeckContext& ctx, const Item& 
                "critical_stretch_slope"});
   ThermalMaterialConfig t;
   t.enabled = true;
-  t.conductivity = read_positive(ctx, m.get("conductivity", "the thermal conductivity k [W/(m K)], > 0"));
-  t.specific_heat = read_positive(ctx, m.get("specific_heat", "the specific heat c [J/(kg K)], > 0"));
+  // Both required when the thermal section conducts (check_thermal, deck.cpp): a prescribed
+  // temperature field (thermal.conduction: false) needs neither.
+  if (auto k = m.find("conductivity")) t.conductivity = read_positive(ctx, *k);
+  if (auto c = m.find("specific_heat")) t.specific_heat = read_positive(ctx, *c);
   if (auto a = m.find("expansion")) t.expansion = read_number(ctx, *a);
   if (auto r = m.find("reference_temperature")) {
-    t.reference_temperature = read_number(ctx, *r);
+    // `initial`: each particle's own temperature at t = 0 (Peridigm's Temperature_Change).
+    if (r->node.IsScalar() && r->node.Scalar() == "initial") t.reference_initial = true;
+    else t.reference_temperature = read_number(ctx, *r);
   }
   if (auto c = m.find("critical_stretch_slope")) t.critical_stretch_slope = read_number(ctx, *c);
   if (!m.has("reference_temperature") && (t.expansion != 0 || t.critical_stretch_slope != 0)) {
@@ -65,9 +69,10 @@ ThermalBoundaryConfig read_boundary(const DeckContext& ctx, const Item& item, co
 
 ThermalConfig read_thermal(const DeckContext& ctx, const Item& item, const std::vector<std::string>& regions) {
   MapReader m(ctx, item,
-              {"initial_temperature", "kernel", "calibration", "integration", "time_scale", "boundary"});
+              {"initial_temperature", "kernel", "calibration", "integration", "time_scale", "conduction", "boundary"});
   ThermalConfig t;
   t.enabled = true;
+  if (auto c = m.find("conduction")) t.conduction = read_bool(ctx, *c);
   t.initial_temperature =
       read_scalar_expr(ctx, m.get("initial_temperature", "the temperature at t = 0 [K] (number or expression in x, y, z)"));
   if (auto k = m.find("kernel"))
@@ -80,7 +85,18 @@ ThermalConfig read_thermal(const DeckContext& ctx, const Item& item, const std::
         ctx, *i, {{"explicit", HeatIntegration::explicit_euler}, {"implicit", HeatIntegration::implicit_euler}});
   if (auto s = m.find("time_scale")) t.time_scale = read_positive(ctx, *s);
   if (auto b = m.find("boundary"))
-    for (const auto& i : read_list(ctx, *b)) t.boundary.push_back(read_boundary(ctx, i, regions));
+    for (const auto& i : read_list(ctx, *b)) {
+      t.boundary.push_back(read_boundary(ctx, i, regions));
+      // Without conduction no heat flows in: only temperatures can be prescribed.
+      if (!t.conduction && t.boundary.back().kind != ThermalBoundaryKind::temperature)
+        ctx.fail(i.mark, i.path + ": flux and convection need conduction; with thermal.conduction: false the "
+                                  "boundary prescribes temperatures only");
+    }
+  if (!t.conduction) {
+    for (const char* k : {"kernel", "calibration", "integration", "time_scale"})
+      if (auto it = m.find(k))
+        ctx.fail(*it->key_mark, it->path + ": a setting of the heat conduction; this section has conduction: false");
+  }
   return t;
 }
 

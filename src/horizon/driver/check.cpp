@@ -107,7 +107,7 @@ CheckReport check_system(const Config& c, const System& s) {
     r.fe_shared_nodes = s.fe->shared_nodes();
     r.fe_nodes_per_element = s.fe->nodes_per_element;
   }
-  if (s.heat.active()) r.heat_stable_dt = heat_stable_step(s);
+  if (s.heat.active() && s.heat.conduction) r.heat_stable_dt = heat_stable_step(s);
   if (c.solver.type == SolverType::heat) {
     r.stable_dt = r.heat_stable_dt;
     r.dt = c.solver.time_step ? *c.solver.time_step : c.solver.safety_factor * r.heat_stable_dt;

@@ -59,7 +59,48 @@ std::array<double, 9> deformation_gradient(const System& s, std::size_t i) {
   return out;
 }
 
+// Peridigm's variables that are models' fields (exodus_output.hpp): its name, whether it
+// is nodal, and the fields' name stem; tensors take 9 components, vectors 3.
+struct FieldVariable {
+  const char* name;
+  bool nodal;
+  int components;  // 1, 3 (X Y Z) or 9 (XX XY ... ZZ)
+  const char* field;
+};
+constexpr FieldVariable kFieldVariables[] = {
+    {"Hourglass_Force_Density", true, 3, "hourglass_force_density"},
+    {"Left_Stretch_Tensor", false, 9, "left_stretch_tensor"},
+    {"Rotation_Tensor", false, 9, "rotation_tensor"},
+    {"Shape_Tensor_Inverse", false, 9, "shape_tensor_inverse"},
+    {"Unrotated_Rate_Of_Deformation", false, 9, "unrotated_rate_of_deformation"},
+    {"Cauchy_Stress", false, 9, "cauchy_stress"},
+    {"Unrotated_Cauchy_Stress", false, 9, "unrotated_cauchy_stress"},
+    {"Von_Mises_Stress", false, 1, "von_mises_stress"},
+    {"Equivalent_Plastic_Strain", false, 1, "equivalent_plastic_strain"},
+};
+
+// The components of a field variable: (Exodus name, field name) pairs.
+std::vector<std::pair<std::string, std::string>> field_components(const FieldVariable& v) {
+  static const char* up[3] = {"X", "Y", "Z"};
+  static const char* low[3] = {"x", "y", "z"};
+  std::vector<std::pair<std::string, std::string>> out;
+  const std::string n = v.name, f = v.field;
+  if (v.components == 1) out.push_back({n, f});
+  if (v.components == 3)
+    for (int c = 0; c < 3; ++c) out.push_back({n + up[c], f + "_" + low[c]});
+  if (v.components == 9)
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) out.push_back({n + up[r] + up[c], f + "_" + low[r] + low[c]});
+  return out;
+}
+
 }  // namespace
+
+bool exodus_field_variable(const std::string& name) {
+  for (const auto& v : kFieldVariables)
+    if (name == v.name) return true;
+  return false;
+}
 
 ExodusOutput::ExodusOutput(std::string path, bool iterations)
     : path_(std::move(path)), iterations_(iterations ? std::optional<int>(0) : std::nullopt) {}
@@ -79,6 +120,11 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
       horizon_ = true;
       deck_horizon_ = config.horizon;
       for (const auto& b : config.bodies) body_horizon_.push_back(b.horizon);
+    } else if (exodus_field_variable(v)) {
+      for (const auto& fv : kFieldVariables)
+        if (v == fv.name)
+          for (const auto& [exo, field] : field_components(fv))
+            (fv.nodal ? nodal_fields_ : element_fields_).push_back({exo, field});
     } else if (v == "Contact_Force_Density") {
       contact_ = true;
     } else {
@@ -122,8 +168,8 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
   // variable out of those blocks (Bar_TwoBlocks_TwoDifferentMaterial_QS's gold), which
   // exodiff and netCDF readers see as missing values.
   std::vector<double> lambda, dilatation;
+  std::vector<ModelField> fields;
   {
-    std::vector<ModelField> fields;
     for (const auto& m : s.models) m->fields(s, fields);
     std::vector<uint8_t> plastic(P.size(), 0);
     for (std::size_t m = 0; m < s.models.size(); ++m)  // s.models[m]: material m's model
@@ -141,7 +187,21 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
     }
   }
   const std::vector<double> globals = history_columns_values(columns_, s);
-  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0) + (contact_ ? 3 : 0);
+  // The field variables' columns (0 where no model has the field).
+  std::vector<const std::vector<double>*> extra_columns;
+  for (const auto* list : {&nodal_fields_, &element_fields_})
+    for (const auto& [exo, field] : *list) {
+      const std::vector<double>* col = nullptr;
+      for (const auto& f : fields)
+        if (!col && f.name == field && f.values.size() == P.size()) col = &f.values;
+      extra_columns.push_back(col);
+    }
+  // A run with a temperature field (thermal section) adds the nodal Temperature and
+  // Temperature_Change (T - T_ref, the change that strains the mechanics; Peridigm's
+  // names, its T - T(0) with reference_temperature: initial), after the contact force.
+  const bool heat = s.heat.active();
+  const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0) + (contact_ ? 3 : 0) +
+                    (heat ? 2 : 0) + static_cast<int>(extra_columns.size());
   const std::vector<Vec3>& contact = s.contact.recorded_forces();
   // Number_Of_Neighbors: i's family, without the bonds in the neighbour's family alone
   // (BondKind::one_way: bodies of different horizons).
@@ -178,6 +238,8 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
       const Vec3 fc = i < contact.size() ? contact[i] : Vec3{};
       out.insert(out.end(), {fc.x, fc.y, fc.z});
     }
+    if (heat) out.insert(out.end(), {s.heat.T[i], s.heat.T[i] - s.heat.reference[i]});
+    for (const auto* col : extra_columns) out.push_back(col ? (*col)[i] : 0.0);
   };
   auto take = [&](std::size_t g, const double* v) {
     if (rows.size() <= g) rows.resize(g + 1);
@@ -220,6 +282,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
                     "External_Force_DensityY", "External_Force_DensityZ"};
     if (contact_)
       for (const char* a : {"X", "Y", "Z"}) layout.nodal.push_back(std::string("Contact_Force_Density") + a);
+    if (s.heat.active()) layout.nodal.insert(layout.nodal.end(), {"Temperature", "Temperature_Change"});
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
     if (lambda_) layout.element.push_back("Lambda");
@@ -227,6 +290,8 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
       for (const char* r : {"X", "Y", "Z"})
         for (const char* c : {"X", "Y", "Z"}) layout.element.push_back(std::string("Deformation_Gradient") + r + c);
     if (horizon_) layout.element.push_back("Horizon");
+    for (const auto& f : nodal_fields_) layout.nodal.push_back(f.first);
+    for (const auto& f : element_fields_) layout.element.push_back(f.first);
     layout.global = {"Global_Kinetic_Energy"};
     if (iterations_) layout.global.push_back("Nonlinear_Solver_Iterations");
     for (const auto& name : history_columns_names(columns_)) layout.global.push_back(name);
@@ -234,9 +299,13 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   }
   ExodusStep step;
   step.time = time;
-  step.nodal.assign(contact_ ? 21 : 18, std::vector<double>(n));
+  const bool heat = s.heat.active();
+  const std::size_t contact_columns = contact_ ? 3 : 0, heat_columns = heat ? 2 : 0,
+                    nodal_extra = nodal_fields_.size();
+  step.nodal.assign(18 + contact_columns + heat_columns + nodal_extra, std::vector<double>(n));
   const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0);
-  step.element.assign(10 + extra, std::vector<double>(n));
+  const std::size_t element_extra = extra + element_fields_.size();
+  step.element.assign(10 + element_extra, std::vector<double>(n));
   double kinetic = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = rows[i];
@@ -259,9 +328,18 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     step.element[8][i] = r[22] * r[12];
     // Peridigm's sphere radius: the sphere of the particle's volume, (3V / 4 pi)^(1/3).
     step.element[9][i] = std::cbrt(3 * r[12] / (4 * std::numbers::pi));
+    // Row layout past kWidth: Lambda, F, Horizon (extra), contact, the nodal fields, the element fields.
     for (std::size_t c = 0; c < extra; ++c) step.element[10 + c][i] = r[kWidth + c];
     if (contact_)
       for (std::size_t c = 0; c < 3; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
+    if (heat)
+      for (std::size_t c = 0; c < 2; ++c)
+        step.nodal[18 + contact_columns + c][i] = r[kWidth + extra + contact_columns + c];
+    const std::size_t base = kWidth + extra + contact_columns + heat_columns;
+    for (std::size_t c = 0; c < nodal_extra; ++c)
+      step.nodal[18 + contact_columns + heat_columns + c][i] = r[base + c];
+    for (std::size_t c = 0; c < element_fields_.size(); ++c)
+      step.element[10 + extra + c][i] = r[base + nodal_extra + c];
     kinetic += 0.5 * r[13] * r[12] * (r[6] * r[6] + r[7] * r[7] + r[8] * r[8]);
   }
   step.global = {kinetic};

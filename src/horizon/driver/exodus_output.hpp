@@ -4,7 +4,8 @@
 // ParaView read Horizon's output as they read Peridigm's:
 //   nodal    DisplacementX/Y/Z, VelocityX/Y/Z, Force_DensityX/Y/Z, ForceX/Y/Z (= force
 //            density x volume, as Peridigm's Force), AccelerationX/Y/Z ((f + b) / rho),
-//            External_Force_DensityX/Y/Z (b: body forces and tractions);
+//            External_Force_DensityX/Y/Z (b: body forces and tractions); with a
+//            thermal section Temperature and Temperature_Change (T - T_ref);
 //   element  Element_Id (the particle's 1-based id), Block_Id, Volume, Damage, Dilatation,
 //            Weighted_Volume, Number_Of_Neighbors (its family's bonds),
 //            Stored_Elastic_Energy_Density (the strain energy density W, as of the last
@@ -50,6 +51,14 @@ struct Decomposition;
 class ExodusWriter;
 class Loads;
 
+// Whether `name` is one of Peridigm's variables written from the models' fields:
+// Hourglass_Force_Density (nodal X Y Z: correspondence's Peridigm hourglass force),
+// Left_Stretch_Tensor, Rotation_Tensor, Shape_Tensor_Inverse,
+// Unrotated_Rate_Of_Deformation, Cauchy_Stress, Unrotated_Cauchy_Stress (element XX ... ZZ:
+// correspondence's hypoelastic laws), Von_Mises_Stress, Equivalent_Plastic_Strain
+// (element); 0 at particles whose model has no such field.
+bool exodus_field_variable(const std::string& name);
+
 class ExodusOutput {
  public:
   // `iterations`: the file also has the global Nonlinear_Solver_Iterations (static and
@@ -82,6 +91,8 @@ class ExodusOutput {
   std::vector<Vec3> velocity_;  // set_step_velocity's, else empty (the particles' own)
   std::optional<int> iterations_;  // Nonlinear_Solver_Iterations, when the file has it
   bool lambda_ = false, gradient_ = false, horizon_ = false;  // the element variables asked for
+  // Models' fields asked for (exodus_field_variable): (Exodus name, field name) per column.
+  std::vector<std::pair<std::string, std::string>> nodal_fields_, element_fields_;
   bool contact_ = false;                     // Contact_Force_Density (nodal)
   // Horizon: each particle's (its body's own, BodyConfig::horizon, else the deck's).
   std::vector<std::optional<Expression>> body_horizon_;

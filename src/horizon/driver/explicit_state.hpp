@@ -133,7 +133,8 @@ struct ExplicitRun::State {
   const System& cracks() const { return local_particles() ? cracked : s; }
 
   void advance_heat() {
-    if (!heat) return;
+    // A prescribed field (thermal.conduction: false) is set by the solver's step itself.
+    if (!heat || !s.heat.conduction) return;
     Ledger& g = solver->ledger();
     if (!strain_change.empty()) g.thermal_work += pending_work + 0.5 * thermal_strain_work(s, strain_change);
     const std::vector<double> before = s.thermal_strain;

@@ -113,9 +113,11 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
     r.heat_stable = heat_stable_step(r.s);
     r.heat_initial = heat_content(r.s);
     const double h = r.check.dt * c.thermal.time_scale;
-    if (c.thermal.integration == HeatIntegration::explicit_euler)
+    if (c.thermal.integration == HeatIntegration::explicit_euler && c.thermal.conduction)
       r.heat_substeps = std::max(1, static_cast<int>(std::ceil(h / (c.solver.safety_factor * r.heat_stable))));
-    if (!options.quiet)
+    if (!options.quiet && !c.thermal.conduction)
+      fmt::print(stderr, "heat            no conduction: the prescribed temperature field at each step\n");
+    else if (!options.quiet)
       fmt::print(stderr, "heat            {} Euler, {:.4e} s per step ({} x the mechanical step, {} sub-steps; "
                          "stable explicit heat step {:.4e} s)\n",
                  c.thermal.integration == HeatIntegration::implicit_euler ? "backward" : "forward", h,

@@ -15,7 +15,8 @@ namespace horizon {
 
 double Ledger::balance_error() const {
   const double scale = std::max({std::abs(initial), std::abs(external_work), std::abs(thermal_work),
-                                  std::abs(coupling_work), kinetic + strain + dissipated + damped, 1e-300});
+                                  std::abs(coupling_work), kinetic + strain + dissipated + damped, thermal_scale,
+                                  1e-300});
   return (kinetic + strain + dissipated + damped - initial - external_work - thermal_work - coupling_work) / scale;
 }
 
@@ -145,7 +146,24 @@ void ExplicitSolver::step(bool energy) {
     const double s0 = c.s0(time_);
     for (uint32_t i : c.particles) s_.model.critical_stretch[i] = s0;
   }
+  // A prescribed temperature field (thermal.conduction: false) at the new time, before the
+  // force pass, as Peridigm evaluates its temperature condition (ThermalExpansionBondFailure's
+  // gold); its strain change is booked as thermal work by the trapezoidal rule over the
+  // force states of this pass and the one before (thermal/heat.hpp thermal_strain_work).
+  std::vector<double> strain_change;
+  double thermal_before = 0;
+  if (s_.heat.active() && !s_.heat.conduction) {
+    strain_change = s_.thermal_strain;
+    set_temperature_field(s_, time_);
+    if (strain_change.size() == s_.thermal_strain.size()) {
+      for (std::size_t i = 0; i < strain_change.size(); ++i) strain_change[i] = s_.thermal_strain[i] - strain_change[i];
+      thermal_before = thermal_strain_work(s_, strain_change);
+    } else {
+      strain_change.clear();
+    }
+  }
   compute_forces(s_, energy);
+  if (!strain_change.empty()) ledger_.thermal_work += 0.5 * (thermal_before + thermal_strain_work(s_, strain_change));
   commit_history_with_heat(s_);  // history models (plasticity, viscosity) accept this step
 
   // Second half kick; damping taken implicitly on the half step so it stays stable.

@@ -24,6 +24,11 @@ struct Ledger {
   // The work the force-based coupling of finite-element regions put in (fe/fe_region.hpp
   // coupling_work): it derives from no potential, so the ledger closes only with it.
   double coupling_work = 0;
+  // Not a term: a further energy scale of the balance, the strain energy a prescribed
+  // temperature's strain would store in the body held at u = 0 (static runs with
+  // thermal.conduction: false). A free expansion stores none and its thermal work is the
+  // round-off of the equilibrium's force states: judged against this, not against itself.
+  double thermal_scale = 0;
 
   // (K + U + D + damped - initial - W_ext - W_thermal - W_coupling) relative to the
   // largest energy in play. Every term the run books is in it.

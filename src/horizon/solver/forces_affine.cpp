@@ -16,8 +16,10 @@
 // the last pass rebuilt from the record and the positions that pass kept.
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "horizon/material/models/correspondence_kernels.hpp"
+#include "horizon/solver/affine_sweeps.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/forces_general.hpp"
 
@@ -25,74 +27,16 @@ namespace horizon {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kRec = correspondence::kAffineRecord;
-
-struct RowOut {
-  double smin = kInf, lost = 0;
-  uint64_t broken = 0;
-};
-
-// Pass 1 of row i before its model: the breaking of forces_general.cpp break_row (the
-// affine models take no thermal strain: ModelTraits::thermal_strain is false for them),
-// and over the bonds that act in this pass the sums of K_i and of the deformation
-// gradient (correspondence_kernels.hpp gradient_add) while the bond is in registers.
-RowOut break_row(System& s, std::size_t i, bool after, const double* soft, correspondence::GradientSums& g) {
-  auto& B = s.bonds;
-  auto& M = s.model;
-  const Point4* pt = M.packed.data();
-  const Vec3* X = s.particles.X.data();
-  const Vec3* y_old = M.affine_position.data();
-  const double* rec = M.affine_record.data() + kRec * i;
-  const KindCoefficients* kcs = M.kind.data();
-  const BondKind* kinds = B.kinds.data();
-  const uint32_t* nbr = B.nbr.data();
-  const uint32_t* kind = B.kind.data();
-  uint8_t* intact = B.intact.data();
-  const Point4 pi = pt[i];
-  const Vec3 xi_i = X[i];
-  auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
-  const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
-  RowOut out;
-  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-    if (!intact[k]) continue;
-    const uint32_t j = nbr[k];
-    const KindCoefficients& kc = kcs[kind[k]];
-    const Point4 pj = pt[j];
-    const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-    const Vec3 xj = X[j];
-    const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
-    const BondKind& bk = kinds[kind[k]];
-    const double w = bk.weight * (bk.volume * bk.fraction);  // omega V_j (B.weight[k] * B.volume[k])
-    const double r = std::sqrt(dot(Y, Y)), e = r - kc.length, stretch = e * kc.inv_length;
-    out.smin = stretch < out.smin ? stretch : out.smin;
-    const double wj = soft ? scaled(pj.w, soft[j]) : pj.w;
-    const double s0 = wi < wj ? wi : wj;
-    if (stretch > s0) {
-      intact[k] = after ? 2 : 0;
-      ++out.broken;
-      if (r > 0) {
-        // The bond's force state at the last pass (zero before the first: the records start at 0).
-        const Vec3 Yo = y_old[j] - y_old[i];
-        const double yv[3] = {Yo.x, Yo.y, Yo.z};
-        double T[3];
-        correspondence::affine_force_state(rec, bk.weight, xi, yv, T);
-        out.lost += 0.5 * (T[0] * Y.x + T[1] * Y.y + T[2] * Y.z) / r * e * (bk.volume * bk.fraction);
-      }
-      M.intact_weight[i] -= kc.damage;
-      if (!after) continue;
-    }
-    const double yv[3] = {Y.x, Y.y, Y.z};
-    correspondence::gradient_add(g, xi, yv, w);
-  }
-  return out;
-}
 
 }  // namespace
 
 bool affine_general_pass(const System& s) {
-  // One-way bonds: the record sum takes one omega for both directions of a bond.
-  if (general_reference() || s.models.size() == 0 || s.one_way_bonds) return false;
+  // Its breaking sweep knows no thermal strain: a temperature field takes the general pass,
+  // whose breaking test takes the mechanical stretch and whose rows call the model's
+  // force_state (correspondence subtracts the strain there). One-way bonds: the record sum
+  // takes one omega for both directions of a bond.
+  if (general_reference() || s.models.size() == 0 || !s.thermal_strain.empty() || s.one_way_bonds) return false;
   for (const auto& m : s.models)
     if (!m->traits().affine) return false;
   return true;
@@ -123,58 +67,59 @@ uint64_t affine_forces(System& s, bool energy) {
   for (std::size_t m = 0; m < s.models.size(); ++m) row_model[m] = &s.models[m];
   Model* const* model_of = row_model.data();
 
+  // The reference positions packed {x, y, z, 0}, as the sweep's vector rows load them
+  // (kept between passes: no allocation in a step).
+  static thread_local std::vector<Point4> reference;
+  reference.resize(n);
+  for (std::size_t i = 0; i < n; ++i) reference[i] = {P.X[i].x, P.X[i].y, P.X[i].z, 0.0};
+  affine_sweeps::Sweep sw;
+  sw.pt = M.packed.data();
+  sw.ref = reference.data();
+  sw.y_old = M.affine_position.data();
+  sw.record = M.affine_record.data();
+  sw.kc = M.kind.data();
+  sw.kind_record = M.kind_dilatation.data();
+  sw.kinds = B.kinds.data();
+  sw.nbr = B.nbr.data();
+  sw.kind = B.kind.data();
+  sw.offset = B.offset.data();
+  sw.intact = B.intact.data();
+  sw.intact_weight = M.intact_weight.data();
+  sw.soft = soft;
+  sw.total = nb;
+  sw.after = after;
+  // Without the short-range contact between family pairs every kind's contact distance is
+  // 0 (state/kind_coefficients.cpp), and family_contact would only say so, bond by bond.
+  sw.contact = s.contact.acts_on_family();
+  sw.kinds_have_lengths = !B.length_per_bond;
+  // The breaking sweep in the fast loops' lanes, per target (solver/affine_sweeps.hpp).
+  const affine_sweeps::BreakRow break_row = affine_sweeps::break_row_for(sw);
+  const affine_sweeps::SumRow sum_row = affine_sweeps::sum_row_for(sw);
+
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (rows > 512)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
-    correspondence::GradientSums g;
-    const RowOut o = break_row(s, i, after, soft, g);
+    double sums[18];  // K, then N (correspondence_kernels.hpp GradientSums)
+    const affine_sweeps::BreakOut o = break_row(sw, i, sums);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
     if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
     P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
-    model_of[P.material[i]]->affine_row(pass, i, g.v);
+    model_of[P.material[i]]->affine_row(pass, i, sums);
   }
 
-  const Point4* pt = M.packed.data();
-  const Vec3* X = P.X.data();
-  const double* rec = M.affine_record.data();
-  const uint32_t* nbr = B.nbr.data();
-  const uint32_t* kind = B.kind.data();
-  const uint8_t* intact = B.intact.data();
-  const BondKind* kinds = B.kinds.data();
-  const KindCoefficients* kc = M.kind.data();
+  // The sum, once every row has its record (this pass's: sw.record is the same array).
 #pragma omp parallel for schedule(static) if (rows > 512)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
-    const Point4 pi = pt[i];
-    const Vec3 xi_i = X[i];
-    correspondence::AffineRowSum sum;
-    double w = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const uint32_t j = nbr[k];
-      const Point4 pj = pt[j];
-      const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-      if (intact[k]) {
-        const BondKind& bk = kinds[kind[k]];
-        const Vec3 xj = X[j];
-        const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
-        correspondence::affine_pair_add(sum, rec + kRec * static_cast<std::size_t>(j),
-                                        bk.weight * (bk.volume * bk.fraction), xi, Y);
-      }
-      Vec3 fc;
-      double wc = 0;
-      if (family_contact(kc[kind[k]], Vec3{Y[0], Y[1], Y[2]}, fc, wc)) {
-        sum.acc[0] += fc.x, sum.acc[1] += fc.y, sum.acc[2] += fc.z;
-        w += wc;
-      }
-    }
-    double f[3];
-    correspondence::affine_pair_finish(sum, rec + kRec * i, f);
+    double f[3], w = 0;
+    sum_row(sw, i, f, w);
     P.f[i] = {f[0], f[1], f[2]};
     if (energy) P.energy[i] += w;
   }
+  const Point4* pt = M.packed.data();
   // The positions of this pass, for the booking of the next one's breaks.
   for (std::size_t i = 0; i < n; ++i) M.affine_position[i] = {pt[i].x, pt[i].y, pt[i].z};
   if (after)

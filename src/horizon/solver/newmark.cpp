@@ -4,6 +4,7 @@
 
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
@@ -65,6 +66,21 @@ SolveReport NewmarkSolver::step() {
 
   advance_constraints(loads_, s_, time_, t1);
   loads_.apply_forces(s_, t1);
+  // A prescribed temperature field (thermal.conduction: false) at the step's end; its
+  // strain change is booked as thermal work by the trapezoidal rule over the force states
+  // of the last step's pass (at u_n, before the predictor moves it) and of this step's.
+  std::vector<double> strain_change;
+  double thermal_before = 0;
+  if (s_.heat.active()) {
+    strain_change = s_.thermal_strain;
+    set_temperature_field(s_, t1);
+    if (strain_change.size() == s_.thermal_strain.size()) {
+      for (std::size_t i = 0; i < strain_change.size(); ++i) strain_change[i] = s_.thermal_strain[i] - strain_change[i];
+      thermal_before = thermal_strain_work(s_, strain_change);
+    } else {
+      strain_change.clear();
+    }
+  }
   s_.time = t1;
   s_.dt = dt;
   const Eigen::VectorXd u_n = gather_displacement(s_, dofs_);
@@ -101,6 +117,7 @@ SolveReport NewmarkSolver::step() {
     s_.bonds.intact = intact_before;
     s_.dissipated_at = dissipated_before;
     s_.broken = broken_before;
+    if (s_.heat.active()) set_temperature_field(s_, time_);
     {
       FixedBonds fixed(s_);
       equilibrium_forces(s_, true);
@@ -120,6 +137,7 @@ SolveReport NewmarkSolver::step() {
     equilibrium_forces(s_, true);
   }
   commit_history(s_);
+  if (!strain_change.empty()) ledger_.thermal_work += 0.5 * (thermal_before + thermal_strain_work(s_, strain_change));
   time_ = t1;
   ++steps_;
 

@@ -6,6 +6,7 @@
 
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
@@ -58,6 +59,12 @@ StaticSolver::StaticSolver(System& s, Loads& loads, const SolverConfig& config)
       linear_(config.linear_solver),
       end_time_(config.end_time > 0 ? config.end_time : 1.0),
       step_(1.0 / std::max(1, config.load_steps)) {}
+
+double StaticSolver::time_at(double lambda) const {
+  const double k = std::round(lambda / step_);
+  if (std::abs(lambda / step_ - k) < 1e-9) return k * (end_time_ / std::max(1, config_.load_steps));
+  return lambda * end_time_;
+}
 
 void StaticSolver::initialize() {
   auto& P = s_.particles;
@@ -180,11 +187,20 @@ bool StaticSolver::advance() {
   const std::vector<double> dissipated_before = s_.dissipated_at;
   const uint64_t broken_before = s_.broken;
   const std::vector<AppliedLoad> loads_before = loads_.loads();
+  // A prescribed temperature field (thermal.conduction: false) takes its value at each
+  // increment's time; the thermal work of its strain change is booked by the trapezoidal
+  // rule over the force states of the two equilibria (thermal/heat.hpp thermal_strain_work).
+  const bool temperature = s_.heat.active();
+  const std::vector<double> strain_before = s_.thermal_strain;
+  std::vector<Vec3> state_before;
+  std::vector<double> scalar_before;
+  if (temperature && s_.heat.expands) state_before = s_.model.force_state, scalar_before = s_.model.force_scalar;
   while (true) {
     const double lambda = std::min(target, lambda_ + increment);
-    apply_static_loads(loads_, s_, time(), lambda * end_time_, lambda);
-    s_.time = lambda * end_time_;  // history models integrate over the pseudo-time step
-    s_.dt = (lambda - lambda_) * end_time_;
+    apply_static_loads(loads_, s_, time(), time_at(lambda), lambda);
+    if (temperature) set_temperature_field(s_, time_at(lambda));
+    s_.time = time_at(lambda);  // history models integrate over the pseudo-time step
+    s_.dt = time_at(lambda) - time();
     if (solve_increment(lambda, u_before, b_before) && finite_state(s_)) {
       last_increment_ = lambda - lambda_;
       lambda_ = std::abs(lambda - 1.0) < 1e-12 ? 1.0 : lambda;
@@ -197,6 +213,7 @@ bool StaticSolver::advance() {
     s_.dissipated_at = dissipated_before;
     s_.broken = broken_before;
     loads_.loads() = loads_before;
+    if (temperature) set_temperature_field(s_, time());
     if (cuts == config_.max_step_cuts) {
       current_strain_energy(s_);
       failure_ += " (after " + std::to_string(cuts) + " step cuts)";
@@ -208,8 +225,26 @@ bool StaticSolver::advance() {
   }
   ++steps_;
   failure_.clear();
+  if (temperature && s_.heat.expands) {
+    // The energy scale of the thermal load (Ledger::thermal_scale): the body held at u = 0.
+    const std::vector<Vec3> u = P.u;
+    std::fill(P.u.begin(), P.u.end(), Vec3{});
+    ledger_.thermal_scale = std::max(ledger_.thermal_scale, current_strain_energy(s_));
+    P.u = u;
+  }
   current_strain_energy(s_);  // the trial history of the converged state ...
   commit_history(s_);         // ... becomes the history (material/model.hpp)
+  if (temperature && s_.heat.expands && strain_before.size() == s_.thermal_strain.size()) {
+    std::vector<double> delta(strain_before.size());
+    for (std::size_t i = 0; i < delta.size(); ++i) delta[i] = s_.thermal_strain[i] - strain_before[i];
+    const double after = thermal_strain_work(s_, delta);
+    std::swap(state_before, s_.model.force_state);
+    std::swap(scalar_before, s_.model.force_scalar);
+    const double before = thermal_strain_work(s_, delta);
+    std::swap(state_before, s_.model.force_state);
+    std::swap(scalar_before, s_.model.force_scalar);
+    ledger_.thermal_work += 0.5 * (before + after);
+  }
   ledger_.external_work += pending_work_;
   ledger_.damped += pending_released_;
   ledger_.strain = strain_energy(s_);

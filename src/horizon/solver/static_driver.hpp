@@ -53,7 +53,11 @@ class StaticSolver {
   bool done() const { return lambda_ >= 1.0 - 1e-12; }
 
   double lambda() const { return lambda_; }
-  double time() const { return lambda_ * end_time_; }
+  double time() const { return time_at(lambda_); }
+  // The pseudo-time of load factor lambda: k (end_time / load_steps) at a nominal load step
+  // k, as Peridigm reports its load steps (ThermalExpansionCube's gold: 2880 = 8 x 360,
+  // where 0.8 x 3600 is 2879.9999999999995); lambda end_time between them (cut steps).
+  double time_at(double lambda) const;
   double increment() const { return last_increment_; }
   int64_t steps() const { return steps_; }                   // converged increments
   const SolveReport& last_report() const { return last_; }   // the last solve of the last increment

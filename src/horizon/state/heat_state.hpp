@@ -38,6 +38,7 @@ struct HeatState {
   std::vector<HeatBoundary> boundary;
   HeatKernel kernel = HeatKernel::inverse;
   HeatCalibration calibration = HeatCalibration::continuum;
+  bool conduction = true;  // false: T is a prescribed field (thermal.conduction: false), no heat flows
   bool expands = false;    // some material has alpha != 0: mechanics sees the thermal strain
   bool softens = false;    // some material has a critical_stretch_slope != 0
   double plastic_heat = 0; // heat released by plastic work so far [J]

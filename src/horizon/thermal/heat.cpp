@@ -80,6 +80,7 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
   h = HeatState{};
   h.kernel = tc.kernel;
   h.calibration = tc.calibration;
+  h.conduction = tc.conduction;
   h.T.resize(n);
   h.capacity.resize(n);
   h.kappa.resize(n);
@@ -121,9 +122,11 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
       throw Error("material '" + mat.name + "' has no thermal properties; a run with a thermal section needs "
                   "materials.NAME.thermal for every material");
     h.capacity[i] = mat.density * th.specific_heat;
-    const double m2 = h.calibration == HeatCalibration::discrete ? bulk[m] : m2_continuum;
-    if (!(m2 > 0)) throw Error("material '" + mat.name + "': its particles have no bonds to conduct heat");
-    h.kappa[i] = 2 * th.conductivity / m2;
+    if (h.conduction) {
+      const double m2 = h.calibration == HeatCalibration::discrete ? bulk[m] : m2_continuum;
+      if (!(m2 > 0)) throw Error("material '" + mat.name + "': its particles have no bonds to conduct heat");
+      h.kappa[i] = 2 * th.conductivity / m2;
+    }
     // Plane strain: the blocked out-of-plane expansion pushes the plane apart, and a free
     // body's in-plane strain is (1 + nu) alpha dT (sigma = 0 with eps_zz = 0 in
     // sigma = lambda tr(eps) I + 2 mu eps - (3 lambda + 2 mu) alpha dT I): the 2-D bonds
@@ -161,8 +164,19 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
     h.boundary.push_back(std::move(hb));
   }
   apply_temperature_conditions(s, 0.0);
+  // reference_temperature: initial -- no thermal strain in the state at t = 0, whatever
+  // its temperature (Peridigm's Temperature_Change = T - T(0); docs/peridigm.md).
+  for (std::size_t i = 0; i < n; ++i)
+    if (materials[static_cast<std::size_t>(P.material[i])].thermal.reference_initial) h.reference[i] = h.T[i];
   update_thermal_strain(s);
   update_heat_flux(s);
+}
+
+void set_temperature_field(System& s, double t) {
+  apply_temperature_conditions(s, t);
+  s.heat.time = t;
+  if (s.decomposition) exchange_ghost_scalars(*s.decomposition, s.heat.T);
+  update_thermal_strain(s);
 }
 
 void apply_temperature_conditions(System& s, double t) {
@@ -509,7 +523,9 @@ void HeatSolver::step(double dt) {
       }
     }
   }
-  if (integration_ == HeatIntegration::explicit_euler) {
+  if (!h.conduction) {
+    // A prescribed field (thermal.conduction: false): the conditions below alone.
+  } else if (integration_ == HeatIntegration::explicit_euler) {
     heat_conduction(s_, h.T, rate_);
     const Rows rows(s_);
 #pragma omp parallel for schedule(static)

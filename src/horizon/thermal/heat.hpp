@@ -114,4 +114,9 @@ class HeatSolver {
 // Prescribed temperatures at time t (the run's start, and after each step).
 void apply_temperature_conditions(System& s, double t);
 
+// The temperature field at time t without conduction (thermal.conduction: false; the
+// static and implicit drivers' load steps): the prescribed temperatures, the ghosts' copies
+// and the thermal strain. Collective when decomposed.
+void set_temperature_field(System& s, double t);
+
 }  // namespace horizon

@@ -17,6 +17,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/expression.hpp"
+#include "horizon/deck/exodus_variables.hpp"
 #include "horizon/deck/peridigm/exodus_discretization.hpp"
 #include "horizon/deck/peridigm/function_string.hpp"
 #include "horizon/deck/peridigm/sections.hpp"
@@ -196,11 +197,29 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                    "Yield Stress",    "Disable Plasticity", "Hardening Modulus",
                                    "Hourglass Coefficient", "lambda_i", "tau b", "Finite Difference Probe Length",
                                    "Enable Flaw", "Flaw Location X", "Flaw Location Y", "Flaw Location Z",
-                                   "Flaw Size", "Flaw Magnitude", "Plane Strain", "Plane Stress", "Height"};
+                                   "Flaw Size", "Flaw Magnitude", "Plane Strain", "Plane Stress", "Height",
+                                   "Coefficient", "Use Improved Quadrature"};
   MapReader m(t.ctx, item, keys);
   const Item model_item = m.get("Material Model", "Elastic, Elastic Bond Based, Elastic Plastic, ...");
   const std::string model = read_string(t.ctx, model_item);
   const std::string w = squash(model);
+  if (w == "diffusion") {
+    // Peridigm's Diffusion material is Horizon's conduction operator: its Flux_Divergence in
+    // SimpleImplicitDiffusion's gold is sum_j kappa (T_j - T_i)/|xi| V_j with kappa =
+    // 6 k/(pi delta^4), k = Coefficient, at every prescribed point to 1e-15 (docs/peridigm.md),
+    // Horizon's inverse kernel with the continuum calibration. What its decks also need is
+    // not there: the ImplicitDiffusion solver's steady solve at each load step (Horizon's
+    // heat solver integrates rho c dT/dt), Exodus output of heat-only runs with
+    // Flux_Divergence, a material without mechanics, and the improved quadrature's per-point
+    // weights.
+    t.ctx.fail(model_item.mark, model_item.path + ": the Diffusion material is not read yet: its decks' steady "
+                                                  "ImplicitDiffusion solve, Exodus output of heat-only runs "
+                                                  "(Flux_Divergence) and materials without mechanics are not in "
+                                                  "Horizon (docs/peridigm.md)");
+  }
+  for (const char* k : {"Coefficient", "Use Improved Quadrature"})
+    if (auto it = m.find(k))
+      t.ctx.fail(*it->key_mark, it->path + ": a parameter of Material Model 'Diffusion' only");
   YAML::Node mat;
   std::vector<std::string> own;  // the model-specific keys this model accepts
   bool planar_c = false;         // Elastic Bond Based in a plane: c given, no moduli
@@ -267,27 +286,52 @@ YAML::Node read_material(Translation& t, const Item& item) {
     mat["lambda_1"] = read_number(t.ctx, m.get("lambda_i", "the weight of the Maxwell branch"));
     mat["tau_1"] = read_positive(t.ctx, m.get("tau b", "the Maxwell branch's decay time [s]"));
   } else if (w == "elasticcorrespondence") {
+    // Peridigm's correspondence materials integrate the unrotated Cauchy stress in rate
+    // form (Flanagan and Taylor 1987): stress_law hypoelastic, which its golds' Cauchy
+    // stresses and left stretches fix (material/classical/hypoelastic.hpp), and control
+    // zero-energy modes by Littlewood's hourglass force, coefficient Hourglass Coefficient
+    // (stabilization_form peridigm; 0 without the key, as Peridigm's default).
     own = {"Hourglass Coefficient"};
     mat["model"] = "correspondence";
-    mat["stress_law"] = "linear_elastic";
+    mat["stress_law"] = "hypoelastic";
+    mat["stabilization_form"] = "peridigm";
+    mat["stabilization"] = 0.0;
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
   } else if (w == "elasticplasticcorrespondence" || w == "isotropichardeningcorrespondence") {
-    // Correspondence with J2 plasticity (perfect, or with linear isotropic hardening):
-    // Horizon's correspondence model with stress_law j2 (docs/peridigm.md).
+    // Correspondence with J2 plasticity (perfect, or with linear isotropic hardening) on
+    // the same rate form: stress_law hypoelastic_j2 (docs/peridigm.md).
     own = {"Hourglass Coefficient", "Yield Stress"};
     mat["model"] = "correspondence";
-    mat["stress_law"] = "j2";
+    mat["stress_law"] = "hypoelastic_j2";
+    mat["stabilization_form"] = "peridigm";
+    mat["stabilization"] = 0.0;
     mat["yield_stress"] = read_positive(t.ctx, m.get("Yield Stress", "the yield stress [Pa]"));
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
     if (w == "isotropichardeningcorrespondence") {
       own.insert(own.end(), {"Hardening Modulus", "Enable Flaw", "Flaw Location X", "Flaw Location Y",
                              "Flaw Location Z", "Flaw Size", "Flaw Magnitude"});
       if (auto h = m.find("Hardening Modulus")) mat["hardening_modulus"] = read_non_negative(t.ctx, *h);
-      // The flaw (a local knock-down of the yield stress) is not modelled: only off.
-      if (auto f = m.find("Enable Flaw"); f && read_bool(t.ctx, *f))
-        t.ctx.fail(f->mark, f->path + ": the yield-stress flaw is not supported; only false");
-      for (const char* k : {"Flaw Location X", "Flaw Location Y", "Flaw Location Z", "Flaw Size", "Flaw Magnitude"})
-        if (auto f = m.find(k)) read_number(t.ctx, *f);
+      // The flaw: a local knock-down of the yield stress, sigma_y (1 - m exp(-|x -
+      // x_f|^2/s^2)) (fitted from IsotropicHardeningPlasticFullyPrescribedTension_WithFlaw's
+      // gold; material/models/correspondence.hpp Flaw). Its keys are read either way.
+      const bool flaw = m.find("Enable Flaw") && read_bool(t.ctx, *m.find("Enable Flaw"));
+      const std::pair<const char*, const char*> keys[] = {{"Flaw Location X", "flaw_x"},
+                                                          {"Flaw Location Y", "flaw_y"},
+                                                          {"Flaw Location Z", "flaw_z"}};
+      for (const auto& [from, to] : keys) {
+        if (flaw) mat[to] = read_number(t.ctx, m.get(from, "the flaw's centre coordinate"));
+        else if (auto f = m.find(from)) read_number(t.ctx, *f);
+      }
+      if (flaw) {
+        mat["flaw_size"] = read_positive(t.ctx, m.get("Flaw Size", "the flaw's length s (exp(-r^2/s^2))"));
+        const Item mag = m.get("Flaw Magnitude", "the flaw's knock-down m of the yield stress, in (0, 1]");
+        const double mm = read_number(t.ctx, mag);
+        if (!(mm >= 0 && mm <= 1)) fail_expected(t.ctx, mag, "a number in [0, 1]");
+        mat["flaw_magnitude"] = mm;
+      } else {
+        for (const char* k : {"Flaw Size", "Flaw Magnitude"})
+          if (auto f = m.find(k)) read_number(t.ctx, *f);
+      }
     }
   } else {
     // The models of Peridigm's suite Horizon does not map yet (docs/peridigm.md lists the
@@ -319,8 +363,14 @@ YAML::Node read_material(Translation& t, const Item& item) {
       if (auto v = m.find(from)) mat[to] = read_number(t.ctx, *v);
   }
   if (auto a = m.find("Thermal Expansion Coefficient")) {
-    if (read_number(t.ctx, *a) != 0)
-      t.ctx.fail(a->mark, a->path + ": thermal strain is not imported (Horizon's temperature is set in its own deck, thermal:); only 0");
+    // The thermal strain alpha (T - T(0)) of Horizon's thermal expansion (docs/models/heat.md;
+    // Kilic and Madenci 2010, Oterkus, Madenci and Agwai 2014: the bond's mechanical stretch
+    // s - alpha dT), its reference each particle's temperature at t = 0 (ThermalExpansionCube's
+    // gold: Temperature_Change = T - 273 and displacements alpha dT x from it).
+    if (const double alpha = read_number(t.ctx, *a); alpha != 0) {
+      mat["thermal"]["expansion"] = number(alpha);
+      mat["thermal"]["reference_temperature"] = "initial";
+    }
   }
   for (const char* flag : {"Apply Shear Correction Factor", "Compute Partial Stress"}) {
     if (auto f = m.find(flag); f && read_bool(t.ctx, *f))
@@ -375,8 +425,9 @@ YAML::Node read_damage(Translation& t, const Item& item) {
     fail_choice(t.ctx, model_item, model,
                 {"Critical Stretch", "Interface Aware", "Time Dependent Critical Stretch", "Initial Damage"},
                 "Peridigm damage model Horizon reads");
-  if (auto a = m.find("Thermal Expansion Coefficient"); a && read_number(t.ctx, *a) != 0)
-    t.ctx.fail(a->mark, a->path + ": thermal strain is not supported; only 0");
+  // A Thermal Expansion Coefficient here is checked against the block's material's
+  // (same_damage_expansion, below).
+  if (auto a = m.find("Thermal Expansion Coefficient")) read_number(t.ctx, *a);
   YAML::Node d;
   const bool in_time = w == "timedependentcriticalstretch";
   const char* own = in_time ? "Time Dependent Critical Stretch" : "Critical Stretch";
@@ -391,6 +442,20 @@ YAML::Node read_damage(Translation& t, const Item& item) {
     d["critical_stretch"] = read_positive(t.ctx, m.get(own, "the critical bond stretch, > 0"));
   }
   return d;
+}
+
+// Peridigm's damage models judge the stretch less their own alpha dT; Horizon's breaking
+// test takes the mechanical stretch of the material's thermal strain (docs/models/heat.md),
+// so the two coefficients must agree.
+void same_damage_expansion(Translation& t, const Item& damage, const YAML::Node& mat) {
+  if (!damage.node.IsMap()) return;
+  const double material = mat["thermal"] ? mat["thermal"]["expansion"].as<double>() : 0.0;
+  for (const auto& e : map_entries(t.ctx, damage))
+    if (e.key == "Thermal Expansion Coefficient" && read_number(t.ctx, e.value) != material)
+      t.ctx.fail(e.value.mark, fmt::format("{}: {} differs from the block's material's Thermal Expansion Coefficient "
+                                           "({}); Horizon's bonds break on the stretch less the material's own "
+                                           "thermal strain",
+                                           e.value.path, read_number(t.ctx, e.value), material));
 }
 
 // --- Boundary conditions -----------------------------------------------------------
@@ -866,7 +931,9 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Weighted_Volume", "Volume", "Element_Id", "Block_Id", "Proc_Num", "Number_Of_Neighbors",
         "Stored_Elastic_Energy", "Stored_Elastic_Energy_Density", "Kinetic_Energy", "Global_Kinetic_Energy",
         "Model_Coordinates", "Coordinates", "Radius", "Horizon", "Lambda", "Equivalent_Plastic_Strain",
-        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density"};
+        "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density", "Hourglass_Force_Density",
+        "Left_Stretch_Tensor", "Rotation_Tensor", "Shape_Tensor_Inverse", "Unrotated_Rate_Of_Deformation",
+        "Cauchy_Stress", "Unrotated_Cauchy_Stress", "Von_Mises_Stress", "Temperature", "Temperature_Change"};
     for (const auto& e : map_entries(ctx, *vars)) {
       // The globals Peridigm writes become history columns under their own names (once,
       // whichever lists name them), and compute classes' Output Labels are written by
@@ -893,6 +960,25 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
           variables.push_back("Deformation_Gradient");
         continue;
       }
+      // ... and the tensors' and vectors' of the models' fields (Left_Stretch_TensorXX,
+      // Hourglass_Force_DensityX, ...): the whole variable is written.
+      {
+        auto component_of = [&](const std::string& base) {
+          const std::string xyz = "XYZ";
+          if (e.key.rfind(base, 0) != 0) return false;
+          const std::string tail = e.key.substr(base.size());
+          return (tail.size() == 1 || tail.size() == 2) &&
+                 std::all_of(tail.begin(), tail.end(), [&](char ch) { return xyz.find(ch) != std::string::npos; });
+        };
+        const std::string* base = nullptr;
+        for (const auto& v : model_field_variables())
+          if (v != "Von_Mises_Stress" && v != "Equivalent_Plastic_Strain" && component_of(v)) base = &v;
+        if (base) {
+          if (read_bool(ctx, e.value) && std::find(variables.begin(), variables.end(), *base) == variables.end())
+            variables.push_back(*base);
+          continue;
+        }
+      }
       if (std::find(known.begin(), known.end(), e.key) == known.end()) {
         const auto near = closest_word(e.key, known);
         if (near && edit_distance(e.key, *near) <= 2)
@@ -902,6 +988,12 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
       // Lambda (elastic_plastic's plastic multiplier) and Deformation_Gradient are written
       // where asked (output.exodus_files' variables, driver/exodus_output.hpp).
       if (read_bool(ctx, e.value) && (e.key == "Lambda" || e.key == "Contact_Force_Density" || e.key == "Horizon"))
+        variables.push_back(e.key);
+      // The models' fields under Peridigm's names (Hourglass_Force_Density, Cauchy_Stress,
+      // ...; deck/exodus_variables.hpp), 0 at particles whose model has none.
+      const auto& mf = model_field_variables();
+      if (read_bool(ctx, e.value) && std::find(mf.begin(), mf.end(), e.key) != mf.end() &&
+          std::find(variables.begin(), variables.end(), e.key) == variables.end())
         variables.push_back(e.key);
     }
   }
@@ -1125,6 +1217,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     if (g.damage_item) {
       check_reference(ctx, *g.damage_item, g.damage, damage_names, "damage model");
       const YAML::Node damage = read_damage(t, damages.at(g.damage));
+      same_damage_expansion(t, damages.at(g.damage), mat);
       if (!damage.IsNull()) mat["damage"] = damage;
       else if (groups.size() > 1)
         // Horizon's precracks cut the bonds of every body alike.
@@ -1222,6 +1315,13 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
 
   // Boundary conditions: node sets are the non-map entries; the rest are conditions.
   YAML::Node regions(YAML::NodeType::Map), ics(YAML::NodeType::Sequence), loads(YAML::NodeType::Sequence);
+  // Prescribed and Initial Temperature conditions (the native thermal section, below).
+  struct TemperatureCond {
+    std::string set, value;
+    bool initial;
+    Item item;
+  };
+  std::vector<TemperatureCond> temperatures;
   std::optional<ComputeClasses> computes;  // Compute Class Parameters (compute_classes.cpp)
   const auto compute_item = m.find("Compute Class Parameters");
   if (auto bc = m.find("Boundary Conditions")) {
@@ -1250,6 +1350,18 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       MapReader c(ctx, e.value, {"Type", "Node Set", "Coordinate", "Value"});
       const Item type_item = c.get("Type", "Prescribed Displacement, Initial Velocity, ...");
       const std::string w = squash(read_string(ctx, type_item));
+      if (w == "prescribedtemperature" || w == "initialtemperature") {
+        // A scalar field: no Coordinate (temperature_conditions, below).
+        if (auto k = c.find("Coordinate"))
+          ctx.fail(*k->key_mark, k->path + ": a temperature condition has no Coordinate");
+        const Item set_item = c.get("Node Set", "the name of a node set defined in Boundary Conditions");
+        const std::string set = read_string(ctx, set_item);
+        check_reference(ctx, set_item, set, set_names, "node set");
+        const Item value = c.get("Value", "a number or an expression in x, y, z, t");
+        temperatures.push_back({set, read_value(t, value), w == "initialtemperature", value});
+        if (w == "prescribedtemperature") used.insert(set);
+        continue;
+      }
       std::string kind;
       if (w == "prescribeddisplacement") kind = "displacement";
       else if (w == "initialdisplacement") kind = "initial_displacement";
@@ -1257,7 +1369,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       else if (w == "bodyforce") kind = "body_force";
       else
         fail_choice(ctx, type_item, read_string(ctx, type_item),
-                    {"Prescribed Displacement", "Initial Displacement", "Initial Velocity", "Body Force"},
+                    {"Prescribed Displacement", "Initial Displacement", "Initial Velocity", "Body Force",
+                     "Prescribed Temperature", "Initial Temperature"},
                     "boundary condition Horizon reads");
       const Item set_item = c.get("Node Set", "the name of a node set defined in Boundary Conditions");
       const std::string set = read_string(ctx, set_item);
@@ -1288,6 +1401,17 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
       computes = read_compute_classes(ctx, *compute_item, set_names, present);
       used.insert(computes->node_sets.begin(), computes->node_sets.end());
     }
+    // Initial Temperature over the whole body is thermal.initial_temperature.
+    for (const auto& k : temperatures)
+      if (k.initial) {
+        std::set<int> ids(sets[k.set].begin(), sets[k.set].end());
+        if (ids.size() != t.points.size())
+          ctx.fail(k.item.mark, k.item.path + ": an Initial Temperature is read for a node set that holds every "
+                                              "point (Horizon's thermal.initial_temperature); '" + k.set +
+                                              "' holds " + std::to_string(ids.size()) + " of " +
+                                              std::to_string(t.points.size()));
+        if (mentions_t(k.value)) ctx.fail(k.item.mark, k.item.path + ": an initial temperature in t");
+      }
     for (const auto& set : used) {
       YAML::Node rows(YAML::NodeType::Sequence);
       for (int id : sets[set]) rows.push_back(point_row(t.points[static_cast<std::size_t>(id - 1)].x, std::nullopt));
@@ -1317,6 +1441,30 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     }
   }
   if (compute_item && !computes) computes = read_compute_classes(ctx, *compute_item, {}, present);
+  // A temperature field: Peridigm's Temperature, 0 unless an Initial Temperature or a
+  // Prescribed Temperature sets it, prescribed without conduction (thermal.conduction:
+  // false) where no Diffusion material conducts it; it strains the materials with a
+  // Thermal Expansion Coefficient (read_material).
+  bool expands = false;
+  for (const auto& mt : mats) expands = expands || mt.second["thermal"];
+  if (expands || !temperatures.empty()) {
+    YAML::Node thermal;
+    thermal["conduction"] = false;
+    thermal["initial_temperature"] = 0;
+    for (const auto& k : temperatures) {
+      if (k.initial) {
+        thermal["initial_temperature"] = k.value;
+        continue;
+      }
+      YAML::Node bc;
+      bc["region"] = k.set;
+      bc["temperature"] = k.value;
+      thermal["boundary"].push_back(bc);
+    }
+    for (auto mt : mats)
+      if (!mt.second["thermal"]) mt.second["thermal"]["expansion"] = 0;
+    out["thermal"] = thermal;
+  }
   if (auto c = m.find("Contact")) out["contact"] = read_contact_section(ctx, *c, t.horizon, present);
   if (regions.size()) out["regions"] = regions;
   if (ics.size()) out["initial_conditions"] = ics;

@@ -24,6 +24,28 @@ using correspondence::LawSettings;
 using correspondence::Mat3;
 using correspondence::StressLaw;
 
+// The law with thermal expansion (System::thermal_strain eps of the particle; docs/models/
+// heat.md): the multiplicative split F = F_e F_th with F_th = (1 + eps) on the body's axes
+// (Lu and Pister 1975, Int. J. Solids Struct. 11:927), the law's energy per intermediate
+// volume: W = J_th W_e(F_e), P = dW/dF = J_th P_e(F_e) F_th^-T, J_th = det F_th; sigma is
+// the law's. A free expansion F = F_th is stress-free for every law.
+// The rate-form laws' arguments (dt, yield_factor, rate, Fdot) pass through unchanged.
+classical::LawResult evaluate_with_expansion(const LawSettings& law, const Mat3& F, double eps,
+                                             const History& committed, History& trial, double& work, double dt = 0,
+                                             double yield_factor = 1, Mat3* rate = nullptr,
+                                             const Mat3* Fdot = nullptr) {
+  if (eps == 0) return correspondence::evaluate_law(law, F, committed, trial, work, dt, yield_factor, rate, Fdot);
+  Mat3 inverse = Mat3::Identity();
+  for (int a = 0; a < law.dimension; ++a) inverse(a, a) = 1.0 / (1.0 + eps);
+  classical::LawResult r =
+      correspondence::evaluate_law(law, F * inverse, committed, trial, work, dt, yield_factor, rate, Fdot);
+  const double J = 1.0 / inverse.determinant();
+  r.P = J * r.P * inverse.transpose();
+  r.W *= J;
+  work *= J;  // per reference volume, as the ledger books it
+  return r;
+}
+
 const ModelTraits& traits() {
   static const ModelTraits t = [] {
     ModelTraits m;
@@ -42,18 +64,33 @@ const ModelTraits& traits() {
          ParameterSpec::Range::non_negative, 0.0},
         {"hardening_modulus", "stress_law j2: linear isotropic hardening modulus H [Pa]",
          ParameterSpec::Range::non_negative, 0.0},
+        {"flaw_magnitude",
+         "stress_law hypoelastic_j2: Peridigm's yield-stress flaw, sigma_y (1 - m exp(-|x - x_f|^2/s^2)): m "
+         "(0: no flaw)",
+         ParameterSpec::Range::fraction, 0.0},
+        {"flaw_size", "the flaw's length s [m]", ParameterSpec::Range::positive, 1.0},
+        {"flaw_x", "the flaw's centre x_f: x [m]", ParameterSpec::Range::any, 0.0},
+        {"flaw_y", "the flaw's centre x_f: y [m]", ParameterSpec::Range::any, 0.0},
+        {"flaw_z", "the flaw's centre x_f: z [m]", ParameterSpec::Range::any, 0.0},
         {"shape_tolerance",
          "smallest reciprocal condition number of the shape tensor; below it the particle carries no stress "
          "(contact only)",
          ParameterSpec::Range::fraction, 1e-4},
     };
     m.choices = {
-        {"stress_law", "classical stress law: linear_elastic (small strain), neo_hookean, j2 (plasticity)",
-         {"linear_elastic", "neo_hookean", "j2"}},
+        {"stress_law",
+         "classical stress law: linear_elastic (small strain), neo_hookean, j2 (plasticity), hypoelastic and "
+         "hypoelastic_j2 (Peridigm's rate form in the unrotated frame, Flanagan and Taylor 1987)",
+         {"linear_elastic", "neo_hookean", "j2", "hypoelastic", "hypoelastic_j2"}},
+        {"stabilization_form",
+         "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).n "
+         "/|xi|) n (Littlewood 2011) with C = stabilization",
+         {"silling", "peridigm"}},
     };
     m.affine = true;      // T = omega (M_i xi + g_i Y): correspondence_kernels.hpp
     m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
     m.adaptive_time_step = true;  // spring_factors: the stable step from the current F_i
+    m.thermal_strain = true;      // evaluate_with_expansion
     return m;
   }();
   return t;
@@ -62,7 +99,17 @@ const ModelTraits& traits() {
 class Correspondence final : public Model {
  public:
   std::unique_ptr<Model> clone() const override { return std::make_unique<Correspondence>(*this); }
-  const ModelTraits& traits() const override { return horizon::traits(); }
+  // Peridigm's hourglass force is not affine in the bond: with it the run leaves the
+  // affine pass (ModelTraits::affine) for the general one.
+  const ModelTraits& traits() const override {
+    if (Cc_ == 0) return horizon::traits();
+    static const ModelTraits general = [] {
+      ModelTraits m = horizon::traits();
+      m.affine = false;
+      return m;
+    }();
+    return general;
+  }
 
   void setup(const ModelSetup& in) override;
   void force_state(ForcePass& pass) override;
@@ -74,6 +121,7 @@ class Correspondence final : public Model {
     return sum;
   }
   void fields(const System& s, std::vector<ModelField>& out) const override;
+  void tensor_fields(const System& s, std::vector<ModelField>& out) const;
   bool spring_factors(const System& s, std::vector<double>& g) const override;
   bool stiffness(const System& s, StiffnessSink& out) const override;
 
@@ -83,10 +131,16 @@ class Correspondence final : public Model {
     a.io_listed("work", work_, particles_);
     a.io_listed("von_mises", von_mises_, particles_);
     a.io_listed("singular", singular_, particles_);
+    // The rate form's displacement at the last commit (every particle; empty otherwise).
+    a.io("u_committed", u_committed_, Extent::particles);
   }
  private:
   LawSettings law_;
-  double G_ = 0;          // stabilisation modulus G_s c / delta [N/m^7]
+  double G_ = 0;          // stabilisation modulus G_s c / delta [N/m^7] (silling form)
+  double Cc_ = 0;         // C_hg c of Peridigm's hourglass force [N/m^6] (peridigm form)
+  correspondence::Stabilization form_ = correspondence::Stabilization::silling;
+  correspondence::Flaw flaw_;
+  bool hypo_ = false;     // a hypoelastic law: the Peridigm tensors are fields
   double tolerance_ = 0;  // shape_tolerance
   bool adaptive_ = false;  // solver.adaptive_time_step: spring_factors from the current state
   std::vector<uint32_t> particles_;
@@ -95,6 +149,44 @@ class Correspondence final : public Model {
   std::vector<double> work_;       // plastic work of the trial step [J/m^3]
   std::vector<double> von_mises_;  // Cauchy von Mises stress of the last pass [Pa]
   std::vector<uint8_t> singular_;  // 1: the shape tensor was refused at the last pass
+  std::vector<double> yield_factor_;  // the flaw's factor on sigma_y (1 without a flaw)
+  // Of the last pass, for the output (hypoelastic laws): K^-1, F, sigma, unrotated d.
+  std::vector<Mat3> kinv_, F_, sigma_, rate_;
+  std::vector<Vec3> u_committed_;  // hypoelastic laws: every particle's u at the last commit
+  // Row l's law at F from the committed history (the flaw's factor, the rate kept).
+  // Hypoelastic laws take F_dot = (sum_j omega V_j (du_j - du_i) (x) xi) K^-1 / dt, du =
+  // u - u_committed: the nonlocal gradient of the step's displacement increment (Peridigm
+  // takes it from the velocities, which its Verlet and quasi-static steps make du/dt),
+  // free of the rounding of F - F_n (1e-11 of D on ElasticCorrespondenceFullyPrescribedTension).
+  classical::LawResult law_at(const System& s, std::size_t l, const Mat3& F, const Mat3& Kinv, double dt) {
+    Mat3 d = Mat3::Zero(), Fdot = Mat3::Zero();
+    const bool rate = hypo_ && dt > 0 && u_committed_.size() == s.particles.size();
+    if (rate) {
+      const uint32_t i = particles_[l];
+      const Bonds& B = s.bonds;
+      const Vec3 dui = s.particles.u[i] - u_committed_[i];
+      Mat3 N = Mat3::Zero();
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!B.intact[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui;
+        N += (B.weight[k] * B.volume[k]) * correspondence::to_eigen(du) *
+             correspondence::to_eigen(s.particles.X[j] - s.particles.X[i]).transpose();
+      }
+      Fdot = N * Kinv / dt;
+    }
+    const uint32_t i = particles_[l];
+    const double eps = i < s.thermal_strain.size() ? s.thermal_strain[i] : 0.0;
+    const classical::LawResult r = evaluate_with_expansion(law_, F, eps, committed_[l], trial_[l], work_[l], dt,
+                                                           yield_factor_[l], &d, rate ? &Fdot : nullptr);
+    if (hypo_) {
+      kinv_[l] = Kinv;
+      F_[l] = F;
+      sigma_[l] = r.sigma;
+      rate_[l] = d;
+    }
+    return r;
+  }
 };
 
 void Correspondence::setup(const ModelSetup& in) {
@@ -103,13 +195,28 @@ void Correspondence::setup(const ModelSetup& in) {
   if (dim < 2) throw Error("material '" + mat.name + "': the correspondence model needs dimension 2 or 3");
 
   const std::string& law = choice(mat, "stress_law");
-  law_.law = law == "neo_hookean" ? StressLaw::neo_hookean : law == "j2" ? StressLaw::j2 : StressLaw::linear_elastic;
+  law_.law = law == "neo_hookean"      ? StressLaw::neo_hookean
+             : law == "j2"             ? StressLaw::j2
+             : law == "hypoelastic"    ? StressLaw::hypoelastic
+             : law == "hypoelastic_j2" ? StressLaw::hypoelastic_j2
+                                       : StressLaw::linear_elastic;
+  hypo_ = law_.law == StressLaw::hypoelastic || law_.law == StressLaw::hypoelastic_j2;
   law_.elastic = classical::elastic_from_bulk_shear(mat.bulk_modulus, mat.shear_modulus);
   law_.j2 = {parameter(mat, "yield_stress"), parameter(mat, "hardening_modulus")};
   law_.dimension = dim;
   law_.plane = in.dims.plane;
-  if (law_.law == StressLaw::j2 && !(law_.j2.yield_stress > 0))
-    throw Error("material '" + mat.name + "': stress_law j2 needs a positive yield_stress [Pa]");
+  if ((law_.law == StressLaw::j2 || law_.law == StressLaw::hypoelastic_j2) && !(law_.j2.yield_stress > 0))
+    throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
+  if (hypo_ && dim == 2 && law_.plane == PlaneMode::stress)
+    throw Error("material '" + mat.name + "': stress_law " + law + " is not available in plane stress");
+  flaw_.magnitude = parameter(mat, "flaw_magnitude");
+  flaw_.on = flaw_.magnitude > 0;
+  if (flaw_.on && law_.law != StressLaw::hypoelastic_j2)
+    throw Error("material '" + mat.name + "': flaw_magnitude applies to stress_law hypoelastic_j2 only");
+  flaw_.size = parameter(mat, "flaw_size");
+  flaw_.centre = {parameter(mat, "flaw_x"), parameter(mat, "flaw_y"), parameter(mat, "flaw_z")};
+  form_ = choice(mat, "stabilization_form") == "peridigm" ? correspondence::Stabilization::peridigm
+                                                          : correspondence::Stabilization::silling;
   tolerance_ = parameter(mat, "shape_tolerance");
   adaptive_ = in.config.solver.adaptive_time_step;
 
@@ -117,7 +224,10 @@ void Correspondence::setup(const ModelSetup& in) {
   // in 3-D): the scale of the stabilisation and of the short-range contact, as the LPS.
   const double c = equivalent_micromodulus(mat.bulk_modulus, mat.shear_modulus, InfluenceKind::constant, in.dims);
   const double Gs = parameter(mat, "stabilization");
-  G_ = correspondence::stabilization_modulus(Gs, c, in.dims.horizon);
+  if (form_ == correspondence::Stabilization::silling)
+    G_ = correspondence::stabilization_modulus(Gs, c, in.dims.horizon);
+  else
+    Cc_ = Gs * c;
   // Stable time step (Silling-Askari bound on the shared spring): the bond-based spring of
   // the same bulk modulus, stiffened by the stabilisation, which adds at most G_s times it
   // on a bond (omega |xi|/delta <= 1 for the influence functions offered).
@@ -134,6 +244,15 @@ void Correspondence::setup(const ModelSetup& in) {
   work_.assign(n, 0.0);
   von_mises_.assign(n, 0.0);
   singular_.assign(n, 0);
+  yield_factor_.assign(n, 1.0);
+  for (std::size_t l = 0; l < n; ++l) yield_factor_[l] = flaw_.factor(in.system.particles.X[particles_[l]]);
+  if (hypo_) u_committed_ = in.system.particles.u;
+  if (hypo_ || Cc_ != 0) {
+    kinv_.assign(n, Mat3::Zero());
+    F_.assign(n, Mat3::Identity());
+    sigma_.assign(n, Mat3::Zero());
+    rate_.assign(n, Mat3::Zero());
+  }
 }
 
 void Correspondence::force_state(ForcePass& pass) {
@@ -165,7 +284,8 @@ void Correspondence::force_state(ForcePass& pass) {
     Mat3 A = Mat3::Zero();
     double W = 0;
     if (ok) {
-      const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l]);
+      const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
+      if (Cc_ != 0) F_[l] = F;
       if (r.ok) {
         A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
         W = r.W;
@@ -185,6 +305,7 @@ void Correspondence::force_state(ForcePass& pass) {
       const Vec3 xi = X[j] - X[i], Y = deformed(j);
       const double omega = B.weight[k];
       T[k] = correspondence::bond_force_state(A, F, G_, omega, xi, Y);
+      if (Cc_ != 0) T[k] += correspondence::peridigm_hourglass(F, Cc_, omega, xi, Y);
       if (pass.energy && G_ != 0) W += correspondence::bond_stabilization_energy(F, G_, omega * B.volume[k], xi, Y);
     }
     if (pass.energy) pass.energy[i] = W;
@@ -215,7 +336,7 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     if (pass.energy) pass.energy[i] = 0;
     return;
   }
-  const classical::LawResult r = correspondence::evaluate_law(law_, F, committed_[l], trial_[l], work_[l]);
+  const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
   von_mises_[l] = correspondence::von_mises(r.sigma);
   double W = 0;
   // Row-major copies for the flat record (Eigen stores by column).
@@ -239,6 +360,7 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
 }
 
 void Correspondence::commit(System& s) {
+  if (hypo_) u_committed_ = s.particles.u;
   for (std::size_t l = 0; l < particles_.size(); ++l) {
     if (!s.computes_row(particles_[l])) continue;
     committed_[l] = trial_[l];
@@ -307,15 +429,19 @@ bool Correspondence::spring_factors(const System& s, std::vector<double>& g) con
 // committed history: the consistent tangent of the step for j2), so every law of the model
 // has its tangent; the linear elastic law is linear in F and its difference quotient is
 // exact to round-off. Taken when this material holds every particle of a serial run (the
-// pair form's M_j of a neighbour of another model would need that model's tangent) and
-// every bond acts both ways; otherwise the static solvers take finite differences of the
-// forces.
+// pair form's M_j of a neighbour of another model would need that model's tangent), every
+// bond acts both ways, the law is not a rate form and the stabilisation is Silling's;
+// otherwise the static solvers take finite differences of the forces.
 bool Correspondence::stiffness(const System& s, StiffnessSink& out) const {
   const Particles& P = s.particles;
   const Bonds& B = s.bonds;
   const std::size_t n = P.size();
   // One-way bonds (bodies of different horizons) have omega_ij != omega_ji: no pair form.
-  if (s.decomposition || s.one_way_bonds || particles_.size() != n) return false;
+  // The rate-form laws (their stress follows the step's increments, not F alone) and
+  // Peridigm's hourglass force (not affine in the bond) are left to finite differences.
+  if (s.decomposition || s.one_way_bonds || particles_.size() != n || hypo_ ||
+      (form_ == correspondence::Stabilization::peridigm && Cc_ != 0))
+    return false;
   const int dim = law_.dimension;
   using Mat9 = Eigen::Matrix<double, 9, 9>;
   std::vector<Mat3> Kinv(n, Mat3::Zero());
@@ -333,15 +459,17 @@ bool Correspondence::stiffness(const System& s, StiffnessSink& out) const {
     const std::size_t l = static_cast<std::size_t>(local_[i]);
     History trial;
     double work = 0;
-    if (!correspondence::evaluate_law(law_, F, committed_[l], trial, work).ok) continue;  // A = 0: G alone
+    // The law as the force pass takes it: with the particle's thermal strain.
+    const double eps = i < s.thermal_strain.size() ? s.thermal_strain[i] : 0.0;
+    if (!evaluate_with_expansion(law_, F, eps, committed_[l], trial, work).ok) continue;  // A = 0: G alone
     constexpr double h = 1e-6;
     for (int a = 0; a < dim; ++a)
       for (int c = 0; c < dim; ++c) {
         Mat3 Fp = F, Fm = F;
         Fp(a, c) += h;
         Fm(a, c) -= h;
-        const classical::LawResult rp = correspondence::evaluate_law(law_, Fp, committed_[l], trial, work);
-        const classical::LawResult rm = correspondence::evaluate_law(law_, Fm, committed_[l], trial, work);
+        const classical::LawResult rp = evaluate_with_expansion(law_, Fp, eps, committed_[l], trial, work);
+        const classical::LawResult rm = evaluate_with_expansion(law_, Fm, eps, committed_[l], trial, work);
         if (!rp.ok || !rm.ok) continue;
         const Mat3 dP = (rp.P - rm.P) / (2 * h);
         for (int r = 0; r < 3; ++r)
@@ -445,6 +573,73 @@ void Correspondence::fields(const System& s, std::vector<ModelField>& out) const
   out.push_back(std::move(vm));
   out.push_back(std::move(ep));
   out.push_back(std::move(sg));
+  tensor_fields(s, out);
+}
+
+// The tensors of the hypoelastic laws under Peridigm's names (lower case: the Exodus
+// writer's Left_Stretch_Tensor etc., driver/exodus_output.hpp), each as 9 fields
+// <name>_xx, _xy, ..., _zz, and Peridigm's hourglass force density (3 fields
+// hourglass_force_density_x/y/z): published only where a model has them.
+void Correspondence::tensor_fields(const System& s, std::vector<ModelField>& out) const {
+  const std::size_t n = s.particles.size();
+  bool hypo = false, hourglass = false;
+  for (const auto& model : s.models)
+    if (const auto* c = dynamic_cast<const Correspondence*>(model.get())) {
+      hypo = hypo || c->hypo_;
+      hourglass = hourglass || c->form_ == correspondence::Stabilization::peridigm;
+    }
+  static const char* rc[9] = {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"};
+  if (hypo) {
+    const char* names[6] = {"left_stretch_tensor", "rotation_tensor", "shape_tensor_inverse",
+                            "unrotated_rate_of_deformation", "cauchy_stress", "unrotated_cauchy_stress"};
+    std::vector<ModelField> f;
+    for (const char* name : names)
+      for (const char* c : rc) f.push_back({std::string(name) + "_" + c, std::vector<double>(n, 0.0)});
+    for (const auto& model : s.models) {
+      const auto* c = dynamic_cast<const Correspondence*>(model.get());
+      if (!c || !c->hypo_) continue;
+      for (std::size_t l = 0; l < c->particles_.size(); ++l) {
+        const uint32_t i = c->particles_[l];
+        const classical::HypoState& h = c->committed_[l].hypo;
+        const Mat3* m[6] = {&h.V, &h.R, &c->kinv_[l], &c->rate_[l], &c->sigma_[l], &h.sigma_u};
+        for (int t = 0; t < 6; ++t)
+          for (int k = 0; k < 9; ++k) f[static_cast<std::size_t>(9 * t + k)].values[i] = (*m[t])(k / 3, k % 3);
+      }
+    }
+    for (auto& x : f) out.push_back(std::move(x));
+  }
+  if (hourglass) {
+    // f_hg,i = sum_j (T_hg,ij - T_hg,ji) V_j over the acting bonds, T_hg,ji with F_j and
+    // the reversed bond (-xi, -Y). A neighbour whose row another rank computes has no F_j
+    // here: its term is left out (output only; the forces themselves are exact).
+    std::vector<Vec3> f(n, Vec3{});
+    std::vector<const Mat3*> Fof(n, nullptr);
+    std::vector<double> Ccof(n, 0.0);
+    for (const auto& model : s.models)
+      if (const auto* c = dynamic_cast<const Correspondence*>(model.get()); c && c->Cc_ != 0)
+        for (std::size_t l = 0; l < c->particles_.size(); ++l)
+          if (!c->singular_[l] && s.computes_row(c->particles_[l]))
+            Fof[c->particles_[l]] = &c->F_[l], Ccof[c->particles_[l]] = c->Cc_;
+    const Bonds& B = s.bonds;
+    const Particles& P = s.particles;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!Fof[i] || i + 1 >= B.offset.size()) continue;
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!B.intact[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const Vec3 xi = P.X[j] - P.X[i], Y = P.position(j) - P.position(i);
+        Vec3 t = correspondence::peridigm_hourglass(*Fof[i], Ccof[i], B.weight[k], xi, Y);
+        if (Fof[j]) t -= correspondence::peridigm_hourglass(*Fof[j], Ccof[j], B.weight[k], -xi, -Y);
+        f[i] += t * B.volume[k];
+      }
+    }
+    const char* xyz[3] = {"x", "y", "z"};
+    for (int c = 0; c < 3; ++c) {
+      ModelField h{std::string("hourglass_force_density_") + xyz[c], std::vector<double>(n, 0.0)};
+      for (std::size_t i = 0; i < n; ++i) h.values[i] = f[i][c];
+      out.push_back(std::move(h));
+    }
+  }
 }
 
 }  // namespace

@@ -35,9 +35,11 @@
 // sec. 6.1). A particle whose F has det F <= 0 (inverted) carries no stress either, but
 // keeps the stabilisation, which pushes it back.
 #include <Eigen/Dense>
+#include <cmath>
 
 #include "horizon/core/vec3.hpp"
 #include "horizon/deck/config.hpp"
+#include "horizon/material/classical/hypoelastic.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
 #include "horizon/material/model.hpp"
 
@@ -49,7 +51,28 @@ namespace correspondence {
 
 using Mat3 = Eigen::Matrix3d;
 
-enum class StressLaw { linear_elastic, neo_hookean, j2 };
+// hypoelastic, hypoelastic_j2: Peridigm's rate form (classical/hypoelastic.hpp).
+enum class StressLaw { linear_elastic, neo_hookean, j2, hypoelastic, hypoelastic_j2 };
+
+// The zero-energy-mode control: Silling 2017's (*) above, or Peridigm's hourglass force
+// (peridigm_hourglass below).
+enum class Stabilization { silling, peridigm };
+
+// Peridigm's yield-stress flaw (Isotropic Hardening Correspondence's Enable Flaw):
+// sigma_y(x) = sigma_y (1 - m exp(-|x - x_f|^2 / s^2)), the form fitted from the gold of
+// IsotropicHardeningPlasticFullyPrescribedTension_WithFlaw (m = 0.2, s = 0.751: the yield
+// stresses inverted from its Von_Mises_Stress and Equivalent_Plastic_Strain agree with it
+// to 5e-4 of sigma_y at every particle, against 3e-2 for exp(-r/s) or exp(-r^2/(2 s^2))).
+struct Flaw {
+  bool on = false;
+  Vec3 centre{};
+  double size = 1, magnitude = 0;
+  double factor(const Vec3& x) const {
+    if (!on) return 1.0;
+    const Vec3 r = x - centre;
+    return 1.0 - magnitude * std::exp(-(r.x * r.x + r.y * r.y + r.z * r.z) / (size * size));
+  }
+};
 
 struct LawSettings {
   StressLaw law = StressLaw::linear_elastic;
@@ -63,21 +86,37 @@ struct LawSettings {
 // read; Model::commit swaps them).
 struct History {
   classical::J2State plastic;
+  classical::HypoState hypo;  // hypoelastic laws
   double lambda3 = 1;  // plane stress: the out-of-plane stretch of the last evaluation
 };
 
 // The classical law at F (from NonlocalGradient::finish: F(2,2) = 1 in 2-D) from the
 // committed history; the trial history and the plastic work of the step come back.
+// The hypoelastic laws integrate over dt (the time since the committed state) with the
+// yield stress scaled by yield_factor (the flaw); `rate` receives their unrotated rate of
+// deformation.
 inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, const History& committed,
-                                         History& trial, double& plastic_work) {
+                                         History& trial, double& plastic_work, double dt = 0,
+                                         double yield_factor = 1, Mat3* rate = nullptr,
+                                         const Mat3* Fdot = nullptr) {
   trial = committed;
   plastic_work = 0;
+  if (s.law == StressLaw::hypoelastic || s.law == StressLaw::hypoelastic_j2) {
+    const double yield = s.law == StressLaw::hypoelastic_j2 ? s.j2.yield_stress * yield_factor : 0.0;
+    const classical::HypoResult h = classical::hypoelastic_step(s.elastic, yield, s.j2.hardening_modulus,
+                                                                committed.hypo, F, dt, trial.hypo, plastic_work, Fdot);
+    if (rate) *rate = h.d;
+    trial.plastic.alpha = trial.hypo.alpha;
+    return h.law;
+  }
   auto law = [&](const Mat3& F3) -> classical::LawResult {
     switch (s.law) {
       case StressLaw::linear_elastic: return classical::linear_elastic(s.elastic, F3);
       case StressLaw::neo_hookean: return classical::neo_hookean(s.elastic, F3);
       case StressLaw::j2:
         return classical::j2_plasticity(s.elastic, s.j2, committed.plastic, F3, trial.plastic, plastic_work);
+      case StressLaw::hypoelastic:
+      case StressLaw::hypoelastic_j2: break;  // handled above
     }
     return {};
   };
@@ -110,6 +149,24 @@ inline Vec3 bond_force_state(const Mat3& A, const Mat3& F, double G, double omeg
 inline double bond_stabilization_energy(const Mat3& F, double G, double omega_volume, const Vec3& xi, const Vec3& Y) {
   const Eigen::Vector3d z = to_eigen(Y) - F * to_eigen(xi);
   return 0.5 * G * omega_volume * z.squaredNorm();
+}
+
+// Peridigm's hourglass force (Littlewood 2011, "A nonlocal approach to modeling crack
+// nucleation in AA 7075-T651", ASME IMECE2011-64236, sec. on hourglass control): a
+// bond-based spring on the part of the bond's deformation that F does not reproduce,
+// projected on the deformed bond,
+//   T_hg = -C_hg c omega ((F xi - Y) . n / |xi|) n,   n = Y/|Y|,   c = 18 k/(pi delta^4),
+// with C_hg the deck's Hourglass Coefficient and c the bond-based micromodulus of the
+// same bulk modulus (`micromodulus` below). Zero for a homogeneous deformation (Y = F xi
+// on every bond); a non-affine bond stretched by z along itself carries C_hg c s with
+// s = z/|xi|, the bond-based force of that stretch.
+inline Vec3 peridigm_hourglass(const Mat3& F, double Cc, double omega, const Vec3& xi, const Vec3& Y) {
+  const double y = std::sqrt(Y.x * Y.x + Y.y * Y.y + Y.z * Y.z);
+  const double x = std::sqrt(xi.x * xi.x + xi.y * xi.y + xi.z * xi.z);
+  if (!(y > 0) || !(x > 0) || Cc == 0) return {};
+  const Eigen::Vector3d n = to_eigen(Y) / y;
+  const Eigen::Vector3d z = F * to_eigen(xi) - to_eigen(Y);
+  return to_vec3((-Cc * omega * z.dot(n) / x) * n);
 }
 
 // Von Mises equivalent of a Cauchy stress.

@@ -114,6 +114,31 @@ class ExtendedCorrespondence final : public Model {
   bool takes_pair_pass(const System& s) const override;
   uint64_t pair_forces(System& s, bool energy) override;
   void commit(System& s) override;
+
+ private:
+  // What the pair form's rows read of the pass (pair_forces).
+  struct PairPass {
+    System& system;
+    const Point4* y;
+    const Vec3* X;
+    const KindCoefficients* kcs;
+    const BondKind* kinds;
+    bool after;          // break_after_force
+    const double* soft;  // the critical-stretch factors, or null
+    const ForcePass* pass;
+    bool energy;
+  };
+  uint64_t pair_break_row(const PairPass& c, std::size_t l);
+  void pair_law_row(const PairPass& c, std::size_t l);
+  void pair_sum_row(const PairPass& c, std::size_t i);
+  uint64_t pair_break_base(const PairPass& c, std::size_t l);
+  void pair_law_base(const PairPass& c, std::size_t l);
+  void pair_sum_base(const PairPass& c, std::size_t i);
+  uint64_t pair_break_avx512(const PairPass& c, std::size_t l);
+  void pair_law_avx512(const PairPass& c, std::size_t l);
+  void pair_sum_avx512(const PairPass& c, std::size_t i);
+
+ public:
   double pending_dissipation(const System& s) const override {
     double sum = 0;
     for (std::size_t l = 0; l < particles_.size(); ++l)
@@ -793,12 +818,253 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
 // The geometry takes n = xi/|xi| from the kind's 1/|xi| and the m = 1 strain as (c - 1)/2:
 // the forces agree with the vector form to round-off (tests/verification/
 // test_general_pass.cpp). The capped stabilisation (stabilization_yield: a per-bond plastic
-// residual of each side) keeps the vector form, as do mixed runs.
+// residual of each side) keeps the vector form, as do mixed runs and runs with one-way
+// bonds (bodies of different horizons).
 constexpr uint64_t kPairAhead = 8;  // bonds ahead the pair sum asks for a neighbour's record
 
 bool ExtendedCorrespondence::takes_pair_pass(const System& s) const {
-  return stab_yield_ == 0 && particles_.size() == s.particles.size() && s.thermal_strain.empty() && !s.fe_coupling;
+  // One-way bonds (bodies of different horizons) have omega_ij != omega_ji: no pair form.
+  return stab_yield_ == 0 && particles_.size() == s.particles.size() && s.thermal_strain.empty() && !s.fe_coupling &&
+         !s.one_way_bonds;
 }
+
+// 1. Row l's breaking and strain sums (pair_forces); returns the bonds it broke.
+__attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_break_row(const PairPass& c, std::size_t l) {
+  System& s = c.system;
+  Particles& P = s.particles;
+  Bonds& B = s.bonds;
+  ModelCoefficients& M = s.model;
+  const Point4* y = c.y;
+  const Vec3* X = c.X;
+  const KindCoefficients* kcs = c.kcs;
+  const BondKind* kinds = c.kinds;
+  const bool after = c.after;
+  const double* soft = c.soft;
+  auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
+  const uint32_t i = particles_[l];
+  if (!s.computes_row(i)) return 0;  // another rank's row
+  const Point4 pi = y[i];
+  const Vec3 xi_i = X[i];
+  const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
+  const bool self_failed = committed_[l].damage > critical_;
+  const Mat3& pk_old = pair_pk_[l];
+  double smin = std::numeric_limits<double>::infinity(), lost = 0;
+  uint64_t row_broken = 0;
+  uint32_t count = 0;
+  Vec6 S = Vec6::Zero();
+  Mat3 N = Mat3::Zero();
+  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    acts_[k] = 0;
+    if (!B.intact[k]) continue;
+    const uint32_t j = B.nbr[k];
+    const KindCoefficients& kc = kcs[B.kind[k]];
+    const Point4 pj = y[j];
+    const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+    const double r = kernels::bond_length(Y.x, Y.y, Y.z), e = kernels::extension(r, kc.length, 0.0),
+                 stretch = e * kc.inv_length;
+    smin = stretch < smin ? stretch : smin;
+    const BondKind& bk = kinds[B.kind[k]];
+    const Vec3 xi = X[j] - xi_i;
+    if (kernels::breaks(stretch, wi, soft ? scaled(pj.w, soft[j]) : pj.w)) {
+      B.intact[k] = after ? 2 : 0;
+      ++row_broken;
+      if (r > 0 && acted_[k]) {
+        // (1/2) (T_old . Y/|Y|) e V_j with T_old the bond's force state of the last pass
+        // (forces_general.cpp break_row), rebuilt from its scalar, PK_i and the positions.
+        const Vec3 Yo = pair_y_[j] - pair_y_[i];
+        const Eigen::Vector3d t = bk.weight * (pk_old * Eigen::Vector3d(xi.x, xi.y, xi.z));
+        const Vec3 T_old = pair_q_[k] * Yo + Vec3{t[0], t[1], t[2]};
+        lost += 0.5 * dot(T_old, Y) / r * e * (bk.volume * bk.fraction);
+      }
+      M.intact_weight[i] -= kc.damage;
+      if (!after) continue;
+    }
+    if (self_failed || failed_at_[j]) continue;  // omega_D (bond_acts)
+    acts_[k] = 1;
+    ++count;
+    const double w = bk.weight * (bk.volume * bk.fraction);
+    const double inv = kc.inv_length, eps = extended::pair_strain(dot(Y, Y) * (inv * inv), m_);
+    eps_[k] = eps;
+    S.noalias() += (w * eps) * extended::unit_shape_state(inv * xi, dim_);
+    if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+  }
+  if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
+  if (row_broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
+  P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
+  M.min_stretch_next[i] = smin;
+  changed_[l] = e_ok_[l] = e_fin_[l] = 0;
+  if (self_failed) return row_broken;
+  if (count != acting_[l]) rebuild_map(B, P.X, l, i, count);
+  if (!map_ok_[l]) return row_broken;
+  const Vec6 E = maps_[l].solve(S);  // NonlocalStrain::finish(false)
+  if (E.allFinite()) keep_strain(l, E, N);
+  return row_broken;
+}
+
+// 2. Row l's law, stabilisation and record (pair_forces).
+__attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(const PairPass& c, std::size_t l) {
+  System& s = c.system;
+  const Bonds& B = s.bonds;
+  const Vec3* X = c.X;
+  const KindCoefficients* kcs = c.kcs;
+  const BondKind* kinds = c.kinds;
+  const ForcePass& pass = *c.pass;
+  const uint32_t i = particles_[l];
+  if (!s.computes_row(i)) return;
+  PairRecord& rec = pair_[l];
+  rec.mid = midpoint_ && e_ok_[l];
+  rec.E = rec.mid ? e_vec_[l] : e_full_[l];
+  RowLaw law;
+  if (!row_law(pass, l, i, true, law)) {
+    rec.on = 0;
+    rec.A.setZero();
+    rec.ks = 0;
+    pair_pk_[l].setZero();
+    return;
+  }
+  const Vec6 Ei = e_full_[l];
+  const double ks = ks_[l];
+  // stabilisation() without the cap (takes_pair_pass), n from the kind's 1/|xi|, and R
+  // summed as its weighted 6-vector sum w r_force p (the dual's argument) instead of
+  // sum w r_force n (x) n: six multiply-adds a bond instead of nine, no conversion.
+  Vec6 Rp = Vec6::Zero();
+  double W = law.out.W;
+  if (ks != 0) {
+    const double inv_ks = 1.0 / ks;
+    double Ws = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!acts_[k]) continue;
+      const uint32_t j = B.nbr[k];
+      const Vec6 p = extended::unit_normal_projector(kcs[B.kind[k]].inv_length * (X[j] - X[i]));
+      const int32_t lj = midpoint_ ? local_[j] : -1;
+      double r, coef = ks;
+      if (lj >= 0 && e_ok_[lj]) {
+        r = eps_[k] - p.dot(0.5 * (Ei + e_vec_[lj]));
+        coef = 0.5 * (ks + ks_[lj]);
+      } else {
+        r = eps_[k] - p.dot(Ei);
+      }
+      const BondKind& bk = kinds[B.kind[k]];
+      const double w = bk.weight * (bk.volume * bk.fraction), wr = w * r;
+      Rp.noalias() += (wr * (coef * inv_ks)) * p;
+      Ws += coef * wr * r;
+    }
+    W += Ws;
+    ws_[l] = Ws;
+  }
+  const extended::MomentMap& map = maps_[l];
+  rec.A = map.dual(law.out.S);
+  if (ks != 0) rec.A -= (2.0 * ks) * map.dual_weighted(Rp);
+  pair_pk_[l] = law.PK;
+  rec.ks = ks;
+  rec.on = 1;
+  row_end(pass, l, i, law, W);
+}
+
+// 3. Row i's pair sum with the family contact (pair_forces).
+__attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(const PairPass& c, std::size_t i) {
+  System& s = c.system;
+  Particles& P = s.particles;
+  Bonds& B = s.bonds;
+  const Point4* y = c.y;
+  const Vec3* X = c.X;
+  const KindCoefficients* kcs = c.kcs;
+  const BondKind* kinds = c.kinds;
+  const bool energy = c.energy;
+  const double m = m_;
+auto stab = [&](const PairRecord& a, const PairRecord& b, const Vec6& p, double eps) {
+  // 2 coef r of a's side of the bond to b (stabilisation()): coef = (k_a + k_b)/2 with
+  // the midpoint residual when b sends its E, else k_a with a's own.
+  if (a.ks == 0) return 0.0;
+  if (b.mid) return (a.ks + b.ks) * (eps - p.dot(0.5 * (a.E + b.E)));
+  return 2.0 * a.ks * (eps - p.dot(a.E));
+};
+  const Point4 pi = y[i];
+  const Vec3 xi_i = X[i];
+  const int32_t li = local_[i];
+  Vec3 f, xw;
+  double wc_sum = 0;
+  const uint64_t last = B.end(i);
+  for (uint64_t k = B.begin(i); k < last; ++k) {
+    // The neighbour's record lies up to a horizon of rows away (192 bytes): asked for a
+    // few bonds ahead.
+    if (k + kPairAhead < last) {
+      const std::size_t la = local_[B.nbr[k + kPairAhead]];
+      const char* ahead = reinterpret_cast<const char*>(&pair_[la]);
+      __builtin_prefetch(ahead), __builtin_prefetch(ahead + 64);
+      if (vol_gradient_) __builtin_prefetch(&pair_pk_[la]);
+    }
+    const uint32_t j = B.nbr[k];
+    const Point4 pj = y[j];
+    const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+    const KindCoefficients& kc = kcs[B.kind[k]];
+    if (acts_[k]) {
+      const PairRecord& ri = pair_[li];
+      const int32_t lj = local_[j];
+      const PairRecord& rj = pair_[lj];
+      const BondKind& bk = kinds[B.kind[k]];
+      const Vec3 xi = X[j] - xi_i, nv = kc.inv_length * xi;
+      const Vec6 h = extended::unit_shape_state(nv, dim_), p = extended::unit_normal_projector(nv);
+      const double inv2 = kc.inv_length * kc.inv_length, c = dot(Y, Y) * inv2, eps = eps_[k];
+      const double g = (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) * inv2;
+      double si = ri.on ? ri.A.dot(h) : 0.0, sj = rj.on ? rj.A.dot(h) : 0.0;
+      if (ri.mid && rj.mid) {
+        // Both ends take the midpoint residual: one r, the same bits from either end.
+        const double rr = (ri.ks + rj.ks) * (eps - p.dot(0.5 * (ri.E + rj.E)));
+        if (ri.on && ri.ks != 0) si += rr;
+        if (rj.on && rj.ks != 0) sj += rr;
+      } else {
+        if (ri.on) si += stab(ri, rj, p, eps);
+        if (rj.on) sj += stab(rj, ri, p, eps);
+      }
+      const double wg = bk.weight * g, qi = wg * si, V = bk.volume * bk.fraction, wv = bk.weight * V;
+      pair_q_[k] = qi;
+      f += (V * (qi + wg * sj)) * Y;
+      if (vol_gradient_) {
+        const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
+        f += Vec3{t[0], t[1], t[2]};
+        xw += wv * xi;  // omega V_j PK_i xi summed as PK_i (sum omega V_j xi), after the row
+      }
+    }
+    Vec3 fc;
+    double wc = 0;
+    if (family_contact(kc, Y, fc, wc)) {
+      f += fc;
+      wc_sum += wc;
+    }
+  }
+  if (vol_gradient_) {
+    const Eigen::Vector3d t = pair_pk_[li] * Eigen::Vector3d(xw.x, xw.y, xw.z);
+    f += Vec3{t[0], t[1], t[2]};
+  }
+  P.f[i] = f;
+  if (energy) P.energy[i] += wc_sum;
+}
+
+// The rows built for AVX-512 as well as for the build's own target, chosen once per pass
+// (as ordinary_rows.hpp and solver/forces.cpp choose theirs): the same body, the same
+// operations in the same order (no FMA contraction in this file, CMakeLists.txt; Eigen's
+// packets are the build's own in both), so the same bits on every machine, in fewer
+// instructions: AVX-512's 32 vector registers spare the rows' spills (1.2x on the bench
+// deck; an AVX2 build of the rows, 16 registers, measured no gain and is not kept).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define HORIZON_PAIR_AVX512 1
+#define HORIZON_PAIR_TARGET \
+  __attribute__((target("avx2,fma,bmi,bmi2,lzcnt,movbe,avx512f,avx512vl,avx512bw,avx512dq,avx512cd")))
+HORIZON_PAIR_TARGET uint64_t ExtendedCorrespondence::pair_break_avx512(const PairPass& c, std::size_t l) {
+  return pair_break_row(c, l);
+}
+HORIZON_PAIR_TARGET void ExtendedCorrespondence::pair_law_avx512(const PairPass& c, std::size_t l) {
+  pair_law_row(c, l);
+}
+HORIZON_PAIR_TARGET void ExtendedCorrespondence::pair_sum_avx512(const PairPass& c, std::size_t i) {
+  pair_sum_row(c, i);
+}
+#undef HORIZON_PAIR_TARGET
+#endif
+uint64_t ExtendedCorrespondence::pair_break_base(const PairPass& c, std::size_t l) { return pair_break_row(c, l); }
+void ExtendedCorrespondence::pair_law_base(const PairPass& c, std::size_t l) { pair_law_row(c, l); }
+void ExtendedCorrespondence::pair_sum_base(const PairPass& c, std::size_t i) { pair_sum_row(c, i); }
 
 uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
   Particles& P = s.particles;
@@ -810,215 +1076,53 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
   if (pair_y_.size() != np) pair_y_.assign(np, Vec3{});
   if (pair_pk_.size() != n) pair_pk_.assign(n, Mat3::Zero());
   if (pair_.size() != n) pair_.assign(n, PairRecord{});
-  const Point4* y = M.packed.data();
-  const Vec3* X = P.X.data();
-  const KindCoefficients* kcs = M.kind.data();
-  const BondKind* kinds = B.kinds.data();
-  const bool after = M.break_after_force;
-  // A temperature-dependent critical stretch scales each end's s0 (forces_general.cpp).
-  const double* soft = s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data();
-  auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
   if (energy)
     for (std::size_t i = 0; i < np; ++i) P.energy[i] = 0;
-  const ForcePass pass{s, y, nullptr, energy ? P.energy.data() : nullptr, s.time, s.dt};
+  const ForcePass pass{s, M.packed.data(), nullptr, energy ? P.energy.data() : nullptr, s.time, s.dt};
+  // A temperature-dependent critical stretch scales each end's s0 (forces_general.cpp).
+  const PairPass c{s,
+                   M.packed.data(),
+                   P.X.data(),
+                   M.kind.data(),
+                   B.kinds.data(),
+                   M.break_after_force,
+                   s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data(),
+                   &pass,
+                   energy};
+  // The rows for this machine (pair_break_row and its versions below).
+  auto break_row = &ExtendedCorrespondence::pair_break_base;
+  auto law_row = &ExtendedCorrespondence::pair_law_base;
+  auto sum_row = &ExtendedCorrespondence::pair_sum_base;
+#if defined(HORIZON_PAIR_AVX512)
+  static const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                             __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
+                             __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("bmi2") &&
+                             __builtin_cpu_supports("fma");
+  if (avx512) {
+    break_row = &ExtendedCorrespondence::pair_break_avx512;
+    law_row = &ExtendedCorrespondence::pair_law_avx512;
+    sum_row = &ExtendedCorrespondence::pair_sum_avx512;
+  }
+#endif
 
   // 1. Breaking and the strain sums, row by row.
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (n > 512)
-  for (std::size_t l = 0; l < n; ++l) {
-    const uint32_t i = particles_[l];
-    if (!s.computes_row(i)) continue;  // another rank's row
-    const Point4 pi = y[i];
-    const Vec3 xi_i = X[i];
-    const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
-    const bool self_failed = committed_[l].damage > critical_;
-    const Mat3& pk_old = pair_pk_[l];
-    double smin = std::numeric_limits<double>::infinity(), lost = 0;
-    uint64_t row_broken = 0;
-    uint32_t count = 0;
-    Vec6 S = Vec6::Zero();
-    Mat3 N = Mat3::Zero();
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      acts_[k] = 0;
-      if (!B.intact[k]) continue;
-      const uint32_t j = B.nbr[k];
-      const KindCoefficients& kc = kcs[B.kind[k]];
-      const Point4 pj = y[j];
-      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-      const double r = kernels::bond_length(Y.x, Y.y, Y.z), e = kernels::extension(r, kc.length, 0.0),
-                   stretch = e * kc.inv_length;
-      smin = stretch < smin ? stretch : smin;
-      const BondKind& bk = kinds[B.kind[k]];
-      const Vec3 xi = X[j] - xi_i;
-      if (kernels::breaks(stretch, wi, soft ? scaled(pj.w, soft[j]) : pj.w)) {
-        B.intact[k] = after ? 2 : 0;
-        ++row_broken;
-        if (r > 0 && acted_[k]) {
-          // (1/2) (T_old . Y/|Y|) e V_j with T_old the bond's force state of the last pass
-          // (forces_general.cpp break_row), rebuilt from its scalar, PK_i and the positions.
-          const Vec3 Yo = pair_y_[j] - pair_y_[i];
-          const Eigen::Vector3d t = bk.weight * (pk_old * Eigen::Vector3d(xi.x, xi.y, xi.z));
-          const Vec3 T_old = pair_q_[k] * Yo + Vec3{t[0], t[1], t[2]};
-          lost += 0.5 * dot(T_old, Y) / r * e * (bk.volume * bk.fraction);
-        }
-        M.intact_weight[i] -= kc.damage;
-        if (!after) continue;
-      }
-      if (self_failed || failed_at_[j]) continue;  // omega_D (bond_acts)
-      acts_[k] = 1;
-      ++count;
-      const double w = bk.weight * (bk.volume * bk.fraction);
-      const double inv = kc.inv_length, eps = extended::pair_strain(dot(Y, Y) * (inv * inv), m_);
-      eps_[k] = eps;
-      S.noalias() += (w * eps) * extended::unit_shape_state(inv * xi, dim_);
-      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
-    }
-    broken += row_broken;
-    if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
-    if (row_broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
-    P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
-    M.min_stretch_next[i] = smin;
-    changed_[l] = e_ok_[l] = e_fin_[l] = 0;
-    if (self_failed) continue;
-    if (count != acting_[l]) rebuild_map(B, P.X, l, i, count);
-    if (!map_ok_[l]) continue;
-    const Vec6 E = maps_[l].solve(S);  // NonlocalStrain::finish(false)
-    if (E.allFinite()) keep_strain(l, E, N);
-  }
+  for (std::size_t l = 0; l < n; ++l) broken += (this->*break_row)(c, l);
   exchange_midpoint(s);
 
   // 2. The law, the stabilisation and the record, row by row.
 #pragma omp parallel for schedule(static) if (n > 512)
-  for (std::size_t l = 0; l < n; ++l) {
-    const uint32_t i = particles_[l];
-    if (!s.computes_row(i)) continue;
-    PairRecord& rec = pair_[l];
-    rec.mid = midpoint_ && e_ok_[l];
-    rec.E = rec.mid ? e_vec_[l] : e_full_[l];
-    RowLaw law;
-    if (!row_law(pass, l, i, true, law)) {
-      rec.on = 0;
-      rec.A.setZero();
-      rec.ks = 0;
-      pair_pk_[l].setZero();
-      continue;
-    }
-    const Vec6 Ei = e_full_[l];
-    const double ks = ks_[l];
-    // stabilisation() without the cap (takes_pair_pass), n from the kind's 1/|xi|, and R
-    // summed as its weighted 6-vector sum w r_force p (the dual's argument) instead of
-    // sum w r_force n (x) n: six multiply-adds a bond instead of nine, no conversion.
-    Vec6 Rp = Vec6::Zero();
-    double W = law.out.W;
-    if (ks != 0) {
-      const double inv_ks = 1.0 / ks;
-      double Ws = 0;
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-        if (!acts_[k]) continue;
-        const uint32_t j = B.nbr[k];
-        const Vec6 p = extended::unit_normal_projector(kcs[B.kind[k]].inv_length * (X[j] - X[i]));
-        const int32_t lj = midpoint_ ? local_[j] : -1;
-        double r, coef = ks;
-        if (lj >= 0 && e_ok_[lj]) {
-          r = eps_[k] - p.dot(0.5 * (Ei + e_vec_[lj]));
-          coef = 0.5 * (ks + ks_[lj]);
-        } else {
-          r = eps_[k] - p.dot(Ei);
-        }
-        const BondKind& bk = kinds[B.kind[k]];
-        const double w = bk.weight * (bk.volume * bk.fraction), wr = w * r;
-        Rp.noalias() += (wr * (coef * inv_ks)) * p;
-        Ws += coef * wr * r;
-      }
-      W += Ws;
-      ws_[l] = Ws;
-    }
-    const extended::MomentMap& map = maps_[l];
-    rec.A = map.dual(law.out.S);
-    if (ks != 0) rec.A -= (2.0 * ks) * map.dual_weighted(Rp);
-    pair_pk_[l] = law.PK;
-    rec.ks = ks;
-    rec.on = 1;
-    row_end(pass, l, i, law, W);
-  }
+  for (std::size_t l = 0; l < n; ++l) (this->*law_row)(c, l);
 
   // 3. The pair sum with the family contact, over the rows the general pass sums.
   const std::vector<uint32_t>* act = s.active_rows.empty() ? nullptr : &s.active_rows;
   const std::size_t rows = act ? act->size() : np;
-  const double m = m_;
-  auto stab = [&](const PairRecord& a, const PairRecord& b, const Vec6& p, double eps) {
-    // 2 coef r of a's side of the bond to b (stabilisation()): coef = (k_a + k_b)/2 with
-    // the midpoint residual when b sends its E, else k_a with a's own.
-    if (a.ks == 0) return 0.0;
-    if (b.mid) return (a.ks + b.ks) * (eps - p.dot(0.5 * (a.E + b.E)));
-    return 2.0 * a.ks * (eps - p.dot(a.E));
-  };
 #pragma omp parallel for schedule(static) if (rows > 512)
-  for (std::size_t row = 0; row < rows; ++row) {
-    const std::size_t i = act ? (*act)[row] : row;
-    const Point4 pi = y[i];
-    const Vec3 xi_i = X[i];
-    const int32_t li = local_[i];
-    Vec3 f, xw;
-    double wc_sum = 0;
-    const uint64_t last = B.end(i);
-    for (uint64_t k = B.begin(i); k < last; ++k) {
-      // The neighbour's record lies up to a horizon of rows away (192 bytes): asked for a
-      // few bonds ahead.
-      if (k + kPairAhead < last) {
-        const std::size_t la = local_[B.nbr[k + kPairAhead]];
-        const char* ahead = reinterpret_cast<const char*>(&pair_[la]);
-        __builtin_prefetch(ahead), __builtin_prefetch(ahead + 64);
-        if (vol_gradient_) __builtin_prefetch(&pair_pk_[la]);
-      }
-      const uint32_t j = B.nbr[k];
-      const Point4 pj = y[j];
-      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-      const KindCoefficients& kc = kcs[B.kind[k]];
-      if (acts_[k]) {
-        const PairRecord& ri = pair_[li];
-        const int32_t lj = local_[j];
-        const PairRecord& rj = pair_[lj];
-        const BondKind& bk = kinds[B.kind[k]];
-        const Vec3 xi = X[j] - xi_i, nv = kc.inv_length * xi;
-        const Vec6 h = extended::unit_shape_state(nv, dim_), p = extended::unit_normal_projector(nv);
-        const double inv2 = kc.inv_length * kc.inv_length, c = dot(Y, Y) * inv2, eps = eps_[k];
-        const double g = (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) * inv2;
-        double si = ri.on ? ri.A.dot(h) : 0.0, sj = rj.on ? rj.A.dot(h) : 0.0;
-        if (ri.mid && rj.mid) {
-          // Both ends take the midpoint residual: one r, the same bits from either end.
-          const double rr = (ri.ks + rj.ks) * (eps - p.dot(0.5 * (ri.E + rj.E)));
-          if (ri.on && ri.ks != 0) si += rr;
-          if (rj.on && rj.ks != 0) sj += rr;
-        } else {
-          if (ri.on) si += stab(ri, rj, p, eps);
-          if (rj.on) sj += stab(rj, ri, p, eps);
-        }
-        const double wg = bk.weight * g, qi = wg * si, V = bk.volume * bk.fraction, wv = bk.weight * V;
-        pair_q_[k] = qi;
-        f += (V * (qi + wg * sj)) * Y;
-        if (vol_gradient_) {
-          const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
-          f += Vec3{t[0], t[1], t[2]};
-          xw += wv * xi;  // omega V_j PK_i xi summed as PK_i (sum omega V_j xi), after the row
-        }
-      }
-      Vec3 fc;
-      double wc = 0;
-      if (family_contact(kc, Y, fc, wc)) {
-        f += fc;
-        wc_sum += wc;
-      }
-    }
-    if (vol_gradient_) {
-      const Eigen::Vector3d t = pair_pk_[li] * Eigen::Vector3d(xw.x, xw.y, xw.z);
-      f += Vec3{t[0], t[1], t[2]};
-    }
-    P.f[i] = f;
-    if (energy) P.energy[i] += wc_sum;
-  }
+  for (std::size_t row = 0; row < rows; ++row) (this->*sum_row)(c, act ? (*act)[row] : row);
+  const Point4* y = M.packed.data();
   for (std::size_t i = 0; i < np; ++i) pair_y_[i] = {y[i].x, y[i].y, y[i].z};
-  if (after)
+  if (M.break_after_force)
     for (std::size_t k = 0; k < nb; ++k)
       if (B.intact[k] == 2) B.intact[k] = 0;
   return broken;

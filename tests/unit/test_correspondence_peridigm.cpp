@@ -1,0 +1,165 @@
+// Peridigm's options of the correspondence model (material/classical/hypoelastic.hpp,
+// material/models/correspondence.hpp): every figure against a closed form, tolerance stated.
+//   - hypoelastic: uniaxial strain in steps, V_yy and sigma_yy against their sums (the
+//     rule Peridigm's golds show), the rate d = F_dot F^-1; a rigid rotation carries no
+//     stress and R follows it; the J2 return lands on sigma_y + H alpha;
+//   - the flaw's yield factor at its centre, at r = s and far away;
+//   - Peridigm's hourglass force: zero for a homogeneous deformation, the closed form for
+//     a bond stretched along itself, none to first order for a transverse motion.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "horizon/material/classical/hypoelastic.hpp"
+#include "horizon/material/models/correspondence.hpp"
+
+namespace horizon {
+namespace {
+
+using classical::Mat3;
+
+constexpr double kE = 200e9;
+
+Mat3 stretch_y(double f) {
+  Mat3 F = Mat3::Identity();
+  F(1, 1) = f;
+  return F;
+}
+
+// Uniaxial strain, nu = 0 (lambda = 0, 2 mu = E), steps of dt: V_yy,n+1 = V_yy,n (1 + dt
+// D_n+1), D_n+1 = (F_n+1 - F_n)/(dt F_n+1), sigma_yy = E sum dt D. The gold of
+// ElasticCorrespondenceFullyPrescribedTension has 1.0001999600079985 and 39992001.59968003
+// after its first step (F_yy = 1.0002, dt = 2e-9).
+TEST(CorrespondencePeridigm, HypoelasticUniaxialStrain) {
+  const classical::Elastic c = classical::elastic_from_bulk_shear(kE / 3.0, kE / 2.0);  // nu = 0
+  ASSERT_NEAR(c.lambda, 0.0, 1e-3);
+  classical::HypoState n, trial;
+  const double dt = 2e-9;
+  double V = 1, sigma = 0, Fprev = 1;
+  for (int step = 1; step <= 5; ++step) {
+    const double f = 1 + 2e-4 * step;
+    double work = 0;
+    const classical::HypoResult r = classical::hypoelastic_step(c, 0, 0, n, stretch_y(f), dt, trial, work);
+    const double D = (f - Fprev) / (dt * f);
+    V *= 1 + dt * D;
+    sigma += kE * dt * D;
+    EXPECT_NEAR(trial.V(1, 1), V, 1e-15);
+    EXPECT_NEAR(r.d(1, 1), D, 1e-9 * D);
+    EXPECT_NEAR(r.law.sigma(1, 1), sigma, 1e-9 * sigma);
+    EXPECT_NEAR(r.law.P(1, 1), sigma, 1e-9 * sigma);  // J F^-T = 1 along y
+    EXPECT_NEAR(r.law.sigma(0, 0), 0.0, 1e-6);
+    EXPECT_EQ(work, 0.0);
+    if (step == 1) {
+      EXPECT_NEAR(trial.V(1, 1), 1.0001999600079985, 1e-15);
+      // F_dot = (F - F_n)/dt here: the rounding of F - F_n is 1e-13 of it (the model
+      // takes F_dot from the displacement increments and meets the gold's 1e-2 Pa).
+      EXPECT_NEAR(r.law.sigma(1, 1), 39992001.59968003, 1e-12 * 4e7);
+    }
+    n = trial;
+    Fprev = f;
+  }
+  // dt = 0 keeps the committed stress.
+  classical::HypoState same;
+  double work = 0;
+  const auto r0 = classical::hypoelastic_step(c, 0, 0, n, n.F, 0.0, same, work);
+  EXPECT_NEAR(r0.law.sigma(1, 1), sigma, 1e-9 * sigma);
+}
+
+// A rigid rotation about z at a constant rate: R follows the rotation and V stays I. The
+// rate L = F_dot F^-1 from the step's F_dot and its end F (Peridigm's rule, above) is
+// symmetric to O(theta^2) per step of angle theta, so a rotation by Theta in N steps
+// leaves a stress of order mu Theta^2/N: ten times the steps, a tenth of it.
+double rotation_residue(int steps, classical::HypoState& n) {
+  const classical::Elastic c = classical::elastic_from_bulk_shear(kE / 1.2, kE / 2.6);  // nu = 0.3
+  classical::HypoState trial;
+  const double angle = std::acos(-1.0) / 2;
+  double sigma = 0;
+  for (int s = 1; s <= steps; ++s) {
+    const Mat3 F = Eigen::AngleAxisd(angle * s / steps, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    double work = 0;
+    sigma = classical::hypoelastic_step(c, 0, 0, n, F, 1e-3, trial, work).law.sigma.norm();
+    n = trial;
+  }
+  return sigma;
+}
+
+TEST(CorrespondencePeridigm, HypoelasticRigidRotation) {
+  classical::HypoState coarse, fine;
+  const double s1 = rotation_residue(200, coarse), s2 = rotation_residue(2000, fine);
+  const Mat3 F = Eigen::AngleAxisd(std::acos(-1.0) / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_LT((fine.R - F).norm(), 1e-3);
+  EXPECT_LT((fine.V - Mat3::Identity()).norm(), 1e-3);
+  EXPECT_LT(s1, 5 * (kE / 2.6) * 2.5 / 200);  // a few mu Theta^2 / N, Theta^2 = 2.47
+  EXPECT_GT(s1 / s2, 8.0);
+  EXPECT_LT(s1 / s2, 12.0);
+}
+
+// Uniaxial strain with nu = 0.3 past yield: q = sqrt(3/2)|s| lands on y_n + H Delta alpha
+// with Delta alpha = (q_trial^2 - y_n^2)/(6 mu q_trial), y_n = sigma_y + H alpha_n, and
+// the plastic work is sigma_y Delta alpha + H (alpha^2 - alpha_n^2)/2.
+TEST(CorrespondencePeridigm, HypoelasticJ2Return) {
+  const double nu = 0.3, sy = 460e6, H = 5e9;
+  const classical::Elastic c = classical::elastic_from_bulk_shear(kE / (3 * (1 - 2 * nu)), kE / (2 * (1 + nu)));
+  classical::HypoState n, trial;
+  bool yielded = false;
+  for (int s = 1; s <= 40; ++s) {
+    double work = 0;
+    const auto r = classical::hypoelastic_step(c, sy, H, n, stretch_y(1 + 1e-4 * s), 1.0, trial, work);
+    const Mat3 dev = trial.sigma_u - trial.sigma_u.trace() / 3 * Mat3::Identity();
+    const double q = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+    // The trial stress: the committed one plus the elastic increment (no rotation).
+    const Mat3 tr = n.sigma_u + (c.lambda * r.d.trace() * Mat3::Identity() + 2 * c.mu * r.d);
+    const Mat3 tdev = tr - tr.trace() / 3 * Mat3::Identity();
+    const double qt = std::sqrt(1.5 * (tdev.array() * tdev.array()).sum()), yn = sy + H * n.alpha;
+    if (trial.alpha > n.alpha) {
+      yielded = true;
+      EXPECT_NEAR(trial.alpha - n.alpha, (qt * qt - yn * yn) / (6 * c.mu * qt), 1e-12);
+      EXPECT_NEAR(q, sy + H * trial.alpha, 1e-9 * sy);
+      const double expect = sy * (trial.alpha - n.alpha) + 0.5 * H * (trial.alpha * trial.alpha - n.alpha * n.alpha);
+      EXPECT_NEAR(work, expect, 1e-12 * std::abs(expect));
+    } else {
+      EXPECT_LE(q, sy + H * n.alpha + 1e-6);
+    }
+    EXPECT_LT((r.law.sigma - trial.sigma_u).norm(), 1e-9 * sy);  // no rotation
+    n = trial;
+  }
+  EXPECT_TRUE(yielded);
+}
+
+TEST(CorrespondencePeridigm, FlawYieldFactor) {
+  correspondence::Flaw f;
+  f.on = true;
+  f.centre = {0.5, -1.0, 2.0};
+  f.size = 0.751;
+  f.magnitude = 0.2;
+  EXPECT_DOUBLE_EQ(f.factor(f.centre), 0.8);
+  EXPECT_NEAR(f.factor(f.centre + Vec3{0.751, 0, 0}), 1 - 0.2 / std::exp(1.0), 1e-15);
+  EXPECT_NEAR(f.factor(f.centre + Vec3{0, 0, 10}), 1.0, 1e-15);
+  correspondence::Flaw off;
+  EXPECT_EQ(off.factor(f.centre), 1.0);
+}
+
+TEST(CorrespondencePeridigm, HourglassForce) {
+  const double Cc = 0.04 * 18 * 1.6e11 / (std::acos(-1.0) * std::pow(0.751, 4));
+  Mat3 F;
+  F << 1.01, 0.02, -0.01, 0.003, 0.98, 0.04, 0.0, -0.02, 1.03;
+  const Vec3 xi{0.25, -0.5, 0.1};
+  // Homogeneous: Y = F xi on the bond, no force.
+  const Eigen::Vector3d Fx = F * correspondence::to_eigen(xi);
+  const Vec3 T0 = correspondence::peridigm_hourglass(F, Cc, 1.0, xi, correspondence::to_vec3(Fx));
+  EXPECT_LT(std::sqrt(T0.x * T0.x + T0.y * T0.y + T0.z * T0.z), 1e-12 * Cc);
+  // F = I, the bond stretched by z along itself: T = C c omega (z/|xi|) n.
+  const double L = std::sqrt(xi.x * xi.x + xi.y * xi.y + xi.z * xi.z), z = 1e-3;
+  const Vec3 n = xi * (1 / L), Y = xi + n * z;
+  const Vec3 T = correspondence::peridigm_hourglass(Mat3::Identity(), Cc, 0.5, xi, Y);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(T[c], Cc * 0.5 * (z / L) * n[c], 1e-12 * Cc);
+  // A transverse motion: z . n = 0, no force.
+  const Vec3 t{0.5 * 0.5, 0.25 * 0.5, 0};  // t . xi = 0.0625 - 0.0625 = 0
+  ASSERT_NEAR(t.x * xi.x + t.y * xi.y + t.z * xi.z, 0.0, 1e-15);
+  const Vec3 Tt = correspondence::peridigm_hourglass(Mat3::Identity(), Cc, 1.0, xi, xi + t * 1e-4);
+  EXPECT_LT(std::sqrt(Tt.x * Tt.x + Tt.y * Tt.y + Tt.z * Tt.z), 1e-7 * Cc);
+}
+
+}  // namespace
+}  // namespace horizon
