@@ -5,7 +5,7 @@
 //   number maps) merged by global id into the serial mesh's particles, in its order;
 // - particles without neighbours (LPS: dilatation 0, no bond force; contact moves them);
 // - a friction coefficient that is a function string of t (Time Dependent Short Range Force);
-// - QuasiStatic's Adaptive Load-Stepping read (its Switch to Verlet refused);
+// - QuasiStatic's Adaptive Load-Stepping read (its Switch to Verlet: a staged run);
 // - the CG path's dense solve of a small tangent CG cannot finish (singular, not symmetric:
 //   PredictorFromPreviousSolver's finite-difference correspondence tangent of a body held
 //   in y alone).
@@ -370,7 +370,7 @@ TEST(PeridigmRuns, FrictionCoefficientInTime) {
   EXPECT_NEAR(s.particles.f[1].x, fn, 1e-12 * fn);
 }
 
-TEST(PeridigmRuns, AdaptiveLoadSteppingIsReadSwitchToVerletRefused) {
+TEST(PeridigmRuns, AdaptiveLoadSteppingIsReadSwitchToVerletIsStaged) {
   const fs::path dir = fresh_dir("horizon_pdruns_adaptive");
   std::ofstream(dir / "points.txt") << "0 0 0 1 1\n1 0 0 1 1\n2 0 0 1 1\n";
   auto deck = [](const std::string& extra) {
@@ -400,13 +400,17 @@ TEST(PeridigmRuns, AdaptiveLoadSteppingIsReadSwitchToVerletRefused) {
   const YAML::Node n = convert(dir, deck(""));
   EXPECT_EQ(n["solver"]["type"].as<std::string>(), "static");
   EXPECT_EQ(n["solver"]["load_steps"].as<int>(), 2);
+  // Switch to Verlet is a staged run (tests/unit/test_staged_run.cpp); both Safety Factor
+  // and Fixed dt in it are an error at the second.
+  const YAML::Node sw = convert(dir, deck("        Switch to Verlet: {Safety Factor: 0.6, Output Frequency: 10}\n"));
+  EXPECT_EQ(sw["solver"][0]["on_failure"].as<std::string>(), "explicit");
   try {
-    convert(dir, deck("        Switch to Verlet: {Safety Factor: 0.6, Output Frequency: 10}\n"));
+    convert(dir, deck("        Switch to Verlet: {Fixed dt: 1.0e-6, Safety Factor: 0.6}\n"));
     FAIL() << "expected an error";
   } catch (const Error& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find("deck.yaml:22:9: error:"), std::string::npos) << m;
-    EXPECT_NE(m.find("Switch to Verlet: not supported"), std::string::npos) << m;
+    EXPECT_NE(m.find("deck.yaml:22:"), std::string::npos) << m;
+    EXPECT_NE(m.find("give Fixed dt or Safety Factor, not both"), std::string::npos) << m;
   }
 }
 

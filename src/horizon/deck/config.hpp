@@ -2,6 +2,8 @@
 // The typed deck: what `horizon run` needs, already validated. Physics code sees only
 // these structs, never YAML. Every field is documented in docs/input.md.
 #include <array>
+#include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -156,6 +158,9 @@ enum class TangentKind { analytic, finite_difference };
 
 struct SolverConfig {
   double end_time = 0;              // static: the pseudo-time of the last load step (default 1)
+  // Explicit stage of a staged deck (Config::static_stage): the time it starts at, the
+  // static stage's end_time; its steps run from there to end_time. 0 otherwise.
+  double start_time = 0;
   std::optional<double> time_step;  // fixed step; else the stable step times safety_factor
   double safety_factor = 0.8;
   double damping = 0;               // mass-proportional damping rate [1/s], for runs to rest
@@ -168,6 +173,10 @@ struct SolverConfig {
   std::optional<int> max_iterations;    // per solve; default 30 (Newton) or 100000 (ADR)
   int load_steps = 1;                   // static: equal increments of the pseudo-time
   int max_step_cuts = 6;                // halvings of one increment before giving up
+  // The static stage of a staged run: on_failure: explicit starts the explicit stage from
+  // the last converged state when an increment fails after its cuts (Peridigm's Switch to
+  // Verlet), instead of stopping the run.
+  bool switch_on_failure = false;
   int max_break_rounds = 100;           // break-and-re-equilibrate rounds per load step
   // implicit_dynamic: initial_acceleration: zero starts Newmark with a_0 = 0 (Peridigm's
   // Implicit solver: Body_Force_Implicit's gold) instead of the equilibrium (f + b)/rho.
@@ -241,6 +250,14 @@ struct OutputConfig {
     // Peridigm's Verlet integrator reports there (its second half-kick is not masked);
     // default (false): the particle's own velocity, the prescribed rate.
     bool verlet_velocity = false;
+    // first_step, last_step: the file is written at the steps in [first_step, last_step]
+    // that `every` divides (Peridigm's Initial Output Step, Final Output Step); the steps
+    // of a staged run count on across its stages (docs/input.md "Solver stages").
+    int64_t first_step = 0;
+    int64_t last_step = std::numeric_limits<int64_t>::max();
+    // explicit_every: the frequency from a staged run's explicit stage on (0: `every`;
+    // Peridigm's Switch to Verlet's own Output Frequency).
+    int explicit_every = 0;
   };
   std::vector<ExodusFile> exodus_files;
 };
@@ -425,6 +442,10 @@ struct Config {
   std::vector<InitialConditionConfig> initial_conditions;
   std::vector<LoadConfig> loads;
   SolverConfig solver;
+  // A staged deck (`solver:` a list of two stages, docs/input.md "Solver stages"): the
+  // static solve run first; `solver` is then the explicit run that starts from its last
+  // equilibrium at solver.start_time, with the velocity of its last load step.
+  std::optional<SolverConfig> static_stage;
   ThermalConfig thermal;
   OutputConfig output;
   // Not a deck key: the memory a run may need [bytes] before build_system refuses it

@@ -385,13 +385,15 @@ void only_for(const DeckContext& ctx, const MapReader& m, const char* key, bool 
   }
 }
 
-void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
-  MapReader s(ctx, m.get("solver", "at least {end_time: ...}"),
-              {"type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
-               "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds",
-               "condition_number", "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend",
-               "initial_acceleration"});
-  SolverConfig& sc = config.solver;
+const std::vector<std::string> kSolverKeys = {
+    "type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
+    "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds", "condition_number",
+    "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend", "initial_acceleration",
+    "on_failure"};
+
+// One solver map (the deck's `solver`, or one stage of a staged deck) into `sc`.
+void read_solver_map(const DeckContext& ctx, const Item& item, const Config& config, SolverConfig& sc) {
+  MapReader s(ctx, item, kSolverKeys);
   std::string type = "explicit";
   if (auto t = s.find("type")) {
     sc.type = read_enum<SolverType>(ctx, *t,
@@ -412,6 +414,9 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   only_for(ctx, s, "method", is_static, kStatic, type);
   only_for(ctx, s, "load_steps", is_static, kStatic, type);
   only_for(ctx, s, "max_step_cuts", is_static, kStatic, type);
+  only_for(ctx, s, "on_failure", is_static, kStatic, type);
+  if (auto f = s.find("on_failure"))
+    sc.switch_on_failure = read_enum<bool>(ctx, *f, {{"stop", false}, {"explicit", true}});
   only_for(ctx, s, "initial_acceleration", sc.type == SolverType::implicit_dynamic, "type: implicit_dynamic", type);
   if (auto a = s.find("initial_acceleration"))
     sc.zero_initial_acceleration = read_enum<bool>(ctx, *a, {{"equilibrium", false}, {"zero", true}});
@@ -511,6 +516,69 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
   }
 }
 
+// `solver`: one solver map, or a list of stages run in turn (docs/input.md "Solver
+// stages"): a static solve, then an explicit run that starts from its last equilibrium
+// at the static end_time (Peridigm's QuasiStatic solver followed by Verlet).
+void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
+  const Item solver = m.get("solver", "at least {end_time: ...}");
+  if (!solver.node.IsSequence()) {
+    read_solver_map(ctx, solver, config, config.solver);
+    if (config.solver.switch_on_failure) {
+      const Item f = *MapReader(ctx, solver, kSolverKeys).find("on_failure");
+      ctx.fail(f.mark, f.path + ": explicit applies to the static stage of a staged run (solver: a list of a "
+                                "static stage and an explicit one), which it starts early");
+    }
+    return;
+  }
+  const std::vector<Item> stages = read_list(ctx, solver);
+  if (stages.size() != 2)
+    fail_expected(ctx, solver, "a map (one solver) or a list of two stages (a static solve, then an explicit run "
+                               "from its state)");
+  SolverConfig first;
+  read_solver_map(ctx, stages[0], config, first);
+  read_solver_map(ctx, stages[1], config, config.solver);
+  auto type_mark = [&](const Item& stage) {
+    const auto t = MapReader(ctx, stage, kSolverKeys).find("type");
+    return t ? t->mark : stage.mark;
+  };
+  if (first.type != SolverType::static_equilibrium)
+    ctx.fail(type_mark(stages[0]), stages[0].path + ": the first stage must be type: static (Horizon stages a "
+                                                    "static solve followed by an explicit run)");
+  if (config.solver.type != SolverType::explicit_dynamic)
+    ctx.fail(type_mark(stages[1]), stages[1].path + ": the second stage must be type: explicit (Horizon stages a "
+                                                    "static solve followed by an explicit run)");
+  if (config.solver.adaptive_time_step)
+    ctx.fail(stages[1].mark, stages[1].path + ": adaptive_time_step is not available in a staged run");
+  // With on_failure: explicit the explicit stage may end where the static one does: it
+  // runs only when an increment fails, from there (Peridigm's Switch to Verlet).
+  if (!(config.solver.end_time > first.end_time) &&
+      !(first.switch_on_failure && config.solver.end_time >= first.end_time)) {
+    const Item e = *MapReader(ctx, stages[1], kSolverKeys).find("end_time");
+    ctx.fail(e.mark, fmt::format("{}: expected a time after the static stage's end_time {} (the explicit stage "
+                                 "runs from there)", e.path, first.end_time));
+  }
+  config.solver.start_time = first.end_time;
+  config.static_stage = first;
+}
+
+// What a static stage cannot take (the static solver's limits: solver/static_driver.hpp),
+// an error at the stage list.
+void check_stages(const DeckContext& ctx, const MapReader& m, const Config& config) {
+  if (!config.static_stage) return;
+  const Item solver = *m.find("solver");
+  auto refuse = [&](const std::string& what) {
+    ctx.fail(solver.mark, solver.path + ": a staged run (static, then explicit) cannot have " + what +
+                              ": the static stage has no such forces");
+  };
+  if (config.contact.short_range.enabled || !config.contact.indenters.empty() ||
+      !config.contact.projectiles.empty())
+    refuse("contact (short-range, indenters or projectiles)");
+  if (config.thermal.enabled) refuse("a thermal section");
+  for (const auto& b : config.bodies)
+    if (b.discretization == Discretization::fe) refuse("finite-element bodies");
+  if (config.structure.kind != StructureKind::none) refuse("a structure (beam, plate)");
+}
+
 void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   const auto item = m.find("output");
   if (!item) return;
@@ -535,7 +603,7 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       ctx.fail(*files->key_mark, files->path + ": exodus output is written by the explicit, implicit and static solvers only");
     for (std::size_t k = 0; k < files->node.size(); ++k) {
       const Item entry{files->node[k], index_path(files->path, k), files->node[k].Mark(), std::nullopt};
-      MapReader e(ctx, entry, {"file", "every", "variables", "velocity"});
+      MapReader e(ctx, entry, {"file", "every", "variables", "velocity", "first_step", "last_step", "explicit_every"});
       OutputConfig::ExodusFile f;
       const Item name = e.get("file", "the Exodus file's name, inside output.directory");
       f.file = read_string(ctx, name);
@@ -548,6 +616,21 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       if (auto ev = e.find("every")) {
         f.every = read_int(ctx, *ev);
         if (f.every < 1) fail_expected(ctx, *ev, "a whole number >= 1");
+      }
+      if (auto ee = e.find("explicit_every")) {
+        if (!config.static_stage)
+          ctx.fail(*ee->key_mark, ee->path + ": applies to staged runs (solver: a static and an explicit stage) only");
+        f.explicit_every = read_int(ctx, *ee);
+        if (f.explicit_every < 1) fail_expected(ctx, *ee, "a whole number >= 1");
+      }
+      if (auto fs = e.find("first_step")) {
+        f.first_step = read_int(ctx, *fs);
+        if (f.first_step < 0) fail_expected(ctx, *fs, "a step number >= 0");
+      }
+      if (auto ls = e.find("last_step")) {
+        f.last_step = read_int(ctx, *ls);
+        if (f.last_step < f.first_step)
+          fail_expected(ctx, *ls, "a step number >= first_step (" + std::to_string(f.first_step) + ")");
       }
       if (auto vars = e.find("variables")) {
         // Lambda, Deformation_Gradient, Contact_Force_Density, Horizon, a model field
@@ -756,6 +839,7 @@ Config read_config(DeckContext& ctx, const Item& root) {
   }
   if (auto t = m.find("thermal")) config.thermal = read_thermal(ctx, *t, regions);
   check_thermal(ctx, m, config);
+  check_stages(ctx, m, config);
   read_output(ctx, m, config);
   return config;
 }

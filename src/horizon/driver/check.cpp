@@ -59,7 +59,8 @@ int64_t step_count(const Config& c, double dt) {
                             "bodies, the spacing and the horizon",
                             c.deck_file, dt));
   }
-  const double steps = std::ceil(c.solver.end_time / dt - 1e-9);
+  // A staged run's explicit stage runs from its start_time (0 otherwise).
+  const double steps = std::ceil((c.solver.end_time - c.solver.start_time) / dt - 1e-9);
   if (!(steps <= kMaxSteps)) {
     throw Error(fmt::format("{}: the run would take {:.3g} steps of {:.4g} s to end_time {:.4g} s, more than the "
                             "{:g} a run may take; check solver.end_time and solver.time_step (units: seconds)",
@@ -166,6 +167,11 @@ std::string format_check(const Config& c, const CheckReport& r) {
     return o.str();
   }
   const bool penalty = !c.contact.indenters.empty() || !c.contact.projectiles.empty();
+  if (c.static_stage)  // a staged run (docs/input.md "Solver stages")
+    o << fmt::format("stage 1         static, {}, {} load steps to t = {:.4e} s (tolerance {:.1e}); then explicit "
+                     "from its state\n",
+                     c.static_stage->method == StaticMethod::adr ? "adaptive dynamic relaxation" : "Newton-Raphson",
+                     c.static_stage->load_steps, c.static_stage->end_time, c.static_stage->tolerance);
   o << fmt::format("stable step     {:.4e} s ({}{})\n", r.stable_dt,
                    r.fe_elements ? "Silling-Askari bound and the elements'" : "Silling-Askari bound",
                    penalty ? ", with the contact penalty" : "");
@@ -175,7 +181,11 @@ std::string format_check(const Config& c, const CheckReport& r) {
   else
     o << fmt::format("time step       {:.4e} s{}\n", r.dt,
                      c.solver.time_step ? " (fixed)" : fmt::format(" (safety factor {})", c.solver.safety_factor));
-  o << fmt::format("steps           {} to t = {:.4e} s\n", r.steps, c.solver.end_time);
+  if (c.static_stage)
+    o << fmt::format("steps           {} from t = {:.4e} s to t = {:.4e} s\n", r.steps, c.solver.start_time,
+                     c.solver.end_time);
+  else
+    o << fmt::format("steps           {} to t = {:.4e} s\n", r.steps, c.solver.end_time);
   return o.str();
 }
 

@@ -374,7 +374,17 @@ ExodusSchedule::ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& file
     files_.push_back(
         std::make_unique<ExodusOutput>((dir / f.file).string(), iterations, f.variables, config, f.verlet_velocity));
     every_.push_back(std::max(1, f.every));
+    range_.emplace_back(f.first_step, f.last_step);
+    explicit_every_.push_back(f.explicit_every);
   }
+}
+
+// Peridigm's rule: a list writes at the steps its Output Frequency divides, within its
+// Initial and Final Output Step (Compression_QS_Explicit_MultiFreqOutput's gold: every 100
+// from step 21 writes steps 100, ..., 500, not 21, 121, ...).
+bool ExodusSchedule::due_file(std::size_t k, int64_t step) const {
+  const int64_t every = step >= explicit_from_ && explicit_every_[k] > 0 ? explicit_every_[k] : every_[k];
+  return step % every == 0 && step >= range_[k].first && step <= range_[k].second;
 }
 
 void ExodusSchedule::prepare(System& s) const {
@@ -383,14 +393,14 @@ void ExodusSchedule::prepare(System& s) const {
 }
 
 bool ExodusSchedule::due(int64_t step) const {
-  for (int64_t e : every_)
-    if (step % e == 0) return true;
+  for (std::size_t k = 0; k < files_.size(); ++k)
+    if (due_file(k, step)) return true;
   return false;
 }
 
 void ExodusSchedule::write(const System& s, const Decomposition* d, double time, int64_t step) {
   for (std::size_t k = 0; k < files_.size(); ++k)
-    if (step % every_[k] == 0) files_[k]->write(s, d, time);
+    if (due_file(k, step)) files_[k]->write(s, d, time);
 }
 
 void ExodusSchedule::set_verlet(const Loads* loads, double dt) {

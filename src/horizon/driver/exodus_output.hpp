@@ -33,6 +33,7 @@
 // (parallel/lead_view.hpp stream_on_lead), which alone writes: the same file, byte for
 // byte, as one rank.
 #include <cstdint>
+#include <limits>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -103,8 +104,10 @@ class ExodusOutput {
 };
 
 // output.exodus_files: Exodus files on their own schedules, each written at step 0 (the
-// initial state) and at every step that its `every` divides -- Peridigm's rule for each of
-// its Output lists (Output Frequency). Static runs count load steps.
+// initial state) and at every step that its `every` divides, within its first_step and
+// last_step -- Peridigm's rule for each of its Output lists (Output Frequency, Initial and
+// Final Output Step). Static runs count load steps; a staged run counts on across its
+// stages (driver/static_stage.cpp).
 class ExodusSchedule {
  public:
   ExodusSchedule(const std::vector<OutputConfig::ExodusFile>& files, const std::filesystem::path& dir,
@@ -121,10 +124,17 @@ class ExodusSchedule {
   void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
   // As ExodusOutput::set_verlet, for every file.
   void set_verlet(const Loads* loads, double dt);
+  // A staged run's explicit stage starts at this step: from it on a file's explicit_every
+  // (deck/config.hpp ExodusFile) replaces its every.
+  void set_explicit_from(int64_t step) { explicit_from_ = step; }
 
  private:
+  bool due_file(std::size_t k, int64_t step) const;
   std::vector<std::unique_ptr<ExodusOutput>> files_;
   std::vector<int64_t> every_;
+  std::vector<std::pair<int64_t, int64_t>> range_;  // first_step, last_step
+  std::vector<int64_t> explicit_every_;             // 0: every_
+  int64_t explicit_from_ = std::numeric_limits<int64_t>::max();
 };
 
 }  // namespace horizon

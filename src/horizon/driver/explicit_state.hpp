@@ -146,8 +146,18 @@ struct ExplicitRun::State {
     pending_work = 0.5 * thermal_strain_work(s, strain_change);
   }
 
-  void record_history() {
-    const Ledger& g = solver->ledger();
+  // A staged run (Config::static_stage; driver/static_stage.cpp): the static stage runs
+  // on this run's system and writers before the explicit stage's first step, writing its
+  // load steps as output steps 1..N (history rows, frames, Exodus steps); the explicit
+  // stage's start state is then step N + 1 and its step n step N + 1 + n (step_offset =
+  // N + 1), Peridigm's count (Compression_QS_Explicit_MultiFreqOutput's gold). Sets
+  // status, exit_code and stopped when a load step does not converge.
+  void run_static_stage();
+  int64_t step_offset = 0;
+  nlohmann::ordered_json stage_summary;  // the static stage's figures, summary.json "static_stage"
+
+  void record_history() { record_history(solver->time(), step_offset + solver->steps(), solver->dt(), solver->ledger()); }
+  void record_history(double time, int64_t step, double dt, const Ledger& g) {
     // Exact sums and maxima over the owned particles (driver/summary.hpp; collective when
     // decomposed); s.broken and s.initial_bonds count the whole system's bonds.
     const DamageStats dstat = damage_stats(s);
@@ -156,7 +166,7 @@ struct ExplicitRun::State {
         s.initial_bonds ? static_cast<double>(s.broken) / static_cast<double>(s.initial_bonds) : 0.0;
     max_balance_error = std::max(max_balance_error, std::abs(g.balance_error()));
     history << fmt::format("{:.9e},{},{:.6e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6f},{:.9f}",
-                           solver->time(), solver->steps(), solver->dt(), g.kinetic, g.strain, g.external_work,
+                           time, step, dt, g.kinetic, g.strain, g.external_work,
                            g.dissipated, g.damped, g.balance_error(), broken_fraction, dmax, dmean);
     for (const auto& L : loads->loads())
       history << fmt::format(",{:.9e},{:.9e},{:.9e}", L.reaction.x, L.reaction.y, L.reaction.z);
@@ -169,16 +179,16 @@ struct ExplicitRun::State {
     if (s.heat.active()) history << fmt::format(",{:.9e},{:.9e},", g.thermal_work, s.heat.time) << heat_history_row(s);
     history << history_columns_row(config, s) << "\n";
   }
-  void write_frame() {
-    if (exodus) exodus->write(s, dd.get(), solver->time());  // output.format exodus or both
+  void write_frame() { write_frame(solver->time(), step_offset + solver->steps()); }
+  void write_frame(double time, int64_t step) {
+    if (exodus) exodus->write(s, dd.get(), time);  // output.format exodus or both
     if (!config.output.writes_vtu()) {
       ++frame_count;
       return;
     }
     const std::string base = fmt::format("frame_{:05d}", frame_count++);
     if (s.heat.active()) update_heat_flux(s);
-    write_frame_files(dir.string(), base, make_frame(s, solver->time(), solver->steps()), solver->time(), *pvd,
-                      dd.get());
+    write_frame_files(dir.string(), base, make_frame(s, time, step), time, *pvd, dd.get());
   }
   bool at_end() const {
     return adaptive ? solver->time() >= end_time * (1 - 1e-12) : solver->steps() >= total;

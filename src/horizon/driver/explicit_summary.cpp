@@ -113,6 +113,7 @@ int ExplicitRun::finish() {
   j["time_step"] = solver.dt();
   if (r.adaptive) j["time_step_range"] = {r.dt_min, r.dt_max};
   j["time"] = solver.time();
+  if (!r.stage_summary.empty()) j["static_stage"] = r.stage_summary;  // a staged run's first stage
   j["threads"] = omp_get_max_threads();
   j["ranks"] = r.dd ? r.dd->size : 1;
   j["backend"] = r.backend ? r.backend->name() : "cpu";  // solver.backend (solver/backend.hpp)

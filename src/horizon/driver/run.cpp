@@ -37,6 +37,15 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
                "horizon: warning: {} threads but this process may run on {} core(s) only (CPU affinity); under "
                "mpirun give each rank its cores (--map-by slot:PE={} or --bind-to none)\n",
                omp_get_max_threads(), cores, omp_get_max_threads());
+  // A staged run (static, then explicit: driver/static_stage.cpp) runs its static stage on
+  // one rank's whole system: the static solver's split over ranks has limits of its own
+  // (run_implicit.cpp), and a checkpoint holds the explicit stage alone.
+  if (c.static_stage && world_size() > 1)
+    throw Error(fmt::format("{}: a staged run (static, then explicit) runs on one rank; this run has {} ranks",
+                            c.deck_file, world_size()));
+  if (c.static_stage && options.restart)
+    throw Error(fmt::format("{}: --restart continues single-solver explicit runs; this deck has stages "
+                            "(static, then explicit)", c.deck_file));
   r.wall_start = std::chrono::steady_clock::now();
   r.dir = c.output.directory;
   prepare_output_directory(r.dir.string(), "frames");  // before the (long) set-up
@@ -59,8 +68,8 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
                             backend_choice_prefix(c), world_size()));
   const char* whole = std::getenv("HORIZON_MPI_WHOLE_SYSTEM");
   const char* particles_env = std::getenv("HORIZON_MPI_LOCAL_PARTICLES");
-  const bool local_rows =
-      cpu_backend && mpi_built() && local_rows_allowed(c) && !(whole && std::string(whole) == "1");
+  const bool local_rows = cpu_backend && mpi_built() && !c.static_stage && local_rows_allowed(c) &&
+                          !(whole && std::string(whole) == "1");
   const bool local_particles = local_rows && world_size() > 1 && local_particles_allowed(c) &&
                                !(particles_env && std::string(particles_env) == "0");
   if (local_particles) r.dd = std::make_unique<Decomposition>();
@@ -86,7 +95,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
   r.solver->initialize();
-  if (cpu_backend && mpi_built() && !r.dd) {
+  if (cpu_backend && mpi_built() && !r.dd && !c.static_stage) {
     // An MPI build decomposes every run it can, on one rank too, so that one rank and
     // many give the same bits (parallel/decomposition.hpp); a deck it cannot split runs
     // serially on one rank and is refused on more.
@@ -164,6 +173,9 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
     r.write_frame();
     if (r.exodus_files) r.exodus_files->write(r.s, r.dd.get(), r.solver->time(), 0);
     r.crack->record(r.cracks(), 0);
+    // A staged run: the static stage, then the explicit stage's start state (written again
+    // at the switch time, as Peridigm writes it).
+    if (c.static_stage) r.run_static_stage();
   }
 
   // After the restart: a backend with its own copy of the state copies the restored one.
@@ -180,7 +192,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
                r.dd->local_particles ? "(with its ghosts)" : "(every particle)", r.s.bonds.size(),
                r.dd->local_rows ? "(its rows)" : "(the whole system on every rank)");
   r.cpu_start = cpu_seconds();
-  r.stopped = r.at_end();
+  r.stopped = r.stopped || r.at_end();  // (a static stage that did not converge stopped the run)
 }
 
 ExplicitRun::~ExplicitRun() = default;
@@ -198,7 +210,7 @@ int64_t ExplicitRun::advance(int64_t n) {
     return step < r.total && step % r.history_every != 0 &&
            step * r.frames < static_cast<int64_t>(r.next_frame) * r.total &&
            !(c.output.checkpoint_every > 0 && step % c.output.checkpoint_every == 0) &&
-           !(r.exodus_files && r.exodus_files->due(step));
+           !(r.exodus_files && r.exodus_files->due(r.step_offset + step));
   };
   try {
     while (taken < n && !r.at_end()) {
@@ -221,7 +233,7 @@ int64_t ExplicitRun::advance(int64_t n) {
       const bool frame_due = r.adaptive ? last || (solver.time() + solver.dt()) * r.frames >= r.next_frame * r.end_time
                                         : step * r.frames >= static_cast<int64_t>(r.next_frame) * r.total;
       const bool history_due = step % r.history_every == 0 || last;
-      const bool exodus_due = r.exodus_files && r.exodus_files->due(step);
+      const bool exodus_due = r.exodus_files && r.exodus_files->due(r.step_offset + step);
       backend.advance(1, history_due || frame_due || exodus_due);
       r.advance_heat();
       taken += batch;
@@ -238,7 +250,7 @@ int64_t ExplicitRun::advance(int64_t n) {
       }
       if (exodus_due) {
         r.exodus_files->set_verlet(r.loads.get(), solver.dt());  // velocity: verlet files
-        r.exodus_files->write(r.s, r.dd.get(), solver.time(), step);
+        r.exodus_files->write(r.s, r.dd.get(), solver.time(), r.step_offset + step);
       }
       if (c.output.checkpoint_every > 0 && solver.steps() % c.output.checkpoint_every == 0 && !r.at_end())
         r.write_checkpoint();

@@ -47,7 +47,11 @@ class ExplicitSolver {
   ExplicitSolver(System& s, Loads& loads, double dt, double damping);
 
   // Applies the loads at t = 0 and computes the first forces and energies.
-  void initialize();
+  // initialize(t0, dt_before): starts at t0 instead (the explicit stage of a staged run,
+  // driver/static_stage.cpp): the steps run from t0, t = t0 + n dt; prescribed velocities
+  // are the displacements' rate over the dt_before that led to t0 (0: none); the ledger
+  // starts there (its initial energy the state's kinetic plus strain energy).
+  void initialize(double t0 = 0, double dt_before = 0);
   // One step. With `energy`, the ledger's strain energy is brought up to date.
   // On a non-finite state, u and v are restored to the start of the step and
   // NonFiniteState is thrown.
@@ -82,7 +86,7 @@ class ExplicitSolver {
   System& s_;
   Loads& loads_;
   double dt_, damping_;
-  double time_ = 0;
+  double time_ = 0, start_time_ = 0;
   int64_t steps_ = 0;
   bool fixed_dt_ = true;  // no set_dt: t = steps * dt
   Ledger ledger_;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -584,11 +585,19 @@ std::string read_value(Translation& t, const Item& item) {
 
 // Horizon's native solver for a deck's solvers (one, or several in sequence merged).
 struct Solve {
-  YAML::Node solver;       // native `solver`
+  YAML::Node solver;       // native `solver` (of a staged deck: its explicit stage)
   std::string method;      // Verlet, QuasiStatic, NOXQuasiStatic, Implicit
+  double start_time = 0;   // a staged deck's explicit stage: the static stage's end
   double end_time = 1;
   std::optional<double> fixed_dt;
   int load_steps = 1;      // static
+  // A QuasiStatic solver followed by Verlet: the static stage (native `solver: [static,
+  // explicit]`, docs/input.md "Solver stages"); this Solve is then the Verlet stage.
+  std::shared_ptr<Solve> static_stage;
+  // A QuasiStatic solver's Adaptive Load-Stepping.Switch to Verlet: the explicit stage it
+  // falls back to (native `explicit` solver map), and its Output Frequency (0: none).
+  YAML::Node switch_to_verlet;
+  int switch_output_every = 0;
 };
 
 // A NOX sublist Horizon reads without effect: NOX's own settings of the path its
@@ -600,12 +609,12 @@ void read_nox_sublist(const DeckContext& ctx, const Item& item) {
 
 // QuasiStatic's `Adaptive Load-Stepping` (Peridigm cuts a load step whose Newton solve
 // fails, up to the reductions it allows, then optionally finishes with Verlet): Horizon's
-// static driver cuts a failing load step itself (solver/static_driver.hpp), so the list is
-// read, its values checked, without effect. `Switch to Verlet`, Peridigm's explicit
-// fallback once its reductions are spent, is an error: Horizon runs one solver a deck, and
-// the decks that give it (AdaptiveQuasiStaticSolver: 2 Newton iterations to an absolute
-// 1e-3) count on the switch (docs/peridigm.md, "Adaptive Load-Stepping").
-void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item) {
+// static driver cuts a failing load step itself (solver/static_driver.hpp), so the
+// reductions are read, their values checked, without effect (with a Switch to Verlet the
+// reductions in one step are max_step_cuts). `Switch to Verlet` {Safety
+// Factor or Fixed dt, Output Frequency}, Peridigm's explicit fallback once its reductions
+// are spent, becomes a staged run whose static stage has on_failure: explicit (read_solvers).
+void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item, Solve& r) {
   MapReader a(ctx, item,
               {"Maximum load step reductions in one step", "Maximum total load step reductions",
                "Reduce all remaining load steps", "Adaptive output frequency", "Switch to Verlet"});
@@ -613,10 +622,27 @@ void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item) {
     if (auto n = a.find(k); n && read_int(ctx, *n) < 0) fail_expected(ctx, *n, "a whole number >= 0");
   for (const char* k : {"Reduce all remaining load steps", "Adaptive output frequency"})
     if (auto b = a.find(k)) read_bool(ctx, *b);
-  if (auto v = a.find("Switch to Verlet"))
-    ctx.fail(*v->key_mark, v->path + ": not supported: Peridigm's switch to explicit dynamics once its load-step "
-                                     "reductions are spent; Horizon runs one solver a deck (its static driver cuts "
-                                     "failing load steps, without a switch)");
+  if (auto v = a.find("Switch to Verlet")) {
+    MapReader sv(ctx, *v, {"Safety Factor", "Fixed dt", "Output Frequency"});
+    YAML::Node e;
+    e["type"] = "explicit";
+    if (sv.has("Fixed dt") && sv.has("Safety Factor"))
+      ctx.fail(*sv.find("Safety Factor")->key_mark, v->path + ": give Fixed dt or Safety Factor, not both");
+    if (auto f = sv.find("Fixed dt")) e["time_step"] = number(read_positive(ctx, *f));
+    if (auto f = sv.find("Safety Factor")) {
+      const double sf = read_positive(ctx, *f);
+      if (sf > 1) fail_expected(ctx, *f, "a safety factor in (0, 1]");
+      e["safety_factor"] = number(sf);
+    }
+    if (auto f = sv.find("Output Frequency")) {
+      r.switch_output_every = read_int(ctx, *f);
+      if (r.switch_output_every < 1) fail_expected(ctx, *f, "a whole number >= 1");
+    }
+    r.switch_to_verlet = e;
+    // With the switch the reductions decide when the run turns explicit: Peridigm's
+    // reductions in one step are Horizon's halvings of one increment (max_step_cuts).
+    if (auto n = a.find("Maximum load step reductions in one step")) r.solver["max_step_cuts"] = read_int(ctx, *n);
+  }
 }
 
 // One solver list (Solver, Solver1, ...); `t0` gets its Initial Time.
@@ -706,7 +732,7 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
       if (auto i = v.find(k)) solver["max_iterations"] = read_int(ctx, *i);
     // The Krylov method of Peridigm's linear solves; Horizon's are its own. Read, no effect.
     if (auto b = v.find("Belos Linear Solver")) read_string(ctx, *b);
-    if (auto a = v.find("Adaptive Load-Stepping")) read_adaptive_load_stepping(ctx, *a);
+    if (auto a = v.find("Adaptive Load-Stepping")) read_adaptive_load_stepping(ctx, *a, r);
     if (auto n = v.find("Nonlinear Solver")) {
       // NOX's Newton-type solvers: a line search or a trust region globalises the same
       // Newton step; Horizon's Newton has its own safeguard (step cuts).
@@ -742,6 +768,7 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
   Solve merged;
   double end = 0;
   std::string first_key;
+  std::shared_ptr<Solve> static_stage;  // the QuasiStatic solvers before a Verlet one
   for (const auto& key : keys) {
     const Item item = *m.find(key);
     double t0 = 0;
@@ -760,8 +787,33 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
       ctx.fail(item.mark, fmt::format("{}: Horizon runs one solver a deck; {} cannot continue {} as one run: {}", key,
                                       key, first_key, why));
     };
+    if (merged.switch_to_verlet.IsMap() || sv.switch_to_verlet.IsMap())
+      refuse("a QuasiStatic solver with Switch to Verlet is staged alone (its explicit fallback ends the run)");
     if (std::abs(t0 - end) > 1e-12 * std::max(1.0, std::abs(end)))
       refuse(fmt::format("its Initial Time {} is not where the solver before it ended ({})", t0, end));
+    // A Verlet solver after QuasiStatic ones: Horizon's staged run (the static solve, then
+    // the explicit run from its state with the last load step's velocity; docs/peridigm.md).
+    if (sv.method == "Verlet" && merged.solver["type"].as<std::string>() == "static" && !static_stage) {
+      // (YAML::Node assignment writes through to the node it shares: a clone, and reset.)
+      static_stage = std::make_shared<Solve>();
+      static_stage->solver = YAML::Clone(merged.solver);
+      static_stage->method = merged.method;
+      static_stage->end_time = merged.end_time;
+      static_stage->load_steps = merged.load_steps;
+      static_stage->solver["end_time"] = number(static_stage->end_time);
+      merged.solver.reset(sv.solver);
+      merged.method = sv.method;
+      merged.fixed_dt = sv.fixed_dt;
+      merged.end_time = sv.end_time;
+      merged.load_steps = sv.load_steps;
+      merged.start_time = t0;
+      first_key = key;
+      end = sv.end_time;
+      continue;
+    }
+    if (static_stage && sv.method != "Verlet")
+      refuse(fmt::format("a {} solver after the Verlet one that follows a QuasiStatic one (Horizon stages a "
+                         "static solve and one explicit run)", sv.method));
     if (sv.method != merged.method && !(sv.solver["type"].as<std::string>() == "static" &&
                                         merged.solver["type"].as<std::string>() == "static"))
       refuse(fmt::format("a {} solver after a {} one", sv.method, merged.method));
@@ -788,11 +840,33 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
   // 1e-7/2e-9 = 49.999... steps end at 9.8e-8. Horizon's explicit solver takes
   // ceil(T/dt - 1e-9) whole steps (driver/check.cpp: 500 and 50 there), so the native deck
   // ends at int(T/dt) dt, where both codes take the same steps.
+  // A Verlet stage after a static one takes int((T - t0)/dt) steps from t0 the same way
+  // (Compression_QS_Explicit_3x2x2: (1e-4 - 5e-5)/1e-7 = 500.00000000000006, 500 steps).
   if (merged.method == "Verlet" && merged.fixed_dt) {
-    const double steps = std::floor(merged.end_time / *merged.fixed_dt);
-    if (steps >= 1) merged.end_time = steps * *merged.fixed_dt;
+    const double steps = std::floor((merged.end_time - merged.start_time) / *merged.fixed_dt);
+    if (steps >= 1) merged.end_time = merged.start_time + steps * *merged.fixed_dt;
   }
   merged.solver["end_time"] = number(merged.end_time);
+  merged.static_stage = static_stage;
+  // A QuasiStatic solver with Switch to Verlet: the static stage with on_failure: explicit,
+  // then its Verlet fallback to the same Final Time (AdaptiveQuasiStaticSolver).
+  if (merged.switch_to_verlet.IsMap()) {
+    auto stage = std::make_shared<Solve>();
+    stage->solver = YAML::Clone(merged.solver);
+    stage->solver["on_failure"] = "explicit";
+    stage->method = merged.method;
+    stage->end_time = merged.end_time;
+    stage->load_steps = merged.load_steps;
+    Solve verlet;
+    verlet.solver = YAML::Clone(merged.switch_to_verlet);
+    verlet.solver["end_time"] = number(merged.end_time);
+    verlet.method = "Verlet";
+    verlet.start_time = verlet.end_time = merged.end_time;
+    if (verlet.solver["time_step"]) verlet.fixed_dt = verlet.solver["time_step"].as<double>();
+    verlet.static_stage = stage;
+    verlet.switch_output_every = merged.switch_output_every;
+    return verlet;
+  }
   return merged;
 }
 
@@ -810,8 +884,6 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
   }
   if (auto f = om.find("Output Format")) read_string(ctx, *f);
   if (auto f = om.find("Parallel Write")) read_bool(ctx, *f);
-  for (const char* k : {"Initial Output Step", "Final Output Step"})
-    if (auto it = om.find(k)) ctx.fail(*it->key_mark, it->path + ": not supported");
   // Without an Output Filename the file is peridigm.e (Horizon's choice).
   const std::string name = om.find("Output Filename") ? read_string(ctx, *om.find("Output Filename")) : "peridigm";
   if (name.empty() || name.find('/') != std::string::npos)
@@ -841,17 +913,36 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
   YAML::Node file;
   file["file"] = file_name;
   file["every"] = every;
+  // Initial and Final Output Step bound the steps the list writes (the steps its
+  // frequency divides): first_step, last_step. A staged run's steps count on from the
+  // static stage's load steps (Compression_QS_Explicit_MultiFreqOutput: Final Output
+  // Step 20 keeps the quasi-static file to its 20 load steps, Initial Output Step 21 the
+  // explicit file to the Verlet steps, docs/peridigm.md).
+  std::optional<int> first_step;
+  if (auto it = om.find("Initial Output Step")) {
+    first_step = read_int(ctx, *it);
+    if (*first_step < 0) fail_expected(ctx, *it, "a step number >= 0");
+    file["first_step"] = *first_step;
+  }
+  if (auto it = om.find("Final Output Step")) {
+    const int last = read_int(ctx, *it);
+    if (last < first_step.value_or(0))
+      fail_expected(ctx, *it, "a step number >= the Initial Output Step (" + std::to_string(first_step.value_or(0)) + ")");
+    file["last_step"] = last;
+  }
   // Peridigm's Verlet reports at a prescribed component the prescribed rate plus
   // dt/2 (f + b)/rho (its second half-kick; ElasticBondBased2DPlaneStrain's gold to 3e-10):
   // the native `velocity: verlet` (docs/input.md).
   if (solve.method == "Verlet") file["velocity"] = "verlet";
+  // Switch to Verlet's Output Frequency: each list's frequency once the run turned explicit.
+  if (solve.switch_output_every > 0) file["explicit_every"] = solve.switch_output_every;
   exodus_files.push_back(file);
   if (first) {
     output["directory"] = "out/" + name;
     if (om.find("Output Frequency")) {
       output["history_every"] = every;
       if (solve.fixed_dt) {
-        const double steps = std::ceil(solve.end_time / *solve.fixed_dt - 1e-9);
+        const double steps = std::ceil((solve.end_time - solve.start_time) / *solve.fixed_dt - 1e-9);
         output["frames"] = std::max(1, static_cast<int>(std::min(1e6, steps / every)));
       } else if (solve.solver["type"].as<std::string>() == "static") {
         output["frames"] = std::max(1, solve.load_steps / every);
@@ -1418,7 +1509,15 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   // are one run cut in pieces (the same method and options, each starting where the last
   // ended, with the same step) become that one run (read_solvers).
   const Solve solve = read_solvers(ctx, solver_keys, m);
-  out["solver"] = solve.solver;
+  if (solve.static_stage) {
+    // Peridigm's QuasiStatic solver, then Verlet: the native list of two stages.
+    YAML::Node stages(YAML::NodeType::Sequence);
+    stages.push_back(solve.static_stage->solver);
+    stages.push_back(solve.solver);
+    out["solver"] = stages;
+  } else {
+    out["solver"] = solve.solver;
+  }
 
   // Output: each top-level list whose name starts with "Output" (Output, Output1,
   // Output_1, Output Data, ...) is one Exodus file with its own frequency.
