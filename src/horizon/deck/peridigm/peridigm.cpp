@@ -399,6 +399,18 @@ YAML::Node read_material(Translation& t, const Item& item) {
     if (const double alpha = read_number(t.ctx, *a); alpha != 0) {
       mat["thermal"]["expansion"] = number(alpha);
       mat["thermal"]["reference_temperature"] = "initial";
+      // The rate-form laws take no thermal strain yet: a correspondence material that
+      // expands takes the total form of its law (linear_elastic, j2), whose split of F
+      // into elastic and thermal parts expands a free body stress-free (docs/peridigm.md).
+      if (mat["stress_law"]) {
+        const std::string law = mat["stress_law"].as<std::string>();
+        if (law == "hypoelastic") mat["stress_law"] = "linear_elastic";
+        if (law == "hypoelastic_j2") {
+          if (mat["flaw_magnitude"])
+            t.ctx.fail(a->mark, a->path + ": a flawed material (Enable Flaw) with thermal expansion is not supported");
+          mat["stress_law"] = "j2";
+        }
+      }
     }
   }
   for (const char* flag : {"Apply Shear Correction Factor", "Compute Partial Stress"}) {

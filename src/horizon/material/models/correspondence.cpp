@@ -209,6 +209,11 @@ void Correspondence::setup(const ModelSetup& in) {
     throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
   if (hypo_ && dim == 2 && law_.plane == PlaneMode::stress)
     throw Error("material '" + mat.name + "': stress_law " + law + " is not available in plane stress");
+  // The rate form integrates the whole rate of deformation: a thermal strain would need
+  // its rate taken out of it, which it does not do yet (the total-form laws split F).
+  if (hypo_ && mat.thermal.expansion != 0)
+    throw Error("material '" + mat.name + "': stress_law " + law +
+                " takes no thermal expansion yet; use linear_elastic or j2 with thermal.expansion");
   flaw_.magnitude = parameter(mat, "flaw_magnitude");
   flaw_.on = flaw_.magnitude > 0;
   if (flaw_.on && law_.law != StressLaw::hypoelastic_j2)
