@@ -18,30 +18,16 @@
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/output/exodus.hpp"
+#include "deck_test_support.hpp"
 
 namespace horizon {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_dir() {
-  const fs::path dir = fs::temp_directory_path() / "horizon_peridigm_correspondence" /
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string write(const fs::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path.string();
-}
-
-std::size_t index_of(const std::vector<std::string>& names, const std::string& name) {
-  const auto it = std::find(names.begin(), names.end(), name);
-  EXPECT_NE(it, names.end()) << name;
-  return static_cast<std::size_t>(it - names.begin());
-}
+fs::path test_dir() { return test::fresh_test_dir("horizon_peridigm_correspondence"); }
+using test::write;
+using test::index_of;
 
 // The unit cube as 2 x 2 x 2 cells (centres 0.25 and 0.75), every particle bonded to the
 // seven others (horizon 1.75), u = (0, 0.001 y t/T, 0) prescribed everywhere, T = 4e-7 s

@@ -21,52 +21,21 @@
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/output/exodus.hpp"
+#include "deck_test_support.hpp"
 
 namespace horizon {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_dir() {
-  const fs::path dir = fs::temp_directory_path() / "horizon_peridigm_outputs" /
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string write(const fs::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path.string();
-}
-
-std::string error_of(const std::string& path) {
-  try {
-    load_deck(path);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
-// Runs a deck (its output under dir/out) and reads back the Exodus file `file`.
-ExodusSeries run_and_read(const std::string& deck, const fs::path& dir, const std::string& file) {
-  Config c = load_deck(deck);
-  c.output.directory = (dir / "out").string();
-  RunOptions o;
-  o.quiet = true;
-  EXPECT_EQ(run_deck(c, o), 0);
-  return read_exodus_series((dir / "out" / file).string());
-}
+fs::path test_dir() { return test::fresh_test_dir("horizon_peridigm_outputs"); }
+using test::write;
+using test::error_of;
+using test::run_and_read;
+using test::index_of;
 
 // The native deck's first material (materials are a map by name).
 YAML::Node first_material(const YAML::Node& native) { return native["materials"].begin()->second; }
-
-std::size_t index_of(const std::vector<std::string>& names, const std::string& name) {
-  const auto it = std::find(names.begin(), names.end(), name);
-  EXPECT_NE(it, names.end()) << name;
-  return static_cast<std::size_t>(it - names.begin());
-}
 
 // The unit cube as PdQuickGrid's 2 x 2 x 2 cells (centres 0.25 and 0.75, volume 1/8), every
 // particle bonded to the seven others (horizon 1.75), every particle's displacement

@@ -18,48 +18,18 @@
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/output/exodus.hpp"
+#include "deck_test_support.hpp"
 
 namespace horizon {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_dir() {
-  const fs::path dir = fs::temp_directory_path() / "horizon_peridigm_thermal" /
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string write(const fs::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path.string();
-}
-
-std::string error_of(const std::string& path) {
-  try {
-    load_deck(path);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
-ExodusSeries run_and_read(const std::string& deck, const fs::path& dir, const std::string& file) {
-  Config c = load_deck(deck);
-  c.output.directory = (dir / "out").string();
-  RunOptions o;
-  o.quiet = true;
-  EXPECT_EQ(run_deck(c, o), 0);
-  return read_exodus_series((dir / "out" / file).string());
-}
-
-std::size_t index_of(const std::vector<std::string>& names, const std::string& name) {
-  const auto it = std::find(names.begin(), names.end(), name);
-  EXPECT_NE(it, names.end()) << name;
-  return static_cast<std::size_t>(it - names.begin());
-}
+fs::path test_dir() { return test::fresh_test_dir("horizon_peridigm_thermal"); }
+using test::write;
+using test::error_of;
+using test::run_and_read;
+using test::index_of;
 
 // A 3 x 3 x 3 PdQuickGrid cube (spacing 1, centres -1, 0, 1), the rigid-body modes held as
 // in Peridigm's ThermalExpansionCube (node 1 at (-1, -1, -1) fixed, the three axes through

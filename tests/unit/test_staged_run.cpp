@@ -17,33 +17,16 @@
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/output/exodus.hpp"
+#include "deck_test_support.hpp"
 
 namespace horizon {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_dir() {
-  const fs::path dir = fs::temp_directory_path() / "horizon_staged_run" /
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string write(const fs::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path.string();
-}
-
-std::string error_of(const std::string& path) {
-  try {
-    load_deck(path);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+fs::path test_dir() { return test::fresh_test_dir("horizon_staged_run"); }
+using test::write;
+using test::error_of;
 
 constexpr double kT1 = 5e-5;  // the static stage's end
 constexpr double kDt = 1e-7;  // the explicit stage's step
