@@ -277,9 +277,10 @@ class Model {
     (void)system, (void)energy;
     return 0;
   }
-  // The analytic tangent stiffness of a model that owns the force pass, at the state of
-  // the last force pass (bonds held as they were): true when written to `out`, false when
-  // the model has none (the static solvers then take finite differences of the forces).
+  // The analytic tangent stiffness of a model that owns the force pass, or of a general-pass
+  // model that holds every particle (correspondence; solver/tangent.hpp model_tangent), at
+  // the current displacements with the bonds held as they are: true when written to `out`,
+  // false when the model has none (the static solvers then take finite differences).
   virtual bool stiffness(const System& system, StiffnessSink& out) const {
     (void)system, (void)out;
     return false;
