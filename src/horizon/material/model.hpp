@@ -80,6 +80,10 @@ struct ModelTraits {
   // docs/models/heat.md): materials.NAME.thermal.expansion is allowed. The unified models
   // take it in the general force pass; a model with its own force_state takes it there.
   bool thermal_strain = false;
+  // The material's constants do not scale with its horizon (lps: m_i is each particle's
+  // own; correspondence: only its stabilisation modulus reads it), so its particles may
+  // have several (bodies of different horizons; solver/build.cpp material_horizon).
+  bool any_horizon = false;
   bool structural = false;           // models the nodes of a beam, plate or shell (deck structure: ...), not a solid
   // The force state of particle i's bonds reads only the current positions of i's family,
   // i's own history and the shared per-particle constants (no other particle's state of

@@ -180,8 +180,8 @@ std::vector<double> particle_horizons(const System& s, const Config& config) {
 // The horizon material m's constants take (ModelSetup::config.horizon and dims.horizon):
 // the one horizon of its bodies, or, where its particles have several (bodies of
 // different horizons, or one that varies in space), the deck's, for the models whose
-// forces do not scale with it (lps: m_i is each particle's own; correspondence: its
-// stabilisation modulus alone reads it). Decided from the deck alone, so every rank agrees.
+// forces do not scale with it (ModelTraits::any_horizon). Decided from the deck alone, so
+// every rank agrees.
 double material_horizon(const Config& config, const MaterialConfig& mat) {
   std::optional<double> one;
   bool several = false;
@@ -192,7 +192,8 @@ double material_horizon(const Config& config, const MaterialConfig& mat) {
     one = v;
   }
   if (!several) return one ? *one : config.horizon;
-  if ((mat.model != "lps" && mat.model != "correspondence") || mat.damage.fracture_energy)
+  const ModelEntry* model = find_model(mat.model);
+  if (!model || !model->traits.any_horizon || mat.damage.fracture_energy)
     throw Error(config.deck_file + ": material '" + mat.name + "' (model " + mat.model +
                 "): its particles have different horizons (bodies of different horizons, or one that varies in space), "
                 "and its constants" + (mat.damage.fracture_energy ? " (the critical stretch from fracture_energy)" : "") +

@@ -89,6 +89,7 @@ const ModelTraits& traits() {
     };
     m.affine = true;      // T = omega (M_i xi + g_i Y): correspondence_kernels.hpp
     m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
+    m.any_horizon = true;  // only the stabilisation modulus reads the horizon
     m.adaptive_time_step = true;  // spring_factors: the stable step from the current F_i
     m.thermal_strain = true;      // evaluate_with_expansion
     return m;

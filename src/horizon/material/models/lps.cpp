@@ -24,6 +24,7 @@ const ModelTraits& traits() {
          ParameterSpec::Range::boolean, 0.0},
     };
     m.thermal_strain = true;  // in the general force pass (solver/forces_general.cpp)
+    m.any_horizon = true;     // m_i is each particle's own
     m.unified = true;  // its force state has the unified form (Model::unified)
     return m;
   }();
