@@ -136,6 +136,26 @@ TEST(PeridigmRoundOff, PrescribedDisplacementAccumulatesThroughTheDrift) {
   }
 }
 
+TEST(PeridigmRoundOff, PrescribedDisplacementStartsFromTheInitialState) {
+  // g = 1 + 100 t: Peridigm applies the increments from t = 0, so u_n = g(t_n) - g(0) =
+  // 100 t_n (DeformationGradient_PlaneStrainCompression's gold, g = x exp(0.0953 t/1e-8),
+  // moves its points by g(t) - g(0)); Horizon's own Verlet sets u = g(t), 1 + 100 t.
+  const fs::path dir = test_dir();
+  std::string text = two_points("");
+  const std::string push = "    Push Left: {Type: \"Initial Velocity\", Node Set: \"Left\", Coordinate: \"x\", Value: \"1.0\"}\n";
+  text.replace(text.find(push), push.size(),
+               "    Move Left: {Type: \"Prescribed Displacement\", Node Set: \"Left\", Coordinate: \"x\", "
+               "Value: \"1.0 + 100.0*t\"}\n");
+  const std::string deck = write(dir / "offset.yaml", text);
+  const ExodusSeries r = run_and_read(deck, dir, "two.e");
+  ASSERT_EQ(r.steps.size(), 6u);
+  const std::size_t ux = index_of(r.layout.nodal, "DisplacementX");
+  const std::size_t left = r.layout.points[0].x < 0 ? 0 : 1;
+  EXPECT_EQ(r.steps[0].nodal[ux][left], 0.0);
+  for (std::size_t n = 1; n < 6; ++n)
+    EXPECT_NEAR(r.steps[n].nodal[ux][left], 100.0 * static_cast<double>(n) * 0.00001, 1e-15) << n;
+}
+
 TEST(PeridigmRoundOff, VerletKeyIsChecked) {
   const fs::path dir = test_dir();
   const std::string base = "dimension: 3\nspacing: 1.0\nhorizon: 1.75\n"
