@@ -34,22 +34,23 @@ using test::write;
 
 fs::path test_dir() { return test::fresh_test_dir("horizon_heat_steady"); }
 
-// 100 particles of spacing 0.01 on [0, 1], horizon 3 spacings; the left layer at 300 K,
-// the right one at 300 + 100 t, a source F t over the whole bar (a flux F over region all
-// is F / (N h) = F per volume: the layer depth of `all` is N h = 1). Two load steps.
+// 16 particles of spacing 1/16 on [0, 1] (binary fractions: exact positions), horizon 3
+// spacings; the end layers held at the closed form (300 K at x = 0, 300 + 100 t at x = 1),
+// a source F t over the whole bar (a flux F over region all is F / (N h) = F per volume:
+// the layer depth of `all` is N h = 1). Two load steps.
 std::string bar_deck(const std::string& thermal_extra, double flux, double k = 2.0) {
   const std::string closed = "300 + 100*t*x + " + std::to_string(flux) + "*t*x*(1 - x)/(2*" + std::to_string(k) + ")";
   return "dimension: 1\n"
          "area: 1.0\n"
-         "spacing: 0.01\n"
-         "horizon: 0.03\n"
+         "spacing: 0.0625\n"
+         "horizon: 0.1875\n"
          "materials:\n"
          "  rod: {thermal: {conductivity: " + std::to_string(k) + "}}\n"
          "bodies:\n"
          "  - {name: rod, material: rod, shape: {box: {min: [0], max: [1]}}}\n"
          "regions:\n"
-         "  left: {box: {min: [0], max: [0.03]}}\n"
-         "  right: {box: {min: [0.97], max: [1]}}\n"
+         "  left: {box: {min: [0], max: [0.1875]}}\n"
+         "  right: {box: {min: [0.8125], max: [1]}}\n"
          "thermal:\n"
          "  initial_temperature: 300\n"
          "  integration: steady\n" + thermal_extra +
@@ -65,7 +66,7 @@ std::string bar_deck(const std::string& thermal_extra, double flux, double k = 2
 struct BarResult {
   double worst = 0;             // largest |T - closed form| over the particles, last step
   double divergence_free = 0;   // largest |Flux_Divergence| at the free particles, last step
-  double divergence_end = 0;    // |Flux_Divergence| at the first particle (x = 0.005), last step
+  double divergence_end = 0;    // |Flux_Divergence| at the first particle (x = h/2), last step
   std::size_t steps = 0;
   double last_time = 0;
 };
@@ -83,8 +84,8 @@ BarResult run_bar(const std::string& thermal_extra, double flux) {
     const double x = e.layout.points[i].x, t = 1.0;
     const double expected = 300 + 100 * t * x + flux * t * x * (1 - x) / (2 * k);
     r.worst = std::max(r.worst, std::abs(last.nodal[T][i] - expected));
-    if (x > 0.03 && x < 0.97) r.divergence_free = std::max(r.divergence_free, std::abs(last.nodal[D][i] + flux));
-    if (std::abs(x - 0.005) < 1e-9) r.divergence_end = std::abs(last.nodal[D][i]);
+    if (x > 0.1875 && x < 0.8125) r.divergence_free = std::max(r.divergence_free, std::abs(last.nodal[D][i] + flux));
+    if (std::abs(x - 0.03125) < 1e-12) r.divergence_end = std::abs(last.nodal[D][i]);
   }
   return r;
 }
@@ -109,16 +110,16 @@ TEST(HeatSteady, BarWithSourceIsTheClosedFormWithTheImprovedQuadrature) {
 TEST(HeatSteady, ImprovedQuadratureLeavesALinearFieldNoFluxDivergenceAtTheEnds) {
   // A linear field (no source): the improved weights integrate xi over the whole ball, so
   // even the end particle's one-sided family sees no divergence; the one-point rule leaves
-  // it kappa T' sum g xi V_j (its family's first moment), here 100 K/m against 4 W/m^3.
+  // it kappa T' sum g xi V_j (its family's first moment).
+  // kappa = 2k / (A delta^2) (inverse kernel, 1-D; heat.hpp), the first moment from
+  // x = h/2: sum over j = 1..3 of (1/(j h)) (j h) h = 3h, times T' = 100.
+  const double h = 0.0625, kappa = 2 * 2.0 / (3 * h * 3 * h), one_sided = kappa * 100 * 3 * h;
   const BarResult improved = run_bar("  quadrature: improved\n", 0.0);
   EXPECT_LT(improved.worst, 1e-9);
-  EXPECT_LT(improved.divergence_end, 1e-8);
+  EXPECT_LT(improved.divergence_end, 1e-12 * one_sided);
   const BarResult one_point = run_bar("", 0.0);
   EXPECT_LT(one_point.worst, 1e-9);  // linear: exact with any kappa
-  // kappa = 2k / (A delta^2) (inverse kernel, 1-D; heat.hpp), first moment from x = 0.005:
-  // sum over j = 1..3 of (1/(j h)) (j h) h = 3h, times T' = 100.
-  const double kappa = 2 * 2.0 / (0.03 * 0.03);
-  EXPECT_NEAR(one_point.divergence_end, kappa * 100 * 3 * 0.01, 1e-6 * kappa);
+  EXPECT_NEAR(one_point.divergence_end, one_sided, 1e-12 * one_sided);
 }
 
 TEST(HeatSteady, DeckErrors) {
@@ -134,7 +135,13 @@ TEST(HeatSteady, DeckErrors) {
   EXPECT_NE(error_with("time_step: 0.5", "safety_factor: 0.5").find("steady needs solver.time_step"), std::string::npos);
   EXPECT_NE(error_with("type: heat", "type: explicit").find("a material without a model has no mechanics"),
             std::string::npos);
-  EXPECT_NE(error_with("integration: steady", "integration: implicit").find("expected density"), std::string::npos);
+  EXPECT_NE(error_with("integration: steady", "integration: implicit").find("expected specific_heat"),
+            std::string::npos);
+  EXPECT_NE(error_with("{conductivity: 2.000000}", "{conductivity: 2.000000, specific_heat: 1}",
+                       bar_deck("", 1.0).replace(bar_deck("", 1.0).find("integration: steady"), 19,
+                                                  "integration: implicit"))
+                .find("expected density"),
+            std::string::npos);
   EXPECT_NE(error_with("integration: steady\n", "integration: steady\n  quadrature: improved\n  calibration: discrete\n")
                 .find("takes calibration: continuum"),
             std::string::npos);
