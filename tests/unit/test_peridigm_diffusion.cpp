@@ -165,6 +165,11 @@ TEST(PeridigmDiffusion, Errors) {
   std::string missing = slab_deck("", kDiffusionSolver);
   missing.replace(missing.find(", Coefficient: 2.0"), 18, "");
   EXPECT_NE(error_of(write(dir / "missing.yaml", missing)).find("Coefficient"), std::string::npos);
+  // Peridigm's Multiphysics (a fluid pressure coupled to the mechanics): named, not mapped.
+  std::string multiphysics = slab_deck("", kDiffusionSolver);
+  multiphysics.replace(multiphysics.find("Peridigm:\n"), 10, "Peridigm:\n  Multiphysics: 1\n");
+  EXPECT_NE(error_of(write(dir / "multiphysics.yaml", multiphysics)).find("Peridigm's Multiphysics"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -709,7 +709,10 @@ void HeatSolver::step(double dt) {
   apply_temperature_conditions(s_, t1);
   // The heat each boundary brought in over the step (on ranks: its owned particles', on
   // the grid; serially the plain sum in the list's order).
-  GridSum brought(s_, static_cast<int>(h.boundary.size()));
+  // (slots nb + b: the heat through boundary b particle by particle, |q| summed: the
+  // scale of the run's heat balance, HeatSolver::moved)
+  const int nb = static_cast<int>(h.boundary.size());
+  GridSum brought(s_, 2 * nb);
   for (std::size_t b = 0; b < h.boundary.size(); ++b) {
     const HeatBoundary& bc = h.boundary[b];
     const bool implicit = integration_ != HeatIntegration::explicit_euler;
@@ -736,10 +739,14 @@ void HeatSolver::step(double dt) {
         q += dt * Vi * out + h.capacity[i] * Vi * (h.T[i] - old_[i]);
       }
       brought.add(static_cast<int>(b), q);
+      brought.add(nb + static_cast<int>(b), std::abs(q));
     }
   }
   const std::vector<double> heat_in = brought.totals();
-  for (std::size_t b = 0; b < h.boundary.size(); ++b) h.boundary[b].heat += heat_in[b];
+  for (std::size_t b = 0; b < h.boundary.size(); ++b) {
+    h.boundary[b].heat += heat_in[b];
+    moved_ += heat_in[static_cast<std::size_t>(nb) + b];
+  }
   h.time = t1;
   exchange_ghosts(s_);  // the new temperatures of the ghosts, before the thermal strain reads them
   update_thermal_strain(s_);

@@ -100,6 +100,10 @@ class HeatSolver {
   HeatIntegration integration() const { return integration_; }
   // Conjugate-gradient iterations of the last backward-Euler step (0 for forward Euler).
   int iterations() const;
+  // The heat the boundaries moved so far, particle by particle in absolute value [J]: the
+  // scale of the heat balance where their net is small (a steady solve's inflow and
+  // outflow through one boundary).
+  double moved() const { return moved_; }
 
  private:
   struct Implicit;
@@ -109,6 +113,7 @@ class HeatSolver {
   HeatIntegration integration_;
   std::unique_ptr<Implicit> implicit_;
   std::vector<double> rate_, old_;
+  double moved_ = 0;
 };
 
 // Prescribed temperatures at time t (the run's start, and after each step).

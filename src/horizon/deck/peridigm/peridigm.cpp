@@ -1154,7 +1154,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   // Peridigm reads each top-level list whose name starts with "Solver" as a solver and each
   // one whose name starts with "Output" as an output list (Solver1, Output_1, Output Data).
   std::vector<std::string> top_keys = {"Verbose", "Discretization", "Materials", "Damage Models", "Blocks",
-                                       "Boundary Conditions", "Contact", "Compute Class Parameters", "Restart"};
+                                       "Boundary Conditions", "Contact", "Compute Class Parameters", "Restart",
+                                       "Multiphysics"};
   std::vector<std::string> solver_keys, output_keys;
   for (const auto& e : map_entries(ctx, pd)) {
     if (e.key.rfind("Solver", 0) == 0) solver_keys.push_back(e.key), top_keys.push_back(e.key);
@@ -1164,6 +1165,10 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   MapReader m(ctx, pd, top_keys);
   if (solver_keys.empty()) m.get("Solver", "Initial Time, Final Time and one of Verlet, QuasiStatic, NOXQuasiStatic, Implicit");
   if (auto v = m.find("Verbose")) read_bool(ctx, *v);
+  if (auto mp = m.find("Multiphysics"))
+    ctx.fail(*mp->key_mark, mp->path + ": Peridigm's Multiphysics (a fluid pressure field coupled to the mechanics: "
+                                       "Multiphysics Elastic, Solve For Pressure, Prescribed Fluid Pressure U) is not "
+                                       "supported (docs/peridigm.md, \"Models and options not mapped yet\")");
   if (auto r = m.find("Restart")) {
     // Peridigm's Restart (Contact_Perforation_With_Restart's Run1, Run2): the run writes its
     // state at its end into ./restart-N/, and a later deck whose Initial Time is that end
