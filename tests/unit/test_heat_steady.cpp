@@ -122,6 +122,26 @@ TEST(HeatSteady, ImprovedQuadratureLeavesALinearFieldNoFluxDivergenceAtTheEnds) 
   EXPECT_NEAR(one_point.divergence_end, one_sided, 1e-12 * one_sided);
 }
 
+TEST(HeatSteady, ImprovedQuadratureRefusesAFamilyTooSmall) {
+  // A horizon of one spacing: the end particles have one neighbour, too few to integrate
+  // both xi and xi^2 exactly; the run stops at its set-up naming the particle.
+  const fs::path dir = test_dir();
+  std::string deck = bar_deck("  quadrature: improved\n", 0.0);
+  deck.replace(deck.find("horizon: 0.1875"), 15, "horizon: 0.0625");
+  Config c = load_deck(write(dir / "bar.yaml", deck));
+  c.output.directory = (dir / "out").string();
+  RunOptions o;
+  o.quiet = true;
+  std::string error = "no error";
+  try {
+    run_deck(c, o);
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find("too small or too flat"), std::string::npos) << error;
+  EXPECT_NE(error.find("(0.03125, 0, 0)"), std::string::npos) << error;
+}
+
 TEST(HeatSteady, DeckErrors) {
   const fs::path dir = test_dir();
   auto error_with = [&](const std::string& from, const std::string& to, const std::string& base = "") {

@@ -217,12 +217,19 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
   const double m2_continuum = heat_moment_continuum(h.kernel, s.dimension, s.horizon, measure);
   if (h.quadrature == HeatQuadrature::improved && h.conduction) {
     // Each row's own weights (owned rows and any other row this rank holds bonds of).
+    std::string failed;
+    uint64_t failures = 0;
     for (std::size_t i = 0; i < n; ++i)
-      if (B.end(i) > B.begin(i) && !improved_weights(s, i, m2_continuum, h.bond_factor))
-        throw Error(fmt::format("thermal.quadrature: improved: the family of the particle at ({:.6g}, {:.6g}, {:.6g}) "
-                                "({} bonds) is too small or too flat to integrate the quadratics exactly; use a larger "
-                                "horizon or quadrature: one_point",
-                                P.X[i].x, P.X[i].y, P.X[i].z, B.end(i) - B.begin(i)));
+      if (B.end(i) > B.begin(i) && !improved_weights(s, i, m2_continuum, h.bond_factor) && failures++ == 0)
+        failed = fmt::format("thermal.quadrature: improved: the family of the particle at ({:.6g}, {:.6g}, {:.6g}) "
+                             "({} bonds) is too small or too flat to integrate the quadratics exactly; use a larger "
+                             "horizon or quadrature: one_point",
+                             P.X[i].x, P.X[i].y, P.X[i].z, B.end(i) - B.begin(i));
+    if (split) failures = sum_over_ranks(failures);  // every rank stops (collective)
+    if (failures > 0)
+      throw Error(failed.empty() ? std::string("thermal.quadrature: improved: a family on another rank is too small "
+                                               "or too flat to integrate the quadratics exactly")
+                                 : failed);
   }
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t m = static_cast<std::size_t>(P.material[i]);
@@ -541,6 +548,24 @@ void HeatSolver::implicit_step(double dt, const std::vector<double>& source, con
     I.diag[i] = diag;
     I.b[i] = rhs;
   }
+  // A steady row without conductance (a particle without bonds or film) has no steady
+  // temperature; the Jacobi preconditioner divides by the diagonal. (The improved
+  // quadrature's weights may be negative, and on a thin body its diagonal too: BiCGSTAB
+  // takes that; only a zero one is refused.)
+  // Every rank learns of it (the solve's collectives stay matched); the owner names it.
+  std::string isolated;
+  for (std::size_t k = 0; k < rows.count && isolated.empty(); ++k) {
+    const std::size_t i = rows[k];
+    if (I.row[i] && (I.diag[i] == 0 || !std::isfinite(I.diag[i])))
+      isolated = fmt::format("the heat solve: the particle at ({:.6g}, {:.6g}, {:.6g}) has no bond to conduct through "
+                             "and no heat capacity or film, so its {} temperature is not defined",
+                             P.X[i].x, P.X[i].y, P.X[i].z, steady ? "steady" : "new");
+  }
+  const bool any = s_.decomposition ? any_rank(*s_.decomposition, !isolated.empty()) : !isolated.empty();
+  if (any)
+    throw Error(isolated.empty() ? std::string("the heat solve: a particle of another rank has no bond to conduct "
+                                               "through and no heat capacity or film")
+                                 : isolated);
   // q = A v on the owned free rows (v's ghost entries current; fixed particles' ignored).
   auto apply = [&](const std::vector<double>& v, std::vector<double>& q) {
 #pragma omp parallel for schedule(static)
