@@ -238,7 +238,9 @@ void setup_heat(System& s, const std::vector<MaterialConfig>& materials, const C
     if (!th.enabled)
       throw Error("material '" + mat.name + "' has no thermal properties; a run with a thermal section needs "
                   "materials.NAME.thermal for every material");
-    h.capacity[i] = mat.density * th.specific_heat;
+    // A steady solve stores no heat: no capacity (the heat content stays 0, and the
+    // balance is the boundaries' flows alone).
+    h.capacity[i] = tc.integration == HeatIntegration::steady ? 0.0 : mat.density * th.specific_heat;
     if (h.conduction) {
       const double m2 = h.calibration == HeatCalibration::discrete ? bulk[m] : m2_continuum;
       if (!(m2 > 0)) throw Error("material '" + mat.name + "': its particles have no bonds to conduct heat");
@@ -621,7 +623,10 @@ void HeatSolver::implicit_step(double dt, const std::vector<double>& source, con
     while (std::sqrt(rr) > stop) {
       if (++it > most)
         throw Error(fmt::format("the heat solve did not converge in {} BiCGSTAB iterations (residual {:.3e}, wanted "
-                                "{:.3e})",
+                                "{:.3e}); with quadrature: improved every particle's weights integrate over its whole "
+                                "ball, which no free surface bounds: hold the temperature on a layer one horizon "
+                                "deep at each surface (the nonlocal volume constraint, as Peridigm's decks do) or "
+                                "use quadrature: one_point",
                                 most, std::sqrt(rr), stop));
       const double rho_new = dots({{&shadow, &I.r}})[0];
       if (rho_new == 0 || omega == 0) throw Error("the heat solve failed: BiCGSTAB broke down (the system is singular)");
