@@ -69,14 +69,6 @@ SolveReport newton_solve(System& s, const DofMap& d, const NewtonOptions& o, Lin
       rep.converged = true;
       return rep;
     }
-    // No load above the forces' round-off (a free thermal expansion: its reactions vanish
-    // at equilibrium) and a residual at that round-off: the relative residual is noise over
-    // noise and further iterations only shuffle it (ThermalExpansionCubeElasticCorrespondence
-    // took 12 iterations a load step, past Peridigm's 10, and cut its steps).
-    if (floor >= 0 && ev.norm <= floor && ev.reference <= floor) {
-      rep.converged = true;
-      return rep;
-    }
     if (!std::isfinite(ev.norm)) {
       rep.failure = "the residual turned non-finite";
       return rep;

@@ -771,8 +771,14 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
       if (r.load_steps < 1) fail_expected(ctx, *n, "a whole number >= 1");
       solver["load_steps"] = r.load_steps;
     }
+    // Horizon's Newton runs to 1e-12 (above) where Peridigm's stops at its absolute
+    // tolerance, and with a finite-difference tangent it converges linearly (about two
+    // decades an iteration on ThermalExpansionCubeElasticCorrespondence, 9 to 12 iterations a
+    // load step against the deck's 10): Peridigm's limit, below Horizon's default 30, would
+    // cut load steps Peridigm takes whole, which changes a rate-form result. So the limit
+    // is at least 30.
     for (const char* k : {"Maximum Solver Iterations", "Max Solver Iterations"})
-      if (auto i = v.find(k)) solver["max_iterations"] = read_int(ctx, *i);
+      if (auto i = v.find(k)) solver["max_iterations"] = std::max(read_int(ctx, *i), 30);
     // The Krylov method of Peridigm's linear solves; Horizon's are its own. Read, no effect.
     if (auto b = v.find("Belos Linear Solver")) read_string(ctx, *b);
     if (auto a = v.find("Adaptive Load-Stepping")) read_adaptive_load_stepping(ctx, *a, r);
