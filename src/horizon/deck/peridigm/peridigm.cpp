@@ -776,9 +776,11 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
     // decades an iteration on ThermalExpansionCubeElasticCorrespondence, 9 to 12 iterations a
     // load step against the deck's 10): Peridigm's limit, below Horizon's default 30, would
     // cut load steps Peridigm takes whole, which changes a rate-form result. So the limit
-    // is at least 30.
+    // is at least 30, except under Adaptive Load-Stepping, whose reductions and Switch to
+    // Verlet the deck ties to its own limit.
+    const bool adaptive = static_cast<bool>(v.find("Adaptive Load-Stepping"));
     for (const char* k : {"Maximum Solver Iterations", "Max Solver Iterations"})
-      if (auto i = v.find(k)) solver["max_iterations"] = std::max(read_int(ctx, *i), 30);
+      if (auto i = v.find(k)) solver["max_iterations"] = adaptive ? read_int(ctx, *i) : std::max(read_int(ctx, *i), 30);
     // The Krylov method of Peridigm's linear solves; Horizon's are its own. Read, no effect.
     if (auto b = v.find("Belos Linear Solver")) read_string(ctx, *b);
     if (auto a = v.find("Adaptive Load-Stepping")) read_adaptive_load_stepping(ctx, *a, r);
