@@ -90,11 +90,12 @@ inline Eigen::Vector3d axial_of(const Mat3& S) { return {S(2, 1), S(0, 2), S(1, 
 enum class PlasticReturn { work, peridigm, needleman };
 
 // Needleman's viscoplastic flow stress (A. Needleman 1988, "Material rate dependence and
-// mesh sensitivity in localization problems", CMAME 67, 69-85, eqs. (2.11)-(2.12): the
-// power-law rate form eps_dot_p = eps_dot_0 (q/g)^(1/m) with the strain-softening
-// hardening function g = sigma_0 (1 + alpha/eps_0)^N / (1 + (alpha/eps_1)^2)), in the form
-// Peridigm's Viscoplastic Needleman Correspondence integrates it (Peridigm's documented
-// model, src/materials/viscoplastic_needleman_correspondence.cxx read for its formula):
+// mesh sensitivity in localization problems", CMAME 67, 69-85: the power-law rate form
+// eps_dot_p = eps_dot_0 (q/g)^(1/m) of a strain-hardening, then softening g), with the g
+// and the integration of Peridigm's Viscoplastic Needleman Correspondence (Peridigm's
+// documented model, src/materials/viscoplastic_needleman_correspondence.cxx read for its
+// formula; its golds' stresses follow this to 1e-15): g = sigma_0 (1 + alpha/eps_0)^N /
+// (1 + (alpha/eps_1)^2),
 //   q = g(alpha) (eps_dot_p / eps_dot_0)^m,  eps_dot_p = sqrt(2/3) Delta lambda / dt.
 struct Needleman {
   double N = 0;            // strain hardening exponent
