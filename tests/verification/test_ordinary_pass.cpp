@@ -7,7 +7,8 @@
 // broken bonds (history_ledger.hpp broken_bond_booking: t_old for T_old.Y/|Y|, a
 // difference of t_old (1 - cos) of a bond's turn in one step, 4e-4 rad here; 1e-6 of the
 // initial energy; an ordinary model's own booking cancels it exactly);
-// the scalar pass gives the same bits on 1 and 2 threads. A run that mixes a unified
+// the scalar pass gives the same bits on 1 and 2 threads and on every target of the
+// models' lanes (material/models/ordinary_lanes.hpp: AVX-512, AVX2, base). A run that mixes a unified
 // model (LPS) with an ordinary one takes the scalar pass too, unified rows included.
 #include <gtest/gtest.h>
 
@@ -18,6 +19,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/solver/forces_general.hpp"
 #include "model_checks.hpp"
 
@@ -103,6 +105,16 @@ void check(const std::string& name, const std::string& text) {
   EXPECT_LE(dd, 1e-6);
   EXPECT_TRUE(same_bits(fast.u, two.u)) << "the scalar pass differs between 1 and 2 threads";
   EXPECT_TRUE(same_bits(fast.v, two.v));
+  // The models' rows on the other targets this machine has: the same bits.
+  const std::string best = lanes::lanes_target();
+  for (const char* target : {"avx2", "base"}) {
+    if (target == best || !lanes::set_lanes_target(target)) continue;
+    const Run other = run(text, false, 1);
+    lanes::set_lanes_target("best");
+    EXPECT_TRUE(same_bits(fast.u, other.u)) << "the rows on " << target << " differ from those on " << best;
+    EXPECT_TRUE(same_bits(fast.v, other.v));
+    EXPECT_EQ(fast.dissipated, other.dissipated);
+  }
 }
 
 TEST(OrdinaryPass, ElasticPlasticMatchesTheVectorPass) {

@@ -170,8 +170,17 @@ uint64_t ordinary_forces(System& s, bool energy) {
   if (energy)
     for (std::size_t i = 0; i < n; ++i) P.energy[i] = 0;
 
-  const RowPass pass{s, M.packed.data(), M.deformed_length.data(), M.force_scalar.data(),
-                     energy ? P.energy.data() : nullptr, s.time, s.dt};
+  // The kinds' records of the models' rows (System::model.kind_rows), built once after the
+  // kinds are: {|xi|, omega, omega V_j, V_j}.
+  if (M.kind_rows.size() != B.kinds.size()) {
+    M.kind_rows.resize(B.kinds.size());
+    for (std::size_t q = 0; q < B.kinds.size(); ++q) {
+      const BondKind& bk = B.kinds[q];
+      M.kind_rows[q] = {M.kind[q].length, bk.weight, M.kind[q].wv, bk.volume * bk.fraction};
+    }
+  }
+  const RowPass pass{s,      M.packed.data(), M.deformed_length.data(), M.force_scalar.data(),
+                     energy ? P.energy.data() : nullptr, s.time, s.dt, M.kind_rows.data()};
   // Per material: its model when it takes rows, null for a unified one (kept between
   // passes: no allocation in a step).
   static thread_local std::vector<Model*> row_model;

@@ -1,0 +1,112 @@
+// The ordinary rows in eight lanes (ordinary_lanes.hpp): the body (ordinary_lanes_body.inc)
+// built for the build's own target and, on x86-64 with GCC, for AVX2 and AVX-512, chosen
+// once at run time. Compiled with the fast loops' options (CMakeLists.txt): no FMA
+// contraction, so that every target computes a lane as the others do; no FP traps, so that
+// a lane that does not act may divide by anything and is never selected.
+#include "horizon/material/models/ordinary_lanes.hpp"
+
+#include <cstring>
+#include <string_view>
+#include <type_traits>
+
+#include "horizon/material/models/history_ledger.hpp"
+
+// The vector types never cross a call between targets (every function of a target's copy
+// has internal linkage and takes its vectors from memory), so the ABI notes do not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace horizon::lanes {
+
+namespace {
+
+// The booking part of HistoryLedger::Row::open_bond for bond k (the trial extension and
+// flag already written): a bond broken since the commit books what the breaking sweep
+// booked for it, (1/2) t_old e V_j (t_old in q[k]); a pending booking of a restored bond
+// is dropped. Returns true when the bond is booked.
+__attribute__((noinline)) bool open_bond_rare(const RowBonds& b, uint64_t k, double e, double vj, double& booked) {
+  const uint8_t was = b.booked_committed[k];
+  if (bond_booked_now(b.intact[k], was)) {
+    if (!b.pending_set[k]) {
+      b.pending_amount[k] = broken_bond_booking(b.q[k], b.r[k], e, vj);
+      b.pending_set[k] = 1;
+    }
+    booked += b.pending_amount[k];
+    b.booked_trial[k] = 1;
+    return true;
+  }
+  if (b.pending_set[k]) b.pending_set[k] = 0;  // a solver restored the bond (a failed static increment)
+  return false;
+}
+
+namespace base {
+#include "horizon/material/models/ordinary_lanes_body.inc"
+}  // namespace base
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define HORIZON_LANES_X86 1
+#pragma GCC push_options
+#pragma GCC target("avx2")
+namespace avx2 {
+#include "horizon/material/models/ordinary_lanes_body.inc"
+}  // namespace avx2
+#pragma GCC pop_options
+#pragma GCC push_options
+#pragma GCC target("avx2,avx512f,avx512vl,avx512bw,avx512dq")
+namespace avx512 {
+#include "horizon/material/models/ordinary_lanes_body.inc"
+}  // namespace avx512
+#pragma GCC pop_options
+#endif
+
+enum class Target { base, avx2, avx512 };
+
+Target detect() {
+#if defined(HORIZON_LANES_X86)
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
+      __builtin_cpu_supports("avx512dq"))
+    return Target::avx512;
+  if (__builtin_cpu_supports("avx2")) return Target::avx2;
+#endif
+  return Target::base;
+}
+
+Target g_target = detect();
+
+}  // namespace
+
+const char* lanes_target() {
+  switch (g_target) {
+    case Target::avx512: return "avx512";
+    case Target::avx2: return "avx2";
+    default: return "base";
+  }
+}
+
+bool set_lanes_target(const char* name) {
+  const std::string_view n = name;
+  const Target best = detect();
+  if (n == "base") return g_target = Target::base, true;
+  if (n == "avx2" && best != Target::base) return g_target = Target::avx2, true;
+  if (n == "avx512" && best == Target::avx512) return g_target = Target::avx512, true;
+  if (n == "best") return g_target = best, true;
+  return false;
+}
+
+#if defined(HORIZON_LANES_X86)
+#define HORIZON_LANES_CALL(f, ...)                                      \
+  switch (g_target) {                                                   \
+    case Target::avx512: return avx512::f(__VA_ARGS__);                 \
+    case Target::avx2: return avx2::f(__VA_ARGS__);                     \
+    default: return base::f(__VA_ARGS__);                               \
+  }
+#else
+#define HORIZON_LANES_CALL(f, ...) return base::f(__VA_ARGS__);
+#endif
+
+RowSums ep_row(const RowBonds& b, const EpRow& m, double beta, bool norm, bool force) {
+  HORIZON_LANES_CALL(ep_row, b, m, beta, norm, force)
+}
+RowSums ves_row(const RowBonds& b, const VesRow& m) { HORIZON_LANES_CALL(ves_row, b, m) }
+RowSums micro_row(const RowBonds& b, const MicroRow& m) { HORIZON_LANES_CALL(micro_row, b, m) }
+
+}  // namespace horizon::lanes
