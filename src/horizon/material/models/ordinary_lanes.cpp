@@ -5,7 +5,9 @@
 // a lane that does not act may divide by anything and is never selected.
 #include "horizon/material/models/ordinary_lanes.hpp"
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <string_view>
 #include <type_traits>
 
@@ -36,6 +38,23 @@ __attribute__((noinline)) bool open_bond_rare(const RowBonds& b, uint64_t k, dou
   }
   if (b.pending_set[k]) b.pending_set[k] = 0;  // a solver restored the bond (a failed static increment)
   return false;
+}
+
+// How far ahead the sum asks for the reverse bond's force scalar (bonds).
+constexpr uint64_t kPrefetch = 64;
+
+// Bond k of row i breaks (the sweep's rare path, in bond order): its flag, the damage
+// weight, and the energy it held, (1/2) t_old e V_j with t_old = q_old |Y_old| its force
+// state of the previous pass; the row's model books the same from q[k] (RowPass::t,
+// history_ledger.hpp broken_bond_booking).
+__attribute__((noinline)) void break_bond(const Sweep& s, std::size_t i, uint64_t k, double r, double r_old, double e,
+                                          BreakOut& out) {
+  s.intact[k] = s.after ? 2 : 0;
+  ++out.broken;
+  const double t_old = s.q[k] * r_old;
+  s.q[k] = t_old;
+  if (r > 0) out.lost += 0.5 * t_old * e * s.kinds[s.kind[k]].w;
+  s.intact_weight[i] -= s.kc[s.kind[k]].damage;
 }
 
 namespace base {
@@ -108,5 +127,7 @@ RowSums ep_row(const RowBonds& b, const EpRow& m, double beta, bool norm, bool f
 }
 RowSums ves_row(const RowBonds& b, const VesRow& m) { HORIZON_LANES_CALL(ves_row, b, m) }
 RowSums micro_row(const RowBonds& b, const MicroRow& m) { HORIZON_LANES_CALL(micro_row, b, m) }
+BreakOut break_row(const Sweep& s, std::size_t i) { HORIZON_LANES_CALL(break_row, s, i) }
+SumOut sum_row(const Sweep& s, std::size_t i) { HORIZON_LANES_CALL(sum_row, s, i) }
 
 }  // namespace horizon::lanes

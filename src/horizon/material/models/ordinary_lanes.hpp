@@ -20,6 +20,7 @@
 #include <cstdint>
 
 #include "horizon/core/point4.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon::lanes {
 
@@ -93,6 +94,41 @@ struct MicroRow {
   double c = 0, yield = 0;
 };
 RowSums micro_row(const RowBonds& b, const MicroRow& m);
+
+// The scalar general pass's two bond sweeps (solver/forces_ordinary.cpp) in the same lanes.
+struct Sweep {
+  const Point4* pt = nullptr;               // y, w = s0 of the pass (System::model.packed)
+  const Point4* kind_dilatation = nullptr;  // per kind {L, 1/L, omega V_j, 0}
+  const Point4* kinds = nullptr;            // per kind {L, omega, omega V_j, V_j}
+  const KindCoefficients* kc = nullptr;     // per kind (damage weight, family contact)
+  const uint32_t* nbr = nullptr;
+  const uint32_t* kind = nullptr;
+  const uint64_t* offset = nullptr;
+  const uint64_t* rev = nullptr;  // the reverse bond's index
+  uint8_t* intact = nullptr;
+  double* deformed = nullptr;       // |Y| per bond (every bond), written by the breaking sweep
+  double* q = nullptr;              // the force scalars q = t/|Y|
+  double* intact_weight = nullptr;  // per particle
+  const double* eps = nullptr;      // thermal strain per particle, or null
+  const double* soft = nullptr;     // critical-stretch factor per particle, or null
+  uint64_t total = 0;               // bonds
+  bool after = false;               // break_after_force: a breaking bond still acts in this pass
+  bool contact = false;             // short-range contact between family pairs (family_contact)
+};
+// Pass 1 of row i before its model: breaking (critical stretch), |Y| of every bond, the
+// smallest stretch of the intact bonds, the energy of the broken ones and sum_j omega V_j
+// |xi| e over the bonds that act in this pass.
+struct BreakOut {
+  double smin, lost, dilatation;
+  uint64_t broken;
+};
+BreakOut break_row(const Sweep& s, std::size_t i);
+// Pass 2 of row i: f_i = sum_j V_j (q_ij + q_ji) Y over the acting bonds, plus the family
+// contact (w: its energy density; state/system.hpp family_contact).
+struct SumOut {
+  double fx, fy, fz, w;
+};
+SumOut sum_row(const Sweep& s, std::size_t i);
 
 // The target the rows run on: "avx512", "avx2" or "base"; set_lanes_target chooses one
 // the machine has ("best": the widest), for tests that compare them. False if it lacks it.
