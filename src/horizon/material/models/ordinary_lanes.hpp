@@ -71,11 +71,12 @@ struct EpRow {
 RowSums ep_row(const RowBonds& b, const EpRow& m, double beta, bool norm, bool force);
 
 // viscoelastic (material/models/viscoelastic.cpp force_row): e^d, the branches' back
-// extensions, the force states and the ledger.
+// extensions, the force states and the ledger. The committed e^d_n of a bond is rebuilt
+// as e_n - theta_n |xi| / d from the ledger's committed extension and theta_n, the row's
+// committed dilatation (the operations that computed it, so its bits).
 constexpr int kMaxBranches = 4;
 struct VesRow {
-  const double* ed_old = nullptr;
-  double* ed_trial = nullptr;
+  double theta_old = 0;  // theta_n of the row
   const double* back_old[kMaxBranches] = {};
   double* back_trial[kMaxBranches] = {};
   double decay[kMaxBranches] = {}, from_old[kMaxBranches] = {}, from_new[kMaxBranches] = {};

@@ -58,6 +58,8 @@ class Viscoelastic final : public Model {
   void checkpoint(StateArchive& a) override {
     a.io_particles("theta", theta_);
     a.io_particles("theta_trial", theta_trial_);
+    a.io_particles("theta_row", theta_row_);
+    a.io_particles("theta_row_trial", theta_row_trial_);
     a.io_particles("dissipated", dissipated_);
     ed_.checkpoint(a, "ed", "ed_trial", ledger_.fresh);
     for (std::size_t b = 0; b < kMaxViscousBranches; ++b) {
@@ -107,6 +109,12 @@ class Viscoelastic final : public Model {
   // Per particle, plane strain only: theta and the back dilatation of each branch,
   // committed and trial (the relaxing mu/3 of k', header).
   std::vector<double> theta_, theta_trial_;
+  // Per particle: theta of the last pass, committed and trial. The scalar pass's rows
+  // rebuild a bond's committed e^d_n from it and the ledger's committed extension e_n,
+  // e^d_n = e_n - theta_n |xi| / d, the same operations on the same numbers as the pass
+  // that computed it: the same bits as the stored ed_, without streaming ed_ (16 bytes a
+  // bond and step; ed_ stays the vector form's, force_state).
+  std::vector<double> theta_row_, theta_row_trial_;
   std::array<std::vector<double>, kMaxViscousBranches> theta_back_, theta_back_trial_;
   // Per particle: the stored energy density W, committed and trial; the dissipation
   // density of the trial step (material/models/history_ledger.hpp) and its running total.
@@ -154,6 +162,8 @@ void Viscoelastic::setup(const ModelSetup& in) {
   const std::size_t nd = dilatation_shear_ != 0 ? n : 0;
   theta_.assign(nd, 0);
   theta_trial_.assign(nd, 0);
+  theta_row_.assign(n, 0);
+  theta_row_trial_.assign(n, 0);
   for (int b = 0; b < kMaxViscousBranches; ++b) {
     theta_back_[b].assign(b < branches_ ? nd : 0, 0);
     theta_back_trial_[b].assign(b < branches_ ? nd : 0, 0);
@@ -208,6 +218,7 @@ void Viscoelastic::force_state(ForcePass& pass) {
       sum += c.wv * c.length * (std::sqrt(dx * dx + dy * dy + dz * dz) - c.length - thermal(i, B.nbr[k], c.length));
     }
     const double theta = dim * sum / m;
+    theta_row_trial_[i] = theta;
     // t^i = (d/m) omega |xi| p_i, p_i = k' theta; in plane strain
     // p_i = k theta + (mu/3) [lambda_inf theta + sum_b lambda_b (theta - theta^b_b)] (header).
     double dil_springs;
@@ -291,7 +302,8 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   b.booked_committed = ledger.booked_committed, b.booked_trial = ledger.booked_trial;
   b.pending_set = ledger.pending_set, b.pending_amount = ledger.pending_amount;
   lanes::VesRow row;
-  row.ed_old = ed_.committed(), row.ed_trial = ed_.trial();
+  row.theta_old = theta_row_[i];
+  theta_row_trial_[i] = theta;
   row.branches = branches_;
   for (int br = 0; br < branches_; ++br) {
     row.back_old[br] = back_[br].committed(), row.back_trial[br] = back_[br].trial();
@@ -314,6 +326,7 @@ void Viscoelastic::commit(System& s) {
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
     if (!s.computes_row(i)) continue;
+    theta_row_[i] = theta_row_trial_[i];
     if (dilatation_shear_ != 0) {
       theta_[i] = theta_trial_[i];
       for (int b = 0; b < nbranch; ++b) theta_back_[b][i] = theta_back_trial_[b][i];
