@@ -10,11 +10,12 @@
 //      with q = t/|Y| (seed 003 eq. 33 with T = t M, digest sec. 9), q_ji read through the
 //      reverse-bond index (8 bytes, where the vector form gathers 24), and the contact.
 //
-// Both sweeps and the models' rows run in the fast loops' eight lanes, per target
+// On AVX-512 machines both sweeps and the models' rows run in the fast loops' eight lanes
 // (material/models/ordinary_lanes.hpp): the dilatation, the force and the models' row sums
 // add in the lanes' order, so the forces differ from the vector form's bond-order sums by
 // round-off (tests/verification/test_ordinary_pass.cpp: 1e-12 after 40 steps of a breaking
-// impact) and are the same bits on every target and thread count. Per bond,
+// impact) and are the same bits on every thread and rank count. Elsewhere the sweeps and
+// rows run in bond order, the vector form's bits (break_row and the scalar sum below). Per bond,
 // T_ij - T_ji = q_ij Y - q_ji (-Y) is q_ij Y + q_ji Y in every component, and |Y|, e are
 // the same expressions. The energy booked for a bond broken in the pass differs from the
 // vector form's by the bond's rotation in one step (history_ledger.hpp broken_bond_booking).
@@ -22,6 +23,10 @@
 // bits), so a model's row reads only its own bonds' flags: the rows need no order.
 #include <cmath>
 #include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "horizon/kernels/unified.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
@@ -37,6 +42,82 @@ bool g_reference = false;
 // The free thermal extension eps_ij |xi| of bond i-j (solver/forces_general.cpp).
 inline double thermal_extension(const double* eps, std::size_t i, std::size_t j, double length) {
   return eps ? 0.5 * (eps[i] + eps[j]) * length : 0.0;
+}
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// How far ahead the scalar sum asks for the reverse bond's force state (bonds).
+constexpr uint64_t kPrefetch = 64;
+
+// --- The sweeps in bond order, without the lanes (material/models/ordinary_lanes.hpp
+// wide(): machines without AVX-512). ---
+
+// a < b ? a : b, kept in a vector register: written so, the compiler moved the row's
+// smallest stretch through an integer register and a conditional move every bond, a
+// chain of dependent instructions that set the breaking sweep's pace (perf, issue 31).
+inline double smaller(double a, double b) {
+#if defined(__SSE2__)
+  return _mm_cvtsd_f64(_mm_min_sd(_mm_set_sd(a), _mm_set_sd(b)));  // minsd: a < b ? a : b
+#else
+  return a < b ? a : b;
+#endif
+}
+
+struct RowOut {
+  double smin = kInf, lost = 0, dilatation = 0;
+  uint64_t broken = 0;
+};
+
+// Pass 1 of row i before its model: breaking (as forces_general.cpp break_row), |Y| of
+// every bond, and sum_j omega V_j |xi| e over the bonds that act in this pass.
+RowOut break_row(System& s, std::size_t i, bool after, const double* eps, const double* soft) {
+  auto& B = s.bonds;
+  auto& M = s.model;
+  const Point4* pt = M.packed.data();
+  const KindCoefficients* kind = M.kind.data();
+  const uint32_t* kind_of = B.kind.data();
+  const uint32_t* nbr = B.nbr.data();
+  uint8_t* intact = B.intact.data();
+  double* deformed = M.deformed_length.data();
+  double* q = M.force_scalar.data();
+  const Point4 pi = pt[i];
+  auto scaled = [](double w, double f) { return std::isinf(w) ? w : w * f; };
+  const double wi = soft ? scaled(pi.w, soft[i]) : pi.w;
+  // The row's sums in locals, not in `out` (the returned object lives in memory: its
+  // sums would carry a store and a load in every bond's chain of additions).
+  double smin = kInf, dilatation = 0, lost = 0;
+  uint64_t broken = 0;
+  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    const KindCoefficients& kc = kind[kind_of[k]];
+    const Point4 pj = pt[nbr[k]];
+    const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+    const double r = kernels::bond_length(Y.x, Y.y, Y.z), r_old = deformed[k];
+    deformed[k] = r;
+    if (!intact[k]) continue;
+    const double e = kernels::extension(r, kc.length, thermal_extension(eps, i, nbr[k], kc.length)),
+                 stretch = e * kc.inv_length;
+    smin = smaller(stretch, smin);
+    const double wj = soft ? scaled(pj.w, soft[nbr[k]]) : pj.w;
+    if (kernels::breaks(stretch, wi, wj)) {
+      intact[k] = after ? 2 : 0;
+      ++broken;
+      // (1/2) t_old e V_j, t_old = q_old |Y_old| the bond's force state of the previous
+      // pass; the row's model books the same from q[k] (RowPass::t, history_ledger.hpp
+      // broken_bond_booking).
+      const double t_old = q[k] * r_old;
+      q[k] = t_old;
+      if (r > 0) lost += 0.5 * t_old * e * B.volume[k];
+      M.intact_weight[i] -= kc.damage;
+      if (!after) continue;
+    }
+    dilatation += kernels::dilatation_term(kc.wv, kc.length, e);
+  }
+  RowOut out;
+  out.smin = smin;
+  out.dilatation = dilatation;
+  out.lost = lost;
+  out.broken = broken;
+  return out;
 }
 
 // The force states of a unified model's row (forces_general.cpp unified_force_states).
@@ -142,11 +223,18 @@ uint64_t ordinary_forces(System& s, bool energy) {
   // 0 (state/kind_coefficients.cpp), and family_contact would only say so, bond by bond.
   sw.contact = s.contact.acts_on_family();
 
+  const bool wide = lanes::wide();
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
-    const lanes::BreakOut o = lanes::break_row(sw, i);
+    lanes::BreakOut o;
+    if (wide) {
+      o = lanes::break_row(sw, i);
+    } else {
+      const RowOut r = break_row(s, i, after, eps, soft);
+      o = {r.smin, r.lost, r.dilatation, r.broken};
+    }
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
     if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
@@ -158,12 +246,49 @@ uint64_t ordinary_forces(System& s, bool energy) {
       unified_row(s, i, o.dilatation, eps, pass.energy);
   }
 
+  if (wide) {
 #pragma omp parallel for schedule(static)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
     const lanes::SumOut o = lanes::sum_row(sw, i);
     P.f[i] = {o.fx, o.fy, o.fz};
     if (energy) P.energy[i] += o.w;
+  }
+  } else {
+  const Point4* pt = M.packed.data();
+  const double* q = M.force_scalar.data();
+  const uint64_t* rev = M.reverse.data();
+  const uint32_t* nbr = B.nbr.data();
+  const uint32_t* kind = B.kind.data();
+  const uint8_t* intact = B.intact.data();
+  const BondKind* kinds = B.kinds.data();
+  const KindCoefficients* kc = M.kind.data();
+  const bool contact = sw.contact;
+#pragma omp parallel for schedule(static)
+  for (std::size_t a = 0; a < rows; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
+    const Point4 pi = pt[i];
+    Vec3 f;
+    double w = 0;
+    const uint64_t first = B.begin(i), last = B.end(i);
+    for (uint64_t k = first; k < last; ++k) {
+      // q_ji lies in j's row, up to a horizon of rows away: out of cache on a large body.
+      // The reverse index is read in order, so the line is asked for kPrefetch bonds ahead.
+      if (k + kPrefetch < nb) __builtin_prefetch(q + rev[k + kPrefetch]);
+      const Point4 pj = pt[nbr[k]];
+      const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+      const BondKind& bk = kinds[kind[k]];
+      if (intact[k]) f += (bk.volume * bk.fraction) * (q[k] * Y + q[rev[k]] * Y);  // V_j (q_ij + q_ji) Y
+      Vec3 fc;
+      double wc = 0;
+      if (contact && family_contact(kc[kind[k]], Y, fc, wc)) {
+        f += fc;
+        w += wc;
+      }
+    }
+    P.f[i] = f;
+    if (energy) P.energy[i] += w;
+  }
   }
   if (after)
     for (std::size_t k = 0; k < nb; ++k)

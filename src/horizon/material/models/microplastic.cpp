@@ -5,6 +5,7 @@
 
 #include "horizon/material/models/history_ledger.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
+#include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -127,7 +128,7 @@ class Microplastic final : public Model {
   // force_state's sums in the lanes' order, on the |Y| of the pass's breaking sweep, from
   // flat bond arrays.
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override {
-    (void)dilatation_sum;  // bond-based
+    if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
     const auto& B = pass.system.bonds;
     const HistoryLedger::Row ledger = ledger_.row();
     lanes::RowBonds b;
@@ -143,6 +144,54 @@ class Microplastic final : public Model {
     const double W = sums.dev;
     ledger_.stored_trial[i] = W;
     ledger_.loss_trial[i] = sums.inelastic ? inelastic_loss(sums.work, W - ledger_.stored[i], sums.booked) : 0.0;
+    if (pass.energy) pass.energy[i] = W;
+  }
+
+  // The row in bond order, without the lanes (ordinary_lanes.hpp wide()).
+  void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum) {
+    (void)dilatation_sum;  // bond-based
+    const auto& B = pass.system.bonds;
+    const BondKind* kinds = B.kinds.data();
+    const uint32_t* kind = B.kind.data();
+    const uint8_t* intact = B.intact.data();
+    const double* r = pass.deformed;
+    double* q = pass.t;
+    const double* sbar_old = sbar_.committed();
+    double* sbar_trial = sbar_.trial();
+    const double* old_force = ledger_.force.committed();
+    const double* old_extension = ledger_.extension.committed();
+    double* force_trial = ledger_.force.trial();
+    double W = 0, work = 0, booked = 0;
+    bool inelastic = false;
+    const HistoryLedger::Row ledger = ledger_.row();
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      const BondKind& bk = kinds[kind[k]];
+      const double vj = bk.volume * bk.fraction;
+      const double e = r[k] - bk.length;
+      inelastic = ledger.open_bond(k, intact[k], q[k], r[k], e, vj, booked) || inelastic;
+      if (!intact[k]) {
+        q[k] = 0;
+        sbar_trial[k] = sbar_old[k];
+        force_trial[k] = 0;
+        if (old_force[k] != 0) {
+          work += 0.5 * old_force[k] * (e - old_extension[k]) * vj;
+          inelastic = true;
+        }
+        continue;
+      }
+      const double stretch = e / bk.length;
+      const double sbar = microplastic_return(stretch, sbar_old[k], yield_);
+      sbar_trial[k] = sbar;
+      if (sbar != sbar_old[k]) inelastic = true;
+      const double t = bk.weight * 0.5 * c_ * (stretch - sbar);  // force_state's t, W and work
+      W += 0.5 * t * (stretch - sbar) * bk.length * vj;
+      force_trial[k] = t;
+      work += 0.5 * (old_force[k] + t) * (e - old_extension[k]) * vj;
+    }
+    // q = t/|Y| (0 where the bond does not act), vectorised apart from the sums (ordinary_rows.hpp).
+    rows::force_scalars(force_trial, r, intact, true, B.begin(i), B.end(i), q);
+    ledger_.stored_trial[i] = W;
+    ledger_.loss_trial[i] = inelastic ? inelastic_loss(work, W - ledger_.stored[i], booked) : 0.0;
     if (pass.energy) pass.energy[i] = W;
   }
 

@@ -1,6 +1,8 @@
 // The ordinary rows in eight lanes (ordinary_lanes.hpp): the body (ordinary_lanes_body.inc)
-// built for the build's own target and, on x86-64 with GCC, for AVX2 and AVX-512, chosen
-// once at run time. Compiled with the fast loops' options (CMakeLists.txt): no FMA
+// built, on x86-64 with GCC, for AVX-512, taken when the machine has it (wide()). A copy
+// for the build's own target is kept for the entry points' sake and never chosen: there
+// (and for AVX2) GCC keeps the eight-wide vectors in memory, 3-4 times slower than the
+// models' scalar rows (docs/benchmarks.md). Compiled with the fast loops' options (CMakeLists.txt): no FMA
 // contraction, so that every target computes a lane as the others do; no FP traps, so that
 // a lane that does not act may divide by anything and is never selected.
 #include "horizon/material/models/ordinary_lanes.hpp"
@@ -64,12 +66,6 @@ namespace base {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define HORIZON_LANES_X86 1
 #pragma GCC push_options
-#pragma GCC target("avx2")
-namespace avx2 {
-#include "horizon/material/models/ordinary_lanes_body.inc"
-}  // namespace avx2
-#pragma GCC pop_options
-#pragma GCC push_options
 #pragma GCC target("avx2,avx512f,avx512vl,avx512bw,avx512dq")
 namespace avx512 {
 #include "horizon/material/models/ordinary_lanes_body.inc"
@@ -77,35 +73,28 @@ namespace avx512 {
 #pragma GCC pop_options
 #endif
 
-enum class Target { base, avx2, avx512 };
+enum class Target { scalar, avx512 };
 
 Target detect() {
 #if defined(HORIZON_LANES_X86)
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
       __builtin_cpu_supports("avx512dq"))
     return Target::avx512;
-  if (__builtin_cpu_supports("avx2")) return Target::avx2;
 #endif
-  return Target::base;
+  return Target::scalar;
 }
 
 Target g_target = detect();
 
 }  // namespace
 
-const char* lanes_target() {
-  switch (g_target) {
-    case Target::avx512: return "avx512";
-    case Target::avx2: return "avx2";
-    default: return "base";
-  }
-}
+const char* lanes_target() { return g_target == Target::avx512 ? "avx512" : "scalar"; }
+bool wide() { return g_target == Target::avx512; }
 
 bool set_lanes_target(const char* name) {
   const std::string_view n = name;
   const Target best = detect();
-  if (n == "base") return g_target = Target::base, true;
-  if (n == "avx2" && best != Target::base) return g_target = Target::avx2, true;
+  if (n == "scalar") return g_target = Target::scalar, true;
   if (n == "avx512" && best == Target::avx512) return g_target = Target::avx512, true;
   if (n == "best") return g_target = best, true;
   return false;
@@ -115,7 +104,6 @@ bool set_lanes_target(const char* name) {
 #define HORIZON_LANES_CALL(f, ...)                                      \
   switch (g_target) {                                                   \
     case Target::avx512: return avx512::f(__VA_ARGS__);                 \
-    case Target::avx2: return avx2::f(__VA_ARGS__);                     \
     default: return base::f(__VA_ARGS__);                               \
   }
 #else

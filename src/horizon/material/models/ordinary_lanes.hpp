@@ -1,21 +1,23 @@
 #pragma once
 // The ordinary history models' rows (Model::force_row of the scalar general pass,
-// solver/forces_ordinary.cpp) in the fast loops' eight lanes (solver/forces.cpp): bond k
-// of a row goes to lane (k - row start) mod 8, each lane keeps its own partial sums, and
-// the lanes are added as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)) at the end of
-// the row. The body is written once on GCC's eight-wide vector types and built three
-// times, for AVX-512 (one register a vector), AVX2 (two) and the build's own target,
-// chosen once at run time as the fast loops choose (solver/forces.hpp kernel_path_name);
-// every build performs the same IEEE operations in the same order (no FMA contraction in
-// the file, CMakeLists.txt), so every target and thread count gives the same bits. A
-// bond's kind constants {|xi|, omega, omega V_j, V_j} come in one 32-byte record per kind
-// (System::model.kind_rows), eight records turned into four vectors at once. Rare events
-// (the ledger's booking of a bond broken in this pass, a pending booking) leave the
-// vectors and are handled bond by bond in bond order.
+// solver/forces_ordinary.cpp) and the pass's two bond sweeps in the fast loops' eight
+// lanes (solver/forces.cpp): bond k of a row goes to lane (k - row start) mod 8, each lane
+// keeps its own partial sums, and the lanes are added as ((l0 + l1) + (l2 + l3)) +
+// ((l4 + l5) + (l6 + l7)) at the end of the row. The body is written once on GCC's
+// eight-wide vector types and built for AVX-512 (one register a vector), taken on
+// machines that have it (wide()); elsewhere the models and the pass run their scalar rows
+// in bond order (GCC keeps eight-wide vectors in memory on AVX2 and SSE: 3-4 times
+// slower, docs/benchmarks.md). No FMA contraction in the file (CMakeLists.txt), so the
+// lanes are the scalar expressions, operand by operand. A bond's kind constants {|xi|,
+// omega, omega V_j, V_j} come in one 32-byte record per kind (System::model.kind_rows),
+// eight records turned into four vectors at once. Rare events (a bond breaking, the
+// ledger's booking of a bond broken in this pass, a pending booking, the family contact)
+// leave the vectors and are handled bond by bond in bond order.
 //
-// The sums' order is the lanes', not the bond order of Model::force_state (the vector
-// pass kept as the reference): the forces agree with it to round-off
-// (tests/verification/test_ordinary_pass.cpp: 1e-12 after 40 steps of a breaking impact).
+// The sums' order is the lanes', not the bond order of the scalar rows and of
+// Model::force_state (the vector pass kept as the reference): the forces agree with them to
+// round-off (tests/verification/test_ordinary_pass.cpp: 1e-12 after 40 steps of a breaking
+// impact), the same bits on any thread and rank count on one machine.
 #include <cstddef>
 #include <cstdint>
 
@@ -131,8 +133,11 @@ struct SumOut {
 };
 SumOut sum_row(const Sweep& s, std::size_t i);
 
-// The target the rows run on: "avx512", "avx2" or "base"; set_lanes_target chooses one
-// the machine has ("best": the widest), for tests that compare them. False if it lacks it.
+// Whether the lanes run (AVX-512 here): the models' force_row and the pass call the
+// functions above only then. lanes_target() names the choice ("avx512" or "scalar");
+// set_lanes_target makes one the machine has ("best": the lanes where they run), for tests
+// that compare them; false if the machine lacks it.
+bool wide();
 const char* lanes_target();
 bool set_lanes_target(const char* name);
 

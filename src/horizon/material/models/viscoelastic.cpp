@@ -8,6 +8,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/material/models/history_ledger.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
+#include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -46,6 +47,7 @@ class Viscoelastic final : public Model {
   void force_state(ForcePass& pass) override;
   void begin_rows(const RowPass& pass) override;
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
+  void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum);
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
     return ledger_.pending_energy(particles_, s.particles.volume);
@@ -280,6 +282,7 @@ void Viscoelastic::begin_rows(const RowPass& pass) {
 // force_state's sums in the lanes' order, on the |Y| and the dilatation sum of the pass's
 // breaking sweep, from flat bond arrays.
 void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
+  if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
   static_assert(kMaxViscousBranches <= lanes::kMaxBranches);
   const System& s = pass.system;
   const auto& B = s.bonds;
@@ -315,6 +318,84 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   const double W = 0.5 * bulk_elastic_ * theta * theta + 0.5 * dilatation_shear_ * dil_springs + 0.5 * alpha * sums.dev;
   ledger_.stored_trial[i] = W;
   ledger_.loss_trial[i] = inelastic_loss(sums.work, W - ledger_.stored[i], sums.booked);
+  if (pass.energy) pass.energy[i] = W;
+}
+
+// The row in bond order, without the lanes (ordinary_lanes.hpp wide()): force_state's
+// sums in the same order, e^d_n read from ed_ (which this path keeps).
+void Viscoelastic::force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum) {
+  const System& s = pass.system;
+  const auto& B = s.bonds;
+  const auto& M = s.model;
+  const KindCoefficients* kc = M.kind.data();
+  const BondKind* kinds = B.kinds.data();
+  const uint32_t* kind = B.kind.data();
+  const uint8_t* intact = B.intact.data();
+  const double* r = pass.deformed;
+  double* q = pass.t;
+  const double* ed_old_all = ed_.committed();
+  double* ed_trial = ed_.trial();
+  const double* old_force = ledger_.force.committed();
+  const double* old_extension = ledger_.extension.committed();
+  double* force_trial = ledger_.force.trial();
+  const int dim = dim_, nbranch = branches_;
+  const double linf = lambda_inf_;
+  const double* eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  const uint64_t first = B.begin(i), last = B.end(i);
+  const double m = M.weighted_volume[i];
+  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double theta = dim * dilatation_sum / m;
+  double dil_springs;
+  const double pressure = this->pressure(i, theta, step_.data(), dil_springs);
+  const double p_coef = dim * pressure / m;
+  theta_row_trial_[i] = theta;
+  double work = 0, booked = 0, stored = 0;
+  const HistoryLedger::Row ledger = ledger_.row();
+  // The branches' back extensions, committed and trial, as plain pointers (taken once: see
+  // HistoryLedger::Row).
+  const double* back_old[kMaxViscousBranches];
+  double* back_trial[kMaxViscousBranches];
+  for (int b = 0; b < nbranch; ++b) {
+    back_old[b] = back_[b].committed();
+    back_trial[b] = back_[b].trial();
+  }
+  for (uint64_t k = first; k < last; ++k) {
+    const KindCoefficients& c = kc[kind[k]];
+    const BondKind& bk = kinds[kind[k]];
+    const double vj = bk.volume * bk.fraction;
+    const double e = r[k] - c.length - (eps ? 0.5 * (eps[i] + eps[B.nbr[k]]) * c.length : 0.0);
+    ledger.open_bond(k, intact[k], q[k], r[k], e, vj, booked);
+    if (!intact[k]) {
+      q[k] = 0;
+      ed_trial[k] = ed_old_all[k];
+      for (int b = 0; b < nbranch; ++b) back_trial[b][k] = back_old[b][k];
+      force_trial[k] = 0;
+      work += kernels::released_work(old_force[k], e, old_extension[k], vj);  // it acted at the start of the step (or 0)
+      continue;
+    }
+    const double omega = bk.weight;
+    const double ed = kernels::deviatoric_extension(e, theta, c.length, dim);  // e^d (seed 003 sec. 15; digest sec. 8)
+    const double ed_old = ed_old_all[k];
+    ed_trial[k] = ed;
+    double dev = linf * ed;  // lambda_inf e^d + sum_b lambda_b (e^d - e^b)
+    double springs = kernels::weighted_square(linf, ed);
+    for (int b = 0; b < nbranch; ++b) {
+      const double back = sls_back_extension(step_[b], back_old[b][k], ed_old, ed);
+      back_trial[b][k] = back;
+      const double qb = ed - back;
+      dev += lambda_[b] * qb;
+      springs += kernels::weighted_square(lambda_[b], qb);
+    }
+    stored += c.wv * springs;
+    const double t = kernels::ordinary_force_scalar(p_coef, omega, c.length, alpha, dev);
+    force_trial[k] = t;
+    work += kernels::trapezoid_work(old_force[k], t, e, old_extension[k], vj);
+  }
+  // q = t/|Y| (0 where the bond does not act), vectorised apart from the sums (ordinary_rows.hpp).
+  rows::force_scalars(force_trial, r, intact, false, first, last, q);
+  const double W = 0.5 * bulk_elastic_ * theta * theta + 0.5 * dilatation_shear_ * dil_springs + 0.5 * alpha * stored;
+  ledger_.stored_trial[i] = W;
+  ledger_.loss_trial[i] = inelastic_loss(work, W - ledger_.stored[i], booked);
   if (pass.energy) pass.energy[i] = W;
 }
 
