@@ -8,22 +8,29 @@ gold's times (each gold time must be one of the result's, within the TIME STEPS
 tolerance). The suite runner passes it for a deck copy in an npN/ folder, whose own
 Output Frequency can differ from the deck its folder's gold belongs to.
 
-Horizon's own reading of exodiff's command-file format (SEACAS exodiff manual; exodiff is
-not packaged by Debian, so the suite runner cannot call it):
-  DEFAULT TOLERANCE <spec>         the tolerance of listed variables that give none
-  COORDINATES <spec>               the nodes' reference coordinates
-  TIME STEPS <spec>                the time values
-  GLOBAL|NODAL|ELEMENT VARIABLES <spec>
+Horizon's own reading of exodiff's command-file format (SEACAS exodiff: its -help file
+and -help tolerance texts; exodiff is not packaged by Debian, so the suite runner cannot
+call it):
+  DEFAULT TOLERANCE <spec>         the variables' default (compiled: relative 1e-6 floor 0)
+  COORDINATES <spec>               the nodes' reference coordinates (absolute 1e-6 floor 0,
+                                   or the DEFAULT TOLERANCE given above it)
+  TIME STEPS <spec>                the time values (the default tolerance)
+  GLOBAL|NODAL|ELEMENT VARIABLES [(all)] <spec>
       <tab>Name [<spec>]           compare only the listed variables (with their own
-                                   spec, else the section's); none listed: all of them
-  <spec> = absolute T | relative T [floor F] | T (a bare value: the section's kind)
-A value pair passes when |a - b| <= T (absolute) or |a - b| <= T max(|a|, |b|)
-(relative), and always when both |a| and |b| are at most the floor F. Sections the file
-does not name are not compared, as with exodiff -f. Every time step is compared; the
-files must hold the same number. Nodes pair by file order when the coordinates agree
-within their tolerance, else by coordinates within the tolerance (as exodiff -m); element variables of
-one-node (SPHERE) elements are compared at their node. Node and side sets are not
-compared.
+      <tab>!Name                   spec, else the section's); none listed, or (all): all
+                                   of the gold's but those excluded with !
+  <spec> = absolute|relative|combined T [floor F] | ignore | floor F | T (a bare value:
+           the enclosing kind; on a VARIABLES line exodiff refuses it)
+A spec starts from what it inherits (a section from the DEFAULT TOLERANCE, a variable from
+its section): a kind replaces the kind and value and keeps the floor. A value pair passes
+when |a - b| <= T (absolute), |a - b| <= T max(|a|, |b|) (relative), |a - b| <
+T max(1, |a|, |b|) (combined), and always when both |a| and |b| are at most the floor F.
+Variable names compare case-insensitively. Sections of variables the file does not name
+are not compared, as with exodiff -f; coordinates and times are always compared. Every
+time step is compared; the files must hold the same number. Nodes pair by file order
+when the coordinates agree within their tolerance, else by coordinates within the
+tolerance (as exodiff -m); element variables of one-node (SPHERE) elements are compared
+at their node. Node and side sets are not compared.
 
 RESULT.e may be several files joined by '+' (A.e+B.e): their time steps in time order, as
 SEACAS's conjoin joins the files of one run before Peridigm's scripts compare them
@@ -55,8 +62,16 @@ class Spec:
         a = np.asarray(a, dtype=float)
         b = np.asarray(b, dtype=float)
         d = np.abs(a - b)
-        allowed = self.tol * np.maximum(np.abs(a), np.abs(b)) if self.kind == "relative" else np.full(d.shape, self.tol)
+        big = np.maximum(np.abs(a), np.abs(b))
+        if self.kind == "relative":
+            allowed = self.tol * big
+        elif self.kind == "combined":  # exodiff: differs when |a - b| >= T max(1, |a|, |b|)
+            allowed = np.nextafter(self.tol * np.maximum(big, 1.0), -np.inf)
+        else:
+            allowed = np.full(d.shape, self.tol)
         out = d - allowed
+        if self.kind == "ignore":
+            out[:] = -1.0
         out[(np.abs(a) <= self.floor) & (np.abs(b) <= self.floor)] = -1.0
         out[np.isnan(a) != np.isnan(b)] = np.inf
         return out
@@ -66,54 +81,103 @@ class Spec:
         return s + (f" floor {self.floor:g}" if self.floor else "")
 
 
-def parse_spec(words, default):
-    if not words:
-        return default
-    try:  # a bare value keeps the enclosing kind (and floor)
-        return Spec(default.kind if default else "absolute", float(words[0]), default.floor if default else 0.0)
-    except ValueError:
-        pass
-    kind = words[0].lower()
-    if kind not in ("absolute", "relative"):
-        raise ValueError(f"unknown tolerance kind '{words[0]}'")
-    spec = Spec(kind, float(words[1]))
-    if len(words) >= 4 and words[2].lower() == "floor":
-        spec.floor = float(words[3])
+KINDS = ("absolute", "relative", "combined", "ignore")
+
+
+def _kind(word):
+    """The tolerance kind a word names (exodiff takes any abbreviation of 3 letters or more),
+    else None."""
+    w = word.lower()
+    for k in KINDS:
+        if len(w) >= 3 and k.startswith(w):
+            return k
+    return None
+
+
+def parse_spec(words, base, bare="kind"):
+    """A tolerance spec read after a keyword, starting from `base` (what it inherits):
+    [kind T] [floor F]. A kind replaces the base's kind and value and keeps its floor;
+    `floor F` replaces the floor. A bare number: bare="kind" keeps the base's kind and
+    takes the value (a variable line, DEFAULT TOLERANCE); bare="ignore" leaves the base
+    as it is (COORDINATES and TIME STEPS read a kind word first, exodiff skips a number);
+    bare="error" refuses it (a VARIABLES line, where exodiff stops on it)."""
+    spec = Spec(base.kind, base.tol, base.floor)
+    k = 0
+    if k < len(words) and _kind(words[k]):
+        spec.kind = _kind(words[k])
+        k += 1
+        if spec.kind == "ignore":
+            spec.tol = 0.0
+        else:
+            if k >= len(words) or words[k].lower() == "floor":
+                raise ValueError(f"tolerance kind '{words[k - 1]}' without a value")
+            spec.tol = float(words[k])
+            k += 1
+    elif k < len(words) and words[k].lower() != "floor" and not words[k].startswith("#"):
+        if bare == "error":
+            raise ValueError(f"unrecognized keyword '{words[k]}'")
+        if bare == "kind":
+            spec.tol = float(words[k])
+        k += 1
+    if k < len(words) and words[k].lower().startswith("flo"):
+        if k + 1 >= len(words):
+            raise ValueError("floor without a value")
+        spec.floor = float(words[k + 1])
     return spec
 
 
 def parse_comp(path):
-    default = Spec("absolute", 0.0)
-    sections = {}  # key -> (spec, {name: spec or None})
+    """Sections as exodiff reads its command file (-f): {key: (spec, {name: spec}, excluded, all)}.
+
+    exodiff's compiled defaults: variables relative 1e-6 floor 0, coordinates absolute 1e-6
+    floor 0, time steps the variables' default. DEFAULT TOLERANCE replaces the variables'
+    default (and, given before them, the COORDINATES and TIME STEPS lines' base); a section
+    line starts from that default, so its floor is the default's unless it names one; a
+    variable line starts from its section's spec. Coordinates and times are always compared;
+    a section the file does not name compares no variables of its kind."""
+    default = Spec("relative", 1e-6, 0.0)
+    default_given = False
+    sections = {"coordinates": (Spec("absolute", 1e-6, 0.0), {}, set(), False),
+                "time": (Spec("relative", 1e-6, 0.0), {}, set(), False)}
     current = None
     with open(path) as f:
         for raw in f:
             line = raw.split("#", 1)[0].rstrip()
             if not line.strip():
                 continue
-            indented = raw[0] in " \t"
             words = line.split()
-            upper = [w.upper() for w in words]
-            if indented and current is not None:
-                sections[current][1][words[0]] = parse_spec(words[1:], sections[current][0]) if len(words) > 1 else None
+            # A variable name starts with a tab (exodiff); spaces are read the same here.
+            if raw[0] in " \t" and current is not None:
+                spec, listed, excluded, _ = sections[current]
+                name = words[0]
+                if name.startswith("!"):
+                    excluded.add(name[1:].lower())
+                elif len(words) > 1:
+                    listed[name] = parse_spec(words[1:], spec)
+                else:
+                    listed[name] = spec
                 continue
             current = None
-            if upper[:2] == ["DEFAULT", "TOLERANCE"]:
+            upper = [w.upper() for w in words]
+            if len(upper) >= 2 and upper[0].startswith("DEF") and upper[1].startswith("TOL"):
+                if len(words) < 3:
+                    raise ValueError(f"{path}: DEFAULT TOLERANCE without a value")
                 default = parse_spec(words[2:], default)
-            elif upper[:1] == ["COORDINATES"]:
-                sections["coordinates"] = (parse_spec(words[1:], default), {})
-            elif upper[:2] == ["TIME", "STEPS"]:
-                sections["time"] = (parse_spec(words[2:], default), {})
-            elif len(upper) >= 2 and upper[1] == "VARIABLES" and upper[0] in ("GLOBAL", "NODAL", "ELEMENT"):
+                default_given = True
+            elif upper[0].startswith("COOR"):
+                base = default if default_given else Spec("absolute", 1e-6, 0.0)
+                sections["coordinates"] = (parse_spec(words[1:], base, bare="ignore"), {}, set(), False)
+            elif upper[:1] == ["TIME"] and len(upper) >= 2 and upper[1].startswith("STEP"):
+                sections["time"] = (parse_spec(words[2:], default, bare="ignore"), {}, set(), False)
+            elif len(upper) >= 2 and upper[1].startswith("VAR") and upper[0] in ("GLOBAL", "NODAL", "ELEMENT"):
                 current = upper[0].lower()
-                sections[current] = (parse_spec(words[2:], default), {})
+                rest = words[2:]
+                every = bool(rest) and rest[0].lower() in ("(all)", "all")
+                if every:
+                    rest = rest[1:]
+                sections[current] = (parse_spec(rest, default, bare="error"), {}, set(), every)
             else:
                 raise ValueError(f"{path}: cannot read the line '{line.strip()}'")
-    # Listed variables without their own spec take the section's.
-    for key, (spec, listed) in sections.items():
-        for name in listed:
-            if listed[name] is None:
-                listed[name] = spec
     return sections
 
 
@@ -143,22 +207,22 @@ def element_values(ds, index, steps):
 def variable(ds, kind, name, steps):
     """[step][item] values of a variable, or None when the file lacks it."""
     if kind == "global":
-        vars_ = names(ds, "name_glo_var")
-        if name not in vars_:
+        vars_ = [n.lower() for n in names(ds, "name_glo_var")]
+        if name.lower() not in vars_:
             return None
-        return np.asarray(ds.variables["vals_glo_var"][:steps], dtype=float)[:, vars_.index(name)][:, None]
+        return np.asarray(ds.variables["vals_glo_var"][:steps], dtype=float)[:, vars_.index(name.lower())][:, None]
     if kind == "nodal":
-        vars_ = names(ds, "name_nod_var")
-        if name not in vars_:
+        vars_ = [n.lower() for n in names(ds, "name_nod_var")]
+        if name.lower() not in vars_:
             return None
-        k = vars_.index(name) + 1
+        k = vars_.index(name.lower()) + 1
         if f"vals_nod_var{k}" in ds.variables:
             return np.asarray(ds.variables[f"vals_nod_var{k}"][:steps], dtype=float)
         return np.asarray(ds.variables["vals_nod_var"][:steps, k - 1, :], dtype=float)
-    vars_ = names(ds, "name_elem_var")
-    if name not in vars_:
+    vars_ = [n.lower() for n in names(ds, "name_elem_var")]
+    if name.lower() not in vars_:
         return None
-    return element_values(ds, vars_.index(name) + 1, steps)
+    return element_values(ds, vars_.index(name.lower()) + 1, steps)
 
 
 def node_pairing(xr, xg, spec):
@@ -255,7 +319,7 @@ def compare(result, gold, comp, at_gold_times=False):
     tg = np.asarray(g.variables["time_whole"][:], dtype=float) if "time_whole" in g.variables else np.zeros(0)
     pick = None  # result steps compared with the gold's, in order (None: all, one for one)
     if at_gold_times and len(tr) > len(tg):
-        tspec = sections.get("time", (Spec("absolute", 1e-14), {}))[0]
+        tspec = sections["time"][0]
         chosen = []
         for t in tg:
             e = tspec.excess(tr, np.full_like(tr, t))
@@ -270,13 +334,13 @@ def compare(result, gold, comp, at_gold_times=False):
     if len(tr) != len(tg):
         return 1, f"differs: {len(tr)} time steps, the gold has {len(tg)} (t = {tr[-1] if len(tr) else 0:g} / {tg[-1] if len(tg) else 0:g})"
     steps = len(tg)
-    if "time" in sections:
+    if True:  # exodiff compares the times always (TIME STEPS, else the default tolerance)
         e = sections["time"][0].excess(tr, tg)
         if np.any(e > 0):
             k = int(np.argmax(e))
             return 1, f"differs: time of step {k + 1}: {tr[k]:.9g} vs gold {tg[k]:.9g} ({sections['time'][0]})"
     xr, xg = coords(r), coords(g)
-    cspec = sections.get("coordinates", (Spec("absolute", 1e-9), {}))[0]
+    cspec = sections["coordinates"][0]
     pair = node_pairing(xr, xg, cspec)
     if pair is None:
         return 1, f"differs: the nodes ({len(xr)} vs the gold's {len(xg)}) do not pair by coordinates ({cspec})"
@@ -284,9 +348,17 @@ def compare(result, gold, comp, at_gold_times=False):
     for kind in ("global", "nodal", "element"):
         if kind not in sections:
             continue
-        spec, listed = sections[kind]
+        spec, listed, excluded, every = sections[kind]
         gold_names = names(g, {"global": "name_glo_var", "nodal": "name_nod_var", "element": "name_elem_var"}[kind])
-        wanted = listed if listed else {n: spec for n in gold_names}
+        # Names compare case-insensitively (exodiff's default): the gold's spelling is read.
+        by_lower = {n.lower(): n for n in gold_names}
+        wanted = {by_lower.get(n.lower(), n): t for n, t in listed.items()}
+        if every or not listed:  # (all), or no names listed: every gold variable not excluded
+            for n in gold_names:
+                wanted.setdefault(n, spec)
+        for n in list(wanted):
+            if n.lower() in excluded:
+                del wanted[n]
         for name, s in wanted.items():
             vg = variable(g, kind, name, steps)
             if vg is None:

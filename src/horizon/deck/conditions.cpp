@@ -56,6 +56,31 @@ PrecrackConfig read_disk(const DeckContext& ctx, const Item& item, PrecrackConfi
   return crack;
 }
 
+// rectangle: {corner, normal, bottom, bottom_length, side_length}: Peridigm's
+// Rectangular_Plane bond filter as it states it (family/precrack.hpp crosses_rectangle).
+PrecrackConfig read_rectangle(const DeckContext& ctx, const Item& item, PrecrackConfig crack) {
+  MapReader r(ctx, item, {"corner", "normal", "bottom", "bottom_length", "side_length"});
+  crack.rectangle = true;
+  crack.corner = read_vector(ctx, r.get("corner", "the rectangle's lower left corner [x, y, z]"));
+  const Item n_item = r.get("normal", "the unit normal of the rectangle's plane [nx, ny, nz]");
+  crack.normal = read_vector(ctx, n_item);
+  if (!(std::abs(norm(crack.normal) - 1) < 1e-9)) ctx.fail(n_item.mark, n_item.path + ": the normal must be a unit vector");
+  const Item b_item = r.get("bottom", "the direction of the bottom edge [x, y, z]");
+  crack.bottom = read_vector(ctx, b_item);
+  // Only the bottom vector's part in the plane spans the rectangle; it must not vanish.
+  const Vec3 in_plane = crack.bottom - crack.normal * dot(crack.bottom, crack.normal);
+  if (!(norm(in_plane) > 1e-9)) ctx.fail(b_item.mark, b_item.path + ": the bottom vector must not be along the normal");
+  crack.bottom_length = read_positive(ctx, r.get("bottom_length", "the bottom edge's length, > 0"));
+  crack.side_length = read_positive(ctx, r.get("side_length", "the side edge's length, > 0"));
+  // The region it tests: (x - corner).bottom in [0, bottom_length] and (x - corner).side
+  // in [0, side_length] on the plane, |side| = |in_plane|.
+  const double q = dot(in_plane, in_plane);
+  const Vec3 along_b = in_plane * (crack.bottom_length / q);
+  const Vec3 along_s = cross(crack.bottom, crack.normal) * (crack.side_length / q);
+  crack.points = {crack.corner, crack.corner + along_b, crack.corner + along_b + along_s, crack.corner + along_s};
+  return crack;
+}
+
 // facets: [polygon, polygon, ...]: one crack surface of planar polygons (a shell mesh's
 // elements; Peridigm's Exodus Mesh bond filter).
 PrecrackConfig read_facets(const DeckContext& ctx, const Item& item, PrecrackConfig crack) {
@@ -70,7 +95,7 @@ PrecrackConfig read_facets(const DeckContext& ctx, const Item& item, PrecrackCon
 }  // namespace
 
 PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
-  MapReader m(ctx, item, {"from", "to", "polygon", "disk", "facets", "bonds"});
+  MapReader m(ctx, item, {"from", "to", "polygon", "disk", "facets", "rectangle", "bonds"});
   PrecrackConfig crack;
   if (ctx.dimension == 1) ctx.fail(item.mark, item.path + ": precracks need a 2-D or 3-D deck");
   // bonds: removed (default) drops the crossing bonds; broken keeps them as broken bonds,
@@ -78,7 +103,7 @@ PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
   if (auto b = m.find("bonds")) crack.keep_broken = choose_word(ctx, *b, {"removed", "broken"}) == 1;
   if (ctx.dimension == 2) {
     // A segment in the plane, cut through the whole thickness.
-    for (const char* key : {"polygon", "disk", "facets"})
+    for (const char* key : {"polygon", "disk", "facets", "rectangle"})
       if (auto p = m.find(key))
         ctx.fail(*p->key_mark, p->path + ": in a 2-D deck a precrack is a segment: {from: [x, y], to: [x, y]}");
     const Vec3 from = read_vector(ctx, m.get("from", "one end of the crack segment"));
@@ -92,11 +117,12 @@ PrecrackConfig read_precrack(const DeckContext& ctx, const Item& item) {
     if (auto p = m.find(key)) {
       ctx.fail(*p->key_mark, p->path +
                                  ": in a 3-D deck a precrack is a planar polygon: "
-                                 "{polygon: [[x, y, z], [x, y, z], [x, y, z], ...]}, a disk or facets");
+                                 "{polygon: [[x, y, z], [x, y, z], [x, y, z], ...]}, a disk, a rectangle or facets");
     }
   }
-  const auto shape = m.exactly_one({"polygon", "disk", "facets"}, true);
+  const auto shape = m.exactly_one({"polygon", "disk", "facets", "rectangle"}, true);
   if (*shape == "disk") return read_disk(ctx, *m.find("disk"), crack);
+  if (*shape == "rectangle") return read_rectangle(ctx, *m.find("rectangle"), crack);
   if (*shape == "facets") return read_facets(ctx, *m.find("facets"), crack);
   crack.points = read_polygon(ctx, m.get("polygon", "the crack's corners, at least 3 points in one plane"));
   return crack;

@@ -185,6 +185,9 @@ struct SolverConfig {
   // implicit_dynamic: initial_acceleration: zero starts Newmark with a_0 = 0 (Peridigm's
   // Implicit solver: Body_Force_Implicit's gold) instead of the equilibrium (f + b)/rho.
   bool zero_initial_acceleration = false;
+  // explicit: verlet: peridigm rounds the step as Peridigm's Verlet (ExplicitSolver::
+  // set_peridigm_verlet): the importer's choice, so that its decks' golds match bit for bit.
+  bool peridigm_verlet = false;
   bool condition_number = false;        // estimate the tangent's condition number
   // Explicit, models with ModelTraits::adaptive_time_step (nonlinear_solid): recompute the
   // stable step from the current bond tangent stiffness every adaptive_every steps.

@@ -389,7 +389,7 @@ const std::vector<std::string> kSolverKeys = {
     "type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
     "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds", "condition_number",
     "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend", "initial_acceleration",
-    "on_failure"};
+    "on_failure", "verlet"};
 
 // One solver map (the deck's `solver`, or one stage of a staged deck) into `sc`.
 void read_solver_map(const DeckContext& ctx, const Item& item, const Config& config, SolverConfig& sc) {
@@ -417,6 +417,12 @@ void read_solver_map(const DeckContext& ctx, const Item& item, const Config& con
   only_for(ctx, s, "on_failure", is_static, kStatic, type);
   if (auto f = s.find("on_failure"))
     sc.switch_on_failure = read_enum<bool>(ctx, *f, {{"stop", false}, {"explicit", true}});
+  only_for(ctx, s, "verlet", is_explicit, "type: explicit", type);
+  if (auto v = s.find("verlet")) {
+    sc.peridigm_verlet = read_enum<bool>(ctx, *v, {{"horizon", false}, {"peridigm", true}});
+    if (sc.peridigm_verlet && s.has("damping"))
+      ctx.fail(*s.find("damping")->key_mark, s.find("damping")->path + ": verlet: peridigm has no damping (Peridigm's Verlet has none)");
+  }
   only_for(ctx, s, "initial_acceleration", sc.type == SolverType::implicit_dynamic, "type: implicit_dynamic", type);
   if (auto a = s.find("initial_acceleration"))
     sc.zero_initial_acceleration = read_enum<bool>(ctx, *a, {{"equilibrium", false}, {"zero", true}});
@@ -507,6 +513,8 @@ void read_solver_map(const DeckContext& ctx, const Item& item, const Config& con
     const std::vector<std::string> names = {"cpu", "flat", "cuda"};
     sc.backend = names[choose_word(ctx, *b, names)];
     sc.backend_at = fmt::format("{}:{}:{}", ctx.file, b->mark.line + 1, b->mark.column + 1);
+    if (sc.peridigm_verlet && sc.backend != "cpu")
+      ctx.fail(b->mark, b->path + ": verlet: peridigm runs on backend: cpu only (the solver's own passes)");
   }
   if (auto a = s.find("adaptive_every")) {
     sc.adaptive_every = at_least(*a, 1);

@@ -73,6 +73,7 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
   if (why.empty() && s.heat.active()) why = "heat conduction";
   if (why.empty() && s.fe) why = "finite-element regions";
   if (why.empty() && c.solver.adaptive_time_step) why = "solver.adaptive_time_step";
+  if (why.empty() && c.solver.peridigm_verlet) why = "solver.verlet: peridigm (Peridigm's rounding of the step)";
   if (!why.empty()) {
     // The models the flat rows run: the registry's unified ones (ModelTraits::unified).
     std::vector<std::string> unified;

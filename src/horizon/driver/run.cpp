@@ -94,6 +94,7 @@ ExplicitRun::ExplicitRun(Config config, const RunOptions& options) : st_(std::ma
   }
 
   r.solver = std::make_unique<ExplicitSolver>(r.s, *r.loads, r.check.dt, c.solver.damping);
+  r.solver->set_peridigm_verlet(c.solver.peridigm_verlet);
   r.solver->initialize();
   if (cpu_backend && mpi_built() && !r.dd && !c.static_stage) {
     // An MPI build decomposes every run it can, on one rank too, so that one rank and
@@ -249,7 +250,8 @@ int64_t ExplicitRun::advance(int64_t n) {
         ++r.next_frame;
       }
       if (exodus_due) {
-        r.exodus_files->set_verlet(r.loads.get(), solver.dt());  // velocity: verlet files
+        // velocity: verlet files; solver.verlet: peridigm's state holds the half kick already.
+        r.exodus_files->set_verlet(r.loads.get(), solver.peridigm_verlet() ? 0.0 : solver.dt());
         r.exodus_files->write(r.s, r.dd.get(), solver.time(), r.step_offset + step);
       }
       if (c.output.checkpoint_every > 0 && solver.steps() % c.output.checkpoint_every == 0 && !r.at_end())

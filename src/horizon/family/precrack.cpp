@@ -106,7 +106,29 @@ void bounding_box(const Precrack& crack, Vec3& lo, Vec3& hi) {
   for (const auto& [flo, fhi] : crack.boxes) add(flo, 0), add(fhi, 0);
 }
 
+bool crosses_rectangle(const Vec3& a, const Vec3& b, const Precrack& crack) {
+  const Vec3& n = crack.normal;
+  const Vec3& r0 = crack.corner;
+  const double num = (r0.x - a.x) * n.x + (r0.y - a.y) * n.y + (r0.z - a.z) * n.z;
+  const double den = (b.x - a.x) * n.x + (b.y - a.y) * n.y + (b.z - a.z) * n.z;
+  if (std::abs(den) < 1e-14) return false;  // parallel to the plane
+  const double t = num / den;
+  if (!(t >= 0.0 && t <= 1.0)) return false;
+  const Vec3 x{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.z + t * (b.z - a.z)};
+  const Vec3 d{x.x - r0.x, x.y - r0.y, x.z - r0.z};
+  const Vec3& ub = crack.bottom;
+  const Vec3 ua = cross(ub, n);
+  const double along_side = d.x * ua.x + d.y * ua.y + d.z * ua.z;
+  const double along_bottom = d.x * ub.x + d.y * ub.y + d.z * ub.z;
+  const double zero = 1e-15, one = 1.0 + zero;
+  return -zero < along_side && along_side / crack.side_length < one && -zero < along_bottom &&
+         along_bottom / crack.bottom_length < one;
+}
+
 bool crosses(const Vec3& a, const Vec3& b, const Precrack& crack, int dimension) {
+  // Peridigm tests each neighbour list's direction; a bond here is one pair, cut when
+  // either direction crosses (no pair of Peridigm's suite crosses one way only).
+  if (crack.rectangle) return dimension == 3 && (crosses_rectangle(a, b, crack) || crosses_rectangle(b, a, crack));
   if (dimension == 3) {
     if (!crack.facets.empty()) return crosses_surface(a, b, crack);
     if (crack.radius > 0) return !crack.points.empty() && crosses_disk(a, b, crack.points[0], crack.normal, crack.radius);

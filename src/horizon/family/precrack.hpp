@@ -26,7 +26,25 @@ struct Precrack {
   // (Tupek eq. 6.9): a pre-fractured interface that still resists interpenetration
   // (the Riemann problem, thesis sec. 5.3). Other models never load broken bonds.
   bool keep_broken = false;
+  // 3-D rectangle stated as Peridigm's Rectangular_Plane bond filter states it (rectangle
+  // true): `normal` (unit), the lower left corner, the bottom vector as given (Peridigm does
+  // not normalise it: PrecrackedPlateTwoCracks gives (1, 4, 0) with the normal (0, 1, 0)),
+  // and the bottom and side lengths; the side runs along bottom x normal. `points` holds
+  // the corners of the region it tests (for the bounding box). crosses_rectangle.
+  bool rectangle = false;
+  Vec3 corner{}, bottom{};
+  double bottom_length = 0, side_length = 0;
 };
+
+// Peridigm's Rectangular_Plane test of the bond from a to b (its users' guide and its
+// FinitePlane filter, read for the rule; its tolerances are part of it): the segment meets
+// the plane through the corner at t = ((corner - a).n)/((b - a).n), in [0, 1] (a segment
+// with |(b - a).n| < 1e-14 meets nothing), at x = a + t (b - a); with d = x - corner, s =
+// bottom x normal, it crosses when -1e-15 < d.s, d.s/side_length < 1 + 1e-15, -1e-15 < d.bottom
+// and d.bottom/bottom_length < 1 + 1e-15. The rounding is Peridigm's: with its element
+// centres, PrecrackedPlate's and PrecrackedPlateTwoCracks's golds' neighbour counts at every
+// point (the bottom (1, 4, 0) weighs the rounding of x.y by 4 at the edge x = 0).
+bool crosses_rectangle(const Vec3& a, const Vec3& b, const Precrack& crack);
 
 // Sets a surface precrack's facets and their bounding boxes.
 void set_facets(Precrack& crack, std::vector<std::vector<Vec3>> facets);

@@ -25,6 +25,12 @@ HORIZON_HD inline double second_half_kick(double v_half, double f, double b, dou
   return (v_half + (f + b) * half_over_rho) * damp;
 }
 
+// A half kick rounded as Peridigm's Verlet rounds it (solver.verlet: peridigm): the
+// acceleration (f + b)/rho divided, then v + (dt/2) a; no damping.
+HORIZON_HD inline double peridigm_kick(double v, double f, double b, double rho, double half) {
+  return v + half * ((f + b) / rho);
+}
+
 // 1/2 rho V |v|^2.
 HORIZON_HD inline double kinetic(double density, double volume, double vx, double vy, double vz) {
   return 0.5 * density * volume * (vx * vx + vy * vy + vz * vz);

@@ -260,10 +260,11 @@ void Loads::apply_initial_conditions(const Config& config, System& s) const {
     }
 }
 
-void Loads::apply_constraints(System& s, double t, double dt) const {
+void Loads::apply_constraints(System& s, double t, double dt, bool displacements) const {
   auto& P = s.particles;
   for (const auto& L : loads_) {
     if (!is_constraint(L.kind)) continue;
+    if (!displacements && L.kind == LoadKind::displacement) continue;
     for (uint32_t i : L.particles) {
       const Vec3& x = P.X[i];
       for (int c = 0; c < 3; ++c) {
@@ -276,6 +277,25 @@ void Loads::apply_constraints(System& s, double t, double dt) const {
         } else {
           P.v[i][c] = g(t, x.x, x.y, x.z);  // u was advanced with the mid-step velocity
         }
+      }
+    }
+  }
+}
+
+void Loads::prescribe_increments(System& s, double t, double t_prev) const {
+  auto& P = s.particles;
+  const double rate = 1.0 / (t - t_prev);
+  for (const auto& L : loads_) {
+    if (L.kind != LoadKind::displacement) continue;
+    for (uint32_t i : L.particles) {
+      const Vec3& x = P.X[i];
+      for (int c = 0; c < 3; ++c) {
+        if (!L.value[c]) continue;
+        const Expression& g = *L.value[c];
+        const double now = g(t, x.x, x.y, x.z);
+        double before = g(t_prev, x.x, x.y, x.z);
+        if (now - before == 0.0) before = P.u[i][c];
+        P.v[i][c] = (now - before) * rate;
       }
     }
   }

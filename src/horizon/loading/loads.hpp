@@ -35,7 +35,15 @@ class Loads {
   void apply_initial_conditions(const Config& config, System& s) const;
   // End of a step at time t: prescribed displacements (u = g(t), v = (g(t) - g(t-dt))/dt)
   // and prescribed velocities (v = h(t)) on the constrained components.
-  void apply_constraints(System& s, double t, double dt) const;
+  // displacements = false: the displacement constraints are left alone (solver.verlet:
+  // peridigm moves them through the drift, prescribe_increments).
+  void apply_constraints(System& s, double t, double dt, bool displacements = true) const;
+  // solver.verlet: peridigm, mid-step: the velocity of each displacement-constrained
+  // component over the step from t_prev to t, (g(t) - g(t_prev)) (1/(t - t_prev)), as
+  // Peridigm's users' guide has a prescribed displacement drive the Verlet update; where
+  // g does not change over the step, (g(t) - u) (1/(t - t_prev)) (a constant g then holds
+  // its value whatever u the initial conditions gave).
+  void prescribe_increments(System& s, double t, double t_prev) const;
   // Mid-step: v = h(t) on velocity-constrained components, before u is advanced.
   void prescribe_velocity(System& s, double t) const;
   // Zeroes and refills particles.b (body force and traction) at time t.

@@ -63,7 +63,11 @@ void ExplicitSolver::initialize(double t0, double dt_before) {
   start_time_ = time_ = t0;
   steps_ = 0;
   ledger_ = Ledger{};
-  loads_.apply_constraints(s_, t0, dt_before);
+  // Peridigm's Verlet applies a prescribed displacement as increments from the start, so
+  // g(0) itself is never applied: u_n = u_0 + g(t_n) - g(0) (DeformationGradient_
+  // PlaneStrainCompression's gold, g = x exp(0.0953 t/1e-8): u = x (e^0.00953 - 1) at 1e-9).
+  // A staged run's explicit stage (dt_before > 0) starts from the static stage's u = g(t0).
+  loads_.apply_constraints(s_, t0, dt_before, !(peridigm_ && dt_before == 0));
   loads_.apply_forces(s_, t0);
   for (auto& p : loads_.projectiles()) p.finish_step(p.x, p.force, 0, 0);
   s_.time = t0;
@@ -109,17 +113,45 @@ void ExplicitSolver::step(bool energy) {
   }
 
   // Half kick and drift. a(n) = (f + b)/rho - gamma v.
+  if (peridigm_) {
 #pragma omp parallel for schedule(static)
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = own ? (*own)[k] : k;
-    // kernels/verlet.hpp, one component at a time (Vec3's division multiplies by 1/rho).
-    const double inv_rho = 1.0 / P.density[i];
-    Vec3& v = P.v[i];
-    v.x = kernels::half_kick(v.x, P.f[i].x, P.b[i].x, inv_rho, damping_, half);
-    v.y = kernels::half_kick(v.y, P.f[i].y, P.b[i].y, inv_rho, damping_, half);
-    v.z = kernels::half_kick(v.z, P.f[i].z, P.b[i].z, inv_rho, damping_, half);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = own ? (*own)[k] : k;
+      Vec3& v = P.v[i];
+      v.x = kernels::peridigm_kick(v.x, P.f[i].x, P.b[i].x, P.density[i], half);
+      v.y = kernels::peridigm_kick(v.y, P.f[i].y, P.b[i].y, P.density[i], half);
+      v.z = kernels::peridigm_kick(v.z, P.f[i].z, P.b[i].z, P.density[i], half);
+    }
+  } else {
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = own ? (*own)[k] : k;
+      // kernels/verlet.hpp, one component at a time (Vec3's division multiplies by 1/rho).
+      const double inv_rho = 1.0 / P.density[i];
+      Vec3& v = P.v[i];
+      v.x = kernels::half_kick(v.x, P.f[i].x, P.b[i].x, inv_rho, damping_, half);
+      v.y = kernels::half_kick(v.y, P.f[i].y, P.b[i].y, inv_rho, damping_, half);
+      v.z = kernels::half_kick(v.z, P.f[i].z, P.b[i].z, inv_rho, damping_, half);
+    }
   }
   loads_.prescribe_velocity(s_, time_ + half);
+  // A fixed step: t = n dt, as Peridigm reports it (its golds' times agree to the last bit:
+  // ep_cube's 35,000 steps of 1e-6 end at 0.034999999999999996, where summing dt drifts
+  // by 1.4e-14); an adaptive step (set_dt) is summed.
+  // A staged run's explicit stage starts at start_time_ (0 otherwise): t = t0 + n dt.
+  const double time_next = fixed_dt_ ? start_time_ + static_cast<double>(steps_ + 1) * dt : time_ + dt;
+  if (peridigm_) {
+    // The prescribed displacements' rates over the step, then y = (X + u_n) + dt v_{n+1/2}
+    // apart from u_{n+1} = u_n + dt v_{n+1/2} (set_peridigm_verlet).
+    loads_.prescribe_increments(s_, time_next, time_);
+    s_.positions.resize(P.size());  // a decomposed run's ghosts: the exchange below
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = own ? (*own)[k] : k;
+      const Vec3 xu = P.X[i] + P.u[i];
+      s_.positions[i] = {xu.x + dt * P.v[i].x, xu.y + dt * P.v[i].y, xu.z + dt * P.v[i].z};
+    }
+  }
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = own ? (*own)[k] : k;
@@ -130,16 +162,13 @@ void ExplicitSolver::step(bool energy) {
   }
 
   ++steps_;
-  // A fixed step: t = n dt, as Peridigm reports it (its golds' times agree to the last bit:
-  // ep_cube's 35,000 steps of 1e-6 end at 0.034999999999999996, where summing dt drifts
-  // by 1.4e-14); an adaptive step (set_dt) is summed.
-  // A staged run's explicit stage starts at start_time_ (0 otherwise): t = t0 + n dt.
-  time_ = fixed_dt_ ? start_time_ + static_cast<double>(steps_) * dt : time_ + dt;
-  loads_.apply_constraints(s_, time_, dt);  // prescribed displacements (velocities follow below)
+  time_ = time_next;
+  loads_.apply_constraints(s_, time_, dt, !peridigm_);  // prescribed displacements (velocities follow below)
   loads_.apply_forces(s_, time_);
   s_.time = time_;
   s_.dt = dt;
   if (s_.decomposition) halo_exchange(s_, *s_.decomposition);  // the ghosts' displacements
+  if (peridigm_ && s_.decomposition) exchange_ghost_values(*s_.decomposition, s_.positions);
   // Critical stretches that vary in time, at the new time: bonds break before the force
   // pass against s0(t_{n+1}) (Peridigm evaluates its damage model before the forces).
   for (const auto& c : s_.critical_stretch_schedules) {
@@ -179,9 +208,12 @@ void ExplicitSolver::step(bool energy) {
     const std::size_t i = own ? (*own)[k] : k;
     const Vec3 vh = P.v[i];
     const double h = half / P.density[i];
-    const Vec3 v{kernels::second_half_kick(vh.x, P.f[i].x, P.b[i].x, h, damp),
-                 kernels::second_half_kick(vh.y, P.f[i].y, P.b[i].y, h, damp),
-                 kernels::second_half_kick(vh.z, P.f[i].z, P.b[i].z, h, damp)};
+    const Vec3 v = peridigm_ ? Vec3{kernels::peridigm_kick(vh.x, P.f[i].x, P.b[i].x, P.density[i], half),
+                                    kernels::peridigm_kick(vh.y, P.f[i].y, P.b[i].y, P.density[i], half),
+                                    kernels::peridigm_kick(vh.z, P.f[i].z, P.b[i].z, P.density[i], half)}
+                             : Vec3{kernels::second_half_kick(vh.x, P.f[i].x, P.b[i].x, h, damp),
+                                    kernels::second_half_kick(vh.y, P.f[i].y, P.b[i].y, h, damp),
+                                    kernels::second_half_kick(vh.z, P.f[i].z, P.b[i].z, h, damp)};
     if (damping_ > 0) {
       const double term = P.density[i] * P.volume[i] * damping_ * half *
                           (loads_.free_speed2(i, v) + loads_.free_speed2(i, v_before_[i]));
@@ -212,7 +244,8 @@ void ExplicitSolver::step(bool energy) {
     --steps_;
     throw NonFiniteState(bad, P.X[bad], steps_ + 1);
   }
-  loads_.apply_constraints(s_, time_, dt);
+  // Peridigm's prescribed components keep the second half kick (set_peridigm_verlet).
+  loads_.apply_constraints(s_, time_, dt, !peridigm_);
 
   // The projectiles' second half kick with the new contact force. The work of the contact
   // pair (on the particles through b, on the body here) enters external_work: it is minus

@@ -67,6 +67,15 @@ class ExplicitSolver {
     fixed_dt_ = false;
   }
   double damping() const { return damping_; }
+  // solver.verlet: peridigm (docs/input.md): the step rounds as Peridigm's velocity Verlet
+  // does (its users' guide and Peridigm_VerletSolver; fitted bit for bit to the golds of
+  // its two-point decks, docs/peridigm.md "Round-off"): a = (f + b)/rho in both half kicks;
+  // a prescribed displacement component moves at the rate (g(t_n+1) - g(t_n)) (1/(t_n+1 - t_n))
+  // through the drift, so its u accumulates instead of being set to g(t), and its velocity
+  // takes the second half kick; the force pass reads y = (X + u_n) + dt v_n+1/2
+  // (System::positions) rather than X + u_n+1, whose roundings differ.
+  void set_peridigm_verlet(bool on) { peridigm_ = on; }
+  bool peridigm_verlet() const { return peridigm_; }
   // A backend that took n fixed steps over its own copy of the state (solver/backend.hpp):
   // the step count and the time move on as step() moves them (t = steps dt).
   void advance_clock(int64_t n);
@@ -93,6 +102,7 @@ class ExplicitSolver {
   std::vector<Vec3> u_before_, v_before_, b_before_;
   std::vector<double> damped_terms_;  // per owned particle, a decomposed run with damping (step)
   bool has_forces_ = false;
+  bool peridigm_ = false;  // set_peridigm_verlet
 };
 
 double kinetic_energy(const System& s);

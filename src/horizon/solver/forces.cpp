@@ -71,6 +71,16 @@ void pack_positions(System& s) {
   if (M.min_stretch.size() != n) M.min_stretch.assign(n, 0);
   if (M.alpha.size() != n) M.alpha.assign(n, 0);
   Point4* out = M.packed.data();
+  // Positions the solver keeps apart from X + u (System::positions, solver.verlet: peridigm).
+  if (s.positions.size() == n) {
+    const Vec3* y = s.positions.data();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const double s0 = kernels::critical_stretch_now(M.critical_stretch[i], M.alpha[i], M.min_stretch[i], P.no_fail[i]);
+      out[i] = {y[i].x, y[i].y, y[i].z, s0};
+    }
+    return;
+  }
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 y = P.X[i] + P.u[i];

@@ -169,6 +169,10 @@ struct System {
   // committed model history (set by the solvers; history models read them).
   double time = 0;
   double dt = 0;
+  // The current positions the force pass reads, when the explicit solver keeps them apart
+  // from X + u (solver.verlet: peridigm: y = (X + u_n) + dt v_{n+1/2}, rounded as Peridigm's
+  // Verlet forms it, while u_{n+1} = u_n + dt v_{n+1/2} is rounded on its own); empty: X + u.
+  std::vector<Vec3> positions;
   std::vector<std::string> block_names;
   std::size_t initial_bonds = 0;
   std::size_t precrack_bonds = 0;

@@ -25,7 +25,7 @@ YAML::Node row_of(const Vec3& p) {
 }
 
 // Rectangular_Plane {Normal, Lower_Left_Corner, Bottom_Unit_Vector, Bottom_Length,
-// Side_Length} as a native polygon.
+// Side_Length} as a native rectangle (Peridigm's own test).
 YAML::Node rectangular_plane(const DeckContext& ctx, const Item& item) {
   MapReader m(ctx, item,
               {"Type", "Normal_X", "Normal_Y", "Normal_Z", "Lower_Left_Corner_X", "Lower_Left_Corner_Y",
@@ -43,34 +43,26 @@ YAML::Node rectangular_plane(const DeckContext& ctx, const Item& item) {
   const double lb = read_positive(ctx, m.get("Bottom_Length", "the bottom edge's length, > 0"));
   const double ls = read_positive(ctx, m.get("Side_Length", "the side edge's length, > 0"));
   if (!(std::abs(norm(n) - 1) < 1e-9)) ctx.fail(item.mark, item.path + ": the Normal must be a unit vector");
-  // A point of the plane is inside when its offset from the corner projects onto the
-  // bottom vector within [0, Bottom_Length] (and onto the side within [0, Side_Length]),
-  // so a part of the bottom vector along the normal changes nothing: only its part in
-  // the plane counts, which must be a unit vector (PrecrackedPlateTwoCracks gives
-  // (1, 4, 0) with the normal (0, 1, 0): the in-plane part is (1, 0, 0)).
-  const Vec3 b = given - n * dot(given, n);
-  if (!(std::abs(norm(b) - 1) < 1e-9))
-    ctx.fail(item.mark, item.path + ": the Bottom_Unit_Vector's part in the filter's plane must be a unit "
-                                    "vector (the normal's part aside)");
-  // The side edge runs along bottom x normal: with the normal +y and the bottom +x, the
-  // rectangle rises along +z from its lower left corner (PrecrackedPlate's filter,
-  // corner z = -10 and side 20, spans the plate's thickness z in [-10, 10]).
-  const Vec3 side = cross(b, n);
-  YAML::Node poly(YAML::NodeType::Sequence);
-  poly.SetStyle(YAML::EmitterStyle::Flow);
-  for (const Vec3& p : {corner, corner + b * lb, corner + b * lb + side * ls, corner + side * ls})
-    poly.push_back(row_of(p));
-  // A surface of this one facet rather than a `polygon`: a facet includes its boundary,
-  // and Peridigm's filter cuts the bonds through the rectangle's edges (PrecrackedPlate's
-  // gold: 64 neighbours at node 182, where an open rectangle leaves 71). Not always:
-  // PrecrackedPlateTwoCracks's gold cuts (0.5, 3.5) -> (-0.5, 4.5) but keeps (-0.5, 3.5)
-  // -> (0.5, 4.5), both through the edge x = 0 of its filter at y = 4: Peridigm's lists
-  // are directed and its test rounds differently along each; Horizon's bonds are one
-  // piece, cut in both directions or neither (docs/peridigm.md).
-  YAML::Node facets(YAML::NodeType::Sequence);
-  facets.push_back(poly);
+  // Peridigm's own test, its bottom vector as given (family/precrack.hpp crosses_rectangle):
+  // a point of the plane is inside when its offset d from the corner has d.bottom in
+  // [0, Bottom_Length] and d.(bottom x normal) in [0, Side_Length], both with Peridigm's
+  // tolerance of 1e-15, so a rectangle's edges cut the bonds through them (PrecrackedPlate's
+  // gold: 64 neighbours at node 182, an open rectangle leaves 71). PrecrackedPlateTwoCracks
+  // gives the bottom (1, 4, 0) with the normal (0, 1, 0): d.bottom = d.x + 4 d.y, whose
+  // rounding of d.y decides the bonds through its edge x = 0 (its gold keeps
+  // (-0.5, 3.5) -> (0.5, 4.5) and cuts (0.5, 3.5) -> (-0.5, 4.5)); with Peridigm's element
+  // centres and this arithmetic both decks' neighbour counts are the golds' at every point.
+  if (!(norm(given - n * dot(given, n)) > 1e-9))
+    ctx.fail(item.mark, item.path + ": the Bottom_Unit_Vector must not be along the Normal");
+  YAML::Node rect;
+  rect.SetStyle(YAML::EmitterStyle::Flow);
+  rect["corner"] = row_of(corner);
+  rect["normal"] = row_of(n);
+  rect["bottom"] = row_of(given);
+  rect["bottom_length"] = fmt::format("{}", lb);
+  rect["side_length"] = fmt::format("{}", ls);
   YAML::Node crack;
-  crack["facets"] = facets;
+  crack["rectangle"] = rect;
   return crack;
 }
 
