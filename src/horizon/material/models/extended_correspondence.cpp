@@ -1042,7 +1042,7 @@ auto stab = [&](const PairRecord& a, const PairRecord& b, const Vec6& p, double 
 }
 
 // The rows built for AVX-512 as well as for the build's own target, chosen once per pass
-// (as ordinary_rows.hpp and solver/forces.cpp choose theirs): the same body, the same
+// (as ordinary_lanes.hpp and solver/forces.cpp choose theirs): the same body, the same
 // operations in the same order (no FMA contraction in this file, CMakeLists.txt; Eigen's
 // packets are the build's own in both), so the same bits on every machine, in fewer
 // instructions: AVX-512's 32 vector registers spare the rows' spills (1.2x on the bench
