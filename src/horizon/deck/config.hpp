@@ -176,6 +176,13 @@ struct SolverConfig {
   double tolerance = 1e-6;              // residual norm / applied-load norm at convergence
   std::optional<int> max_iterations;    // per solve; default 30 (Newton) or 100000 (ADR)
   int load_steps = 1;                   // static: equal increments of the pseudo-time
+  // static: the pseudo-times of the load steps when they are not equal (solver.load_times:
+  // 0 = t_0 < t_1 < ... < t_N; then load_steps = N and end_time = t_N). Empty: equal steps.
+  std::vector<double> load_times;
+  // static: pseudo-times (ends of load steps, inside the path) where a Peridigm deck's next
+  // solver list starts (Solver2 after Solver1): the Exodus files write the state there
+  // again as that solver's initial output, one more output step (driver/run_implicit.cpp).
+  std::vector<double> solver_starts;
   int max_step_cuts = 6;                // halvings of one increment before giving up
   // The static stage of a staged run: on_failure: explicit starts the explicit stage from
   // the last converged state when an increment fails after its cuts (Peridigm's Switch to

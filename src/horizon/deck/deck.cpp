@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -389,7 +390,58 @@ const std::vector<std::string> kSolverKeys = {
     "type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
     "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds", "condition_number",
     "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend", "initial_acceleration",
-    "on_failure", "verlet"};
+    "on_failure", "verlet", "load_times", "solver_starts"};
+
+// solver.load_times: the pseudo-times of a static run's load steps, from 0, increasing
+// (docs/input.md "Static solves"). They replace load_steps and end_time.
+void read_load_times(const DeckContext& ctx, const MapReader& s, SolverConfig& sc) {
+  const auto item = s.find("load_times");
+  if (!item) return;
+  for (const char* other : {"load_steps", "end_time"})
+    if (auto o = s.find(other))
+      ctx.fail(*o->key_mark, fmt::format("{}: give load_times or {}, not both (load_times sets the load steps and "
+                                         "the end time: its last value)", o->path, other));
+  if (!item->node.IsSequence())
+    fail_expected(ctx, *item, "a list of pseudo-times from 0, increasing (e.g. [0, 0.1, 0.5, 1.0])");
+  const std::vector<Item> times = read_list(ctx, *item);
+  if (times.size() < 2)
+    fail_expected(ctx, *item, "at least two pseudo-times (the start, 0, and the end of the first load step)");
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    const double t = read_number(ctx, times[k]);
+    if (k == 0 && t != 0) fail_expected(ctx, times[k], "0 (the load path starts at pseudo-time 0)");
+    if (k > 0 && !(t > sc.load_times.back()))
+      ctx.fail(times[k].mark, fmt::format("{}: expected a pseudo-time after the one before it ({}), found {}",
+                                          times[k].path, sc.load_times.back(), text_of(times[k])));
+    sc.load_times.push_back(t);
+  }
+  sc.load_steps = static_cast<int>(sc.load_times.size()) - 1;
+  sc.end_time = sc.load_times.back();
+}
+
+// solver.solver_starts: pseudo-times where a Peridigm solver list starts again (a deck's
+// Solver2 after its Solver1; docs/peridigm.md), each the end of a load step before the last.
+void read_solver_starts(const DeckContext& ctx, const MapReader& s, SolverConfig& sc) {
+  const auto item = s.find("solver_starts");
+  if (!item) return;
+  const int n = std::max(1, sc.load_steps);
+  for (const Item& v : read_list(ctx, *item)) {
+    const double t = read_number(ctx, v);
+    bool step = false;
+    if (!sc.load_times.empty()) {
+      for (std::size_t k = 1; k + 1 < sc.load_times.size(); ++k) step = step || sc.load_times[k] == t;
+    } else {
+      const double h = sc.end_time / n, k = std::round(t / h);
+      step = k >= 1 && k <= n - 1 && std::abs(t - k * h) <= 1e-12 * sc.end_time;
+    }
+    if (!step)
+      ctx.fail(v.mark, fmt::format("{}: expected the end of a load step before the last (a pseudo-time of "
+                                   "load_times, or end_time k / load_steps), found {}", v.path, text_of(v)));
+    if (!sc.solver_starts.empty() && !(t > sc.solver_starts.back()))
+      ctx.fail(v.mark, fmt::format("{}: expected a pseudo-time after the one before it ({})", v.path,
+                                   sc.solver_starts.back()));
+    sc.solver_starts.push_back(t);
+  }
+}
 
 // One solver map (the deck's `solver`, or one stage of a staged deck) into `sc`.
 void read_solver_map(const DeckContext& ctx, const Item& item, const Config& config, SolverConfig& sc) {
@@ -413,6 +465,8 @@ void read_solver_map(const DeckContext& ctx, const Item& item, const Config& con
   only_for(ctx, s, "damping", !is_static && !is_heat, "type: explicit and implicit_dynamic", type);
   only_for(ctx, s, "method", is_static, kStatic, type);
   only_for(ctx, s, "load_steps", is_static, kStatic, type);
+  only_for(ctx, s, "load_times", is_static, kStatic, type);
+  only_for(ctx, s, "solver_starts", is_static, kStatic, type);
   only_for(ctx, s, "max_step_cuts", is_static, kStatic, type);
   only_for(ctx, s, "on_failure", is_static, kStatic, type);
   if (auto f = s.find("on_failure"))
@@ -488,6 +542,8 @@ void read_solver_map(const DeckContext& ctx, const Item& item, const Config& con
   };
   if (auto it = s.find("max_iterations")) sc.max_iterations = at_least(*it, 1);
   if (auto ls = s.find("load_steps")) sc.load_steps = at_least(*ls, 1);
+  read_load_times(ctx, s, sc);
+  read_solver_starts(ctx, s, sc);
   if (auto mc = s.find("max_step_cuts")) sc.max_step_cuts = at_least(*mc, 0);
   if (auto mb = s.find("max_break_rounds")) sc.max_break_rounds = at_least(*mb, 1);
   if (auto cn = s.find("condition_number")) sc.condition_number = read_bool(ctx, *cn);
@@ -544,6 +600,9 @@ void read_solver(const DeckContext& ctx, const MapReader& m, Config& config) {
                                "from its state)");
   SolverConfig first;
   read_solver_map(ctx, stages[0], config, first);
+  if (!first.solver_starts.empty())
+    ctx.fail(*MapReader(ctx, stages[0], kSolverKeys).find("solver_starts")->key_mark,
+             stages[0].path + ".solver_starts: not in a staged run's static stage (a static run's Exodus files only)");
   read_solver_map(ctx, stages[1], config, config.solver);
   auto type_mark = [&](const Item& stage) {
     const auto t = MapReader(ctx, stage, kSolverKeys).find("type");

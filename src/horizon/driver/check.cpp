@@ -162,7 +162,8 @@ std::string format_check(const Config& c, const CheckReport& r) {
   if (c.solver.type == SolverType::static_equilibrium) {
     o << fmt::format("solver          static, {}\n",
                      c.solver.method == StaticMethod::adr ? "adaptive dynamic relaxation" : "Newton-Raphson");
-    o << fmt::format("load steps      {} to pseudo-time {:.4g} (tolerance {:.1e})\n", r.steps, c.solver.end_time,
+    o << fmt::format("load steps      {}{} to pseudo-time {:.4g} (tolerance {:.1e})\n", r.steps,
+                     c.solver.load_times.empty() ? "" : " (listed pseudo-times, load_times)", c.solver.end_time,
                      c.solver.tolerance);
     return o.str();
   }

@@ -164,8 +164,38 @@ void ExodusOutput::set_step_velocity(const std::vector<Vec3>& u, const std::vect
   for (std::size_t i = 0; i < u.size(); ++i) velocity_[i] = (u[i] - u_before[i]) / dt;
 }
 
+namespace {
+// Peridigm's fields of two states (N, N+1) that Horizon writes, as their Exodus names
+// start: at a QuasiStatic solver's start its output holds them as of the load step
+// before the last (PredictorFromPreviousSolver's golds: 0 after one load step, where the
+// displacements, forces, Deformation_Gradient and Shape_Tensor_Inverse are the last
+// step's), which the writer takes as Peridigm's N+1 state after its update swapped it
+// with N (docs/peridigm.md "Solvers in sequence").
+bool two_state(const std::string& exodus_name) {
+  for (const char* stem : {"Unrotated_Cauchy_Stress", "Cauchy_Stress", "Equivalent_Plastic_Strain"})
+    if (exodus_name.rfind(stem, 0) == 0) return true;
+  return false;
+}
+}  // namespace
+
+void ExodusOutput::hold_fields(const System& s) {
+  held_.assign(element_fields_.size(), {});
+  std::vector<ModelField> fields;
+  for (const auto& m : s.models) m->fields(s, fields);
+  for (std::size_t c = 0; c < element_fields_.size(); ++c) {
+    if (!two_state(element_fields_[c].first)) continue;
+    held_[c].assign(s.particles.size(), 0.0);  // 0 where no model has the field
+    for (const auto& f : fields)
+      if (f.name == element_fields_[c].second && f.values.size() == s.particles.size()) held_[c] = f.values;
+  }
+}
+
 void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
   const Particles& P = s.particles;
+  // A new solver's start frame (set_solver_start): velocities 0, the two-state fields held.
+  const bool start = solver_start_;
+  solver_start_ = false;
+  if (start) velocity_.assign(P.size(), Vec3{});
   const ModelCoefficients& M = s.model;
   std::vector<std::vector<double>> rows;  // on the writing process: [particle][value]
   std::vector<Vec3> kicked;  // velocity: verlet (set_verlet)
@@ -217,6 +247,8 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
       const std::vector<double>* col = nullptr;
       for (const auto& f : fields)
         if (!col && f.name == field && f.values.size() == P.size()) col = &f.values;
+      const std::size_t e = extra_columns.size() - (list == &element_fields_ ? nodal_fields_.size() : 0);
+      if (start && list == &element_fields_ && e < held_.size() && held_[e].size() == P.size()) col = &held_[e];
       extra_columns.push_back(col);
     }
   // A run with a temperature field (thermal section) adds the nodal Temperature and
@@ -414,6 +446,18 @@ bool ExodusSchedule::due(int64_t step) const {
 void ExodusSchedule::write(const System& s, const Decomposition* d, double time, int64_t step) {
   for (std::size_t k = 0; k < files_.size(); ++k)
     if (due_file(k, step)) files_[k]->write(s, d, time);
+}
+
+void ExodusSchedule::hold_fields(const System& s) {
+  for (auto& f : files_) f->hold_fields(s);
+}
+
+void ExodusSchedule::write_solver_start(const System& s, const Decomposition* d, double time, int64_t step) {
+  for (std::size_t k = 0; k < files_.size(); ++k)
+    if (due_file(k, step)) {
+      files_[k]->set_solver_start();
+      files_[k]->write(s, d, time);
+    }
 }
 
 void ExodusSchedule::set_verlet(const Loads* loads, double dt) {

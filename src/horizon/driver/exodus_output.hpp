@@ -85,6 +85,13 @@ class ExodusOutput {
   // Explicit runs: the constraints and the step of the next write, for `velocity: verlet`
   // files (deck/config.hpp ExodusFile); dt = 0 (the initial state) adds nothing.
   void set_verlet(const Loads* loads, double dt) { loads_ = loads, verlet_dt_ = dt; }
+  // Static solves with solver_starts (deck/config.hpp): hold_fields keeps the state
+  // fields Peridigm stores for two steps (Unrotated_Cauchy_Stress, Cauchy_Stress,
+  // Equivalent_Plastic_Strain) as they are now, at the load step before the next one; the
+  // next write after set_solver_start is a new solver's start frame: velocities 0 and
+  // those fields as held (see driver/run_implicit.cpp).
+  void hold_fields(const System& s);
+  void set_solver_start() { solver_start_ = true; }
 
  private:
   void append(const System& s, const std::vector<std::vector<double>>& rows, const std::vector<double>& globals,
@@ -104,6 +111,8 @@ class ExodusOutput {
   bool verlet_ = false;                      // velocity: verlet
   const Loads* loads_ = nullptr;
   double verlet_dt_ = 0;
+  bool solver_start_ = false;
+  std::vector<std::vector<double>> held_;  // per element_fields_ column; empty: not held
   Config columns_;  // the history columns written as globals (with the regions they read)
 };
 
@@ -126,6 +135,10 @@ class ExodusSchedule {
   void write(const System& s, const Decomposition* d, double time, int64_t step);
   // Static solves: as ExodusOutput::set_step_velocity, for every file.
   void set_step_velocity(const std::vector<Vec3>& u, const std::vector<Vec3>& u_before, double dt);
+  // Static solves with solver_starts: as ExodusOutput::hold_fields, for every file; and
+  // the files due at `step` get a new solver's start frame (ExodusOutput::set_solver_start).
+  void hold_fields(const System& s);
+  void write_solver_start(const System& s, const Decomposition* d, double time, int64_t step);
   // As ExodusOutput::set_verlet, for every file.
   void set_verlet(const Loads* loads, double dt);
   // A staged run's explicit stage starts at this step: from it on a file's explicit_every

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -310,6 +311,12 @@ int run_implicit_deck(Config config, const RunOptions& options) {
   write_frame(0, 0);
   if (exodus_files) exodus_files->write(s, dd.get(), 0, 0);
   int64_t exodus_written = 0;  // static: the last load step the schedule saw
+  // static: the load steps after which a Peridigm solver starts (solver_starts), and how
+  // many have been written (each one more Exodus step).
+  std::vector<int64_t> start_steps;
+  int64_t starts_passed = 0;
+  if (is_static)
+    for (double t : sc.solver_starts) start_steps.push_back(statics->load_step_at_time(t));
   install_interrupt_handler();
   const int frames = std::max(1, config.output.frames);
   const int64_t total = is_static ? sc.load_steps : step_count(config, *sc.time_step);
@@ -325,6 +332,9 @@ int run_implicit_deck(Config config, const RunOptions& options) {
     if (is_static) {
       if (statics->done()) break;
       const double time_before = statics->time();
+      // A Peridigm solver starting after this load step (solver_starts): its start frame
+      // holds fields as of the step before it (ExodusOutput::hold_fields).
+      if (exodus_files && !start_steps.empty()) exodus_files->hold_fields(s);
       std::vector<Vec3> u_before;
       if (exodus || exodus_files) u_before = s.particles.u;
       if (!statics->advance()) {
@@ -348,12 +358,18 @@ int run_implicit_deck(Config config, const RunOptions& options) {
         while (statics->lambda() * frames >= next_frame - 1e-9) ++next_frame;
       }
       if (exodus_files) {
-        // A load step ends at a whole multiple of 1/load_steps (a cut increment's parts do not).
-        const double level = statics->lambda() * sc.load_steps;
-        const int64_t k = std::llround(level);
-        if (std::abs(level - static_cast<double>(k)) < 1e-9 && k > exodus_written) {
+        // At the end of a load step (a cut increment's parts end between them).
+        const int64_t k = statics->load_step();
+        if (k > exodus_written) {
           exodus_written = k;
-          if (exodus_files->due(k)) exodus_files->write(s, dd.get(), time, k);
+          if (exodus_files->due(k + starts_passed)) exodus_files->write(s, dd.get(), time, k + starts_passed);
+          // Peridigm writes the state again at a new solver's start, as one more output
+          // step (PredictorFromPreviousSolver's golds: t = 0, 1, 1, 2 for Solver1 0..1
+          // and Solver2 1..2): the later load steps count one on.
+          if (std::find(start_steps.begin(), start_steps.end(), k) != start_steps.end()) {
+            ++starts_passed;
+            exodus_files->write_solver_start(s, dd.get(), time, k + starts_passed);
+          }
         }
       }
       if (!opts.quiet) progress.update(static_cast<int64_t>(std::lround(statics->lambda() * sc.load_steps)), time);

@@ -2,7 +2,8 @@
 // a static solve on the explicit run's own system and writers, then the explicit stage
 // from its last equilibrium. Peridigm's QuasiStatic solver followed by its Verlet solver
 // (docs/peridigm.md): Compression_QS_Explicit_3x2x2's gold pins what the switch does:
-//   - the static stage's outputs are its load steps 1..N at t_k = T1 k / N, each with the
+//   - the static stage's outputs are its load steps 1..N at t_k = T1 k / N (or the listed
+//     load_times), each with the
 //     quasi-static velocity (u_k - u_{k-1}) / (t_k - t_{k-1});
 //   - the explicit stage starts at T1 with that velocity at every particle (the gold's
 //     middle column keeps VelocityX -1000 = -0.05 / 5e-5 and moves by -1000 dt a step),
@@ -51,9 +52,8 @@ void ExplicitRun::State::run_static_stage() {
     h = statics.time() - before;
     for (std::size_t i = 0; i < P.size(); ++i) P.v[i] = (P.u[i] - u_before[i]) / h;
     // Outputs at whole load steps (a cut increment's parts end between them).
-    const double level = statics.lambda() * sc.load_steps;
-    const int64_t k = std::llround(level);
-    if (std::abs(level - static_cast<double>(k)) > 1e-9 || k <= last_whole) continue;
+    const int64_t k = statics.load_step();
+    if (k <= last_whole) continue;
     last_whole = k;
     const double t = statics.time();
     record_history(t, k, h, statics.ledger());

@@ -58,12 +58,57 @@ StaticSolver::StaticSolver(System& s, Loads& loads, const SolverConfig& config)
       dofs_(make_dof_map(s, loads)),
       linear_(config.linear_solver),
       end_time_(config.end_time > 0 ? config.end_time : 1.0),
-      step_(1.0 / std::max(1, config.load_steps)) {}
+      step_(1.0 / std::max(1, config.load_steps)) {
+  if (config.load_times.size() >= 2) {
+    // Listed pseudo-times from 0: lambda_k = t_k / t_N (lambda_N = 1 exactly).
+    times_ = config.load_times;
+    end_time_ = times_.back();
+    for (double t : times_) levels_.push_back(t / end_time_);
+  } else {
+    // Equal steps: lambda_k = k / N (as min(1, k step_)), t_k = k (end_time / N).
+    const int n = std::max(1, config.load_steps);
+    for (int k = 0; k <= n; ++k) {
+      levels_.push_back(std::min(1.0, k * step_));
+      times_.push_back(k * (end_time_ / n));
+    }
+  }
+}
+
+int64_t StaticSolver::step_below(double lambda) const {
+  const auto n = static_cast<int64_t>(levels_.size()) - 1;
+  int64_t k = std::upper_bound(levels_.begin(), levels_.end(), lambda) - levels_.begin() - 1;
+  k = std::clamp<int64_t>(k, 0, n);
+  if (k < n && levels_[k + 1] - lambda < 1e-9 * (levels_[k + 1] - levels_[k])) ++k;
+  return k;
+}
+
+int64_t StaticSolver::step_at(double lambda) const {
+  const auto n = static_cast<int64_t>(levels_.size()) - 1;
+  if (config_.load_times.size() < 2) {
+    // Equal steps: as Peridigm counts them (k = round(lambda N)).
+    const double k = std::round(lambda / step_);
+    return std::abs(lambda / step_ - k) < 1e-9 && k >= 0 && k <= n ? static_cast<int64_t>(k) : -1;
+  }
+  const int64_t k = step_below(lambda);
+  const double gap = levels_[std::min(k + 1, n)] - levels_[std::max<int64_t>(k, 1) - 1];
+  return std::abs(lambda - levels_[k]) < 1e-9 * gap ? k : -1;
+}
 
 double StaticSolver::time_at(double lambda) const {
-  const double k = std::round(lambda / step_);
-  if (std::abs(lambda / step_ - k) < 1e-9) return k * (end_time_ / std::max(1, config_.load_steps));
+  const int64_t k = step_at(lambda);
+  if (k >= 0) return times_[k];
   return lambda * end_time_;
+}
+
+int64_t StaticSolver::load_step_at_time(double t) const {
+  for (std::size_t k = 0; k < times_.size(); ++k)
+    if (std::abs(times_[k] - t) <= 1e-12 * end_time_) return static_cast<int64_t>(k);
+  return -1;
+}
+
+int64_t StaticSolver::load_step() const {
+  const int64_t k = step_at(lambda_);
+  return k > 0 ? k : -1;
 }
 
 void StaticSolver::initialize() {
@@ -179,8 +224,15 @@ bool StaticSolver::solve_increment(double lambda, const std::vector<Vec3>& u_bef
 bool StaticSolver::advance() {
   auto& P = s_.particles;
   if (done()) return false;
-  const double target = std::min(1.0, (std::floor(lambda_ / step_ + 1e-9) + 1) * step_);
-  double increment = std::min(last_increment_ > 0 ? 2 * last_increment_ : step_, step_);
+  // The next nominal load step, and the increment towards it: that step's length, or
+  // twice the last converged increment after cuts.
+  const int64_t next = std::min<int64_t>(step_below(lambda_) + 1, static_cast<int64_t>(levels_.size()) - 1);
+  const double target = levels_[next];
+  const bool listed = config_.load_times.size() >= 2;
+  const double nominal = listed ? levels_[next] - levels_[next - 1] : step_;
+  // Listed steps differ in length: the last increment bounds this one only after a cut.
+  const bool regrow = last_increment_ > 0 && (!listed || last_cut_);
+  double increment = std::min(regrow ? 2 * last_increment_ : nominal, nominal);
   int cuts = 0;
   const std::vector<Vec3> u_before = P.u, b_before = P.b;
   const std::vector<uint8_t> intact_before = s_.bonds.intact;
@@ -196,13 +248,16 @@ bool StaticSolver::advance() {
   std::vector<double> scalar_before;
   if (temperature && s_.heat.expands) state_before = s_.model.force_state, scalar_before = s_.model.force_scalar;
   while (true) {
-    const double lambda = std::min(target, lambda_ + increment);
+    double lambda = std::min(target, lambda_ + increment);
+    // Listed steps: an increment that reaches its step ends on it (no round-off short of it).
+    if (config_.load_times.size() >= 2 && target - lambda < 1e-9 * nominal) lambda = target;
     apply_static_loads(loads_, s_, time(), time_at(lambda), lambda);
     if (temperature) set_temperature_field(s_, time_at(lambda));
     s_.time = time_at(lambda);  // history models integrate over the pseudo-time step
     s_.dt = time_at(lambda) - time();
     if (solve_increment(lambda, u_before, b_before) && finite_state(s_)) {
       last_increment_ = lambda - lambda_;
+      last_cut_ = cuts > 0 || lambda != target;
       lambda_ = std::abs(lambda - 1.0) < 1e-12 ? 1.0 : lambda;
       break;
     }

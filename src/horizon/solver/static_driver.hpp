@@ -7,7 +7,9 @@
 // component written without t (a number, or an expression in x, y, z only) is ramped:
 // multiplied by the load factor lambda_k = k / load_steps. One written in t is taken as
 // written, so a deck can shape a non-proportional path. Velocity constraints advance the
-// displacement by v dt of pseudo-time.
+// displacement by v dt of pseudo-time. With solver.load_times (0 = t_0 < ... < t_N, steps
+// of any length: Peridigm's QuasiStatic `Time Steps`) step k is at t_k and its load factor
+// is lambda_k = t_k / t_N, so lambda stays the pseudo-time over the end time throughout.
 //
 // Each increment is solved by Newton (newton.hpp) or ADR (adr.hpp) with the bond set
 // fixed; then the bonds that the equilibrium overstretches break (compute_forces), and
@@ -56,8 +58,14 @@ class StaticSolver {
   double time() const { return time_at(lambda_); }
   // The pseudo-time of load factor lambda: k (end_time / load_steps) at a nominal load step
   // k, as Peridigm reports its load steps (ThermalExpansionCube's gold: 2880 = 8 x 360,
-  // where 0.8 x 3600 is 2879.9999999999995); lambda end_time between them (cut steps).
+  // where 0.8 x 3600 is 2879.9999999999995), or the listed t_k (load_times); lambda
+  // end_time between them (cut steps).
   double time_at(double lambda) const;
+  // The load step k whose nominal load factor lambda is (1..load_steps), or -1 between
+  // load steps (the parts of a cut increment).
+  int64_t load_step() const;
+  // The load step that ends at pseudo-time t (within 1e-12 end_time), or -1.
+  int64_t load_step_at_time(double t) const;
   double increment() const { return last_increment_; }
   int64_t steps() const { return steps_; }                   // converged increments
   const SolveReport& last_report() const { return last_; }   // the last solve of the last increment
@@ -78,6 +86,10 @@ class StaticSolver {
 
  private:
   bool solve_increment(double lambda, const std::vector<Vec3>& u_before, const std::vector<Vec3>& b_before);
+  // The nominal load step at or just below lambda (within 1e-9 of a step of the next one).
+  int64_t step_below(double lambda) const;
+  // The nominal load step lambda is at (within 1e-9 of a step), or -1.
+  int64_t step_at(double lambda) const;
 
   System& s_;
   Loads& loads_;
@@ -86,6 +98,9 @@ class StaticSolver {
   LinearSolver linear_;
   double end_time_;
   double lambda_ = 0, step_ = 0, last_increment_ = 0;
+  bool last_cut_ = false;  // the last increment was cut, or ended short of its load step
+  // The nominal load steps: load factor levels_[k] at pseudo-time times_[k], k = 0..N.
+  std::vector<double> levels_, times_;
   int64_t steps_ = 0;
   SolveReport last_;
   int last_break_rounds_ = 0, last_iterations_ = 0;

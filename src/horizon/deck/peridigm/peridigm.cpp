@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -646,6 +647,12 @@ struct Solve {
   double end_time = 1;
   std::optional<double> fixed_dt;
   int load_steps = 1;      // static
+  // static: the load steps' times when they are not equal (QuasiStatic `Time Steps`;
+  // native solver.load_times), from the solver's Initial Time to its Final Time.
+  std::vector<double> load_times;
+  // static: the Initial Times of the solvers merged into this one after the first (native
+  // solver_starts: Peridigm writes each solver's start state again).
+  std::vector<double> solver_starts;
   // A QuasiStatic solver followed by Verlet: the static stage (native `solver: [static,
   // explicit]`, docs/input.md "Solver stages"); this Solve is then the Verlet stage.
   std::shared_ptr<Solve> static_stage;
@@ -698,6 +705,54 @@ void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item, Solve
     // reductions in one step are Horizon's halvings of one increment (max_step_cuts).
     if (auto n = a.find("Maximum load step reductions in one step")) r.solver["max_step_cuts"] = read_int(ctx, *n);
   }
+}
+
+// QuasiStatic's `Time Steps`: the load steps' times, a string of numbers ("0.0 .25 .5
+// 1.0", Pals_Simple_Shear), one load step from each to the next (the gold's frames are at
+// exactly those times). They run from the solver's Initial Time t0, increasing, to its
+// Final Time when the list gives one (without one the last time is the Final Time).
+std::vector<double> read_time_steps(const DeckContext& ctx, const Item& item, double t0, std::optional<double> end) {
+  const std::string text = read_string(ctx, item);
+  std::vector<double> times;
+  std::istringstream in(text);
+  std::string word;
+  while (in >> word) {
+    const char* begin = word.c_str();
+    char* stop = nullptr;
+    errno = 0;
+    const double t = std::strtod(begin, &stop);
+    if (stop == begin || *stop != '\0' || errno == ERANGE || !std::isfinite(t))
+      ctx.fail(item.mark, fmt::format("{}: '{}' is not a number (expected times separated by spaces, e.g. \"0.0 0.1 "
+                                      "0.5 1.0\")", item.path, word));
+    if (!times.empty() && !(t > times.back()))
+      ctx.fail(item.mark, fmt::format("{}: {} does not come after {} (expected increasing times)", item.path, word,
+                                      times.back()));
+    times.push_back(t);
+  }
+  if (times.size() < 2)
+    fail_expected(ctx, item, "at least two times separated by spaces (the start and the end of a load step)");
+  if (times.front() != t0)
+    ctx.fail(item.mark, fmt::format("{}: the first time {} is not the solver's Initial Time {}", item.path,
+                                    times.front(), t0));
+  if (end && times.back() != *end)
+    ctx.fail(item.mark, fmt::format("{}: the last time {} is not the solver's Final Time {}", item.path, times.back(),
+                                    *end));
+  return times;
+}
+
+// A static solver's pseudo-times in its native map: end_time (equal load steps), or
+// load_times when the steps are listed (native decks give one or the other).
+void set_static_times(Solve& r) {
+  if (r.load_times.empty()) {
+    r.solver["end_time"] = number(r.end_time);
+    return;
+  }
+  r.solver.remove("end_time");
+  r.solver.remove("load_steps");
+  YAML::Node times(YAML::NodeType::Sequence);
+  times.SetStyle(YAML::EmitterStyle::Flow);
+  for (double t : r.load_times) times.push_back(number(t));
+  r.solver["load_times"] = times;
 }
 
 // One solver list (Solver, Solver1, ...); `t0` gets its Initial Time.
@@ -796,12 +851,13 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
     // load step, and their converged answers agree to the tolerance (docs/peridigm.md).
     const bool nox = r.method == "NOXQuasiStatic";
     MapReader v(ctx, mi,
-                nox ? std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Relative Tolerance",
-                                               "Max Solver Iterations", "Nonlinear Solver", "Direction", "Line Search",
-                                               "Max Age Of Prec", "Printing", "Solver Options", "Trust Region"}
-                    : std::vector<std::string>{"Number of Load Steps", "Absolute Tolerance", "Relative Tolerance",
-                                               "Maximum Solver Iterations", "Belos Linear Solver",
-                                               "Adaptive Load-Stepping"});
+                nox ? std::vector<std::string>{"Number of Load Steps", "Time Steps", "Absolute Tolerance",
+                                               "Relative Tolerance", "Max Solver Iterations", "Nonlinear Solver",
+                                               "Direction", "Line Search", "Max Age Of Prec", "Printing",
+                                               "Solver Options", "Trust Region"}
+                    : std::vector<std::string>{"Number of Load Steps", "Time Steps", "Absolute Tolerance",
+                                               "Relative Tolerance", "Maximum Solver Iterations",
+                                               "Belos Linear Solver", "Adaptive Load-Stepping"});
     solver["type"] = "static";
     solver["method"] = "newton";
     // Peridigm's Newton, run to its absolute tolerance, ends far below it (its golds'
@@ -822,6 +878,13 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
       r.load_steps = read_int(ctx, *n);
       if (r.load_steps < 1) fail_expected(ctx, *n, "a whole number >= 1");
       solver["load_steps"] = r.load_steps;
+    }
+    if (auto ts = v.find("Time Steps")) {
+      if (v.has("Number of Load Steps"))
+        ctx.fail(*ts->key_mark, ts->path + ": give Time Steps or Number of Load Steps, not both");
+      r.load_times = read_time_steps(ctx, *ts, t0, s.has("Final Time") ? std::optional<double>(r.end_time) : std::nullopt);
+      r.load_steps = static_cast<int>(r.load_times.size()) - 1;
+      r.end_time = r.load_times.back();
     }
     // Horizon's Newton runs to 1e-12 (above) where Peridigm's stops at its absolute
     // tolerance, and with a finite-difference tangent it converges linearly (about two
@@ -905,12 +968,14 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
       static_stage->method = merged.method;
       static_stage->end_time = merged.end_time;
       static_stage->load_steps = merged.load_steps;
-      static_stage->solver["end_time"] = number(static_stage->end_time);
+      static_stage->load_times = merged.load_times;
+      set_static_times(*static_stage);
       merged.solver.reset(sv.solver);
       merged.method = sv.method;
       merged.fixed_dt = sv.fixed_dt;
       merged.end_time = sv.end_time;
       merged.load_steps = sv.load_steps;
+      merged.load_times.clear();
       merged.start_time = t0;
       first_key = key;
       end = sv.end_time;
@@ -924,6 +989,7 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
       refuse(fmt::format("a {} solver after a {} one", sv.method, merged.method));
     auto emit = [](YAML::Node n) {
       n.remove("load_steps");
+      n.remove("load_times");
       YAML::Emitter e;
       e << n;
       return std::string(e.c_str());
@@ -932,10 +998,25 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
       refuse("its options differ (time step, iterations or tolerances)");
     if (sv.solver["type"].as<std::string>() == "static") {
       const double h0 = merged.end_time / merged.load_steps, h = (sv.end_time - t0) / sv.load_steps;
-      if (std::abs(h - h0) > 1e-12 * h0)
-        refuse(fmt::format("its load steps are {} long, the ones before {} (Horizon's load steps are equal)", h, h0));
-      merged.load_steps += sv.load_steps;
-      merged.solver["load_steps"] = merged.load_steps;
+      if (merged.load_times.empty() && sv.load_times.empty() && std::abs(h - h0) <= 1e-12 * h0) {
+        merged.load_steps += sv.load_steps;
+        merged.solver["load_steps"] = merged.load_steps;
+      } else {
+        // Steps of other lengths: one path through the listed times (solver.load_times),
+        // each solver's steps at the times it gives them (equal ones: t0 + k (T - t0) / n).
+        auto times = [](const Solve& r, double start) {
+          if (!r.load_times.empty()) return r.load_times;
+          std::vector<double> t;
+          for (int k = 0; k <= r.load_steps; ++k)
+            t.push_back(k == r.load_steps ? r.end_time : start + k * ((r.end_time - start) / r.load_steps));
+          return t;
+        };
+        std::vector<double> all = times(merged, 0), more = times(sv, t0);
+        all.insert(all.end(), more.begin() + 1, more.end());
+        merged.load_times = all;
+        merged.load_steps = static_cast<int>(all.size()) - 1;
+      }
+      merged.solver_starts.push_back(t0);
     }
     merged.end_time = end = sv.end_time;
   }
@@ -951,7 +1032,18 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
     const double steps = std::floor((merged.end_time - merged.start_time) / *merged.fixed_dt);
     if (steps >= 1) merged.end_time = merged.start_time + steps * *merged.fixed_dt;
   }
-  merged.solver["end_time"] = number(merged.end_time);
+  if (merged.solver["type"].as<std::string>() == "static") {
+    set_static_times(merged);
+    // Each later QuasiStatic solver's start is written again (PredictorFromPreviousSolver's
+    // golds: t = 0, 1, 1, 2); a staged run's static stage does not write it (not mapped).
+    if (!merged.solver_starts.empty() && !merged.switch_to_verlet.IsMap()) {
+      YAML::Node starts(YAML::NodeType::Sequence);
+      starts.SetStyle(YAML::EmitterStyle::Flow);
+      for (double t : merged.solver_starts) starts.push_back(number(t));
+      merged.solver["solver_starts"] = starts;
+    }
+  } else
+    merged.solver["end_time"] = number(merged.end_time);
   merged.static_stage = static_stage;
   // A QuasiStatic solver with Switch to Verlet: the static stage with on_failure: explicit,
   // then its Verlet fallback to the same Final Time (AdaptiveQuasiStaticSolver).
@@ -962,6 +1054,8 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
     stage->method = merged.method;
     stage->end_time = merged.end_time;
     stage->load_steps = merged.load_steps;
+    stage->load_times = merged.load_times;
+    set_static_times(*stage);
     Solve verlet;
     verlet.solver = YAML::Clone(merged.switch_to_verlet);
     verlet.solver["end_time"] = number(merged.end_time);
@@ -1631,6 +1725,13 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   // are one run cut in pieces (the same method and options, each starting where the last
   // ended, with the same step) become that one run (read_solvers).
   const Solve solve = read_solvers(ctx, solver_keys, m);
+  // Peridigm's Verlet moves a prescribed point by the change of its function since the
+  // start, u = g(t) - g(0) (DeformationGradient_PlaneStrainCompression's gold: DisplacementX
+  // = x (e^(0.0953 t/1e-8) - 1) for its value x exp(0.0953 t/1e-8), within 4e-19 at every
+  // point and step, 0 at t = 0). The importer's Verlet runs with `verlet: peridigm`
+  // (read_solvers), whose drift moves a prescribed point by g(t1) - g(t0) each step from its
+  // initial state, so g(0) is never applied and the text of g stays as the deck wrote it.
+  if (loads.size()) out["loads"] = loads;
   if (diffusion && solve.method != "ImplicitDiffusion")
     ctx.fail(t.diffusion_item->mark, t.diffusion_item->path + ": a Diffusion material runs with the ImplicitDiffusion "
                                                                "solver only (this deck's is " + solve.method + ")");
