@@ -11,7 +11,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "horizon/material/models/correspondence_kernels.hpp"
+#include "horizon/kernels/affine.hpp"
 #include "horizon/solver/forces.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -25,7 +25,7 @@ namespace horizon::affine_sweeps {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kSums = 18;  // K, then N (correspondence_kernels.hpp GradientSums)
+constexpr int kSums = 18;  // K, then N (kernels/affine.hpp GradientSums)
 
 inline double total8(const double* v) { return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7])); }
 inline double min8(const double* v) {
@@ -52,7 +52,7 @@ inline void break_bond(const Sweep& s, std::size_t i, uint64_t k, double r, doub
     const Vec3 Yo = s.y_old[j] - s.y_old[i];
     const double yv[3] = {Yo.x, Yo.y, Yo.z};
     double T[3];
-    correspondence::affine_force_state(s.record + correspondence::kAffineRecord * i, bk.weight, xi, yv, T);
+    kernels::affine_force_state(s.record + kernels::kAffineRecord * i, bk.weight, xi, yv, T);
     out.lost += 0.5 * (T[0] * Y[0] + T[1] * Y[1] + T[2] * Y[2]) / r * e * (bk.volume * bk.fraction);
   }
   s.intact_weight[i] -= s.kc[s.kind[k]].damage;
@@ -123,10 +123,10 @@ void sum_row_portable(const Sweep& s, std::size_t i, double* f, double& energy) 
     const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
     if (s.intact[k]) {
       const Point4 xj = s.ref[j];
-      const double* m = s.record + correspondence::kAffineRecord * static_cast<std::size_t>(j);
+      const double* m = s.record + kernels::kAffineRecord * static_cast<std::size_t>(j);
       const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
       const double wv = s.kind_record[s.kind[k]].z;  // omega V_j of the kind
-      // correspondence_kernels.hpp affine_pair_add, lane by lane.
+      // kernels/affine.hpp affine_pair_add, lane by lane.
       const double a[3] = {wv * xi[0], wv * xi[1], wv * xi[2]};
       const double gy = wv * m[9];
       for (int r = 0; r < 3; ++r) {
@@ -142,9 +142,9 @@ void sum_row_portable(const Sweep& s, std::size_t i, double* f, double& energy) 
       w[l] += wc;
     }
   });
-  correspondence::AffineRowSum sum;
+  kernels::AffineRowSum sum;
   for (int r = 0; r < 3; ++r) sum.sxi[r] = total8(sxi[r]), sum.sy[r] = total8(sy[r]), sum.acc[r] = total8(acc[r]);
-  correspondence::affine_pair_finish(sum, s.record + correspondence::kAffineRecord * i, f);
+  kernels::affine_pair_finish(sum, s.record + kernels::kAffineRecord * i, f);
   energy = total8(w);
 }
 
@@ -217,7 +217,7 @@ inline void pointers(const Sweep& s, std::size_t i, uint64_t k, int count, Point
     p.pt[l] = &s.pt[j].x;
     p.ref[l] = &s.ref[j].x;
     p.kind[l] = &s.kind_record[s.kind[kk]].x;
-    p.record[l] = s.record + correspondence::kAffineRecord * j;
+    p.record[l] = s.record + kernels::kAffineRecord * j;
   }
 }
 
@@ -276,7 +276,7 @@ struct Records {
   static_assert(true)
 
 // The sum's arithmetic, written once for the per-target rows below (as the breaking
-// row's; correspondence_kernels.hpp affine_pair_add lane by lane, then affine_pair_finish).
+// row's; kernels/affine.hpp affine_pair_add lane by lane, then affine_pair_finish).
 #define HORIZON_AFFINE_SUM_ROW(Target) \
   const Point4 pi = s.pt[i], xi_i = s.ref[i];                                                       \
   const v8d zero = {};                                                                              \
@@ -303,7 +303,7 @@ struct Records {
       acc[r] += reinterpret_cast<v8d>(b.live & reinterpret_cast<v8l>(t));                           \
     }                                                                                               \
   }                                                                                                 \
-  correspondence::AffineRowSum sum;                                                                 \
+  kernels::AffineRowSum sum;                                                                 \
   alignas(64) double lanes[8];                                                                      \
   for (int r = 0; r < 3; ++r) {                                                                     \
     std::memcpy(lanes, &sxi[r], sizeof lanes);                                                      \
@@ -313,7 +313,7 @@ struct Records {
     std::memcpy(lanes, &acc[r], sizeof lanes);                                                      \
     sum.acc[r] = total8(lanes);                                                                     \
   }                                                                                                 \
-  correspondence::affine_pair_finish(sum, s.record + correspondence::kAffineRecord * i, f);         \
+  kernels::affine_pair_finish(sum, s.record + kernels::kAffineRecord * i, f);         \
   energy = 0;                                                                                       \
   static_assert(true)
 

@@ -52,7 +52,7 @@ struct BreakOut {
 using BreakRow = BreakOut (*)(const Sweep&, std::size_t, double* sums);
 
 // Row i of the sum, once every row has its record: f_i = sum_j omega V_j ((M_i + M_j) xi +
-// (g_i + g_j) Y) over the acting bonds (correspondence_kernels.hpp affine_pair_add and
+// (g_i + g_j) Y) over the acting bonds (kernels/affine.hpp affine_pair_add and
 // affine_pair_finish; w = the kind's omega V_j), plus the family contact of every bond
 // (w: its energy density).
 using SumRow = void (*)(const Sweep&, std::size_t, double* f, double& w);
