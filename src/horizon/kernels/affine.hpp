@@ -44,8 +44,13 @@
 // the bond costs 3 + 3 + 12 multiply-adds. The same forces as the vector form of the
 // general pass up to the rounding of the sums (tests/verification/test_general_pass.cpp).
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 
+#include "horizon/core/point4.hpp"
 #include "horizon/core/portable.hpp"
+#include "horizon/core/vec3.hpp"
+#include "horizon/kernels/lanes.hpp"
 #include "horizon/kernels/unified.hpp"
 
 namespace horizon::kernels {
@@ -308,6 +313,171 @@ HORIZON_HD inline AffineRow linear_elastic_row(const double* sums, int d, double
   out.von_mises = von_mises(sigma);
   affine_record_of_stress(sigma, Kinv, out.F, G, rec);
   return out;
+}
+
+// ---- the pass's two sweeps (solver/forces_affine.cpp), in the fast loops' lanes ----
+//
+// Bond k of a row goes to lane (k - row start) mod 8, each lane keeps its own partial sums
+// (of K and N in the breaking sweep, of the pair form's three sums in the force sum), and
+// the lanes are added as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)) at the end of
+// the row (kernels/lanes.hpp). The host's AVX-512 rows (solver/affine_sweeps.cpp) add
+// the same lanes in one register each, so they give these rows' bits. The per-kind
+// constants are read through template parameters: Kind (state/system.hpp
+// KindCoefficients: damage, contact_d2, contact_d, contact_k) and BondK (family/bonds.hpp
+// BondKind: weight, volume, fraction); a device build passes plain structs with the same
+// members.
+
+// What the sweeps read and write, taken from the System once per pass.
+template <class Kind, class BondK>
+struct AffineSweep {
+  const Point4* pt = nullptr;           // y, w = s0 of the pass (packed positions)
+  const Point4* ref = nullptr;          // the reference positions X, packed {x, y, z, 0}
+  const Vec3* y_old = nullptr;          // the positions of the last pass (System::model.affine_position)
+  const double* record = nullptr;       // the records (System::model.affine_record): the last pass's
+                                        // in the breaking sweep, this pass's in the sum
+  const Kind* kc = nullptr;             // per kind
+  const Point4* kind_record = nullptr;  // per kind {L, 1/L, omega V_j, -} (System::model.kind_dilatation)
+  const BondK* kinds = nullptr;
+  const uint32_t* nbr = nullptr;
+  const uint32_t* kind = nullptr;
+  const uint64_t* offset = nullptr;
+  uint8_t* intact = nullptr;
+  double* intact_weight = nullptr;  // per particle
+  const double* soft = nullptr;     // critical-stretch factor per particle, or null
+  uint64_t total = 0;               // bonds
+  bool after = false;               // break_after_force: a breaking bond still acts in this pass
+  bool contact = false;             // short-range contact between family pairs
+  bool kinds_have_lengths = true;   // not Bonds::length_per_bond
+};
+
+// What the breaking sweep leaves of a row: its smallest stretch, the energy of the bonds
+// it broke (per unit V_i) and how many.
+struct AffineBreak {
+  double smin, lost;
+  uint64_t broken;
+};
+
+// s0 scaled by a temperature-dependent factor; an infinite s0 (no_fail) stays infinite.
+HORIZON_HD inline double scaled_s0(double w, double f) { return (w == INFINITY || w == -INFINITY) ? w : w * f; }
+
+// Bond k of row i breaks (bond order; the rare path of every implementation): its flag,
+// the damage weight, and the energy it held, (1/2) (T_old . Y/|Y|) e V_j with T_old its
+// force state of the last pass rebuilt from i's record and that pass's positions (zero
+// before the first: the records start at 0), as forces_general.cpp break_row books it.
+// r, e: this pass's |Y| and extension, computed as the lanes compute them.
+template <class Kind, class BondK>
+HORIZON_HD inline void affine_break_bond(const AffineSweep<Kind, BondK>& s, std::size_t i, uint64_t k, double r,
+                                         double e, AffineBreak& out) {
+  const uint32_t j = s.nbr[k];
+  const BondK& bk = s.kinds[s.kind[k]];
+  s.intact[k] = s.after ? 2 : 0;
+  ++out.broken;
+  if (r > 0) {
+    const Point4 pi = s.pt[i], pj = s.pt[j], xi_i = s.ref[i], xj = s.ref[j];
+    const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+    const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
+    const Vec3 &yo_i = s.y_old[i], &yo_j = s.y_old[j];
+    const double yv[3] = {yo_j.x - yo_i.x, yo_j.y - yo_i.y, yo_j.z - yo_i.z};
+    double T[3];
+    affine_force_state(s.record + kAffineRecord * i, bk.weight, xi, yv, T);
+    out.lost += 0.5 * (T[0] * Y[0] + T[1] * Y[1] + T[2] * Y[2]) / r * e * (bk.volume * bk.fraction);
+  }
+  s.intact_weight[i] -= s.kc[s.kind[k]].damage;
+}
+
+// Row i of the breaking sweep: the critical-stretch breaking of its intact bonds, their
+// smallest stretch, and over the bonds that act in this pass sums[0..8] = K, sums[9..17]
+// = N (row-major; w the kind's omega V_j), what the model's row reads.
+template <class Kind, class BondK>
+HORIZON_HD inline AffineBreak affine_break_row(const AffineSweep<Kind, BondK>& s, std::size_t i, double* sums) {
+  constexpr int kSums = 18;
+  const Point4 pi = s.pt[i], xi_i = s.ref[i];
+  const double wi = s.soft ? scaled_s0(pi.w, s.soft[i]) : pi.w;
+  double acc[kSums][kLanes] = {};
+  double sm[kLanes];
+  for (int l = 0; l < kLanes; ++l) sm[l] = INFINITY;
+  AffineBreak out{INFINITY, 0, 0};
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
+    if (!s.intact[k]) return;
+    const uint32_t j = s.nbr[k];
+    const Point4 pj = s.pt[j], xj = s.ref[j], kr = s.kind_record[s.kind[k]];
+    const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+    const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
+    const double r = bond_length(Y[0], Y[1], Y[2]), e = r - kr.x, stretch = e * kr.y;
+    sm[l] = stretch < sm[l] ? stretch : sm[l];
+    const double wj = s.soft ? scaled_s0(pj.w, s.soft[j]) : pj.w;
+    if (breaks(stretch, wi, wj)) {
+      affine_break_bond(s, i, k, r, e, out);
+      if (!s.after) return;
+    }
+    const double w = kr.z;  // omega V_j of the kind
+    for (int a = 0; a < 3; ++a) {
+      const double wa = w * xi[a], wy = w * Y[a];
+      for (int c = 0; c < 3; ++c) {
+        acc[3 * a + c][l] += wa * xi[c];
+        acc[9 + 3 * a + c][l] += wy * xi[c];
+      }
+    }
+  });
+  for (int q = 0; q < kSums; ++q) sums[q] = lane_total(acc[q]);
+  out.smin = lane_min(sm);
+  return out;
+}
+
+// Row i of the sum, once every row has its record: f_i = sum_j omega V_j ((M_i + M_j) xi +
+// (g_i + g_j) Y) over the acting bonds (affine_pair_add lane by lane, then
+// affine_pair_finish), plus the family contact of every bond (energy: its share).
+template <class Kind, class BondK>
+HORIZON_HD inline void affine_sum_row(const AffineSweep<Kind, BondK>& s, std::size_t i, double* f, double& energy) {
+  const Point4 pi = s.pt[i], xi_i = s.ref[i];
+  double sxi[3][kLanes] = {}, sy[3][kLanes] = {}, acc[3][kLanes] = {}, w[kLanes] = {};
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
+    const uint32_t j = s.nbr[k];
+    const Point4 pj = s.pt[j];
+    const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
+    if (s.intact[k]) {
+      const Point4 xj = s.ref[j];
+      const double* m = s.record + kAffineRecord * static_cast<std::size_t>(j);
+      const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
+      const double wv = s.kind_record[s.kind[k]].z;  // omega V_j of the kind
+      const double a[3] = {wv * xi[0], wv * xi[1], wv * xi[2]};
+      const double gy = wv * m[9];
+      for (int r = 0; r < 3; ++r) {
+        sxi[r][l] += a[r];
+        sy[r][l] += wv * Y[r];
+        acc[r][l] += m[3 * r] * a[0] + m[3 * r + 1] * a[1] + m[3 * r + 2] * a[2] + gy * Y[r];
+      }
+    }
+    if (s.contact) {
+      const Kind& kc = s.kc[s.kind[k]];
+      double c = 0, wc = 0;
+      if (contact_coefficient(kc.contact_d2, kc.contact_d, kc.contact_k, (Y[0] * Y[0] + Y[1] * Y[1]) + Y[2] * Y[2], c,
+                              wc)) {
+        acc[0][l] += c * Y[0], acc[1][l] += c * Y[1], acc[2][l] += c * Y[2];
+        w[l] += wc;
+      }
+    }
+  });
+  AffineRowSum sum;
+  for (int r = 0; r < 3; ++r) {
+    sum.sxi[r] = lane_total(sxi[r]);
+    sum.sy[r] = lane_total(sy[r]);
+    sum.acc[r] = lane_total(acc[r]);
+  }
+  affine_pair_finish(sum, s.record + kAffineRecord * i, f);
+  energy = lane_total(w);
+}
+
+// The damage weight of row i's intact bonds (intact == 1), in the lanes
+// (state/kind_coefficients.cpp intact_damage_weight), after a row broke bonds.
+template <class Kind>
+HORIZON_HD inline double intact_weight_lanes(const uint64_t* offset, const uint8_t* intact, const uint32_t* kind,
+                                             const Kind* kc, std::size_t i) {
+  double w[kLanes] = {};
+  for_each_lane(offset[i], offset[i + 1], [&](uint64_t k, int l) {
+    if (intact[k] == 1) w[l] += kc[kind[k]].damage;
+  });
+  return lane_total(w);
 }
 
 }  // namespace horizon::kernels
