@@ -27,21 +27,21 @@ HORIZON_HD inline double power(double x, double y) {
 }
 
 // a . b of two 6-vectors (plain components; the contraction's weights are in the vectors).
-HORIZON_HD inline double dot6(const double* a, const double* b) {
+HORIZON_HD_INLINE double dot6(const double* a, const double* b) {
   double e[6];
   for (int k = 0; k < 6; ++k) e[k] = a[k] * b[k];
   return (e[0] + (e[2] + e[4])) + (e[1] + (e[3] + e[5]));
 }
 
 // p . (a + b)/2: the midpoint residual's projection.
-HORIZON_HD inline double dot6_mid(const double* p, const double* a, const double* b) {
+HORIZON_HD_INLINE double dot6_mid(const double* p, const double* a, const double* b) {
   double e[6];
   for (int k = 0; k < 6; ++k) e[k] = p[k] * (0.5 * (a[k] + b[k]));
   return (e[0] + (e[2] + e[4])) + (e[1] + (e[3] + e[5]));
 }
 
 // H<xi> of Tupek's (4.4) from n = xi/|xi|: 3-D 5/2 n n - 1/2 I; 2-D 2 n n - 1/2 I_2.
-HORIZON_HD inline void unit_shape_state(const double* n, int dimension, double* h) {
+HORIZON_HD_INLINE void unit_shape_state(const double* n, int dimension, double* h) {
   const double a = dimension == 3 ? 2.5 : 2.0;
   h[0] = a * n[0] * n[0] - 0.5;
   h[1] = a * n[1] * n[1] - 0.5;
@@ -52,7 +52,7 @@ HORIZON_HD inline void unit_shape_state(const double* n, int dimension, double* 
 }
 
 // p with p . e = n . e n (the bond's normal strain of a tensor e).
-HORIZON_HD inline void unit_normal_projector(const double* n, double* p) {
+HORIZON_HD_INLINE void unit_normal_projector(const double* n, double* p) {
   p[0] = n[0] * n[0];
   p[1] = n[1] * n[1];
   p[2] = n[2] * n[2];
@@ -81,7 +81,7 @@ struct PairEnd {
 
 // 2 coef r of a's side of the bond to b: coef = (k_a + k_b)/2 with the midpoint residual
 // when b sends its E, else k_a with a's own (ExtendedCorrespondence::stabilisation()).
-HORIZON_HD inline double pair_side_residual(const PairEnd& a, const PairEnd& b, const double* p, double eps) {
+HORIZON_HD_INLINE double pair_side_residual(const PairEnd& a, const PairEnd& b, const double* p, double eps) {
   if (a.ks == 0) return 0.0;
   if (b.mid) return (a.ks + b.ks) * (eps - dot6_mid(p, a.E, b.E));
   return 2.0 * a.ks * (eps - dot6(p, a.E));
@@ -94,7 +94,7 @@ HORIZON_HD inline double pair_side_residual(const PairEnd& a, const PairEnd& b, 
 struct PairBond {
   double q, scale;
 };
-HORIZON_HD inline PairBond pair_bond(const PairEnd& ri, const PairEnd& rj, const double* n, int dimension,
+HORIZON_HD_INLINE PairBond pair_bond(const PairEnd& ri, const PairEnd& rj, const double* n, int dimension,
                                      double inv_length, double Y2, double eps, double m, double omega, double V) {
   double h[6], p[6];
   unit_shape_state(n, dimension, h);
