@@ -164,4 +164,10 @@ string(JSON iterations GET "${heat_alone_implicit_summary}" thermal cg_iteration
 if(iterations LESS 2)
   message(FATAL_ERROR "heat_alone_implicit: ${iterations} conjugate-gradient iterations in the last step")
 endif()
+# Steady solves (thermal.integration: steady, one per step of 0.05 s): the same bits at
+# every rank count, and the boundaries' flows in balance (no heat is stored).
+string(REPLACE "integration: implicit" "integration: steady" text "${text}")
+string(REPLACE "time_step: 0.01}" "time_step: 0.05}" text "${text}")
+file(WRITE ${WORK}/heat_alone_steady.yaml "${text}")
+heat_alone(heat_alone_steady ${WORK}/heat_alone_steady.yaml 2 4)
 file(REMOVE_RECURSE ${WORK})

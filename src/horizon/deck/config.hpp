@@ -91,6 +91,10 @@ struct MaterialConfig {
   std::map<std::string, double> parameters;
   std::map<std::string, std::string> choices;
   ThermalMaterialConfig thermal;
+  // false: a material of heat alone (materials.NAME without `model`: solver.type heat
+  // only; docs/input.md "Materials of heat alone"). Its mechanics are never computed:
+  // the model is a placeholder (pmb, E = 1) that the run's set-up wants.
+  bool mechanics = true;
 };
 
 // How a body is discretised: peridynamic particles on the lattice, or classical finite
@@ -359,7 +363,18 @@ struct ContactConfig {
 //               compatible, Trask, You, Yu and Parks 2019).
 enum class HeatKernel { inverse, constant };
 enum class HeatCalibration { continuum, discrete };
-enum class HeatIntegration { explicit_euler, implicit_euler };
+// steady: each step (solver.type heat) solves the steady state at its end time, the
+// conduction, sources and films in balance with the prescribed temperatures (Peridigm's
+// ImplicitDiffusion solver, one solve per load step; docs/models/heat.md "Steady solve").
+enum class HeatIntegration { explicit_euler, implicit_euler, steady };
+// How the bond sum integrates over the horizon (docs/models/heat.md "Improved quadrature"):
+//   one_point: each neighbour's volume (partial-volume scaled), the one-point rule;
+//   improved:  per-particle weights omega_ij, the smallest change of the one-point weights
+//              that makes the sum exact on the polynomials of degree 1 and 2 over the whole
+//              ball (the optimisation-based quadrature of Trask, You, Yu and Parks 2019,
+//              Comput. Methods Appl. Mech. Engrg. 343:151): a linear field has no flux
+//              divergence at any particle, surface ones included.
+enum class HeatQuadrature { one_point, improved };
 enum class ThermalBoundaryKind { temperature, flux, convection };
 
 struct ThermalBoundaryConfig {
@@ -377,6 +392,7 @@ struct ThermalConfig {
   HeatKernel kernel = HeatKernel::inverse;
   HeatCalibration calibration = HeatCalibration::continuum;
   HeatIntegration integration = HeatIntegration::explicit_euler;
+  HeatQuadrature quadrature = HeatQuadrature::one_point;
   // solver.type heat: the heat step is solver.time_step (default: the explicit stable
   // step times solver.safety_factor; required for implicit). Coupled runs: the heat
   // advances time_scale times the mechanical step per step (1: real time; > 1 accelerates

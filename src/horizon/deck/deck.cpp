@@ -599,8 +599,6 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
   if (auto files = o.find("exodus_files")) {
     if (!files->node.IsSequence() || files->node.size() == 0)
       fail_expected(ctx, *files, "a list of {file: NAME.e, every: N}");
-    if (config.solver.type == SolverType::heat)
-      ctx.fail(*files->key_mark, files->path + ": exodus output is written by the explicit, implicit and static solvers only");
     for (std::size_t k = 0; k < files->node.size(); ++k) {
       const Item entry{files->node[k], index_path(files->path, k), files->node[k].Mark(), std::nullopt};
       MapReader e(ctx, entry, {"file", "every", "variables", "velocity", "first_step", "last_step", "explicit_every"});
@@ -635,7 +633,8 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
       if (auto vars = e.find("variables")) {
         // Lambda, Deformation_Gradient, Contact_Force_Density, Horizon, a model field
         // variable or a history column (driver/exodus_output.hpp).
-        std::vector<std::string> known = {"Lambda", "Deformation_Gradient", "Contact_Force_Density", "Horizon"};
+        std::vector<std::string> known = {"Lambda", "Deformation_Gradient", "Contact_Force_Density", "Horizon",
+                                          "Flux_Divergence"};
         for (const auto& m : model_field_variables()) known.push_back(m);
         for (const auto& c : config.output.history_columns) known.push_back(c.name);
         if (!vars->node.IsSequence()) fail_expected(ctx, *vars, "a list of variable names");
@@ -650,6 +649,9 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
           }
           if (std::find(f.variables.begin(), f.variables.end(), name) != f.variables.end())
             ctx.fail(var.mark, var.path + ": '" + name + "' is named twice");
+          if (name == "Flux_Divergence" && !(config.thermal.enabled && config.thermal.conduction))
+            ctx.fail(var.mark, var.path + ": Flux_Divergence is the heat conduction's; the deck needs a conducting "
+                                          "thermal section");
           f.variables.push_back(name);
         }
       }
@@ -690,7 +692,7 @@ void read_output(const DeckContext& ctx, const MapReader& m, Config& config) {
     if (config.output.checkpoint_every)
       ctx.fail(f->mark, f->path + ": exodus output is not written with checkpoints; use format: vtu");
     if (config.solver.type == SolverType::heat)
-      ctx.fail(f->mark, f->path + ": exodus output is written by the explicit, implicit and static solvers only");
+      ctx.fail(f->mark, f->path + ": a heat run writes Exodus files through output.exodus_files only");
   }
 }
 
@@ -722,20 +724,48 @@ void check_thermal(const DeckContext& ctx, const MapReader& m, const Config& con
     ctx.fail(s.find("type")->mark, "solver.type: heat needs a thermal section (thermal: {initial_temperature: ...})");
   }
   if (!thermal) return;
-  const MapReader t(ctx, *thermal, {"initial_temperature", "kernel", "calibration", "integration", "time_scale",
-                                    "conduction", "boundary"});
+  const MapReader t(ctx, *thermal, {"initial_temperature", "kernel", "calibration", "integration", "quadrature",
+                                    "time_scale", "conduction", "boundary"});
   const bool conduction = config.thermal.conduction;
-  // Conduction needs each material's conductivity and heat capacity; a prescribed field
-  // (conduction: false) neither.
+  const bool steady = config.thermal.integration == HeatIntegration::steady;
+  // Conduction needs each material's conductivity and heat capacity (a steady solve the
+  // conductivity alone: no heat is stored); a prescribed field (conduction: false) neither.
   for (const auto& mat : config.materials) {
     if (!conduction) continue;
     const ThermalMaterialConfig& th = mat.thermal;
-    if (th.conductivity > 0 && th.specific_heat > 0) continue;
+    if (th.conductivity > 0 && (th.specific_heat > 0 || steady)) continue;
     ctx.fail(materials.node[mat.name]["thermal"].Mark(),
              "materials." + mat.name + ".thermal: expected " +
                  (th.conductivity > 0 ? "specific_heat" : "conductivity") +
                  " (heat conduction needs the conductivity k [W/(m K)] and the specific heat c [J/(kg K)]; "
                  "thermal.conduction: false prescribes the temperature instead)");
+  }
+  // A material of heat alone (no model): heat runs only, and a density where heat is stored.
+  for (const auto& mat : config.materials) {
+    if (mat.mechanics) continue;
+    const YAML::Node node = materials.node[mat.name];
+    if (type != SolverType::heat)
+      ctx.fail(node.Mark(), "materials." + mat.name + ": a material without a model has no mechanics; it runs with "
+                            "solver.type: heat only (give it a model and its moduli for this solver)");
+    if (!steady && !node["density"])
+      ctx.fail(node.Mark(), "materials." + mat.name + ": expected density (the heat capacity per volume is rho c; "
+                            "only thermal.integration: steady stores no heat)");
+  }
+  if (steady) {
+    const Item it = *t.find("integration");
+    if (type != SolverType::heat)
+      ctx.fail(it.mark, it.path + ": steady applies to solver.type: heat (a steady solve at each step)");
+    if (!config.solver.time_step)
+      ctx.fail(it.mark, it.path + ": steady needs solver.time_step (the time between two steady solves: the "
+                                  "load step [s])");
+    // Without a temperature or a film somewhere the steady temperature is fixed only up to a
+    // constant (and a source has no steady state).
+    bool anchored = false;
+    for (const auto& bc : config.thermal.boundary)
+      anchored = anchored || bc.kind != ThermalBoundaryKind::flux;
+    if (!anchored)
+      ctx.fail(it.mark, it.path + ": steady needs a temperature or convection condition in thermal.boundary (with "
+                                  "neither the steady temperature is not unique)");
   }
   if (!conduction && type == SolverType::heat)
     ctx.fail(t.find("conduction")->mark, "thermal.conduction: false leaves solver.type: heat nothing to solve");

@@ -278,6 +278,26 @@ MaterialConfig read_material(const DeckContext& ctx, const std::string& name, co
   const MapReader any(ctx, item, every);
   MaterialConfig mat;
   mat.name = name;
+  if (!any.has("model") && any.has("thermal")) {
+    // A material of heat alone (docs/input.md, "Materials of heat alone"): a thermal map and
+    // the density where heat is stored; solver.type heat only (check_thermal, deck.cpp).
+    // Its mechanics are never computed: the placeholder model (pmb, E = 1, Poisson's ratio
+    // the bond-based one) only lets the run's set-up pass.
+    const MapReader m(ctx, item, {"density", "thermal"});
+    mat.mechanics = false;
+    mat.model = "pmb";
+    mat.density = m.find("density") ? read_positive(ctx, *m.find("density")) : 1.0;
+    mat.youngs_modulus = 1;
+    mat.poissons_ratio = bond_based_poisson_ratio(ctx.dimension, ctx.plane);
+    mat.bulk_modulus = 1 / (3 * (1 - 2 * mat.poissons_ratio));
+    mat.shear_modulus = 1 / (2 * (1 + mat.poissons_ratio));
+    for (const auto& p : find_model("pmb")->traits.parameters)
+      if (p.default_value) mat.parameters[p.key] = *p.default_value;
+    for (const auto& c : find_model("pmb")->traits.choices) mat.choices[c.key] = c.choices[0];
+    mat.influence = find_model("pmb")->traits.default_influence;
+    mat.thermal = read_thermal_material(ctx, *m.find("thermal"));
+    return mat;
+  }
   const Item model_item = any.get("model", "the material model: " + [] {
     std::string s;
     for (const auto& n : model_names()) s += (s.empty() ? "" : ", ") + n;

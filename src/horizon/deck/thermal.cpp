@@ -69,7 +69,8 @@ ThermalBoundaryConfig read_boundary(const DeckContext& ctx, const Item& item, co
 
 ThermalConfig read_thermal(const DeckContext& ctx, const Item& item, const std::vector<std::string>& regions) {
   MapReader m(ctx, item,
-              {"initial_temperature", "kernel", "calibration", "integration", "time_scale", "conduction", "boundary"});
+              {"initial_temperature", "kernel", "calibration", "integration", "quadrature", "time_scale", "conduction",
+               "boundary"});
   ThermalConfig t;
   t.enabled = true;
   if (auto c = m.find("conduction")) t.conduction = read_bool(ctx, *c);
@@ -82,7 +83,19 @@ ThermalConfig read_thermal(const DeckContext& ctx, const Item& item, const std::
         ctx, *c, {{"continuum", HeatCalibration::continuum}, {"discrete", HeatCalibration::discrete}});
   if (auto i = m.find("integration"))
     t.integration = read_enum<HeatIntegration>(
-        ctx, *i, {{"explicit", HeatIntegration::explicit_euler}, {"implicit", HeatIntegration::implicit_euler}});
+        ctx, *i,
+        {{"explicit", HeatIntegration::explicit_euler}, {"implicit", HeatIntegration::implicit_euler},
+         {"steady", HeatIntegration::steady}});
+  if (auto q = m.find("quadrature")) {
+    t.quadrature =
+        read_enum<HeatQuadrature>(ctx, *q, {{"one_point", HeatQuadrature::one_point}, {"improved", HeatQuadrature::improved}});
+    // The improved weights make the sum exact on quadratics against the horizon integral:
+    // kappa is the continuum one (the discrete moment would calibrate the rule they replace).
+    if (auto c = m.find("calibration");
+        c && t.quadrature == HeatQuadrature::improved && t.calibration == HeatCalibration::discrete)
+      ctx.fail(c->mark, c->path + ": quadrature: improved is exact on quadratics over the whole horizon, so it takes "
+                                  "calibration: continuum (the default)");
+  }
   if (auto s = m.find("time_scale")) t.time_scale = read_positive(ctx, *s);
   if (auto b = m.find("boundary"))
     for (const auto& i : read_list(ctx, *b)) {
@@ -93,7 +106,7 @@ ThermalConfig read_thermal(const DeckContext& ctx, const Item& item, const std::
                                   "boundary prescribes temperatures only");
     }
   if (!t.conduction) {
-    for (const char* k : {"kernel", "calibration", "integration", "time_scale"})
+    for (const char* k : {"kernel", "calibration", "integration", "quadrature", "time_scale"})
       if (auto it = m.find(k))
         ctx.fail(*it->key_mark, it->path + ": a setting of the heat conduction; this section has conduction: false");
   }

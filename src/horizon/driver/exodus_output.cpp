@@ -17,6 +17,7 @@
 #include "horizon/parallel/decomposition.hpp"
 #include "horizon/parallel/lead_view.hpp"
 #include "horizon/state/system.hpp"
+#include "horizon/thermal/heat.hpp"
 
 namespace horizon {
 
@@ -142,6 +143,8 @@ ExodusOutput::ExodusOutput(std::string path, bool iterations, const std::vector<
             (fv.nodal ? nodal_fields_ : element_fields_).push_back({exo, field});
     } else if (v == "Contact_Force_Density") {
       contact_ = true;
+    } else if (v == "Flux_Divergence") {
+      flux_divergence_ = true;
     } else {
       // The deck reader has checked that a history column of this name exists.
       for (const auto& c : config.output.history_columns)
@@ -220,8 +223,16 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
   // Temperature_Change (T - T_ref, the change that strains the mechanics; Peridigm's
   // names, its T - T(0) with reference_temperature: initial), after the contact force.
   const bool heat = s.heat.active();
+  // Flux_Divergence: the conduction's sum_j kbar g (T_j - T_i) V_j [W/m^3] (thermal/heat.hpp
+  // heat_conduction; Peridigm's name for it, docs/peridigm.md), 0 without conduction.
+  const bool divergence = heat && flux_divergence_;
+  std::vector<double> flux_divergence;
+  if (divergence) {
+    if (s.heat.conduction) heat_conduction(s, s.heat.T, flux_divergence);
+    flux_divergence.resize(P.size(), 0.0);
+  }
   const int width = kWidth + (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0) + (contact_ ? 3 : 0) +
-                    (heat ? 2 : 0) + static_cast<int>(extra_columns.size());
+                    (heat ? 2 : 0) + (divergence ? 1 : 0) + static_cast<int>(extra_columns.size());
   const std::vector<Vec3>& contact = s.contact.recorded_forces();
   // Number_Of_Neighbors: i's family, without the bonds in the neighbour's family alone
   // (BondKind::one_way: bodies of different horizons).
@@ -259,6 +270,7 @@ void ExodusOutput::write(const System& s, const Decomposition* d, double time) {
       out.insert(out.end(), {fc.x, fc.y, fc.z});
     }
     if (heat) out.insert(out.end(), {s.heat.T[i], s.heat.T[i] - s.heat.reference[i]});
+    if (divergence) out.push_back(flux_divergence[i]);
     for (const auto* col : extra_columns) out.push_back(col ? (*col)[i] : 0.0);
   };
   auto take = [&](std::size_t g, const double* v) {
@@ -303,6 +315,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     if (contact_)
       for (const char* a : {"X", "Y", "Z"}) layout.nodal.push_back(std::string("Contact_Force_Density") + a);
     if (s.heat.active()) layout.nodal.insert(layout.nodal.end(), {"Temperature", "Temperature_Change"});
+    if (s.heat.active() && flux_divergence_) layout.nodal.push_back("Flux_Divergence");
     layout.element = {"Element_Id", "Block_Id", "Volume", "Damage", "Dilatation", "Weighted_Volume",
                       "Number_Of_Neighbors", "Stored_Elastic_Energy_Density", "Stored_Elastic_Energy", "Radius"};
     if (lambda_) layout.element.push_back("Lambda");
@@ -320,7 +333,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
   ExodusStep step;
   step.time = time;
   const bool heat = s.heat.active();
-  const std::size_t contact_columns = contact_ ? 3 : 0, heat_columns = heat ? 2 : 0,
+  const std::size_t contact_columns = contact_ ? 3 : 0, heat_columns = heat ? (flux_divergence_ ? 3 : 2) : 0,
                     nodal_extra = nodal_fields_.size();
   step.nodal.assign(18 + contact_columns + heat_columns + nodal_extra, std::vector<double>(n));
   const std::size_t extra = (lambda_ ? 1 : 0) + (gradient_ ? 9 : 0) + (horizon_ ? 1 : 0);
@@ -353,7 +366,7 @@ void ExodusOutput::append(const System& s, const std::vector<std::vector<double>
     if (contact_)
       for (std::size_t c = 0; c < 3; ++c) step.nodal[18 + c][i] = r[kWidth + extra + c];
     if (heat)
-      for (std::size_t c = 0; c < 2; ++c)
+      for (std::size_t c = 0; c < heat_columns; ++c)
         step.nodal[18 + contact_columns + c][i] = r[kWidth + extra + contact_columns + c];
     const std::size_t base = kWidth + extra + contact_columns + heat_columns;
     for (std::size_t c = 0; c < nodal_extra; ++c)

@@ -25,6 +25,9 @@
 //                         material/nonlocal_gradient.hpp), exact for a homogeneous deformation;
 //   a history column's name  global: its value (vectors NAMEX, NAMEY, NAMEZ), as in history.csv
 //                         but at full precision: Peridigm's compute classes' Output Labels.
+//   Flux_Divergence       nodal, after Temperature_Change (runs with a thermal section):
+//                         the conduction's sum_j kbar g (T_j - T_i) V_j [W/m^3]
+//                         (thermal/heat.hpp heat_conduction), 0 without conduction.
 //   Contact_Force_Density nodal Contact_Force_DensityX, Y, Z (after the fixed set): the
 //                         short-range contact's force density of the last force pass
 //                         (friction included; state/short_range.hpp record_forces), 0
@@ -94,6 +97,7 @@ class ExodusOutput {
   // Models' fields asked for (exodus_field_variable): (Exodus name, field name) per column.
   std::vector<std::pair<std::string, std::string>> nodal_fields_, element_fields_;
   bool contact_ = false;                     // Contact_Force_Density (nodal)
+  bool flux_divergence_ = false;             // Flux_Divergence (nodal, after Temperature_Change)
   // Horizon: each particle's (its body's own, BodyConfig::horizon, else the deck's).
   std::vector<std::optional<Expression>> body_horizon_;
   double deck_horizon_ = 0;

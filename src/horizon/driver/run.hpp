@@ -129,7 +129,10 @@ int run_heat_deck(Config config, const RunOptions& options);
 // thermal part of summary.json (driver/run_heat.cpp).
 std::string heat_history_header(const System& s);
 std::string heat_history_row(const System& s);
-nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content);
+// `moved`: the heat the boundaries moved in absolute value (HeatSolver::moved), a scale of
+// the balance besides the net figures (0: none).
+nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content,
+                                    double moved = 0);
 
 // Why an explicit deck cannot be split over MPI ranks yet (parallel/decomposition.hpp),
 // or "" when it can.

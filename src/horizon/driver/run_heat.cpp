@@ -15,6 +15,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/interrupt.hpp"
+#include "horizon/driver/exodus_output.hpp"
 #include "horizon/driver/run.hpp"
 #include "horizon/driver/summary.hpp"
 #include "horizon/output/atomic_file.hpp"
@@ -85,14 +86,16 @@ std::string heat_history_row(const System& s) {
   return r;
 }
 
-nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content) {
+nlohmann::ordered_json heat_summary(const System& s, double heat_step, double stable_step, double initial_content,
+                                    double moved) {
   nlohmann::ordered_json j;
-  double lo = 0, hi = 0, mean = 0, supplied = s.heat.plastic_heat;
+  double lo = 0, hi = 0, mean = 0, supplied = s.heat.plastic_heat, largest = moved;
   temperature_range(s, lo, hi, mean);
   nlohmann::ordered_json b = nlohmann::ordered_json::object();
   for (const auto& bc : s.heat.boundary) {
     b[bc.name] = bc.heat;
     supplied += bc.heat;
+    largest = std::max(largest, std::abs(bc.heat));
   }
   const double content = heat_content(s);
   j["time_step"] = heat_step;
@@ -104,8 +107,11 @@ nlohmann::ordered_json heat_summary(const System& s, double heat_step, double st
   j["plastic_heat"] = s.heat.plastic_heat;
   j["boundary_heat"] = b;
   // Conduction conserves heat: the change of content is what the boundaries and the
-  // plastic work brought in (relative to the largest of them).
-  const double scale = std::max({std::abs(content - initial_content), std::abs(supplied), 1e-300});
+  // plastic work brought in (relative to the largest of them, of any one boundary's net,
+  // or of the heat the boundaries moved particle by particle: a steady solve stores
+  // nothing, and what a boundary brings in at one end it takes out at the other).
+  const double scale =
+      std::max({std::abs(content - initial_content), std::abs(supplied), largest, 1e-300});
   j["heat_balance_error"] = (content - initial_content - supplied) / scale;
   j["temperature_crc32"] = temperature_crc32(s);
   return j;
@@ -145,7 +151,8 @@ int run_heat_deck(Config config, const RunOptions& options) {
   RunOptions opts = options;
   if (!lead) opts.quiet = true;
   const double stable = heat_stable_step(s);
-  const bool implicit = config.thermal.integration == HeatIntegration::implicit_euler;
+  const bool steady = config.thermal.integration == HeatIntegration::steady;
+  const bool implicit = config.thermal.integration != HeatIntegration::explicit_euler;
   const double dt = config.solver.time_step ? *config.solver.time_step : config.solver.safety_factor * stable;
   if (!implicit && dt > stable)
     throw Error(fmt::format("solver.time_step {:.4e} s exceeds the stable step of the explicit heat solver, {:.4e} s; "
@@ -156,7 +163,8 @@ int run_heat_deck(Config config, const RunOptions& options) {
     fmt::print(stderr, "deck            {}\n", config.deck_file);
     fmt::print(stderr, "particles       {}\n", dd && dd->local_particles ? dd->global_particles : s.particles.size());
     fmt::print(stderr, "bonds           {} directed\n", s.initial_bonds);
-    fmt::print(stderr, "solver          heat, {} Euler\n", implicit ? "backward" : "forward");
+    fmt::print(stderr, "solver          heat, {}\n",
+               steady ? "steady solves" : implicit ? "backward Euler" : "forward Euler");
     fmt::print(stderr, "stable step     {:.4e} s (explicit heat)\n", stable);
     fmt::print(stderr, "time step       {:.4e} s, {} steps to t = {:.4e} s\n", dt, total, config.solver.end_time);
   }
@@ -176,6 +184,13 @@ int run_heat_deck(Config config, const RunOptions& options) {
   HeatSolver solver(s, config.thermal.integration);
   history << fmt::format("{:.9e},0,", 0.0) << heat_history_row(s) << "\n";
   write_frame(0, 0);
+  // output.exodus_files: each at step 0 and at the steps its `every` divides (a steady
+  // run's steps are its load steps: Peridigm's ImplicitDiffusion output).
+  std::unique_ptr<ExodusSchedule> exodus_files;
+  if (!config.output.exodus_files.empty()) {
+    exodus_files = std::make_unique<ExodusSchedule>(config.output.exodus_files, dir, false, config);
+    exodus_files->write(s, dd.get(), 0, 0);
+  }
   const int frames = std::max(1, config.output.frames);
   const int64_t history_every = std::max(1, config.output.history_every);
   int next_frame = 1;
@@ -195,6 +210,7 @@ int run_heat_deck(Config config, const RunOptions& options) {
       write_frame(s.heat.time, step);
       ++next_frame;
     }
+    if (exodus_files && exodus_files->due(step)) exodus_files->write(s, dd.get(), s.heat.time, step);
     const bool interrupted = options.handle_signals && interrupt_requested();
     if (dd ? any_rank(*dd, interrupted) : interrupted) {
       status = "interrupted";
@@ -224,7 +240,8 @@ int run_heat_deck(Config config, const RunOptions& options) {
     j["particles_local"] = dd->local_particles;
     j["particles_held"] = held;
   }
-  j["thermal"] = heat_summary(s, dt, stable, initial_content);
+  j["thermal"] = heat_summary(s, dt, stable, initial_content, solver.moved());
+  // (the improved quadrature's BiCGSTAB iterations under the same name)
   if (implicit) j["thermal"]["cg_iterations_last_step"] = solver.iterations();
   if (lead) write_result_file((dir / "summary.json").string(), j.dump(2) + "\n", exit_code == 5);
   if (!opts.quiet) fmt::print(stderr, "{}: {} heat steps; output in {}\n", status, step, dir.string());

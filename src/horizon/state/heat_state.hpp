@@ -33,11 +33,16 @@ struct HeatState {
   std::vector<double> plastic_fraction;  // Taylor-Quinney beta_i
   std::vector<double> stretch_slope;     // d(s0/s0_ref)/dT [1/K] (temperature-dependent critical stretch)
   std::vector<double> kind_factor;       // per bond kind: g(|xi|) V_j (partial-volume scaled)
+  // Per bond, where the kinds cannot hold it: g(|xi|) omega_ij with the improved
+  // quadrature's weights, or g(|xi|) V_j when the bonds keep their own lengths (meshes'
+  // centroids: Bonds::length_per_bond). Empty: kind_factor. (thermal/heat.cpp bond_factor)
+  std::vector<double> bond_factor;
   std::vector<uint8_t> fixed;            // 1: temperature prescribed by a boundary condition
   std::vector<Vec3> flux;                // heat flux vector q_i [W/m^2] (output)
   std::vector<HeatBoundary> boundary;
   HeatKernel kernel = HeatKernel::inverse;
   HeatCalibration calibration = HeatCalibration::continuum;
+  HeatQuadrature quadrature = HeatQuadrature::one_point;  // improved: a_ij != a_ji (BiCGSTAB solves)
   bool conduction = true;  // false: T is a prescribed field (thermal.conduction: false), no heat flows
   bool expands = false;    // some material has alpha != 0: mechanics sees the thermal strain
   bool softens = false;    // some material has a critical_stretch_slope != 0

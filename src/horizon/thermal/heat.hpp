@@ -20,6 +20,10 @@
 // discrete operator exact on quadratics: the asymptotically compatible choice
 // (docs/models/heat.md, "Quadrature").
 //
+// thermal.quadrature: improved replaces V_j by per-particle weights omega_ij exact on the
+// quadratics over the whole ball (heat.cpp improved_weights; Trask, You, Yu and Parks
+// 2019): no longer symmetric, so heat is conserved to the quadrature's error only.
+//
 // Heat flux (output): q_i = -(1/2) sum_j kbar g (T_j - T_i) xi_ij V_j, which is -k grad T
 // for a linear field wherever sum_j g xi xi V_j = M2 I (the calibration above) [derived].
 //
@@ -83,9 +87,11 @@ void deposit_heat(System& s, std::size_t i, double energy);
 // (docs/models/heat.md, "Coupling").
 void commit_history_with_heat(System& s);
 
-// Advances s.heat.T by dt: forward Euler or backward Euler (the SPD system solved by a
-// matrix-free Jacobi-preconditioned conjugate gradient with exact grid-sum inner products,
-// the same algorithm and bits serially and on any number of MPI ranks: heat.cpp).
+// Advances s.heat.T by dt: forward Euler, backward Euler or the steady state at the new
+// time (the SPD system solved by a matrix-free Jacobi-preconditioned conjugate gradient
+// with exact grid-sum inner products, BiCGSTAB with the improved quadrature's
+// non-symmetric rows; the same algorithm and bits serially and on any number of MPI
+// ranks: heat.cpp).
 // Prescribed temperatures take their value at the new time; the heat each boundary brings
 // in is added to its HeatBoundary::heat (temperature conditions: what the conduction
 // carries out of their particles plus the change of their own content).
@@ -100,6 +106,10 @@ class HeatSolver {
   HeatIntegration integration() const { return integration_; }
   // Conjugate-gradient iterations of the last backward-Euler step (0 for forward Euler).
   int iterations() const;
+  // The heat the boundaries moved so far, particle by particle in absolute value [J]: the
+  // scale of the heat balance where their net is small (a steady solve's inflow and
+  // outflow through one boundary).
+  double moved() const { return moved_; }
 
  private:
   struct Implicit;
@@ -109,6 +119,7 @@ class HeatSolver {
   HeatIntegration integration_;
   std::unique_ptr<Implicit> implicit_;
   std::vector<double> rate_, old_;
+  double moved_ = 0;
 };
 
 // Prescribed temperatures at time t (the run's start, and after each step).

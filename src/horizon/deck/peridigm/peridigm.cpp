@@ -54,6 +54,11 @@ struct Translation {
   YAML::Node out;
   std::optional<Item> horizon_item;
   bool several_horizons = false;  // block groups of different horizons, or one that varies in space
+  // Diffusion materials (read_material): the first one's Material Model item, and whether
+  // they ask for the improved quadrature (every one alike: it is the thermal section's).
+  std::optional<Item> diffusion_item;
+  std::optional<bool> improved_quadrature;
+  std::optional<Item> mechanical_item;  // the first material with mechanics
 };
 
 // Numbers as their shortest exact decimal text (reads back to the same double).
@@ -205,19 +210,26 @@ YAML::Node read_material(Translation& t, const Item& item) {
   const std::string model = read_string(t.ctx, model_item);
   const std::string w = squash(model);
   if (w == "diffusion") {
-    // Peridigm's Diffusion material is Horizon's conduction operator: its Flux_Divergence in
-    // SimpleImplicitDiffusion's gold is sum_j kappa (T_j - T_i)/|xi| V_j with kappa =
-    // 6 k/(pi delta^4), k = Coefficient, at every prescribed point to 1e-15 (docs/peridigm.md),
-    // Horizon's inverse kernel with the continuum calibration. What its decks also need is
-    // not there: the ImplicitDiffusion solver's steady solve at each load step (Horizon's
-    // heat solver integrates rho c dT/dt), Exodus output of heat-only runs with
-    // Flux_Divergence, a material without mechanics, and the improved quadrature's per-point
-    // weights.
-    t.ctx.fail(model_item.mark, model_item.path + ": the Diffusion material is not read yet: its decks' steady "
-                                                  "ImplicitDiffusion solve, Exodus output of heat-only runs "
-                                                  "(Flux_Divergence) and materials without mechanics are not in "
-                                                  "Horizon (docs/peridigm.md)");
+    // Peridigm's Diffusion material is Horizon's heat conduction without mechanics (a
+    // material of heat alone, docs/input.md): its Flux_Divergence in SimpleImplicitDiffusion's
+    // gold is sum_j kappa (T_j - T_i)/|xi| V_j with kappa = 6 k/(pi delta^4), k = Coefficient,
+    // at every prescribed point to 1e-15 (docs/peridigm.md): Horizon's inverse kernel with the
+    // continuum calibration, conductivity k. Use Improved Quadrature: Horizon's improved
+    // quadrature (thermal.quadrature, the optimisation-based weights of Trask, You, Yu and
+    // Parks 2019 that the material's option names).
+    MapReader d(t.ctx, item, {"Material Model", "Coefficient", "Use Improved Quadrature"});
+    YAML::Node mat;
+    mat["thermal"]["conductivity"] = number(read_positive(t.ctx, d.get("Coefficient", "the diffusion coefficient k")));
+    bool improved = false;
+    if (auto q = d.find("Use Improved Quadrature")) improved = read_bool(t.ctx, *q);
+    if (t.improved_quadrature && *t.improved_quadrature != improved)
+      t.ctx.fail(model_item.mark, model_item.path + ": Diffusion materials that differ in Use Improved Quadrature are "
+                                                    "not supported (Horizon's quadrature is the deck's thermal section's)");
+    t.improved_quadrature = improved;
+    if (!t.diffusion_item) t.diffusion_item = model_item;
+    return mat;
   }
+  if (!t.mechanical_item) t.mechanical_item = model_item;
   for (const char* k : {"Coefficient", "Use Improved Quadrature"})
     if (auto it = m.find(k))
       t.ctx.fail(*it->key_mark, it->path + ": a parameter of Material Model 'Diffusion' only");
@@ -661,7 +673,8 @@ void read_adaptive_load_stepping(const DeckContext& ctx, const Item& item, Solve
 Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
   MapReader s(ctx, item,
               {"Verbose", "Initial Time", "Final Time", "Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit",
-               "Peridigm Preconditioner", "Initialize Predictor From Previous Solver"});
+               "ImplicitDiffusion", "Peridigm Preconditioner", "Initialize Predictor From Previous Solver",
+               "Solve For Displacement", "Solve For Temperature", "Solve For Pressure"});
   if (auto v = s.find("Verbose")) read_bool(ctx, *v);
   t0 = 0;
   if (auto i = s.find("Initial Time")) {
@@ -683,9 +696,45 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
   // Whether Peridigm's Newton starts from the previous solver's last increment: the
   // equilibrium it converges to is the same. Read, no effect.
   if (auto p = s.find("Initialize Predictor From Previous Solver")) read_bool(ctx, *p);
-  r.method = *s.exactly_one({"Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit"}, true);
+  r.method = *s.exactly_one({"Verlet", "QuasiStatic", "NOXQuasiStatic", "Implicit", "ImplicitDiffusion"}, true);
   const Item mi = *s.find(r.method);
   YAML::Node& solver = r.solver;
+  // What the solver solves for (Peridigm's multiphysics switches; default: displacement
+  // alone). The ImplicitDiffusion solver solves for the temperature alone; the others for
+  // the displacement alone (temperature and pressure with it: Peridigm's Multiphysics, not
+  // mapped).
+  const bool diffusion = r.method == "ImplicitDiffusion";
+  for (const char* k : {"Solve For Displacement", "Solve For Temperature", "Solve For Pressure"}) {
+    const auto f = s.find(k);
+    if (!f) continue;
+    const bool on = read_bool(ctx, *f);
+    const std::string key = k;
+    const bool wanted = key == "Solve For Displacement" ? !diffusion : key == "Solve For Temperature" ? diffusion : false;
+    if (on != wanted)
+      ctx.fail(f->mark, f->path + ": " + (on ? "true" : "false") + " is not supported with the " + r.method +
+                            " solver (" + (diffusion ? "it solves for the temperature alone" :
+                                                       "it solves for the displacement alone; a coupled solve, "
+                                                       "Peridigm's Multiphysics, is not mapped") + ")");
+  }
+  if (diffusion) {
+    // Peridigm's ImplicitDiffusion: a steady solve of the diffusion at each of its load
+    // steps' times (its gold's free points have no flux divergence): Horizon's heat run with
+    // thermal.integration: steady, one step per load step (docs/peridigm.md).
+    MapReader v(ctx, mi, {"Number of Load Steps", "Relative Tolerance", "Absolute Tolerance", "Maximum Solver Iterations"});
+    solver["type"] = "heat";
+    if (auto n = v.find("Number of Load Steps")) {
+      r.load_steps = read_int(ctx, *n);
+      if (r.load_steps < 1) fail_expected(ctx, *n, "a whole number >= 1");
+    }
+    // Horizon's heat solve runs to round-off; the tolerances and iterations are read only.
+    for (const char* k : {"Relative Tolerance", "Absolute Tolerance"})
+      if (auto f = v.find(k)) read_positive(ctx, *f);
+    if (auto i = v.find("Maximum Solver Iterations"); i && read_int(ctx, *i) < 1)
+      fail_expected(ctx, *i, "a whole number >= 1");
+    r.fixed_dt = (r.end_time - t0) / r.load_steps;
+    solver["time_step"] = number(*r.fixed_dt);
+    return r;
+  }
   if (r.method == "Verlet") {
     MapReader v(ctx, mi, {"Fixed dt", "Safety Factor"});
     solver["type"] = "explicit";
@@ -786,7 +835,9 @@ Solve read_solvers(const DeckContext& ctx, const std::vector<std::string>& keys,
     double t0 = 0;
     Solve sv = read_solver_list(ctx, item, t0);
     const MapReader s(ctx, item, {"Verbose", "Initial Time", "Final Time", "Verlet", "QuasiStatic", "NOXQuasiStatic",
-                                   "Implicit", "Peridigm Preconditioner", "Initialize Predictor From Previous Solver"});
+                                   "Implicit", "ImplicitDiffusion", "Peridigm Preconditioner",
+                                   "Initialize Predictor From Previous Solver", "Solve For Displacement",
+                                   "Solve For Temperature", "Solve For Pressure"});
     const Item at = s.find("Initial Time") ? *s.find("Initial Time") : item;
     if (first_key.empty()) {
       if (t0 != 0) ctx.fail(at.mark, at.path + ": only 0 is supported (Horizon's runs start at t = 0)");
@@ -975,6 +1026,7 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density", "Hourglass_Force_Density",
         "Left_Stretch_Tensor", "Rotation_Tensor", "Shape_Tensor_Inverse", "Unrotated_Rate_Of_Deformation",
         "Cauchy_Stress", "Unrotated_Cauchy_Stress", "Von_Mises_Stress", "Temperature", "Temperature_Change",
+        "Flux_Divergence",
         "Dilatation_Normalization", "Deviatoric_Normalization",
         "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2", "Lagrange_Multiplier_Dilatation_3",
         "Lagrange_Multiplier_Dilatation_4", "Lagrange_Multiplier_Dilatation_5", "Lagrange_Multiplier_Dilatation_6",
@@ -1033,7 +1085,8 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
       }
       // Lambda (elastic_plastic's plastic multiplier) and Deformation_Gradient are written
       // where asked (output.exodus_files' variables, driver/exodus_output.hpp).
-      if (read_bool(ctx, e.value) && (e.key == "Lambda" || e.key == "Contact_Force_Density" || e.key == "Horizon"))
+      if (read_bool(ctx, e.value) && (e.key == "Lambda" || e.key == "Contact_Force_Density" || e.key == "Horizon" ||
+                                      (e.key == "Flux_Divergence" && solve.method == "ImplicitDiffusion")))
         variables.push_back(e.key);
       // The models' fields under Peridigm's names (Hourglass_Force_Density, Cauchy_Stress,
       // ...; deck/exodus_variables.hpp), 0 at particles whose model has none.
@@ -1093,14 +1146,16 @@ bool is_peridigm_deck(const YAML::Node& root) {
 
 YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   DeckContext ctx{file, 3, PlaneMode::none, nullptr};
-  Translation t{ctx, fs::path(file).parent_path(), {}, 0, YAML::Node(YAML::NodeType::Map), std::nullopt};
+  Translation t{ctx, fs::path(file).parent_path(), {}, 0, YAML::Node(YAML::NodeType::Map), std::nullopt,
+                false, std::nullopt, std::nullopt, std::nullopt};
   const Item top{root, "", root.Mark(), std::nullopt};
   MapReader outer(ctx, top, {"Peridigm"});
   const Item pd = outer.get("Peridigm", "the deck");
   // Peridigm reads each top-level list whose name starts with "Solver" as a solver and each
   // one whose name starts with "Output" as an output list (Solver1, Output_1, Output Data).
   std::vector<std::string> top_keys = {"Verbose", "Discretization", "Materials", "Damage Models", "Blocks",
-                                       "Boundary Conditions", "Contact", "Compute Class Parameters", "Restart"};
+                                       "Boundary Conditions", "Contact", "Compute Class Parameters", "Restart",
+                                       "Multiphysics"};
   std::vector<std::string> solver_keys, output_keys;
   for (const auto& e : map_entries(ctx, pd)) {
     if (e.key.rfind("Solver", 0) == 0) solver_keys.push_back(e.key), top_keys.push_back(e.key);
@@ -1110,6 +1165,10 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   MapReader m(ctx, pd, top_keys);
   if (solver_keys.empty()) m.get("Solver", "Initial Time, Final Time and one of Verlet, QuasiStatic, NOXQuasiStatic, Implicit");
   if (auto v = m.find("Verbose")) read_bool(ctx, *v);
+  if (auto mp = m.find("Multiphysics"))
+    ctx.fail(*mp->key_mark, mp->path + ": Peridigm's Multiphysics (a fluid pressure field coupled to the mechanics: "
+                                       "Multiphysics Elastic, Solve For Pressure, Prescribed Fluid Pressure U) is not "
+                                       "supported (docs/peridigm.md, \"Models and options not mapped yet\")");
   if (auto r = m.find("Restart")) {
     // Peridigm's Restart (Contact_Perforation_With_Restart's Run1, Run2): the run writes its
     // state at its end into ./restart-N/, and a later deck whose Initial Time is that end
@@ -1259,7 +1318,9 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
     t.horizon = g.horizon ? *g.horizon : 0;
     YAML::Node mat = read_material(t, materials.at(g.material));
     t.horizon = largest;
-    mat["influence"] = influence;
+    if (mat["model"]) mat["influence"] = influence;  // (a Diffusion material has no mechanics)
+    if (!mat["model"] && g.damage_item)
+      ctx.fail(g.damage_item->mark, g.damage_item->path + ": a block of a Diffusion material has no mechanics to damage");
     if (g.damage_item) {
       check_reference(ctx, *g.damage_item, g.damage, damage_names, "damage model");
       const YAML::Node damage = read_damage(t, damages.at(g.damage));
@@ -1492,11 +1553,18 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   // false) where no Diffusion material conducts it; it strains the materials with a
   // Thermal Expansion Coefficient (read_material).
   bool expands = false;
-  for (const auto& mt : mats) expands = expands || mt.second["thermal"];
-  if (expands || !temperatures.empty()) {
+  for (const auto& mt : mats) expands = expands || (mt.second["model"] && mt.second["thermal"]);
+  // Diffusion materials conduct (heat alone: Horizon's solver.type heat, docs/peridigm.md).
+  const bool diffusion = t.diffusion_item.has_value();
+  if (diffusion && t.mechanical_item)
+    ctx.fail(t.mechanical_item->mark, t.mechanical_item->path + ": a mechanical material in a deck with a Diffusion "
+                                                                "material (heat and mechanics in one run, Peridigm's "
+                                                                "Multiphysics) is not supported");
+  if (expands || !temperatures.empty() || diffusion) {
     YAML::Node thermal;
-    thermal["conduction"] = false;
+    if (!diffusion) thermal["conduction"] = false;
     thermal["initial_temperature"] = 0;
+    if (diffusion && t.improved_quadrature.value_or(false)) thermal["quadrature"] = "improved";
     for (const auto& k : temperatures) {
       if (k.initial) {
         thermal["initial_temperature"] = k.value;
@@ -1521,6 +1589,13 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   // are one run cut in pieces (the same method and options, each starting where the last
   // ended, with the same step) become that one run (read_solvers).
   const Solve solve = read_solvers(ctx, solver_keys, m);
+  if (diffusion && solve.method != "ImplicitDiffusion")
+    ctx.fail(t.diffusion_item->mark, t.diffusion_item->path + ": a Diffusion material runs with the ImplicitDiffusion "
+                                                               "solver only (this deck's is " + solve.method + ")");
+  if (!diffusion && solve.method == "ImplicitDiffusion")
+    ctx.fail(m.find(solver_keys.front())->mark, solver_keys.front() + ": the ImplicitDiffusion solver needs a "
+                                                                      "Diffusion material");
+  if (diffusion) out["thermal"]["integration"] = "steady";
   if (solve.static_stage) {
     // Peridigm's QuasiStatic solver, then Verlet: the native list of two stages.
     YAML::Node stages(YAML::NodeType::Sequence);
