@@ -127,6 +127,142 @@ TEST(CorrespondencePeridigm, HypoelasticJ2Return) {
   EXPECT_TRUE(yielded);
 }
 
+// The trial von Mises stress and deviator of a step (no rotation: r.d is the rate).
+double trial_q(const classical::Elastic& c, const classical::HypoState& n, const classical::HypoResult& r, double dt) {
+  const Mat3 tr = n.sigma_u + dt * (c.lambda * r.d.trace() * Mat3::Identity() + 2 * c.mu * r.d);
+  const Mat3 tdev = tr - tr.trace() / 3 * Mat3::Identity();
+  return std::sqrt(1.5 * (tdev.array() * tdev.array()).sum());
+}
+double von_mises(const Mat3& sigma) {
+  const Mat3 dev = sigma - sigma.trace() / 3 * Mat3::Identity();
+  return std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+}
+
+// Peridigm's return (plastic_return peridigm) under uniaxial strain, a coaxial path: the
+// estimate Delta lambda gives y = sigma_0 + H alpha_n + H (q_tr - sigma_0)/(H + 3 mu) (its
+// hardening increment measured from sigma_0, not from y_n: the work form lands on
+// y_n + H Delta alpha instead), q = y, and the projected plastic strain increment is
+// (q_tr^2 - y^2)/(6 mu q_tr). With H = 0 both forms agree.
+TEST(CorrespondencePeridigm, PeridigmHardeningReturn) {
+  const double nu = 0.3, sy = 460e6, H = 5e9;
+  const classical::Elastic c = classical::elastic_from_bulk_shear(kE / (3 * (1 - 2 * nu)), kE / (2 * (1 + nu)));
+  classical::HypoState n, trial, nw, tw;
+  int plastic = 0;
+  for (int s = 1; s <= 40; ++s) {
+    double work = 0;
+    const auto r = classical::hypoelastic_step(c, sy, H, n, stretch_y(1 + 1e-4 * s), 1.0, trial, work, nullptr,
+                                               classical::PlasticReturn::peridigm);
+    const double qt = trial_q(c, n, r, 1.0), q = von_mises(trial.sigma_u);
+    if (qt >= sy) {
+      const double y = sy + H * n.alpha + H * (qt - sy) / (H + 3 * c.mu);
+      if (qt > y) {
+        ++plastic;
+        EXPECT_NEAR(q, y, 1e-9 * sy) << s;
+        EXPECT_NEAR(trial.alpha - n.alpha, (qt * qt - y * y) / (6 * c.mu * qt), 1e-13) << s;
+        EXPECT_GT(work, 0.0);
+      }
+    } else {
+      EXPECT_NEAR(q, qt, 1e-6) << s;
+      EXPECT_EQ(trial.alpha, n.alpha);
+    }
+    n = trial;
+    // H = 0: the peridigm and work forms give the same stress and plastic strain.
+    classical::HypoState t0;
+    double w0 = 0, w1 = 0;
+    const auto a = classical::hypoelastic_step(c, sy, 0, nw, stretch_y(1 + 1e-4 * s), 1.0, t0, w0, nullptr,
+                                               classical::PlasticReturn::peridigm);
+    const auto b = classical::hypoelastic_step(c, sy, 0, nw, stretch_y(1 + 1e-4 * s), 1.0, tw, w1);
+    EXPECT_LT((a.law.sigma - b.law.sigma).norm(), 1e-6);
+    EXPECT_NEAR(t0.alpha, tw.alpha, 1e-15);
+    nw = tw;
+  }
+  EXPECT_GT(plastic, 5);  // yield near the 30th step
+  // The peridigm form hardens more than the work form at the same strain (its increment
+  // is measured from sigma_0): the von Mises stress of the 40th step is above y_n + H da.
+  EXPECT_GT(von_mises(n.sigma_u), sy + H * n.alpha);
+}
+
+// Needleman's viscoplastic law (stress_law viscoplastic_needleman) driven at a constant
+// rate in uniaxial strain. Without strain hardening (N = 0, eps_1 large) the flow stress
+// settles to the power law of the rate, q = sigma_0 (eps_dot / eps_dot_0)^m with eps_dot =
+// (2/3) d_yy, the equivalent deviatoric rate, once the elastic transient (m q/(3 mu) of
+// strain) is past: to the bisection's 1e-6 (times m). Two rates a decade apart: q ratio
+// 10^m. With m = 0 the flow stress is the hardening function of the plastic strain,
+// sigma_0 (1 + alpha/eps_0)^N / (1 + (alpha/eps_1)^2) (Needleman 1988).
+double needleman_final_q(double rate, const classical::Needleman& nm, double& alpha, double& d_yy) {
+  const double nu = 0.3, sy = 460e6, dt = 1e-3;
+  const classical::Elastic c = classical::elastic_from_bulk_shear(kE / (3 * (1 - 2 * nu)), kE / (2 * (1 + nu)));
+  classical::HypoState n, trial;
+  double q = 0;
+  for (int s = 1; s <= 3000; ++s) {
+    double work = 0;
+    const auto r = classical::hypoelastic_step(c, sy, 0, n, stretch_y(1 + rate * dt * s), dt, trial, work, nullptr,
+                                               classical::PlasticReturn::needleman, nm);
+    q = von_mises(r.law.sigma);
+    d_yy = r.d(1, 1);
+    n = trial;
+  }
+  alpha = n.alpha;
+  return q;
+}
+
+TEST(CorrespondencePeridigm, NeedlemanRateControlledFlowStress) {
+  const double sy = 460e6;
+  classical::Needleman nm;
+  nm.N = 0;
+  nm.m = 0.05;
+  nm.rate0 = 1e-3;
+  nm.eps0 = 0.00218;
+  nm.eps1 = 1e6;  // no softening
+  // The tolerance: q drifts as d = D/F_yy falls, m q/(2 mu) of the rate goes to the
+  // elastic part: 1.6e-4 of the rate, m times that of q.
+  double alpha = 0, d1 = 0, d2 = 0;
+  const double q1 = needleman_final_q(5e-3, nm, alpha, d1);  // 1.5 % strain
+  EXPECT_GT(alpha, 0.005);
+  EXPECT_NEAR(q1, sy * std::pow((2.0 / 3.0) * d1 / nm.rate0, nm.m), 3e-5 * sy);
+  const double q2 = needleman_final_q(5e-2, nm, alpha, d2);  // 15 %
+  EXPECT_NEAR(q2, sy * std::pow((2.0 / 3.0) * d2 / nm.rate0, nm.m), 3e-5 * sy);
+  EXPECT_NEAR(q2 / q1, std::pow(d2 / d1, nm.m), 3e-5);
+  EXPECT_GT(q2 / q1, 1.1);
+  double d = 0;
+
+  // Rate independent (m = 0): the hardening function of the plastic strain.
+  nm.m = 0;
+  nm.N = 0.1;
+  nm.eps1 = 0.436;
+  const double q3 = needleman_final_q(5e-3, nm, alpha, d);
+  const double g = sy * std::pow(1 + alpha / nm.eps0, nm.N) / (1 + (alpha / nm.eps1) * (alpha / nm.eps1));
+  EXPECT_GT(alpha, 0.005);
+  EXPECT_NEAR(q3, g, 1e-6 * g);  // alpha* = alpha_n + (q_tr - y)/(3 mu) against alpha_n+1
+}
+
+// The rate form with a thermal strain (Peridigm's Elastic Correspondence): a free
+// expansion whose steps have dt d = Delta eps_th I (F_n+1 = F_n / (1 - Delta eps_th)) is
+// stress-free and V = (1 + Delta eps_th)^n (ThermalExpansionCubeElasticCorrespondence's
+// gold: 1.001^10 = 1.0100451202102523); held at F = I, the pressure is -3 K eps_th.
+TEST(CorrespondencePeridigm, HypoelasticThermalStrain) {
+  const classical::Elastic c = classical::elastic_from_bulk_shear(130e9, 78e9);
+  classical::HypoState free_n, held_n, trial;
+  double F = 1;
+  for (int s = 1; s <= 10; ++s) {
+    F /= 1 - 1e-3;
+    const double eps = 1e-3 * s;
+    double work = 0;
+    const auto r = classical::hypoelastic_step(c, 0, 0, free_n, F * Mat3::Identity(), 360.0, trial, work, nullptr,
+                                               classical::PlasticReturn::work, {}, eps);
+    EXPECT_LT(r.law.sigma.norm(), 1e-3) << s;  // against stresses of 3 K eps = 4e8 Pa
+    EXPECT_NEAR(trial.V(0, 0), std::pow(1.001, s), 1e-14);
+    EXPECT_NEAR(r.d(2, 2), 1e-3 / 360.0, 1e-16);
+    free_n = trial;
+    const auto h = classical::hypoelastic_step(c, 0, 0, held_n, Mat3::Identity(), 360.0, trial, work, nullptr,
+                                               classical::PlasticReturn::work, {}, eps);
+    EXPECT_NEAR(h.law.sigma(0, 0), -3 * 130e9 * eps, 1e-6 * 130e9 * eps);
+    EXPECT_NEAR(h.law.sigma(0, 1), 0.0, 1e-6);
+    held_n = trial;
+  }
+  EXPECT_NEAR(free_n.V(1, 1), 1.0100451202102523, 1e-14);
+}
+
 TEST(CorrespondencePeridigm, FlawYieldFactor) {
   correspondence::Flaw f;
   f.on = true;

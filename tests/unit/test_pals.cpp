@@ -210,8 +210,10 @@ void check_gradient(const std::string& model) {
 TEST(Pals, ForceIsMinusGradientOfEnergy) { check_gradient("pals"); }
 
 // PALS takes the scalar general pass (ModelTraits::ordinary, force_row); its forces and
-// energies are the vector pass's (force_state) bit for bit, on 1 and 2 threads.
-TEST(Pals, ScalarPassIsTheVectorPassBitForBit) {
+// energies are the vector pass's (force_state) up to the order of the sums (the pass adds
+// in the fast loops' eight lanes: material/models/ordinary_lanes.hpp), and the same bits
+// on 1 and 2 threads.
+TEST(Pals, ScalarPassIsTheVectorPassToRoundOff) {
   const BlockSpec b = cube(5);
   System s = test::make_block(b, material("pals"));
   test::Rng rng(11);
@@ -227,12 +229,19 @@ TEST(Pals, ScalarPassIsTheVectorPassBitForBit) {
     return std::make_pair(s.particles.f, s.particles.energy);
   };
   const auto ref = forces(true, 1), fast = forces(false, 1), two = forces(false, 2);
+  double fmax = 0, wmax = 0;
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    fmax = std::max(fmax, norm(ref.first[i]));
+    wmax = std::max(wmax, std::abs(ref.second[i]));
+  }
+  ASSERT_GT(fmax, 0);
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     for (int a = 0; a < 3; ++a) {
-      EXPECT_EQ(fast.first[i][a], ref.first[i][a]) << "particle " << i;
-      EXPECT_EQ(two.first[i][a], ref.first[i][a]) << "particle " << i;
+      EXPECT_NEAR(fast.first[i][a], ref.first[i][a], 1e-12 * fmax) << "particle " << i;
+      EXPECT_EQ(two.first[i][a], fast.first[i][a]) << "particle " << i;
     }
-    EXPECT_EQ(fast.second[i], ref.second[i]);
+    EXPECT_NEAR(fast.second[i], ref.second[i], 1e-12 * wmax);
+    EXPECT_EQ(two.second[i], fast.second[i]);
   }
 }
 TEST(LinearLps, ForceIsMinusGradientOfEnergy) { check_gradient("linear_lps"); }

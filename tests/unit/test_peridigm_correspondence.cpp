@@ -100,11 +100,55 @@ TEST(PeridigmCorrespondence, ImportMapsToTheRateFormAndTheHourglassForce) {
                                .begin()
                                ->second;
   EXPECT_EQ(f["stress_law"].as<std::string>(), "hypoelastic_j2");
+  EXPECT_EQ(f["plastic_return"].as<std::string>(), "peridigm");
   EXPECT_DOUBLE_EQ(f["flaw_x"].as<double>(), 0.25);
   EXPECT_DOUBLE_EQ(f["flaw_y"].as<double>(), 0.5);
   EXPECT_DOUBLE_EQ(f["flaw_z"].as<double>(), -1.0);
   EXPECT_DOUBLE_EQ(f["flaw_size"].as<double>(), 0.2);
   EXPECT_DOUBLE_EQ(f["flaw_magnitude"].as<double>(), 0.5);
+}
+
+// Viscoplastic Needleman Correspondence: its keys map to stress_law viscoplastic_needleman
+// (Needleman 1988's flow stress, classical/hypoelastic.hpp); a missing one is named.
+TEST(PeridigmCorrespondence, NeedlemanMapsToTheViscoplasticLaw) {
+  const fs::path dir = test_dir();
+  const std::string vp =
+      "      Material Model: \"Viscoplastic Needleman Correspondence\"\n      Density: 7800.0\n"
+      "      Young's Modulus: 211.0e9\n      Poisson's Ratio: 0.0\n      Hourglass Coefficient: 0.0\n"
+      "      Yield Stress: 460.0e6\n      Strain Hardening Exponent: 0.1\n      Rate Hardening Exponent: 0.01\n"
+      "      Reference Strain Rate: 0.001\n      Reference Strain 0: 0.00218\n      Reference Strain 1: 0.436\n"
+      "      Enable Flaw: true\n      Flaw Location X: 0.0\n      Flaw Location Y: 0.5\n"
+      "      Flaw Location Z: 0.0\n      Flaw Size: 0.751\n      Flaw Magnitude: 0.2\n";
+  const YAML::Node m =
+      YAML::Load(convert_peridigm_deck(write(dir / "vp.yaml", cube_deck(vp, "      Von_Mises_Stress: true\n"))))["materials"]
+          .begin()
+          ->second;
+  EXPECT_EQ(m["stress_law"].as<std::string>(), "viscoplastic_needleman");
+  EXPECT_DOUBLE_EQ(m["yield_stress"].as<double>(), 460e6);
+  EXPECT_DOUBLE_EQ(m["strain_hardening_exponent"].as<double>(), 0.1);
+  EXPECT_DOUBLE_EQ(m["rate_hardening_exponent"].as<double>(), 0.01);
+  EXPECT_DOUBLE_EQ(m["reference_strain_rate"].as<double>(), 0.001);
+  EXPECT_DOUBLE_EQ(m["reference_strain"].as<double>(), 0.00218);
+  EXPECT_DOUBLE_EQ(m["softening_strain"].as<double>(), 0.436);
+  EXPECT_DOUBLE_EQ(m["flaw_magnitude"].as<double>(), 0.2);
+  EXPECT_DOUBLE_EQ(m["flaw_y"].as<double>(), 0.5);
+  EXPECT_FALSE(m["hardening_modulus"]);
+  std::string missing = vp;
+  missing.erase(missing.find("      Reference Strain 1"), std::string("      Reference Strain 1: 0.436\n").size());
+  const std::string e = test::error_of(write(dir / "vp2.yaml", cube_deck(missing, "      Volume: true\n")));
+  EXPECT_NE(e.find("Reference Strain 1"), std::string::npos) << e;
+}
+
+// Elastic Correspondence with a Thermal Expansion Coefficient keeps its rate form.
+TEST(PeridigmCorrespondence, ExpandingElasticCorrespondenceKeepsTheRateForm) {
+  const fs::path dir = test_dir();
+  const std::string mat = std::string(kElasticCorrespondence) + "      Thermal Expansion Coefficient: 10.0e-6\n";
+  const YAML::Node m =
+      YAML::Load(convert_peridigm_deck(write(dir / "th.yaml", cube_deck(mat, "      Volume: true\n"))))["materials"]
+          .begin()
+          ->second;
+  EXPECT_EQ(m["stress_law"].as<std::string>(), "hypoelastic");
+  EXPECT_DOUBLE_EQ(m["thermal"]["expansion"].as<double>(), 10e-6);
 }
 
 TEST(PeridigmCorrespondence, UniaxialStrainFollowsTheRateForm) {

@@ -93,9 +93,16 @@ std::vector<uint32_t> region_particles(const Config& config, const System& s, co
 }
 
 double layer_depth(const System& s, const std::vector<uint32_t>& ids, int axis) {
+  // Layers are counted from the region's lowest coordinate: X / h alone sits on a half
+  // integer for a lattice at (k + 1/2) h, where rounding sends neighbouring layers to the
+  // same integer (a bar of 100 layers counted 97).
+  const bool local = s.decomposition && s.decomposition->local_particles;
+  double lo = 1e300;
+  for (uint32_t i : ids) lo = std::min(lo, s.particles.X[i][axis]);
+  if (local) lo = min_over_ranks(lo);  // collective: every rank calls it
   std::set<int64_t> layers;
-  for (uint32_t i : ids) layers.insert(std::llround(s.particles.X[i][axis] / s.spacing));
-  if (s.decomposition && s.decomposition->local_particles) {
+  for (uint32_t i : ids) layers.insert(std::llround((s.particles.X[i][axis] - lo) / s.spacing));
+  if (local) {
     // Local particles (parallel/decomposition.hpp): the layers of every rank (collective).
     std::vector<double> mine;
     for (int64_t l : layers) mine.push_back(static_cast<double>(l));

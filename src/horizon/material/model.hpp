@@ -154,6 +154,7 @@ struct RowPass {
   double* energy = nullptr;          // per particle: W_i [J/m^3]; null when not asked
   double time = 0;                   // the time of this deformation
   double dt = 0;                     // time since the committed state
+  const Point4* kinds = nullptr;     // per bond kind {|xi|, omega, omega V_j, V_j} (System::model.kind_rows)
 };
 
 // One evaluation of the affine general pass (ModelTraits::affine), as a model sees it: for

@@ -660,9 +660,10 @@ std::size_t bytes_per_bond(const System& s) {
   return per_bond;
 }
 // The kinds: their reference data (family/bonds.hpp) and the force loops' tables
-// (ModelCoefficients: KindCoefficients and the two records of the state-based passes).
+// (ModelCoefficients: KindCoefficients, the two records of the state-based passes and the
+// ordinary rows' record, kind_rows).
 std::size_t kind_bytes(const System& s) {
-  return s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients) + 2 * sizeof(Point4));
+  return s.bonds.kinds.size() * (sizeof(BondKind) + sizeof(KindCoefficients) + 3 * sizeof(Point4));
 }
 }  // namespace
 

@@ -10,10 +10,15 @@
 //      with q = t/|Y| (seed 003 eq. 33 with T = t M, digest sec. 9), q_ji read through the
 //      reverse-bond index (8 bytes, where the vector form gathers 24), and the contact.
 //
-// It computes the forces of the vector form bit for bit: T_ij - T_ji = q_ij Y - q_ji (-Y)
-// is q_ij Y + q_ji Y in every component, and |Y|, e, theta are the same expressions in the
-// same order. Only the energy booked for a bond broken in the pass differs, by the
-// bond's rotation in one step (material/models/history_ledger.hpp broken_bond_booking).
+// On AVX-512 machines both sweeps and the models' rows run in the fast loops' eight lanes
+// (material/models/ordinary_lanes.hpp): the dilatation, the force and the models' row sums
+// add in the lanes' order, so the forces differ from the vector form's bond-order sums by
+// round-off (tests/verification/test_ordinary_pass.cpp: 1e-12 after 40 steps of a breaking
+// impact) and are the same bits on every thread and rank count. Elsewhere the sweeps and
+// rows run in bond order, the vector form's bits (break_row and the scalar sum below). Per bond,
+// T_ij - T_ji = q_ij Y - q_ji (-Y) is q_ij Y + q_ji Y in every component, and |Y|, e are
+// the same expressions. The energy booked for a bond broken in the pass differs from the
+// vector form's by the bond's rotation in one step (history_ledger.hpp broken_bond_booking).
 // A bond's row and the reverse bond's row decide its breaking alike (the same stretch
 // bits), so a model's row reads only its own bonds' flags: the rows need no order.
 #include <cmath>
@@ -24,6 +29,7 @@
 #endif
 
 #include "horizon/kernels/unified.hpp"
+#include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/forces_general.hpp"
 
@@ -31,17 +37,20 @@ namespace horizon {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 bool g_reference = false;
-
-// How far ahead the sum asks for the reverse bond's force state (bonds).
-constexpr uint64_t kPrefetch = 64;
 
 // The free thermal extension eps_ij |xi| of bond i-j (solver/forces_general.cpp).
 inline double thermal_extension(const double* eps, std::size_t i, std::size_t j, double length) {
   return eps ? 0.5 * (eps[i] + eps[j]) * length : 0.0;
 }
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// How far ahead the scalar sum asks for the reverse bond's force state (bonds).
+constexpr uint64_t kPrefetch = 64;
+
+// --- The sweeps in bond order, without the lanes (material/models/ordinary_lanes.hpp
+// wide(): machines without AVX-512). ---
 
 // a < b ? a : b, kept in a vector register: written so, the compiler moved the row's
 // smallest stretch through an integer register and a conditional move every bond, a
@@ -170,8 +179,17 @@ uint64_t ordinary_forces(System& s, bool energy) {
   if (energy)
     for (std::size_t i = 0; i < n; ++i) P.energy[i] = 0;
 
-  const RowPass pass{s, M.packed.data(), M.deformed_length.data(), M.force_scalar.data(),
-                     energy ? P.energy.data() : nullptr, s.time, s.dt};
+  // The kinds' records of the models' rows (System::model.kind_rows), built once after the
+  // kinds are: {|xi|, omega, omega V_j, V_j}.
+  if (M.kind_rows.size() != B.kinds.size()) {
+    M.kind_rows.resize(B.kinds.size());
+    for (std::size_t q = 0; q < B.kinds.size(); ++q) {
+      const BondKind& bk = B.kinds[q];
+      M.kind_rows[q] = {M.kind[q].length, bk.weight, M.kind[q].wv, bk.volume * bk.fraction};
+    }
+  }
+  const RowPass pass{s,      M.packed.data(), M.deformed_length.data(), M.force_scalar.data(),
+                     energy ? P.energy.data() : nullptr, s.time, s.dt, M.kind_rows.data()};
   // Per material: its model when it takes rows, null for a unified one (kept between
   // passes: no allocation in a step).
   static thread_local std::vector<Model*> row_model;
@@ -183,11 +201,40 @@ uint64_t ordinary_forces(System& s, bool energy) {
     }
   Model* const* model_of = row_model.data();  // (the threads of the loop below see this thread's vector)
 
+  // The two bond sweeps in the models' lanes (material/models/ordinary_lanes.hpp).
+  lanes::Sweep sw;
+  sw.pt = M.packed.data();
+  sw.kind_dilatation = M.kind_dilatation.data();
+  sw.kinds = M.kind_rows.data();
+  sw.kc = M.kind.data();
+  sw.nbr = B.nbr.data();
+  sw.kind = B.kind.data();
+  sw.offset = B.offset.data();
+  sw.rev = M.reverse.data();
+  sw.intact = B.intact.data();
+  sw.deformed = M.deformed_length.data();
+  sw.q = M.force_scalar.data();
+  sw.intact_weight = M.intact_weight.data();
+  sw.eps = eps;
+  sw.soft = soft;
+  sw.total = nb;
+  sw.after = after;
+  // Without the short-range contact between family pairs every kind's contact distance is
+  // 0 (state/kind_coefficients.cpp), and family_contact would only say so, bond by bond.
+  sw.contact = s.contact.acts_on_family();
+
+  const bool wide = lanes::wide();
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
-    const RowOut o = break_row(s, i, after, eps, soft);
+    lanes::BreakOut o;
+    if (wide) {
+      o = lanes::break_row(sw, i);
+    } else {
+      const RowOut r = break_row(s, i, after, eps, soft);
+      o = {r.smin, r.lost, r.dilatation, r.broken};
+    }
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
     if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
@@ -199,6 +246,15 @@ uint64_t ordinary_forces(System& s, bool energy) {
       unified_row(s, i, o.dilatation, eps, pass.energy);
   }
 
+  if (wide) {
+#pragma omp parallel for schedule(static)
+  for (std::size_t a = 0; a < rows; ++a) {
+    const std::size_t i = act ? (*act)[a] : a;
+    const lanes::SumOut o = lanes::sum_row(sw, i);
+    P.f[i] = {o.fx, o.fy, o.fz};
+    if (energy) P.energy[i] += o.w;
+  }
+  } else {
   const Point4* pt = M.packed.data();
   const double* q = M.force_scalar.data();
   const uint64_t* rev = M.reverse.data();
@@ -207,9 +263,7 @@ uint64_t ordinary_forces(System& s, bool energy) {
   const uint8_t* intact = B.intact.data();
   const BondKind* kinds = B.kinds.data();
   const KindCoefficients* kc = M.kind.data();
-  // Without the short-range contact between family pairs every kind's contact distance is
-  // 0 (state/kind_coefficients.cpp), and family_contact would only say so, bond by bond.
-  const bool contact = s.contact.acts_on_family();
+  const bool contact = sw.contact;
 #pragma omp parallel for schedule(static)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
@@ -234,6 +288,7 @@ uint64_t ordinary_forces(System& s, bool energy) {
     }
     P.f[i] = f;
     if (energy) P.energy[i] += w;
+  }
   }
   if (after)
     for (std::size_t k = 0; k < nb; ++k)

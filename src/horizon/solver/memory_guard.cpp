@@ -26,7 +26,7 @@ namespace {
 constexpr double kBytesPerParticle = 512;
 constexpr double kBytesPerUnifiedBond = 17;
 constexpr double kBytesPerBond = 128;
-constexpr double kBytesPerKind = sizeof(BondKind) + sizeof(KindCoefficients) + 2 * sizeof(Point4);
+constexpr double kBytesPerKind = sizeof(BondKind) + sizeof(KindCoefficients) + 3 * sizeof(Point4);  // build.cpp kind_bytes
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 // Family offsets are counted one by one up to this radius [spacings]; beyond it the
 // count is the ball's volume over the cell (its error is below 1 % there).

@@ -71,6 +71,7 @@ void build_kind_tables(System& s, DamageMeasure measure) {
   // The kind records of the state-based passes, as their SIMD loops read them whole.
   M.kind_dilatation.resize(nk);
   M.kind_force.resize(nk);
+  M.kind_rows.clear();  // rebuilt from these by the scalar general pass (state/system.hpp)
   for (std::size_t q = 0; q < nk; ++q) {
     const KindCoefficients& c = M.kind[q];
     M.kind_dilatation[q] = {c.length, c.inv_length, c.wv, 0.0};

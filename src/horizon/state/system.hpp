@@ -108,6 +108,10 @@ struct ModelCoefficients {
   std::vector<KindCoefficients> kind;
   std::vector<Point4> kind_dilatation;  // per kind {L, 1/L, omega V_j, 0} (state-based pass 1)
   std::vector<Point4> kind_force;       // per kind {L, omega V_j, pair, d^2} (state-based pass 2)
+  // Per kind {L, omega, omega V_j, V_j}, as the ordinary models' rows read them
+  // (material/models/ordinary_lanes.hpp): filled by the scalar general pass when empty
+  // (solver/forces_ordinary.cpp), emptied whenever the kinds are built.
+  std::vector<Point4> kind_rows;
   // Scratch of the force pass: current positions packed with a per-particle value
   // (the critical stretch, then P), and the next min_stretch.
   std::vector<Point4> packed;

@@ -14,6 +14,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "horizon/core/error.hpp"
 #include "horizon/core/expression.hpp"
@@ -204,7 +205,9 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                    "Enable Flaw", "Flaw Location X", "Flaw Location Y", "Flaw Location Z",
                                    "Flaw Size", "Flaw Magnitude", "Plane Strain", "Plane Stress", "Height",
                                    "Coefficient", "Use Improved Quadrature", "Dilatation Influence Function",
-                                   "Deviatoric Influence Function"};
+                                   "Deviatoric Influence Function", "Strain Hardening Exponent",
+                                   "Rate Hardening Exponent", "Reference Strain Rate", "Reference Strain 0",
+                                   "Reference Strain 1"};
   MapReader m(t.ctx, item, keys);
   const Item model_item = m.get("Material Model", "Elastic, Elastic Bond Based, Elastic Plastic, ...");
   const std::string model = read_string(t.ctx, model_item);
@@ -316,20 +319,41 @@ YAML::Node read_material(Translation& t, const Item& item) {
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
-  } else if (w == "elasticplasticcorrespondence" || w == "isotropichardeningcorrespondence") {
+  } else if (w == "elasticplasticcorrespondence" || w == "isotropichardeningcorrespondence" ||
+             w == "viscoplasticneedlemancorrespondence") {
     // Correspondence with J2 plasticity (perfect, or with linear isotropic hardening) on
-    // the same rate form: stress_law hypoelastic_j2 (docs/peridigm.md).
+    // the same rate form: stress_law hypoelastic_j2 (docs/peridigm.md); Needleman's
+    // viscoplastic flow stress: stress_law viscoplastic_needleman.
     own = {"Hourglass Coefficient", "Yield Stress"};
     mat["model"] = "correspondence";
-    mat["stress_law"] = "hypoelastic_j2";
+    const bool needleman = w == "viscoplasticneedlemancorrespondence";
+    mat["stress_law"] = needleman ? "viscoplastic_needleman" : "hypoelastic_j2";
+    // Peridigm's own return (its hardened yield stress from its plastic-multiplier
+    // estimate: classical/hypoelastic.hpp), which the IsotropicHardening golds need.
+    if (!needleman) mat["plastic_return"] = "peridigm";
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     mat["yield_stress"] = read_positive(t.ctx, m.get("Yield Stress", "the yield stress [Pa]"));
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
-    if (w == "isotropichardeningcorrespondence") {
-      own.insert(own.end(), {"Hardening Modulus", "Enable Flaw", "Flaw Location X", "Flaw Location Y",
-                             "Flaw Location Z", "Flaw Size", "Flaw Magnitude"});
-      if (auto h = m.find("Hardening Modulus")) mat["hardening_modulus"] = read_non_negative(t.ctx, *h);
+    if (needleman) {
+      const std::tuple<const char*, const char*, const char*, bool> keys[] = {
+          {"Strain Hardening Exponent", "strain_hardening_exponent", "the strain hardening exponent N", false},
+          {"Rate Hardening Exponent", "rate_hardening_exponent", "the rate hardening exponent m", false},
+          {"Reference Strain Rate", "reference_strain_rate", "the reference strain rate [1/s]", true},
+          {"Reference Strain 0", "reference_strain", "the reference strain eps_0 of (1 + eps_p/eps_0)^N", true},
+          {"Reference Strain 1", "softening_strain", "the softening strain eps_1 of 1 + (eps_p/eps_1)^2", true}};
+      for (const auto& [from, to, what, positive] : keys) {
+        own.push_back(from);
+        const Item it = m.get(from, what);
+        mat[to] = positive ? read_positive(t.ctx, it) : read_non_negative(t.ctx, it);
+      }
+    }
+    if (w != "elasticplasticcorrespondence") {
+      own.insert(own.end(), {"Enable Flaw", "Flaw Location X", "Flaw Location Y", "Flaw Location Z", "Flaw Size",
+                             "Flaw Magnitude"});
+      if (!needleman) own.push_back("Hardening Modulus");
+      if (auto h = m.find("Hardening Modulus"); h && !needleman)
+        mat["hardening_modulus"] = read_non_negative(t.ctx, *h);
       // The flaw: a local knock-down of the yield stress, sigma_y (1 - m exp(-|x -
       // x_f|^2/s^2)) (fitted from IsotropicHardeningPlasticFullyPrescribedTension_WithFlaw's
       // gold; material/models/correspondence.hpp Flaw). Its keys are read either way.
@@ -378,6 +402,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
     fail_choice(t.ctx, model_item, model,
                 {"Elastic", "Elastic Bond Based", "Elastic Plastic", "Elastic Plastic Hardening", "Viscoelastic",
                  "Elastic Correspondence", "Elastic Plastic Correspondence", "Isotropic Hardening Correspondence",
+                 "Viscoplastic Needleman Correspondence",
                  "Pals", "Elastic Partial Volume", "Linear LPS Partial Volume"},
                 "Peridigm material model Horizon reads");
   }
@@ -389,7 +414,9 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                std::string("Flaw Location Z"), std::string("Flaw Size"),
                                std::string("Flaw Magnitude"), std::string("Plane Strain"), std::string("Plane Stress"),
                                std::string("Height"), std::string("Dilatation Influence Function"),
-                               std::string("Deviatoric Influence Function")}) {
+                               std::string("Deviatoric Influence Function"), std::string("Strain Hardening Exponent"),
+                               std::string("Rate Hardening Exponent"), std::string("Reference Strain Rate"),
+                               std::string("Reference Strain 0"), std::string("Reference Strain 1")}) {
     if (std::find(own.begin(), own.end(), k) != own.end()) continue;
     if (auto it = m.find(k))
       t.ctx.fail(*it->key_mark, it->path + ": not a parameter of Material Model '" + model + "'");
@@ -411,12 +438,16 @@ YAML::Node read_material(Translation& t, const Item& item) {
     if (const double alpha = read_number(t.ctx, *a); alpha != 0) {
       mat["thermal"]["expansion"] = number(alpha);
       mat["thermal"]["reference_temperature"] = "initial";
-      // The rate-form laws take no thermal strain yet: a correspondence material that
-      // expands takes the total form of its law (linear_elastic, j2), whose split of F
-      // into elastic and thermal parts expands a free body stress-free (docs/peridigm.md).
+      // Elastic Correspondence keeps its rate form, which takes the thermal strain's
+      // increment out of its volumetric strain increment as Peridigm does
+      // (ThermalExpansionCubeElasticCorrespondence's gold: V = (1 + alpha dT)^n). Peridigm's
+      // plastic correspondence models refuse a Thermal Expansion Coefficient; Horizon gives
+      // such a material the total form j2, whose split of F into elastic and
+      // thermal parts expands a free body stress-free (docs/peridigm.md).
       if (mat["stress_law"]) {
         const std::string law = mat["stress_law"].as<std::string>();
-        if (law == "hypoelastic") mat["stress_law"] = "linear_elastic";
+        if (law == "viscoplastic_needleman")
+          t.ctx.fail(a->mark, a->path + ": Viscoplastic Needleman Correspondence with thermal expansion is not supported");
         if (law == "hypoelastic_j2") {
           if (mat["flaw_magnitude"])
             t.ctx.fail(a->mark, a->path + ": a flawed material (Enable Flaw) with thermal expansion is not supported");
@@ -789,8 +820,16 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
       if (r.load_steps < 1) fail_expected(ctx, *n, "a whole number >= 1");
       solver["load_steps"] = r.load_steps;
     }
+    // Horizon's Newton runs to 1e-12 (above) where Peridigm's stops at its absolute
+    // tolerance, and with a finite-difference tangent it converges linearly (about two
+    // decades an iteration on ThermalExpansionCubeElasticCorrespondence, 9 to 12 iterations a
+    // load step against the deck's 10): Peridigm's limit, below Horizon's default 30, would
+    // cut load steps Peridigm takes whole, which changes a rate-form result. So the limit
+    // is at least 30, except under Adaptive Load-Stepping, whose reductions and Switch to
+    // Verlet the deck ties to its own limit.
+    const bool adaptive = static_cast<bool>(v.find("Adaptive Load-Stepping"));
     for (const char* k : {"Maximum Solver Iterations", "Max Solver Iterations"})
-      if (auto i = v.find(k)) solver["max_iterations"] = read_int(ctx, *i);
+      if (auto i = v.find(k)) solver["max_iterations"] = adaptive ? read_int(ctx, *i) : std::max(read_int(ctx, *i), 30);
     // The Krylov method of Peridigm's linear solves; Horizon's are its own. Read, no effect.
     if (auto b = v.find("Belos Linear Solver")) read_string(ctx, *b);
     if (auto a = v.find("Adaptive Load-Stepping")) read_adaptive_load_stepping(ctx, *a, r);

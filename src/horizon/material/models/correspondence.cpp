@@ -34,7 +34,9 @@ classical::LawResult evaluate_with_expansion(const LawSettings& law, const Mat3&
                                              const History& committed, History& trial, double& work, double dt = 0,
                                              double yield_factor = 1, Mat3* rate = nullptr,
                                              const Mat3* Fdot = nullptr) {
-  if (eps == 0) return correspondence::evaluate_law(law, F, committed, trial, work, dt, yield_factor, rate, Fdot);
+  // The rate form takes the thermal strain's increment out of its strain increment.
+  if (eps == 0 || correspondence::rate_form(law.law))
+    return correspondence::evaluate_law(law, F, committed, trial, work, dt, yield_factor, rate, Fdot, eps);
   Mat3 inverse = Mat3::Identity();
   for (int a = 0; a < law.dimension; ++a) inverse(a, a) = 1.0 / (1.0 + eps);
   classical::LawResult r =
@@ -65,10 +67,19 @@ const ModelTraits& traits() {
         {"hardening_modulus", "stress_law j2: linear isotropic hardening modulus H [Pa]",
          ParameterSpec::Range::non_negative, 0.0},
         {"flaw_magnitude",
-         "stress_law hypoelastic_j2: Peridigm's yield-stress flaw, sigma_y (1 - m exp(-|x - x_f|^2/s^2)): m "
+         "stress_law hypoelastic_j2, viscoplastic_needleman: Peridigm's yield-stress flaw, sigma_y (1 - m exp(-|x - x_f|^2/s^2)): m "
          "(0: no flaw)",
          ParameterSpec::Range::fraction, 0.0},
         {"flaw_size", "the flaw's length s [m]", ParameterSpec::Range::positive, 1.0},
+        {"strain_hardening_exponent",
+         "stress_law viscoplastic_needleman: N of the flow stress sigma_y (1 + alpha/eps_0)^N / (1 + "
+         "(alpha/eps_1)^2) (rate/eps_dot_0)^m (Needleman 1988)",
+         ParameterSpec::Range::non_negative, 0.0},
+        {"rate_hardening_exponent", "stress_law viscoplastic_needleman: m", ParameterSpec::Range::non_negative, 0.0},
+        {"reference_strain_rate", "stress_law viscoplastic_needleman: eps_dot_0 [1/s]", ParameterSpec::Range::positive,
+         1.0},
+        {"reference_strain", "stress_law viscoplastic_needleman: eps_0", ParameterSpec::Range::positive, 1.0},
+        {"softening_strain", "stress_law viscoplastic_needleman: eps_1", ParameterSpec::Range::positive, 1.0},
         {"flaw_x", "the flaw's centre x_f: x [m]", ParameterSpec::Range::any, 0.0},
         {"flaw_y", "the flaw's centre x_f: y [m]", ParameterSpec::Range::any, 0.0},
         {"flaw_z", "the flaw's centre x_f: z [m]", ParameterSpec::Range::any, 0.0},
@@ -80,8 +91,14 @@ const ModelTraits& traits() {
     m.choices = {
         {"stress_law",
          "classical stress law: linear_elastic (small strain), neo_hookean, j2 (plasticity), hypoelastic and "
-         "hypoelastic_j2 (Peridigm's rate form in the unrotated frame, Flanagan and Taylor 1987)",
-         {"linear_elastic", "neo_hookean", "j2", "hypoelastic", "hypoelastic_j2"}},
+         "hypoelastic_j2 (Peridigm's rate form in the unrotated frame, Flanagan and Taylor 1987), "
+         "viscoplastic_needleman (the rate form with Needleman 1988's viscoplastic flow stress, Peridigm's update)",
+         {"linear_elastic", "neo_hookean", "j2", "hypoelastic", "hypoelastic_j2", "viscoplastic_needleman"}},
+        {"plastic_return",
+         "stress_law hypoelastic_j2: work (the radial return with the trapezoid plastic-work increment of the "
+         "equivalent plastic strain) or peridigm (Peridigm's Isotropic Hardening Correspondence update: the "
+         "hardened yield stress from its estimate of the plastic multiplier, classical/hypoelastic.hpp)",
+         {"work", "peridigm"}},
         {"stabilization_form",
          "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).n "
          "/|xi|) n (Littlewood 2011) with C = stabilization",
@@ -203,25 +220,32 @@ void Correspondence::setup(const ModelSetup& in) {
              : law == "j2"             ? StressLaw::j2
              : law == "hypoelastic"    ? StressLaw::hypoelastic
              : law == "hypoelastic_j2" ? StressLaw::hypoelastic_j2
+             : law == "viscoplastic_needleman" ? StressLaw::viscoplastic_needleman
                                        : StressLaw::linear_elastic;
-  hypo_ = law_.law == StressLaw::hypoelastic || law_.law == StressLaw::hypoelastic_j2;
+  hypo_ = correspondence::rate_form(law_.law);
   law_.elastic = classical::elastic_from_bulk_shear(mat.bulk_modulus, mat.shear_modulus);
   law_.j2 = {parameter(mat, "yield_stress"), parameter(mat, "hardening_modulus")};
   law_.dimension = dim;
   law_.plane = in.dims.plane;
-  if ((law_.law == StressLaw::j2 || law_.law == StressLaw::hypoelastic_j2) && !(law_.j2.yield_stress > 0))
+  law_.plastic_return = choice(mat, "plastic_return") == "peridigm" ? classical::PlasticReturn::peridigm
+                                                                    : classical::PlasticReturn::work;
+  if (law_.law == StressLaw::viscoplastic_needleman) {
+    law_.plastic_return = classical::PlasticReturn::needleman;
+    law_.needleman = {parameter(mat, "strain_hardening_exponent"), parameter(mat, "rate_hardening_exponent"),
+                      parameter(mat, "reference_strain_rate"), parameter(mat, "reference_strain"),
+                      parameter(mat, "softening_strain")};
+  }
+  if ((law_.law == StressLaw::j2 || law_.law == StressLaw::hypoelastic_j2 ||
+       law_.law == StressLaw::viscoplastic_needleman) &&
+      !(law_.j2.yield_stress > 0))
     throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
   if (hypo_ && dim == 2 && law_.plane == PlaneMode::stress)
     throw Error("material '" + mat.name + "': stress_law " + law + " is not available in plane stress");
-  // The rate form integrates the whole rate of deformation: a thermal strain would need
-  // its rate taken out of it, which it does not do yet (the total-form laws split F).
-  if (hypo_ && mat.thermal.expansion != 0)
-    throw Error("material '" + mat.name + "': stress_law " + law +
-                " takes no thermal expansion yet; use linear_elastic or j2 with thermal.expansion");
   flaw_.magnitude = parameter(mat, "flaw_magnitude");
   flaw_.on = flaw_.magnitude > 0;
-  if (flaw_.on && law_.law != StressLaw::hypoelastic_j2)
-    throw Error("material '" + mat.name + "': flaw_magnitude applies to stress_law hypoelastic_j2 only");
+  if (flaw_.on && law_.law != StressLaw::hypoelastic_j2 && law_.law != StressLaw::viscoplastic_needleman)
+    throw Error("material '" + mat.name +
+                "': flaw_magnitude applies to stress_law hypoelastic_j2 and viscoplastic_needleman only");
   flaw_.size = parameter(mat, "flaw_size");
   flaw_.centre = {parameter(mat, "flaw_x"), parameter(mat, "flaw_y"), parameter(mat, "flaw_z")};
   form_ = choice(mat, "stabilization_form") == "peridigm" ? correspondence::Stabilization::peridigm

@@ -51,8 +51,13 @@ namespace correspondence {
 
 using Mat3 = Eigen::Matrix3d;
 
-// hypoelastic, hypoelastic_j2: Peridigm's rate form (classical/hypoelastic.hpp).
-enum class StressLaw { linear_elastic, neo_hookean, j2, hypoelastic, hypoelastic_j2 };
+// hypoelastic, hypoelastic_j2, viscoplastic_needleman: Peridigm's rate form
+// (classical/hypoelastic.hpp).
+enum class StressLaw { linear_elastic, neo_hookean, j2, hypoelastic, hypoelastic_j2, viscoplastic_needleman };
+
+inline bool rate_form(StressLaw l) {
+  return l == StressLaw::hypoelastic || l == StressLaw::hypoelastic_j2 || l == StressLaw::viscoplastic_needleman;
+}
 
 // The zero-energy-mode control: Silling 2017's (*) above, or Peridigm's hourglass force
 // (peridigm_hourglass below).
@@ -80,6 +85,9 @@ struct LawSettings {
   classical::J2Params j2;
   int dimension = 3;
   PlaneMode plane = PlaneMode::none;  // 2-D: stress or strain
+  // hypoelastic_j2: the plastic_return (work or peridigm); viscoplastic_needleman: needleman.
+  classical::PlasticReturn plastic_return = classical::PlasticReturn::work;
+  classical::Needleman needleman;  // viscoplastic_needleman
 };
 
 // Per-particle history (the trial copy is written by the force pass, the committed one
@@ -95,16 +103,19 @@ struct History {
 // The hypoelastic laws integrate over dt (the time since the committed state) with the
 // yield stress scaled by yield_factor (the flaw); `rate` receives their unrotated rate of
 // deformation.
+// `thermal`: the rate-form laws' thermal strain now (the total-form laws take it by
+// splitting F: evaluate_with_expansion in correspondence.cpp).
 inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, const History& committed,
                                          History& trial, double& plastic_work, double dt = 0,
                                          double yield_factor = 1, Mat3* rate = nullptr,
-                                         const Mat3* Fdot = nullptr) {
+                                         const Mat3* Fdot = nullptr, double thermal = 0) {
   trial = committed;
   plastic_work = 0;
-  if (s.law == StressLaw::hypoelastic || s.law == StressLaw::hypoelastic_j2) {
-    const double yield = s.law == StressLaw::hypoelastic_j2 ? s.j2.yield_stress * yield_factor : 0.0;
+  if (rate_form(s.law)) {
+    const double yield = s.law != StressLaw::hypoelastic ? s.j2.yield_stress * yield_factor : 0.0;
     const classical::HypoResult h = classical::hypoelastic_step(s.elastic, yield, s.j2.hardening_modulus,
-                                                                committed.hypo, F, dt, trial.hypo, plastic_work, Fdot);
+                                                                committed.hypo, F, dt, trial.hypo, plastic_work, Fdot,
+                                                                s.plastic_return, s.needleman, thermal);
     if (rate) *rate = h.d;
     trial.plastic.alpha = trial.hypo.alpha;
     return h.law;
@@ -116,7 +127,8 @@ inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, co
       case StressLaw::j2:
         return classical::j2_plasticity(s.elastic, s.j2, committed.plastic, F3, trial.plastic, plastic_work);
       case StressLaw::hypoelastic:
-      case StressLaw::hypoelastic_j2: break;  // handled above
+      case StressLaw::hypoelastic_j2:
+      case StressLaw::viscoplastic_needleman: break;  // handled above
     }
     return {};
   };

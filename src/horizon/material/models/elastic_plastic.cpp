@@ -8,6 +8,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/material/models/history_ledger.hpp"
+#include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
 
@@ -60,6 +61,7 @@ class ElasticPlastic final : public Model {
     ledger_.begin_pass();
   }
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
+  void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum);
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
     return ledger_.pending_energy(particles_, s.particles.volume);
@@ -260,11 +262,68 @@ void ElasticPlastic::force_state(ForcePass& pass) {
   }
 }
 
-// The scalar pass's row (ModelTraits::ordinary): the same sums in the same order as
-// force_state, on the |Y| and the dilatation sum of the pass's breaking sweep, the row's
-// bonds read from flat arrays: three visits of the row (the yield norm needs theta, the
-// forces need the return), all but the first on what the first brought into cache.
+// The scalar pass's row (ModelTraits::ordinary) in eight lanes (ordinary_lanes.hpp): the
+// sums of force_state in the lanes' order, on the |Y| and the dilatation sum of the pass's
+// breaking sweep, the row's bonds read from flat arrays: two visits of the row (the yield
+// norm needs theta, the forces need the return), the second on what the first brought
+// into cache.
 void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
+  if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
+  const System& s = pass.system;
+  const auto& B = s.bonds;
+  const auto& M = s.model;
+  const int dim = dim_;
+  const uint64_t first = B.begin(i), last = B.end(i);
+  const double m = M.weighted_volume[i];
+  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double theta = dim * dilatation_sum / m;
+  theta_[i] = theta;
+  const HistoryLedger::Row ledger = ledger_.row();
+  lanes::RowBonds b;
+  b.first = first, b.last = last, b.i = i;
+  b.r = pass.deformed, b.intact = B.intact.data(), b.kind = B.kind.data(), b.nbr = B.nbr.data();
+  b.kinds = pass.kinds;
+  b.eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  b.q = pass.t;
+  b.old_force = ledger_.force.committed(), b.old_extension = ledger_.extension.committed();
+  b.force_trial = ledger_.force.trial(), b.extension_trial = ledger.extension_trial;
+  b.booked_committed = ledger.booked_committed, b.booked_trial = ledger.booked_trial;
+  b.pending_set = ledger.pending_set, b.pending_amount = ledger.pending_amount;
+  // The trial deviatoric extension e^d - e^dp_n of each bond (kernels::ep_bond's trial),
+  // kept from the visit that computes it for a visit that scales it.
+  thread_local std::vector<double> trial_row;
+  if (trial_row.size() < last - first) trial_row.resize(last - first);
+  lanes::EpRow row;
+  row.ep = ep_.committed(), row.ep_trial = ep_.trial(), row.ede = trial_row.data() - first;
+  row.theta = theta, row.alpha = alpha, row.p_coef = dim * bulk_ * theta / m, row.dim = dim;
+  // The yield norm needs theta, the forces need the return: two visits of the row. A
+  // particle that did not flow in its last pass is taken to stay elastic (beta = 1): one
+  // visit computes the norm and the elastic forces, and only if the return then scales
+  // them (beta != 1) does a second visit write them again. Either way every written value
+  // is the two-visit one, bit for bit; a particle that flowed takes the two visits at once.
+  const bool guess_elastic = !flowed_[i];
+  lanes::RowSums sums = lanes::ep_row(b, row, 1.0, true, guess_elastic);
+  const double n2 = sums.norm * (alpha * alpha);
+  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
+  eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
+  flowed_[i] = rm.plastic_strain > 0;
+  lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
+  if (!guess_elastic || rm.scale != 1.0) {
+    const double norm = sums.norm;
+    sums = lanes::ep_row(b, row, rm.scale, false, true);
+    sums.norm = norm;
+  }
+  const bool inelastic = rm.plastic_strain > 0 || sums.inelastic;
+  const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * sums.dev;
+  ledger_.stored_trial[i] = W;
+  ledger_.loss_trial[i] = inelastic ? inelastic_loss(sums.work, W - ledger_.stored[i], sums.booked) : 0.0;
+  if (pass.energy) pass.energy[i] = W;
+}
+
+// The row in bond order, without the lanes (ordinary_lanes.hpp wide(): machines without
+// AVX-512, where the lanes' eight-wide vectors cost more than they save): the same sums
+// in the same order as force_state, three visits of the row at most.
+void ElasticPlastic::force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum) {
   const System& s = pass.system;
   const auto& B = s.bonds;
   const auto& M = s.model;

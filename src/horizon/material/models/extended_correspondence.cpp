@@ -1034,7 +1034,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
 }
 
 // The rows built for AVX-512 as well as for the build's own target, chosen once per pass
-// (as ordinary_rows.hpp and solver/forces.cpp choose theirs): the same body, the same
+// (as ordinary_lanes.hpp and solver/forces.cpp choose theirs): the same body, the same
 // operations in the same order (no FMA contraction in this file, CMakeLists.txt; Eigen's
 // packets are the build's own in both), so the same bits on every machine, in fewer
 // instructions: AVX-512's 32 vector registers spare the rows' spills (1.2x on the bench

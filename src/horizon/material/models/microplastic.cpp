@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "horizon/material/models/history_ledger.hpp"
+#include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
 
@@ -123,9 +124,31 @@ class Microplastic final : public Model {
     ledger_.begin_pass();
   }
 
-  // The scalar pass's row (ModelTraits::ordinary): force_state's sums in the same order,
-  // on the |Y| of the pass's breaking sweep, from flat bond arrays.
+  // The scalar pass's row (ModelTraits::ordinary) in eight lanes (ordinary_lanes.hpp):
+  // force_state's sums in the lanes' order, on the |Y| of the pass's breaking sweep, from
+  // flat bond arrays.
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override {
+    if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
+    const auto& B = pass.system.bonds;
+    const HistoryLedger::Row ledger = ledger_.row();
+    lanes::RowBonds b;
+    b.first = B.begin(i), b.last = B.end(i), b.i = i;
+    b.r = pass.deformed, b.intact = B.intact.data(), b.kind = B.kind.data(), b.nbr = B.nbr.data();
+    b.kinds = pass.kinds;
+    b.q = pass.t;
+    b.old_force = ledger_.force.committed(), b.old_extension = ledger_.extension.committed();
+    b.force_trial = ledger_.force.trial(), b.extension_trial = ledger.extension_trial;
+    b.booked_committed = ledger.booked_committed, b.booked_trial = ledger.booked_trial;
+    b.pending_set = ledger.pending_set, b.pending_amount = ledger.pending_amount;
+    const lanes::RowSums sums = lanes::micro_row(b, {sbar_.committed(), sbar_.trial(), c_, yield_});
+    const double W = sums.dev;
+    ledger_.stored_trial[i] = W;
+    ledger_.loss_trial[i] = sums.inelastic ? inelastic_loss(sums.work, W - ledger_.stored[i], sums.booked) : 0.0;
+    if (pass.energy) pass.energy[i] = W;
+  }
+
+  // The row in bond order, without the lanes (ordinary_lanes.hpp wide()).
+  void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum) {
     (void)dilatation_sum;  // bond-based
     const auto& B = pass.system.bonds;
     const BondKind* kinds = B.kinds.data();

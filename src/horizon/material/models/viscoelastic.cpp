@@ -7,6 +7,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/material/models/history_ledger.hpp"
+#include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
 
@@ -46,6 +47,7 @@ class Viscoelastic final : public Model {
   void force_state(ForcePass& pass) override;
   void begin_rows(const RowPass& pass) override;
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
+  void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum);
   void commit(System& s) override;
   double pending_dissipation(const System& s) const override {
     return ledger_.pending_energy(particles_, s.particles.volume);
@@ -58,6 +60,8 @@ class Viscoelastic final : public Model {
   void checkpoint(StateArchive& a) override {
     a.io_particles("theta", theta_);
     a.io_particles("theta_trial", theta_trial_);
+    a.io_particles("theta_row", theta_row_);
+    a.io_particles("theta_row_trial", theta_row_trial_);
     a.io_particles("dissipated", dissipated_);
     ed_.checkpoint(a, "ed", "ed_trial", ledger_.fresh);
     for (std::size_t b = 0; b < kMaxViscousBranches; ++b) {
@@ -107,6 +111,12 @@ class Viscoelastic final : public Model {
   // Per particle, plane strain only: theta and the back dilatation of each branch,
   // committed and trial (the relaxing mu/3 of k', header).
   std::vector<double> theta_, theta_trial_;
+  // Per particle: theta of the last pass, committed and trial. The scalar pass's rows
+  // rebuild a bond's committed e^d_n from it and the ledger's committed extension e_n,
+  // e^d_n = e_n - theta_n |xi| / d, the same operations on the same numbers as the pass
+  // that computed it: the same bits as the stored ed_, without streaming ed_ (16 bytes a
+  // bond and step; ed_ stays the vector form's, force_state).
+  std::vector<double> theta_row_, theta_row_trial_;
   std::array<std::vector<double>, kMaxViscousBranches> theta_back_, theta_back_trial_;
   // Per particle: the stored energy density W, committed and trial; the dissipation
   // density of the trial step (material/models/history_ledger.hpp) and its running total.
@@ -154,6 +164,8 @@ void Viscoelastic::setup(const ModelSetup& in) {
   const std::size_t nd = dilatation_shear_ != 0 ? n : 0;
   theta_.assign(nd, 0);
   theta_trial_.assign(nd, 0);
+  theta_row_.assign(n, 0);
+  theta_row_trial_.assign(n, 0);
   for (int b = 0; b < kMaxViscousBranches; ++b) {
     theta_back_[b].assign(b < branches_ ? nd : 0, 0);
     theta_back_trial_[b].assign(b < branches_ ? nd : 0, 0);
@@ -208,6 +220,7 @@ void Viscoelastic::force_state(ForcePass& pass) {
       sum += c.wv * c.length * (std::sqrt(dx * dx + dy * dy + dz * dz) - c.length - thermal(i, B.nbr[k], c.length));
     }
     const double theta = dim * sum / m;
+    theta_row_trial_[i] = theta;
     // t^i = (d/m) omega |xi| p_i, p_i = k' theta; in plane strain
     // p_i = k theta + (mu/3) [lambda_inf theta + sum_b lambda_b (theta - theta^b_b)] (header).
     double dil_springs;
@@ -265,9 +278,52 @@ void Viscoelastic::begin_rows(const RowPass& pass) {
   for (int b = 0; b < branches_; ++b) step_[b] = sls_step(pass.dt, tau_[b]);
 }
 
-// The scalar pass's row (ModelTraits::ordinary): force_state's sums in the same order, on
-// the |Y| and the dilatation sum of the pass's breaking sweep, from flat bond arrays.
+// The scalar pass's row (ModelTraits::ordinary) in eight lanes (ordinary_lanes.hpp):
+// force_state's sums in the lanes' order, on the |Y| and the dilatation sum of the pass's
+// breaking sweep, from flat bond arrays.
 void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
+  if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
+  static_assert(kMaxViscousBranches <= lanes::kMaxBranches);
+  const System& s = pass.system;
+  const auto& B = s.bonds;
+  const auto& M = s.model;
+  const int dim = dim_;
+  const double m = M.weighted_volume[i];
+  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double theta = dim * dilatation_sum / m;
+  double dil_springs;
+  const double pressure = this->pressure(i, theta, step_.data(), dil_springs);
+  const HistoryLedger::Row ledger = ledger_.row();
+  lanes::RowBonds b;
+  b.first = B.begin(i), b.last = B.end(i), b.i = i;
+  b.r = pass.deformed, b.intact = B.intact.data(), b.kind = B.kind.data(), b.nbr = B.nbr.data();
+  b.kinds = pass.kinds;
+  b.eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
+  b.q = pass.t;
+  b.old_force = ledger_.force.committed(), b.old_extension = ledger_.extension.committed();
+  b.force_trial = ledger_.force.trial(), b.extension_trial = ledger.extension_trial;
+  b.booked_committed = ledger.booked_committed, b.booked_trial = ledger.booked_trial;
+  b.pending_set = ledger.pending_set, b.pending_amount = ledger.pending_amount;
+  lanes::VesRow row;
+  row.theta_old = theta_row_[i];
+  theta_row_trial_[i] = theta;
+  row.branches = branches_;
+  for (int br = 0; br < branches_; ++br) {
+    row.back_old[br] = back_[br].committed(), row.back_trial[br] = back_[br].trial();
+    row.decay[br] = step_[br].decay, row.from_old[br] = step_[br].from_old, row.from_new[br] = step_[br].from_new;
+    row.lambda[br] = lambda_[br];
+  }
+  row.lambda_inf = lambda_inf_, row.theta = theta, row.alpha = alpha, row.p_coef = dim * pressure / m, row.dim = dim;
+  const lanes::RowSums sums = lanes::ves_row(b, row);
+  const double W = 0.5 * bulk_elastic_ * theta * theta + 0.5 * dilatation_shear_ * dil_springs + 0.5 * alpha * sums.dev;
+  ledger_.stored_trial[i] = W;
+  ledger_.loss_trial[i] = inelastic_loss(sums.work, W - ledger_.stored[i], sums.booked);
+  if (pass.energy) pass.energy[i] = W;
+}
+
+// The row in bond order, without the lanes (ordinary_lanes.hpp wide()): force_state's
+// sums in the same order, e^d_n read from ed_ (which this path keeps).
+void Viscoelastic::force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum) {
   const System& s = pass.system;
   const auto& B = s.bonds;
   const auto& M = s.model;
@@ -292,6 +348,7 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   double dil_springs;
   const double pressure = this->pressure(i, theta, step_.data(), dil_springs);
   const double p_coef = dim * pressure / m;
+  theta_row_trial_[i] = theta;
   double work = 0, booked = 0, stored = 0;
   const HistoryLedger::Row ledger = ledger_.row();
   // The branches' back extensions, committed and trial, as plain pointers (taken once: see
@@ -350,6 +407,7 @@ void Viscoelastic::commit(System& s) {
   for (std::size_t q = 0; q < count; ++q) {
     const uint32_t i = particles_[q];
     if (!s.computes_row(i)) continue;
+    theta_row_[i] = theta_row_trial_[i];
     if (dilatation_shear_ != 0) {
       theta_[i] = theta_trial_[i];
       for (int b = 0; b < nbranch; ++b) theta_back_[b][i] = theta_back_trial_[b][i];
