@@ -173,7 +173,7 @@ TEST(Tangent, MixedPmbLpsBodyMatchesFiniteDifferences) {
 }
 
 // The correspondence model's analytic tangent (Model::stiffness, the pair form of
-// material/models/correspondence_kernels.hpp differentiated, reaching two horizons)
+// kernels/affine.hpp differentiated, reaching two horizons)
 // against central differences of its force pass: linear elastic and neo-Hookean laws with
 // the Silling 2017 stabilisation, J2 past yield (the law's consistent tangent from the
 // committed state), 3-D and 2-D plane stress, on the randomly deformed blocks with broken

@@ -24,7 +24,7 @@
 #include <omp.h>
 
 #include "horizon/deck/deck.hpp"
-#include "horizon/material/models/correspondence_kernels.hpp"
+#include "horizon/kernels/affine.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/forces_general.hpp"
@@ -89,7 +89,7 @@ struct MaterialPoint {
         // The affine pass's record (solver/forces_affine.cpp): T = omega (M_i xi + g_i Y).
         const double xv[3] = {xi.x, xi.y, xi.z}, yv[3] = {Y.x, Y.y, Y.z};
         double t[3];
-        correspondence::affine_force_state(M.affine_record.data() + correspondence::kAffineRecord * centre,
+        kernels::affine_force_state(M.affine_record.data() + kernels::kAffineRecord * centre,
                                            B.intact[k] ? B.weight[k] : 0.0, xv, yv, t);
         T = {t[0], t[1], t[2]};
       }

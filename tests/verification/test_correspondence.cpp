@@ -17,7 +17,7 @@
 #include "horizon/loading/loads.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
 #include "horizon/material/models/correspondence.hpp"
-#include "horizon/material/models/correspondence_kernels.hpp"
+#include "horizon/kernels/affine.hpp"
 #include "horizon/solver/explicit.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/static_driver.hpp"
@@ -70,7 +70,7 @@ Vec3 force_state(const System& s, std::size_t i, uint64_t k) {
   const Vec3 xi = P.X[j] - P.X[i], Y = (P.X[j] + P.u[j]) - (P.X[i] + P.u[i]);
   const double xv[3] = {xi.x, xi.y, xi.z}, yv[3] = {Y.x, Y.y, Y.z};
   double t[3];
-  correspondence::affine_force_state(M.affine_record.data() + correspondence::kAffineRecord * i, B.weight[k], xv,
+  kernels::affine_force_state(M.affine_record.data() + kernels::kAffineRecord * i, B.weight[k], xv,
                                      yv, t);
   return {t[0], t[1], t[2]};
 }

@@ -8,3 +8,14 @@
 #else
 #define HORIZON_HD
 #endif
+
+// A portable function that a hot row calls once per bond, inlined whatever the compiler's
+// estimate: out of line, extended correspondence's pair-sum term (kernels/extended.hpp
+// pair_bond) cost its AVX-512 row 20 % (docs/benchmarks.md, 2026-11-29, kernels30).
+#if defined(__CUDACC__)
+#define HORIZON_HD_INLINE __host__ __device__ __forceinline__
+#elif defined(__GNUC__) || defined(__clang__)
+#define HORIZON_HD_INLINE __attribute__((always_inline)) inline
+#else
+#define HORIZON_HD_INLINE inline
+#endif

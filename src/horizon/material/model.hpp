@@ -105,7 +105,7 @@ struct ModelTraits {
   bool ordinary = false;
   // The model's force states are affine in the bond, T_ij = omega_ij (M_i xi_ij + g_i Y_ij)
   // with a 3 x 3 M_i and a scalar g_i per particle (the correspondence model with its
-  // stabilisation, material/models/correspondence_kernels.hpp), it sets rows_local, and it
+  // stabilisation, kernels/affine.hpp), it sets rows_local, and it
   // implements affine_row (below): when every model of a run is such, the general pass
   // keeps one record per particle instead of a force state per bond and sums the pair form
   // f_i = sum_j omega V_j ((M_i + M_j) xi + (g_i + g_j) Y) (solver/forces_affine.cpp).
@@ -162,7 +162,7 @@ struct RowPass {
 struct AffineRowPass {
   const System& system;
   const Point4* y = nullptr;  // current positions (w: scratch of the pass, not for models)
-  double* record = nullptr;   // per particle, correspondence::kAffineRecord numbers {M_i row by row, g_i}
+  double* record = nullptr;   // per particle, kernels::kAffineRecord numbers {M_i row by row, g_i}
   double* energy = nullptr;   // per particle: W_i [J/m^3]; null when not asked
   double time = 0;            // the time of this deformation
   double dt = 0;              // time since the committed state
@@ -228,7 +228,7 @@ class Model {
   // this process computes, on the thread that broke i's bonds just before, i's record (and
   // W_i when pass.energy is set) from `sums`, what the breaking sweep summed over i's acting
   // bonds: K_i = sum_j omega V_j xi (x) xi, then sum_j omega V_j Y (x) xi, row-major
-  // (correspondence_kernels.hpp GradientSums). Rows run in any order.
+  // (kernels/affine.hpp GradientSums). Rows run in any order.
   virtual void affine_row(const AffineRowPass& pass, std::size_t i, const double* sums) {
     (void)pass, (void)i, (void)sums;
   }

@@ -20,6 +20,7 @@
 #include <cmath>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/kernels/affine.hpp"
 
 namespace horizon {
 
@@ -35,7 +36,7 @@ class NonlocalGradient {
   }
 
   // The sums of add() gathered elsewhere (the affine force pass sums them in its breaking
-  // sweep: material/models/correspondence_kernels.hpp gradient_add), K and N row-major.
+  // sweep: kernels/affine.hpp gradient_add), K and N row-major.
   void set_sums(const double* K, const double* N) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) K_(r, c) = K[3 * r + c], N_(r, c) = N[3 * r + c];
@@ -44,46 +45,30 @@ class NonlocalGradient {
   const Mat3& shape_tensor() const { return K_; }
 
   // The reciprocal condition number of the d x d shape tensor (smallest over largest
-  // eigenvalue; 0 when empty).
+  // eigenvalue; 0 when empty): kernels/affine.hpp shape_condition, closed form.
   double reciprocal_condition(int d) const {
-    if (d == 3) {
-      // Closed-form eigenvalues of the symmetric 3 x 3 (accurate enough for a ratio that
-      // is compared with a tolerance far above round-off).
-      Eigen::SelfAdjointEigenSolver<Mat3> es;
-      es.computeDirect(K_, Eigen::EigenvaluesOnly);
-      const Eigen::Vector3d ev = es.eigenvalues();  // ascending
-      return ev[2] > 0 ? ev[0] / ev[2] : 0.0;
-    }
-    if (d == 2) {
-      const double a = K_(0, 0), b = K_(1, 1), c = K_(0, 1);
-      const double mean = 0.5 * (a + b), r = std::hypot(0.5 * (a - b), c);
-      const double hi = mean + r, lo = mean - r;
-      return hi > 0 ? lo / hi : 0.0;
-    }
-    return K_(0, 0) > 0 ? 1.0 : 0.0;
+    double k[9];
+    rows(K_, k);
+    return kernels::shape_condition(k, d);
   }
 
   // K^-1 and F as described above; false (Kinv = 0, F = I) when the shape tensor is
-  // refused.
+  // refused. The device-portable kernel (kernels/affine.hpp gradient_finish) with the
+  // operations of Eigen's inverse and product, so the bits Eigen gave.
   bool finish(int d, double tolerance, Mat3& Kinv, Mat3& F) const {
-    Kinv.setZero();
-    F.setIdentity();
-    if (!(reciprocal_condition(d) > tolerance)) return false;
-    if (d == 3) {
-      Kinv = K_.inverse();
-      F = N_ * Kinv;
-    } else if (d == 2) {
-      const Eigen::Matrix2d ki = K_.topLeftCorner<2, 2>().inverse();
-      Kinv.topLeftCorner<2, 2>() = ki;
-      F.topLeftCorner<2, 2>() = N_.topLeftCorner<2, 2>() * ki;
-    } else {
-      Kinv(0, 0) = 1.0 / K_(0, 0);
-      F(0, 0) = N_(0, 0) * Kinv(0, 0);
-    }
-    return true;
+    double k[9], n[9], ki[9], f[9];
+    rows(K_, k);
+    rows(N_, n);
+    const bool ok = kernels::gradient_finish(k, n, d, tolerance, ki, f);
+    for (int c = 0; c < 9; ++c) Kinv(c / 3, c % 3) = ki[c], F(c / 3, c % 3) = f[c];
+    return ok;
   }
 
  private:
+  static void rows(const Mat3& m, double* a) {
+    for (int c = 0; c < 9; ++c) a[c] = m(c / 3, c % 3);
+  }
+
   Mat3 K_ = Mat3::Zero();
   Mat3 N_ = Mat3::Zero();
 };

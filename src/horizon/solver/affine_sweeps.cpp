@@ -11,7 +11,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "horizon/material/models/correspondence_kernels.hpp"
+#include "horizon/kernels/affine.hpp"
 #include "horizon/solver/forces.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -25,127 +25,16 @@ namespace horizon::affine_sweeps {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kSums = 18;  // K, then N (correspondence_kernels.hpp GradientSums)
+constexpr int kSums = 18;  // K, then N (kernels/affine.hpp GradientSums)
 
-inline double total8(const double* v) { return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7])); }
-inline double min8(const double* v) {
-  double m = v[0];
-  for (int l = 1; l < 8; ++l) m = v[l] < m ? v[l] : m;
-  return m;
-}
-inline double scaled(double w, double f) { return std::isinf(w) ? w : w * f; }
+inline double total8(const double* v) { return kernels::lane_total(v); }
+inline double min8(const double* v) { return kernels::lane_min(v); }
 
-// Bond k of row i breaks (bond order; the rare path of every implementation): its flag,
-// the damage weight, and the energy it held, (1/2) (T_old . Y/|Y|) e V_j with T_old its
-// force state of the last pass rebuilt from i's record and that pass's positions (zero
-// before the first: the records start at 0), as forces_general.cpp break_row books it.
-// r, e: this pass's |Y| and extension, computed as the lanes compute them.
-inline void break_bond(const Sweep& s, std::size_t i, uint64_t k, double r, double e, BreakOut& out) {
-  const uint32_t j = s.nbr[k];
-  const BondKind& bk = s.kinds[s.kind[k]];
-  s.intact[k] = s.after ? 2 : 0;
-  ++out.broken;
-  if (r > 0) {
-    const Point4 pi = s.pt[i], pj = s.pt[j], xi_i = s.ref[i], xj = s.ref[j];
-    const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-    const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
-    const Vec3 Yo = s.y_old[j] - s.y_old[i];
-    const double yv[3] = {Yo.x, Yo.y, Yo.z};
-    double T[3];
-    correspondence::affine_force_state(s.record + correspondence::kAffineRecord * i, bk.weight, xi, yv, T);
-    out.lost += 0.5 * (T[0] * Y[0] + T[1] * Y[1] + T[2] * Y[2]) / r * e * (bk.volume * bk.fraction);
-  }
-  s.intact_weight[i] -= s.kc[s.kind[k]].damage;
-}
-
-// ------------------------------------------------------------------------------------
-// The portable row: eight lanes of scalar accumulators (solver/forces.cpp for_each_lane).
-
-template <int L>
-using LaneTag = std::integral_constant<int, L>;
-template <class F, int... L>
-inline void full_block(uint64_t k, F& f, std::integer_sequence<int, L...>) {
-  (f(k + L, LaneTag<L>{}), ...);
-}
-template <class F, int... L>
-inline void partial_block(uint64_t k, uint64_t end, F& f, std::integer_sequence<int, L...>) {
-  ((k + L < end ? f(k + L, LaneTag<L>{}) : void()), ...);
-}
-template <class F>
-inline void for_each_lane(uint64_t begin, uint64_t end, F&& f) {
-  uint64_t k = begin;
-  for (; k + 8 <= end; k += 8) full_block(k, f, std::make_integer_sequence<int, 8>{});
-  if (k < end) partial_block(k, end, f, std::make_integer_sequence<int, 7>{});
-}
-
-BreakOut break_row_portable(const Sweep& s, std::size_t i, double* sums) {
-  const Point4 pi = s.pt[i], xi_i = s.ref[i];
-  const double wi = s.soft ? scaled(pi.w, s.soft[i]) : pi.w;
-  double acc[kSums][8] = {};
-  double sm[8] = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
-  BreakOut out{kInf, 0, 0};
-  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, auto lane) {
-    constexpr int l = decltype(lane)::value;
-    if (!s.intact[k]) return;
-    const uint32_t j = s.nbr[k];
-    const Point4 pj = s.pt[j], xj = s.ref[j], kr = s.kind_record[s.kind[k]];
-    const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-    const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
-    const double r = std::sqrt(Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2]), e = r - kr.x, stretch = e * kr.y;
-    sm[l] = stretch < sm[l] ? stretch : sm[l];
-    const double wj = s.soft ? scaled(pj.w, s.soft[j]) : pj.w;
-    const double s0 = wi < wj ? wi : wj;
-    if (stretch > s0) {
-      break_bond(s, i, k, r, e, out);
-      if (!s.after) return;
-    }
-    const double w = kr.z;  // omega V_j of the kind
-    for (int a = 0; a < 3; ++a) {
-      const double wa = w * xi[a], wy = w * Y[a];
-      for (int c = 0; c < 3; ++c) {
-        acc[3 * a + c][l] += wa * xi[c];
-        acc[9 + 3 * a + c][l] += wy * xi[c];
-      }
-    }
-  });
-  for (int q = 0; q < kSums; ++q) sums[q] = total8(acc[q]);
-  out.smin = min8(sm);
-  return out;
-}
-
+// The portable rows: the device-portable kernels (kernels/affine.hpp), eight lanes of
+// scalar accumulators.
+BreakOut break_row_portable(const Sweep& s, std::size_t i, double* sums) { return kernels::affine_break_row(s, i, sums); }
 void sum_row_portable(const Sweep& s, std::size_t i, double* f, double& energy) {
-  const Point4 pi = s.pt[i], xi_i = s.ref[i];
-  double sxi[3][8] = {}, sy[3][8] = {}, acc[3][8] = {}, w[8] = {};
-  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, auto lane) {
-    constexpr int l = decltype(lane)::value;
-    const uint32_t j = s.nbr[k];
-    const Point4 pj = s.pt[j];
-    const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-    if (s.intact[k]) {
-      const Point4 xj = s.ref[j];
-      const double* m = s.record + correspondence::kAffineRecord * static_cast<std::size_t>(j);
-      const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
-      const double wv = s.kind_record[s.kind[k]].z;  // omega V_j of the kind
-      // correspondence_kernels.hpp affine_pair_add, lane by lane.
-      const double a[3] = {wv * xi[0], wv * xi[1], wv * xi[2]};
-      const double gy = wv * m[9];
-      for (int r = 0; r < 3; ++r) {
-        sxi[r][l] += a[r];
-        sy[r][l] += wv * Y[r];
-        acc[r][l] += m[3 * r] * a[0] + m[3 * r + 1] * a[1] + m[3 * r + 2] * a[2] + gy * Y[r];
-      }
-    }
-    Vec3 fc;
-    double wc = 0;
-    if (s.contact && family_contact(s.kc[s.kind[k]], Vec3{Y[0], Y[1], Y[2]}, fc, wc)) {
-      acc[0][l] += fc.x, acc[1][l] += fc.y, acc[2][l] += fc.z;
-      w[l] += wc;
-    }
-  });
-  correspondence::AffineRowSum sum;
-  for (int r = 0; r < 3; ++r) sum.sxi[r] = total8(sxi[r]), sum.sy[r] = total8(sy[r]), sum.acc[r] = total8(acc[r]);
-  correspondence::affine_pair_finish(sum, s.record + correspondence::kAffineRecord * i, f);
-  energy = total8(w);
+  kernels::affine_sum_row(s, i, f, energy);
 }
 
 #if defined(HORIZON_SWEEPS_X86)
@@ -198,7 +87,7 @@ __attribute__((noinline)) void block_breaks(const Sweep& s, std::size_t i, uint6
     const Point4 pj = s.pt[s.nbr[kk]], kr = s.kind_record[s.kind[kk]];
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
     const double r = std::sqrt(Yx * Yx + Yy * Yy + Yz * Yz);
-    break_bond(s, i, kk, r, r - kr.x, out);
+    kernels::affine_break_bond(s, i, kk, r, r - kr.x, out);
   }
 }
 
@@ -217,7 +106,7 @@ inline void pointers(const Sweep& s, std::size_t i, uint64_t k, int count, Point
     p.pt[l] = &s.pt[j].x;
     p.ref[l] = &s.ref[j].x;
     p.kind[l] = &s.kind_record[s.kind[kk]].x;
-    p.record[l] = s.record + correspondence::kAffineRecord * j;
+    p.record[l] = s.record + kernels::kAffineRecord * j;
   }
 }
 
@@ -276,7 +165,7 @@ struct Records {
   static_assert(true)
 
 // The sum's arithmetic, written once for the per-target rows below (as the breaking
-// row's; correspondence_kernels.hpp affine_pair_add lane by lane, then affine_pair_finish).
+// row's; kernels/affine.hpp affine_pair_add lane by lane, then affine_pair_finish).
 #define HORIZON_AFFINE_SUM_ROW(Target) \
   const Point4 pi = s.pt[i], xi_i = s.ref[i];                                                       \
   const v8d zero = {};                                                                              \
@@ -303,7 +192,7 @@ struct Records {
       acc[r] += reinterpret_cast<v8d>(b.live & reinterpret_cast<v8l>(t));                           \
     }                                                                                               \
   }                                                                                                 \
-  correspondence::AffineRowSum sum;                                                                 \
+  kernels::AffineRowSum sum;                                                                 \
   alignas(64) double lanes[8];                                                                      \
   for (int r = 0; r < 3; ++r) {                                                                     \
     std::memcpy(lanes, &sxi[r], sizeof lanes);                                                      \
@@ -313,7 +202,7 @@ struct Records {
     std::memcpy(lanes, &acc[r], sizeof lanes);                                                      \
     sum.acc[r] = total8(lanes);                                                                     \
   }                                                                                                 \
-  correspondence::affine_pair_finish(sum, s.record + correspondence::kAffineRecord * i, f);         \
+  kernels::affine_pair_finish(sum, s.record + kernels::kAffineRecord * i, f);         \
   energy = 0;                                                                                       \
   static_assert(true)
 

@@ -15,36 +15,15 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "horizon/kernels/affine.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon::affine_sweeps {
 
-// What the sweep reads and writes, taken from the System once per pass.
-struct Sweep {
-  const Point4* pt = nullptr;           // y, w = s0 of the pass (packed positions)
-  const Point4* ref = nullptr;          // the reference positions X, packed {x, y, z, 0}
-  const Vec3* y_old = nullptr;          // the positions of the last pass (System::model.affine_position)
-  const double* record = nullptr;       // the records (System::model.affine_record): the last pass's
-                                        // in the breaking sweep, this pass's in the sum
-  const KindCoefficients* kc = nullptr;  // per kind
-  const Point4* kind_record = nullptr;   // per kind {L, 1/L, omega V_j, -} (System::model.kind_dilatation)
-  const BondKind* kinds = nullptr;
-  const uint32_t* nbr = nullptr;
-  const uint32_t* kind = nullptr;
-  const uint64_t* offset = nullptr;
-  uint8_t* intact = nullptr;
-  double* intact_weight = nullptr;  // per particle
-  const double* soft = nullptr;     // critical-stretch factor per particle, or null
-  uint64_t total = 0;               // bonds
-  bool after = false;               // break_after_force: a breaking bond still acts in this pass
-  bool contact = false;             // short-range contact between family pairs
-  bool kinds_have_lengths = true;   // not Bonds::length_per_bond
-};
-
-struct BreakOut {
-  double smin, lost;
-  uint64_t broken;
-};
+// What the sweep reads and writes, taken from the System once per pass, and what the
+// breaking sweep leaves of a row (kernels/affine.hpp, where the portable rows live).
+using Sweep = kernels::AffineSweep<KindCoefficients, BondKind>;
+using BreakOut = kernels::AffineBreak;
 
 // Row i: the critical-stretch breaking of its intact bonds, their smallest stretch, and
 // over the bonds that act in this pass sums[0..8] = K, sums[9..17] = N (row-major; w the
@@ -52,7 +31,7 @@ struct BreakOut {
 using BreakRow = BreakOut (*)(const Sweep&, std::size_t, double* sums);
 
 // Row i of the sum, once every row has its record: f_i = sum_j omega V_j ((M_i + M_j) xi +
-// (g_i + g_j) Y) over the acting bonds (correspondence_kernels.hpp affine_pair_add and
+// (g_i + g_j) Y) over the acting bonds (kernels/affine.hpp affine_pair_add and
 // affine_pair_finish; w = the kind's omega V_j), plus the family contact of every bond
 // (w: its energy density).
 using SumRow = void (*)(const Sweep&, std::size_t, double* f, double& w);

@@ -1,6 +1,6 @@
 // The affine form of the general force pass (solver/forces_general.hpp, issue 31 scope 2):
 // when every model of the run writes T_ij = omega (M_i xi + g_i Y) (ModelTraits::affine,
-// material/models/correspondence_kernels.hpp), the pass keeps one record {M_i, g_i} per
+// kernels/affine.hpp), the pass keeps one record {M_i, g_i} per
 // particle and visits each bond twice:
 //
 //   1. per row i (one thread): break i's bonds by the critical-stretch law and sum K_i and
@@ -18,7 +18,7 @@
 #include <limits>
 #include <vector>
 
-#include "horizon/material/models/correspondence_kernels.hpp"
+#include "horizon/kernels/affine.hpp"
 #include "horizon/solver/affine_sweeps.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/forces_general.hpp"
@@ -27,7 +27,7 @@ namespace horizon {
 
 namespace {
 
-constexpr int kRec = correspondence::kAffineRecord;
+constexpr int kRec = kernels::kAffineRecord;
 
 }  // namespace
 
@@ -100,7 +100,7 @@ uint64_t affine_forces(System& s, bool energy) {
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (rows > 512)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
-    double sums[18];  // K, then N (correspondence_kernels.hpp GradientSums)
+    double sums[18];  // K, then N (kernels/affine.hpp GradientSums)
     const affine_sweeps::BreakOut o = break_row(sw, i, sums);
     broken += o.broken;
     if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];

@@ -126,7 +126,7 @@ struct ModelCoefficients {
   // Its scalar form (solver/forces_ordinary.cpp): q = t/|Y| of every bond, T = q Y.
   std::vector<double> force_scalar;
   // Its affine form (solver/forces_affine.cpp): a record of ten numbers per particle
-  // (material/models/correspondence_kernels.hpp) instead of a force state per bond, and the
+  // (kernels/affine.hpp) instead of a force state per bond, and the
   // positions of the pass that wrote them (a bond broken in the next pass books its energy
   // from the force state they give).
   std::vector<double> affine_record;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "horizon/core/error.hpp"
-#include "horizon/material/models/correspondence_kernels.hpp"
+#include "horizon/kernels/affine.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/state/system.hpp"
 
@@ -104,7 +104,7 @@ const ModelTraits& traits() {
          "/|xi|) n (Littlewood 2011) with C = stabilization",
          {"silling", "peridigm"}},
     };
-    m.affine = true;      // T = omega (M_i xi + g_i Y): correspondence_kernels.hpp
+    m.affine = true;      // T = omega (M_i xi + g_i Y): kernels/affine.hpp
     m.rows_local = true;  // row i reads i's family (K_i, F_i) and i's own law history alone
     m.any_horizon = true;  // only the stabilisation modulus reads the horizon
     m.adaptive_time_step = true;  // spring_factors: the stable step from the current F_i
@@ -160,6 +160,9 @@ class Correspondence final : public Model {
   correspondence::Flaw flaw_;
   bool hypo_ = false;     // a hypoelastic law: the Peridigm tensors are fields
   double tolerance_ = 0;  // shape_tolerance
+  // The affine row runs the law in the device-portable kernel (kernels/affine.hpp
+  // linear_elastic_row): linear_elastic, not in plane stress (whose iteration stays here).
+  bool portable_law_ = false;
   bool adaptive_ = false;  // solver.adaptive_time_step: spring_factors from the current state
   std::vector<uint32_t> particles_;
   std::vector<int32_t> local_;  // particle index -> index in particles_ (-1: not ours)
@@ -248,6 +251,7 @@ void Correspondence::setup(const ModelSetup& in) {
   form_ = choice(mat, "stabilization_form") == "peridigm" ? correspondence::Stabilization::peridigm
                                                           : correspondence::Stabilization::silling;
   tolerance_ = parameter(mat, "shape_tolerance");
+  portable_law_ = law_.law == StressLaw::linear_elastic && !(dim == 2 && law_.plane == PlaneMode::stress);
   adaptive_ = in.config.solver.adaptive_time_step;
 
   // The bond-based micromodulus of the same bulk modulus with omega = 1 (18k/(pi delta^4)
@@ -343,7 +347,7 @@ void Correspondence::force_state(ForcePass& pass) {
 }
 
 // Row i of the affine pass: F_i and the law from the sums of the breaking sweep (those of
-// force_state, the same bits), then the record {A_i - G F_i, G} (correspondence_kernels.hpp)
+// force_state, the same bits), then the record {A_i - G F_i, G} (kernels/affine.hpp)
 // instead of the force state of every bond.
 void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const double* sums) {
   const System& s = pass.system;
@@ -352,39 +356,56 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
   const Point4* y = pass.y;
   const std::size_t l = static_cast<std::size_t>(local_[i]);
   const Point4 yi = y[i];
-  NonlocalGradient g;
-  g.set_sums(sums, sums + 9);
-  Mat3 Kinv, F;
-  const bool ok = g.finish(law_.dimension, tolerance_, Kinv, F);
-  singular_[l] = ok ? 0 : 1;
-  double* rec = pass.record + correspondence::kAffineRecord * i;
-  if (!ok) {
+  double* rec = pass.record + kernels::kAffineRecord * i;
+  double f[9];  // F_i, row-major
+  double W = 0;
+  if (portable_law_) {
+    // The linear elastic law: the whole row in the device-portable kernel (no history).
+    const kernels::AffineRow row = kernels::linear_elastic_row(sums, law_.dimension, tolerance_, law_.elastic.lambda,
+                                                               law_.elastic.mu, G_, rec);
+    singular_[l] = row.carries ? 0 : 1;
     trial_[l] = committed_[l];
     work_[l] = 0;
-    von_mises_[l] = 0;
-    correspondence::affine_record(nullptr, nullptr, 0.0, rec);
-    if (pass.energy) pass.energy[i] = 0;
-    return;
+    von_mises_[l] = row.von_mises;
+    if (!row.carries) {
+      if (pass.energy) pass.energy[i] = 0;
+      return;
+    }
+    W = row.W;
+    for (int c = 0; c < 9; ++c) f[c] = row.F[c];
+  } else {
+    // The other laws (Eigen, history, plane stress's iteration): host code between the
+    // kernels' K^-1 and F (NonlocalGradient::finish) and their record.
+    NonlocalGradient g;
+    g.set_sums(sums, sums + 9);
+    Mat3 Kinv, F;
+    const bool ok = g.finish(law_.dimension, tolerance_, Kinv, F);
+    singular_[l] = ok ? 0 : 1;
+    if (!ok) {
+      trial_[l] = committed_[l];
+      work_[l] = 0;
+      von_mises_[l] = 0;
+      kernels::affine_record(nullptr, nullptr, 0.0, rec);
+      if (pass.energy) pass.energy[i] = 0;
+      return;
+    }
+    const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
+    von_mises_[l] = correspondence::von_mises(r.sigma);
+    // Row-major copies for the flat record (Eigen stores by column).
+    double p[9], ki[9];
+    for (int c = 0; c < 9; ++c) p[c] = r.P(c / 3, c % 3), ki[c] = Kinv(c / 3, c % 3), f[c] = F(c / 3, c % 3);
+    if (r.ok) W = r.W;
+    kernels::affine_record_of_stress(r.ok ? p : nullptr, ki, f, G_, rec);  // T = omega P K^-1 xi (seed 003 eq. 142)
   }
-  const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
-  von_mises_[l] = correspondence::von_mises(r.sigma);
-  double W = 0;
-  // Row-major copies for the flat record (Eigen stores by column).
-  double a[9], f[9];
-  if (r.ok) {
-    const Mat3 A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
-    for (int c = 0; c < 9; ++c) a[c] = A(c / 3, c % 3);
-    W = r.W;
-  }
-  for (int c = 0; c < 9; ++c) f[c] = F(c / 3, c % 3);
-  correspondence::affine_record(r.ok ? a : nullptr, f, G_, rec);
   if (!pass.energy) return;
   if (G_ != 0)
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!B.intact[k]) continue;
       const uint32_t j = B.nbr[k];
-      const Vec3 Y{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z};
-      W += correspondence::bond_stabilization_energy(F, G_, B.weight[k] * B.volume[k], X[j] - X[i], Y);
+      const double Y[3] = {y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z};
+      const Vec3 xv = X[j] - X[i];
+      const double xi[3] = {xv.x, xv.y, xv.z};
+      W += kernels::stabilization_energy(f, G_, B.weight[k] * B.volume[k], xi, Y);
     }
   pass.energy[i] = W;
 }
@@ -444,7 +465,7 @@ bool Correspondence::spring_factors(const System& s, std::vector<double>& g) con
 }
 
 // The analytic tangent K = -dF/du (F_i = f_i V_i) of the pair form of the force density
-// (correspondence_kernels.hpp):
+// (kernels/affine.hpp):
 //   f_i = sum_j w_ij ((M_i + M_j) xi_ij + (g_i + g_j) Y_ij),   w_ij = omega V_j,
 //   M_m = A_m - G F_m,  A_m = P(F_m) K_m^-1,  g_m = G  (M_m = 0, g_m = 0: m carries no stress).
 // With q_mk = w_mk K_m^-1 xi_mk and Q_m = sum_k q_mk, dF_m = sum_k du_k (x) q_mk - du_m (x) Q_m

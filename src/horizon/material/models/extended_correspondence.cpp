@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "horizon/core/error.hpp"
+#include "horizon/kernels/extended.hpp"
 #include "horizon/kernels/unified.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/parallel/decomposition.hpp"
@@ -883,9 +884,13 @@ __attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_brea
     acts_[k] = 1;
     ++count;
     const double w = bk.weight * (bk.volume * bk.fraction);
-    const double inv = kc.inv_length, eps = extended::pair_strain(dot(Y, Y) * (inv * inv), m_);
+    const double inv = kc.inv_length, eps = kernels::pair_strain(dot(Y, Y) * (inv * inv), m_);
     eps_[k] = eps;
-    S.noalias() += (w * eps) * extended::unit_shape_state(inv * xi, dim_);
+    const Vec3 nv = inv * xi;
+    const double n[3] = {nv.x, nv.y, nv.z};
+    double h[6];
+    kernels::unit_shape_state(n, dim_, h);
+    kernels::strain_sum_add(S.data(), w * eps, h);
     if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
   }
   if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
@@ -972,13 +977,6 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
   const BondKind* kinds = c.kinds;
   const bool energy = c.energy;
   const double m = m_;
-auto stab = [&](const PairRecord& a, const PairRecord& b, const Vec6& p, double eps) {
-  // 2 coef r of a's side of the bond to b (stabilisation()): coef = (k_a + k_b)/2 with
-  // the midpoint residual when b sends its E, else k_a with a's own.
-  if (a.ks == 0) return 0.0;
-  if (b.mid) return (a.ks + b.ks) * (eps - p.dot(0.5 * (a.E + b.E)));
-  return 2.0 * a.ks * (eps - p.dot(a.E));
-};
   const Point4 pi = y[i];
   const Vec3 xi_i = X[i];
   const int32_t li = local_[i];
@@ -1004,22 +1002,16 @@ auto stab = [&](const PairRecord& a, const PairRecord& b, const Vec6& p, double 
       const PairRecord& rj = pair_[lj];
       const BondKind& bk = kinds[B.kind[k]];
       const Vec3 xi = X[j] - xi_i, nv = kc.inv_length * xi;
-      const Vec6 h = extended::unit_shape_state(nv, dim_), p = extended::unit_normal_projector(nv);
-      const double inv2 = kc.inv_length * kc.inv_length, c = dot(Y, Y) * inv2, eps = eps_[k];
-      const double g = (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : std::pow(c, m - 1.0)) * inv2;
-      double si = ri.on ? ri.A.dot(h) : 0.0, sj = rj.on ? rj.A.dot(h) : 0.0;
-      if (ri.mid && rj.mid) {
-        // Both ends take the midpoint residual: one r, the same bits from either end.
-        const double rr = (ri.ks + rj.ks) * (eps - p.dot(0.5 * (ri.E + rj.E)));
-        if (ri.on && ri.ks != 0) si += rr;
-        if (rj.on && rj.ks != 0) sj += rr;
-      } else {
-        if (ri.on) si += stab(ri, rj, p, eps);
-        if (rj.on) sj += stab(rj, ri, p, eps);
-      }
-      const double wg = bk.weight * g, qi = wg * si, V = bk.volume * bk.fraction, wv = bk.weight * V;
+      const double n[3] = {nv.x, nv.y, nv.z};
+      // The bond's term, a device-portable kernel (kernels/extended.hpp pair_bond).
+      const kernels::PairEnd ei{ri.A.data(), ri.E.data(), ri.ks, ri.on != 0, ri.mid != 0};
+      const kernels::PairEnd ej{rj.A.data(), rj.E.data(), rj.ks, rj.on != 0, rj.mid != 0};
+      const double V = bk.volume * bk.fraction, wv = bk.weight * V;
+      const kernels::PairBond pb =
+          kernels::pair_bond(ei, ej, n, dim_, kc.inv_length, dot(Y, Y), eps_[k], m, bk.weight, V);
+      const double qi = pb.q;
       pair_q_[k] = qi;
-      f += (V * (qi + wg * sj)) * Y;
+      f += pb.scale * Y;
       if (vol_gradient_) {
         const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
         f += Vec3{t[0], t[1], t[2]};

@@ -48,6 +48,7 @@
 #include <cmath>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/kernels/extended.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
@@ -104,23 +105,24 @@ inline Vec6 normal_dyad(const Vec3& xi) {
 // with the kind's 1/|xi| (a multiplication where shape_state and normal_projector divide
 // by |xi|^2 six times): H<xi> of (4.4) and the normal projector p (p . e = n . e n), equal
 // to those to round-off. Both are even in n: a bond and its reverse get the same bits.
+// (Device-portable kernels: kernels/extended.hpp.)
 inline Vec6 unit_shape_state(const Vec3& n, int dimension) {
-  const double a = dimension == 3 ? 2.5 : 2.0;
+  const double v[3] = {n.x, n.y, n.z};
   Vec6 h;
-  h << a * n.x * n.x - 0.5, a * n.y * n.y - 0.5, dimension == 3 ? a * n.z * n.z - 0.5 : 0.0, a * n.y * n.z,
-      a * n.x * n.z, a * n.x * n.y;
+  kernels::unit_shape_state(v, dimension, h.data());
   return h;
 }
 inline Vec6 unit_normal_projector(const Vec3& n) {
+  const double v[3] = {n.x, n.y, n.z};
   Vec6 p;
-  p << n.x * n.x, n.y * n.y, n.z * n.z, 2 * n.y * n.z, 2 * n.x * n.z, 2 * n.x * n.y;
+  kernels::unit_normal_projector(v, p.data());
   return p;
 }
 // The Seth-Hill strain of (4.2) in the pair pass: for m = 1 (the hencky measure's Green
 // bond strain) (c - 1)/2, exact in c (Sterbenz: c - 1 is exact for c in [1/2, 2]), where
 // seth_hill_strain's expm1(ln c)/2 rounds twice and costs a logarithm and an exponential
 // per bond; the last bits differ from it.
-inline double pair_strain(double c, double m) { return m == 1.0 ? 0.5 * (c - 1.0) : seth_hill_strain(c, m); }
+using kernels::pair_strain;  // kernels/extended.hpp
 
 // d eps_(m) / d Y = c^(m-1) Y / |xi|^2 (digest sec. 3.2), as the scalar factor of Y.
 inline double strain_gradient_factor(double c, double m, double xi2) {

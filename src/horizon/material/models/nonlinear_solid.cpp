@@ -48,9 +48,10 @@ void exchange_ghost_scalars(const System& s, std::vector<double>& a, std::vector
   for (std::size_t i = 0; i < a.size(); ++i) a[i] = scratch[i].x;
 }
 
-// phi of eq. 6.9: an intact bond acts; a broken one acts in compression only, or never
-// (the Kalthoff variant).
-inline bool acts(uint8_t intact, bool compression_only, double eps) { return intact || (compression_only && eps < 0); }
+// phi of eq. 6.9 (kernels/tupek.hpp).
+inline bool acts(uint8_t intact, bool compression_only, double eps) {
+  return kernels::tupek_acts(intact, compression_only, eps);
+}
 
 const ModelTraits& traits() {
   static const ModelTraits t = [] {
@@ -328,100 +329,46 @@ uint64_t NonlinearSolid::force_pass(System& s, bool energy) {
   const bool contact = s.contact.enabled();
 
   const Rows rows(s);
+  // The two sweeps' rows are device-portable kernels (kernels/tupek.hpp).
+  kernels::TupekPass<KindCoefficients> tp;
+  tp.pt = pt;
+  tp.kc = kc;
+  tp.nbr = nbr;
+  tp.kind = kind;
+  tp.offset = B.offset.data();
+  tp.intact = intact;
+  tp.eps = eps_of;
+  tp.m = N.m.data();
+  tp.lambda_bar = N.lambda_bar.data();
+  tp.mu_bar = N.mu_bar.data();
+  tp.theta = N.theta.data();
+  tp.beta = N.beta.data();
+  tp.compression_only = N.compression_only.data();
+  tp.failure_scale = N.failure_scale.data();
+  tp.exponent_two = N.failure_exponent_two;
+  tp.contact = contact;
   // Sweep 1: strains and theta_phi (eq. 6.8).
 #pragma omp parallel for schedule(static)
   for (std::size_t r = 0; r < rows.count; ++r) {
     const std::size_t i = rows[r];
-    const Point4 pi = pt[i];
-    const double m = N.m[i];
-    const bool comp = N.compression_only[i];
-    double theta = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const Point4 pj = pt[nbr[k]];
-      const KindCoefficients& c = kc[kind[k]];
-      // (y_j - y_i)^2 and (y_i - y_j)^2 are the same bits: eps_ij == eps_ji exactly.
-      const double dx = pj.x - pi.x, dy = pj.y - pi.y, dz = pj.z - pi.z;
-      const double r2 = dx * dx + dy * dy + dz * dz;
-      const double eps = seth_hill_strain(r2 * (c.inv_length * c.inv_length), m);
-      eps_of[k] = eps;
-      if (acts(intact[k], comp, eps)) theta += c.wv * eps;
-    }
-    N.theta[i] = theta;
+    N.theta[i] = kernels::tupek_strain_row(tp, i);
   }
   exchange_ghost_scalars(s, N.theta, scratch_);  // theta_j of the ghosts, from their owners
 
   // Sweep 2: the pair criterion, then the force with the flags at the start of the pass.
   uint64_t broken = 0;
   const double dim = N.dimension;
-  const bool exponent_two = N.failure_exponent_two;
-  const double* failure_scale = N.failure_scale.data();
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::size_t r = 0; r < rows.count; ++r) {
     const std::size_t i = rows[r];
-    const Point4 pi = pt[i];
-    const double m = N.m[i], li = N.lambda_bar[i], mi = N.mu_bar[i], ti = N.theta[i], bi = N.beta[i];
-    const bool comp = N.compression_only[i];
-    const double gi = li * ti;
-    double fx = 0, fy = 0, fz = 0, mu_sum = 0, theta_cut = 0, lost = 0, intact_w = 0, total_w = 0, contact_w = 0;
-    uint64_t row_broken = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const uint32_t j = nbr[k];
-      const Point4 pj = pt[j];
-      const KindCoefficients& c = kc[kind[k]];
-      const double eps = eps_of[k];
-      const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
-      const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
-      total_w += c.wv;
-      if (acts(intact[k], comp, eps)) {
-        const double r = std::sqrt(r2);
-        const double lj = N.lambda_bar[j], mj = N.mu_bar[j], tj = N.theta[j];
-        // (t_ij + t_ji) / (omega d eps/d|Y|), eq. 6.8.
-        const double sum = (gi + 2 * mi * eps) + (lj * tj + 2 * mj * eps);
-        const double a = c.wv * sum * seth_hill_slope(eps, m, r) / r;
-        fx += a * Yx;
-        fy += a * Yy;
-        fz += a * Yz;
-        bool cut = false;
-        if (intact[k] && eps > 0) {
-          const double sij = instantaneous_bond_energy(li, mi, eps, ti);
-          const double sji = instantaneous_bond_energy(lj, mj, eps, tj);
-          const double bij = 0.5 * (bi + N.beta[j]);  // +inf when either end may not break
-          // 2 s_c / omega = 2 beta |xi|^-p (eq. 6.3 and its generalisation, p = 2 as printed).
-          const double threshold =
-              exponent_two ? 2 * bij * c.inv_length * c.inv_length : 2 * bij * failure_scale[kind[k]];
-          if (sij + sji >= threshold) {
-            cut = true;
-            intact[k] = 0;
-            ++row_broken;
-            lost += c.wv * sij;  // eq. 6.5: omega V_j s_ij, per unit V_i
-            theta_cut += c.wv * eps;
-          }
-        }
-        if (!cut) mu_sum += c.wv * eps * eps;
-      } else if (contact) {
-        // A broken bond that no longer acts: its ends repel like non-family pairs
-        // (state/short_range.hpp), so the crack faces do not interpenetrate.
-        if (r2 < c.contact_d2 && r2 > 0) {
-          const double r = std::sqrt(r2), overlap = c.contact_d - r;
-          const double a = -c.contact_k * overlap / r;
-          fx += a * Yx;
-          fy += a * Yy;
-          fz += a * Yz;
-          contact_w += 0.25 * c.contact_k * overlap * overlap;
-        }
-      }
-      if (intact[k]) intact_w += c.wv;
-    }
-    P.f[i] = {fx, fy, fz};
-    broken += row_broken;
-    if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
-    if (energy) {
-      const double th = ti - theta_cut;
-      P.energy[i] = 0.5 * li * th * th + mi * mu_sum + contact_w;  // eq. 5.1 with phi (6.4)
-    }
-    P.damage[i] = total_w > 0 ? 1.0 - intact_w / total_w : 0.0;
-    N.nonlocal_damage[i] = 1.0 - intact_w / dim;  // eq. 6.12
-    M.intact_weight[i] = intact_w;
+    const kernels::TupekRow o = kernels::tupek_force_row(tp, i);
+    P.f[i] = {o.f[0], o.f[1], o.f[2]};
+    broken += o.broken;
+    if (o.lost != 0) s.dissipated_at[i] += o.lost * P.volume[i];
+    if (energy) P.energy[i] = kernels::tupek_row_energy(o, N.lambda_bar[i], N.mu_bar[i], N.theta[i]);
+    P.damage[i] = o.total_w > 0 ? 1.0 - o.intact_w / o.total_w : 0.0;
+    N.nonlocal_damage[i] = 1.0 - o.intact_w / dim;  // eq. 6.12
+    M.intact_weight[i] = o.intact_w;
   }
   // The rows of System::active_rows this pass does not compute (a decomposed run's bond
   // neighbours): no force, so that the contact below adds to zero there (nothing reads it).

@@ -33,24 +33,15 @@
 #include <numbers>
 #include <vector>
 
+#include "horizon/kernels/tupek.hpp"
+
 namespace horizon {
 
-// Seth-Hill bond strain (thesis eq. 4.2): eps_(m) = (c^m - 1)/(2m), eps_(0) = ln(c)/2,
-// c = |Y|^2/|xi|^2. m = 1/2 is the engineering bond strain e/|xi| of the LPS. Written
-// with expm1 so that small strains keep their digits.
-inline double seth_hill_strain(double c, double m) {
-  if (m == 0) return 0.5 * std::log(c);
-  if (m == 0.5) return std::sqrt(c) - 1.0;
-  return std::expm1(m * std::log(c)) / (2.0 * m);
-}
-
-// d eps / d|Y| = c^m / |Y| = (1 + 2 m eps)/|Y| (digest sec. 13.1: lambda^(2m-1)/|xi|).
-inline double seth_hill_slope(double eps, double m, double r) { return (1.0 + 2.0 * m * eps) / r; }
-
-// d^2 eps / d|Y|^2 = (2m - 1) c^m / |Y|^2 (digest sec. 13.1).
-inline double seth_hill_curvature(double eps, double m, double r) {
-  return (2.0 * m - 1.0) * (1.0 + 2.0 * m * eps) / (r * r);
-}
+// The per-bond functions (Seth-Hill strain eps_(m) = (c^m - 1)/(2m) of thesis eq. 4.2, its
+// first and second derivatives in |Y|) are device-portable kernels (kernels/tupek.hpp).
+using kernels::seth_hill_curvature;
+using kernels::seth_hill_slope;
+using kernels::seth_hill_strain;
 
 // Normalised influence functions: (6.6) omega_2D = 10/(pi delta^6) (3r + delta)(delta - r)^3,
 // int omega dA = 2; (6.7) omega_3D = 315/(16 pi delta^7) (3r + delta)(delta - r)^3,
@@ -107,12 +98,8 @@ inline double tupek_beta(double fracture_energy, double delta, int dimension, do
   return fracture_energy / (2.0 * std::numbers::pi * C * moment);
 }
 
-// The instantaneous bond energy (thesis eq. 6.5) per unit omega: s_inst / omega =
-// lambda_bar eps theta_phi + mu_bar eps^2: the energy density dropped by cutting this one
-// bond, per unit (omega V_j).
-inline double instantaneous_bond_energy(double lambda_bar, double mu_bar, double eps, double theta) {
-  return lambda_bar * eps * theta + mu_bar * eps * eps;
-}
+// The instantaneous bond energy (thesis eq. 6.5) per unit omega (kernels/tupek.hpp).
+using kernels::instantaneous_bond_energy;
 
 // Per-particle state of the model, owned by the model object of the run.
 struct NonlinearState {
