@@ -278,17 +278,7 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
   const double theta = dim * dilatation_sum / m;
   theta_[i] = theta;
-  const HistoryLedger::Row ledger = ledger_.row();
-  lanes::RowBonds b;
-  b.first = first, b.last = last, b.i = i;
-  b.r = pass.deformed, b.intact = B.intact.data(), b.kind = B.kind.data(), b.nbr = B.nbr.data();
-  b.kinds = pass.kinds;
-  b.eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
-  b.q = pass.t;
-  b.old_force = ledger_.force.committed(), b.old_extension = ledger_.extension.committed();
-  b.force_trial = ledger_.force.trial(), b.extension_trial = ledger.extension_trial;
-  b.booked_committed = ledger.booked_committed, b.booked_trial = ledger.booked_trial;
-  b.pending_set = ledger.pending_set, b.pending_amount = ledger.pending_amount;
+  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, true);
   // The trial deviatoric extension e^d - e^dp_n of each bond (kernels::ep_bond's trial),
   // kept from the visit that computes it for a visit that scales it.
   thread_local std::vector<double> trial_row;

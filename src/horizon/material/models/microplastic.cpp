@@ -129,17 +129,7 @@ class Microplastic final : public Model {
   // flat bond arrays.
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override {
     if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
-    const auto& B = pass.system.bonds;
-    const HistoryLedger::Row ledger = ledger_.row();
-    lanes::RowBonds b;
-    b.first = B.begin(i), b.last = B.end(i), b.i = i;
-    b.r = pass.deformed, b.intact = B.intact.data(), b.kind = B.kind.data(), b.nbr = B.nbr.data();
-    b.kinds = pass.kinds;
-    b.q = pass.t;
-    b.old_force = ledger_.force.committed(), b.old_extension = ledger_.extension.committed();
-    b.force_trial = ledger_.force.trial(), b.extension_trial = ledger.extension_trial;
-    b.booked_committed = ledger.booked_committed, b.booked_trial = ledger.booked_trial;
-    b.pending_set = ledger.pending_set, b.pending_amount = ledger.pending_amount;
+    lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, false);
     const lanes::RowSums sums = lanes::micro_row(b, {sbar_.committed(), sbar_.trial(), c_, yield_});
     const double W = sums.dev;
     ledger_.stored_trial[i] = W;

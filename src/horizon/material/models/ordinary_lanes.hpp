@@ -22,6 +22,8 @@
 #include <cstdint>
 
 #include "horizon/core/point4.hpp"
+#include "horizon/material/model.hpp"
+#include "horizon/material/models/history_ledger.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon::lanes {
@@ -48,6 +50,25 @@ struct RowBonds {
   uint8_t* pending_set = nullptr;
   double* pending_amount = nullptr;
 };
+
+// Row i's bonds [first, last) and the ledger's arrays, as every ordinary model's row hands
+// them to its lanes; `thermal`: the models that take the thermal strain.
+inline RowBonds row_bonds(const RowPass& pass, HistoryLedger& ledger, std::size_t i, bool thermal) {
+  const System& s = pass.system;
+  const auto& B = s.bonds;
+  const HistoryLedger::Row row = ledger.row();
+  RowBonds b;
+  b.first = B.begin(i), b.last = B.end(i), b.i = i;
+  b.r = pass.deformed, b.intact = B.intact.data(), b.kind = B.kind.data(), b.nbr = B.nbr.data();
+  b.kinds = pass.kinds;
+  b.eps = thermal && !s.thermal_strain.empty() ? s.thermal_strain.data() : nullptr;
+  b.q = pass.t;
+  b.old_force = ledger.force.committed(), b.old_extension = ledger.extension.committed();
+  b.force_trial = ledger.force.trial(), b.extension_trial = row.extension_trial;
+  b.booked_committed = row.booked_committed, b.booked_trial = row.booked_trial;
+  b.pending_set = row.pending_set, b.pending_amount = row.pending_amount;
+  return b;
+}
 
 // The sums of a row: sum_k of the models' weighted squares, the step's trapezoidal work,
 // the bookings of bonds broken since the commit (all per unit V_i), and whether a bond

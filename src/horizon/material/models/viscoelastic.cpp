@@ -285,7 +285,6 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
   static_assert(kMaxViscousBranches <= lanes::kMaxBranches);
   const System& s = pass.system;
-  const auto& B = s.bonds;
   const auto& M = s.model;
   const int dim = dim_;
   const double m = M.weighted_volume[i];
@@ -293,17 +292,7 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   const double theta = dim * dilatation_sum / m;
   double dil_springs;
   const double pressure = this->pressure(i, theta, step_.data(), dil_springs);
-  const HistoryLedger::Row ledger = ledger_.row();
-  lanes::RowBonds b;
-  b.first = B.begin(i), b.last = B.end(i), b.i = i;
-  b.r = pass.deformed, b.intact = B.intact.data(), b.kind = B.kind.data(), b.nbr = B.nbr.data();
-  b.kinds = pass.kinds;
-  b.eps = s.thermal_strain.empty() ? nullptr : s.thermal_strain.data();
-  b.q = pass.t;
-  b.old_force = ledger_.force.committed(), b.old_extension = ledger_.extension.committed();
-  b.force_trial = ledger_.force.trial(), b.extension_trial = ledger.extension_trial;
-  b.booked_committed = ledger.booked_committed, b.booked_trial = ledger.booked_trial;
-  b.pending_set = ledger.pending_set, b.pending_amount = ledger.pending_amount;
+  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, true);
   lanes::VesRow row;
   row.theta_old = theta_row_[i];
   theta_row_trial_[i] = theta;
