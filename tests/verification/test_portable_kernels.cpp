@@ -104,6 +104,17 @@ std::size_t differing(const double* a, const double* b, std::size_t n) {
   return bad;
 }
 
+// The verdict on 40 passes through the kernels: bonds broke, as many as the host's pass
+// broke, and no entry differs from the host's.
+void expect_same_as_host(const char* model, uint64_t broken, uint64_t host_broken, std::size_t bad) {
+  EXPECT_GT(broken, 0u) << "the impact is meant to break bonds";
+  EXPECT_EQ(broken, host_broken);
+  EXPECT_EQ(bad, 0u) << "the kernels' pass differs from the host's";
+  std::printf("[ figure ] %s: 40 passes of a breaking impact through the portable kernels, %llu bonds broken, "
+              "%zu entries differing from the host's pass\n",
+              model, static_cast<unsigned long long>(broken), bad);
+}
+
 TEST(PortableKernels, CorrespondencePassThroughTheKernels) {
   test::SingleThread one;
   const std::string material =
@@ -177,12 +188,7 @@ TEST(PortableKernels, CorrespondencePassThroughTheKernels) {
            differing(damage.data(), s.particles.damage.data(), n) +
            differing(dissipated.data(), s.dissipated_at.data(), n) + (intact != s.bonds.intact ? 1 : 0);
   }
-  EXPECT_GT(broken, 0u) << "the impact is meant to break bonds";
-  EXPECT_EQ(broken, host_broken);
-  EXPECT_EQ(bad, 0u) << "the kernels' pass differs from the host's";
-  std::printf("[ figure ] correspondence: 40 passes of a breaking impact through the portable kernels, %llu bonds "
-              "broken, %zu entries differing from the host's pass\n",
-              static_cast<unsigned long long>(broken), bad);
+  expect_same_as_host("correspondence", broken, host_broken, bad);
 }
 
 TEST(PortableKernels, NonlinearSolidPassThroughTheKernels) {
@@ -245,12 +251,7 @@ solver: {type: explicit, end_time: 1.0, safety_factor: 0.5}
            differing(eps.data(), N->bond_strain.data(), nb) +
            differing(dissipated.data(), s.dissipated_at.data(), n) + (intact != s.bonds.intact ? 1 : 0);
   }
-  EXPECT_GT(broken, 0u) << "the impact is meant to break bonds";
-  EXPECT_EQ(broken, host_broken);
-  EXPECT_EQ(bad, 0u) << "the kernels' pass differs from the host's";
-  std::printf("[ figure ] nonlinear_solid: 40 passes of a breaking impact through the portable kernels, %llu bonds "
-              "broken, %zu entries differing from the host's pass\n",
-              static_cast<unsigned long long>(broken), bad);
+  expect_same_as_host("nonlinear_solid", broken, host_broken, bad);
 }
 
 TEST(PortableKernels, FlatCopyNamesWhatItDoesNotTake) {
