@@ -317,6 +317,9 @@ YAML::Node read_material(Translation& t, const Item& item) {
     own = {"Hourglass Coefficient"};
     mat["model"] = "correspondence";
     mat["stress_law"] = "hypoelastic";
+    // Peridigm's rotation update (its exponential of dt Omega as it evaluates it), which
+    // AdaptiveQuasiStaticSolver's gold, the one whose particles rotate, needs.
+    mat["rotation_update"] = "peridigm";
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
@@ -329,6 +332,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
     mat["model"] = "correspondence";
     const bool needleman = w == "viscoplasticneedlemancorrespondence";
     mat["stress_law"] = needleman ? "viscoplastic_needleman" : "hypoelastic_j2";
+    mat["rotation_update"] = "peridigm";  // as Elastic Correspondence above
     // Peridigm's own return (its hardened yield stress from its plastic-multiplier
     // estimate: classical/hypoelastic.hpp), which the IsotropicHardening golds need.
     if (!needleman) mat["plastic_return"] = "peridigm";
