@@ -86,6 +86,7 @@ TEST(PeridigmCorrespondence, ImportMapsToTheRateFormAndTheHourglassForce) {
   const YAML::Node m = native["materials"].begin()->second;
   EXPECT_EQ(m["model"].as<std::string>(), "correspondence");
   EXPECT_EQ(m["stress_law"].as<std::string>(), "hypoelastic");
+  EXPECT_EQ(m["rotation_update"].as<std::string>(), "peridigm");
   EXPECT_EQ(m["stabilization_form"].as<std::string>(), "peridigm");
   EXPECT_DOUBLE_EQ(m["stabilization"].as<double>(), 0.04);
   EXPECT_EQ(native["output"]["exodus_files"][0]["variables"][0].as<std::string>(), "Cauchy_Stress");
@@ -101,6 +102,7 @@ TEST(PeridigmCorrespondence, ImportMapsToTheRateFormAndTheHourglassForce) {
                                ->second;
   EXPECT_EQ(f["stress_law"].as<std::string>(), "hypoelastic_j2");
   EXPECT_EQ(f["plastic_return"].as<std::string>(), "peridigm");
+  EXPECT_EQ(f["rotation_update"].as<std::string>(), "peridigm");
   EXPECT_DOUBLE_EQ(f["flaw_x"].as<double>(), 0.25);
   EXPECT_DOUBLE_EQ(f["flaw_y"].as<double>(), 0.5);
   EXPECT_DOUBLE_EQ(f["flaw_z"].as<double>(), -1.0);
