@@ -201,10 +201,7 @@ TEST(PeridigmCorrespondence, RigidRotationTakesPeridigmsRotationUpdate) {
   const std::string deck =
       write(dir / "rot.yaml",
             cube_deck(kElasticCorrespondence,
-                      "      Rotation_Tensor: true
-      Von_Mises_Stress: true
-      Unrotated_Cauchy_Stress: true
-",
+                      "      Rotation_Tensor: true\n      Von_Mises_Stress: true\n      Unrotated_Cauchy_Stress: true\n",
                       {"x*(cos(1.0e6*t)-1.0)-y*sin(1.0e6*t)", "x*sin(1.0e6*t)+y*(cos(1.0e6*t)-1.0)", "0.0"}));
   const ExodusSeries r = run_and_read(deck, dir);
   ASSERT_EQ(r.steps.size(), 5u);
