@@ -224,13 +224,31 @@ uint64_t ordinary_forces(System& s, bool energy) {
   sw.contact = s.contact.acts_on_family();
 
   const bool wide = lanes::wide();
+  // The reverse index in 4 bytes where the bonds allow (System::model.reverse32).
+  if (wide && nb < (uint64_t{1} << 32)) {
+    if (M.reverse32.size() != nb) {
+      M.reverse32.resize(nb);
+      for (std::size_t k = 0; k < nb; ++k) M.reverse32[k] = static_cast<uint32_t>(M.reverse[k]);
+    }
+    sw.rev32 = M.reverse32.data();
+  }
+  // A pass of the lanes without a thermal strain leaves |Y| and q behind for the models'
+  // ledgers to rebuild the committed t and e from (history_ledger.hpp LedgerRows).
+  if (wide && !eps) M.plain_scalar_pass = M.passes;
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
     lanes::BreakOut o;
+    // |Y| of the previous pass for the row's model (RowPass::r_old), kept by the sweep.
+    thread_local std::vector<double> r_old_row;
+    const double* r_old = nullptr;
     if (wide) {
-      o = lanes::break_row(sw, i);
+      const uint64_t first = B.begin(i);
+      if (r_old_row.size() < B.end(i) - first) r_old_row.resize(B.end(i) - first);
+      double* kept = r_old_row.data() - first;
+      o = lanes::break_row(sw, i, kept);
+      r_old = kept;
     } else {
       const RowOut r = break_row(s, i, after, eps, soft);
       o = {r.smin, r.lost, r.dilatation, r.broken};
@@ -240,9 +258,11 @@ uint64_t ordinary_forces(System& s, bool energy) {
     if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
     P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
-    if (Model* m = model_of[P.material[i]])
-      m->force_row(pass, i, o.dilatation);
-    else
+    if (Model* m = model_of[P.material[i]]) {
+      RowPass row = pass;
+      row.r_old = r_old;
+      m->force_row(row, i, o.dilatation);
+    } else
       unified_row(s, i, o.dilatation, eps, pass.energy);
   }
 

@@ -58,7 +58,7 @@ class ElasticPlastic final : public Model {
   void force_state(ForcePass& pass) override;
   void begin_rows(const RowPass& pass) override {
     size_bonds(pass.system.bonds);
-    ledger_.begin_pass();
+    mode_ = ledger_.begin_rows(pass.system, lanes::wide());
   }
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
   void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum);
@@ -116,6 +116,7 @@ class ElasticPlastic final : public Model {
   // and what the ledger needs of the step (below).
   BondHistory<double> ep_;
   HistoryLedger ledger_;  // the step's energy bookkeeping (history_ledger.hpp)
+  LedgerRows mode_;       // how this pass's rows read and write the ledger's t and e
 };
 
 void ElasticPlastic::setup(const ModelSetup& in) {
@@ -278,11 +279,16 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
   const double theta = dim * dilatation_sum / m;
   theta_[i] = theta;
-  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, true);
+  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, mode_, i, true);
   // The trial deviatoric extension e^d - e^dp_n of each bond (kernels::ep_bond's trial),
-  // kept from the visit that computes it for a visit that scales it.
-  thread_local std::vector<double> trial_row;
+  // kept from the visit that computes it for a visit that scales it; likewise a rebuilt t_n
+  // (ordinary_lanes.hpp RowBonds::t_old).
+  thread_local std::vector<double> trial_row, t_old_row;
   if (trial_row.size() < last - first) trial_row.resize(last - first);
+  if (b.r_old) {
+    if (t_old_row.size() < last - first) t_old_row.resize(last - first);
+    b.t_old = t_old_row.data() - first;
+  }
   lanes::EpRow row;
   row.ep = ep_.committed(), row.ep_trial = ep_.trial(), row.ede = trial_row.data() - first;
   row.theta = theta, row.alpha = alpha, row.p_coef = dim * bulk_ * theta / m, row.dim = dim;
@@ -300,6 +306,7 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
   if (!guess_elastic || rm.scale != 1.0) {
     const double norm = sums.norm;
+    b.revisit = guess_elastic;  // the first visit wrote q
     sums = lanes::ep_row(b, row, rm.scale, false, true);
     sums.norm = norm;
   }
@@ -431,7 +438,7 @@ void ElasticPlastic::commit(System& s) {
     const double loss = ledger_.commit_particle(i);
     if (loss != 0) s.dissipated_at[i] += loss * P.volume[i];
   }
-  if (ledger_.commit_bonds()) ep_.flip();  // the trial bond records become the committed ones
+  if (ledger_.commit_bonds(s)) ep_.flip();  // the trial bond records become the committed ones
 }
 
 }  // namespace
