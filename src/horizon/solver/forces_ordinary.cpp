@@ -28,8 +28,10 @@
 #include <emmintrin.h>
 #endif
 
+#include "horizon/family/bond_helpers.hpp"
 #include "horizon/kernels/unified.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/forces_general.hpp"
 
@@ -210,7 +212,6 @@ uint64_t ordinary_forces(System& s, bool energy) {
   sw.nbr = B.nbr.data();
   sw.kind = B.kind.data();
   sw.offset = B.offset.data();
-  sw.rev = M.reverse.data();
   sw.intact = B.intact.data();
   sw.deformed = M.deformed_length.data();
   sw.q = M.force_scalar.data();
@@ -224,14 +225,19 @@ uint64_t ordinary_forces(System& s, bool energy) {
   sw.contact = s.contact.acts_on_family();
 
   const bool wide = lanes::wide();
-  // The reverse index in 4 bytes where the bonds allow (System::model.reverse32).
-  if (wide && nb < (uint64_t{1} << 32)) {
-    if (M.reverse32.size() != nb) {
+  // The reverse index, in 4 bytes where the lanes' sum reads it and the bonds allow
+  // (System::model.reverse32; the 8-byte one is then not kept).
+  const bool narrow = wide && nb < (uint64_t{1} << 32);
+  if (narrow ? M.reverse32.size() != nb : M.reverse.size() != nb) {
+    M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
+    if (narrow) {
       M.reverse32.resize(nb);
       for (std::size_t k = 0; k < nb; ++k) M.reverse32[k] = static_cast<uint32_t>(M.reverse[k]);
+      std::vector<uint64_t>().swap(M.reverse);
     }
-    sw.rev32 = M.reverse32.data();
   }
+  sw.rev = M.reverse.data();
+  if (narrow) sw.rev32 = M.reverse32.data();
   // A pass of the lanes without a thermal strain leaves |Y| and q behind for the models'
   // ledgers to rebuild the committed t and e from (history_ledger.hpp LedgerRows).
   if (wide && !eps) M.plain_scalar_pass = M.passes;

@@ -102,7 +102,10 @@ struct RowSums {
 // extension e^d - e^dp_n, its norm, and with `force` the return's scaling beta of it, the
 // trial plastic extensions, the force states and the ledger.
 struct EpRow {
-  const double* ep = nullptr;  // e^dp_n per bond
+  // e^dp_n per bond and the trial e^dp; both null for a row that never yielded, whose
+  // e^dp are 0 in both copies and stay so while beta = 1 (ep + 0 * e^de = ep: the bits the
+  // row would write).
+  const double* ep = nullptr;
   double* ep_trial = nullptr;
   double* ede = nullptr;  // scratch per bond of the row (indexed by k): the trial extension
   double theta = 0, alpha = 0, p_coef = 0;
