@@ -23,9 +23,11 @@ const std::vector<std::pair<std::string, std::string>> kVariables = {
 };
 
 // Peridigm's variables that are the models' output fields in Horizon (only the models
-// that write them answer: correspondence).
+// that write them answer: correspondence; lps and elastic_plastic with shear_correction).
 const std::vector<std::pair<std::string, std::string>> kFields = {
-    {"Von_Mises_Stress", "von_mises_stress"}, {"Equivalent_Plastic_Strain", "equivalent_plastic_strain"}};
+    {"Von_Mises_Stress", "von_mises_stress"},
+    {"Equivalent_Plastic_Strain", "equivalent_plastic_strain"},
+    {"Surface_Correction_Factor", "shear_correction_factor"}};
 
 // Sets the column's `quantity` or `field` from Peridigm's Variable.
 void set_variable(const DeckContext& ctx, const Item& item, YAML::Node& col) {
