@@ -263,6 +263,14 @@ TEST(PeridigmImport, ComputeClassesBecomeHistoryColumns) {
   const std::string e = error_of(write_deck("computes_bad.yaml", wrong, bc));
   EXPECT_NE(e.find("computes_bad.yaml:"), std::string::npos) << e;
   EXPECT_NE(e.find("Neighborhood_Volume"), std::string::npos) << e;
+  // Peridigm's JIntegral class (PrecrackJIntegral) is refused as a class, its keys read.
+  const std::string j = error_of(write_deck("computes_j.yaml", "  Compute Class Parameters:\n"
+                                                                "    J Integral:\n"
+                                                                "      Compute Class: \"JIntegral\"\n"
+                                                                "      Block ID: 1\n"
+                                                                "      dt: 1.0\n"));
+  EXPECT_NE(j.find("computes_j.yaml:"), std::string::npos) << j;
+  EXPECT_NE(j.find("JIntegral compute class is not mapped: Horizon computes no J-integral"), std::string::npos) << j;
 }
 
 // --- materials and bond filters ---
