@@ -100,8 +100,8 @@ const ModelTraits& traits() {
          "hardened yield stress from its estimate of the plastic multiplier, classical/hypoelastic.hpp)",
          {"work", "peridigm"}},
         {"stabilization_form",
-         "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).n "
-         "/|xi|) n (Littlewood 2011) with C = stabilization",
+         "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).Y) "
+         "Y/(|xi| |Y|) (Littlewood 2011, scale fitted from Peridigm's gold) with C = stabilization",
          {"silling", "peridigm"}},
     };
     m.affine = true;      // T = omega (M_i xi + g_i Y): kernels/affine.hpp
