@@ -95,6 +95,33 @@ TEST(CorrespondencePeridigm, HypoelasticRigidRotation) {
   EXPECT_LT(s1 / s2, 12.0);
 }
 
+// The rotation increment of one step: Flanagan and Taylor's Cayley transform (orthogonal)
+// and Peridigm's (I + c (W - W^2/2), c = 1/(1 + |w|^2/4), fitted from its gold), for a
+// rigid rotation by theta about z in one step from R_n = I.
+TEST(CorrespondencePeridigm, RotationIncrement) {
+  const double theta = 0.02;
+  const Mat3 F = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  classical::Elastic el = classical::elastic_from_bulk_shear(kE / 3, kE / 2);
+  classical::HypoState n, cay, pd;
+  double work = 0;
+  classical::hypoelastic_step(el, 0, 0, n, F, 1.0, cay, work);
+  classical::hypoelastic_step(el, 0, 0, n, F, 1.0, pd, work, nullptr, classical::PlasticReturn::work, {}, 0,
+                              classical::RotationUpdate::peridigm);
+  // L = (F - I) F^-1 = I - F^T: its skew part W has w_z = sin(theta).
+  const double w = std::sin(theta), c = 1.0 / (1.0 + 0.25 * w * w);
+  EXPECT_NEAR((cay.R.transpose() * cay.R - Mat3::Identity()).norm(), 0.0, 1e-15);  // orthogonal
+  // Closed forms: W^2 = -w^2 (e_x e_x + e_y e_y); Cayley R_xx = 1 - c w^2/2, Peridigm's 1 + c w^2/2.
+  EXPECT_NEAR(cay.R(0, 0), 1 - c * w * w / 2, 1e-15);
+  EXPECT_NEAR(cay.R(1, 0), c * w, 1e-15);
+  EXPECT_NEAR(pd.R(0, 0), 1 + c * w * w / 2, 1e-15);
+  EXPECT_NEAR(pd.R(1, 1), 1 + c * w * w / 2, 1e-15);
+  EXPECT_NEAR(pd.R(1, 0), c * w, 1e-15);
+  EXPECT_NEAR(pd.R(0, 1), -c * w, 1e-15);
+  EXPECT_EQ(pd.R(2, 2), 1.0);
+  // The two differ by -c W^2 only: second order in the step's rotation.
+  EXPECT_NEAR((pd.R - cay.R).norm(), std::sqrt(2.0) * c * w * w, 1e-15);
+}
+
 // Uniaxial strain with nu = 0.3 past yield: q = sqrt(3/2)|s| lands on y_n + H Delta alpha
 // with Delta alpha = (q_trial^2 - y_n^2)/(6 mu q_trial), y_n = sigma_y + H alpha_n, and
 // the plastic work is sigma_y Delta alpha + H (alpha^2 - alpha_n^2)/2.

@@ -88,6 +88,7 @@ struct LawSettings {
   // hypoelastic_j2: the plastic_return (work or peridigm); viscoplastic_needleman: needleman.
   classical::PlasticReturn plastic_return = classical::PlasticReturn::work;
   classical::Needleman needleman;  // viscoplastic_needleman
+  classical::RotationUpdate rotation = classical::RotationUpdate::cayley;  // the rate form's R increment
 };
 
 // Per-particle history (the trial copy is written by the force pass, the committed one
@@ -115,7 +116,7 @@ inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, co
     const double yield = s.law != StressLaw::hypoelastic ? s.j2.yield_stress * yield_factor : 0.0;
     const classical::HypoResult h = classical::hypoelastic_step(s.elastic, yield, s.j2.hardening_modulus,
                                                                 committed.hypo, F, dt, trial.hypo, plastic_work, Fdot,
-                                                                s.plastic_return, s.needleman, thermal);
+                                                                s.plastic_return, s.needleman, thermal, s.rotation);
     if (rate) *rate = h.d;
     trial.plastic.alpha = trial.hypo.alpha;
     return h.law;
