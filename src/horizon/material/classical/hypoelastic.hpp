@@ -24,8 +24,8 @@
 //     own Deformation_Gradient by 0.047 and 0.030 Pa (2e-9 of 2.4e7) with the Cayley R,
 //     by 8.6e-4 Pa with R = I + W + a W^2 at a = -1/2 exactly (a = -0.48, -0.52: 1.2e-3,
 //     9e-4; the Cayley a = +1/2), and the decks then match. Not orthogonal to second order
-//     in the step's rotation (R^T R = I - 2 c^2 (dt Omega)^2 + ...): harmless for small
-//     rotation steps, and only what the golds need;
+//     in the step's rotation (R^T R = I - (c + c^2) W^2 + c^2 W^4 / 4, W = dt Omega):
+//     harmless for small rotation steps, and only what the golds need;
 //   V = V_n + dt (L V_n - V_n Omega);
 //   d = R^T D R  (the unrotated rate of deformation),
 //   sigma_u = sigma_u,n + dt (lambda tr(d) I + 2 mu d), then, with a yield stress, where
