@@ -527,12 +527,16 @@ class ExtendedCorrespondence final : public Model {
   // The pair form (pair_forces): per particle of this material, what the pair sum reads of
   // both ends of a bond; T_ij = omega g (A_i . h + 2 coef r_i) Y + omega PK_i xi
   // (ExtendedCorrespondence::pair_forces).
-  struct alignas(64) PairRecord {  // two cache lines (PK is pair_pk_'s: the volumetric gradient's only)
+  // Two cache lines (PK is pair_pk_'s: the volumetric gradient's only); the first holds what
+  // the pair sum reads of a neighbour when both ends take the midpoint residual (its value
+  // kept per bond by the row's stabilisation sum, rforce_), the second E, which the other
+  // residuals read.
+  struct alignas(64) PairRecord {
     Vec6 A = Vec6::Zero();   // a - 2 k_s b (a = dual(S), b = dual(R): bond_force_state's)
-    Vec6 E = Vec6::Zero();   // the strain its residuals read (e_vec_ when it sends it, else e_full_)
     double ks = 0;           // k_s (0: no stabilisation)
     uint8_t on = 0;          // carries stress in this pass
     uint8_t mid = 0;         // the other end's residual takes the midpoint with this E (e_ok_)
+    alignas(64) Vec6 E = Vec6::Zero();  // the strain its residuals read (e_vec_ when it sends it, else e_full_)
   };
   std::vector<PairRecord> pair_;
   std::vector<Mat3> pair_pk_;   // per particle: PK of the pass (0: no stress); the last pass's while the
@@ -949,6 +953,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
       } else {
         r = eps_[k] - p.dot(Ei);
       }
+      rforce_[k] = r;  // the pair sum's i side (kernels::pair_bond_kept)
       const BondKind& bk = kinds[B.kind[k]];
       const double w = bk.weight * (bk.volume * bk.fraction), wr = w * r;
       Rp.noalias() += (wr * (coef * inv_ks)) * p;
@@ -984,12 +989,13 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
   double wc_sum = 0;
   const uint64_t last = B.end(i);
   for (uint64_t k = B.begin(i); k < last; ++k) {
-    // The neighbour's record lies up to a horizon of rows away (192 bytes): asked for a
+    // The neighbour's record lies up to a horizon of rows away (one or two lines): asked for a
     // few bonds ahead.
     if (k + kPairAhead < last) {
       const std::size_t la = local_[B.nbr[k + kPairAhead]];
       const char* ahead = reinterpret_cast<const char*>(&pair_[la]);
-      __builtin_prefetch(ahead), __builtin_prefetch(ahead + 64);
+      __builtin_prefetch(ahead);
+      if (!midpoint_) __builtin_prefetch(ahead + 64);  // E: the full residual's j side
       if (vol_gradient_) __builtin_prefetch(&pair_pk_[la]);
     }
     const uint32_t j = B.nbr[k];
@@ -1008,7 +1014,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
       const kernels::PairEnd ej{rj.A.data(), rj.E.data(), rj.ks, rj.on != 0, rj.mid != 0};
       const double V = bk.volume * bk.fraction, wv = bk.weight * V;
       const kernels::PairBond pb =
-          kernels::pair_bond(ei, ej, n, dim_, kc.inv_length, dot(Y, Y), eps_[k], m, bk.weight, V);
+          kernels::pair_bond_kept(ei, ej, n, dim_, kc.inv_length, dot(Y, Y), eps_[k], rforce_[k], m, bk.weight, V);
       const double qi = pb.q;
       pair_q_[k] = qi;
       f += pb.scale * Y;
