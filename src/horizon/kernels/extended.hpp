@@ -120,8 +120,10 @@ HORIZON_HD_INLINE PairBond pair_bond(const PairEnd& ri, const PairEnd& rj, const
 // i carries stress with k_s != 0): the same operations on the same values, so the same bits,
 // without the midpoint projection per bond (and, when both ends take the midpoint, without
 // reading E of either end: the midpoint residual is the same number from both).
+// eps: the bond's strain, read only where a residual is computed here (not when both
+// ends take the midpoint and i's is kept).
 HORIZON_HD_INLINE PairBond pair_bond_kept(const PairEnd& ri, const PairEnd& rj, const double* n, int dimension,
-                                          double inv_length, double Y2, double eps, double r_i, double m,
+                                          double inv_length, double Y2, const double* eps, double r_i, double m,
                                           double omega, double V) {
   double h[6];
   unit_shape_state(n, dimension, h);
@@ -136,7 +138,7 @@ HORIZON_HD_INLINE PairBond pair_bond_kept(const PairEnd& ri, const PairEnd& rj, 
     } else {
       double p[6];
       unit_normal_projector(n, p);
-      rr = (ri.ks + rj.ks) * (eps - dot6_mid(p, ri.E, rj.E));
+      rr = (ri.ks + rj.ks) * (*eps - dot6_mid(p, ri.E, rj.E));
     }
     if (kept) si += rr;
     if (rj.on && rj.ks != 0) sj += rr;
@@ -145,7 +147,7 @@ HORIZON_HD_INLINE PairBond pair_bond_kept(const PairEnd& ri, const PairEnd& rj, 
     if (rj.on) {
       double p[6];
       unit_normal_projector(n, p);
-      sj += pair_side_residual(rj, ri, p, eps);
+      sj += pair_side_residual(rj, ri, p, *eps);
     }
   }
   const double wg = omega * g, qi = wg * si;

@@ -128,6 +128,7 @@ class ExtendedCorrespondence final : public Model {
     const double* soft;  // the critical-stretch factors, or null
     const ForcePass* pass;
     bool energy;
+    bool keep_q;  // some bond may break in the next pass: pair_q_ is written (pair_forces)
   };
   uint64_t pair_break_row(const PairPass& c, std::size_t l);
   void pair_law_row(const PairPass& c, std::size_t l);
@@ -1014,9 +1015,8 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
       const kernels::PairEnd ej{rj.A.data(), rj.E.data(), rj.ks, rj.on != 0, rj.mid != 0};
       const double V = bk.volume * bk.fraction, wv = bk.weight * V;
       const kernels::PairBond pb =
-          kernels::pair_bond_kept(ei, ej, n, dim_, kc.inv_length, dot(Y, Y), eps_[k], rforce_[k], m, bk.weight, V);
-      const double qi = pb.q;
-      pair_q_[k] = qi;
+          kernels::pair_bond_kept(ei, ej, n, dim_, kc.inv_length, dot(Y, Y), &eps_[k], rforce_[k], m, bk.weight, V);
+      if (c.keep_q) pair_q_[k] = pb.q;
       f += pb.scale * Y;
       if (vol_gradient_) {
         const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
@@ -1077,6 +1077,11 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
   if (energy)
     for (std::size_t i = 0; i < np; ++i) P.energy[i] = 0;
   const ForcePass pass{s, M.packed.data(), nullptr, energy ? P.energy.data() : nullptr, s.time, s.dt};
+  // pair_q_ books the energy of a bond that breaks in the next pass: none can where every
+  // particle's critical stretch is infinite (no damage law; inf stays inf under alpha and the
+  // temperature's factor) and none is scheduled, and the sum then skips its 8 bytes a bond.
+  bool keep_q = !s.critical_stretch_schedules.empty();
+  for (std::size_t i = 0; i < M.critical_stretch.size() && !keep_q; ++i) keep_q = !std::isinf(M.critical_stretch[i]);
   // A temperature-dependent critical stretch scales each end's s0 (forces_general.cpp).
   const PairPass c{s,
                    M.packed.data(),
@@ -1086,7 +1091,8 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
                    M.break_after_force,
                    s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data(),
                    &pass,
-                   energy};
+                   energy,
+                   keep_q};
   // The rows for this machine (pair_break_row and its versions below).
   auto break_row = &ExtendedCorrespondence::pair_break_base;
   auto law_row = &ExtendedCorrespondence::pair_law_base;
