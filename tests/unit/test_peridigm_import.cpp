@@ -287,7 +287,8 @@ TEST(PeridigmImport, CorrespondencePlasticity) {
                           "      Flaw Size: 0.1\n";
   const YAML::Node n = convert(write_deck("ihc.yaml", "", "", mat));
   EXPECT_EQ(flow(n["materials"]["All"]),
-            "{model: correspondence, stress_law: hypoelastic_j2, plastic_return: peridigm, stabilization_form: peridigm, "
+            "{model: correspondence, stress_law: hypoelastic_j2, plastic_return: peridigm, rotation_update: peridigm, "
+            "stabilization_form: peridigm, "
             "stabilization: 0.02, "
             "yield_stress: 250000000, hardening_modulus: 1000000000, density: 7800, youngs_modulus: 200000000000, "
             "poissons_ratio: 0.29999999999999999, influence: constant}");

@@ -317,6 +317,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
     own = {"Hourglass Coefficient"};
     mat["model"] = "correspondence";
     mat["stress_law"] = "hypoelastic";
+    mat["rotation_update"] = "peridigm";  // Peridigm's rotation increment (fitted: classical/hypoelastic.hpp)
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
@@ -332,6 +333,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
     // Peridigm's own return (its hardened yield stress from its plastic-multiplier
     // estimate: classical/hypoelastic.hpp), which the IsotropicHardening golds need.
     if (!needleman) mat["plastic_return"] = "peridigm";
+    mat["rotation_update"] = "peridigm";
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     mat["yield_stress"] = read_positive(t.ctx, m.get("Yield Stress", "the yield stress [Pa]"));
