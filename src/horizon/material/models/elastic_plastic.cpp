@@ -1,5 +1,6 @@
 #include "horizon/material/models/elastic_plastic.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -65,7 +66,14 @@ class ElasticPlastic final : public Model {
   void force_state(ForcePass& pass) override;
   void begin_rows(const RowPass& pass) override {
     size_bonds(pass.system.bonds);
-    ledger_.begin_pass();
+    mode_ = ledger_.begin_rows(pass.system, lanes::wide());
+    if (yield_flags_stale_) {  // after a restart: from the restored e^dp
+      const auto& B = pass.system.bonds;
+      for (uint32_t i : particles_)
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+          if (ep_.committed()[k] != 0 || ep_.trial()[k] != 0) yielded_[i] = 1;
+      yield_flags_stale_ = false;
+    }
   }
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
   void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum);
@@ -92,12 +100,14 @@ class ElasticPlastic final : public Model {
     a.io_particles("lambda_trial", lambda_trial_);
     ep_.checkpoint(a, "ep", "ep_trial", ledger_.fresh);
     ledger_.checkpoint(a);
+    if (a.loading()) std::fill(yielded_.begin(), yielded_.end(), 0), yield_flags_stale_ = true;
   }
  private:
   void size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();
     if (ep_.size() == nb) return;
     ep_.assign(nb, 0);
+    std::fill(yielded_.begin(), yielded_.end(), 0);
     ledger_.size_bonds(B);
   }
 
@@ -121,6 +131,12 @@ class ElasticPlastic final : public Model {
   // Per particle: it flowed in its last pass of the scalar form (force_row's guess; not
   // state: whatever it holds, the row computes the same bits).
   std::vector<uint8_t> flowed_;
+  // Per particle: its row has flowed in some pass (beta != 1). A row that never did has
+  // e^dp = 0 on every bond in both copies, which its lanes neither read nor write
+  // (ordinary_lanes.hpp EpRow): 24 bytes a bond and step less where most rows stay elastic.
+  // Recomputed from e^dp after a restart (yield_flags_stale_).
+  std::vector<uint8_t> yielded_;
+  bool yield_flags_stale_ = false;
   // The plastic multiplier, committed and trial: the sum of the steps' d lambda (header).
   std::vector<double> lambda_, lambda_trial_;
   std::vector<double> theta_;  // the dilatation of the last force pass (an output)
@@ -128,6 +144,7 @@ class ElasticPlastic final : public Model {
   // and what the ledger needs of the step (below).
   BondHistory<double> ep_;
   HistoryLedger ledger_;  // the step's energy bookkeeping (history_ledger.hpp)
+  LedgerRows mode_;       // how this pass's rows read and write the ledger's t and e
 };
 
 void ElasticPlastic::setup(const ModelSetup& in) {
@@ -150,6 +167,7 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   eps_p_.assign(n, 0);
   eps_p_trial_.assign(n, 0);
   flowed_.assign(n, 0);
+  yielded_.assign(n, 0);
   lambda_.assign(n, 0);
   lambda_trial_.assign(n, 0);
   theta_.assign(n, 0);
@@ -234,6 +252,7 @@ void ElasticPlastic::force_state(ForcePass& pass) {
     const ReturnMap r = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu, yield_, hardening_, eps_p_[i]) : ReturnMap{};
     eps_p_trial_[i] = eps_p_[i] + r.plastic_strain;
     const double beta = r.scale;
+    if (beta != 1.0) yielded_[i] = 1;
     lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(beta, alpha);
     const double p_coef = dim * bulk_ * theta / m;  // t^i = (d k' theta/m) omega |xi|
     double work = 0, dev = 0, booked = 0;
@@ -296,13 +315,20 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const double mu = shear_factor_[i] * mu_;
   const double theta = dim * dilatation_sum / m;
   theta_[i] = theta;
-  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, true);
+  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, mode_, i, true);
   // The trial deviatoric extension e^d - e^dp_n of each bond (kernels::ep_bond's trial),
-  // kept from the visit that computes it for a visit that scales it.
-  thread_local std::vector<double> trial_row;
+  // kept from the visit that computes it for a visit that scales it; likewise a rebuilt t_n
+  // (ordinary_lanes.hpp RowBonds::t_old).
+  thread_local std::vector<double> trial_row, t_old_row;
   if (trial_row.size() < last - first) trial_row.resize(last - first);
+  if (b.r_old) {
+    if (t_old_row.size() < last - first) t_old_row.resize(last - first);
+    b.t_old = t_old_row.data() - first;
+  }
   lanes::EpRow row;
-  row.ep = ep_.committed(), row.ep_trial = ep_.trial(), row.ede = trial_row.data() - first;
+  const bool never_yielded = !yielded_[i];
+  if (!never_yielded) row.ep = ep_.committed(), row.ep_trial = ep_.trial();
+  row.ede = trial_row.data() - first;
   row.theta = theta, row.alpha = alpha, row.p_coef = dim * bulk_ * theta / m, row.dim = dim;
   // The yield norm needs theta, the forces need the return: two visits of the row. A
   // particle that did not flow in its last pass is taken to stay elastic (beta = 1): one
@@ -316,8 +342,13 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
   flowed_[i] = rm.plastic_strain > 0;
   lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
+  if (never_yielded && rm.scale != 1.0) {  // its first flow: e^dp_n = 0 (not read), e^dp written
+    yielded_[i] = 1;
+    row.ep_trial = ep_.trial();
+  }
   if (!guess_elastic || rm.scale != 1.0) {
     const double norm = sums.norm;
+    b.revisit = guess_elastic;  // the first visit wrote q
     sums = lanes::ep_row(b, row, rm.scale, false, true);
     sums.norm = norm;
   }
@@ -427,6 +458,7 @@ void ElasticPlastic::force_row_scalar(const RowPass& pass, std::size_t i, double
   const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu, yield_, hardening_, eps_p_[i]) : ReturnMap{};
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
   flowed_[i] = rm.plastic_strain > 0;
+  if (rm.scale != 1.0) yielded_[i] = 1;
   lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
   if (!guess_elastic || rm.scale != 1.0) visit(rm.scale, std::false_type{});
   const bool inelastic = rm.plastic_strain > 0 || inelastic_bonds;
@@ -450,7 +482,7 @@ void ElasticPlastic::commit(System& s) {
     const double loss = ledger_.commit_particle(i);
     if (loss != 0) s.dissipated_at[i] += loss * P.volume[i];
   }
-  if (ledger_.commit_bonds()) ep_.flip();  // the trial bond records become the committed ones
+  if (ledger_.commit_bonds(s)) ep_.flip();  // the trial bond records become the committed ones
 }
 
 }  // namespace
