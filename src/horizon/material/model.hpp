@@ -155,6 +155,10 @@ struct RowPass {
   double time = 0;                   // the time of this deformation
   double dt = 0;                     // time since the committed state
   const Point4* kinds = nullptr;     // per bond kind {|xi|, omega, omega V_j, V_j} (System::model.kind_rows)
+  // Per bond k of the row (valid for the row's bonds only): |Y| of the previous pass, as the
+  // breaking sweep found it before writing this pass's; null when the pass does not keep it
+  // (history_ledger.hpp LedgerMode: the ledger's committed t and e rebuilt from it).
+  const double* r_old = nullptr;
 };
 
 // One evaluation of the affine general pass (ModelTraits::affine), as a model sees it: for

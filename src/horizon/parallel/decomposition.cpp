@@ -318,7 +318,7 @@ void keep_computed_rows(System& s, Decomposition& d) {
     // Before any force pass: no per-bond array exists yet beside the rows themselves (a
     // bond-based run has only unified models, which keep no per-bond state).
     const auto& M = s.model;
-    if (!M.deformed_length.empty() || !M.force_state.empty() || !M.reverse.empty())
+    if (!M.deformed_length.empty() || !M.force_state.empty() || !M.reverse.empty() || !M.reverse32.empty())
       throw Error("internal error: per-bond arrays exist before the rows another rank computes are dropped");
     rewrite_bonds(B, [&](std::size_t i, uint64_t) { return s.row_active[i] ? BondAction::keep : BondAction::drop; });
     B.nbr.shrink_to_fit();

@@ -192,7 +192,11 @@ void ExplicitSolver::step(bool energy) {
       strain_change.clear();
     }
   }
+  // The history of this pass is committed before the next one: the ordinary models keep
+  // no trial copy of their ledger's force states (history_ledger.hpp LedgerRows).
+  s_.model.commit_follows = true;
   compute_forces(s_, energy);
+  s_.model.commit_follows = false;
   if (!strain_change.empty()) ledger_.thermal_work += 0.5 * (thermal_before + thermal_strain_work(s_, strain_change));
   commit_history_with_heat(s_);  // history models (plasticity, viscosity) accept this step
 

@@ -1015,6 +1015,7 @@ void share_min_stretch(System& s) {
 
 ForceStats compute_forces(System& s, bool energy) {
   ForceStats stats;
+  ++s.model.passes;  // (history_ledger.hpp LedgerRows: which pass left |Y| and q behind)
   if (Model* owner = s.models.owner()) {  // a model that computes the whole pass (material/model.hpp)
     stats.broken = owner->force_pass(s, energy);
     s.broken += stats.broken;

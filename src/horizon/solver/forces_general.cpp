@@ -137,9 +137,9 @@ uint64_t general_forces(System& s, bool energy) {
     pack_positions(s);
     return s.models[0].pair_forces(s, energy);  // the model's pair form (Model::takes_pair_pass)
   }
-  if (M.reverse.size() != nb) M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
   pack_positions(s);
-  if (scalar_general_pass(s)) return ordinary_forces(s, energy);  // solver/forces_ordinary.cpp
+  if (scalar_general_pass(s)) return ordinary_forces(s, energy);  // solver/forces_ordinary.cpp (its own reverse index)
+  if (M.reverse.size() != nb) M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
   if (M.force_state.size() != nb) M.force_state.assign(nb, Vec3{});
   const bool after = M.break_after_force;
   // A decomposed run computes the rows of its active particles alone: its own and their

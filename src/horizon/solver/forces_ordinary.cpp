@@ -28,8 +28,10 @@
 #include <emmintrin.h>
 #endif
 
+#include "horizon/family/bond_helpers.hpp"
 #include "horizon/kernels/unified.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
+#include "horizon/parallel/decomposition.hpp"
 #include "horizon/solver/forces.hpp"
 #include "horizon/solver/forces_general.hpp"
 
@@ -210,7 +212,6 @@ uint64_t ordinary_forces(System& s, bool energy) {
   sw.nbr = B.nbr.data();
   sw.kind = B.kind.data();
   sw.offset = B.offset.data();
-  sw.rev = M.reverse.data();
   sw.intact = B.intact.data();
   sw.deformed = M.deformed_length.data();
   sw.q = M.force_scalar.data();
@@ -224,13 +225,36 @@ uint64_t ordinary_forces(System& s, bool energy) {
   sw.contact = s.contact.acts_on_family();
 
   const bool wide = lanes::wide();
+  // The reverse index, in 4 bytes where the lanes' sum reads it and the bonds allow
+  // (System::model.reverse32; the 8-byte one is then not kept).
+  const bool narrow = wide && nb < (uint64_t{1} << 32);
+  if (narrow ? M.reverse32.size() != nb : M.reverse.size() != nb) {
+    M.reverse = reverse_bonds(B, s.decomposition && s.decomposition->local_rows);
+    if (narrow) {
+      M.reverse32.resize(nb);
+      for (std::size_t k = 0; k < nb; ++k) M.reverse32[k] = static_cast<uint32_t>(M.reverse[k]);
+      std::vector<uint64_t>().swap(M.reverse);
+    }
+  }
+  sw.rev = M.reverse.data();
+  if (narrow) sw.rev32 = M.reverse32.data();
+  // A pass of the lanes without a thermal strain leaves |Y| and q behind for the models'
+  // ledgers to rebuild the committed t and e from (history_ledger.hpp LedgerRows).
+  if (wide && !eps) M.plain_scalar_pass = M.passes;
   uint64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken)
   for (std::size_t a = 0; a < rows; ++a) {
     const std::size_t i = act ? (*act)[a] : a;
     lanes::BreakOut o;
+    // |Y| of the previous pass for the row's model (RowPass::r_old), kept by the sweep.
+    thread_local std::vector<double> r_old_row;
+    const double* r_old = nullptr;
     if (wide) {
-      o = lanes::break_row(sw, i);
+      const uint64_t first = B.begin(i);
+      if (r_old_row.size() < B.end(i) - first) r_old_row.resize(B.end(i) - first);
+      double* kept = r_old_row.data() - first;
+      o = lanes::break_row(sw, i, kept);
+      r_old = kept;
     } else {
       const RowOut r = break_row(s, i, after, eps, soft);
       o = {r.smin, r.lost, r.dilatation, r.broken};
@@ -240,9 +264,11 @@ uint64_t ordinary_forces(System& s, bool energy) {
     if (o.broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
     P.damage[i] = damage_of(M.intact_weight[i], M.damage_total[i]);
     M.min_stretch_next[i] = o.smin;
-    if (Model* m = model_of[P.material[i]])
-      m->force_row(pass, i, o.dilatation);
-    else
+    if (Model* m = model_of[P.material[i]]) {
+      RowPass row = pass;
+      row.r_old = r_old;
+      m->force_row(row, i, o.dilatation);
+    } else
       unified_row(s, i, o.dilatation, eps, pass.energy);
   }
 

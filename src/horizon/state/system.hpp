@@ -123,8 +123,21 @@ struct ModelCoefficients {
   // (written by the models) and the index of bond j->i for bond i->j.
   std::vector<Vec3> force_state;
   std::vector<uint64_t> reverse;
+  // The same in 4 bytes, for the scalar form's sum (solver/forces_ordinary.cpp) when the
+  // bonds number fewer than 2^32: half the index's bytes in the pass's last sweep.
+  std::vector<uint32_t> reverse32;
   // Its scalar form (solver/forces_ordinary.cpp): q = t/|Y| of every bond, T = q Y.
   std::vector<double> force_scalar;
+  // The force passes so far (compute_forces counts them), and the last scalar pass that
+  // ran the ordinary lanes without a thermal strain (0: none): after such a pass,
+  // deformed_length and force_scalar hold its |Y| and q for every computed row, from which
+  // the ordinary models rebuild their ledger's committed t and e instead of storing them
+  // (material/models/history_ledger.hpp LedgerMode). commit_follows: the caller commits the
+  // pass's history before the next pass (the explicit step), so a model need not keep
+  // the pass's trial t and e either.
+  uint64_t passes = 0;
+  uint64_t plain_scalar_pass = 0;
+  bool commit_follows = false;
   // Its affine form (solver/forces_affine.cpp): a record of ten numbers per particle
   // (kernels/affine.hpp) instead of a force state per bond, and the
   // positions of the pass that wrote them (a bond broken in the next pass books its energy

@@ -14,8 +14,22 @@
 //     axial(D V - V D): the spin of R that keeps V symmetric in V_dot = L V - V Omega
 //     (Flanagan and Taylor's eq. for omega; derived: for skew A and symmetric V,
 //     A V + V A is skew with axial vector (tr(V) I - V) a);
-//   R = (I - dt/2 Omega)^-1 (I + dt/2 Omega) R_n  (their midpoint rotation update;
-//     `RotationUpdate::peridigm`: Peridigm's, below),
+//   R = (I - dt/2 Omega)^-1 (I + dt/2 Omega) R_n  (their midpoint rotation update,
+//     `RotationUpdate::cayley`); or, with `RotationUpdate::peridigm`, R = Q R_n with, for
+//     omega the axial vector of Omega and theta = dt |omega|,
+//       Q = I + (sin(theta)/|omega|) Omega - ((1 - cos theta)/|omega|^2) Omega^2
+//     (Q = I where |omega|^2 <= 1e-30): Flanagan and Taylor's exponential of dt Omega
+//     (their eq. 44, Rodrigues' formula, whose Omega^2 term has the sign +) with the sign
+//     of its Omega^2 term as Peridigm evaluates it (src/materials/correspondence.cxx of the
+//     Peridigm repository, computeUnrotatedRateOfDeformationAndRotationTensor, read for
+//     its formula). Q is not orthogonal: Q Q^T = I + O(theta^2) (for a spin about z,
+//     Q_xx = 2 - cos theta). Two golds fix it: AdaptiveQuasiStaticSolver (the one suite
+//     deck whose particles rotate by 2e-2: its Rotation_Tensor is 1.4e-4 from orthogonal
+//     at t = 9 dt, the Cayley R 5.5e-5 from it; with Q every frame to round-off, R to
+//     2.9e-15 against the .comp's 1e-12) and PredictorFromPreviousSolverQSTrue, from which
+//     branch pdhourglass had fitted the second-order form I + c (W - W^2/2), c = 1/(1 +
+//     |W|^2/4), W = dt Omega (the same to second order: 8.6e-4 Pa of 2.4e7 at t = 1 against
+//     0.047 Pa with the Cayley R, docs/peridigm.md "Peridigm's hourglass force");
 //   V = V_n + dt (L V_n - V_n Omega);
 //   d = R^T D R  (the unrotated rate of deformation),
 //   sigma_u = sigma_u,n + dt (lambda tr(d) I + 2 mu d), then, with a yield stress, where
@@ -90,27 +104,19 @@ inline Eigen::Vector3d axial_of(const Mat3& S) { return {S(2, 1), S(0, 2), S(1, 
 // Needleman Correspondence, below).
 enum class PlasticReturn { work, peridigm, needleman };
 
-// How R advances over the step. `midpoint`: Flanagan and Taylor's midpoint update above,
-// exactly orthogonal. `peridigm`: R = Q R_n with, for the axial vector omega of Omega and
-// theta = dt |omega|,
-//   Q = I + sin(theta)/|omega| Omega - (1 - cos theta)/|omega|^2 Omega^2   (Q = I where
-//   |omega|^2 <= 1e-30),
-// Flanagan and Taylor's exponential of dt Omega (their eq. 44, Rodrigues' formula) with the
-// sign of its Omega^2 term as Peridigm evaluates it (src/materials/correspondence.cxx of
-// the Peridigm repository, computeUnrotatedRateOfDeformationAndRotationTensor, read for
-// its formula): Q is then not orthogonal, Q Q^T = I + O(theta^2). The gold of Peridigm's
-// AdaptiveQuasiStaticSolver (the one suite deck whose particles rotate) has it: its
-// Rotation_Tensor at t = 9 dt is 1.4e-4 from orthogonal, and the midpoint update's R
-// differs from it by 5.5e-5 (docs/peridigm.md, "Adaptive Load-Stepping").
-enum class RotationUpdate { midpoint, peridigm };
+// The rotation increment of the rate form: Flanagan and Taylor's Cayley transform
+// (orthogonal), or Peridigm's exponential with its sign of the Omega^2 term (above).
+enum class RotationUpdate { cayley, peridigm };
 
-// The rotation increment of `RotationUpdate::peridigm` over dt for the spin Omega.
+// Q of `RotationUpdate::peridigm` over dt for the spin Omega, in Peridigm's order of
+// operations (its scale factors sin(dt |omega|)/|omega| and -(1 - cos(dt |omega|))/|omega|^2).
 inline Mat3 peridigm_rotation_increment(const Mat3& Omega, double dt) {
-  const Eigen::Vector3d w = axial_of(Omega);
+  const Eigen::Vector3d w{Omega(2, 1), Omega(0, 2), Omega(1, 0)};
   const double w2 = w.squaredNorm();
   if (!(w2 > 1e-30)) return Mat3::Identity();
   const double norm = std::sqrt(w2);
-  return Mat3::Identity() + (std::sin(dt * norm) / norm) * Omega - ((1.0 - std::cos(dt * norm)) / w2) * (Omega * Omega);
+  const double f1 = std::sin(dt * norm) / norm, f2 = -(1.0 - std::cos(dt * norm)) / w2;
+  return Mat3::Identity() + f1 * Omega + f2 * (Omega * Omega);
 }
 
 // Needleman's viscoplastic flow stress (A. Needleman 1988, "Material rate dependence and
@@ -201,7 +207,7 @@ inline HypoResult hypoelastic_step(const Elastic& c, double yield, double harden
                                    const Mat3& F, double dt, HypoState& trial, double& plastic_work,
                                    const Mat3* Fdot = nullptr, PlasticReturn kind = PlasticReturn::work,
                                    const Needleman& nm = {}, double thermal = 0,
-                                   RotationUpdate rotation = RotationUpdate::midpoint) {
+                                   RotationUpdate rotation = RotationUpdate::cayley) {
   HypoResult out;
   trial = n;
   plastic_work = 0;
@@ -219,9 +225,8 @@ inline HypoResult hypoelastic_step(const Elastic& c, double yield, double harden
     const Mat3 M = n.V.trace() * I - n.V;
     const Eigen::Vector3d a = M.lu().solve(axial_of(C));
     const Mat3 Omega = W + skew_of(a);
-    trial.R = rotation == RotationUpdate::peridigm
-                  ? Mat3(peridigm_rotation_increment(Omega, dt) * n.R)
-                  : Mat3((I - 0.5 * dt * Omega).lu().solve((I + 0.5 * dt * Omega) * n.R));
+    trial.R = rotation == RotationUpdate::cayley ? Mat3((I - 0.5 * dt * Omega).lu().solve((I + 0.5 * dt * Omega) * n.R))
+                                                 : Mat3(peridigm_rotation_increment(Omega, dt) * n.R);
     trial.V = n.V + dt * (L * n.V - n.V * Omega);
     trial.F = F;
     out.d = trial.R.transpose() * D * trial.R;

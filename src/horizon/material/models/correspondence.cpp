@@ -100,13 +100,13 @@ const ModelTraits& traits() {
          "hardened yield stress from its estimate of the plastic multiplier, classical/hypoelastic.hpp)",
          {"work", "peridigm"}},
         {"rotation_update",
-         "stress_law hypoelastic, hypoelastic_j2, viscoplastic_needleman: how the rotation R advances over a step: "
-         "midpoint (Flanagan and Taylor's midpoint update, orthogonal) or peridigm (Peridigm's exponential of "
-         "dt Omega, the sign of its Omega^2 term as Peridigm evaluates it: classical/hypoelastic.hpp)",
-         {"midpoint", "peridigm"}},
+         "the rate-form laws (hypoelastic, hypoelastic_j2, viscoplastic_needleman): cayley (Flanagan and Taylor's "
+         "midpoint rotation, orthogonal) or peridigm (Peridigm's exponential of dt Omega with the sign of its Omega^2 "
+         "term as Peridigm evaluates it, not orthogonal: classical/hypoelastic.hpp)",
+         {"cayley", "peridigm"}},
         {"stabilization_form",
-         "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).n "
-         "/|xi|) n (Littlewood 2011) with C = stabilization",
+         "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).Y) "
+         "Y/(|xi| |Y|) (Littlewood 2011, scale fitted from Peridigm's gold) with C = stabilization",
          {"silling", "peridigm"}},
     };
     m.affine = true;      // T = omega (M_i xi + g_i Y): kernels/affine.hpp
@@ -176,7 +176,7 @@ class Correspondence final : public Model {
   std::vector<double> von_mises_;  // Cauchy von Mises stress of the last pass [Pa]
   // The von Mises stress of the law's result at local particle l: the rate-form laws' of
   // their unrotated Cauchy stress (the one their return acts on), as Peridigm reports it;
-  // with an orthogonal R (rotation_update midpoint) the same to round-off as that of
+  // with an orthogonal R (rotation_update cayley) the same to round-off as that of
   // sigma = R sigma_u R^T, while Peridigm's R is not orthogonal (AdaptiveQuasiStaticSolver's
   // gold: 1.5e8, the yield stress, where R sigma_u R^T gives up to 1.57e8).
   double von_mises_of(std::size_t l, const Mat3& sigma) const {
@@ -243,7 +243,7 @@ void Correspondence::setup(const ModelSetup& in) {
   law_.plastic_return = choice(mat, "plastic_return") == "peridigm" ? classical::PlasticReturn::peridigm
                                                                     : classical::PlasticReturn::work;
   law_.rotation = choice(mat, "rotation_update") == "peridigm" ? classical::RotationUpdate::peridigm
-                                                                : classical::RotationUpdate::midpoint;
+                                                               : classical::RotationUpdate::cayley;
   if (law_.law == StressLaw::viscoplastic_needleman) {
     law_.plastic_return = classical::PlasticReturn::needleman;
     law_.needleman = {parameter(mat, "strain_hardening_exponent"), parameter(mat, "rate_hardening_exponent"),

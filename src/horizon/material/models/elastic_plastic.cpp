@@ -1,5 +1,6 @@
 #include "horizon/material/models/elastic_plastic.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -10,6 +11,7 @@
 #include "horizon/material/models/history_ledger.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
+#include "horizon/material/shear_correction.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -29,6 +31,12 @@ const ModelTraits& traits() {
          "linear isotropic hardening modulus H [Pa]: sigma_y + H eps_p; uniaxial tangent slope E H/(E + H); 0: "
          "perfect plasticity",
          ParameterSpec::Range::non_negative, 0.0},
+        {"shear_correction",
+         "true: a per-particle factor s_i on the shear modulus (alpha and the return's mu) that gives a truncated "
+         "family the continuum's deviatoric energy under shear, averaged over the shear's orientations (Peridigm's "
+         "Apply Shear Correction Factor; material/shear_correction.hpp); written as the field "
+         "shear_correction_factor",
+         ParameterSpec::Range::boolean, 0.0},
     };
     m.choices = {
         {"yield_reference",
@@ -58,7 +66,14 @@ class ElasticPlastic final : public Model {
   void force_state(ForcePass& pass) override;
   void begin_rows(const RowPass& pass) override {
     size_bonds(pass.system.bonds);
-    ledger_.begin_pass();
+    mode_ = ledger_.begin_rows(pass.system, lanes::wide());
+    if (yield_flags_stale_) {  // after a restart: from the restored e^dp
+      const auto& B = pass.system.bonds;
+      for (uint32_t i : particles_)
+        for (uint64_t k = B.begin(i); k < B.end(i); ++k)
+          if (ep_.committed()[k] != 0 || ep_.trial()[k] != 0) yielded_[i] = 1;
+      yield_flags_stale_ = false;
+    }
   }
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
   void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum);
@@ -75,6 +90,7 @@ class ElasticPlastic final : public Model {
     // theta of the last force pass: this model's rows compute it themselves, so the
     // general pass's System::model.theta (the Exodus file's Dilatation) stays 0 here.
     out.push_back({"dilatation", theta_});
+    if (shear_corrected_) out.push_back({"shear_correction_factor", shear_factor_});
   }
 
   void checkpoint(StateArchive& a) override {
@@ -84,12 +100,14 @@ class ElasticPlastic final : public Model {
     a.io_particles("lambda_trial", lambda_trial_);
     ep_.checkpoint(a, "ep", "ep_trial", ledger_.fresh);
     ledger_.checkpoint(a);
+    if (a.loading()) std::fill(yielded_.begin(), yielded_.end(), 0), yield_flags_stale_ = true;
   }
  private:
   void size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();
     if (ep_.size() == nb) return;
     ep_.assign(nb, 0);
+    std::fill(yielded_.begin(), yielded_.end(), 0);
     ledger_.size_bonds(B);
   }
 
@@ -101,6 +119,10 @@ class ElasticPlastic final : public Model {
   // continuum's (yield_reference).
   double yield_volume_ = 0;
   bool plastic_ = true;  // plasticity: off leaves every step elastic (beta = 1)
+  // Per particle: the shear correction factor s_i (1 without shear_correction), which
+  // scales alpha and the return's shear modulus of i's row.
+  std::vector<double> shear_factor_;
+  bool shear_corrected_ = false;
   double yield_m(double m) const { return yield_volume_ > 0 ? yield_volume_ : m; }
   // Per particle (indexed by particle, only this material's filled): the equivalent
   // plastic strain and the stored energy density W, committed and trial, and the energy
@@ -109,6 +131,12 @@ class ElasticPlastic final : public Model {
   // Per particle: it flowed in its last pass of the scalar form (force_row's guess; not
   // state: whatever it holds, the row computes the same bits).
   std::vector<uint8_t> flowed_;
+  // Per particle: its row has flowed in some pass (beta != 1). A row that never did has
+  // e^dp = 0 on every bond in both copies, which its lanes neither read nor write
+  // (ordinary_lanes.hpp EpRow): 24 bytes a bond and step less where most rows stay elastic.
+  // Recomputed from e^dp after a restart (yield_flags_stale_).
+  std::vector<uint8_t> yielded_;
+  bool yield_flags_stale_ = false;
   // The plastic multiplier, committed and trial: the sum of the steps' d lambda (header).
   std::vector<double> lambda_, lambda_trial_;
   std::vector<double> theta_;  // the dilatation of the last force pass (an output)
@@ -116,6 +144,7 @@ class ElasticPlastic final : public Model {
   // and what the ledger needs of the step (below).
   BondHistory<double> ep_;
   HistoryLedger ledger_;  // the step's energy bookkeeping (history_ledger.hpp)
+  LedgerRows mode_;       // how this pass's rows read and write the ledger's t and e
 };
 
 void ElasticPlastic::setup(const ModelSetup& in) {
@@ -138,6 +167,7 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   eps_p_.assign(n, 0);
   eps_p_trial_.assign(n, 0);
   flowed_.assign(n, 0);
+  yielded_.assign(n, 0);
   lambda_.assign(n, 0);
   lambda_trial_.assign(n, 0);
   theta_.assign(n, 0);
@@ -153,6 +183,10 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   }
   ep_.assign(0, 0);
   size_bonds(s.bonds);
+  shear_corrected_ = Model::parameter(mat, "shear_correction") != 0;
+  shear_factor_.assign(n, 1.0);
+  if (shear_corrected_)
+    for (uint32_t i : particles_) shear_factor_[i] = shear_correction_factor(family_of(s, i), dim_);
 
   // As the LPS (material/models/lps.cpp): spring, contact, critical stretch.
   fill_state_based_coefficients(in);
@@ -186,7 +220,8 @@ void ElasticPlastic::force_state(ForcePass& pass) {
     const Point4 pi = y[i];
     const uint64_t first = B.begin(i), last = B.end(i);
     const double m = M.weighted_volume[i];
-    const double alpha = factor / m;
+    const double alpha = shear_factor_[i] * factor / m;
+    const double mu = shear_factor_[i] * mu_;
     // |Y| of each bond of the row, computed once and read by the three sweeps below.
     thread_local std::vector<double> deformed;
     deformed.resize(last - first);
@@ -214,9 +249,10 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       n2 += c.wv * ede * ede;
     }
     n2 *= alpha * alpha;
-    const ReturnMap r = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
+    const ReturnMap r = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu, yield_, hardening_, eps_p_[i]) : ReturnMap{};
     eps_p_trial_[i] = eps_p_[i] + r.plastic_strain;
     const double beta = r.scale;
+    if (beta != 1.0) yielded_[i] = 1;
     lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(beta, alpha);
     const double p_coef = dim * bulk_ * theta / m;  // t^i = (d k' theta/m) omega |xi|
     double work = 0, dev = 0, booked = 0;
@@ -275,16 +311,24 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const int dim = dim_;
   const uint64_t first = B.begin(i), last = B.end(i);
   const double m = M.weighted_volume[i];
-  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double alpha = shear_factor_[i] * lps_deviatoric_factor(dim) * mu_ / m;
+  const double mu = shear_factor_[i] * mu_;
   const double theta = dim * dilatation_sum / m;
   theta_[i] = theta;
-  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, true);
+  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, mode_, i, true);
   // The trial deviatoric extension e^d - e^dp_n of each bond (kernels::ep_bond's trial),
-  // kept from the visit that computes it for a visit that scales it.
-  thread_local std::vector<double> trial_row;
+  // kept from the visit that computes it for a visit that scales it; likewise a rebuilt t_n
+  // (ordinary_lanes.hpp RowBonds::t_old).
+  thread_local std::vector<double> trial_row, t_old_row;
   if (trial_row.size() < last - first) trial_row.resize(last - first);
+  if (b.r_old) {
+    if (t_old_row.size() < last - first) t_old_row.resize(last - first);
+    b.t_old = t_old_row.data() - first;
+  }
   lanes::EpRow row;
-  row.ep = ep_.committed(), row.ep_trial = ep_.trial(), row.ede = trial_row.data() - first;
+  const bool never_yielded = !yielded_[i];
+  if (!never_yielded) row.ep = ep_.committed(), row.ep_trial = ep_.trial();
+  row.ede = trial_row.data() - first;
   row.theta = theta, row.alpha = alpha, row.p_coef = dim * bulk_ * theta / m, row.dim = dim;
   // The yield norm needs theta, the forces need the return: two visits of the row. A
   // particle that did not flow in its last pass is taken to stay elastic (beta = 1): one
@@ -294,12 +338,17 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const bool guess_elastic = !flowed_[i];
   lanes::RowSums sums = lanes::ep_row(b, row, 1.0, true, guess_elastic);
   const double n2 = sums.norm * (alpha * alpha);
-  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
+  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu, yield_, hardening_, eps_p_[i]) : ReturnMap{};
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
   flowed_[i] = rm.plastic_strain > 0;
   lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
+  if (never_yielded && rm.scale != 1.0) {  // its first flow: e^dp_n = 0 (not read), e^dp written
+    yielded_[i] = 1;
+    row.ep_trial = ep_.trial();
+  }
   if (!guess_elastic || rm.scale != 1.0) {
     const double norm = sums.norm;
+    b.revisit = guess_elastic;  // the first visit wrote q
     sums = lanes::ep_row(b, row, rm.scale, false, true);
     sums.norm = norm;
   }
@@ -335,7 +384,8 @@ void ElasticPlastic::force_row_scalar(const RowPass& pass, std::size_t i, double
   };
   const uint64_t first = B.begin(i), last = B.end(i);
   const double m = M.weighted_volume[i];
-  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double alpha = shear_factor_[i] * lps_deviatoric_factor(dim) * mu_ / m;
+  const double mu = shear_factor_[i] * mu_;
   const double theta = dim * dilatation_sum / m;
   const double p_coef = dim * bulk_ * theta / m;
   const HistoryLedger::Row ledger = ledger_.row();
@@ -405,9 +455,10 @@ void ElasticPlastic::force_row_scalar(const RowPass& pass, std::size_t i, double
   else
     trial_norm();
   n2 *= alpha * alpha;
-  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
+  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu, yield_, hardening_, eps_p_[i]) : ReturnMap{};
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
   flowed_[i] = rm.plastic_strain > 0;
+  if (rm.scale != 1.0) yielded_[i] = 1;
   lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
   if (!guess_elastic || rm.scale != 1.0) visit(rm.scale, std::false_type{});
   const bool inelastic = rm.plastic_strain > 0 || inelastic_bonds;
@@ -431,7 +482,7 @@ void ElasticPlastic::commit(System& s) {
     const double loss = ledger_.commit_particle(i);
     if (loss != 0) s.dissipated_at[i] += loss * P.volume[i];
   }
-  if (ledger_.commit_bonds()) ep_.flip();  // the trial bond records become the committed ones
+  if (ledger_.commit_bonds(s)) ep_.flip();  // the trial bond records become the committed ones
 }
 
 }  // namespace

@@ -22,9 +22,11 @@
 #include <string>
 #include <vector>
 
+#include "horizon/core/error.hpp"
 #include "horizon/core/vec3.hpp"
 #include "horizon/core/state_archive.hpp"
 #include "horizon/family/bonds.hpp"
+#include "horizon/state/system.hpp"
 
 namespace horizon {
 
@@ -83,6 +85,24 @@ inline double broken_bond_booking(double t_old, double length, double e, double 
 // D_i from the step's work, the change of W and the booking (all per unit V_i).
 inline double inelastic_loss(double work, double stored_change, double booked) { return work - stored_change - booked; }
 
+// How a pass of the scalar form's lanes reads the committed t_n and e_n of the ledger
+// (HistoryLedger::begin_rows). They are the last commit's force state and extension, and
+// when that commit followed a single pass of the lanes without a thermal strain (the
+// explicit step), that pass left them behind in System::model: e_n = |Y_n| - |xi| (the
+// expression that computed it) and t_n = q_n |Y_n| (q = t/|Y|: t to round-off), |Y_n| as
+// the breaking sweep reads it before writing this pass's (RowPass::r_old), q_n the row's q
+// before the row writes it, or for a bond this pass broke, t_n itself (RowPass::t). Then
+// the ledger's committed arrays are not read, and when a commit follows the pass
+// (System::model.commit_follows) its trial arrays are not written either: 48 bytes a bond
+// and step less to stream (docs/benchmarks.md). Every pass that can rebuild them does, so
+// a run's ledger does not depend on its thread or rank count; only a run whose passes
+// cannot (static solvers, a thermal strain, the scalar rows) reads the stored arrays.
+struct LedgerRows {
+  bool rebuild = false;      // t_n, e_n from RowPass::r_old and RowPass::t
+  bool write_trial = true;   // write the trial t and e (a later pass or commit reads them)
+  bool materialize = false;  // write the rebuilt t_n, e_n into the committed arrays
+};
+
 // The ledger state of a history model, committed and trial: per directed bond what the
 // step's work needs (the scalar force state t and the extension e of the last commit, and
 // whether the bond's breaking was booked), per particle the stored energy density W and
@@ -101,9 +121,59 @@ struct HistoryLedger {
   std::vector<uint8_t> pending_set;
   std::vector<double> stored, stored_trial, loss_trial;
   bool fresh = false;  // a force pass ran since the last commit
+  // The committed force and extension are not in the arrays (LedgerRows): the last commit
+  // followed a pass that rebuilt them and kept no trial copy; the pass (System::model.passes)
+  // and whether it was a plain scalar pass, its |Y| and q left in System::model.
+  bool virtual_committed = false;
+  bool kept_trial = true;  // the passes since the commit wrote the trial t and e
+  uint64_t committed_pass = 0;
+  bool committed_plain = false;
+  const System* system = nullptr;  // of the last pass (materialize at a checkpoint)
+
+  // A pass of the scalar form begins (`lanes`: its rows run in the lanes, which rebuild,
+  // and it gives them RowPass::r_old): how its rows treat t_n and e_n (LedgerRows).
+  LedgerRows begin_rows(const System& s, bool lanes) {
+    const bool rebuild = lanes && committed_plain && s.model.passes == committed_pass + 1;
+    if (virtual_committed && !rebuild) begin_pass();  // fails: nothing left to rebuild from
+    fresh = true;
+    system = &s;
+    LedgerRows m;
+    m.rebuild = rebuild;
+    m.write_trial = !(rebuild && s.model.commit_follows);
+    m.materialize = rebuild && m.write_trial && virtual_committed;
+    if (m.materialize) virtual_committed = false;
+    kept_trial = m.write_trial;
+    return m;
+  }
+  // Any other pass (the vector form, the scalar rows): the stored arrays.
+  void begin_pass() {
+    if (virtual_committed)
+      throw Error("internal error: the energy ledger's committed force states were rebuilt from the last pass and "
+                  "are gone (history_ledger.hpp LedgerRows)");
+    fresh = true;
+    kept_trial = true;
+  }
+  // The committed t_n, e_n rebuilt into the arrays from the committed pass's |Y| and q
+  // (System::model), as the lanes rebuild them; before a checkpoint.
+  void materialize() {
+    if (!virtual_committed) return;
+    if (fresh || !system || system->model.passes != committed_pass)
+      throw Error("internal error: the energy ledger cannot rebuild its committed force states here");
+    const auto& B = system->bonds;
+    const auto& M = system->model;
+    double* t = force.committed();
+    double* e = extension.committed();
+    for (std::size_t k = 0; k < force.size(); ++k) {
+      const double r = M.deformed_length[k];
+      t[k] = M.force_scalar[k] * r;
+      e[k] = r - M.kind[B.kind[k]].length;
+    }
+    virtual_committed = false;
+  }
 
   // Checkpoint and restart (core/state_archive.hpp).
   void checkpoint(StateArchive& a) {
+    if (!a.loading()) materialize();
     force.checkpoint(a, "ledger_force", "ledger_force_trial", fresh);
     extension.checkpoint(a, "ledger_extension", "ledger_extension_trial", fresh);
     booked.checkpoint(a, "ledger_booked", "ledger_booked_trial", fresh);
@@ -115,6 +185,7 @@ struct HistoryLedger {
     uint8_t f = fresh ? 1 : 0;
     a.io("ledger_fresh", f);
     fresh = f != 0;
+    if (a.loading()) virtual_committed = false, kept_trial = true, committed_pass = 0, committed_plain = false;
   }
 
   void size_particles(std::size_t n) {
@@ -133,9 +204,9 @@ struct HistoryLedger {
     pending_set.assign(nb, 0);
     // Bonds broken before the first pass (precracks) were never booked as dissipated.
     for (std::size_t k = 0; k < nb; ++k) booked.committed()[k] = booked.trial()[k] = B.intact[k] ? 0 : 1;
+    virtual_committed = false, kept_trial = true, committed_pass = 0, committed_plain = false;
     return true;
   }
-  void begin_pass() { fresh = true; }
   // Starts bond k's trial record at extension e; adds to `booked` what the force pass
   // booked for it if it broke since the commit (`booking()`: its amount, called only
   // then). Returns true when it did. The model then sets force.trial()[k].
@@ -198,11 +269,17 @@ struct HistoryLedger {
     return {extension.trial(), booked.committed(), booked.trial(), pending_set.data(), pending_amount.data()};
   }
   // The trial bond records become the committed ones; true when they changed (a pass ran
-  // since the last commit): the model then commits its own bond arrays the same way.
-  bool commit_bonds() {
+  // since the last commit): the model then commits its own bond arrays the same way. A
+  // pass that kept no trial t and e leaves them to be rebuilt (LedgerRows).
+  bool commit_bonds(const System& s) {
     if (!fresh) return false;
-    force.flip();
-    extension.flip();
+    if (kept_trial) {
+      force.flip();
+      extension.flip();
+    }
+    virtual_committed = !kept_trial;
+    committed_pass = s.model.passes;
+    committed_plain = s.model.plain_scalar_pass == s.model.passes;
     booked.flip();
     fresh = false;
     return true;

@@ -121,7 +121,7 @@ class Microplastic final : public Model {
 
   void begin_rows(const RowPass& pass) override {
     size_bonds(pass.system.bonds);
-    ledger_.begin_pass();
+    mode_ = ledger_.begin_rows(pass.system, lanes::wide());
   }
 
   // The scalar pass's row (ModelTraits::ordinary) in eight lanes (ordinary_lanes.hpp):
@@ -129,7 +129,7 @@ class Microplastic final : public Model {
   // flat bond arrays.
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override {
     if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
-    lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, false);
+    lanes::RowBonds b = lanes::row_bonds(pass, ledger_, mode_, i, false);
     const lanes::RowSums sums = lanes::micro_row(b, {sbar_.committed(), sbar_.trial(), c_, yield_});
     const double W = sums.dev;
     ledger_.stored_trial[i] = W;
@@ -194,7 +194,7 @@ class Microplastic final : public Model {
       const double loss = ledger_.commit_particle(i);
       if (loss != 0) s.dissipated_at[i] += loss * s.particles.volume[i];
     }
-    if (ledger_.commit_bonds()) sbar_.flip();  // the trial bond records become the committed ones
+    if (ledger_.commit_bonds(s)) sbar_.flip();  // the trial bond records become the committed ones
   }
 
   double pending_dissipation(const System& s) const override {
@@ -226,6 +226,7 @@ class Microplastic final : public Model {
   std::vector<uint32_t> particles_;
   BondHistory<double> sbar_;  // plastic stretch per directed bond, committed and trial
   HistoryLedger ledger_;
+  LedgerRows mode_;  // how this pass's rows read and write the ledger's t and e
 };
 
 }  // namespace

@@ -115,7 +115,7 @@ RowSums ep_row(const RowBonds& b, const EpRow& m, double beta, bool norm, bool f
 }
 RowSums ves_row(const RowBonds& b, const VesRow& m) { HORIZON_LANES_CALL(ves_row, b, m) }
 RowSums micro_row(const RowBonds& b, const MicroRow& m) { HORIZON_LANES_CALL(micro_row, b, m) }
-BreakOut break_row(const Sweep& s, std::size_t i) { HORIZON_LANES_CALL(break_row, s, i) }
+BreakOut break_row(const Sweep& s, std::size_t i, double* r_old) { HORIZON_LANES_CALL(break_row, s, i, r_old) }
 SumOut sum_row(const Sweep& s, std::size_t i) { HORIZON_LANES_CALL(sum_row, s, i) }
 
 }  // namespace horizon::lanes

@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "horizon/core/error.hpp"
 #include "horizon/core/point4.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/material/models/history_ledger.hpp"
@@ -43,17 +44,28 @@ struct RowBonds {
   // committed and trial force states and extensions).
   const double* old_force = nullptr;
   const double* old_extension = nullptr;
-  double* force_trial = nullptr;
+  double* force_trial = nullptr;      // null: the pass keeps no trial t and e (LedgerRows)
   double* extension_trial = nullptr;
   const uint8_t* booked_committed = nullptr;
   uint8_t* booked_trial = nullptr;
   uint8_t* pending_set = nullptr;
   double* pending_amount = nullptr;
+  // The committed t_n and e_n rebuilt from the previous pass (history_ledger.hpp LedgerRows)
+  // when r_old is set: |Y_n| per bond (RowPass::r_old), and t_n per bond of the row kept by
+  // the row's first visit for a later one (scratch, indexed by k), since the first visit
+  // overwrites q. With force_committed set, the rebuilt values are also written there.
+  const double* r_old = nullptr;
+  double* t_old = nullptr;
+  bool revisit = false;
+  double* force_committed = nullptr;
+  double* extension_committed = nullptr;
 };
 
 // Row i's bonds [first, last) and the ledger's arrays, as every ordinary model's row hands
-// them to its lanes; `thermal`: the models that take the thermal strain.
-inline RowBonds row_bonds(const RowPass& pass, HistoryLedger& ledger, std::size_t i, bool thermal) {
+// them to its lanes; `thermal`: the models that take the thermal strain; `mode`: what
+// the ledger's begin_rows said of this pass.
+inline RowBonds row_bonds(const RowPass& pass, HistoryLedger& ledger, const LedgerRows& mode, std::size_t i,
+                          bool thermal) {
   const System& s = pass.system;
   const auto& B = s.bonds;
   const HistoryLedger::Row row = ledger.row();
@@ -64,9 +76,14 @@ inline RowBonds row_bonds(const RowPass& pass, HistoryLedger& ledger, std::size_
   b.eps = thermal && !s.thermal_strain.empty() ? s.thermal_strain.data() : nullptr;
   b.q = pass.t;
   b.old_force = ledger.force.committed(), b.old_extension = ledger.extension.committed();
-  b.force_trial = ledger.force.trial(), b.extension_trial = row.extension_trial;
+  if (mode.write_trial) b.force_trial = ledger.force.trial(), b.extension_trial = row.extension_trial;
   b.booked_committed = row.booked_committed, b.booked_trial = row.booked_trial;
   b.pending_set = row.pending_set, b.pending_amount = row.pending_amount;
+  if (mode.rebuild) {  // (t_old: set by a model whose row visits its bonds twice)
+    if (!pass.r_old) throw Error("internal error: an ordinary row without the previous pass's |Y|");
+    b.r_old = pass.r_old;
+    if (mode.materialize) b.force_committed = ledger.force.committed(), b.extension_committed = ledger.extension.committed();
+  }
   return b;
 }
 
@@ -85,7 +102,10 @@ struct RowSums {
 // extension e^d - e^dp_n, its norm, and with `force` the return's scaling beta of it, the
 // trial plastic extensions, the force states and the ledger.
 struct EpRow {
-  const double* ep = nullptr;  // e^dp_n per bond
+  // e^dp_n per bond and the trial e^dp; both null for a row that never yielded, whose
+  // e^dp are 0 in both copies and stay so while beta = 1 (ep + 0 * e^de = ep: the bits the
+  // row would write).
+  const double* ep = nullptr;
   double* ep_trial = nullptr;
   double* ede = nullptr;  // scratch per bond of the row (indexed by k): the trial extension
   double theta = 0, alpha = 0, p_coef = 0;
@@ -128,7 +148,8 @@ struct Sweep {
   const uint32_t* nbr = nullptr;
   const uint32_t* kind = nullptr;
   const uint64_t* offset = nullptr;
-  const uint64_t* rev = nullptr;  // the reverse bond's index
+  const uint64_t* rev = nullptr;    // the reverse bond's index
+  const uint32_t* rev32 = nullptr;  // the same in 4 bytes (read instead of rev when set)
   uint8_t* intact = nullptr;
   double* deformed = nullptr;       // |Y| per bond (every bond), written by the breaking sweep
   double* q = nullptr;              // the force scalars q = t/|Y|
@@ -146,7 +167,9 @@ struct BreakOut {
   double smin, lost, dilatation;
   uint64_t broken;
 };
-BreakOut break_row(const Sweep& s, std::size_t i);
+// r_old (indexed by bond; null: not kept): |Y| of the previous pass, as the sweep found it
+// in `deformed` before writing this pass's (RowPass::r_old).
+BreakOut break_row(const Sweep& s, std::size_t i, double* r_old = nullptr);
 // Pass 2 of row i: f_i = sum_j V_j (q_ij + q_ji) Y over the acting bonds, plus the family
 // contact (w: its energy density; state/system.hpp family_contact).
 struct SumOut {

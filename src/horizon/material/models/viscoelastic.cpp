@@ -127,6 +127,7 @@ class Viscoelastic final : public Model {
   std::array<BondHistory<double>, kMaxViscousBranches> back_;
   std::array<SlsStep, kMaxViscousBranches> step_{};  // the branches' update over the pass's dt (begin_rows)
   HistoryLedger ledger_;  // the step's energy bookkeeping (history_ledger.hpp)
+  LedgerRows mode_;       // how this pass's rows read and write the ledger's t and e
 };
 
 void Viscoelastic::setup(const ModelSetup& in) {
@@ -274,7 +275,7 @@ void Viscoelastic::force_state(ForcePass& pass) {
 
 void Viscoelastic::begin_rows(const RowPass& pass) {
   size_bonds(pass.system.bonds);
-  ledger_.begin_pass();
+  mode_ = ledger_.begin_rows(pass.system, lanes::wide());
   for (int b = 0; b < branches_; ++b) step_[b] = sls_step(pass.dt, tau_[b]);
 }
 
@@ -292,7 +293,7 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   const double theta = dim * dilatation_sum / m;
   double dil_springs;
   const double pressure = this->pressure(i, theta, step_.data(), dil_springs);
-  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, true);
+  lanes::RowBonds b = lanes::row_bonds(pass, ledger_, mode_, i, true);
   lanes::VesRow row;
   row.theta_old = theta_row_[i];
   theta_row_trial_[i] = theta;
@@ -407,7 +408,7 @@ void Viscoelastic::commit(System& s) {
       dissipated_[i] += loss;
     }
   }
-  if (ledger_.commit_bonds()) {  // the trial bond records become the committed ones
+  if (ledger_.commit_bonds(s)) {  // the trial bond records become the committed ones
     ed_.flip();
     for (int b = 0; b < nbranch; ++b) back_[b].flip();
   }
