@@ -41,9 +41,11 @@ void deform(System& s, const Mat3& F) {
 }
 
 TEST(BondAssociated, HomogeneousDeformationCarriesTheClassicalStress) {
+  // f_i reads the families of i's neighbours' neighbours (F_j and m_j of each neighbour
+  // j, whose bonds reach on): the bulk, where no force is left, is three horizons in.
   test::BlockSpec b;
-  b.n = {7, 7, 7};
-  b.horizon_factor = 2.0;
+  b.n = {12, 12, 12};
+  b.horizon_factor = 1.5;
   Mat3 F;
   F << 1.002, 0.0007, -0.0004, 0.0003, 0.9985, 0.0006, -0.0002, 0.0005, 1.001;
   for (const std::string law : {"linear_elastic", "neo_hookean"}) {
@@ -52,11 +54,23 @@ TEST(BondAssociated, HomogeneousDeformationCarriesTheClassicalStress) {
     compute_forces(s, true);
     const classical::Elastic c = classical::elastic_from_bulk_shear(kE / (3 * (1 - 2 * kNu)), kE / (2 * (1 + kNu)));
     const classical::LawResult r = law == "linear_elastic" ? classical::linear_elastic(c, F) : classical::neo_hookean(c, F);
-    // W_i = sum_j c_ij V_j W(F) = W(F) at every particle (sum_j c_ij V_j = 1).
-    for (std::size_t i = 0; i < s.particles.size(); ++i) ASSERT_NEAR(s.particles.energy[i], r.W, 1e-11 * r.W) << law << i;
+    // W_i = sum_j c_ij V_j W(F) = W(F) at every particle (sum_j c_ij V_j = 1); 1e-9: the
+    // strains of 1e-3 are differences of O(1) gradients (2e-11 seen).
+    for (std::size_t i = 0; i < s.particles.size(); ++i) ASSERT_NEAR(s.particles.energy[i], r.W, 1e-9 * r.W) << law << i;
     // No force in the bulk: f there is round-off of P/h.
     const double fscale = r.P.norm() / b.spacing;
-    for (std::size_t i : test::interior_particles(s, b)) EXPECT_LT(norm(s.particles.f[i]), 1e-10 * fscale) << law << i;
+    int bulk = 0;
+    for (std::size_t i = 0; i < s.particles.size(); ++i) {
+      bool inside = true;
+      for (int k = 0; k < 3; ++k) {
+        const long index = std::lround(s.particles.X[i][k] / b.spacing);
+        inside = inside && index >= 5 && index <= b.n[static_cast<std::size_t>(k)] - 6;
+      }
+      if (!inside) continue;
+      ++bulk;
+      EXPECT_LT(norm(s.particles.f[i]), 1e-10 * fscale) << law << i;
+    }
+    EXPECT_EQ(bulk, 8);
     // The virial of the forces: -P times the body's volume, truncated families included
     // (dE = P : dF sum V_i under an affine variation; E = W(F) sum V_i exactly).
     Mat3 virial = Mat3::Zero();
