@@ -6,7 +6,10 @@
 //   - the forces are the derivative of the energy E = sum_i V_i W_i (central differences
 //     at a finite non-affine strain, bulk and surface particles);
 //   - the checkerboard that the classical correspondence model cannot see (F_i = I, no
-//     energy without stabilisation) stores energy here, quadratic in its amplitude.
+//     energy without stabilisation) stores energy here, quadratic in its amplitude;
+//   - the static solvers' finite-difference tangent, whose probes share a pass when they
+//     are far enough apart, equals one-probe-at-a-time differences: the forces reach three
+//     bonds (System::model.reach_hops).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -15,7 +18,9 @@
 #include <vector>
 
 #include "horizon/material/classical/stress_laws.hpp"
+#include "horizon/solver/equilibrium.hpp"
 #include "horizon/solver/forces.hpp"
+#include "horizon/solver/tangent.hpp"
 #include "test_helpers.hpp"
 
 namespace horizon {
@@ -147,6 +152,39 @@ TEST(BondAssociated, CheckerboardStoresEnergy) {
                w2 = interior_energy("bond_associated_correspondence", 2 * a);
   EXPECT_GT(w1, 0.01 * scale);
   EXPECT_NEAR(w2 / w1, 4.0, 1e-6);
+}
+
+TEST(BondAssociated, FiniteDifferenceTangentReachesThreeBonds) {
+  test::BlockSpec b;
+  b.n = {3, 3, 8};
+  b.horizon_factor = 1.5;
+  System s = block(b, "neo_hookean");
+  Mat3 F;
+  F << 1.01, 0.002, 0.0, 0.0, 0.995, 0.003, 0.001, 0.0, 1.004;
+  deform(s, F);
+  for (std::size_t i = 0; i < s.particles.size(); ++i)
+    s.particles.u[i] += 2e-5 * Vec3{std::sin(3.0 * i), std::cos(5.0 * i), std::sin(2.0 * i + 1)};
+  const DofMap d = make_free_dof_map(s);
+  const Eigen::MatrixXd K = Eigen::MatrixXd(finite_difference_tangent(s, d)).transpose();  // stored: K^T
+  const double h = 1e-6 * b.spacing;
+  double worst = 0;
+  const double scale = K.cwiseAbs().maxCoeff();
+  for (std::size_t col = 0; col < d.particle.size(); col += 7) {
+    const uint32_t p = d.particle[col];
+    const int c = d.component[col];
+    auto forces = [&](double du) {
+      s.particles.u[p][c] += du;
+      compute_forces(s, false);
+      s.particles.u[p][c] -= du;
+      Eigen::VectorXd f(static_cast<Eigen::Index>(d.particle.size()));
+      for (std::size_t r = 0; r < d.particle.size(); ++r)
+        f[static_cast<Eigen::Index>(r)] = s.particles.f[d.particle[r]][d.component[r]] * s.particles.volume[d.particle[r]];
+      return f;
+    };
+    const Eigen::VectorXd column = -(forces(h) - forces(-h)) / (2 * h);
+    worst = std::max(worst, (column - K.col(static_cast<Eigen::Index>(col))).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-6 * scale);
 }
 
 }  // namespace

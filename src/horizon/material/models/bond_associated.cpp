@@ -1,5 +1,6 @@
 #include "horizon/material/models/bond_associated.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -147,9 +148,11 @@ void BondAssociated::setup(const ModelSetup& in) {
   history_ = hypo_ || law_.law == StressLaw::j2 || (dim == 2 && law_.plane == PlaneMode::stress);
   tolerance_ = parameter(mat, "shape_tolerance");
   particles_ = in.particles;
-  // Forces reach two horizons (f_i reads F_j of every neighbour): state-based for the
-  // tangent probing; the stable step of the bond-based spring of the same bulk modulus.
+  // The stable step of the bond-based spring of the same bulk modulus. Forces reach three
+  // bonds (f_i takes T_ji, whose S_j reads F_k of j's neighbours k): the finite-difference
+  // tangent probes that far.
   fill_state_based_coefficients(in);
+  s.model.reach_hops = std::max(s.model.reach_hops, 3);
 
   const Bonds& B = s.bonds;
   std::vector<uint8_t> mark(s.particles.size(), 0);
