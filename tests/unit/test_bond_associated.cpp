@@ -11,6 +11,7 @@
 //     are far enough apart, equals one-probe-at-a-time differences: the forces reach three
 //     bonds (System::model.reach_hops).
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -185,6 +186,28 @@ TEST(BondAssociated, FiniteDifferenceTangentReachesThreeBonds) {
     worst = std::max(worst, (column - K.col(static_cast<Eigen::Index>(col))).cwiseAbs().maxCoeff());
   }
   EXPECT_LT(worst, 1e-6 * scale);
+}
+
+// The passes split their rows over threads (above 512 particles), each row written by
+// its own thread alone: the same bits on one and two threads.
+TEST(BondAssociated, OneAndTwoThreadsGiveTheSameBits) {
+  test::BlockSpec b;
+  b.n = {12, 12, 12};
+  b.horizon_factor = 1.5;
+  auto forces = [&](int threads) {
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    System s = block(b, "neo_hookean");
+    for (std::size_t i = 0; i < s.particles.size(); ++i)
+      s.particles.u[i] = 1e-5 * Vec3{std::sin(3.0 * i), std::cos(5.0 * i), std::sin(2.0 * i + 1)};
+    compute_forces(s, true);
+    omp_set_num_threads(saved);
+    return s.particles.f;
+  };
+  const std::vector<Vec3> one = forces(1), two = forces(2);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i)
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(one[i][c], two[i][c]) << i;
 }
 
 }  // namespace
