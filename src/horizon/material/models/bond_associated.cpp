@@ -282,10 +282,12 @@ void BondAssociated::force_state(ForcePass& pass) {
       if (history_) bond_trial_[k] = bond_committed_[k], bond_work_[k] = 0;
       const uint32_t j = B.nbr[k];
       const End& ej = end_[j];
-      if (!B.intact[k] || !ei.ok || !ej.ok) continue;
+      // m_j > 0 whenever the reverse bond acts; a bond one way alone carries nothing.
+      if (!B.intact[k] || !ei.ok || !ej.ok || !(ej.m > 0)) continue;
       const Vec xi = to_eigen(X[j] - X[i]);
       const Vec Y = to_eigen(Vec3{y[j].x, y[j].y, y[j].z} - yi);
       const double xx = xi.squaredNorm();
+      if (!(xx > 0) || (semi_ && !(Y.squaredNorm() > 0))) continue;  // two particles on one spot: no direction
       const Mat3 Fbar = 0.5 * (ei.F + ej.F);
       const Mat3 Fb = Fbar + (Y - Fbar * xi) * xi.transpose() / xx;
       Mat3 Fdot = Mat3::Zero();
@@ -321,7 +323,7 @@ void BondAssociated::force_state(ForcePass& pass) {
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!B.intact[k]) continue;
       const uint32_t j = B.nbr[k];
-      if (!end_[j].ok) continue;
+      if (!end_[j].ok || !(end_[j].m > 0)) continue;
       const Vec b = semi_ ? to_eigen(Vec3{y[j].x, y[j].y, y[j].z} - yi) : to_eigen(X[j] - X[i]);
       T[k] += to_vec3(B.weight[k] * (A * b));
     }
