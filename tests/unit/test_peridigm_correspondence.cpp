@@ -87,6 +87,7 @@ TEST(PeridigmCorrespondence, ImportMapsToTheRateFormAndTheHourglassForce) {
   EXPECT_EQ(m["model"].as<std::string>(), "correspondence");
   EXPECT_EQ(m["stress_law"].as<std::string>(), "hypoelastic");
   EXPECT_EQ(m["stabilization_form"].as<std::string>(), "peridigm");
+  EXPECT_EQ(m["rotation_update"].as<std::string>(), "peridigm");
   EXPECT_DOUBLE_EQ(m["stabilization"].as<double>(), 0.04);
   EXPECT_EQ(native["output"]["exodus_files"][0]["variables"][0].as<std::string>(), "Cauchy_Stress");
 
@@ -240,6 +241,7 @@ TEST(PeridigmBondAssociated, ImportMapsBothMaterials) {
   EXPECT_EQ(a["model"].as<std::string>(), "bond_associated_correspondence");
   EXPECT_EQ(a["stress_law"].as<std::string>(), "hypoelastic");
   EXPECT_EQ(a["kinematics"].as<std::string>(), "lagrangian");
+  EXPECT_EQ(a["rotation_update"].as<std::string>(), "peridigm");
   const YAML::Node h =
       YAML::Load(convert_peridigm_deck(write(dir / "h.yaml", with_flag(cube_deck(kHypoelastic, "      Volume: true\n")))))
           ["materials"]

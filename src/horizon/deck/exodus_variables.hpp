@@ -13,6 +13,8 @@ inline const std::vector<std::string>& model_field_variables() {
       "Equivalent_Plastic_Strain",
       // the bond-associated correspondence model's (material/models/bond_associated.hpp)
       "Velocity_Gradient", "Jacobian_Determinant",
+      // lps and elastic_plastic with shear_correction (material/shear_correction.hpp)
+      "Surface_Correction_Factor",
       // pals' normalisations and Lagrange multipliers (material/models/pals.hpp)
       "Dilatation_Normalization", "Deviatoric_Normalization",
       "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2", "Lagrange_Multiplier_Dilatation_3",

@@ -81,6 +81,8 @@ constexpr FieldVariable kFieldVariables[] = {
     // bond_associated_correspondence (material/models/bond_associated.hpp)
     {"Velocity_Gradient", false, 9, "velocity_gradient"},
     {"Jacobian_Determinant", false, 1, "jacobian_determinant"},
+    // lps and elastic_plastic with shear_correction (material/shear_correction.hpp)
+    {"Surface_Correction_Factor", false, 1, "shear_correction_factor"},
     // pals (material/models/pals.hpp)
     {"Dilatation_Normalization", false, 1, "dilatation_normalization"},
     {"Deviatoric_Normalization", false, 1, "deviatoric_normalization"},

@@ -50,6 +50,10 @@ const ModelTraits& traits() {
          "classical stress law of each bond: linear_elastic, neo_hookean, j2, hypoelastic or hypoelastic_j2 "
          "(Peridigm's rate form, docs/models/correspondence.md)",
          {"linear_elastic", "neo_hookean", "j2", "hypoelastic", "hypoelastic_j2"}},
+        {"rotation_update",
+         "the rate-form laws' rotation increment: cayley (Flanagan and Taylor) or peridigm (Peridigm's, "
+         "docs/models/correspondence.md)",
+         {"cayley", "peridigm"}},
         {"kinematics",
          "lagrangian: the bond-level F on the reference bonds; semi_lagrangian (rate-form laws): the bond-level "
          "velocity gradient and the forces on the current bonds (Behzadinasab and Foster 2020)",
@@ -134,6 +138,8 @@ void BondAssociated::setup(const ModelSetup& in) {
   law_.j2 = {parameter(mat, "yield_stress"), parameter(mat, "hardening_modulus")};
   law_.dimension = dim;
   law_.plane = in.dims.plane;
+  law_.rotation = choice(mat, "rotation_update") == "peridigm" ? classical::RotationUpdate::peridigm
+                                                                : classical::RotationUpdate::cayley;
   if ((law_.law == StressLaw::j2 || law_.law == StressLaw::hypoelastic_j2) && !(law_.j2.yield_stress > 0))
     throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
   if (hypo_ && dim == 2 && law_.plane == PlaneMode::stress)
