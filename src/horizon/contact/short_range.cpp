@@ -161,73 +161,19 @@ void ShortRangeContact::peridigm_search(const System& s, const Point4* y) {
   const std::size_t n = s.particles.size();
   // A new step is a pass at another time than the last: the positions it starts from are
   // that last pass's. The first pass (t = 0) searches at its own positions.
-  bool search = false;
   if (step_ < 0 || y_last_.size() != n) {
     step_ = 0;
     y_start_.resize(n);
     for (std::size_t i = 0; i < n; ++i) y_start_[i] = {y[i].x, y[i].y, y[i].z};
-    search = true;
   } else if (s.time != last_time_) {
     ++step_;
-    y_start_.swap(y_last_);
-    search = step_ % config_.search_every == 0;
+    // Between searches only the positions of the last pass are kept; at a search those
+    // of the step's start become the searched ones.
+    if (step_ % config_.search_every == 0) y_start_.swap(y_last_);
   }
   y_last_.resize(n);
   for (std::size_t i = 0; i < n; ++i) y_last_[i] = {y[i].x, y[i].y, y[i].z};
   last_time_ = s.time;
-  if (!search) return;
-  // The candidates: pairs within the search radius at y_start_, not bonded at the start,
-  // of bodies that touch (pairs); each row sorted by index (the serial order at any
-  // thread count).
-  if (!config_.pairs.empty() && touch_.empty()) {
-    touch_bodies_ = s.block_names.size();
-    touch_.assign(touch_bodies_ * touch_bodies_, 0);
-    for (const auto& [a, b] : config_.pairs) {
-      auto index = [&](const std::string& name) {
-        const auto it = std::find(s.block_names.begin(), s.block_names.end(), name);
-        if (it == s.block_names.end()) throw Error("contact.short_range.pairs: no body named '" + name + "'");
-        return static_cast<std::size_t>(it - s.block_names.begin());
-      };
-      const std::size_t ia = index(a), ib = index(b);
-      touch_[ia * touch_bodies_ + ib] = touch_[ib * touch_bodies_ + ia] = 1;
-    }
-  }
-  const double edge = config_.search_radius, reach2 = edge * edge;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3& p = y_start_[i];
-    grid[pack_cell(cell_coord(p.x, edge), cell_coord(p.y, edge), cell_coord(p.z, edge))].push_back(static_cast<uint32_t>(i));
-  }
-  rows_.resize(n);
-  const auto& B = s.bonds;
-  const auto& block = s.particles.block;
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    auto& row = rows_[i];
-    row.clear();
-    const Vec3 p = y_start_[i];
-    const int64_t c[3] = {cell_coord(p.x, edge), cell_coord(p.y, edge), cell_coord(p.z, edge)};
-    const auto first_bond = B.nbr.begin() + static_cast<std::ptrdiff_t>(B.begin(i));
-    const auto last_bond = B.nbr.begin() + static_cast<std::ptrdiff_t>(B.end(i));
-    for (int64_t a = c[0] - 1; a <= c[0] + 1; ++a)
-      for (int64_t b = c[1] - 1; b <= c[1] + 1; ++b)
-        for (int64_t d = c[2] - 1; d <= c[2] + 1; ++d) {
-          const auto it = grid.find(pack_cell(a, b, d));
-          if (it == grid.end()) continue;
-          for (uint32_t j : it->second) {
-            if (j == i || norm2(y_start_[j] - p) > reach2) continue;
-            if (!touch_.empty()) {
-              const auto bi = static_cast<std::size_t>(block[i]), bj = static_cast<std::size_t>(block[j]);
-              if (!(bi < touch_bodies_ && bj < touch_bodies_ && touch_[bi * touch_bodies_ + bj])) continue;
-            }
-            if (std::binary_search(first_bond, last_bond, j)) continue;
-            row.push_back(j);
-          }
-        }
-    std::sort(row.begin(), row.end());
-  }
-  candidates_ = 0;
-  for (const auto& r : rows_) candidates_ += r.size();
 }
 
 void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, double* W) {
@@ -260,11 +206,17 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
     }
   }
   const std::size_t total = n + ghost_y_.size();
-  if (config_.law == ShortRangeLaw::peridigm && config_.search_radius > 0) {
+  // Peridigm's search: the positions of the last search (y_start_); the pass below keeps
+  // the pairs of Horizon's lists that were within the search radius there. Horizon's lists
+  // hold every pair closer than R_c, so these are the pairs of Peridigm's list closer than
+  // R_c, without a list of every pair within the (larger) search radius.
+  const bool searched = config_.law == ShortRangeLaw::peridigm && config_.search_radius > 0;
+  if (searched) {
     if (!ghost_y_.empty())
       throw Error("contact.short_range.search_radius is not supported yet on several ranks with local particles");
     peridigm_search(s, y);
-  } else if (first || y_built_.size() != total) {
+  }
+  if (first || y_built_.size() != total) {
     update(s, y, true);
   } else {
     // The particles that moved more than skin/2 since their last update, in index order.
@@ -296,6 +248,8 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
     throw Error("contact.short_range.friction is " + std::to_string(mu) + " at t = " + std::to_string(s.time) +
                 "; a friction coefficient must be >= 0");
   Vec3* kept = record_ ? recorded_.data() : nullptr;
+  const Vec3* ys = searched ? y_start_.data() : nullptr;
+  const double rs2 = config_.search_radius * config_.search_radius;
   // Law peridigm's energy goes to energy_ (own_energy), not to the material's W.
   double* own = peridigm && W ? energy_.data() : nullptr;
   auto pass = [&](auto with_ghosts, auto peridigm_law) {
@@ -314,6 +268,8 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
         const double r2 = dx * dx + dy * dy + dz * dz;
         if (!(r2 < cut2) || r2 == 0) continue;
         if constexpr (pd) {
+          // Peridigm's search: only pairs within its radius at the last search touch.
+          if (ys && norm2(ys[j] - ys[i]) > rs2) continue;
           // Peridigm's law: d = R_c (= the cut-off) and one k for every pair.
           const double r = std::sqrt(r2), d = cutoff_;
           const double k = peridigm_k_ * (held ? P.volume[j] : g->volume[j - n]);
