@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <cstring>
 #include <random>
 
@@ -128,6 +129,40 @@ TEST(AffineKernels, SixVectorDotKeepsEigensBits) {
     bad += same_bits(a.dot(0.5 * (b + c)), kernels::dot6_mid(a.data(), b.data(), c.data())) ? 0 : 1;
   }
   EXPECT_EQ(bad, 0);
+}
+
+// The pair sum's bond term with i's residual kept by its law row (pair_bond_kept, issue 31)
+// against pair_bond, bit for bit, over every combination of the ends' flags (carries
+// stress, sends E for the midpoint, k_s zero or not) and the three strain measures: r_i is
+// computed as ExtendedCorrespondence::pair_law_row does (eps - p . (E_i + E_j)/2 when j
+// sends its E, else eps - p . E_i), and only where that row computes it.
+TEST(AffineKernels, PairBondWithKeptResidualKeepsBits) {
+  std::mt19937_64 g(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad = 0, cases = 0;
+  for (int t = 0; t < 4000; ++t) {
+    double Ai[6], Aj[6], Ei[6], Ej[6], nv[3];
+    for (int k = 0; k < 6; ++k) Ai[k] = 1e9 * u(g), Aj[k] = 1e9 * u(g), Ei[k] = 1e-2 * u(g), Ej[k] = 1e-2 * u(g);
+    for (double& c : nv) c = u(g);
+    const double L = std::sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]), inv_length = 1 / (1e-3 * (1 + 0.5 * u(g)));
+    for (double& c : nv) c /= L;
+    const double Y2 = (1 + 0.01 * u(g)) / (inv_length * inv_length), eps = 0.5 * (Y2 * inv_length * inv_length - 1);
+    const double m = t % 3 == 0 ? 0.0 : t % 3 == 1 ? 1.0 : 0.5, omega = 1 + u(g), V = 1e-9 * (1.5 + u(g));
+    for (int flags = 0; flags < 64; ++flags) {
+      const kernels::PairEnd ri{Ai, Ei, (flags & 1) ? 0.0 : 3e9 * (1.5 + u(g)), (flags & 2) != 0, (flags & 4) != 0};
+      const kernels::PairEnd rj{Aj, Ej, (flags & 8) ? 0.0 : 3e9 * (1.5 + u(g)), (flags & 16) != 0, (flags & 32) != 0};
+      double p[6];
+      kernels::unit_normal_projector(nv, p);
+      const double r_i = ri.on && ri.ks != 0
+                             ? (rj.mid ? eps - kernels::dot6_mid(p, ri.E, rj.E) : eps - kernels::dot6(p, ri.E))
+                             : std::nan("");  // the law row leaves it stale: must not be read
+      const kernels::PairBond a = kernels::pair_bond(ri, rj, nv, 3, inv_length, Y2, eps, m, omega, V);
+      const kernels::PairBond b = kernels::pair_bond_kept(ri, rj, nv, 3, inv_length, Y2, &eps, r_i, m, omega, V);
+      bad += same_bits(a.q, b.q) && same_bits(a.scale, b.scale) ? 0 : 1;
+      ++cases;
+    }
+  }
+  EXPECT_EQ(bad, 0) << "of " << cases;
 }
 
 TEST(AffineKernels, RefusedShapeTensorsCarryNothing) {

@@ -95,6 +95,33 @@ TEST(CorrespondencePeridigm, HypoelasticRigidRotation) {
   EXPECT_LT(s1 / s2, 12.0);
 }
 
+// The rotation increment of one step: Flanagan and Taylor's Cayley transform (orthogonal)
+// and Peridigm's (I + c (W - W^2/2), c = 1/(1 + |w|^2/4), fitted from its gold), for a
+// rigid rotation by theta about z in one step from R_n = I.
+TEST(CorrespondencePeridigm, RotationIncrement) {
+  const double theta = 0.02;
+  const Mat3 F = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  classical::Elastic el = classical::elastic_from_bulk_shear(kE / 3, kE / 2);
+  classical::HypoState n, cay, pd;
+  double work = 0;
+  classical::hypoelastic_step(el, 0, 0, n, F, 1.0, cay, work);
+  classical::hypoelastic_step(el, 0, 0, n, F, 1.0, pd, work, nullptr, classical::PlasticReturn::work, {}, 0,
+                              classical::RotationUpdate::peridigm);
+  // L = (F - I) F^-1 = I - F^T: its skew part W has w_z = sin(theta).
+  const double w = std::sin(theta), c = 1.0 / (1.0 + 0.25 * w * w);
+  EXPECT_NEAR((cay.R.transpose() * cay.R - Mat3::Identity()).norm(), 0.0, 1e-15);  // orthogonal
+  // Closed forms: W^2 = -w^2 (e_x e_x + e_y e_y); Cayley R_xx = 1 - c w^2/2, Peridigm's 1 + c w^2/2.
+  EXPECT_NEAR(cay.R(0, 0), 1 - c * w * w / 2, 1e-15);
+  EXPECT_NEAR(cay.R(1, 0), c * w, 1e-15);
+  EXPECT_NEAR(pd.R(0, 0), 1 + c * w * w / 2, 1e-15);
+  EXPECT_NEAR(pd.R(1, 1), 1 + c * w * w / 2, 1e-15);
+  EXPECT_NEAR(pd.R(1, 0), c * w, 1e-15);
+  EXPECT_NEAR(pd.R(0, 1), -c * w, 1e-15);
+  EXPECT_EQ(pd.R(2, 2), 1.0);
+  // The two differ by -c W^2 only: second order in the step's rotation.
+  EXPECT_NEAR((pd.R - cay.R).norm(), std::sqrt(2.0) * c * w * w, 1e-15);
+}
+
 // Uniaxial strain with nu = 0.3 past yield: q = sqrt(3/2)|s| lands on y_n + H Delta alpha
 // with Delta alpha = (q_trial^2 - y_n^2)/(6 mu q_trial), y_n = sigma_y + H alpha_n, and
 // the plastic work is sigma_y Delta alpha + H (alpha^2 - alpha_n^2)/2.
@@ -285,11 +312,30 @@ TEST(CorrespondencePeridigm, HourglassForce) {
   const Eigen::Vector3d Fx = F * correspondence::to_eigen(xi);
   const Vec3 T0 = correspondence::peridigm_hourglass(F, Cc, 1.0, xi, correspondence::to_vec3(Fx));
   EXPECT_LT(std::sqrt(T0.x * T0.x + T0.y * T0.y + T0.z * T0.z), 1e-12 * Cc);
-  // F = I, the bond stretched by z along itself: T = C c omega (z/|xi|) n.
+  // F = I, the bond stretched by z along itself (Y = xi + z n): T = C c omega (z |Y|/|xi|) n,
+  // Peridigm's scale (fitted from its gold PredictorFromPreviousSolverQSTrue to 4e-12:
+  // the magnitude is c times the length z |Y|/|xi|, not the stretch z/|xi|).
   const double L = std::sqrt(xi.x * xi.x + xi.y * xi.y + xi.z * xi.z), z = 1e-3;
   const Vec3 n = xi * (1 / L), Y = xi + n * z;
   const Vec3 T = correspondence::peridigm_hourglass(Mat3::Identity(), Cc, 0.5, xi, Y);
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(T[c], Cc * 0.5 * (z / L) * n[c], 1e-12 * Cc);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(T[c], Cc * 0.5 * z * ((L + z) / L) * n[c], 1e-12 * Cc);
+  // Scaling the bond and z by 2 doubles the force (a length, not a stretch).
+  const Vec3 T2 = correspondence::peridigm_hourglass(Mat3::Identity(), Cc, 0.5, xi * 2.0, Y * 2.0);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(T2[c], 2 * T[c], 1e-12 * Cc);
+  // One bond of a general F: the closed form -C c omega ((F xi - Y).Y) Y/(|xi| |Y|).
+  const Vec3 Yg{0.26, -0.47, 0.12};
+  const Eigen::Vector3d Ye = correspondence::to_eigen(Yg);
+  const double yl = Ye.norm(), zy = (Fx - Ye).dot(Ye);
+  const Vec3 Tg = correspondence::peridigm_hourglass(F, Cc, 0.7, xi, Yg);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(Tg[c], -Cc * 0.7 * zy / (L * yl) * Ye[c], 1e-12 * Cc);
+  // The same bond by hand, C c = omega = 1: F xi = (0.2415, -0.48525, 0.113),
+  // F xi - Y = (-0.0185, -0.01525, -0.007), (F xi - Y).Y = -0.00481 + 0.0071675 - 0.00084
+  // = 0.0015175, |xi|^2 = 0.3225, |Y|^2 = 0.3029.
+  const Vec3 T1 = correspondence::peridigm_hourglass(F, 1.0, 1.0, xi, Yg);
+  const double hand = 0.0015175 / (std::sqrt(0.3225) * std::sqrt(0.3029));
+  EXPECT_NEAR(T1.x, -hand * 0.26, 1e-15);
+  EXPECT_NEAR(T1.y, hand * 0.47, 1e-15);
+  EXPECT_NEAR(T1.z, -hand * 0.12, 1e-15);
   // A transverse motion: z . n = 0, no force.
   const Vec3 t{0.5 * 0.5, 0.25 * 0.5, 0};  // t . xi = 0.0625 - 0.0625 = 0
   ASSERT_NEAR(t.x * xi.x + t.y * xi.y + t.z * xi.z, 0.0, 1e-15);

@@ -87,6 +87,7 @@ TEST(PeridigmCorrespondence, ImportMapsToTheRateFormAndTheHourglassForce) {
   EXPECT_EQ(m["model"].as<std::string>(), "correspondence");
   EXPECT_EQ(m["stress_law"].as<std::string>(), "hypoelastic");
   EXPECT_EQ(m["stabilization_form"].as<std::string>(), "peridigm");
+  EXPECT_EQ(m["rotation_update"].as<std::string>(), "peridigm");
   EXPECT_DOUBLE_EQ(m["stabilization"].as<double>(), 0.04);
   EXPECT_EQ(native["output"]["exodus_files"][0]["variables"][0].as<std::string>(), "Cauchy_Stress");
 

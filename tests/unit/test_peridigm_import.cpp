@@ -265,12 +265,25 @@ TEST(PeridigmImport, ComputeClassesBecomeHistoryColumns) {
   stress.replace(stress.find("\"Force\""), 7, "\"Von_Mises_Stress\"");
   EXPECT_EQ(flow(convert(write_deck("computes_vm.yaml", stress, bc))["output"]["history_columns"][3]),
             "{name: Reaction, field: von_mises_stress, body: block_2, reduce: sum}");
+  // Surface_Correction_Factor is the shear correction's field (material/shear_correction.hpp).
+  std::string factor = computes;
+  factor.replace(factor.find("\"Force\""), 7, "\"Surface_Correction_Factor\"");
+  EXPECT_EQ(flow(convert(write_deck("computes_scf.yaml", factor, bc))["output"]["history_columns"][3]),
+            "{name: Reaction, field: shear_correction_factor, body: block_2, reduce: sum}");
   // An unknown variable is an error at its place.
   std::string wrong = computes;
-  wrong.replace(wrong.find("\"Force\""), 7, "\"Surface_Correction_Factor\"");
+  wrong.replace(wrong.find("\"Force\""), 7, "\"Neighborhood_Volume\"");
   const std::string e = error_of(write_deck("computes_bad.yaml", wrong, bc));
   EXPECT_NE(e.find("computes_bad.yaml:"), std::string::npos) << e;
-  EXPECT_NE(e.find("Surface_Correction_Factor"), std::string::npos) << e;
+  EXPECT_NE(e.find("Neighborhood_Volume"), std::string::npos) << e;
+  // Peridigm's JIntegral class (PrecrackJIntegral) is refused as a class, its keys read.
+  const std::string j = error_of(write_deck("computes_j.yaml", "  Compute Class Parameters:\n"
+                                                                "    J Integral:\n"
+                                                                "      Compute Class: \"JIntegral\"\n"
+                                                                "      Block ID: 1\n"
+                                                                "      dt: 1.0\n"));
+  EXPECT_NE(j.find("computes_j.yaml:"), std::string::npos) << j;
+  EXPECT_NE(j.find("JIntegral compute class is not mapped: Horizon computes no J-integral"), std::string::npos) << j;
 }
 
 // --- materials and bond filters ---
@@ -287,7 +300,8 @@ TEST(PeridigmImport, CorrespondencePlasticity) {
                           "      Flaw Size: 0.1\n";
   const YAML::Node n = convert(write_deck("ihc.yaml", "", "", mat));
   EXPECT_EQ(flow(n["materials"]["All"]),
-            "{model: correspondence, stress_law: hypoelastic_j2, plastic_return: peridigm, stabilization_form: peridigm, "
+            "{model: correspondence, stress_law: hypoelastic_j2, plastic_return: peridigm, rotation_update: peridigm, "
+            "stabilization_form: peridigm, "
             "stabilization: 0.02, "
             "yield_stress: 250000000, hardening_modulus: 1000000000, density: 7800, youngs_modulus: 200000000000, "
             "poissons_ratio: 0.29999999999999999, influence: constant}");
@@ -304,6 +318,30 @@ TEST(PeridigmImport, CorrespondencePlasticity) {
                     "      Hardening Modulus: 1.0e9\n";
   // Hardening Modulus is not a key of Elastic Plastic Correspondence.
   EXPECT_NE(error_of(write_deck("epc.yaml", "", "", epc)).find("not a parameter of Material Model"), std::string::npos);
+}
+
+TEST(PeridigmImport, ShearCorrectionFactor) {
+  // Apply Shear Correction Factor: shear_correction of lps and elastic_plastic
+  // (material/shear_correction.hpp); another model's is an error at the key.
+  const std::string elastic = "      Material Model: \"Elastic\"\n"
+                              "      Density: 2200.0\n"
+                              "      Bulk Modulus: 14.9e9\n"
+                              "      Shear Modulus: 8.94e9\n"
+                              "      Apply Shear Correction Factor: true\n";
+  EXPECT_EQ(flow(convert(write_deck("scf.yaml", "", "", elastic))["materials"]["All"]),
+            "{model: lps, density: 2200, bulk_modulus: 14900000000, shear_modulus: 8940000000, shear_correction: true, "
+            "influence: constant}");
+  std::string plastic = elastic;
+  plastic.replace(plastic.find("\"Elastic\""), 9, "\"Elastic Plastic\"");
+  plastic += "      Yield Stress: 1.0e8\n";
+  EXPECT_EQ(flow(convert(write_deck("scf_ep.yaml", "", "", plastic))["materials"]["All"]["shear_correction"]), "true");
+  std::string bond = elastic;
+  bond.replace(bond.find("\"Elastic\""), 9, "\"Elastic Bond Based\"");
+  const std::string e = error_of(write_deck("scf_bb.yaml", "", "", bond));
+  EXPECT_NE(e.find("scf_bb.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("Apply Shear Correction Factor: a shear correction of the Elastic and Elastic Plastic materials"),
+            std::string::npos)
+      << e;
 }
 
 TEST(PeridigmImport, RectangularPlaneBondFilterIsAPrecrack) {

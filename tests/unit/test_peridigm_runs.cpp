@@ -8,7 +8,9 @@
 // - QuasiStatic's Adaptive Load-Stepping read (its Switch to Verlet: a staged run);
 // - the CG path's dense solve of a small tangent CG cannot finish (singular, not symmetric:
 //   PredictorFromPreviousSolver's finite-difference correspondence tangent of a body held
-//   in y alone).
+//   in y alone);
+// - Apply Shear Correction Factor: the factor of each particle of a lattice cube
+//   (material/shear_correction.hpp) as its closed forms give it.
 #include <exodusII.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -449,6 +451,67 @@ TEST(PeridigmRuns, SmallTangentCgCannotFinishIsSolvedDense) {
   EXPECT_EQ(st.iterations, 2 * n + 1);  // 2n CG iterations, then the dense solve
   EXPECT_LT((Kt * x - r).norm(), 1e-10 * r.norm());
   EXPECT_LT((x - x_true).norm(), 1e-9 * x_true.norm());  // no translation added
+}
+
+TEST(PeridigmRuns, ShearCorrectionFactorOfALatticeCube) {
+  // A 5^3 cube of unit spacing, delta = 1.01: the six nearest neighbours. s = 1/(1 -
+  // |dev S|^2/((2/3) m^2)) with S = sum xi (x) xi: inside S = 2 I and at a corner S = I
+  // (isotropic, s = 1); a face's middle S = diag(2, 2, 1), s = 25/24; an edge's middle
+  // S = diag(1, 1, 2), m = 4, |dev S|^2 = 2/3: s = 16/15.
+  const fs::path dir = fresh_dir("horizon_pdruns_scf");
+  std::ofstream points(dir / "points.txt");
+  for (int k = 0; k < 5; ++k)
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i) points << i << " " << j << " " << k << " 1 1\n";
+  points.close();
+  std::ofstream(dir / "deck.xml") << R"(<ParameterList>
+  <ParameterList name="Discretization">
+    <Parameter name="Type" type="string" value="Text File"/>
+    <Parameter name="Input Mesh File" type="string" value="points.txt"/>
+  </ParameterList>
+  <ParameterList name="Materials">
+    <ParameterList name="Glass">
+      <Parameter name="Material Model" type="string" value="Elastic"/>
+      <Parameter name="Density" type="double" value="2200.0"/>
+      <Parameter name="Bulk Modulus" type="double" value="14.9e9"/>
+      <Parameter name="Shear Modulus" type="double" value="8.94e9"/>
+      <Parameter name="Apply Shear Correction Factor" type="bool" value="true"/>
+    </ParameterList>
+  </ParameterList>
+  <ParameterList name="Blocks">
+    <ParameterList name="All">
+      <Parameter name="Block Names" type="string" value="block_1"/>
+      <Parameter name="Material" type="string" value="Glass"/>
+      <Parameter name="Horizon" type="double" value="1.01"/>
+    </ParameterList>
+  </ParameterList>
+  <ParameterList name="Solver">
+    <Parameter name="Final Time" type="double" value="1.0e-6"/>
+    <ParameterList name="Verlet">
+      <Parameter name="Fixed dt" type="double" value="1.0e-6"/>
+    </ParameterList>
+  </ParameterList>
+</ParameterList>
+)";
+  const std::string native = convert_peridigm_deck((dir / "deck.xml").string());
+  const Config c = parse_deck(native, (dir / "deck.yaml").string());
+  const System s = build_system(c);
+  std::vector<ModelField> fields;
+  for (const auto& m : s.models) m->fields(s, fields);
+  const ModelField* f = nullptr;
+  for (const auto& x : fields)
+    if (x.name == "shear_correction_factor") f = &x;
+  ASSERT_NE(f, nullptr) << native;
+  auto at = [&](double x, double y, double z) {
+    for (std::size_t i = 0; i < s.particles.size(); ++i)
+      if (s.particles.X[i].x == x && s.particles.X[i].y == y && s.particles.X[i].z == z) return f->values[i];
+    ADD_FAILURE() << x << " " << y << " " << z;
+    return 0.0;
+  };
+  EXPECT_NEAR(at(2, 2, 2), 1.0, 1e-15);
+  EXPECT_NEAR(at(0, 0, 0), 1.0, 1e-15);
+  EXPECT_NEAR(at(2, 2, 4), 25.0 / 24.0, 1e-15);
+  EXPECT_NEAR(at(0, 0, 2), 16.0 / 15.0, 1e-15);
 }
 
 }  // namespace

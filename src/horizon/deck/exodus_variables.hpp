@@ -11,6 +11,8 @@ inline const std::vector<std::string>& model_field_variables() {
       "Hourglass_Force_Density", "Left_Stretch_Tensor", "Rotation_Tensor", "Shape_Tensor_Inverse",
       "Unrotated_Rate_Of_Deformation", "Cauchy_Stress", "Unrotated_Cauchy_Stress", "Von_Mises_Stress",
       "Equivalent_Plastic_Strain",
+      // lps and elastic_plastic with shear_correction (material/shear_correction.hpp)
+      "Surface_Correction_Factor",
       // pals' normalisations and Lagrange multipliers (material/models/pals.hpp)
       "Dilatation_Normalization", "Deviatoric_Normalization",
       "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2", "Lagrange_Multiplier_Dilatation_3",

@@ -78,6 +78,8 @@ constexpr FieldVariable kFieldVariables[] = {
     {"Unrotated_Cauchy_Stress", false, 9, "unrotated_cauchy_stress"},
     {"Von_Mises_Stress", false, 1, "von_mises_stress"},
     {"Equivalent_Plastic_Strain", false, 1, "equivalent_plastic_strain"},
+    // lps and elastic_plastic with shear_correction (material/shear_correction.hpp)
+    {"Surface_Correction_Factor", false, 1, "shear_correction_factor"},
     // pals (material/models/pals.hpp)
     {"Dilatation_Normalization", false, 1, "dilatation_normalization"},
     {"Deviatoric_Normalization", false, 1, "deviatoric_normalization"},

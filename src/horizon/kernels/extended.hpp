@@ -115,4 +115,43 @@ HORIZON_HD_INLINE PairBond pair_bond(const PairEnd& ri, const PairEnd& rj, const
   return {qi, V * (qi + wg * sj)};
 }
 
+// pair_bond with i's residual r_i as i's row computed it for its stabilisation sum
+// (pair_law_row: eps - p . (E_i + E_j)/2 when j sends its E, else eps - p . E_i; valid when
+// i carries stress with k_s != 0): the same operations on the same values, so the same bits,
+// without the midpoint projection per bond (and, when both ends take the midpoint, without
+// reading E of either end: the midpoint residual is the same number from both).
+// eps: the bond's strain, read only where a residual is computed here (not when both
+// ends take the midpoint and i's is kept).
+HORIZON_HD_INLINE PairBond pair_bond_kept(const PairEnd& ri, const PairEnd& rj, const double* n, int dimension,
+                                          double inv_length, double Y2, const double* eps, double r_i, double m,
+                                          double omega, double V) {
+  double h[6];
+  unit_shape_state(n, dimension, h);
+  const double inv2 = inv_length * inv_length, c = Y2 * inv2;
+  const double g = (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : power(c, m - 1.0)) * inv2;
+  double si = ri.on ? dot6(ri.A, h) : 0.0, sj = rj.on ? dot6(rj.A, h) : 0.0;
+  const bool kept = ri.on && ri.ks != 0;
+  if (ri.mid && rj.mid) {
+    double rr;
+    if (kept) {
+      rr = (ri.ks + rj.ks) * r_i;
+    } else {
+      double p[6];
+      unit_normal_projector(n, p);
+      rr = (ri.ks + rj.ks) * (*eps - dot6_mid(p, ri.E, rj.E));
+    }
+    if (kept) si += rr;
+    if (rj.on && rj.ks != 0) sj += rr;
+  } else {
+    if (kept) si += rj.mid ? (ri.ks + rj.ks) * r_i : 2.0 * ri.ks * r_i;
+    if (rj.on) {
+      double p[6];
+      unit_normal_projector(n, p);
+      sj += pair_side_residual(rj, ri, p, *eps);
+    }
+  }
+  const double wg = omega * g, qi = wg * si;
+  return {qi, V * (qi + wg * sj)};
+}
+
 }  // namespace horizon::kernels

@@ -23,9 +23,11 @@ const std::vector<std::pair<std::string, std::string>> kVariables = {
 };
 
 // Peridigm's variables that are the models' output fields in Horizon (only the models
-// that write them answer: correspondence).
+// that write them answer: correspondence; lps and elastic_plastic with shear_correction).
 const std::vector<std::pair<std::string, std::string>> kFields = {
-    {"Von_Mises_Stress", "von_mises_stress"}, {"Equivalent_Plastic_Strain", "equivalent_plastic_strain"}};
+    {"Von_Mises_Stress", "von_mises_stress"},
+    {"Equivalent_Plastic_Strain", "equivalent_plastic_strain"},
+    {"Surface_Correction_Factor", "shear_correction_factor"}};
 
 // Sets the column's `quantity` or `field` from Peridigm's Variable.
 void set_variable(const DeckContext& ctx, const Item& item, YAML::Node& col) {
@@ -63,7 +65,8 @@ ComputeClasses read_compute_classes(const DeckContext& ctx, const Item& item, co
   ComputeClasses out;
   for (const auto& e : map_entries(ctx, item)) {
     const Item kind_item = MapReader(ctx, e.value, {"Compute Class", "X", "Y", "Z", "Variable", "Output Label",
-                                                    "Verbose", "Block", "Node Set", "Calculation Type"})
+                                                    "Verbose", "Block", "Node Set", "Calculation Type", "Block ID",
+                                                    "dt"})
                                .get("Compute Class", "Nearest_Point_Data, Block_Data or Node_Set_Data");
     const std::string kind = read_string(ctx, kind_item);
     const std::string w = squash_words(kind);
@@ -71,6 +74,13 @@ ComputeClasses read_compute_classes(const DeckContext& ctx, const Item& item, co
     if (w == "nearestpointdata") keys.insert(keys.end(), {"X", "Y", "Z"});
     else if (w == "blockdata") keys.insert(keys.end(), {"Block", "Calculation Type"});
     else if (w == "nodesetdata") keys.insert(keys.end(), {"Node Set", "Calculation Type"});
+    else if (w == "jintegral")
+      // Peridigm's JIntegral class (Block ID, dt; PrecrackJIntegral): a J-integral about a
+      // crack tip, whose definition its users' guide does not give. Horizon computes no
+      // J-integral (docs/peridigm.md, "Compute classes").
+      ctx.fail(kind_item.mark, kind_item.path + ": Peridigm's JIntegral compute class is not mapped: Horizon computes "
+                                                "no J-integral (the classes it reads: Nearest_Point_Data, Block_Data, "
+                                                "Node_Set_Data)");
     else
       fail_choice(ctx, kind_item, kind, {"Nearest_Point_Data", "Block_Data", "Node_Set_Data"},
                   "compute class Horizon reads");

@@ -317,6 +317,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
     own = {"Hourglass Coefficient"};
     mat["model"] = "correspondence";
     mat["stress_law"] = "hypoelastic";
+    mat["rotation_update"] = "peridigm";  // Peridigm's rotation increment (fitted: classical/hypoelastic.hpp)
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
@@ -332,6 +333,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
     // Peridigm's own return (its hardened yield stress from its plastic-multiplier
     // estimate: classical/hypoelastic.hpp), which the IsotropicHardening golds need.
     if (!needleman) mat["plastic_return"] = "peridigm";
+    mat["rotation_update"] = "peridigm";
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     mat["yield_stress"] = read_positive(t.ctx, m.get("Yield Stress", "the yield stress [Pa]"));
@@ -457,9 +459,18 @@ YAML::Node read_material(Translation& t, const Item& item) {
       }
     }
   }
-  for (const char* flag : {"Apply Shear Correction Factor", "Compute Partial Stress"}) {
-    if (auto f = m.find(flag); f && read_bool(t.ctx, *f))
-      t.ctx.fail(f->mark, f->path + ": not supported; only false");
+  if (auto f = m.find("Compute Partial Stress"); f && read_bool(t.ctx, *f))
+    t.ctx.fail(f->mark, f->path + ": not supported; only false");
+  if (auto f = m.find("Apply Shear Correction Factor"); f && read_bool(t.ctx, *f)) {
+    // Peridigm's per-particle factor on the deviatoric modulus of its Elastic and Elastic
+    // Plastic solids: Horizon's shear_correction (material/shear_correction.hpp), derived
+    // from the LPS's deviatoric energy under shear (Peridigm's own definition is in its
+    // code alone: docs/peridigm.md).
+    const std::string native = mat["model"] ? mat["model"].as<std::string>() : std::string();
+    if (native != "lps" && native != "elastic_plastic")
+      t.ctx.fail(f->mark, f->path + ": a shear correction of the Elastic and Elastic Plastic materials only (the LPS "
+                                    "deviatoric modulus), not of Material Model '" + model + "'");
+    mat["shear_correction"] = true;
   }
   // Apply Automatic Differentiation Jacobian and Finite Difference Probe Length choose
   // how Peridigm builds its tangent; Horizon's Newton solver has its own. Read, no effect.
@@ -1162,7 +1173,7 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density", "Hourglass_Force_Density",
         "Left_Stretch_Tensor", "Rotation_Tensor", "Shape_Tensor_Inverse", "Unrotated_Rate_Of_Deformation",
         "Cauchy_Stress", "Unrotated_Cauchy_Stress", "Von_Mises_Stress", "Temperature", "Temperature_Change",
-        "Flux_Divergence",
+        "Flux_Divergence", "Surface_Correction_Factor",
         "Dilatation_Normalization", "Deviatoric_Normalization",
         "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2", "Lagrange_Multiplier_Dilatation_3",
         "Lagrange_Multiplier_Dilatation_4", "Lagrange_Multiplier_Dilatation_5", "Lagrange_Multiplier_Dilatation_6",
@@ -1206,7 +1217,9 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         };
         const std::string* base = nullptr;
         for (const auto& v : model_field_variables())
-          if (v != "Von_Mises_Stress" && v != "Equivalent_Plastic_Strain" && component_of(v)) base = &v;
+          if (v != "Von_Mises_Stress" && v != "Equivalent_Plastic_Strain" && v != "Surface_Correction_Factor" &&
+              component_of(v))
+            base = &v;
         if (base) {
           if (read_bool(ctx, e.value) && std::find(variables.begin(), variables.end(), *base) == variables.end())
             variables.push_back(*base);

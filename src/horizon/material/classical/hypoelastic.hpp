@@ -15,6 +15,17 @@
 //     (Flanagan and Taylor's eq. for omega; derived: for skew A and symmetric V,
 //     A V + V A is skew with axial vector (tr(V) I - V) a);
 //   R = (I - dt/2 Omega)^-1 (I + dt/2 Omega) R_n  (their midpoint rotation update),
+//     = (I + c (dt Omega + (dt Omega)^2 / 2)) R_n,  c = 1/(1 + |dt omega|^2/4), omega the
+//     axial vector of Omega (the closed form of that Cayley transform); or, with
+//     `RotationUpdate::peridigm`, Peridigm's increment (I + c (dt Omega - (dt Omega)^2 / 2)) R_n,
+//     the sign of the second-order term FITTED from Peridigm's gold
+//     PredictorFromPreviousSolverQSTrue (docs/peridigm.md, "Peridigm's hourglass force"):
+//     at t = 1 the gold's Cauchy and unrotated stresses differ from this rate form at its
+//     own Deformation_Gradient by 0.047 and 0.030 Pa (2e-9 of 2.4e7) with the Cayley R,
+//     by 8.6e-4 Pa with R = I + W + a W^2 at a = -1/2 exactly (a = -0.48, -0.52: 1.2e-3,
+//     9e-4; the Cayley a = +1/2), and the decks then match. Not orthogonal to second order
+//     in the step's rotation (R^T R = I - (c + c^2) W^2 + c^2 W^4 / 4, W = dt Omega):
+//     harmless for small rotation steps, and only what the golds need;
 //   V = V_n + dt (L V_n - V_n Omega);
 //   d = R^T D R  (the unrotated rate of deformation),
 //   sigma_u = sigma_u,n + dt (lambda tr(d) I + 2 mu d), then, with a yield stress, where
@@ -88,6 +99,18 @@ inline Eigen::Vector3d axial_of(const Mat3& S) { return {S(2, 1), S(0, 2), S(1, 
 // `peridigm` (Isotropic Hardening Correspondence) or `needleman` (Peridigm's Viscoplastic
 // Needleman Correspondence, below).
 enum class PlasticReturn { work, peridigm, needleman };
+
+// The rotation increment of the rate form: Flanagan and Taylor's Cayley transform
+// (orthogonal), or Peridigm's (the sign of its second-order term fitted, above).
+enum class RotationUpdate { cayley, peridigm };
+
+// The rotation increment Q (R = Q R_n) of the step's spin dt Omega.
+inline Mat3 rotation_increment(const Mat3& Wd, RotationUpdate kind) {
+  const Eigen::Vector3d w{Wd(2, 1), Wd(0, 2), Wd(1, 0)};
+  const double c = 1.0 / (1.0 + 0.25 * w.squaredNorm());
+  const double sign = kind == RotationUpdate::peridigm ? -0.5 : 0.5;
+  return Mat3::Identity() + c * (Wd + sign * (Wd * Wd));
+}
 
 // Needleman's viscoplastic flow stress (A. Needleman 1988, "Material rate dependence and
 // mesh sensitivity in localization problems", CMAME 67, 69-85: the power-law rate form
@@ -176,7 +199,8 @@ inline void peridigm_return(const Elastic& c, double sigma0, double hardening, P
 inline HypoResult hypoelastic_step(const Elastic& c, double yield, double hardening, const HypoState& n,
                                    const Mat3& F, double dt, HypoState& trial, double& plastic_work,
                                    const Mat3* Fdot = nullptr, PlasticReturn kind = PlasticReturn::work,
-                                   const Needleman& nm = {}, double thermal = 0) {
+                                   const Needleman& nm = {}, double thermal = 0,
+                                   RotationUpdate rotation = RotationUpdate::cayley) {
   HypoResult out;
   trial = n;
   plastic_work = 0;
@@ -194,7 +218,8 @@ inline HypoResult hypoelastic_step(const Elastic& c, double yield, double harden
     const Mat3 M = n.V.trace() * I - n.V;
     const Eigen::Vector3d a = M.lu().solve(axial_of(C));
     const Mat3 Omega = W + skew_of(a);
-    trial.R = (I - 0.5 * dt * Omega).lu().solve((I + 0.5 * dt * Omega) * n.R);
+    trial.R = rotation == RotationUpdate::cayley ? Mat3((I - 0.5 * dt * Omega).lu().solve((I + 0.5 * dt * Omega) * n.R))
+                                                 : Mat3(rotation_increment(dt * Omega, rotation) * n.R);
     trial.V = n.V + dt * (L * n.V - n.V * Omega);
     trial.F = F;
     out.d = trial.R.transpose() * D * trial.R;

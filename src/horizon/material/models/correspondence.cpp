@@ -99,9 +99,14 @@ const ModelTraits& traits() {
          "equivalent plastic strain) or peridigm (Peridigm's Isotropic Hardening Correspondence update: the "
          "hardened yield stress from its estimate of the plastic multiplier, classical/hypoelastic.hpp)",
          {"work", "peridigm"}},
+        {"rotation_update",
+         "the rate-form laws (hypoelastic, hypoelastic_j2, viscoplastic_needleman): cayley (Flanagan and Taylor's "
+         "midpoint rotation, orthogonal) or peridigm (Peridigm's increment I + c (W - W^2/2), fitted from its gold: "
+         "classical/hypoelastic.hpp)",
+         {"cayley", "peridigm"}},
         {"stabilization_form",
-         "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).n "
-         "/|xi|) n (Littlewood 2011) with C = stabilization",
+         "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).Y) "
+         "Y/(|xi| |Y|) (Littlewood 2011, scale fitted from Peridigm's gold) with C = stabilization",
          {"silling", "peridigm"}},
     };
     m.affine = true;      // T = omega (M_i xi + g_i Y): kernels/affine.hpp
@@ -229,6 +234,8 @@ void Correspondence::setup(const ModelSetup& in) {
   law_.plane = in.dims.plane;
   law_.plastic_return = choice(mat, "plastic_return") == "peridigm" ? classical::PlasticReturn::peridigm
                                                                     : classical::PlasticReturn::work;
+  law_.rotation = choice(mat, "rotation_update") == "peridigm" ? classical::RotationUpdate::peridigm
+                                                               : classical::RotationUpdate::cayley;
   if (law_.law == StressLaw::viscoplastic_needleman) {
     law_.plastic_return = classical::PlasticReturn::needleman;
     law_.needleman = {parameter(mat, "strain_hardening_exponent"), parameter(mat, "rate_hardening_exponent"),

@@ -10,6 +10,7 @@
 #include "horizon/material/models/history_ledger.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
+#include "horizon/material/shear_correction.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -29,6 +30,12 @@ const ModelTraits& traits() {
          "linear isotropic hardening modulus H [Pa]: sigma_y + H eps_p; uniaxial tangent slope E H/(E + H); 0: "
          "perfect plasticity",
          ParameterSpec::Range::non_negative, 0.0},
+        {"shear_correction",
+         "true: a per-particle factor s_i on the shear modulus (alpha and the return's mu) that gives a truncated "
+         "family the continuum's deviatoric energy under shear, averaged over the shear's orientations (Peridigm's "
+         "Apply Shear Correction Factor; material/shear_correction.hpp); written as the field "
+         "shear_correction_factor",
+         ParameterSpec::Range::boolean, 0.0},
     };
     m.choices = {
         {"yield_reference",
@@ -75,6 +82,7 @@ class ElasticPlastic final : public Model {
     // theta of the last force pass: this model's rows compute it themselves, so the
     // general pass's System::model.theta (the Exodus file's Dilatation) stays 0 here.
     out.push_back({"dilatation", theta_});
+    if (shear_corrected_) out.push_back({"shear_correction_factor", shear_factor_});
   }
 
   void checkpoint(StateArchive& a) override {
@@ -101,6 +109,10 @@ class ElasticPlastic final : public Model {
   // continuum's (yield_reference).
   double yield_volume_ = 0;
   bool plastic_ = true;  // plasticity: off leaves every step elastic (beta = 1)
+  // Per particle: the shear correction factor s_i (1 without shear_correction), which
+  // scales alpha and the return's shear modulus of i's row.
+  std::vector<double> shear_factor_;
+  bool shear_corrected_ = false;
   double yield_m(double m) const { return yield_volume_ > 0 ? yield_volume_ : m; }
   // Per particle (indexed by particle, only this material's filled): the equivalent
   // plastic strain and the stored energy density W, committed and trial, and the energy
@@ -153,6 +165,10 @@ void ElasticPlastic::setup(const ModelSetup& in) {
   }
   ep_.assign(0, 0);
   size_bonds(s.bonds);
+  shear_corrected_ = Model::parameter(mat, "shear_correction") != 0;
+  shear_factor_.assign(n, 1.0);
+  if (shear_corrected_)
+    for (uint32_t i : particles_) shear_factor_[i] = shear_correction_factor(family_of(s, i), dim_);
 
   // As the LPS (material/models/lps.cpp): spring, contact, critical stretch.
   fill_state_based_coefficients(in);
@@ -186,7 +202,8 @@ void ElasticPlastic::force_state(ForcePass& pass) {
     const Point4 pi = y[i];
     const uint64_t first = B.begin(i), last = B.end(i);
     const double m = M.weighted_volume[i];
-    const double alpha = factor / m;
+    const double alpha = shear_factor_[i] * factor / m;
+    const double mu = shear_factor_[i] * mu_;
     // |Y| of each bond of the row, computed once and read by the three sweeps below.
     thread_local std::vector<double> deformed;
     deformed.resize(last - first);
@@ -214,7 +231,7 @@ void ElasticPlastic::force_state(ForcePass& pass) {
       n2 += c.wv * ede * ede;
     }
     n2 *= alpha * alpha;
-    const ReturnMap r = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
+    const ReturnMap r = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu, yield_, hardening_, eps_p_[i]) : ReturnMap{};
     eps_p_trial_[i] = eps_p_[i] + r.plastic_strain;
     const double beta = r.scale;
     lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(beta, alpha);
@@ -275,7 +292,8 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const int dim = dim_;
   const uint64_t first = B.begin(i), last = B.end(i);
   const double m = M.weighted_volume[i];
-  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double alpha = shear_factor_[i] * lps_deviatoric_factor(dim) * mu_ / m;
+  const double mu = shear_factor_[i] * mu_;
   const double theta = dim * dilatation_sum / m;
   theta_[i] = theta;
   lanes::RowBonds b = lanes::row_bonds(pass, ledger_, i, true);
@@ -294,7 +312,7 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   const bool guess_elastic = !flowed_[i];
   lanes::RowSums sums = lanes::ep_row(b, row, 1.0, true, guess_elastic);
   const double n2 = sums.norm * (alpha * alpha);
-  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
+  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu, yield_, hardening_, eps_p_[i]) : ReturnMap{};
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
   flowed_[i] = rm.plastic_strain > 0;
   lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
@@ -335,7 +353,8 @@ void ElasticPlastic::force_row_scalar(const RowPass& pass, std::size_t i, double
   };
   const uint64_t first = B.begin(i), last = B.end(i);
   const double m = M.weighted_volume[i];
-  const double alpha = lps_deviatoric_factor(dim) * mu_ / m;
+  const double alpha = shear_factor_[i] * lps_deviatoric_factor(dim) * mu_ / m;
+  const double mu = shear_factor_[i] * mu_;
   const double theta = dim * dilatation_sum / m;
   const double p_coef = dim * bulk_ * theta / m;
   const HistoryLedger::Row ledger = ledger_.row();
@@ -405,7 +424,7 @@ void ElasticPlastic::force_row_scalar(const RowPass& pass, std::size_t i, double
   else
     trial_norm();
   n2 *= alpha * alpha;
-  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu_, yield_, hardening_, eps_p_[i]) : ReturnMap{};
+  const ReturnMap rm = plastic_ ? ep_return_map(n2, yield_m(m), dim, mu, yield_, hardening_, eps_p_[i]) : ReturnMap{};
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
   flowed_[i] = rm.plastic_strain > 0;
   lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);

@@ -128,6 +128,7 @@ class ExtendedCorrespondence final : public Model {
     const double* soft;  // the critical-stretch factors, or null
     const ForcePass* pass;
     bool energy;
+    bool keep_q;  // some bond may break in the next pass: pair_q_ is written (pair_forces)
   };
   uint64_t pair_break_row(const PairPass& c, std::size_t l);
   void pair_law_row(const PairPass& c, std::size_t l);
@@ -527,12 +528,16 @@ class ExtendedCorrespondence final : public Model {
   // The pair form (pair_forces): per particle of this material, what the pair sum reads of
   // both ends of a bond; T_ij = omega g (A_i . h + 2 coef r_i) Y + omega PK_i xi
   // (ExtendedCorrespondence::pair_forces).
-  struct alignas(64) PairRecord {  // two cache lines (PK is pair_pk_'s: the volumetric gradient's only)
+  // Two cache lines (PK is pair_pk_'s: the volumetric gradient's only); the first holds what
+  // the pair sum reads of a neighbour when both ends take the midpoint residual (its value
+  // kept per bond by the row's stabilisation sum, rforce_), the second E, which the other
+  // residuals read.
+  struct alignas(64) PairRecord {
     Vec6 A = Vec6::Zero();   // a - 2 k_s b (a = dual(S), b = dual(R): bond_force_state's)
-    Vec6 E = Vec6::Zero();   // the strain its residuals read (e_vec_ when it sends it, else e_full_)
     double ks = 0;           // k_s (0: no stabilisation)
     uint8_t on = 0;          // carries stress in this pass
     uint8_t mid = 0;         // the other end's residual takes the midpoint with this E (e_ok_)
+    alignas(64) Vec6 E = Vec6::Zero();  // the strain its residuals read (e_vec_ when it sends it, else e_full_)
   };
   std::vector<PairRecord> pair_;
   std::vector<Mat3> pair_pk_;   // per particle: PK of the pass (0: no stress); the last pass's while the
@@ -949,6 +954,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
       } else {
         r = eps_[k] - p.dot(Ei);
       }
+      rforce_[k] = r;  // the pair sum's i side (kernels::pair_bond_kept)
       const BondKind& bk = kinds[B.kind[k]];
       const double w = bk.weight * (bk.volume * bk.fraction), wr = w * r;
       Rp.noalias() += (wr * (coef * inv_ks)) * p;
@@ -984,12 +990,13 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
   double wc_sum = 0;
   const uint64_t last = B.end(i);
   for (uint64_t k = B.begin(i); k < last; ++k) {
-    // The neighbour's record lies up to a horizon of rows away (192 bytes): asked for a
+    // The neighbour's record lies up to a horizon of rows away (one or two lines): asked for a
     // few bonds ahead.
     if (k + kPairAhead < last) {
       const std::size_t la = local_[B.nbr[k + kPairAhead]];
       const char* ahead = reinterpret_cast<const char*>(&pair_[la]);
-      __builtin_prefetch(ahead), __builtin_prefetch(ahead + 64);
+      __builtin_prefetch(ahead);
+      if (!midpoint_) __builtin_prefetch(ahead + 64);  // E: the full residual's j side
       if (vol_gradient_) __builtin_prefetch(&pair_pk_[la]);
     }
     const uint32_t j = B.nbr[k];
@@ -1008,9 +1015,8 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
       const kernels::PairEnd ej{rj.A.data(), rj.E.data(), rj.ks, rj.on != 0, rj.mid != 0};
       const double V = bk.volume * bk.fraction, wv = bk.weight * V;
       const kernels::PairBond pb =
-          kernels::pair_bond(ei, ej, n, dim_, kc.inv_length, dot(Y, Y), eps_[k], m, bk.weight, V);
-      const double qi = pb.q;
-      pair_q_[k] = qi;
+          kernels::pair_bond_kept(ei, ej, n, dim_, kc.inv_length, dot(Y, Y), &eps_[k], rforce_[k], m, bk.weight, V);
+      if (c.keep_q) pair_q_[k] = pb.q;
       f += pb.scale * Y;
       if (vol_gradient_) {
         const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
@@ -1071,6 +1077,11 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
   if (energy)
     for (std::size_t i = 0; i < np; ++i) P.energy[i] = 0;
   const ForcePass pass{s, M.packed.data(), nullptr, energy ? P.energy.data() : nullptr, s.time, s.dt};
+  // pair_q_ books the energy of a bond that breaks in the next pass: none can where every
+  // particle's critical stretch is infinite (no damage law; inf stays inf under alpha and the
+  // temperature's factor) and none is scheduled, and the sum then skips its 8 bytes a bond.
+  bool keep_q = !s.critical_stretch_schedules.empty();
+  for (std::size_t i = 0; i < M.critical_stretch.size() && !keep_q; ++i) keep_q = !std::isinf(M.critical_stretch[i]);
   // A temperature-dependent critical stretch scales each end's s0 (forces_general.cpp).
   const PairPass c{s,
                    M.packed.data(),
@@ -1080,7 +1091,8 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
                    M.break_after_force,
                    s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data(),
                    &pass,
-                   energy};
+                   energy,
+                   keep_q};
   // The rows for this machine (pair_break_row and its versions below).
   auto break_row = &ExtendedCorrespondence::pair_break_base;
   auto law_row = &ExtendedCorrespondence::pair_law_base;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "horizon/core/error.hpp"
+#include "horizon/material/shear_correction.hpp"
 #include "horizon/material/surface_correction.hpp"
 #include "horizon/state/system.hpp"
 
@@ -21,6 +22,11 @@ const ModelTraits& traits() {
          "true: correction near free surfaces: bond influence weights from per-axis factors that make the "
          "dilatation of uniform strains exact (the energy method's ellipse rule, Madenci and Oterkus 2014 "
          "sec. 4.2), and a per-particle deviatoric factor W_dev,inf/W_dev,i against the continuum",
+         ParameterSpec::Range::boolean, 0.0},
+        {"shear_correction",
+         "true: a per-particle factor s_i on the deviatoric modulus that gives a truncated family the continuum's "
+         "deviatoric energy under shear, averaged over the shear's orientations (Peridigm's Apply Shear Correction "
+         "Factor; material/shear_correction.hpp); written as the field shear_correction_factor",
          ParameterSpec::Range::boolean, 0.0},
     };
     m.thermal_strain = true;  // in the general force pass (solver/forces_general.cpp)
@@ -87,6 +93,10 @@ class Lps final : public Model {
  public:
   std::unique_ptr<Model> clone() const override { return std::make_unique<Lps>(*this); }
   const ModelTraits& traits() const override { return horizon::traits(); }
+  void fields(const System& s, std::vector<ModelField>& out) const override {
+    (void)s;
+    if (!shear_factor_.empty()) out.push_back({"shear_correction_factor", shear_factor_});
+  }
 
   void setup(const ModelSetup& in) override {
     const MaterialConfig& mat = in.material;
@@ -96,6 +106,10 @@ class Lps final : public Model {
     const double kk = lps_bulk_modulus(mat.bulk_modulus, mat.shear_modulus, in.dims);
     const double alpha_mu = lps_deviatoric_factor(dim) * mat.shear_modulus;
     const bool corrected = Model::parameter(mat, "surface_correction") != 0;
+    const bool shear = Model::parameter(mat, "shear_correction") != 0;
+    if (corrected && shear)
+      throw Error("material '" + mat.name + "': surface_correction and shear_correction both scale the deviatoric "
+                  "modulus; give one");
     if (corrected) apply_axis_factors(in, axis_factors(in, axis_dilatation, kSurfacePasses));
     // A particle without neighbours (Peridigm's Contact_2x1x1: two particles a horizon
     // apart, which meet through contact alone) has m_i = 0: its coefficients below are 0,
@@ -104,18 +118,24 @@ class Lps final : public Model {
     fill_state_based_coefficients(in, 1.0, true);
     // Step 2's reference: the continuum (above), not the lattice's interior particle.
     const double dev_inf = corrected ? deviatoric_energy(continuum_family(in.config, mat), dim) : 0.0;
+    // 1 at the particles of other materials (they write their own or none).
+    shear_factor_.assign(shear ? in.system.particles.size() : 0, 1.0);
     for (uint32_t i : in.particles) {
       double factor = 1;
       if (corrected) {
         const double w = deviatoric_energy(family_of(in.system, i), dim);
         if (w > 0) factor = dev_inf / w;
       }
+      if (shear) factor = shear_factor_[i] = shear_correction_factor(family_of(in.system, i), dim);
       // m_i = 0: a row another MPI rank holds (local rows), never computed here.
       const double m = M.weighted_volume[i];
       M.dilatation_coef[i] = m > 0 ? dim * kk / m : 0.0;
       M.deviatoric_coef[i] = m > 0 ? factor * alpha_mu / m : 0.0;
     }
   }
+
+ private:
+  std::vector<double> shear_factor_;  // per particle: s_i (shear_correction), else empty
 };
 
 }  // namespace
