@@ -50,6 +50,22 @@ mapfile -t decks < <(cd "$checkout" && find test examples \( -name '*.yaml' -o -
 n_total=0; n_runs=0; n_match=0; n_refused=0; n_missing=0; n_differs=0; n_fails=0; n_timeout=0; n_copies=0
 one_line() { tr '\n' ' ' | sed -e 's/|/\\|/g' -e 's/  */ /g' | cut -c1-300; }
 
+# A git symbolic link that the checkout holds as a plain file (a snapshot or a clone with
+# core.symlinks=false writes the link's target, e.g. `../Mesh.g`, as the file's whole text;
+# Peridigm's npN/ folders link their serial mesh so): the file it points to; any other
+# file: itself.
+resolved() {
+  local f=$1 target
+  if [ -f "$f" ] && [ "$(stat -c %s "$f")" -lt 512 ]; then
+    target=$(head -c 511 "$f")
+    if [[ $target != *$'\n'* && $target != /* && -n $target && -f "$(dirname "$f")/$target" ]] &&
+       ! grep -q '[^ -~]' <<<"$target"; then
+      echo "$(dirname "$f")/$target"; return
+    fi
+  fi
+  echo "$f"
+}
+
 # run DECK RANKS: one row.
 run() {
   local deck=$1 ranks=$2
@@ -62,7 +78,23 @@ run() {
   if [[ $dir =~ /np[0-9]+$ ]]; then from=$dir; elif [ -d "$dir/np$ranks" ]; then from="$dir/np$ranks"; fi
   if [ -n "$from" ]; then
     local f
-    for f in "$from"/*; do [ -f "$f" ] && ln -s "$f" "$wd/$(basename "$f")"; done
+    for f in "$from"/*; do [ -f "$f" ] && ln -s "$(resolved "$f")" "$wd/$(basename "$f")"; done
+  fi
+  # A copy in an npN/ folder whose files include such a link (ElasticBondAssociated...'s
+  # np1/ and np4/ copies: `Mesh.g` is the text `../Mesh.g`) runs from a view of its folders
+  # with the links followed, tree/ (the deck's parent's files) and tree/npN/ (its own), so
+  # that the deck's names resolve as they do in a checkout with symbolic links.
+  local deck_path="$checkout/$deck"
+  if [[ $dir =~ /np[0-9]+$ ]]; then
+    local f needs=""
+    for f in "$dir"/*; do [ "$(resolved "$f")" != "$f" ] && needs=1; done
+    if [ -n "$needs" ]; then
+      local tree="$wd/tree" sub; sub=$(basename "$dir")
+      mkdir -p "$tree/$sub"
+      for f in "$(dirname "$dir")"/*; do [ -f "$f" ] && ln -s "$(resolved "$f")" "$tree/$(basename "$f")"; done
+      for f in "$dir"/*; do [ -f "$f" ] && ln -s "$(resolved "$f")" "$tree/$sub/$(basename "$f")"; done
+      deck_path="$tree/$sub/$(basename "$deck")"
+    fi
   fi
   local result detail
   local start; start=$(date +%s.%N)
@@ -76,7 +108,7 @@ run() {
     [ -f "$gen" ] && (cd "$wd" && "$python" "$gen" >generate.log 2>&1)
   done
   # check first: a refused deck is Horizon's error before any run
-  if ! (cd "$wd" && timeout -k 10 "$limit" "$horizon" check "$checkout/$deck" >check.log 2>&1); then
+  if ! (cd "$wd" && timeout -k 10 "$limit" "$horizon" check "$deck_path" >check.log 2>&1); then
     result=refused
     detail=$(grep -m1 -i 'error' "$wd/check.log" | sed "s|$checkout/||g" | one_line)
     [ -n "$detail" ] || detail=$(tail -n 2 "$wd/check.log" | one_line)
@@ -90,8 +122,8 @@ run() {
       fi
     fi
   else
-    local cmd=("$horizon" run "$checkout/$deck")
-    [ "$ranks" -gt 1 ] && cmd=(mpiexec -n "$ranks" --oversubscribe "$horizon_mpi" run "$checkout/$deck")
+    local cmd=("$horizon" run "$deck_path")
+    [ "$ranks" -gt 1 ] && cmd=(mpiexec -n "$ranks" --oversubscribe "$horizon_mpi" run "$deck_path")
     (cd "$wd" && timeout -k 10 "$limit" "${cmd[@]}" >run.log 2>&1)
     local rc=$?
     if [ $rc -eq 124 ] || [ $rc -eq 137 ]; then  # 137: killed 10 s after the limit (a run that finishes its frame on SIGTERM)

@@ -44,7 +44,7 @@ void write_mesh(const std::string& path, const std::vector<Vec3>& x, const std::
   const int id = ex_create(path.c_str(), EX_CLOBBER, &cpu_ws, &io_ws);
   ASSERT_GE(id, 0);
   int64_t elems = 0;
-  for (const auto& b : blocks) elems += static_cast<int64_t>(b.conn.size() / static_cast<std::size_t>(b.nodes_per));
+  for (const auto& b : blocks) elems += b.nodes_per ? static_cast<int64_t>(b.conn.size() / static_cast<std::size_t>(b.nodes_per)) : 0;
   ASSERT_GE(ex_put_init(id, "test", 3, static_cast<int64_t>(x.size()), elems, static_cast<int64_t>(blocks.size()),
                         static_cast<int64_t>(sets.size()), 0),
             0);
@@ -52,10 +52,10 @@ void write_mesh(const std::string& path, const std::vector<Vec3>& x, const std::
   for (const auto& p : x) cx.push_back(p.x), cy.push_back(p.y), cz.push_back(p.z);
   ex_put_coord(id, cx.data(), cy.data(), cz.data());
   for (const auto& b : blocks) {
-    const auto n = static_cast<int64_t>(b.conn.size() / static_cast<std::size_t>(b.nodes_per));
+    const auto n = b.nodes_per ? static_cast<int64_t>(b.conn.size() / static_cast<std::size_t>(b.nodes_per)) : 0;
     const int nattr = b.attr.empty() ? 0 : static_cast<int>(b.attr.size() / static_cast<std::size_t>(n));
     ex_put_block(id, EX_ELEM_BLOCK, b.id, b.type, n, b.nodes_per, 0, 0, nattr);
-    ex_put_conn(id, EX_ELEM_BLOCK, b.id, b.conn.data(), nullptr, nullptr);
+    if (n > 0) ex_put_conn(id, EX_ELEM_BLOCK, b.id, b.conn.data(), nullptr, nullptr);
     if (nattr) ex_put_attr(id, EX_ELEM_BLOCK, b.id, b.attr.data());
     if (!b.name.empty()) ex_put_name(id, EX_ELEM_BLOCK, b.id, b.name.c_str());
   }
@@ -211,6 +211,21 @@ TEST(ExodusDiscretization, SphereElementsCarryTheirVolumeAttribute) {
   EXPECT_EQ(cv.rows[1], (std::vector<double>{1, 0, 0, 0.216}));
   EXPECT_EQ(cv.rows[2], (std::vector<double>{2, 0, 0, 0.343}));
   EXPECT_EQ(region_points(cv.regions["nodelist_4"]), (std::set<std::vector<double>>{{2, 0, 0}}));
+}
+
+// A piece of a partitioned mesh writes a block it holds no element of as a 0-node NULL
+// block (Peridigm's ElasticBondAssociatedCorrespondenceFullyPrescribedTension.g.4.0): an
+// empty block adds nothing, whatever its type; a NULL block with elements stays an error.
+TEST(ExodusDiscretization, EmptyNullBlockOfAPieceAddsNothing) {
+  const fs::path dir = fresh_dir("horizon_exodus_disc_null");
+  const std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  write_mesh((dir / "mesh.g").string(), x,
+             {{1, "HEX8", 8, {1, 2, 3, 4, 5, 6, 7, 8}, {}, ""}, {2, "NULL", 0, {}, {}, ""}}, {{1, {1}, ""}});
+  const Converted cv = convert(dir, deck("block_1", {"nodelist_1"}));
+  ASSERT_EQ(cv.rows.size(), 1u);
+  EXPECT_NEAR(cv.rows[0][0], 0.5, 1e-15);
+  EXPECT_NEAR(cv.rows[0][3], 1.0, 1e-15);
+  EXPECT_EQ(cv.body_names, (std::vector<std::string>{"block_1"}));
 }
 
 TEST(ExodusDiscretization, ErrorsNameTheDeckLine) {

@@ -144,5 +144,86 @@ TEST(PeridigmContact, BodiesWithoutBondsBetweenThemTouch) {
   EXPECT_NEAR(s.particles.f[1].x, f, 1e-12 * f);
 }
 
+// Peridigm's search (search_radius, search_every: Contact_Ring's and Contact_Perforation's
+// golds, docs/peridigm.md "Contact"): the candidates are found at the positions a step
+// starts from (those of the previous step's pass), so a pair that comes within the search
+// radius during a step touches from the next step on.
+TEST(PeridigmContact, SearchAtTheStepsStartPositions) {
+  const double rc = 1.3 * kH;
+  ShortRangeContactConfig c = peridigm_law(rc);
+  c.search_radius = rc;
+  c.search_every = 1;
+  System s = bodies(2, c);
+  const Vec3 far = Vec3{2.0 * kH, 0, 0} - s.particles.X[1], near = Vec3{1.1 * kH, 0, 0} - s.particles.X[1];
+  s.particles.u[1] = far;
+  compute_forces(s, false);  // t = 0: searched here, nothing within R_c
+  EXPECT_EQ(s.contact.candidates(), 0u);
+  s.particles.u[1] = near;   // step 1 closes the gap: searched at step 0's positions
+  s.time = 1e-9;
+  compute_forces(s, false);
+  EXPECT_EQ(norm(s.particles.f[0]), 0.0);
+  s.time = 2e-9;             // step 2: searched at step 1's positions, the pair touches
+  compute_forces(s, false);
+  const double f = peridigm_force(s.particles.volume[1], rc, 1.1 * kH);
+  EXPECT_NEAR(s.particles.f[0].x, -f, 1e-12 * f);
+  EXPECT_NEAR(s.particles.f[1].x, f, 1e-12 * f);
+  // A pass again at the same time is not a new step: the same list.
+  compute_forces(s, false);
+  EXPECT_NEAR(s.particles.f[0].x, -f, 1e-12 * f);
+  // Horizon's own lists (no search_radius) hold the pair at once.
+  System own = bodies(2, peridigm_law(rc));
+  own.particles.u[1] = far;
+  compute_forces(own, false);
+  own.particles.u[1] = near;
+  own.time = 1e-9;
+  compute_forces(own, false);
+  EXPECT_NEAR(own.particles.f[0].x, -f, 1e-12 * f);
+}
+
+TEST(PeridigmContact, SearchEveryNSteps) {
+  // Search every 3 steps within 2 R_c: the list found at step 0 (the pair 3 R_c apart:
+  // empty) stands until step 3, which finds the pair at step 2's positions.
+  const double rc = 1.3 * kH;
+  ShortRangeContactConfig c = peridigm_law(rc);
+  c.search_radius = 2 * rc;
+  c.search_every = 3;
+  System s = bodies(2, c);
+  s.particles.u[1] = Vec3{3 * rc, 0, 0} - s.particles.X[1];
+  compute_forces(s, false);
+  s.particles.u[1] = Vec3{1.1 * kH, 0, 0} - s.particles.X[1];
+  const double f = peridigm_force(s.particles.volume[1], rc, 1.1 * kH);
+  for (int step = 1; step <= 3; ++step) {
+    s.time = step * 1e-9;
+    compute_forces(s, false);
+    EXPECT_NEAR(s.particles.f[0].x, step < 3 ? 0.0 : -f, 1e-12 * f) << step;
+  }
+  // Listed, the pair keeps touching between searches; apart, it stops.
+  s.time = 4e-9;
+  compute_forces(s, false);
+  EXPECT_NEAR(s.particles.f[0].x, -f, 1e-12 * f);
+  s.particles.u[1] = Vec3{1.5 * rc, 0, 0} - s.particles.X[1];
+  s.time = 5e-9;
+  compute_forces(s, false);
+  EXPECT_EQ(norm(s.particles.f[0]), 0.0);
+}
+
+TEST(PeridigmContact, EnergyKeptApartFromTheMaterials) {
+  // Peridigm's Stored_Elastic_Energy leaves the contact out (Contact_Ring's gold); the
+  // ledger's strain energy keeps it: the pair's 0.5 K V_0 V_1 (R_c - r)^2, K = 18k/(pi delta^5).
+  const double rc = 1.3 * kH, r = 1.1 * kH;
+  System s = bodies(2, peridigm_law(rc));
+  s.particles.u[1] = Vec3{r, 0, 0} - s.particles.X[1];
+  compute_forces(s, true);
+  EXPECT_EQ(s.particles.energy[0], 0.0);
+  EXPECT_EQ(s.particles.energy[1], 0.0);
+  const double K = 18 * kSpring / (kPi * std::pow(kDelta, 5));
+  const double V0 = s.particles.volume[0], V1 = s.particles.volume[1];
+  const double pair = 0.5 * K * V0 * V1 * (rc - r) * (rc - r);
+  EXPECT_NEAR(strain_energy(s), pair, 1e-12 * pair);
+  // The force is minus the energy's derivative: (E(r - e) - E(r + e))/(2e) = F V_0.
+  const double F = peridigm_force(V1, rc, r) * V0;
+  EXPECT_NEAR(K * V0 * V1 * (rc - r), F, 1e-12 * F);
+}
+
 }  // namespace
 }  // namespace horizon

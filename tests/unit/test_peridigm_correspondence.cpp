@@ -249,5 +249,88 @@ TEST(PeridigmCorrespondence, FlawYieldsAtItsCentreOnly) {
   EXPECT_EQ(yielded, 1);
 }
 
+// Peridigm's bond-associated materials (docs/peridigm.md): Elastic Bond Associated
+// Correspondence is bond_associated_correspondence with the rate form on the reference
+// bonds, Elastic Hypoelastic Correspondence under the deck's Enable Bond-Associated
+// Hypoelastic Model its semi-Lagrangian form; on the cube's uniaxial strain both give
+// every particle the rate form's closed forms (the particle-level law), and the forces
+// the bond-level stresses, which in a homogeneous deformation are the same.
+const char* kBondAssociated =
+    "      Material Model: \"Elastic Bond Associated Correspondence\"\n      Density: 7800.0\n"
+    "      Young's Modulus: 200.0e9\n      Poisson's Ratio: 0.0\n      Gradient Order Of Accuracy: 1\n";
+const char* kHypoelastic =
+    "      Material Model: \"Elastic Hypoelastic Correspondence\"\n      Density: 7800.0\n"
+    "      Young's Modulus: 200.0e9\n      Poisson's Ratio: 0.0\n      Gradient Order Of Accuracy: 1\n"
+    "      Actual Horizon: 1.5\n";
+std::string with_flag(std::string deck) {
+  return deck.replace(0, std::string("Peridigm:\n").size(),
+                      "Peridigm:\n  Enable Bond-Associated Hypoelastic Model: true\n");
+}
+
+TEST(PeridigmBondAssociated, ImportMapsBothMaterials) {
+  const fs::path dir = test_dir();
+  const YAML::Node a = YAML::Load(convert_peridigm_deck(write(dir / "a.yaml", cube_deck(kBondAssociated, "      Volume: true\n"))))
+                           ["materials"]
+                               .begin()
+                               ->second;
+  EXPECT_EQ(a["model"].as<std::string>(), "bond_associated_correspondence");
+  EXPECT_EQ(a["stress_law"].as<std::string>(), "hypoelastic");
+  EXPECT_EQ(a["kinematics"].as<std::string>(), "lagrangian");
+  EXPECT_EQ(a["rotation_update"].as<std::string>(), "peridigm");
+  const YAML::Node h =
+      YAML::Load(convert_peridigm_deck(write(dir / "h.yaml", with_flag(cube_deck(kHypoelastic, "      Volume: true\n")))))
+          ["materials"]
+              .begin()
+              ->second;
+  EXPECT_EQ(h["model"].as<std::string>(), "bond_associated_correspondence");
+  EXPECT_EQ(h["kinematics"].as<std::string>(), "semi_lagrangian");
+  // Without the deck's flag, and with higher-order gradients: clear errors.
+  std::string e = test::error_of(write(dir / "h2.yaml", cube_deck(kHypoelastic, "      Volume: true\n")));
+  EXPECT_NE(e.find("Enable Bond-Associated Hypoelastic Model"), std::string::npos) << e;
+  std::string second = kBondAssociated;
+  second.replace(second.find("Accuracy: 1"), 11, "Accuracy: 2");
+  e = test::error_of(write(dir / "a2.yaml", cube_deck(second, "      Volume: true\n")));
+  EXPECT_NE(e.find("Gradient Order Of Accuracy"), std::string::npos) << e;
+  EXPECT_NE(e.find("higher orders are not implemented"), std::string::npos) << e;
+}
+
+TEST(PeridigmBondAssociated, UniaxialStrainFollowsTheRateForm) {
+  const fs::path dir = test_dir();
+  const std::string vars =
+      "      Cauchy_Stress: true\n      Left_Stretch_Tensor: true\n      Velocity_Gradient: true\n"
+      "      Jacobian_Determinant: true\n      Force: true\n";
+  for (const bool semi : {false, true}) {
+    const std::string deck = semi ? with_flag(cube_deck(kHypoelastic, vars)) : cube_deck(kBondAssociated, vars);
+    const ExodusSeries r = run_and_read(write(dir / (semi ? "s.yaml" : "l.yaml"), deck), dir);
+    ASSERT_EQ(r.steps.size(), 5u);
+    const std::size_t s = index_of(r.layout.element, "Cauchy_StressYY"),
+                      v = index_of(r.layout.element, "Left_Stretch_TensorYY"),
+                      l = index_of(r.layout.element, "Velocity_GradientYY"),
+                      j = index_of(r.layout.element, "Jacobian_Determinant"), fy = index_of(r.layout.nodal, "ForceY");
+    double V = 1, sigma = 0, ratio = 0;
+    for (std::size_t n = 1; n < r.steps.size(); ++n) {
+      const double F = 1 + 0.001 * static_cast<double>(n) / 4, D = (0.001 / 4) / (1e-7 * F);
+      V *= 1 + 1e-7 * D;
+      sigma += kE * 1e-7 * D;
+      double top = 0;
+      for (std::size_t i = 0; i < 8; ++i) {
+        EXPECT_NEAR(r.steps[n].element[s][i], sigma, 1e-9 * sigma) << semi << " " << n << " " << i;
+        EXPECT_NEAR(r.steps[n].element[v][i], V, 1e-14);
+        EXPECT_NEAR(r.steps[n].element[j][i], V, 1e-14);
+        EXPECT_NEAR(r.steps[n].element[l][i], D, 1e-8 * D);
+        if (r.layout.points[i].y > 0.5) top += r.steps[n].nodal[fy][i];
+      }
+      // Every bond carries the homogeneous stress, so the force on the top face (y > 0.5,
+      // pulled down by the tension) follows it: Lagrangian, on the fixed reference bonds,
+      // top/sigma is the same at every step (P = sigma exactly here: J = F_yy, nu = 0).
+      if (!semi) {
+        if (n == 1) ratio = top / sigma;
+        EXPECT_NEAR(top / sigma, ratio, 1e-9 * std::abs(ratio)) << n;
+      }
+      EXPECT_LT(top, 0.0);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace horizon

@@ -163,12 +163,25 @@ TEST(PeridigmImport, ContactInteractionsBecomePeridigmLaw) {
                               "        Second Block: \"block_2\"\n"
                               "        Contact Model: \"My Model\"\n";
   const YAML::Node n = convert(write_deck("contact.yaml", contact));
+  // Both blocks named: every pair (Contact_Perforation's gold: a block touches itself too);
+  // Peridigm's search radius and frequency kept.
   EXPECT_EQ(flow(n["contact"]),
             "{short_range: {law: peridigm, contact_radius: 0.000775, spring_constant: 1000000000000, friction: 0.3, "
-            "pairs: [[block_1, block_2]]}}");
+            "search_radius: 0.01, search_every: 100}}");
   const Config c = parse_deck(convert_peridigm_deck(write_deck("contact.yaml", contact)), "c.yaml");
   EXPECT_EQ(c.contact.short_range.law, ShortRangeLaw::peridigm);
-  EXPECT_EQ(c.contact.short_range.pairs.size(), 1u);
+  EXPECT_TRUE(c.contact.short_range.pairs.empty());
+  EXPECT_EQ(c.contact.short_range.search_radius, 0.01);
+  EXPECT_EQ(c.contact.short_range.search_every, 100);
+  // One block named of two: its self-contact alone.
+  std::string self = contact;
+  self.replace(self.find("\"block_2\""), 9, "\"block_1\"");
+  EXPECT_EQ(flow(convert(write_deck("self.yaml", self))["contact"]["short_range"]["pairs"]), "[[block_1, block_1]]");
+  // A search radius below the contact radius would miss touching pairs.
+  std::string small = contact;
+  small.replace(small.find("Search Radius: 0.01"), 19, "Search Radius: 0.0005");
+  EXPECT_NE(error_of(write_deck("small.yaml", small)).find("must be at least the Contact Radius"), std::string::npos)
+      << error_of(write_deck("small.yaml", small));
   // General Contact: every pair.
   std::string general = contact.substr(0, contact.find("      Disk with Ball")) +
                         "      General Contact:\n        Contact Model: \"My Model\"\n";

@@ -34,6 +34,11 @@ void ShortRangeContact::setup(const ShortRangeContactConfig& config, double spac
   cell_of_.clear();
   cells_.clear();
   rebuilds_ = candidates_ = 0;
+  energy_.clear();
+  y_last_.clear();
+  y_start_.clear();
+  last_time_ = 0;
+  step_ = -1;
 }
 
 double ShortRangeContact::distance(double reference_length) const {
@@ -152,12 +157,32 @@ void ShortRangeContact::update(const System& s, const Point4* y, bool first) {
   for (const auto& r : rows_) candidates_ += r.size();
 }
 
+void ShortRangeContact::peridigm_search(const System& s, const Point4* y) {
+  const std::size_t n = s.particles.size();
+  // A new step is a pass at another time than the last: the positions it starts from are
+  // that last pass's. The first pass (t = 0) searches at its own positions.
+  if (step_ < 0 || y_last_.size() != n) {
+    step_ = 0;
+    y_start_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) y_start_[i] = {y[i].x, y[i].y, y[i].z};
+  } else if (s.time != last_time_) {
+    ++step_;
+    // Between searches only the positions of the last pass are kept; at a search those
+    // of the step's start become the searched ones.
+    if (step_ % config_.search_every == 0) y_start_.swap(y_last_);
+  }
+  y_last_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) y_last_[i] = {y[i].x, y[i].y, y[i].z};
+  last_time_ = s.time;
+}
+
 void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, double* W) {
   if (!enabled_) return;
   const auto& P = s.particles;
   const auto& M = s.model;
   const std::size_t n = P.size();
   if (record_) recorded_.assign(n, Vec3{});  // zero where no pair touches
+  if (config_.law == ShortRangeLaw::peridigm && W) energy_.assign(n, 0.0);  // own_energy
   // Local particles on ranks: the contact ghosts' current positions (the same sum as the
   // owner's packed position), and the lists built again for a new ghost set.
   const Decomposition* dec = s.decomposition;
@@ -181,6 +206,16 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
     }
   }
   const std::size_t total = n + ghost_y_.size();
+  // Peridigm's search: the positions of the last search (y_start_); the pass below keeps
+  // the pairs of Horizon's lists that were within the search radius there. Horizon's lists
+  // hold every pair closer than R_c, so these are the pairs of Peridigm's list closer than
+  // R_c, without a list of every pair within the (larger) search radius.
+  const bool searched = config_.law == ShortRangeLaw::peridigm && config_.search_radius > 0;
+  if (searched) {
+    if (!ghost_y_.empty())
+      throw Error("contact.short_range.search_radius is not supported yet on several ranks with local particles");
+    peridigm_search(s, y);
+  }
   if (first || y_built_.size() != total) {
     update(s, y, true);
   } else {
@@ -213,6 +248,10 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
     throw Error("contact.short_range.friction is " + std::to_string(mu) + " at t = " + std::to_string(s.time) +
                 "; a friction coefficient must be >= 0");
   Vec3* kept = record_ ? recorded_.data() : nullptr;
+  const Vec3* ys = searched ? y_start_.data() : nullptr;
+  const double rs2 = config_.search_radius * config_.search_radius;
+  // Law peridigm's energy goes to energy_ (own_energy), not to the material's W.
+  double* own = peridigm && W ? energy_.data() : nullptr;
   auto pass = [&](auto with_ghosts, auto peridigm_law) {
     constexpr bool ghosts = decltype(with_ghosts)::value;
     constexpr bool pd = decltype(peridigm_law)::value;
@@ -229,6 +268,8 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
         const double r2 = dx * dx + dy * dy + dz * dz;
         if (!(r2 < cut2) || r2 == 0) continue;
         if constexpr (pd) {
+          // Peridigm's search: only pairs within its radius at the last search touch.
+          if (ys && norm2(ys[j] - ys[i]) > rs2) continue;
           // Peridigm's law: d = R_c (= the cut-off) and one k for every pair.
           const double r = std::sqrt(r2), d = cutoff_;
           const double k = peridigm_k_ * (held ? P.volume[j] : g->volume[j - n]);
@@ -259,7 +300,11 @@ void ShortRangeContact::add_forces(const System& s, const Point4* y, Vec3* f, do
         }
       }
       f[i] += fi;
-      if (W) W[i] += wi;
+      if constexpr (pd) {
+        if (own) own[i] = wi;
+      } else if (W) {
+        W[i] += wi;
+      }
       if (kept) kept[i] = fi;
     }
   };

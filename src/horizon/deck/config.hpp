@@ -302,6 +302,10 @@ struct PartialVolume {
 // the Coulomb friction mu |f_n| against their relative tangential velocity.
 // pairs: the bodies that touch (name pairs, either order; a body with itself is its
 // self-contact); empty: every pair of particles (Peridigm's General Contact).
+// search_radius > 0 (law peridigm; Peridigm's `Search Radius`, `Search Frequency`): the
+// candidate pairs are found every search_every steps, within search_radius of each other
+// at the positions the step starts from (before its drift), and only they touch until the
+// next search (Contact_Ring's gold). 0: Horizon's own lists, which hold every pair.
 enum class ShortRangeLaw { lammps, peridigm };
 struct ShortRangeContactConfig {
   bool enabled = false;
@@ -316,6 +320,8 @@ struct ShortRangeContactConfig {
   // Short Range Force), evaluated at each force pass's time; `friction` is then mu(0).
   std::optional<Expression> friction_in_time;
   std::vector<std::pair<std::string, std::string>> pairs;
+  double search_radius = 0;  // peridigm: the candidates' search radius [m]; 0: Horizon's lists
+  int search_every = 1;      // peridigm: steps between searches (with search_radius)
 };
 
 // A rigid sphere whose centre moves as given: every particle inside it feels the force

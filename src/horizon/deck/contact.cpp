@@ -30,19 +30,21 @@ ShortRangeContactConfig read_short_range(const DeckContext& ctx, const Item& ite
     return c;
   }
   MapReader m(ctx, item, {"law", "stiffness_factor", "reference_fraction", "max_distance", "contact_radius",
-                          "spring_constant", "friction", "pairs"});
+                          "spring_constant", "friction", "pairs", "search_radius", "search_every"});
   if (auto l = m.find("law"))
     c.law = read_enum<ShortRangeLaw>(ctx, *l, {{"lammps", ShortRangeLaw::lammps}, {"peridigm", ShortRangeLaw::peridigm}});
   // Each law's own keys; another law's key is an error.
   const bool pd = c.law == ShortRangeLaw::peridigm;
   for (const char* k : {"stiffness_factor", "reference_fraction", "max_distance", "contact_radius", "spring_constant",
-                        "friction"}) {
-    const bool own = (std::string(k) == "contact_radius" || std::string(k) == "spring_constant" ||
-                      std::string(k) == "friction") == pd;
+                        "friction", "search_radius", "search_every"}) {
+    const std::string key = k;
+    const bool own = (key == "contact_radius" || key == "spring_constant" || key == "friction" ||
+                      key == "search_radius" || key == "search_every") == pd;
     if (auto it = m.find(k); it && !own)
       ctx.fail(*it->key_mark, it->path + ": not a key of law " + (pd ? "peridigm" : "lammps") +
-                                  (pd ? " (its keys: contact_radius, spring_constant, friction)"
-                                      : " (law peridigm has contact_radius, spring_constant, friction)"));
+                                  (pd ? " (its keys: contact_radius, spring_constant, friction, search_radius, search_every)"
+                                      : " (law peridigm has contact_radius, spring_constant, friction, search_radius, "
+                                        "search_every)"));
   }
   if (auto f = m.find("stiffness_factor")) c.stiffness_factor = read_positive(ctx, *f);
   if (auto f = m.find("reference_fraction")) {
@@ -56,6 +58,19 @@ ShortRangeContactConfig read_short_range(const DeckContext& ctx, const Item& ite
   if (pd) {
     c.contact_radius = read_positive(ctx, m.get("contact_radius", "the contact radius R_c [m], > 0"));
     c.spring_constant = read_positive(ctx, m.get("spring_constant", "the spring constant k [Pa], > 0"));
+    // Peridigm's search (ShortRangeContactConfig::search_radius): within search_radius
+    // every search_every steps; a radius below R_c would leave touching pairs unlisted.
+    if (auto r = m.find("search_radius")) {
+      c.search_radius = read_positive(ctx, *r);
+      if (c.search_radius < c.contact_radius)
+        ctx.fail(r->mark, r->path + ": expected at least contact_radius (" + text_of(*m.find("contact_radius")) +
+                              "), found " + text_of(*r));
+    }
+    if (auto e = m.find("search_every")) {
+      if (!m.find("search_radius")) ctx.fail(*e->key_mark, e->path + ": needs search_radius (the search it spaces)");
+      c.search_every = read_int(ctx, *e);
+      if (c.search_every < 1) ctx.fail(e->mark, e->path + ": expected a number of steps >= 1, found " + text_of(*e));
+    }
     if (auto f = m.find("friction")) {
       // A number, or an expression in t (Peridigm's Time Dependent Short Range Force).
       const Expression e = read_scalar_expr(ctx, *f);

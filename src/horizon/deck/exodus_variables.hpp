@@ -11,6 +11,8 @@ inline const std::vector<std::string>& model_field_variables() {
       "Hourglass_Force_Density", "Left_Stretch_Tensor", "Rotation_Tensor", "Shape_Tensor_Inverse",
       "Unrotated_Rate_Of_Deformation", "Cauchy_Stress", "Unrotated_Cauchy_Stress", "Von_Mises_Stress",
       "Equivalent_Plastic_Strain",
+      // the bond-associated correspondence model's (material/models/bond_associated.hpp)
+      "Velocity_Gradient", "Jacobian_Determinant",
       // lps and elastic_plastic with shear_correction (material/shear_correction.hpp)
       "Surface_Correction_Factor",
       // pals' normalisations and Lagrange multipliers (material/models/pals.hpp)

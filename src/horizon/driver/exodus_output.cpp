@@ -78,6 +78,9 @@ constexpr FieldVariable kFieldVariables[] = {
     {"Unrotated_Cauchy_Stress", false, 9, "unrotated_cauchy_stress"},
     {"Von_Mises_Stress", false, 1, "von_mises_stress"},
     {"Equivalent_Plastic_Strain", false, 1, "equivalent_plastic_strain"},
+    // bond_associated_correspondence (material/models/bond_associated.hpp)
+    {"Velocity_Gradient", false, 9, "velocity_gradient"},
+    {"Jacobian_Determinant", false, 1, "jacobian_determinant"},
     // lps and elastic_plastic with shear_correction (material/shear_correction.hpp)
     {"Surface_Correction_Factor", false, 1, "shear_correction_factor"},
     // pals (material/models/pals.hpp)

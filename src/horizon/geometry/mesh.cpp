@@ -455,13 +455,15 @@ Mesh read_exodus_with_ids(const std::string& path, int dimension, std::vector<in
     f.check(ex_get_block(f.id(), EX_ELEM_BLOCK, id, type, &n, &npe, &nedge, &nface, &nattr), "element block " + std::to_string(id));
     const std::size_t block_first = first_element;
     first_element += static_cast<std::size_t>(n);
+    // A block without elements (a piece of a partitioned mesh that holds none of the
+    // block's elements writes it as a 0-node NULL block) adds nothing, whatever its type.
+    if (n == 0) continue;
     CellType cell{};
     if (!exodus_cell(type, npe, cell)) {
       throw MeshError(path + ": element block " + std::to_string(id) + " ('" + f.name(EX_ELEM_BLOCK, id) + "') has " +
                       std::to_string(npe) + "-node " + type +
                       " elements, which are not supported: Horizon reads TETRA4, HEX8, WEDGE6, PYRAMID5, SPHERE (3-D), TRI3, QUAD4 (2-D)");
     }
-    if (n == 0) continue;
     std::vector<int> conn(static_cast<std::size_t>(n) * static_cast<std::size_t>(npe));
     f.check(ex_get_conn(f.id(), EX_ELEM_BLOCK, id, conn.data(), nullptr, nullptr), "the connectivity of block " + std::to_string(id));
     MeshGroup block{f.name(EX_ELEM_BLOCK, id), id, {}};

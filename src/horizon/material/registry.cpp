@@ -1,6 +1,7 @@
 // The material models Horizon knows, one line each (docs/design.md, "Adding a material
 // model"). The deck accepts these names after `model:`; docs/models.md has a page for each.
 #include "horizon/material/model.hpp"
+#include "horizon/material/models/bond_associated.hpp"
 #include "horizon/material/models/bond_pair.hpp"
 #include "horizon/material/models/correspondence.hpp"
 #include "horizon/material/models/elastic_plastic.hpp"
@@ -24,6 +25,7 @@ const std::vector<ModelEntry>& model_registry() {
       viscoelastic_model(),
       correspondence_model(),
       extended_correspondence_model(),
+      bond_associated_model(),
       microplastic_model(),
       bond_pair_model(),
       pals_model(),

@@ -288,7 +288,7 @@ SparseMatrix finite_difference_tangent(System& s, const DofMap& d, double probe)
   if (probe <= 0) probe = 1e-6 * s.spacing;
   FixedBonds fixed(s);
   const std::vector<Vec3> u0 = P.u;
-  const int hops = s.model.state_based ? 2 : 1;
+  const int hops = std::max(s.model.state_based ? 2 : 1, s.model.reach_hops);
 
   // Rows a probe of particle p reaches: p and everything within `hops` bonds.
   auto reached = [&](std::size_t p, std::vector<uint32_t>& out, std::vector<uint8_t>& seen) {

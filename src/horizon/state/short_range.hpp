@@ -16,6 +16,18 @@
 // velocity (v_j - v_i less its part along Y), which opposes their sliding. Its pass is a
 // separate instantiation, so the LAMMPS law's loop is unchanged.
 // `pairs` (either law) keeps only the pairs of the listed bodies, at list build time.
+// With search_radius (law peridigm: Peridigm's Search Radius and Search Frequency) the
+// candidates are Peridigm's: found at the first pass and then every search_every steps,
+// within search_radius of each other at the positions the step starts from (those of the
+// previous step's pass, before the drift), kept until the next search; a pair touches
+// when it is listed and closer than R_c at the pass. The Verlet lists below already hold
+// every pair closer than R_c, so the pass keeps those that were within search_radius at
+// the last search's positions: the same pairs, without listing every pair within the
+// (often much larger) search radius.
+// Contact_Ring's gold (search radius = R_c, every step: a pair that comes within R_c during
+// a step touches from the next step on) and Contact_Perforation's fix it (docs/peridigm.md).
+// Law peridigm's energy (0.25 k (R_c - r)^2 a pair end) is kept apart from the material's
+// (own_energy; strain_energy adds it): Peridigm's Stored_Elastic_Energy leaves it out.
 //
 // Pairs inside one family (bonded at the start, intact or broken) are handled in the
 // bond loops (solver/forces.cpp), which visit them anyway. This class finds the others
@@ -85,9 +97,15 @@ class ShortRangeContact {
   // Particle updates so far (each particle counts once per update), and pairs listed now.
   std::size_t rebuilds() const { return rebuilds_; }
   std::size_t candidates() const { return candidates_; }
+  // Law peridigm: each particle's contact energy density of the last pass with energy
+  // (empty before one, and for the LAMMPS law, whose energy is the particles' own).
+  const std::vector<double>& own_energy() const { return energy_; }
 
  private:
   void update(const System& s, const Point4* y, bool first);
+  // search_radius: counts the steps and keeps the positions of the last search (those
+  // the searching step started from) in y_start_ (see the header comment).
+  void peridigm_search(const System& s, const Point4* y);
   uint64_t cell_key(const Vec3& p) const;
 
   bool enabled_ = false;
@@ -111,6 +129,12 @@ class ShortRangeContact {
   std::vector<int64_t> key_;
   uint64_t generation_ = 0;
   std::size_t rebuilds_ = 0, candidates_ = 0;
+  std::vector<double> energy_;        // law peridigm: own_energy
+  // search_radius: the positions of the last pass and of the last search, the last
+  // pass's time, and the steps since the first pass (-1 before it).
+  std::vector<Vec3> y_last_, y_start_;
+  double last_time_ = 0;
+  long step_ = -1;
 };
 
 }  // namespace horizon

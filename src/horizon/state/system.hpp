@@ -145,6 +145,7 @@ struct ModelCoefficients {
   std::vector<double> affine_record;
   std::vector<Vec3> affine_position;
   bool state_based = false;             // any particle whose forces reach two horizons (tangent probing)
+  int reach_hops = 0;                   // more bonds than that (bond_associated: 3), for the tangent probing
   double dim = 3;                       // d in theta = (d/m) sum ...
 };
 

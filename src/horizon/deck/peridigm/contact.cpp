@@ -80,11 +80,14 @@ YAML::Node read_contact_section(const DeckContext& ctx, const Item& item, double
   MapReader c(ctx, item, {"Verbose", "Search Radius", "Search Frequency", "Models", "Interactions"});
   if (auto v = c.find("Verbose")) read_bool(ctx, *v);
   // Peridigm searches for contact pairs within Search Radius every Search Frequency
-  // steps; Horizon keeps each particle's list current itself (a particle that moved half
-  // its skin is searched again), so both are read for their values only.
-  read_positive(ctx, c.get("Search Radius", "the proximity-search radius, > 0"));
+  // steps, at the positions the step starts from, and only the pairs found touch until
+  // the next search: the native search_radius and search_every (Contact_Ring's gold,
+  // whose Search Radius is its Contact Radius, needs them; state/short_range.hpp).
+  const Item radius = c.get("Search Radius", "the proximity-search radius, > 0");
+  const double search_radius = read_positive(ctx, radius);
   const Item freq = c.get("Search Frequency", "the steps between proximity searches, >= 1");
-  if (read_int(ctx, freq) < 1) ctx.fail(freq.mark, freq.path + ": expected at least 1");
+  const int search_every = read_int(ctx, freq);
+  if (search_every < 1) ctx.fail(freq.mark, freq.path + ": expected at least 1");
   std::map<std::string, Model> models;
   std::vector<std::string> model_names;
   for (const auto& e : map_entries(ctx, c.get("Models", "a map of contact models {Contact Model, Contact Radius, "
@@ -97,7 +100,7 @@ YAML::Node read_contact_section(const DeckContext& ctx, const Item& item, double
   if (interactions.empty()) ctx.fail(item.mark, item.path + ".Interactions: expected at least one interaction");
   std::optional<std::string> used;  // the one model of the run
   std::optional<Item> used_at;
-  YAML::Node pairs(YAML::NodeType::Sequence);
+  std::set<std::string> named;  // the blocks the interactions name
   bool general = false;
   auto block_name = [&](const Item& b) {
     const std::string name = read_string(ctx, b);
@@ -130,21 +133,39 @@ YAML::Node read_contact_section(const DeckContext& ctx, const Item& item, double
       general = true;
       continue;
     }
-    // A pair of blocks; the same block twice is its self-contact.
-    YAML::Node pair(YAML::NodeType::Sequence);
-    pair.SetStyle(YAML::EmitterStyle::Flow);
-    pair.push_back(block_name(r.get("First Block", "a block name, e.g. block_1")));
-    pair.push_back(block_name(r.get("Second Block", "a block name, e.g. block_2")));
-    pairs.push_back(pair);
+    named.insert(block_name(r.get("First Block", "a block name, e.g. block_1")));
+    named.insert(block_name(r.get("Second Block", "a block name, e.g. block_2")));
   }
   const Model& m = models.at(*used);
+  if (m.radius > search_radius)
+    ctx.fail(radius.mark, fmt::format("{}: the search radius must be at least the Contact Radius ({}); a pair "
+                                      "within it would not be found", radius.path, m.radius));
+  // Peridigm's golds: an interaction of two blocks does not keep either from touching
+  // itself. Contact_Perforation interacts block_1 with block_2 only, yet two particles of
+  // block_2 that were never bonded (863 and 921, 0.54 apart at the start) repel in its
+  // gold once damage has freed one; with the pair alone it differs from frame 7 on, with
+  // every pair of the named blocks it matches. So the named blocks touch each other and
+  // themselves (no gold has a block that no interaction names, so whether such a block
+  // would touch too is not known).
+  YAML::Node pairs(YAML::NodeType::Sequence);
+  for (auto a = named.begin(); a != named.end(); ++a)
+    for (auto b = a; b != named.end(); ++b) {
+      YAML::Node pair(YAML::NodeType::Sequence);
+      pair.SetStyle(YAML::EmitterStyle::Flow);
+      pair.push_back(*a);
+      pair.push_back(*b);
+      pairs.push_back(pair);
+    }
   YAML::Node sr;
   sr["law"] = "peridigm";
   sr["contact_radius"] = fmt::format("{}", m.radius);
   sr["spring_constant"] = fmt::format("{}", m.spring);
   if (!m.friction.empty()) sr["friction"] = m.friction;
-  // General Contact: every pair of particles not bonded at the start.
-  if (!general) sr["pairs"] = pairs;
+  sr["search_radius"] = fmt::format("{}", search_radius);
+  sr["search_every"] = search_every;
+  // General Contact, or interactions that name every block: every pair of particles not
+  // bonded at the start.
+  if (!general && named.size() < blocks.size()) sr["pairs"] = pairs;
   YAML::Node out;
   out["short_range"] = sr;
   return out;

@@ -61,6 +61,10 @@ struct Translation {
   std::optional<Item> diffusion_item;
   std::optional<bool> improved_quadrature;
   std::optional<Item> mechanical_item;  // the first material with mechanics
+  // The deck's top-level Enable Bond-Associated Hypoelastic Model (Elastic Hypoelastic
+  // Correspondence's bond-associated form): false when absent.
+  bool bond_associated_hypoelastic = false;
+  std::string influence = "constant";  // the Discretization's Influence Function, mapped
 };
 
 // Numbers as their shortest exact decimal text (reads back to the same double).
@@ -208,7 +212,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                    "Coefficient", "Use Improved Quadrature", "Dilatation Influence Function",
                                    "Deviatoric Influence Function", "Strain Hardening Exponent",
                                    "Rate Hardening Exponent", "Reference Strain Rate", "Reference Strain 0",
-                                   "Reference Strain 1"};
+                                   "Reference Strain 1", "Gradient Order Of Accuracy", "Actual Horizon"};
   MapReader m(t.ctx, item, keys);
   const Item model_item = m.get("Material Model", "Elastic, Elastic Bond Based, Elastic Plastic, ...");
   const std::string model = read_string(t.ctx, model_item);
@@ -321,6 +325,45 @@ YAML::Node read_material(Translation& t, const Item& item) {
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
+  } else if (w == "elasticbondassociatedcorrespondence" || w == "elastichypoelasticcorrespondence") {
+    // Peridigm's bond-associated correspondence (Horizon's bond_associated_correspondence,
+    // material/models/bond_associated.hpp): the rate-form law (stress_law hypoelastic) on
+    // the bond-level deformation gradient (F_i + F_j)/2 corrected along the bond, energy
+    // averaged over the family; ElasticBondAssociatedCorrespondenceFullyPrescribedTension's
+    // gold fixes its forces to 1e-15. Elastic Hypoelastic Correspondence under Enable
+    // Bond-Associated Hypoelastic Model is the semi-Lagrangian form of the same (the
+    // velocity gradients and forces on the current bonds, with Peridigm's volume factor J_n
+    // on sigma: ElasticHypoelasticCorrespondenceFullyPrescribedTension's gold, 1e-15).
+    const bool hypoelastic = w == "elastichypoelasticcorrespondence";
+    own = {"Gradient Order Of Accuracy"};
+    mat["model"] = "bond_associated_correspondence";
+    mat["stress_law"] = "hypoelastic";
+    mat["kinematics"] = hypoelastic ? "semi_lagrangian" : "lagrangian";
+    // Peridigm's rotation increment, as for its other correspondence materials (fitted there:
+    // classical/hypoelastic.hpp); the bond-associated golds have no rotation to check it.
+    mat["rotation_update"] = "peridigm";
+    if (hypoelastic && !t.bond_associated_hypoelastic)
+      t.ctx.fail(model_item.mark, model_item.path + ": Elastic Hypoelastic Correspondence is mapped in its bond-associated "
+                                                    "form only (Enable Bond-Associated Hypoelastic Model: true at the "
+                                                    "deck's top level)");
+    // Gradient Order Of Accuracy: the order of the polynomial the nonlocal gradient
+    // reproduces (Behzadinasab, Trask and Bazilevs 2021's higher-order gradients); Horizon's
+    // F_i = (sum omega V Y (x) xi) K^-1 is the first-order one.
+    if (auto g = m.find("Gradient Order Of Accuracy"); g && read_number(t.ctx, *g) != 1)
+      fail_expected(t.ctx, *g, "1 (the first-order nonlocal gradient; higher orders are not implemented)");
+    if (hypoelastic) {
+      // Actual Horizon: the radius of the semi-Lagrangian influence function on the
+      // current bond length; the neighbour lists come from the block's (larger) Horizon.
+      // With Peridigm's default influence function One every bond of the lists acts with
+      // omega = 1 whatever its current length: the gold's forces follow the Horizon 0.9
+      // families to 1e-15 (with only the bonds within 0.751 they are 25 % off).
+      own.push_back("Actual Horizon");
+      const Item a = m.get("Actual Horizon", "the horizon of the semi-Lagrangian influence function");
+      read_positive(t.ctx, a);
+      if (t.influence != "constant")
+        t.ctx.fail(a.mark, a.path + ": with an Influence Function other than One the semi-Lagrangian influence on the "
+                                    "current bond length is not mapped");
+    }
   } else if (w == "elasticplasticcorrespondence" || w == "isotropichardeningcorrespondence" ||
              w == "viscoplasticneedlemancorrespondence") {
     // Correspondence with J2 plasticity (perfect, or with linear isotropic hardening) on
@@ -405,8 +448,8 @@ YAML::Node read_material(Translation& t, const Item& item) {
     fail_choice(t.ctx, model_item, model,
                 {"Elastic", "Elastic Bond Based", "Elastic Plastic", "Elastic Plastic Hardening", "Viscoelastic",
                  "Elastic Correspondence", "Elastic Plastic Correspondence", "Isotropic Hardening Correspondence",
-                 "Viscoplastic Needleman Correspondence",
-                 "Pals", "Elastic Partial Volume", "Linear LPS Partial Volume"},
+                 "Viscoplastic Needleman Correspondence", "Elastic Bond Associated Correspondence",
+                 "Elastic Hypoelastic Correspondence", "Pals", "Elastic Partial Volume", "Linear LPS Partial Volume"},
                 "Peridigm material model Horizon reads");
   }
   // A model-specific key given to another model is an error (Peridigm ignores it).
@@ -419,7 +462,8 @@ YAML::Node read_material(Translation& t, const Item& item) {
                                std::string("Height"), std::string("Dilatation Influence Function"),
                                std::string("Deviatoric Influence Function"), std::string("Strain Hardening Exponent"),
                                std::string("Rate Hardening Exponent"), std::string("Reference Strain Rate"),
-                               std::string("Reference Strain 0"), std::string("Reference Strain 1")}) {
+                               std::string("Reference Strain 0"), std::string("Reference Strain 1"),
+                               std::string("Gradient Order Of Accuracy"), std::string("Actual Horizon")}) {
     if (std::find(own.begin(), own.end(), k) != own.end()) continue;
     if (auto it = m.find(k))
       t.ctx.fail(*it->key_mark, it->path + ": not a parameter of Material Model '" + model + "'");
@@ -1176,7 +1220,7 @@ void read_output_list(const DeckContext& ctx, const Item& o, const Solve& solve,
         "Nonlinear_Solver_Iterations", "Deformation_Gradient", "Contact_Force_Density", "Hourglass_Force_Density",
         "Left_Stretch_Tensor", "Rotation_Tensor", "Shape_Tensor_Inverse", "Unrotated_Rate_Of_Deformation",
         "Cauchy_Stress", "Unrotated_Cauchy_Stress", "Von_Mises_Stress", "Temperature", "Temperature_Change",
-        "Flux_Divergence", "Surface_Correction_Factor",
+        "Flux_Divergence", "Velocity_Gradient", "Jacobian_Determinant", "Surface_Correction_Factor",
         "Dilatation_Normalization", "Deviatoric_Normalization",
         "Lagrange_Multiplier_Dilatation_1", "Lagrange_Multiplier_Dilatation_2", "Lagrange_Multiplier_Dilatation_3",
         "Lagrange_Multiplier_Dilatation_4", "Lagrange_Multiplier_Dilatation_5", "Lagrange_Multiplier_Dilatation_6",
@@ -1299,7 +1343,7 @@ bool is_peridigm_deck(const YAML::Node& root) {
 YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   DeckContext ctx{file, 3, PlaneMode::none, nullptr};
   Translation t{ctx, fs::path(file).parent_path(), {}, 0, YAML::Node(YAML::NodeType::Map), std::nullopt,
-                false, std::nullopt, std::nullopt, std::nullopt};
+                false, std::nullopt, std::nullopt, std::nullopt, false, "constant"};
   const Item top{root, "", root.Mark(), std::nullopt};
   MapReader outer(ctx, top, {"Peridigm"});
   const Item pd = outer.get("Peridigm", "the deck");
@@ -1307,7 +1351,8 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   // one whose name starts with "Output" as an output list (Solver1, Output_1, Output Data).
   std::vector<std::string> top_keys = {"Verbose", "Discretization", "Materials", "Damage Models", "Blocks",
                                        "Boundary Conditions", "Contact", "Compute Class Parameters", "Restart",
-                                       "Multiphysics"};
+                                       "Multiphysics", "Enable Bond-Associated Hypoelastic Model",
+                                       "Enable Bond-Associated Bond Associated Model"};
   std::vector<std::string> solver_keys, output_keys;
   for (const auto& e : map_entries(ctx, pd)) {
     if (e.key.rfind("Solver", 0) == 0) solver_keys.push_back(e.key), top_keys.push_back(e.key);
@@ -1317,6 +1362,12 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
   MapReader m(ctx, pd, top_keys);
   if (solver_keys.empty()) m.get("Solver", "Initial Time, Final Time and one of Verlet, QuasiStatic, NOXQuasiStatic, Implicit");
   if (auto v = m.find("Verbose")) read_bool(ctx, *v);
+  // Elastic Hypoelastic Correspondence runs its bond-associated form under this flag
+  // (read_material). The np1/ and np4/ copies of ElasticBondAssociatedCorrespondence-
+  // FullyPrescribedTension carry "Enable Bond-Associated Bond Associated Model", a flag no
+  // Peridigm material reads (the copies' golds are the deck's without it): read, no effect.
+  if (auto b = m.find("Enable Bond-Associated Hypoelastic Model")) t.bond_associated_hypoelastic = read_bool(ctx, *b);
+  if (auto b = m.find("Enable Bond-Associated Bond Associated Model")) read_bool(ctx, *b);
   if (auto mp = m.find("Multiphysics"))
     ctx.fail(*mp->key_mark, mp->path + ": Peridigm's Multiphysics (a fluid pressure field coupled to the mechanics: "
                                        "Multiphysics Elastic, Solve For Pressure, Prescribed Fluid Pressure U) is not "
@@ -1418,6 +1469,7 @@ YAML::Node to_native(const YAML::Node& root, const std::string& file) {
                             text_of(*f));
     }
   }
+  t.influence = influence;
   if (auto o = d.find("Omit Bonds Between Blocks")) {
     const std::string w = squash(read_string(ctx, *o));
     if (w == "all") t.out["bonds_between_bodies"] = false;  // each block bonded to itself alone

@@ -1,0 +1,403 @@
+#include "horizon/material/models/bond_associated.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "horizon/core/error.hpp"
+#include "horizon/material/models/correspondence.hpp"
+#include "horizon/material/nonlocal_gradient.hpp"
+#include "horizon/state/system.hpp"
+
+namespace horizon {
+
+// A History is numbers and fixed-size Eigen matrices: it checkpoints as its bytes.
+template <>
+struct plain_data<correspondence::History> : std::true_type {};
+
+namespace {
+
+using correspondence::History;
+using correspondence::LawSettings;
+using correspondence::Mat3;
+using correspondence::StressLaw;
+using correspondence::to_eigen;
+using correspondence::to_vec3;
+using Vec = Eigen::Vector3d;
+
+const ModelTraits& traits() {
+  static const ModelTraits t = [] {
+    ModelTraits m;
+    m.name = "bond_associated_correspondence";
+    m.aliases = {"bond_associated"};
+    m.summary =
+        "bond-associated correspondence: classical stress laws on the bond-level deformation gradient (F_i + F_j)/2 "
+        "corrected along the bond, energy averaged over the family (Breitzman and Dayal 2018; Chen and Spencer 2019)";
+    m.min_dimension = 2;
+    m.parameters = {
+        {"yield_stress", "stress_law j2, hypoelastic_j2: initial yield stress sigma_y [Pa]",
+         ParameterSpec::Range::non_negative, 0.0},
+        {"hardening_modulus", "stress_law j2, hypoelastic_j2: linear isotropic hardening modulus H [Pa]",
+         ParameterSpec::Range::non_negative, 0.0},
+        {"shape_tolerance",
+         "smallest reciprocal condition number of a particle's shape tensor; below it the particle's bonds carry no "
+         "force",
+         ParameterSpec::Range::fraction, 1e-4},
+    };
+    m.choices = {
+        {"stress_law",
+         "classical stress law of each bond: linear_elastic, neo_hookean, j2, hypoelastic or hypoelastic_j2 "
+         "(Peridigm's rate form, docs/models/correspondence.md)",
+         {"linear_elastic", "neo_hookean", "j2", "hypoelastic", "hypoelastic_j2"}},
+        {"rotation_update",
+         "the rate-form laws' rotation increment: cayley (Flanagan and Taylor) or peridigm (Peridigm's, "
+         "docs/models/correspondence.md)",
+         {"cayley", "peridigm"}},
+        {"kinematics",
+         "lagrangian: the bond-level F on the reference bonds; semi_lagrangian (rate-form laws): the bond-level "
+         "velocity gradient and the forces on the current bonds (Behzadinasab and Foster 2020)",
+         {"lagrangian", "semi_lagrangian"}},
+    };
+    // f_i needs F_j (and m_j) of every neighbour j: two horizons of positions, which the
+    // split over MPI ranks does not bring (rows_local stays false: one process).
+    m.any_horizon = true;  // no constant reads the horizon
+    return m;
+  }();
+  return t;
+}
+
+// What row i's bonds read of each end: the nonlocal gradient, its rate, K^-1 and m.
+struct End {
+  Mat3 F = Mat3::Identity();     // F_i (reference gradient)
+  Mat3 rate = Mat3::Zero();      // lagrangian: F_dot_i; semi_lagrangian: L_i
+  Mat3 kinv = Mat3::Zero();      // K_i^-1 (semi_lagrangian: of the current bonds)
+  double m = 0;                  // sum_j omega V_j over the acting bonds
+  bool ok = false;               // the shape tensor was accepted
+};
+
+class BondAssociated final : public Model {
+ public:
+  std::unique_ptr<Model> clone() const override { return std::make_unique<BondAssociated>(*this); }
+  const ModelTraits& traits() const override { return horizon::traits(); }
+  void setup(const ModelSetup& in) override;
+  void force_state(ForcePass& pass) override;
+  void commit(System& s) override;
+  double pending_dissipation(const System& s) const override {
+    double sum = 0;
+    for (std::size_t l = 0; l < particles_.size(); ++l) sum += work_[l] * s.particles.volume[particles_[l]];
+    return sum;
+  }
+  void fields(const System& s, std::vector<ModelField>& out) const override;
+  void checkpoint(StateArchive& a) override {
+    a.io_listed("committed", committed_, particles_);
+    a.io_listed("trial", trial_, particles_);
+    a.io_listed("work", work_, particles_);
+    a.io("bond_committed", bond_committed_, Extent::bonds);
+    a.io("bond_trial", bond_trial_, Extent::bonds);
+    a.io("bond_work", bond_work_, Extent::bonds);
+    a.io("u_committed", u_committed_, Extent::particles);
+  }
+
+ private:
+  LawSettings law_;
+  bool hypo_ = false;      // a rate-form law
+  bool history_ = false;   // the law keeps a history per bond
+  bool semi_ = false;      // kinematics: semi_lagrangian
+  double tolerance_ = 0;   // shape_tolerance
+  std::vector<uint32_t> particles_;  // this material's particles
+  std::vector<uint32_t> ends_;       // those and their neighbours: the rows whose End is computed
+  std::vector<End> end_;             // per particle of the system (those of ends_ filled)
+  std::vector<History> committed_, trial_;            // per particle of ours: the particle-level law
+  std::vector<History> bond_committed_, bond_trial_;  // per bond (history laws)
+  std::vector<double> bond_work_;                     // per bond: plastic work of the trial step [J/m^3]
+  std::vector<double> work_;                          // per particle of ours: c V weighted [J/m^3]
+  std::vector<Vec3> u_committed_;                     // rate laws: u at the last commit
+  // Of the last pass, per particle of ours, for the output: von Mises of the particle-level
+  // law, its sigma, unrotated rate, velocity gradient.
+  std::vector<double> von_mises_;
+  std::vector<uint8_t> singular_;
+  std::vector<Mat3> sigma_, rate_, L_;
+
+  void gradient(const System& s, const Point4* y, double dt, uint32_t i, End& e) const;
+};
+
+void BondAssociated::setup(const ModelSetup& in) {
+  const MaterialConfig& mat = in.material;
+  const int dim = in.config.dimension;
+  System& s = in.system;
+  if (dim < 2) throw Error("material '" + mat.name + "': the bond-associated correspondence model needs dimension 2 or 3");
+  const std::string& law = choice(mat, "stress_law");
+  law_.law = law == "neo_hookean"      ? StressLaw::neo_hookean
+             : law == "j2"             ? StressLaw::j2
+             : law == "hypoelastic"    ? StressLaw::hypoelastic
+             : law == "hypoelastic_j2" ? StressLaw::hypoelastic_j2
+                                       : StressLaw::linear_elastic;
+  hypo_ = correspondence::rate_form(law_.law);
+  law_.elastic = classical::elastic_from_bulk_shear(mat.bulk_modulus, mat.shear_modulus);
+  law_.j2 = {parameter(mat, "yield_stress"), parameter(mat, "hardening_modulus")};
+  law_.dimension = dim;
+  law_.plane = in.dims.plane;
+  law_.rotation = choice(mat, "rotation_update") == "peridigm" ? classical::RotationUpdate::peridigm
+                                                                : classical::RotationUpdate::cayley;
+  if ((law_.law == StressLaw::j2 || law_.law == StressLaw::hypoelastic_j2) && !(law_.j2.yield_stress > 0))
+    throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
+  if (hypo_ && dim == 2 && law_.plane == PlaneMode::stress)
+    throw Error("material '" + mat.name + "': stress_law " + law + " is not available in plane stress");
+  semi_ = choice(mat, "kinematics") == "semi_lagrangian";
+  if (semi_ && !hypo_)
+    throw Error("material '" + mat.name +
+                "': kinematics semi_lagrangian needs a rate-form stress_law (hypoelastic or hypoelastic_j2)");
+  if (s.one_way_bonds)
+    throw Error("material '" + mat.name +
+                "': the bond-associated correspondence model needs the bonds both ways (one horizon for its bodies)");
+  history_ = hypo_ || law_.law == StressLaw::j2 || (dim == 2 && law_.plane == PlaneMode::stress);
+  tolerance_ = parameter(mat, "shape_tolerance");
+  particles_ = in.particles;
+  // The stable step of the bond-based spring of the same bulk modulus. Forces reach three
+  // bonds (f_i takes T_ji, whose S_j reads F_k of j's neighbours k): the finite-difference
+  // tangent probes that far.
+  fill_state_based_coefficients(in);
+  s.model.reach_hops = std::max(s.model.reach_hops, 3);
+
+  const Bonds& B = s.bonds;
+  std::vector<uint8_t> mark(s.particles.size(), 0);
+  for (uint32_t i : particles_) {
+    mark[i] = 1;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) mark[B.nbr[k]] = 1;
+  }
+  ends_.clear();
+  for (uint32_t i = 0; i < mark.size(); ++i)
+    if (mark[i]) ends_.push_back(i);
+  end_.assign(s.particles.size(), End{});
+  const std::size_t n = particles_.size();
+  committed_.assign(n, History{});
+  trial_.assign(n, History{});
+  work_.assign(n, 0.0);
+  von_mises_.assign(n, 0.0);
+  singular_.assign(n, 0);
+  if (history_) {
+    bond_committed_.assign(B.nbr.size(), History{});
+    bond_trial_.assign(B.nbr.size(), History{});
+    bond_work_.assign(B.nbr.size(), 0.0);
+  }
+  if (hypo_) {
+    u_committed_ = s.particles.u;
+    sigma_.assign(n, Mat3::Zero());
+    rate_.assign(n, Mat3::Zero());
+    L_.assign(n, Mat3::Zero());
+  }
+}
+
+// End e of particle i: F_i (and K_i^-1, m_i) over the acting bonds (Silling et al. 2007,
+// eq. 17, 134), and the rate: lagrangian F_dot_i = (sum omega V (du_j - du_i) (x) xi)
+// K_i^-1 / dt from the displacement increments since the commit (as the correspondence
+// model takes it, free of the cancellation of F - F_n); semi_lagrangian L_i = (sum omega V
+// (du_j - du_i)/dt (x) Y) K_c^-1 with K_c of the current bonds.
+void BondAssociated::gradient(const System& s, const Point4* y, double dt, uint32_t i, End& e) const {
+  const Bonds& B = s.bonds;
+  const std::vector<Vec3>& X = s.particles.X;
+  const int dim = law_.dimension;
+  const bool rate = hypo_ && dt > 0 && u_committed_.size() == s.particles.size();
+  const Vec3 yi{y[i].x, y[i].y, y[i].z};
+  const Vec3 dui = rate ? s.particles.u[i] - u_committed_[i] : Vec3{};
+  NonlocalGradient g, gc, gr;
+  e.m = 0;
+  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    if (!B.intact[k]) continue;
+    const uint32_t j = B.nbr[k];
+    const double wv = B.weight[k] * B.volume[k];
+    const Vec3 xi = X[j] - X[i], Y = Vec3{y[j].x, y[j].y, y[j].z} - yi;
+    e.m += wv;
+    g.add(xi, Y, wv);
+    if (rate) {
+      const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui;
+      if (semi_) gc.add(Y, du, wv);  // K_c and sum omega V du (x) Y
+      else gr.add(xi, du, wv);       // sum omega V du (x) xi
+    } else if (semi_) {
+      gc.add(Y, Vec3{}, wv);
+    }
+  }
+  Mat3 Kinv, F;
+  e.ok = g.finish(dim, tolerance_, Kinv, F);
+  e.F = F;
+  e.kinv = Kinv;
+  e.rate = Mat3::Zero();
+  if (!e.ok) return;
+  if (semi_) {
+    Mat3 Kc, L;
+    e.ok = gc.finish(dim, tolerance_, Kc, L);
+    e.kinv = Kc;
+    if (rate) {
+      for (int a = dim; a < 3; ++a) L(a, a) = 0;  // finish puts 1 on the unused axes
+      e.rate = L / dt;
+    }
+  } else if (rate) {
+    Mat3 Kr, D;
+    gr.finish(dim, 0.0, Kr, D);
+    for (int a = dim; a < 3; ++a) D(a, a) = 0;
+    e.rate = D / dt;
+  }
+}
+
+void BondAssociated::force_state(ForcePass& pass) {
+  const System& s = pass.system;
+  const Bonds& B = s.bonds;
+  const std::vector<Vec3>& X = s.particles.X;
+  const Point4* y = pass.y;
+  Vec3* T = pass.T;
+  const double dt = pass.dt;
+  const bool rate = hypo_ && dt > 0 && u_committed_.size() == s.particles.size();
+  const std::size_t ne = ends_.size();
+  // Pass 1: every end's gradient (ours and our neighbours').
+#pragma omp parallel for schedule(static) if (ne > 512)
+  for (std::size_t q = 0; q < ne; ++q) gradient(s, y, dt, ends_[q], end_[ends_[q]]);
+
+  // Pass 2: row i's bonds from the two ends' gradients.
+  const std::size_t n = particles_.size();
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (std::size_t l = 0; l < n; ++l) {
+    const uint32_t i = particles_[l];
+    const End& ei = end_[i];
+    const Vec3 yi{y[i].x, y[i].y, y[i].z};
+    const Vec3 dui = rate ? s.particles.u[i] - u_committed_[i] : Vec3{};
+    singular_[l] = ei.ok ? 0 : 1;
+    work_[l] = 0;
+    // The particle-level law (rate laws: the Peridigm tensors of the output; else von
+    // Mises of P(F_i)), not a force.
+    if (ei.ok) {
+      double w = 0;
+      Mat3 d = Mat3::Zero();
+      Mat3 Fdot = semi_ ? Mat3(ei.rate * ei.F) : ei.rate;
+      const classical::LawResult r =
+          correspondence::evaluate_law(law_, ei.F, committed_[l], trial_[l], w, dt, 1.0, &d, rate ? &Fdot : nullptr);
+      von_mises_[l] = correspondence::von_mises(r.sigma);
+      if (hypo_) {
+        sigma_[l] = r.sigma;
+        rate_[l] = d;
+        L_[l] = semi_ ? ei.rate : Mat3(ei.rate * ei.F.inverse());
+      }
+    } else {
+      trial_[l] = committed_[l];
+      von_mises_[l] = 0;
+    }
+    Mat3 S = Mat3::Zero();  // S_i of the header
+    double W = 0;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      T[k] = {};
+      if (history_) bond_trial_[k] = bond_committed_[k], bond_work_[k] = 0;
+      const uint32_t j = B.nbr[k];
+      const End& ej = end_[j];
+      // m_j > 0 whenever the reverse bond acts; a bond one way alone carries nothing.
+      if (!B.intact[k] || !ei.ok || !ej.ok || !(ej.m > 0)) continue;
+      const Vec xi = to_eigen(X[j] - X[i]);
+      const Vec Y = to_eigen(Vec3{y[j].x, y[j].y, y[j].z} - yi);
+      const double xx = xi.squaredNorm();
+      if (!(xx > 0) || (semi_ && !(Y.squaredNorm() > 0))) continue;  // two particles on one spot: no direction
+      const Mat3 Fbar = 0.5 * (ei.F + ej.F);
+      const Mat3 Fb = Fbar + (Y - Fbar * xi) * xi.transpose() / xx;
+      Mat3 Fdot = Mat3::Zero();
+      if (rate) {
+        const Vec dY = to_eigen((s.particles.u[j] - u_committed_[j]) - dui) / dt;
+        const Mat3 Rbar = 0.5 * (ei.rate + ej.rate);
+        if (semi_) Fdot = (Rbar + (dY - Rbar * Y) * Y.transpose() / Y.squaredNorm()) * Fb;  // L_ij F_ij
+        else Fdot = Rbar + (dY - Rbar * xi) * xi.transpose() / xx;
+      }
+      History scratch;
+      const History& before = history_ ? bond_committed_[k] : scratch;
+      History& after = history_ ? bond_trial_[k] : scratch;
+      double w = 0;
+      const classical::LawResult r =
+          correspondence::evaluate_law(law_, Fb, before, after, w, dt, 1.0, nullptr, rate ? &Fdot : nullptr);
+      if (!r.ok) continue;
+      const double c_ij = B.weight[k] / ei.m, c_ji = B.weight[k] / ej.m;
+      const Mat3 P = semi_ ? Mat3(before.hypo.V.determinant() * r.sigma) : r.P;
+      const Vec b = semi_ ? Y : xi;
+      const double bb = b.squaredNorm();
+      const Vec nb = b / std::sqrt(bb);
+      T[k] = to_vec3(c_ij * (P * b) / bb);
+      S += (0.5 * B.volume[k] * (c_ij + c_ji)) * (P - (P * nb) * nb.transpose());
+      W += c_ij * B.volume[k] * r.W;
+      if (history_) bond_work_[k] = w;
+      work_[l] += c_ij * B.volume[k] * w;
+    }
+    if (!ei.ok) {
+      if (pass.energy) pass.energy[i] = 0;
+      continue;
+    }
+    const Mat3 A = S * ei.kinv;
+    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+      if (!B.intact[k]) continue;
+      const uint32_t j = B.nbr[k];
+      if (!end_[j].ok || !(end_[j].m > 0)) continue;
+      const Vec b = semi_ ? to_eigen(Vec3{y[j].x, y[j].y, y[j].z} - yi) : to_eigen(X[j] - X[i]);
+      T[k] += to_vec3(B.weight[k] * (A * b));
+    }
+    if (pass.energy) pass.energy[i] = W;
+  }
+}
+
+void BondAssociated::commit(System& s) {
+  if (hypo_) u_committed_ = s.particles.u;
+  if (history_) bond_committed_ = bond_trial_;
+  for (std::size_t l = 0; l < particles_.size(); ++l) {
+    committed_[l] = trial_[l];
+    if (work_[l] != 0) s.dissipated_at[particles_[l]] += work_[l] * s.particles.volume[particles_[l]];
+    work_[l] = 0;
+  }
+}
+
+// von_mises_stress (of the particle-level law at F_i), singular_shape_tensor, and with a
+// rate-form law the particle-level tensors under Peridigm's names (as the correspondence
+// model's, docs/models/correspondence.md) plus velocity_gradient_* (L_i) and
+// jacobian_determinant (det V_i). A run keeps the first model's field of a name: with a
+// correspondence material first, its fields hold (docs/models/bond_associated.md).
+void BondAssociated::fields(const System& s, std::vector<ModelField>& out) const {
+  const std::size_t n = s.particles.size();
+  std::vector<const BondAssociated*> all;
+  bool hypo = false;
+  for (const auto& model : s.models)
+    if (const auto* b = dynamic_cast<const BondAssociated*>(model.get())) {
+      all.push_back(b);
+      hypo = hypo || b->hypo_;
+    }
+  ModelField vm{"von_mises_stress", std::vector<double>(n, 0.0)};
+  ModelField sg{"singular_shape_tensor", std::vector<double>(n, 0.0)};
+  for (const BondAssociated* b : all)
+    for (std::size_t l = 0; l < b->particles_.size(); ++l) {
+      vm.values[b->particles_[l]] = b->von_mises_[l];
+      sg.values[b->particles_[l]] = b->singular_[l];
+    }
+  out.push_back(std::move(vm));
+  out.push_back(std::move(sg));
+  if (!hypo) return;
+  static const char* rc[9] = {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"};
+  const char* names[7] = {"left_stretch_tensor", "rotation_tensor", "shape_tensor_inverse",
+                          "unrotated_rate_of_deformation", "cauchy_stress", "unrotated_cauchy_stress",
+                          "velocity_gradient"};
+  std::vector<ModelField> f;
+  for (const char* name : names)
+    for (const char* c : rc) f.push_back({std::string(name) + "_" + c, std::vector<double>(n, 0.0)});
+  ModelField jac{"jacobian_determinant", std::vector<double>(n, 0.0)};
+  for (const BondAssociated* b : all) {
+    if (!b->hypo_) continue;
+    for (std::size_t l = 0; l < b->particles_.size(); ++l) {
+      const uint32_t i = b->particles_[l];
+      const classical::HypoState& h = b->committed_[l].hypo;
+      const Mat3* m[7] = {&h.V, &h.R, &b->end_[i].kinv, &b->rate_[l], &b->sigma_[l], &h.sigma_u, &b->L_[l]};
+      for (int t = 0; t < 7; ++t)
+        for (int k = 0; k < 9; ++k) f[static_cast<std::size_t>(9 * t + k)].values[i] = (*m[t])(k / 3, k % 3);
+      jac.values[i] = h.V.determinant();
+    }
+  }
+  for (auto& x : f) out.push_back(std::move(x));
+  out.push_back(std::move(jac));
+}
+
+}  // namespace
+
+ModelEntry bond_associated_model() {
+  return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<BondAssociated>()); }};
+}
+
+}  // namespace horizon
