@@ -3,6 +3,7 @@
 //   - hypoelastic: uniaxial strain in steps, V_yy and sigma_yy against their sums (the
 //     rule Peridigm's golds show), the rate d = F_dot F^-1; a rigid rotation carries no
 //     stress and R follows it; the J2 return lands on sigma_y + H alpha;
+//   - the rotation updates, midpoint and Peridigm's, over one step of a pure spin;
 //   - the flaw's yield factor at its centre, at r = s and far away;
 //   - Peridigm's hourglass force: zero for a homogeneous deformation, the closed form for
 //     a bond stretched along itself, none to first order for a transverse motion.
@@ -95,31 +96,43 @@ TEST(CorrespondencePeridigm, HypoelasticRigidRotation) {
   EXPECT_LT(s1 / s2, 12.0);
 }
 
-// The rotation increment of one step: Flanagan and Taylor's Cayley transform (orthogonal)
-// and Peridigm's (I + c (W - W^2/2), c = 1/(1 + |w|^2/4), fitted from its gold), for a
-// rigid rotation by theta about z in one step from R_n = I.
-TEST(CorrespondencePeridigm, RotationIncrement) {
-  const double theta = 0.02;
+// The rotation updates over one step of a pure spin about z at rate w (L = W, V_n = I, so
+// Omega = W): the midpoint update is Cayley's rotation by 2 atan(theta/2), orthogonal;
+// Peridigm's is I + sin(theta) Omega/w - (1 - cos theta) Omega^2/w^2, whose xx entry is
+// 2 - cos(theta) (Rodrigues' cos(theta) with the Omega^2 term's sign as Peridigm evaluates
+// it), so Q Q^T = I + 4 (1 - cos theta) in the plane of the spin. A spin below |w|^2 =
+// 1e-30 leaves R.
+TEST(CorrespondencePeridigm, RotationUpdates) {
+  const classical::Elastic c = classical::elastic_from_bulk_shear(kE / 1.2, kE / 2.6);
+  const double w = 3.0, dt = 0.1, theta = w * dt;
+  Mat3 W = Mat3::Zero();
+  W(0, 1) = -w;
+  W(1, 0) = w;
   const Mat3 F = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  classical::Elastic el = classical::elastic_from_bulk_shear(kE / 3, kE / 2);
-  classical::HypoState n, cay, pd;
+  const Mat3 Fdot = W * F;  // L = F_dot F^-1 = W exactly
+  classical::HypoState n, mid, per;
   double work = 0;
-  classical::hypoelastic_step(el, 0, 0, n, F, 1.0, cay, work);
-  classical::hypoelastic_step(el, 0, 0, n, F, 1.0, pd, work, nullptr, classical::PlasticReturn::work, {}, 0,
+  classical::hypoelastic_step(c, 0, 0, n, F, dt, mid, work, &Fdot);
+  classical::hypoelastic_step(c, 0, 0, n, F, dt, per, work, &Fdot, classical::PlasticReturn::work, {}, 0,
                               classical::RotationUpdate::peridigm);
-  // L = (F - I) F^-1 = I - F^T: its skew part W has w_z = sin(theta).
-  const double w = std::sin(theta), c = 1.0 / (1.0 + 0.25 * w * w);
-  EXPECT_NEAR((cay.R.transpose() * cay.R - Mat3::Identity()).norm(), 0.0, 1e-15);  // orthogonal
-  // Closed forms: W^2 = -w^2 (e_x e_x + e_y e_y); Cayley R_xx = 1 - c w^2/2, Peridigm's 1 + c w^2/2.
-  EXPECT_NEAR(cay.R(0, 0), 1 - c * w * w / 2, 1e-15);
-  EXPECT_NEAR(cay.R(1, 0), c * w, 1e-15);
-  EXPECT_NEAR(pd.R(0, 0), 1 + c * w * w / 2, 1e-15);
-  EXPECT_NEAR(pd.R(1, 1), 1 + c * w * w / 2, 1e-15);
-  EXPECT_NEAR(pd.R(1, 0), c * w, 1e-15);
-  EXPECT_NEAR(pd.R(0, 1), -c * w, 1e-15);
-  EXPECT_EQ(pd.R(2, 2), 1.0);
-  // The two differ by -c W^2 only: second order in the step's rotation.
-  EXPECT_NEAR((pd.R - cay.R).norm(), std::sqrt(2.0) * c * w * w, 1e-15);
+  const double cayley = 2 * std::atan(theta / 2);
+  EXPECT_NEAR(mid.R(0, 0), std::cos(cayley), 1e-15);
+  EXPECT_NEAR(mid.R(1, 0), std::sin(cayley), 1e-15);
+  EXPECT_NEAR((mid.R * mid.R.transpose() - Mat3::Identity()).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(per.R(0, 0), 2 - std::cos(theta), 1e-15);
+  EXPECT_NEAR(per.R(1, 1), 2 - std::cos(theta), 1e-15);
+  EXPECT_NEAR(per.R(1, 0), std::sin(theta), 1e-15);
+  EXPECT_NEAR(per.R(0, 1), -std::sin(theta), 1e-15);
+  EXPECT_NEAR(per.R(2, 2), 1.0, 1e-15);
+  EXPECT_NEAR((per.R * per.R.transpose())(0, 0), 1 + 4 * (1 - std::cos(theta)), 1e-14);
+  // The same V either way (V's update reads Omega, not R).
+  EXPECT_NEAR((per.V - mid.V).norm(), 0.0, 1e-15);
+  // Below the threshold Q = I.
+  Mat3 tiny = Mat3::Zero();
+  tiny(0, 1) = -3e-16;
+  tiny(1, 0) = 3e-16;
+  EXPECT_EQ(classical::peridigm_rotation_increment(tiny, dt), Mat3::Identity());
+  EXPECT_NE(classical::peridigm_rotation_increment(10 * tiny, dt), Mat3::Identity());
 }
 
 // Uniaxial strain with nu = 0.3 past yield: q = sqrt(3/2)|s| lands on y_n + H Delta alpha

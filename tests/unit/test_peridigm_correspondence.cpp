@@ -4,11 +4,13 @@
 // closed forms of the rate form (material/classical/hypoelastic.hpp):
 //   F_n = 1 + 0.001 n/4 along y, D_n = (F_n - F_n-1)/(dt F_n), V_yy = prod (1 + dt D_n),
 //   Cauchy_StressYY = E sum dt D_n (nu = 0), Hourglass_Force_Density 0 (homogeneous);
-// and the flaw: the particle at its centre yields at sigma_y (1 - m), the others not.
+// and the flaw: the particle at its centre yields at sigma_y (1 - m), the others not; and
+// a rigid rotation: Peridigm's rotation update and the von Mises stress of sigma_u.
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -32,9 +34,11 @@ using test::index_of;
 // The unit cube as 2 x 2 x 2 cells (centres 0.25 and 0.75), every particle bonded to the
 // seven others (horizon 1.75), u = (0, 0.001 y t/T, 0) prescribed everywhere, T = 4e-7 s
 // in steps of 1e-7.
-std::string cube_deck(const std::string& material, const std::string& variables) {
+// `motion`: the prescribed u_x, u_y, u_z instead.
+std::string cube_deck(const std::string& material, const std::string& variables,
+                      const std::array<const char*, 3>& motion = {"0.0", "0.001*y*t/4.0e-7", "0.0"}) {
   std::string bcs;
-  for (const auto& [axis, value] : {std::pair{"x", "0.0"}, std::pair{"y", "0.001*y*t/4.0e-7"}, std::pair{"z", "0.0"}})
+  for (const auto& [axis, value] : {std::pair{"x", motion[0]}, std::pair{"y", motion[1]}, std::pair{"z", motion[2]}})
     bcs += std::string("    Move ") + axis + ":\n      Type: \"Prescribed Displacement\"\n      Node Set: \"All\"\n" +
            "      Coordinate: \"" + axis + "\"\n      Value: \"" + value + "\"\n";
   return "Peridigm:\n"
@@ -86,6 +90,7 @@ TEST(PeridigmCorrespondence, ImportMapsToTheRateFormAndTheHourglassForce) {
   const YAML::Node m = native["materials"].begin()->second;
   EXPECT_EQ(m["model"].as<std::string>(), "correspondence");
   EXPECT_EQ(m["stress_law"].as<std::string>(), "hypoelastic");
+  EXPECT_EQ(m["rotation_update"].as<std::string>(), "peridigm");
   EXPECT_EQ(m["stabilization_form"].as<std::string>(), "peridigm");
   EXPECT_EQ(m["rotation_update"].as<std::string>(), "peridigm");
   EXPECT_DOUBLE_EQ(m["stabilization"].as<double>(), 0.04);
@@ -102,6 +107,7 @@ TEST(PeridigmCorrespondence, ImportMapsToTheRateFormAndTheHourglassForce) {
                                ->second;
   EXPECT_EQ(f["stress_law"].as<std::string>(), "hypoelastic_j2");
   EXPECT_EQ(f["plastic_return"].as<std::string>(), "peridigm");
+  EXPECT_EQ(f["rotation_update"].as<std::string>(), "peridigm");
   EXPECT_DOUBLE_EQ(f["flaw_x"].as<double>(), 0.25);
   EXPECT_DOUBLE_EQ(f["flaw_y"].as<double>(), 0.5);
   EXPECT_DOUBLE_EQ(f["flaw_z"].as<double>(), -1.0);
@@ -179,6 +185,35 @@ TEST(PeridigmCorrespondence, UniaxialStrainFollowsTheRateForm) {
       // C_hg c = 0.04 x 18 k/(pi delta^4) = 2.3e9 N/m^6 on bonds of unit length: round-off.
       for (std::size_t i = 0; i < 8; ++i) EXPECT_LT(std::abs(r.steps[n].nodal[h][i]), 1e-3);
     }
+  }
+}
+
+// A rigid rotation about z, theta = 0.1 a step (u = R(1e6 t) X - X): after the first step
+// F = R(theta), L = F_dot F^-1 = (I - R(-theta))/dt, so W = (sin(theta)/dt) J and D =
+// ((1 - cos theta)/dt) diag(1, 1, 0), and with V_0 = I the spin Omega is W. Peridigm's
+// rotation update (the importer's rotation_update: peridigm) gives R = I + sin(phi) J +
+// (1 - cos phi) diag(1, 1, 0), phi = sin(theta): Rotation_TensorXX = 2 - cos(phi), not
+// orthogonal. d = R^T D R = (5 - 4 cos phi) D in the plane, and with nu = 0 (lambda = 0)
+// sigma_u = 2 mu dt d, so the von Mises stress of sigma_u, which Von_Mises_Stress reports,
+// is 2 mu (1 - cos theta)(5 - 4 cos phi); that of R sigma_u R^T would be (5 - 4 cos phi)
+// times larger (2 % here).
+TEST(PeridigmCorrespondence, RigidRotationTakesPeridigmsRotationUpdate) {
+  const fs::path dir = test_dir();
+  const std::string deck =
+      write(dir / "rot.yaml",
+            cube_deck(kElasticCorrespondence,
+                      "      Rotation_Tensor: true\n      Von_Mises_Stress: true\n      Unrotated_Cauchy_Stress: true\n",
+                      {"x*(cos(1.0e6*t)-1.0)-y*sin(1.0e6*t)", "x*sin(1.0e6*t)+y*(cos(1.0e6*t)-1.0)", "0.0"}));
+  const ExodusSeries r = run_and_read(deck, dir);
+  ASSERT_EQ(r.steps.size(), 5u);
+  const double theta = 0.1, phi = std::sin(theta), mu = kE / 2;
+  const std::size_t xx = index_of(r.layout.element, "Rotation_TensorXX"), yx = index_of(r.layout.element, "Rotation_TensorYX"),
+                    vm = index_of(r.layout.element, "Von_Mises_Stress");
+  const double expected_vm = 2 * mu * (1 - std::cos(theta)) * (5 - 4 * std::cos(phi));
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_NEAR(r.steps[1].element[xx][i], 2 - std::cos(phi), 1e-9) << i;
+    EXPECT_NEAR(r.steps[1].element[yx][i], std::sin(phi), 1e-9) << i;
+    EXPECT_NEAR(r.steps[1].element[vm][i], expected_vm, 1e-6 * expected_vm) << i;
   }
 }
 

@@ -8,6 +8,9 @@
 //   y = (X + u_n) + dt v_{n+1/2}, a = (f + b)/rho, and a prescribed displacement moves
 //   through the drift at (g(t1) - g(t0)) (1/(t1 - t0)), its u accumulating (Compression_2x1x1's
 //   gold ForceX at each step; the native Verlet's step 2 is 2.6e-4 off);
+// - solver.positions: peridigm (the importer's choice for quasi-static solvers): the force
+//   pass reads y = (X + u_n) + (u - u_n), u_n the load step's start (Pals_Simple_Shear's
+//   gold forces to the bit at its steps t = 0.5 and 1, docs/peridigm.md);
 // - a Rectangular_Plane bond filter is Peridigm's test with its bottom vector as given and
 //   its 1e-15 tolerances (`precracks: [{rectangle: ...}]`).
 #include <exodusII.h>
@@ -24,6 +27,8 @@
 #include "horizon/core/vec3.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/family/precrack.hpp"
+#include "horizon/solver/forces.hpp"
+#include "test_helpers.hpp"
 
 namespace horizon {
 namespace {
@@ -168,6 +173,42 @@ TEST(PeridigmRoundOff, VerletKeyIsChecked) {
   EXPECT_NE(damped.find("no damping"), std::string::npos) << damped;
   const std::string stat = error_of(write(dir / "static.yaml", base + "solver: {type: static, end_time: 1, verlet: peridigm}\n"));
   EXPECT_NE(stat.find("type: explicit only"), std::string::npos) << stat;
+}
+
+// Peridigm's quasi-static positions: with u_n = -y 1e-6 0.5 and u = -y 1e-6 (Pals_Simple_
+// Shear's shear at t = 0.5 and 1, y = 5/14 as its mesh rounds it), (y + u_n) + (u - u_n) is
+// 0.3571425 and y + u is 0.35714250000000003: the packing takes the former where
+// System::step_start_u is set, and X + u without it. The key is static-only.
+TEST(PeridigmRoundOff, QuasiStaticPositionsArePeridigms) {
+  test::BlockSpec b;
+  b.n = {2, 1, 1};
+  b.spacing = 0.35714285714285715;
+  b.horizon_factor = 1.5;
+  System s = test::make_block(b, test::make_material("pmb", 1e9, 0.25));
+  ASSERT_EQ(s.particles.size(), 2u);
+  const std::size_t i = s.particles.X[0].x > 0 ? 0 : 1;
+  const double x = s.particles.X[i].x;
+  ASSERT_EQ(x, 0.35714285714285715);
+  const double un = ((-x) * 1e-06) * 0.5, u = ((-x) * 1e-06) * 1.0;
+  s.particles.u[i] = {u, 0, 0};
+  pack_positions(s);
+  EXPECT_EQ(s.model.packed[i].x, x + u);
+  s.step_start_u.assign(2, Vec3{});
+  s.step_start_u[i] = {un, 0, 0};
+  pack_positions(s);
+  EXPECT_EQ(s.model.packed[i].x, (x + un) + (u - un));
+  EXPECT_EQ(s.model.packed[i].x, 0.3571425);
+  EXPECT_NE(x + u, 0.3571425);
+
+  const fs::path dir = test_dir();
+  const std::string base = "dimension: 3\nspacing: 1.0\nhorizon: 1.75\n"
+                           "materials:\n  steel: {model: lps, density: 7800, bulk_modulus: 130.0e9, shear_modulus: 78.0e9}\n"
+                           "bodies:\n  - {name: bar, material: steel, shape: {box: {min: [-1.5, -1, -1], max: [1.5, 1, 1]}}}\n";
+  EXPECT_EQ(error_of(write(dir / "qs.yaml", base + "solver: {type: static, end_time: 1, positions: peridigm}\n")), "no error");
+  EXPECT_NE(error_of(write(dir / "qs_bad.yaml", base + "solver: {type: static, end_time: 1, positions: lammps}\n")).find("positions"),
+            std::string::npos);
+  const std::string expl = error_of(write(dir / "expl.yaml", base + "solver: {end_time: 1.0e-6, positions: peridigm}\n"));
+  EXPECT_NE(expl.find("type: static only"), std::string::npos) << expl;
 }
 
 // One hexahedron of Peridigm's DeformationGradient mesh (its nodes as the mesh holds them).

@@ -109,6 +109,7 @@ TEST(PeridigmSuiteOptions, NoxQuasiStaticOptionsMapToNewton) {
   const YAML::Node s = n["solver"];
   EXPECT_EQ(s["type"].as<std::string>(), "static");
   EXPECT_EQ(s["method"].as<std::string>(), "newton");
+  EXPECT_EQ(s["positions"].as<std::string>(), "peridigm");  // Peridigm's quasi-static rounding
   EXPECT_EQ(s["load_steps"].as<int>(), 2);
   EXPECT_EQ(s["max_iterations"].as<int>(), 40);
   EXPECT_DOUBLE_EQ(s["tolerance"].as<double>(), 1e-12);  // tighter than 1e-9: kept

@@ -195,6 +195,10 @@ struct SolverConfig {
   // explicit: verlet: peridigm rounds the step as Peridigm's Verlet (ExplicitSolver::
   // set_peridigm_verlet): the importer's choice, so that its decks' golds match bit for bit.
   bool peridigm_verlet = false;
+  // static: positions: peridigm forms the force pass's current positions as Peridigm's
+  // quasi-static solvers do, y = (X + u_n) + (u - u_n) with u_n the load step's start
+  // (System::step_start_u): the importer's choice (Pals_Simple_Shear's gold to the bit).
+  bool peridigm_positions = false;
   bool condition_number = false;        // estimate the tangent's condition number
   // Explicit, models with ModelTraits::adaptive_time_step (nonlinear_solid): recompute the
   // stable step from the current bond tangent stiffness every adaptive_every steps.

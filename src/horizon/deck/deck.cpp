@@ -390,7 +390,7 @@ const std::vector<std::string> kSolverKeys = {
     "type", "end_time", "time_step", "safety_factor", "damping", "method", "linear_solver", "tangent",
     "tolerance", "max_iterations", "load_steps", "max_step_cuts", "max_break_rounds", "condition_number",
     "adaptive_time_step", "adaptive_every", "energy_balance_warning", "backend", "initial_acceleration",
-    "on_failure", "verlet", "load_times", "solver_starts"};
+    "on_failure", "verlet", "positions", "load_times", "solver_starts"};
 
 // solver.load_times: the pseudo-times of a static run's load steps, from 0, increasing
 // (docs/input.md "Static solves"). They replace load_steps and end_time.
@@ -471,6 +471,9 @@ void read_solver_map(const DeckContext& ctx, const Item& item, const Config& con
   only_for(ctx, s, "on_failure", is_static, kStatic, type);
   if (auto f = s.find("on_failure"))
     sc.switch_on_failure = read_enum<bool>(ctx, *f, {{"stop", false}, {"explicit", true}});
+  only_for(ctx, s, "positions", is_static, kStatic, type);
+  if (auto p = s.find("positions"))
+    sc.peridigm_positions = read_enum<bool>(ctx, *p, {{"horizon", false}, {"peridigm", true}});
   only_for(ctx, s, "verlet", is_explicit, "type: explicit", type);
   if (auto v = s.find("verlet")) {
     sc.peridigm_verlet = read_enum<bool>(ctx, *v, {{"horizon", false}, {"peridigm", true}});

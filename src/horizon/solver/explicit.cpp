@@ -61,6 +61,7 @@ void ExplicitSolver::update_kinetic() {
 
 void ExplicitSolver::initialize(double t0, double dt_before) {
   start_time_ = time_ = t0;
+  s_.step_start_u.clear();  // a static stage's quasi-static positions end with it
   steps_ = 0;
   ledger_ = Ledger{};
   // Peridigm's Verlet applies a prescribed displacement as increments from the start, so

@@ -81,6 +81,17 @@ void pack_positions(System& s) {
     }
     return;
   }
+  // Peridigm's quasi-static positions (System::step_start_u, solver.positions: peridigm).
+  if (s.step_start_u.size() == n) {
+    const Vec3* un = s.step_start_u.data();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 base = P.X[i] + un[i], du = P.u[i] - un[i];
+      const double s0 = kernels::critical_stretch_now(M.critical_stretch[i], M.alpha[i], M.min_stretch[i], P.no_fail[i]);
+      out[i] = {base.x + du.x, base.y + du.y, base.z + du.z, s0};
+    }
+    return;
+  }
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 y = P.X[i] + P.u[i];

@@ -235,6 +235,8 @@ bool StaticSolver::advance() {
   double increment = std::min(regrow ? 2 * last_increment_ : nominal, nominal);
   int cuts = 0;
   const std::vector<Vec3> u_before = P.u, b_before = P.b;
+  // Peridigm's quasi-static positions: this step's forces read (X + u_n) + (u - u_n).
+  if (config_.peridigm_positions) s_.step_start_u = u_before;
   const std::vector<uint8_t> intact_before = s_.bonds.intact;
   const std::vector<double> dissipated_before = s_.dissipated_at;
   const uint64_t broken_before = s_.broken;

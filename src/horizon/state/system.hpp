@@ -187,6 +187,11 @@ struct System {
   // from X + u (solver.verlet: peridigm: y = (X + u_n) + dt v_{n+1/2}, rounded as Peridigm's
   // Verlet forms it, while u_{n+1} = u_n + dt v_{n+1/2} is rounded on its own); empty: X + u.
   std::vector<Vec3> positions;
+  // The displacement u_n at the start of a static load step, when the static solver forms
+  // the current positions as Peridigm's quasi-static solvers do (solver.positions:
+  // peridigm): y = (X + u_n) + (u - u_n), each sum rounded on its own; empty: X + u. Read
+  // by the force pass's packing after `positions`.
+  std::vector<Vec3> step_start_u;
   std::vector<std::string> block_names;
   std::size_t initial_bonds = 0;
   std::size_t precrack_bonds = 0;

@@ -321,7 +321,7 @@ YAML::Node read_material(Translation& t, const Item& item) {
     own = {"Hourglass Coefficient"};
     mat["model"] = "correspondence";
     mat["stress_law"] = "hypoelastic";
-    mat["rotation_update"] = "peridigm";  // Peridigm's rotation increment (fitted: classical/hypoelastic.hpp)
+    mat["rotation_update"] = "peridigm";  // Peridigm's rotation increment (classical/hypoelastic.hpp)
     mat["stabilization_form"] = "peridigm";
     mat["stabilization"] = 0.0;
     if (auto h = m.find("Hourglass Coefficient")) mat["stabilization"] = read_non_negative(t.ctx, *h);
@@ -915,6 +915,9 @@ Solve read_solver_list(const DeckContext& ctx, const Item& item, double& t0) {
                                                "Belos Linear Solver", "Adaptive Load-Stepping"});
     solver["type"] = "static";
     solver["method"] = "newton";
+    // Peridigm's quasi-static current positions, (X + u_n) + Delta u over a load step
+    // (Pals_Simple_Shear's gold: its forces to the bit; docs/peridigm.md, Round-off).
+    solver["positions"] = "peridigm";
     // Peridigm's Newton, run to its absolute tolerance, ends far below it (its golds'
     // displacements agree with Horizon's to 1e-15 when Horizon converges to 1e-12; at
     // Horizon's default 1e-6 they differ by 1e-9 relative, and Peridigm's quasi-static

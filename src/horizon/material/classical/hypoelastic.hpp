@@ -14,18 +14,22 @@
 //     axial(D V - V D): the spin of R that keeps V symmetric in V_dot = L V - V Omega
 //     (Flanagan and Taylor's eq. for omega; derived: for skew A and symmetric V,
 //     A V + V A is skew with axial vector (tr(V) I - V) a);
-//   R = (I - dt/2 Omega)^-1 (I + dt/2 Omega) R_n  (their midpoint rotation update),
-//     = (I + c (dt Omega + (dt Omega)^2 / 2)) R_n,  c = 1/(1 + |dt omega|^2/4), omega the
-//     axial vector of Omega (the closed form of that Cayley transform); or, with
-//     `RotationUpdate::peridigm`, Peridigm's increment (I + c (dt Omega - (dt Omega)^2 / 2)) R_n,
-//     the sign of the second-order term FITTED from Peridigm's gold
-//     PredictorFromPreviousSolverQSTrue (docs/peridigm.md, "Peridigm's hourglass force"):
-//     at t = 1 the gold's Cauchy and unrotated stresses differ from this rate form at its
-//     own Deformation_Gradient by 0.047 and 0.030 Pa (2e-9 of 2.4e7) with the Cayley R,
-//     by 8.6e-4 Pa with R = I + W + a W^2 at a = -1/2 exactly (a = -0.48, -0.52: 1.2e-3,
-//     9e-4; the Cayley a = +1/2), and the decks then match. Not orthogonal to second order
-//     in the step's rotation (R^T R = I - (c + c^2) W^2 + c^2 W^4 / 4, W = dt Omega):
-//     harmless for small rotation steps, and only what the golds need;
+//   R = (I - dt/2 Omega)^-1 (I + dt/2 Omega) R_n  (their midpoint rotation update,
+//     `RotationUpdate::cayley`); or, with `RotationUpdate::peridigm`, R = Q R_n with, for
+//     omega the axial vector of Omega and theta = dt |omega|,
+//       Q = I + (sin(theta)/|omega|) Omega - ((1 - cos theta)/|omega|^2) Omega^2
+//     (Q = I where |omega|^2 <= 1e-30): Flanagan and Taylor's exponential of dt Omega
+//     (their eq. 44, Rodrigues' formula, whose Omega^2 term has the sign +) with the sign
+//     of its Omega^2 term as Peridigm evaluates it (src/materials/correspondence.cxx of the
+//     Peridigm repository, computeUnrotatedRateOfDeformationAndRotationTensor, read for
+//     its formula). Q is not orthogonal: Q Q^T = I + O(theta^2) (for a spin about z,
+//     Q_xx = 2 - cos theta). Two golds fix it: AdaptiveQuasiStaticSolver (the one suite
+//     deck whose particles rotate by 2e-2: its Rotation_Tensor is 1.4e-4 from orthogonal
+//     at t = 9 dt, the Cayley R 5.5e-5 from it; with Q every frame to round-off, R to
+//     2.9e-15 against the .comp's 1e-12) and PredictorFromPreviousSolverQSTrue, from which
+//     branch pdhourglass had fitted the second-order form I + c (W - W^2/2), c = 1/(1 +
+//     |W|^2/4), W = dt Omega (the same to second order: 8.6e-4 Pa of 2.4e7 at t = 1 against
+//     0.047 Pa with the Cayley R, docs/peridigm.md "Peridigm's hourglass force");
 //   V = V_n + dt (L V_n - V_n Omega);
 //   d = R^T D R  (the unrotated rate of deformation),
 //   sigma_u = sigma_u,n + dt (lambda tr(d) I + 2 mu d), then, with a yield stress, where
@@ -101,15 +105,18 @@ inline Eigen::Vector3d axial_of(const Mat3& S) { return {S(2, 1), S(0, 2), S(1, 
 enum class PlasticReturn { work, peridigm, needleman };
 
 // The rotation increment of the rate form: Flanagan and Taylor's Cayley transform
-// (orthogonal), or Peridigm's (the sign of its second-order term fitted, above).
+// (orthogonal), or Peridigm's exponential with its sign of the Omega^2 term (above).
 enum class RotationUpdate { cayley, peridigm };
 
-// The rotation increment Q (R = Q R_n) of the step's spin dt Omega.
-inline Mat3 rotation_increment(const Mat3& Wd, RotationUpdate kind) {
-  const Eigen::Vector3d w{Wd(2, 1), Wd(0, 2), Wd(1, 0)};
-  const double c = 1.0 / (1.0 + 0.25 * w.squaredNorm());
-  const double sign = kind == RotationUpdate::peridigm ? -0.5 : 0.5;
-  return Mat3::Identity() + c * (Wd + sign * (Wd * Wd));
+// Q of `RotationUpdate::peridigm` over dt for the spin Omega, in Peridigm's order of
+// operations (its scale factors sin(dt |omega|)/|omega| and -(1 - cos(dt |omega|))/|omega|^2).
+inline Mat3 peridigm_rotation_increment(const Mat3& Omega, double dt) {
+  const Eigen::Vector3d w{Omega(2, 1), Omega(0, 2), Omega(1, 0)};
+  const double w2 = w.squaredNorm();
+  if (!(w2 > 1e-30)) return Mat3::Identity();
+  const double norm = std::sqrt(w2);
+  const double f1 = std::sin(dt * norm) / norm, f2 = -(1.0 - std::cos(dt * norm)) / w2;
+  return Mat3::Identity() + f1 * Omega + f2 * (Omega * Omega);
 }
 
 // Needleman's viscoplastic flow stress (A. Needleman 1988, "Material rate dependence and
@@ -219,7 +226,7 @@ inline HypoResult hypoelastic_step(const Elastic& c, double yield, double harden
     const Eigen::Vector3d a = M.lu().solve(axial_of(C));
     const Mat3 Omega = W + skew_of(a);
     trial.R = rotation == RotationUpdate::cayley ? Mat3((I - 0.5 * dt * Omega).lu().solve((I + 0.5 * dt * Omega) * n.R))
-                                                 : Mat3(rotation_increment(dt * Omega, rotation) * n.R);
+                                                 : Mat3(peridigm_rotation_increment(Omega, dt) * n.R);
     trial.V = n.V + dt * (L * n.V - n.V * Omega);
     trial.F = F;
     out.d = trial.R.transpose() * D * trial.R;

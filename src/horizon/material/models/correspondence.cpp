@@ -101,8 +101,8 @@ const ModelTraits& traits() {
          {"work", "peridigm"}},
         {"rotation_update",
          "the rate-form laws (hypoelastic, hypoelastic_j2, viscoplastic_needleman): cayley (Flanagan and Taylor's "
-         "midpoint rotation, orthogonal) or peridigm (Peridigm's increment I + c (W - W^2/2), fitted from its gold: "
-         "classical/hypoelastic.hpp)",
+         "midpoint rotation, orthogonal) or peridigm (Peridigm's exponential of dt Omega with the sign of its Omega^2 "
+         "term as Peridigm evaluates it, not orthogonal: classical/hypoelastic.hpp)",
          {"cayley", "peridigm"}},
         {"stabilization_form",
          "silling: Silling 2017's G omega (Y - F xi); peridigm: Peridigm's hourglass force -C c omega ((F xi - Y).Y) "
@@ -174,6 +174,14 @@ class Correspondence final : public Model {
   std::vector<History> committed_, trial_;
   std::vector<double> work_;       // plastic work of the trial step [J/m^3]
   std::vector<double> von_mises_;  // Cauchy von Mises stress of the last pass [Pa]
+  // The von Mises stress of the law's result at local particle l: the rate-form laws' of
+  // their unrotated Cauchy stress (the one their return acts on), as Peridigm reports it;
+  // with an orthogonal R (rotation_update cayley) the same to round-off as that of
+  // sigma = R sigma_u R^T, while Peridigm's R is not orthogonal (AdaptiveQuasiStaticSolver's
+  // gold: 1.5e8, the yield stress, where R sigma_u R^T gives up to 1.57e8).
+  double von_mises_of(std::size_t l, const Mat3& sigma) const {
+    return correspondence::von_mises(hypo_ ? trial_[l].hypo.sigma_u : sigma);
+  }
   std::vector<uint8_t> singular_;  // 1: the shape tensor was refused at the last pass
   std::vector<double> yield_factor_;  // the flaw's factor on sigma_y (1 without a flaw)
   // Of the last pass, for the output (hypoelastic laws): K^-1, F, sigma, unrotated d.
@@ -331,7 +339,7 @@ void Correspondence::force_state(ForcePass& pass) {
         A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
         W = r.W;
       }
-      von_mises_[l] = correspondence::von_mises(r.sigma);
+      von_mises_[l] = von_mises_of(l, r.sigma);
     } else {
       trial_[l] = committed_[l];
       work_[l] = 0;
@@ -397,7 +405,7 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
       return;
     }
     const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
-    von_mises_[l] = correspondence::von_mises(r.sigma);
+    von_mises_[l] = von_mises_of(l, r.sigma);
     // Row-major copies for the flat record (Eigen stores by column).
     double p[9], ki[9];
     for (int c = 0; c < 9; ++c) p[c] = r.P(c / 3, c % 3), ki[c] = Kinv(c / 3, c % 3), f[c] = F(c / 3, c % 3);
