@@ -128,18 +128,8 @@ void BondAssociated::setup(const ModelSetup& in) {
   System& s = in.system;
   if (dim < 2) throw Error("material '" + mat.name + "': the bond-associated correspondence model needs dimension 2 or 3");
   const std::string& law = choice(mat, "stress_law");
-  law_.law = law == "neo_hookean"      ? StressLaw::neo_hookean
-             : law == "j2"             ? StressLaw::j2
-             : law == "hypoelastic"    ? StressLaw::hypoelastic
-             : law == "hypoelastic_j2" ? StressLaw::hypoelastic_j2
-                                       : StressLaw::linear_elastic;
+  law_ = correspondence::law_settings(mat, dim, in.dims.plane);
   hypo_ = correspondence::rate_form(law_.law);
-  law_.elastic = classical::elastic_from_bulk_shear(mat.bulk_modulus, mat.shear_modulus);
-  law_.j2 = {parameter(mat, "yield_stress"), parameter(mat, "hardening_modulus")};
-  law_.dimension = dim;
-  law_.plane = in.dims.plane;
-  law_.rotation = choice(mat, "rotation_update") == "peridigm" ? classical::RotationUpdate::peridigm
-                                                                : classical::RotationUpdate::cayley;
   if ((law_.law == StressLaw::j2 || law_.law == StressLaw::hypoelastic_j2) && !(law_.j2.yield_stress > 0))
     throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
   if (hypo_ && dim == 2 && law_.plane == PlaneMode::stress)

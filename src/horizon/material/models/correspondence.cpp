@@ -229,21 +229,10 @@ void Correspondence::setup(const ModelSetup& in) {
   if (dim < 2) throw Error("material '" + mat.name + "': the correspondence model needs dimension 2 or 3");
 
   const std::string& law = choice(mat, "stress_law");
-  law_.law = law == "neo_hookean"      ? StressLaw::neo_hookean
-             : law == "j2"             ? StressLaw::j2
-             : law == "hypoelastic"    ? StressLaw::hypoelastic
-             : law == "hypoelastic_j2" ? StressLaw::hypoelastic_j2
-             : law == "viscoplastic_needleman" ? StressLaw::viscoplastic_needleman
-                                       : StressLaw::linear_elastic;
+  law_ = correspondence::law_settings(mat, dim, in.dims.plane);
   hypo_ = correspondence::rate_form(law_.law);
-  law_.elastic = classical::elastic_from_bulk_shear(mat.bulk_modulus, mat.shear_modulus);
-  law_.j2 = {parameter(mat, "yield_stress"), parameter(mat, "hardening_modulus")};
-  law_.dimension = dim;
-  law_.plane = in.dims.plane;
   law_.plastic_return = choice(mat, "plastic_return") == "peridigm" ? classical::PlasticReturn::peridigm
                                                                     : classical::PlasticReturn::work;
-  law_.rotation = choice(mat, "rotation_update") == "peridigm" ? classical::RotationUpdate::peridigm
-                                                               : classical::RotationUpdate::cayley;
   if (law_.law == StressLaw::viscoplastic_needleman) {
     law_.plastic_return = classical::PlasticReturn::needleman;
     law_.needleman = {parameter(mat, "strain_hardening_exponent"), parameter(mat, "rate_hardening_exponent"),

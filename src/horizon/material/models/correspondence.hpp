@@ -91,6 +91,28 @@ struct LawSettings {
   classical::RotationUpdate rotation = classical::RotationUpdate::cayley;  // the rate form's R increment
 };
 
+// The settings every model of the correspondence family reads from its deck the same way
+// (correspondence, bond_associated_correspondence): the stress law by name, its elastic
+// and J2 constants, the dimension and plane mode, the rate form's rotation update. The
+// plastic return and Needleman's constants are correspondence's alone.
+inline LawSettings law_settings(const MaterialConfig& mat, int dimension, PlaneMode plane) {
+  LawSettings s;
+  const std::string& law = Model::choice(mat, "stress_law");
+  s.law = law == "neo_hookean"              ? StressLaw::neo_hookean
+          : law == "j2"                     ? StressLaw::j2
+          : law == "hypoelastic"            ? StressLaw::hypoelastic
+          : law == "hypoelastic_j2"         ? StressLaw::hypoelastic_j2
+          : law == "viscoplastic_needleman" ? StressLaw::viscoplastic_needleman
+                                            : StressLaw::linear_elastic;
+  s.elastic = classical::elastic_from_bulk_shear(mat.bulk_modulus, mat.shear_modulus);
+  s.j2 = {Model::parameter(mat, "yield_stress"), Model::parameter(mat, "hardening_modulus")};
+  s.dimension = dimension;
+  s.plane = plane;
+  s.rotation = Model::choice(mat, "rotation_update") == "peridigm" ? classical::RotationUpdate::peridigm
+                                                                   : classical::RotationUpdate::cayley;
+  return s;
+}
+
 // Per-particle history (the trial copy is written by the force pass, the committed one
 // read; Model::commit swaps them).
 struct History {
