@@ -129,7 +129,7 @@ run() {
     if [ $rc -eq 124 ] || [ $rc -eq 137 ]; then  # 137: killed 10 s after the limit (a run that finishes its frame on SIGTERM)
       result=timeout; detail="over ${limit} s"
     elif [ $rc -ne 0 ]; then
-      result=fails; detail=$(grep -m1 -i 'error' "$wd/run.log" | sed "s|$checkout/||g" | one_line)
+      result=fails; detail=$(grep -m1 -iE 'error|^horizon: ' "$wd/run.log" | sed "s|$checkout/||g" | one_line)
       [ -n "$detail" ] || detail="exit $rc: $(tail -n 1 "$wd/run.log" | one_line)"
     else
       result=runs; detail="no gold"
