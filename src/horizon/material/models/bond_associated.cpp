@@ -12,10 +12,6 @@
 
 namespace horizon {
 
-// A History is numbers and fixed-size Eigen matrices: it checkpoints as its bytes.
-template <>
-struct plain_data<correspondence::History> : std::true_type {};
-
 namespace {
 
 using correspondence::History;

@@ -13,10 +13,6 @@
 
 namespace horizon {
 
-// A History is numbers and a fixed-size Eigen matrix: it checkpoints as its bytes.
-template <>
-struct plain_data<correspondence::History> : std::true_type {};
-
 namespace {
 
 using correspondence::History;

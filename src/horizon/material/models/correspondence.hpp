@@ -220,4 +220,10 @@ inline double von_mises(const Mat3& s) {
 }
 
 }  // namespace correspondence
+
+// A History is numbers and fixed-size Eigen matrices: it checkpoints as its bytes (the
+// correspondence and bond-associated models both keep one).
+template <>
+struct plain_data<correspondence::History> : std::true_type {};
+
 }  // namespace horizon
