@@ -26,39 +26,62 @@ HORIZON_HD inline double power(double x, double y) {
 #endif
 }
 
+// The functions below that take a type T compute one bond (T = double) or eight at once
+// (T a vector of eight doubles, the pair form's lanes: extended_correspondence.cpp
+// pair_*_lanes), with the same IEEE operations in the same order in every lane.
+
 // a . b of two 6-vectors (plain components; the contraction's weights are in the vectors).
-HORIZON_HD_INLINE double dot6(const double* a, const double* b) {
-  double e[6];
+template <class T>
+HORIZON_HD_INLINE T dot6(const T* a, const T* b) {
+  T e[6];
   for (int k = 0; k < 6; ++k) e[k] = a[k] * b[k];
   return (e[0] + (e[2] + e[4])) + (e[1] + (e[3] + e[5]));
 }
 
 // p . (a + b)/2: the midpoint residual's projection.
-HORIZON_HD_INLINE double dot6_mid(const double* p, const double* a, const double* b) {
-  double e[6];
+template <class T>
+HORIZON_HD_INLINE T dot6_mid(const T* p, const T* a, const T* b) {
+  T e[6];
   for (int k = 0; k < 6; ++k) e[k] = p[k] * (0.5 * (a[k] + b[k]));
   return (e[0] + (e[2] + e[4])) + (e[1] + (e[3] + e[5]));
 }
 
 // H<xi> of Tupek's (4.4) from n = xi/|xi|: 3-D 5/2 n n - 1/2 I; 2-D 2 n n - 1/2 I_2.
-HORIZON_HD_INLINE void unit_shape_state(const double* n, int dimension, double* h) {
+template <class T>
+HORIZON_HD_INLINE void unit_shape_state(const T* n, int dimension, T* h) {
   const double a = dimension == 3 ? 2.5 : 2.0;
   h[0] = a * n[0] * n[0] - 0.5;
   h[1] = a * n[1] * n[1] - 0.5;
-  h[2] = dimension == 3 ? a * n[2] * n[2] - 0.5 : 0.0;
+  if (dimension == 3)
+    h[2] = a * n[2] * n[2] - 0.5;
+  else
+    h[2] = T{};
   h[3] = a * n[1] * n[2];
   h[4] = a * n[0] * n[2];
   h[5] = a * n[0] * n[1];
 }
 
 // p with p . e = n . e n (the bond's normal strain of a tensor e).
-HORIZON_HD_INLINE void unit_normal_projector(const double* n, double* p) {
+template <class T>
+HORIZON_HD_INLINE void unit_normal_projector(const T* n, T* p) {
   p[0] = n[0] * n[0];
   p[1] = n[1] * n[1];
   p[2] = n[2] * n[2];
-  p[3] = 2 * n[1] * n[2];
-  p[4] = 2 * n[0] * n[2];
-  p[5] = 2 * n[0] * n[1];
+  p[3] = 2.0 * n[1] * n[2];
+  p[4] = 2.0 * n[0] * n[2];
+  p[5] = 2.0 * n[0] * n[1];
+}
+
+// |Y|^2 of a bond, summed as Vec3's dot and kernels::bond_length sum it.
+template <class T>
+HORIZON_HD_INLINE T squared_length(T x, T y, T z) {
+  return x * x + y * y + z * z;
+}
+
+// The m = 1 bond strain (c - 1)/2 (pair_strain below), c = |Y|^2/|xi|^2.
+template <class T>
+HORIZON_HD_INLINE T green_bond_strain(T c) {
+  return 0.5 * (c - 1.0);
 }
 
 // The Seth-Hill strain of (4.2) in the pair pass: for m = 1 (c - 1)/2, exact in c

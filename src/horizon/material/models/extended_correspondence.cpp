@@ -1,6 +1,9 @@
+// GCC's -Wpsabi note on the pair form's eight-lane vectors (see "eight lanes" below).
+#pragma GCC diagnostic ignored "-Wpsabi"
 #include "horizon/material/models/extended_correspondence.hpp"
 
 #include <array>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -22,6 +25,133 @@ template <>
 struct plain_data<extended::MomentMap> : std::true_type {};
 
 namespace {
+
+// ---- The pair form's eight lanes (pair_*_lanes below) ----
+// Bond k of a row goes to lane (k - row start) mod 8 and each lane keeps its own partial
+// sums, added as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)) at the row's end
+// (kernels/lanes.hpp, as the fast loops and the affine sweeps add theirs). The lanes are
+// GCC's eight-double vectors and nothing target-specific: the rows are built for the
+// build's x86-64-v2 and for AVX-512 (pair_*_avx512), which compile the same IEEE operations
+// (no FMA contraction in this file), so both give the same bits. A lane whose bond does
+// not act adds +0, which changes no sum (a lane's sum starts at +0 and never becomes -0).
+// The eight-lane vectors never cross a call (every function that takes one is inlined,
+// kernels/extended.hpp's too), so GCC's note that their ABI depends on AVX-512 (-Wpsabi,
+// silenced at the top of this file) says nothing here.
+using v8d = double __attribute__((vector_size(64)));
+using v8l = int64_t __attribute__((vector_size(64)));
+using v4d = double __attribute__((vector_size(32)));
+#define HORIZON_LANE_INLINE __attribute__((always_inline)) inline
+
+// Eight records of (at least) four doubles, one per lane, transposed into four vectors:
+// a[l] = p[l][0], ..., d[l] = p[l][3] (eight 32-byte loads and eight permutations).
+HORIZON_LANE_INLINE void transpose8(const double* const* p, v8d& a, v8d& b, v8d& c, v8d& d) {
+  v4d r[8];
+#pragma GCC unroll 8
+  for (int l = 0; l < 8; ++l) std::memcpy(&r[l], p[l], sizeof(v4d));
+  const v8d z0 = __builtin_shufflevector(r[0], r[1], 0, 1, 2, 3, 4, 5, 6, 7);
+  const v8d z1 = __builtin_shufflevector(r[2], r[3], 0, 1, 2, 3, 4, 5, 6, 7);
+  const v8d z2 = __builtin_shufflevector(r[4], r[5], 0, 1, 2, 3, 4, 5, 6, 7);
+  const v8d z3 = __builtin_shufflevector(r[6], r[7], 0, 1, 2, 3, 4, 5, 6, 7);
+  const v8d u0 = __builtin_shufflevector(z0, z1, 0, 4, 8, 12, 1, 5, 9, 13);
+  const v8d u1 = __builtin_shufflevector(z0, z1, 2, 6, 10, 14, 3, 7, 11, 15);
+  const v8d w0 = __builtin_shufflevector(z2, z3, 0, 4, 8, 12, 1, 5, 9, 13);
+  const v8d w1 = __builtin_shufflevector(z2, z3, 2, 6, 10, 14, 3, 7, 11, 15);
+  a = __builtin_shufflevector(u0, w0, 0, 1, 2, 3, 8, 9, 10, 11);
+  b = __builtin_shufflevector(u0, w0, 4, 5, 6, 7, 12, 13, 14, 15);
+  c = __builtin_shufflevector(u1, w1, 0, 1, 2, 3, 8, 9, 10, 11);
+  d = __builtin_shufflevector(u1, w1, 4, 5, 6, 7, 12, 13, 14, 15);
+}
+HORIZON_LANE_INLINE v8d masked(v8l m, v8d v) { return reinterpret_cast<v8d>(m & reinterpret_cast<v8l>(v)); }
+// m ? a : b lane by lane, in bit operations (GCC lowers some of its vector conditionals
+// lane by lane).
+HORIZON_LANE_INLINE v8d select(v8l m, v8d a, v8d b) {
+  return reinterpret_cast<v8d>((m & reinterpret_cast<v8l>(a)) | (~m & reinterpret_cast<v8l>(b)));
+}
+HORIZON_LANE_INLINE double lanes_total(const v8d& v) {
+  alignas(64) double a[8];
+  std::memcpy(a, &v, sizeof a);
+  return kernels::lane_total(a);
+}
+HORIZON_LANE_INLINE double lanes_min(const v8d& v) {
+  alignas(64) double a[8];
+  std::memcpy(a, &v, sizeof a);
+  return kernels::lane_min(a);
+}
+HORIZON_LANE_INLINE v8d lanes_sqrt(v8d x) {
+  v8d r;
+#pragma GCC unroll 8
+  for (int l = 0; l < 8; ++l) r[l] = std::sqrt(x[l]);
+  return r;
+}
+// The byte flags of bonds k .. k + count - 1 as lane masks (-1: the flag is set).
+using c8 = uint8_t __attribute__((vector_size(8)));
+using c64 = uint8_t __attribute__((vector_size(64)));
+// (Flags 0, 1 or 2, as Bonds::intact. GCC 12 lowers a vector comparison lane by lane
+// wherever its result is kept as an integer mask, so the lanes make their masks with bit
+// operations, keep them in the records as all-ones bit patterns, and compare only inside
+// a selection of doubles: gt below.)
+HORIZON_LANE_INLINE v8l byte_lanes(const uint8_t* flags, uint64_t k, int count, uint64_t total) {
+  uint64_t bits = 0;
+  if (k + 8 <= total)
+    std::memcpy(&bits, flags + k, 8);
+  else
+    for (int l = 0; l < count; ++l) bits |= static_cast<uint64_t>(flags[k + static_cast<uint64_t>(l)]) << (8 * l);
+  if (count < 8) bits &= (uint64_t{1} << (8 * count)) - 1;
+  const v8l shift = {0, 8, 16, 24, 32, 40, 48, 56};
+  const v8l b = ((v8l{} + static_cast<int64_t>(bits)) >> shift) & 0xff;
+  return -((b | (b >> 1)) & 1);
+}
+// a > b lane by lane as a mask (through a selection of 1.0 or 0.0: bit 52 is 1.0's).
+HORIZON_LANE_INLINE v8l gt(v8d a, v8d b) {
+  const v8d t = a > b ? v8d{} + 1.0 : v8d{};
+  return -((reinterpret_cast<v8l>(t) >> 52) & 1);
+}
+// A mask kept in a double's bits (all ones: set).
+inline double mask_bits(bool set) {
+  const int64_t m = set ? -1 : 0;
+  double d;
+  std::memcpy(&d, &m, sizeof d);
+  return d;
+}
+HORIZON_LANE_INLINE v8l as_mask(v8d v) { return reinterpret_cast<v8l>(v); }
+// Lane masks as eight bytes, 1 where the lane's mask is set (byte l: lane l).
+HORIZON_LANE_INLINE uint64_t lane_bytes(v8l m) {
+  const c64 b = reinterpret_cast<c64>(m & 1);
+  const c8 r = __builtin_shufflevector(b, b, 0, 8, 16, 24, 32, 40, 48, 56);
+  uint64_t bits;
+  std::memcpy(&bits, &r, 8);
+  return bits;
+}
+HORIZON_LANE_INLINE bool any_lane(v8l m) { return lane_bytes(m) != 0; }
+// Lane masks back to the bytes of bonds k .. k + count - 1.
+HORIZON_LANE_INLINE void store_bytes(uint8_t* flags, uint64_t k, int count, v8l m) {
+  const uint64_t bits = lane_bytes(m);
+  if (count == 8)
+    std::memcpy(flags + k, &bits, 8);
+  else
+    for (int l = 0; l < count; ++l) flags[k + static_cast<uint64_t>(l)] = static_cast<uint8_t>(bits >> (8 * l));
+}
+// Eight doubles of bonds k .. k + count - 1 (lanes past count: 0).
+HORIZON_LANE_INLINE v8d load_lanes(const double* v, uint64_t k, int count) {
+  v8d r = {};
+  if (count == 8)
+    std::memcpy(&r, v + k, sizeof r);
+  else
+    for (int l = 0; l < count; ++l) r[l] = v[k + static_cast<uint64_t>(l)];
+  return r;
+}
+// v[k + l] = x[l] for l < count: every lane, also those whose bond does not act (the
+// per-bond scratch eps_, rforce_, pair_q_ is read only where the bond acts).
+HORIZON_LANE_INLINE void store_lanes(double* v, uint64_t k, int count, v8d x) {
+  if (count == 8)
+    std::memcpy(v + k, &x, sizeof x);
+  else
+    for (int l = 0; l < count; ++l) v[k + static_cast<uint64_t>(l)] = x[l];
+}
+// The lane record of a particle for the pair sum (lane_rec_): A, k_s, and as masks (all
+// ones: set) on, mid, on with k_s != 0; then E.
+constexpr int kLaneRecord = 16;
+constexpr int kLanePK = 12;  // PK column by column, 0, 0, 0
 
 using classical::StrainLaw;
 using classical::StrainLawParams;
@@ -129,7 +259,19 @@ class ExtendedCorrespondence final : public Model {
     const ForcePass* pass;
     bool energy;
     bool keep_q;  // some bond may break in the next pass: pair_q_ is written (pair_forces)
+    // The rows in the eight lanes (pair_forces: kinds with their lengths, no temperature-
+    // dependent critical stretch, the material holding every particle in order):
+    bool lanes;
+    bool contact;             // the family contact acts (per lane, scalar)
+    const Point4* ref;        // per particle {X, 1: D > D_c (omega_D)}
+    const Point4* kind4;      // per kind {L, 1/L, omega, V_j (partial-volume scaled)}
   };
+  uint64_t pair_break_lanes(const PairPass& c, std::size_t l, uint32_t& count, Vec6& S, Mat3& N, double& smin,
+                            double& lost);
+  void pair_stabilisation_lanes(const PairPass& c, std::size_t l, const Vec6& Ei, double ks, Vec6& Rp, double& Ws);
+  bool pair_sum_lanes(const PairPass& c, std::size_t i);
+  void book_break(const PairPass& c, std::size_t i, uint64_t k, double r, double e, double& lost);
+  void lane_record(std::size_t l);
   uint64_t pair_break_row(const PairPass& c, std::size_t l);
   void pair_law_row(const PairPass& c, std::size_t l);
   void pair_sum_row(const PairPass& c, std::size_t i);
@@ -546,6 +688,13 @@ class ExtendedCorrespondence final : public Model {
   std::vector<Vec3> pair_y_;    // per particle of the system: the positions of the last pass
   std::vector<Vec6> e_full_;
   std::vector<Mat3> n_sum_;
+  // The lanes' copies (PairPass::lanes): per particle of the system, packed; per kind.
+  bool identity_ = false;          // particles_[l] == l for every particle of the system
+  std::vector<Point4> lane_ref_;   // {X, omega_D's flag}
+  std::vector<Point4> lane_kind_;  // {L, 1/L, omega, V_j}
+  std::vector<double> lane_mid_;   // the midpoint's neighbour data {E, k_s, e_ok_} (8 a particle)
+  std::vector<double> lane_rec_;   // kLaneRecord a particle (the pair sum's record)
+  std::vector<double> lane_pk_;    // kLanePK a particle (PK, volumetric_strain gradient)
 };
 
 void ExtendedCorrespondence::setup(const ModelSetup& in) {
@@ -589,6 +738,8 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   const System& s = in.system;
   const Bonds& B = s.bonds;
   particles_ = in.particles;
+  identity_ = particles_.size() == s.particles.size();
+  for (std::size_t l = 0; l < particles_.size() && identity_; ++l) identity_ = particles_[l] == l;
   local_.assign(s.particles.size(), -1);
   ks_.assign(particles_.size(), 0.0);
   family_weight_.assign(particles_.size(), 0.0);
@@ -859,7 +1010,8 @@ __attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_brea
   uint32_t count = 0;
   Vec6 S = Vec6::Zero();
   Mat3 N = Mat3::Zero();
-  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+  if (c.lanes) row_broken = pair_break_lanes(c, l, count, S, N, smin, lost);
+  for (uint64_t k = c.lanes ? B.end(i) : B.begin(i); k < B.end(i); ++k) {
     acts_[k] = 0;
     if (!B.intact[k]) continue;
     const uint32_t j = B.nbr[k];
@@ -911,6 +1063,111 @@ __attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_brea
   return row_broken;
 }
 
+// A bond of row i that breaks in the lanes (bond order, as pair_break_row books it): r
+// and e as the lanes computed them.
+void ExtendedCorrespondence::book_break(const PairPass& c, std::size_t i, uint64_t k, double r, double e,
+                                        double& lost) {
+  System& s = c.system;
+  Bonds& B = s.bonds;
+  const uint32_t j = B.nbr[k];
+  const BondKind& bk = c.kinds[B.kind[k]];
+  B.intact[k] = c.after ? 2 : 0;
+  if (r > 0 && acted_[k]) {
+    const Point4 pi = c.y[i], pj = c.y[j];
+    const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z}, xi = c.X[j] - c.X[i];
+    const Vec3 Yo = pair_y_[j] - pair_y_[i];
+    const Eigen::Vector3d t = bk.weight * (pair_pk_[local_[i]] * Eigen::Vector3d(xi.x, xi.y, xi.z));
+    const Vec3 T_old = pair_q_[k] * Yo + Vec3{t[0], t[1], t[2]};
+    lost += 0.5 * dot(T_old, Y) / r * e * (bk.volume * bk.fraction);
+  }
+  s.model.intact_weight[i] -= c.kcs[B.kind[k]].damage;
+}
+
+// Row l's bond loop of pair_break_row in the eight lanes: breaking (the same stretch bits;
+// the broken bonds booked in bond order), the acting flags and strains, S = sum w eps H and
+// N = sum w Y (x) xi (volumetric_strain gradient) lane by lane. Returns the bonds it broke.
+__attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_break_lanes(
+    const PairPass& c, std::size_t l, uint32_t& count, Vec6& S6, Mat3& N9, double& smin, double& lost) {
+  Bonds& B = c.system.bonds;
+  const uint32_t i = particles_[l];
+  const Point4 pi = c.y[i], xr = c.ref[i];
+  const bool self_failed = committed_[l].damage > critical_, after = c.after, m1 = m_ == 1.0;
+  const uint64_t begin = B.begin(i), end = B.end(i), total = B.size();
+  const v8d zero = {};
+  v8d S[6], N[9];
+  for (auto& v : S) v = zero;
+  for (auto& v : N) v = zero;
+  v8d sm = zero + std::numeric_limits<double>::infinity();
+  uint64_t broken = 0;
+  for (uint64_t k = begin; k < end; k += 8) {
+    const int cnt = end - k < 8 ? static_cast<int>(end - k) : 8;
+    const v8l live = byte_lanes(B.intact.data(), k, cnt, total);
+    if (!any_lane(live)) {
+      for (int q = 0; q < cnt; ++q) acts_[k + static_cast<uint64_t>(q)] = 0;
+      continue;
+    }
+    const double *pp[8], *pr[8], *pk[8];
+    for (int q = 0; q < 8; ++q) {
+      const uint64_t kk = q < cnt ? k + static_cast<uint64_t>(q) : k;
+      const uint32_t j = q < cnt ? B.nbr[kk] : i;
+      pp[q] = &c.y[j].x;
+      pr[q] = &c.ref[j].x;
+      pk[q] = &c.kind4[B.kind[kk]].x;
+    }
+    v8d Yx, Yy, Yz, wj, xx, xy, xz, fj, L, iL, om, V;
+    transpose8(pp, Yx, Yy, Yz, wj);
+    transpose8(pr, xx, xy, xz, fj);
+    transpose8(pk, L, iL, om, V);
+    Yx -= pi.x, Yy -= pi.y, Yz -= pi.z;
+    const v8d r2 = kernels::squared_length(Yx, Yy, Yz), r = lanes_sqrt(r2), e = r - L, stretch = e * iL;
+    const v8d sl = select(live, stretch, zero + std::numeric_limits<double>::infinity());
+    sm = sl < sm ? sl : sm;
+    const v8d s0i = zero + pi.w, s0 = s0i < wj ? s0i : wj;  // kernels::breaks
+    const v8l breaks = live & gt(stretch, s0);
+    v8l acts = after ? live : live & ~breaks;
+    acts = (self_failed ? v8l{} : acts) & ~as_mask(fj);  // omega_D (bond_acts)
+    if (const uint64_t b = lane_bytes(breaks))
+      for (int q = 0; q < cnt; ++q)
+        if ((b >> (8 * q)) & 1) {
+          ++broken;
+          book_break(c, i, k + static_cast<uint64_t>(q), r[q], e[q], lost);
+        }
+    store_bytes(acts_.data(), k, cnt, acts);
+    const uint64_t acting = lane_bytes(acts);
+    if (!acting) continue;
+    count += static_cast<uint32_t>(__builtin_popcountll(acting));
+    const v8d cc = r2 * (iL * iL);
+    v8d eps;
+    if (m1) {
+      eps = kernels::green_bond_strain(cc);
+    } else {
+      eps = zero;
+      for (int q = 0; q < cnt; ++q)
+        if ((acting >> (8 * q)) & 1) eps[q] = kernels::pair_strain(cc[q], m_);
+    }
+    store_lanes(eps_.data(), k, cnt, eps);
+    const v8d xi[3] = {xx - xr.x, xy - xr.y, xz - xr.z};
+    const v8d n[3] = {iL * xi[0], iL * xi[1], iL * xi[2]};
+    v8d h[6];
+    kernels::unit_shape_state(n, dim_, h);
+    const v8d w = om * V, we = w * eps;
+    for (int q = 0; q < 6; ++q) S[q] += masked(acts, we * h[q]);
+    if (vol_gradient_) {
+      const v8d Y[3] = {Yx, Yy, Yz};
+      for (int a = 0; a < 3; ++a) {
+        const v8d wy = w * Y[a];
+        for (int b = 0; b < 3; ++b) N[3 * a + b] += masked(acts, wy * xi[b]);
+      }
+    }
+  }
+  for (int q = 0; q < 6; ++q) S6[q] = lanes_total(S[q]);
+  if (vol_gradient_)
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) N9(a, b) = lanes_total(N[3 * a + b]);
+  smin = lanes_min(sm);
+  return broken;
+}
+
 // 2. Row l's law, stabilisation and record (pair_forces).
 __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(const PairPass& c, std::size_t l) {
   System& s = c.system;
@@ -930,6 +1187,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
     rec.A.setZero();
     rec.ks = 0;
     pair_pk_[l].setZero();
+    if (c.lanes) lane_record(l);
     return;
   }
   const Vec6 Ei = e_full_[l];
@@ -942,7 +1200,8 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
   if (ks != 0) {
     const double inv_ks = 1.0 / ks;
     double Ws = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+    if (c.lanes) pair_stabilisation_lanes(c, l, Ei, ks, Rp, Ws);
+    for (uint64_t k = c.lanes ? B.end(i) : B.begin(i); k < B.end(i); ++k) {
       if (!acts_[k]) continue;
       const uint32_t j = B.nbr[k];
       const Vec6 p = extended::unit_normal_projector(kcs[B.kind[k]].inv_length * (X[j] - X[i]));
@@ -969,7 +1228,77 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
   pair_pk_[l] = law.PK;
   rec.ks = ks;
   rec.on = 1;
+  if (c.lanes) lane_record(l);
   row_end(pass, l, i, law, W);
+}
+
+// Row l's stabilisation loop of pair_law_row in the eight lanes: each acting bond's
+// residual r (kept in rforce_ for the sum), Rp = sum w r_force p and W_s = sum coef w r^2.
+__attribute__((always_inline)) inline void ExtendedCorrespondence::pair_stabilisation_lanes(
+    const PairPass& c, std::size_t l, const Vec6& Ei, double ks, Vec6& Rp6, double& Ws1) {
+  const Bonds& B = c.system.bonds;
+  const uint32_t i = particles_[l];
+  const Point4 xr = c.ref[i];
+  const uint64_t begin = B.begin(i), end = B.end(i), total = B.size();
+  const double inv_ks = 1.0 / ks;
+  const v8d zero = {};
+  v8d E[6];
+  for (int q = 0; q < 6; ++q) E[q] = zero + Ei[q];
+  v8d Rp[6], Ws = zero;
+  for (auto& v : Rp) v = zero;
+  for (uint64_t k = begin; k < end; k += 8) {
+    const int cnt = end - k < 8 ? static_cast<int>(end - k) : 8;
+    const v8l acts = byte_lanes(acts_.data(), k, cnt, total);
+    if (!any_lane(acts)) continue;
+    const double *pr[8], *pk[8], *pm[8];
+    for (int q = 0; q < 8; ++q) {
+      const uint64_t kk = q < cnt ? k + static_cast<uint64_t>(q) : k;
+      const uint32_t j = q < cnt ? B.nbr[kk] : i;
+      pr[q] = &c.ref[j].x;
+      pk[q] = &c.kind4[B.kind[kk]].x;
+      pm[q] = lane_mid_.data() + 8 * static_cast<std::size_t>(j);
+    }
+    v8d xx, xy, xz, fj, L, iL, om, V;
+    transpose8(pr, xx, xy, xz, fj);
+    transpose8(pk, L, iL, om, V);
+    const v8d n[3] = {iL * (xx - xr.x), iL * (xy - xr.y), iL * (xz - xr.z)};
+    v8d p[6];
+    kernels::unit_normal_projector(n, p);
+    const v8d eps = load_lanes(eps_.data(), k, cnt);
+    v8d r = eps - kernels::dot6(p, E), coef = zero + ks;
+    if (midpoint_) {
+      v8d Ej[6], ksj, okj;
+      const double* pm4[8];
+      transpose8(pm, Ej[0], Ej[1], Ej[2], Ej[3]);
+      for (int q = 0; q < 8; ++q) pm4[q] = pm[q] + 4;
+      transpose8(pm4, Ej[4], Ej[5], ksj, okj);
+      const v8l ok = as_mask(okj);
+      r = select(ok, eps - kernels::dot6_mid(p, E, Ej), r);
+      coef = select(ok, 0.5 * (ks + ksj), coef);
+    }
+    store_lanes(rforce_.data(), k, cnt, r);  // the pair sum's i side
+    const v8d w = om * V, wr = w * r, f = wr * (coef * inv_ks);
+    for (int q = 0; q < 6; ++q) Rp[q] += masked(acts, f * p[q]);
+    Ws += masked(acts, coef * wr * r);
+  }
+  for (int q = 0; q < 6; ++q) Rp6[q] = lanes_total(Rp[q]);
+  Ws1 = lanes_total(Ws);
+}
+
+// The pair sum's lane record of particle l (lane_rec_, lane_pk_) from pair_[l], pair_pk_[l].
+void ExtendedCorrespondence::lane_record(std::size_t l) {
+  const PairRecord& rec = pair_[l];
+  double* v = lane_rec_.data() + kLaneRecord * l;
+  for (int q = 0; q < 6; ++q) v[q] = rec.A[q], v[10 + q] = rec.E[q];
+  v[6] = rec.ks;
+  v[7] = mask_bits(rec.on != 0);
+  v[8] = mask_bits(rec.mid != 0);
+  v[9] = mask_bits(rec.on != 0 && rec.ks != 0);
+  if (vol_gradient_) {
+    double* pk = lane_pk_.data() + kLanePK * l;
+    for (int q = 0; q < 9; ++q) pk[q] = pair_pk_[l].data()[q];
+    pk[9] = pk[10] = pk[11] = 0.0;
+  }
 }
 
 // 3. Row i's pair sum with the family contact (pair_forces).
@@ -983,6 +1312,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
   const BondKind* kinds = c.kinds;
   const bool energy = c.energy;
   const double m = m_;
+  if (c.lanes && pair_sum_lanes(c, i)) return;
   const Point4 pi = y[i];
   const Vec3 xi_i = X[i];
   const int32_t li = local_[i];
@@ -1039,6 +1369,139 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
   if (energy) P.energy[i] += wc_sum;
 }
 
+// Row i's pair sum (pair_sum_row) in the eight lanes, for a row that carries stress with
+// k_s != 0 (its residual kept: kernels::pair_bond_kept, the same terms lane by lane);
+// false for another row (pair_sum_row sums it bond by bond).
+__attribute__((always_inline)) inline bool ExtendedCorrespondence::pair_sum_lanes(const PairPass& c, std::size_t i) {
+  const PairRecord& rec = pair_[i];
+  const double* reci = lane_rec_.data() + kLaneRecord * i;
+  const double ksi = rec.ks;
+  if (!rec.on || ksi == 0) return false;  // carries no stress, or no stabilisation
+  System& s = c.system;
+  const Bonds& B = s.bonds;
+  const bool mid_i = rec.mid != 0, m1 = m_ == 1.0, m0 = m_ == 0.0;
+  const Point4 pi = c.y[i], xr = c.ref[i];
+  const uint64_t begin = B.begin(i), end = B.end(i), total = B.size();
+  const v8d zero = {};
+  v8d Ai[6];
+  for (int q = 0; q < 6; ++q) Ai[q] = zero + reci[q];
+  v8d f[3] = {zero, zero, zero}, xw[3] = {zero, zero, zero}, wc = zero;
+  for (uint64_t k = begin; k < end; k += 8) {
+    const int cnt = end - k < 8 ? static_cast<int>(end - k) : 8;
+    const v8l acts = byte_lanes(acts_.data(), k, cnt, total);
+    const bool any = any_lane(acts);
+    if (!any && !c.contact) continue;
+    const double *pp[8], *pr[8], *pk[8], *pa[8], *pb[8], *pc[8];
+    for (int q = 0; q < 8; ++q) {
+      const uint64_t kk = q < cnt ? k + static_cast<uint64_t>(q) : k;
+      const uint32_t j = q < cnt ? B.nbr[kk] : static_cast<uint32_t>(i);
+      pp[q] = &c.y[j].x;
+      pr[q] = &c.ref[j].x;
+      pk[q] = &c.kind4[B.kind[kk]].x;
+      pa[q] = lane_rec_.data() + kLaneRecord * static_cast<std::size_t>(j);
+      pb[q] = pa[q] + 4;
+      pc[q] = pa[q] + 8;
+    }
+    v8d Yx, Yy, Yz, unused;
+    transpose8(pp, Yx, Yy, Yz, unused);
+    Yx -= pi.x, Yy -= pi.y, Yz -= pi.z;
+    if (any) {
+      v8d xx, xy, xz, L, iL, om, V, Aj[6], ksj, onv, midv, stabv, Ej[6];
+      transpose8(pr, xx, xy, xz, unused);
+      transpose8(pk, L, iL, om, V);
+      transpose8(pa, Aj[0], Aj[1], Aj[2], Aj[3]);
+      transpose8(pb, Aj[4], Aj[5], ksj, onv);
+      transpose8(pc, midv, stabv, Ej[0], Ej[1]);
+      const v8d xi[3] = {xx - xr.x, xy - xr.y, xz - xr.z};
+      const v8d n[3] = {iL * xi[0], iL * xi[1], iL * xi[2]};
+      v8d h[6];
+      kernels::unit_shape_state(n, dim_, h);
+      const v8l onj = as_mask(onv), midj = as_mask(midv), stab_j = as_mask(stabv);
+      const v8d r_i = load_lanes(rforce_.data(), k, cnt);
+      // i's residual term (kernels::pair_bond_kept): (k_i + k_j) r_i when j sends its E, else 2 k_i r_i.
+      const v8d si = kernels::dot6(Ai, h) + select(midj, (ksi + ksj) * r_i, (2.0 * ksi) * r_i);
+      // j's residual: the midpoint one i kept when both ends send their E, else j's own.
+      v8d res = (ksi + ksj) * r_i;
+      const v8l own = mid_i ? stab_j & ~midj : stab_j;
+      if (const uint64_t own_bits = lane_bytes(own)) {
+        v8d p[6];
+        kernels::unit_normal_projector(n, p);
+        const v8d eps = load_lanes(eps_.data(), k, cnt);
+        if (!midpoint_) {
+          const double* pe[8];
+          for (int q = 0; q < 8; ++q) pe[q] = pa[q] + 12;
+          transpose8(pe, Ej[2], Ej[3], Ej[4], Ej[5]);
+          res = (2.0 * ksj) * (eps - kernels::dot6(p, Ej));  // pair_side_residual without the midpoint
+        } else {
+          for (int q = 0; q < cnt; ++q) {
+            if (!((own_bits >> (8 * q)) & 1)) continue;
+            const double* rj = pa[q];
+            const double pq[6] = {p[0][q], p[1][q], p[2][q], p[3][q], p[4][q], p[5][q]};
+            const kernels::PairEnd ej{rj, rj + 10, rj[6], true, pair_[B.nbr[k + static_cast<uint64_t>(q)]].mid != 0};
+            const kernels::PairEnd ei{reci, reci + 10, ksi, true, mid_i};
+            res[q] = kernels::pair_side_residual(ej, ei, pq, eps[q]);
+          }
+        }
+      }
+      const v8d aj = kernels::dot6(Aj, h);
+      const v8d sj = masked(onj, select(stab_j, aj + res, aj));
+      const v8d inv2 = iL * iL;
+      v8d g = inv2;
+      if (!m1) {
+        const v8d cc = kernels::squared_length(Yx, Yy, Yz) * inv2;
+        if (m0) {
+          g = (1.0 / cc) * inv2;
+        } else {
+          for (int q = 0; q < 8; ++q) g[q] = kernels::power(cc[q], m_ - 1.0) * inv2[q];
+        }
+      }
+      const v8d wg = om * g, qi = wg * si, scale = V * (qi + wg * sj);
+      if (c.keep_q) store_lanes(pair_q_.data(), k, cnt, qi);
+      f[0] += masked(acts, scale * Yx);
+      f[1] += masked(acts, scale * Yy);
+      f[2] += masked(acts, scale * Yz);
+      if (vol_gradient_) {
+        const double *p0[8], *p1[8], *p2[8];
+        for (int q = 0; q < 8; ++q) {
+          const uint32_t j = q < cnt ? B.nbr[k + static_cast<uint64_t>(q)] : static_cast<uint32_t>(i);
+          p0[q] = lane_pk_.data() + kLanePK * static_cast<std::size_t>(j);
+          p1[q] = p0[q] + 4, p2[q] = p0[q] + 8;
+        }
+        v8d P[12];  // column by column
+        transpose8(p0, P[0], P[1], P[2], P[3]);
+        transpose8(p1, P[4], P[5], P[6], P[7]);
+        transpose8(p2, P[8], P[9], P[10], P[11]);
+        const v8d w = om * V;
+        for (int a = 0; a < 3; ++a) {
+          const v8d t = w * ((P[a] * xi[0] + P[3 + a] * xi[1]) + P[6 + a] * xi[2]);
+          f[a] += masked(acts, t);
+          xw[a] += masked(acts, w * xi[a]);
+        }
+      }
+    }
+    if (c.contact) {
+      v8d cf[3] = {zero, zero, zero}, cw = zero;
+      for (int q = 0; q < cnt; ++q) {
+        Vec3 fc;
+        double w = 0;
+        if (family_contact(c.kcs[B.kind[k + static_cast<uint64_t>(q)]], Vec3{Yx[q], Yy[q], Yz[q]}, fc, w))
+          cf[0][q] = fc.x, cf[1][q] = fc.y, cf[2][q] = fc.z, cw[q] = w;
+      }
+      for (int a = 0; a < 3; ++a) f[a] += cf[a];
+      wc += cw;
+    }
+  }
+  Vec3 fi{lanes_total(f[0]), lanes_total(f[1]), lanes_total(f[2])};
+  if (vol_gradient_) {
+    const Eigen::Vector3d t =
+        pair_pk_[i] * Eigen::Vector3d(lanes_total(xw[0]), lanes_total(xw[1]), lanes_total(xw[2]));
+    fi += Vec3{t[0], t[1], t[2]};
+  }
+  s.particles.f[i] = fi;
+  if (c.energy) s.particles.energy[i] += lanes_total(wc);
+  return true;
+}
+
 // The rows built for AVX-512 as well as for the build's own target, chosen once per pass
 // (as ordinary_lanes.hpp and solver/forces.cpp choose theirs): the same body, the same
 // operations in the same order (no FMA contraction in this file, CMakeLists.txt; Eigen's
@@ -1083,6 +1546,20 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
   bool keep_q = !s.critical_stretch_schedules.empty();
   for (std::size_t i = 0; i < M.critical_stretch.size() && !keep_q; ++i) keep_q = !std::isinf(M.critical_stretch[i]);
   // A temperature-dependent critical stretch scales each end's s0 (forces_general.cpp).
+  // The rows in the eight lanes where the kinds hold the lengths (a per-bond length has no
+  // lane record), no temperature scales the critical stretch, and particle l is particle l.
+  const bool lanes = identity_ && !B.length_per_bond && s.critical_stretch_factor.empty();
+  if (lanes) {
+    lane_ref_.resize(np);
+    for (std::size_t i = 0; i < np; ++i) lane_ref_[i] = {P.X[i].x, P.X[i].y, P.X[i].z, mask_bits(failed_at_[i] != 0)};
+    lane_kind_.resize(B.kinds.size());
+    for (std::size_t q = 0; q < B.kinds.size(); ++q) {
+      const BondKind& bk = B.kinds[q];
+      lane_kind_[q] = {M.kind[q].length, M.kind[q].inv_length, bk.weight, bk.volume * bk.fraction};
+    }
+    lane_rec_.resize(kLaneRecord * n);
+    if (vol_gradient_) lane_pk_.resize(kLanePK * n);
+  }
   const PairPass c{s,
                    M.packed.data(),
                    P.X.data(),
@@ -1092,7 +1569,11 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
                    s.critical_stretch_factor.empty() ? nullptr : s.critical_stretch_factor.data(),
                    &pass,
                    energy,
-                   keep_q};
+                   keep_q,
+                   lanes,
+                   s.contact.acts_on_family(),
+                   lane_ref_.data(),
+                   lane_kind_.data()};
   // The rows for this machine (pair_break_row and its versions below).
   auto break_row = &ExtendedCorrespondence::pair_break_base;
   auto law_row = &ExtendedCorrespondence::pair_law_base;
@@ -1114,6 +1595,15 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (n > 512)
   for (std::size_t l = 0; l < n; ++l) broken += (this->*break_row)(c, l);
   exchange_midpoint(s);
+  if (lanes && midpoint_) {
+    lane_mid_.resize(8 * n);
+    for (std::size_t l = 0; l < n; ++l) {
+      double* v = lane_mid_.data() + 8 * l;
+      for (int q = 0; q < 6; ++q) v[q] = e_vec_[l][q];
+      v[6] = ks_[l];
+      v[7] = mask_bits(e_ok_[l] != 0);
+    }
+  }
 
   // 2. The law, the stabilisation and the record, row by row.
 #pragma omp parallel for schedule(static) if (n > 512)
