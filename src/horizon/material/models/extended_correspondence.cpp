@@ -114,6 +114,11 @@ inline double mask_bits(bool set) {
   return d;
 }
 HORIZON_LANE_INLINE v8l as_mask(v8d v) { return reinterpret_cast<v8l>(v); }
+// Lanes 0 .. count - 1 set.
+HORIZON_LANE_INLINE v8l count_lanes(int count) {
+  const v8l lane = {0, 1, 2, 3, 4, 5, 6, 7};
+  return -(((v8l{} + count) - lane - 1) >> 63) - 1;
+}
 // Lane masks as eight bytes, 1 where the lane's mask is set (byte l: lane l).
 HORIZON_LANE_INLINE uint64_t lane_bytes(v8l m) {
   const c64 b = reinterpret_cast<c64>(m & 1);
@@ -265,6 +270,7 @@ class ExtendedCorrespondence final : public Model {
     bool contact;             // the family contact acts (per lane, scalar)
     const Point4* ref;        // per particle {X, 1: D > D_c (omega_D)}
     const Point4* kind4;      // per kind {L, 1/L, omega, V_j (partial-volume scaled)}
+    const Point4* contact4;   // per kind {d^2, d, k, 0} of the family contact (KindCoefficients)
   };
   uint64_t pair_break_lanes(const PairPass& c, std::size_t l, uint32_t& count, Vec6& S, Mat3& N, double& smin,
                             double& lost);
@@ -460,7 +466,9 @@ class ExtendedCorrespondence final : public Model {
     const std::vector<Vec3>& X = s.particles.X;
     bool ok = !(committed_[l].damage > critical_) && map_ok_[l] != 0;
     r.changed = changed_[l] != 0;
-    if (r.changed) {
+    if (r.changed && pair) {
+      r.before = pair_energy_with(pass, l);  // leaves eps_ as sweep 1 wrote it
+    } else if (r.changed) {
       r.before = energy_with(pass, l, old_maps_[l], old_kinv_[l], [&](uint64_t k) { return acted_[k] != 0; });
       const Point4 yi = pass.y[i];
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
@@ -546,6 +554,73 @@ class ExtendedCorrespondence final : public Model {
     if (ks_[l] == 0) return out.W + out.plastic_work;
     const Stabilisation st = stabilisation(B, X, i, l, E, acts, scratch.alpha, out.rate, false);
     return out.W + out.plastic_work + st.W + st.work;
+  }
+
+  // energy_with for the pair form: the old set's energy and plastic work over the bonds
+  // that acted at the last pass (acted_), with the old map and K^-1 (old_maps_, old_kinv_),
+  // in the pair form's geometry (n from the kind's 1/|xi|, its bond strain pair_strain: the
+  // strain of a bond that still acts is sweep 1's, eps_, left as it is) and its
+  // stabilisation energy (the uncapped one of pair_law_row). Only the ledger reads it
+  // (the pricing of a changed set), so the forces keep their bits.
+  double pair_energy_with(const ForcePass& pass, std::size_t l) {
+    const System& s = pass.system;
+    const Bonds& B = s.bonds;
+    const std::vector<Vec3>& X = s.particles.X;
+    const KindCoefficients* kcs = s.model.kind.data();
+    const uint32_t i = particles_[l];
+    const Point4 yi = pass.y[i];
+    const uint64_t begin = B.begin(i), end = B.end(i);
+    static thread_local std::vector<double> eps_old;  // the old set's strains (no allocation once grown)
+    if (eps_old.size() < end - begin) eps_old.resize(end - begin);
+    Vec6 S = Vec6::Zero();
+    Mat3 N = Mat3::Zero();
+    for (uint64_t k = begin; k < end; ++k) {
+      if (!acted_[k]) continue;
+      const uint32_t j = B.nbr[k];
+      const Vec3 Y{pass.y[j].x - yi.x, pass.y[j].y - yi.y, pass.y[j].z - yi.z}, xi = X[j] - X[i];
+      const double inv = kcs[B.kind[k]].inv_length;
+      const double eps = acts_[k] ? eps_[k] : kernels::pair_strain(dot(Y, Y) * (inv * inv), m_);
+      eps_old[k - begin] = eps;
+      const Vec3 nv = inv * xi;
+      const double n[3] = {nv.x, nv.y, nv.z};
+      double h[6];
+      kernels::unit_shape_state(n, dim_, h);
+      const BondKind& bk = B.kinds[B.kind[k]];
+      const double w = bk.weight * (bk.volume * bk.fraction);
+      kernels::strain_sum_add(S.data(), w * eps, h);
+      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+    }
+    const Vec6 E = old_maps_[l].solve(S);
+    if (!E.allFinite()) return 0.0;
+    Mat3 Fbar = N * old_kinv_[l];
+    if (dim_ == 2) Fbar(2, 2) = 1.0;
+    StrainLawState scratch;
+    const LawPoint lp = run_law(l, extended::to_mat3(E), vol_gradient_ ? &Fbar : nullptr, pass.dt, scratch);
+    if (!lp.ok) return 0.0;
+    const double ks = ks_[l];
+    if (ks == 0) return lp.out.W + lp.out.plastic_work;
+    double Ws = 0;
+    for (uint64_t k = begin; k < end; ++k) {
+      if (!acted_[k]) continue;
+      const uint32_t j = B.nbr[k];
+      const Vec3 nv = kcs[B.kind[k]].inv_length * (X[j] - X[i]);
+      const double n[3] = {nv.x, nv.y, nv.z};
+      double p[6];
+      kernels::unit_normal_projector(n, p);
+      const int32_t lj = midpoint_ ? local_[j] : -1;
+      const double eps = eps_old[k - begin];
+      double r, coef = ks;
+      if (lj >= 0 && e_ok_[lj]) {
+        r = eps - kernels::dot6_mid(p, E.data(), e_vec_[lj].data());
+        coef = 0.5 * (ks + ks_[lj]);
+      } else {
+        r = eps - kernels::dot6(p, E.data());
+      }
+      const BondKind& bk = B.kinds[B.kind[k]];
+      const double w = bk.weight * (bk.volume * bk.fraction);
+      Ws += coef * w * r * r;
+    }
+    return lp.out.W + lp.out.plastic_work + Ws;
   }
 
   // The bond-level stabilisation of particle i (local index l) at the strain E (eps_ holds
@@ -692,6 +767,7 @@ class ExtendedCorrespondence final : public Model {
   bool identity_ = false;          // particles_[l] == l for every particle of the system
   std::vector<Point4> lane_ref_;   // {X, omega_D's flag}
   std::vector<Point4> lane_kind_;  // {L, 1/L, omega, V_j}
+  std::vector<Point4> lane_contact_;  // {d^2, d, k, 0}
   std::vector<double> lane_mid_;   // the midpoint's neighbour data {E, k_s, e_ok_} (8 a particle)
   std::vector<double> lane_rec_;   // kLaneRecord a particle (the pair sum's record)
   std::vector<double> lane_pk_;    // kLanePK a particle (PK, volumetric_strain gradient)
@@ -1391,6 +1467,7 @@ __attribute__((always_inline)) inline bool ExtendedCorrespondence::pair_sum_lane
     const v8l acts = byte_lanes(acts_.data(), k, cnt, total);
     const bool any = any_lane(acts);
     if (!any && !c.contact) continue;
+    const v8l live_row = count_lanes(cnt);  // the row's bonds (the contact acts on every one)
     const double *pp[8], *pr[8], *pk[8], *pa[8], *pb[8], *pc[8];
     for (int q = 0; q < 8; ++q) {
       const uint64_t kk = q < cnt ? k + static_cast<uint64_t>(q) : k;
@@ -1480,15 +1557,19 @@ __attribute__((always_inline)) inline bool ExtendedCorrespondence::pair_sum_lane
       }
     }
     if (c.contact) {
-      v8d cf[3] = {zero, zero, zero}, cw = zero;
-      for (int q = 0; q < cnt; ++q) {
-        Vec3 fc;
-        double w = 0;
-        if (family_contact(c.kcs[B.kind[k + static_cast<uint64_t>(q)]], Vec3{Yx[q], Yy[q], Yz[q]}, fc, w))
-          cf[0][q] = fc.x, cf[1][q] = fc.y, cf[2][q] = fc.z, cw[q] = w;
-      }
-      for (int a = 0; a < 3; ++a) f[a] += cf[a];
-      wc += cw;
+      // family_contact (state/system.hpp) lane by lane: the pair closer than d_ij pushes
+      // i away from j with k_ij V_j/delta per unit overlap; energy share k overlap^2/4.
+      const double* pq[8];
+      for (int q = 0; q < 8; ++q) pq[q] = &c.contact4[B.kind[q < cnt ? k + static_cast<uint64_t>(q) : k]].x;
+      v8d d2, d, kc;
+      transpose8(pq, d2, d, kc, unused);
+      const v8d r2 = kernels::squared_length(Yx, Yy, Yz);
+      const v8l near = gt(d2, r2) & gt(r2, zero) & live_row;
+      const v8d r = lanes_sqrt(r2), overlap = d - r, fc = -kc * overlap / r;
+      f[0] += masked(near, fc * Yx);
+      f[1] += masked(near, fc * Yy);
+      f[2] += masked(near, fc * Yz);
+      wc += masked(near, 0.25 * kc * overlap * overlap);
     }
   }
   Vec3 fi{lanes_total(f[0]), lanes_total(f[1]), lanes_total(f[2])};
@@ -1553,9 +1634,12 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
     lane_ref_.resize(np);
     for (std::size_t i = 0; i < np; ++i) lane_ref_[i] = {P.X[i].x, P.X[i].y, P.X[i].z, mask_bits(failed_at_[i] != 0)};
     lane_kind_.resize(B.kinds.size());
+    lane_contact_.resize(B.kinds.size());
     for (std::size_t q = 0; q < B.kinds.size(); ++q) {
       const BondKind& bk = B.kinds[q];
-      lane_kind_[q] = {M.kind[q].length, M.kind[q].inv_length, bk.weight, bk.volume * bk.fraction};
+      const KindCoefficients& kc = M.kind[q];
+      lane_kind_[q] = {kc.length, kc.inv_length, bk.weight, bk.volume * bk.fraction};
+      lane_contact_[q] = {kc.contact_d2, kc.contact_d, kc.contact_k, 0.0};
     }
     lane_rec_.resize(kLaneRecord * n);
     if (vol_gradient_) lane_pk_.resize(kLanePK * n);
@@ -1573,7 +1657,8 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
                    lanes,
                    s.contact.acts_on_family(),
                    lane_ref_.data(),
-                   lane_kind_.data()};
+                   lane_kind_.data(),
+                   lane_contact_.data()};
   // The rows for this machine (pair_break_row and its versions below).
   auto break_row = &ExtendedCorrespondence::pair_break_base;
   auto law_row = &ExtendedCorrespondence::pair_law_base;
