@@ -30,10 +30,12 @@ namespace {
 // Bond k of a row goes to lane (k - row start) mod 8 and each lane keeps its own partial
 // sums, added as ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)) at the row's end
 // (kernels/lanes.hpp, as the fast loops and the affine sweeps add theirs). The lanes are
-// GCC's eight-double vectors and nothing target-specific: the rows are built for the
-// build's x86-64-v2 and for AVX-512 (pair_*_avx512), which compile the same IEEE operations
-// (no FMA contraction in this file), so both give the same bits. A lane whose bond does
-// not act adds +0, which changes no sum (a lane's sum starts at +0 and never becomes -0).
+// GCC's eight-double vectors and nothing target-specific (no FMA contraction in this
+// file: a lane computes what one bond's scalar code would). They run in the AVX-512 rows
+// only (pair_forces); built for AVX2 or x86-64-v2 the same code gave the same bits 1.8x
+// slower than the bond-by-bond rows, which those machines keep (their sums round in bond
+// order). A lane whose bond does not act adds +0, which changes no sum (a lane's sum
+// starts at +0 and never becomes -0).
 // The eight-lane vectors never cross a call (every function that takes one is inlined,
 // kernels/extended.hpp's too), so GCC's note that their ABI depends on AVX-512 (-Wpsabi,
 // silenced at the top of this file) says nothing here.
@@ -1627,9 +1629,30 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
   bool keep_q = !s.critical_stretch_schedules.empty();
   for (std::size_t i = 0; i < M.critical_stretch.size() && !keep_q; ++i) keep_q = !std::isinf(M.critical_stretch[i]);
   // A temperature-dependent critical stretch scales each end's s0 (forces_general.cpp).
-  // The rows in the eight lanes where the kinds hold the lengths (a per-bond length has no
-  // lane record), no temperature scales the critical stretch, and particle l is particle l.
-  const bool lanes = identity_ && !B.length_per_bond && s.critical_stretch_factor.empty();
+  // The rows for this machine (pair_break_row and its versions below).
+  auto break_row = &ExtendedCorrespondence::pair_break_base;
+  auto law_row = &ExtendedCorrespondence::pair_law_base;
+  auto sum_row = &ExtendedCorrespondence::pair_sum_base;
+  bool avx512 = false;
+#if defined(HORIZON_PAIR_AVX512)
+  static const bool has_avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                                 __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
+                                 __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("bmi2") &&
+                                 __builtin_cpu_supports("fma");
+  avx512 = has_avx512;
+  if (avx512) {
+    break_row = &ExtendedCorrespondence::pair_break_avx512;
+    law_row = &ExtendedCorrespondence::pair_law_avx512;
+    sum_row = &ExtendedCorrespondence::pair_sum_avx512;
+  }
+#endif
+  // The rows in the eight lanes on a machine with AVX-512 (GCC 12 builds the eight-lane
+  // vectors for AVX2 or SSE 1.8x slower than the bond-by-bond rows: there those run, whose
+  // sums round otherwise, docs/benchmarks.md), where the kinds hold the lengths (a per-bond
+  // length has no lane record), no temperature scales the critical stretch, and particle l
+  // is particle l.
+  const bool lanes = avx512 && extended::pair_lanes() && identity_ && !B.length_per_bond &&
+                     s.critical_stretch_factor.empty();
   if (lanes) {
     lane_ref_.resize(np);
     for (std::size_t i = 0; i < np; ++i) lane_ref_[i] = {P.X[i].x, P.X[i].y, P.X[i].z, mask_bits(failed_at_[i] != 0)};
@@ -1659,21 +1682,6 @@ uint64_t ExtendedCorrespondence::pair_forces(System& s, bool energy) {
                    lane_ref_.data(),
                    lane_kind_.data(),
                    lane_contact_.data()};
-  // The rows for this machine (pair_break_row and its versions below).
-  auto break_row = &ExtendedCorrespondence::pair_break_base;
-  auto law_row = &ExtendedCorrespondence::pair_law_base;
-  auto sum_row = &ExtendedCorrespondence::pair_sum_base;
-#if defined(HORIZON_PAIR_AVX512)
-  static const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-                             __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
-                             __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("bmi2") &&
-                             __builtin_cpu_supports("fma");
-  if (avx512) {
-    break_row = &ExtendedCorrespondence::pair_break_avx512;
-    law_row = &ExtendedCorrespondence::pair_law_avx512;
-    sum_row = &ExtendedCorrespondence::pair_sum_avx512;
-  }
-#endif
 
   // 1. Breaking and the strain sums, row by row.
   uint64_t broken = 0;
@@ -1825,6 +1833,14 @@ void ExtendedCorrespondence::fields(const System& s, std::vector<ModelField>& ou
 }
 
 }  // namespace
+
+namespace extended {
+namespace {
+bool g_pair_lanes = true;
+}
+void set_pair_lanes(bool on) { g_pair_lanes = on; }
+bool pair_lanes() { return g_pair_lanes; }
+}  // namespace extended
 
 ModelEntry extended_correspondence_model() {
   return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<ExtendedCorrespondence>()); }};

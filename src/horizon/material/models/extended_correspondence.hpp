@@ -59,6 +59,12 @@ ModelEntry extended_correspondence_model();
 
 namespace extended {
 
+// The pair form's bond sweeps in the fast loops' eight lanes where the machine has AVX-512
+// (on by default); off: bond by bond, as machines without AVX-512 run them. Tests compare
+// the two (tests/verification/test_general_pass.cpp). Not thread-safe: set between runs.
+void set_pair_lanes(bool on);
+bool pair_lanes();
+
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Mat3 = Eigen::Matrix3d;
