@@ -513,7 +513,8 @@ class ExtendedCorrespondence final : public Model {
     const Bonds& B = pass.system.bonds;
     energy_[l] = W;
     if (r.changed) thinned_[l] += r.before - (W + work_[l]);
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) acted_[k] = acts_[k];
+    // acted_ = acts_ over the row (a copy: the byte loop does not vectorise through the members).
+    if (B.end(i) > B.begin(i)) std::memcpy(&acted_[B.begin(i)], &acts_[B.begin(i)], B.end(i) - B.begin(i));
     const Mat3 dev = r.law_stress - (r.law_stress.trace() / 3.0) * Mat3::Identity();
     von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
     if (pass.energy) pass.energy[i] = W;
