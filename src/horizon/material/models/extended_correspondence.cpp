@@ -1471,6 +1471,15 @@ __attribute__((always_inline)) inline bool ExtendedCorrespondence::pair_sum_lane
     const bool any = any_lane(acts);
     if (!any && !c.contact) continue;
     const v8l live_row = count_lanes(cnt);  // the row's bonds (the contact acts on every one)
+    // The next block's neighbour records, asked for one block ahead (a large body's
+    // records do not stay in cache from row to row).
+    for (uint64_t kk = k + 8; kk < k + 16 && kk < end; ++kk) {
+      const std::size_t j = B.nbr[kk];
+      const char* rec = reinterpret_cast<const char*>(lane_rec_.data() + kLaneRecord * j);
+      __builtin_prefetch(rec);
+      __builtin_prefetch(rec + 64);
+      if (vol_gradient_) __builtin_prefetch(lane_pk_.data() + kLanePK * j);
+    }
     const double *pp[8], *pr[8], *pk[8], *pa[8], *pb[8], *pc[8];
     for (int q = 0; q < 8; ++q) {
       const uint64_t kk = q < cnt ? k + static_cast<uint64_t>(q) : k;
