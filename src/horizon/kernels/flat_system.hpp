@@ -1,5 +1,6 @@
 #pragma once
-// An explicit run of the unified models (PMB, LPS) over flat arrays: the state a backend
+// An explicit run of the unified models (PMB, LPS) and of Tupek's nonlinear solid over
+// flat arrays: the state a backend
 // keeps (raw pointers and counts, plain data), the work of one particle's row in each
 // stage of a step, and the host's loop over them (advance_flat). The CUDA backend
 // (cuda/cuda_backend.cu) launches the same row functions, one thread a particle, over
@@ -11,7 +12,9 @@
 // breaking (with the compression factor alpha and no_fail particles), damage, the
 // family's short-range contact and the strain energy, for bond-based runs (one fused
 // pass, as the fast loops' bond-based pass) and state-based ones (the dilatation pass,
-// then the force pass), force densities, prescribed velocities and displacements and
+// then the force pass), Tupek's nonlinear solid (the strain sweep, then the force sweep
+// with its energy failure law: kernels/tupek.hpp, the rows NonlinearSolid::force_pass
+// calls), force densities, prescribed velocities and displacements and
 // their work (values that vary are set by the stepper before each step), with hooks for
 // the host's work between the passes (the contact pairs beyond the families). Thermal
 // strains, bonds broken after the force pass and decomposed runs are not here
@@ -20,6 +23,7 @@
 
 #include "horizon/core/portable.hpp"
 #include "horizon/kernels/lanes.hpp"
+#include "horizon/kernels/tupek.hpp"
 #include "horizon/kernels/unified.hpp"
 #include "horizon/kernels/verlet.hpp"
 
@@ -32,6 +36,12 @@ struct Kind {
 };
 
 // A row's sums in the host's lanes: kernels/lanes.hpp.
+
+// y4's four values of a particle as the nonlinear solid's rows read them (core/point4.hpp's
+// Point4 without its 32-byte alignment: a device array or a std::vector<double> of 4n).
+struct FlatPoint {
+  double x, y, z, w;
+};
 
 struct FlatSystem {
   uint64_t n = 0, nb = 0, nkinds = 0;
@@ -103,6 +113,22 @@ struct FlatSystem {
   uint8_t* nonfinite = nullptr;     // 1, or null
   double* damped = nullptr;        // n, or null without damping
   double* speed2_before = nullptr;  // n
+  // Tupek's nonlinear solid (material/models/nonlinear_solid.hpp NonlinearState; `tupek`
+  // set, state_based unused): its rows replace the unified ones, theta holds theta_phi of
+  // eq. 6.8, intact_weight the sum of omega V_j over the intact bonds, damage the broken
+  // fraction of that weight; R, Q, P, critical_stretch, alpha and the smallest stretches
+  // are not read.
+  bool tupek = false;
+  bool tupek_exponent_two = true;         // NonlinearState::failure_exponent_two
+  bool tupek_contact = false;             // short-range contact: broken bonds' ends repel
+  double* eps = nullptr;                  // nb: each bond's strain of the last pass (bond_strain)
+  const double* seth_m = nullptr;         // n: the Seth-Hill parameter m
+  const double* lambda_bar = nullptr;     // n
+  const double* mu_bar = nullptr;         // n
+  const double* beta = nullptr;           // n: +inf where bonds never break
+  const uint8_t* compression_only = nullptr;  // n
+  const double* failure_scale = nullptr;  // nkinds: |xi|^-p of s_c
+  double* nonlocal_damage = nullptr;      // n: eq. 6.12
 };
 
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).
@@ -212,6 +238,58 @@ HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
     s.theta[i] = theta;
     s.P[i] = dilatation_pressure(theta, s.dilatation_coef[i], s.Q[i], s.dim);
   }
+}
+
+// Tupek's nonlinear solid (NonlinearSolid::force_pass, row by row): the two sweeps of
+// kernels/tupek.hpp over the flat arrays, y4's fourth slot 0 as the host packs it.
+HORIZON_HD inline TupekPass<Kind, FlatPoint> tupek_pass(const FlatSystem& s) {
+  TupekPass<Kind, FlatPoint> p;
+  p.pt = reinterpret_cast<const FlatPoint*>(s.y4);
+  p.kc = s.kinds;
+  p.nbr = s.nbr;
+  p.kind = s.kind;
+  p.offset = s.offset;
+  p.intact = s.intact;
+  p.eps = s.eps;
+  p.m = s.seth_m;
+  p.lambda_bar = s.lambda_bar;
+  p.mu_bar = s.mu_bar;
+  p.theta = s.theta;
+  p.beta = s.beta;
+  p.compression_only = s.compression_only;
+  p.failure_scale = s.failure_scale;
+  p.exponent_two = s.tupek_exponent_two;
+  p.contact = s.tupek_contact;
+  return p;
+}
+
+// Stage 1 of the nonlinear solid's pass: y = X + u, w = 0.
+HORIZON_HD inline void tupek_pack_row(const FlatSystem& s, uint64_t i) {
+  double* y = s.y4 + 4 * i;
+  y[0] = s.X[3 * i] + s.u[3 * i];
+  y[1] = s.X[3 * i + 1] + s.u[3 * i + 1];
+  y[2] = s.X[3 * i + 2] + s.u[3 * i + 2];
+  y[3] = 0.0;
+}
+
+// Sweep 1, row i: the bond strains and theta_i (eq. 6.8).
+HORIZON_HD inline void tupek_theta_row(const FlatSystem& s, uint64_t i) {
+  s.theta[i] = tupek_strain_row(tupek_pass(s), i);
+}
+
+// Sweep 2, row i: the pair criterion, the force, the dissipated energy, the row's energy
+// (with the bonds cut in this pass taken out, and the family contact of broken bonds),
+// the damage (its broken weight fraction), the nonlocal damage 1 - (1/d) sum omega phi V
+// (eq. 6.12) and the intact weight, as NonlinearSolid::force_pass leaves them.
+HORIZON_HD inline void tupek_row(const FlatSystem& s, uint64_t i) {
+  const TupekRow o = tupek_force_row(tupek_pass(s), i);
+  s.f[3 * i] = o.f[0], s.f[3 * i + 1] = o.f[1], s.f[3 * i + 2] = o.f[2];
+  s.broken[i] = o.broken;
+  if (o.lost != 0) s.dissipated[i] += o.lost * s.volume[i];
+  s.energy[i] = tupek_row_energy(o, s.lambda_bar[i], s.mu_bar[i], s.theta[i]);
+  s.damage[i] = damage_fraction(o.intact_w, o.total_w);
+  s.nonlocal_damage[i] = 1.0 - o.intact_w / s.dim;
+  s.intact_weight[i] = o.intact_w;
 }
 
 // Between the two passes: the packed fourth slot carries P_j to the force rows.
@@ -376,6 +454,15 @@ HORIZON_HD inline void book_load_work(const FlatSystem& s) {
 // The force pass on the host.
 inline void flat_forces(const FlatSystem& s) {
   const uint64_t n = s.n;
+  if (s.tupek) {
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) tupek_pack_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) tupek_theta_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) tupek_row(s, i);
+    return;
+  }
   HORIZON_FLAT_ROWS
   for (uint64_t i = 0; i < n; ++i) pack_row(s, i);
   if (!s.state_based) {

@@ -2,12 +2,16 @@
 
 
 #include "horizon/loading/loads.hpp"
+#include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/state/model_set.hpp"
 
 namespace horizon {
 
 std::string flat_unsupported(const System& s, const Loads& loads) {
-  if (s.models.owner() || !s.models.all_unified()) return "a model without the unified per-bond form (ModelTraits::unified)";
+  // The unified models' rows, or the nonlinear solid's (a model that owns its pass and
+  // shares a run with no other: material/models/nonlinear_solid.cpp).
+  if (s.models.owner() ? !nonlinear_state(s) : !s.models.all_unified())
+    return "a model without flat rows (the unified models and nonlinear_solid have them)";
   if (s.one_way_bonds) return "bodies of different horizons (one-way bonds: the general force pass)";
   if (!loads.projectiles().empty()) return "projectiles";
   for (const AppliedLoad& L : loads.loads()) {
@@ -124,6 +128,20 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
   if (damping > 0) c.damped.assign(c.n, 0), c.speed2_before.assign(c.n, 0);
   if (c.vary_constraints) c.fixed_mid = c.fixed_value, c.fixed_v.assign(3 * c.n, 0);
   if (c.vary_forces) c.b_next = c.b, c.b_before.assign(3 * c.tracked.size(), 0);
+  if (const NonlinearState* N = nonlinear_state(s)) {
+    c.tupek = true;
+    c.tupek_exponent_two = N->failure_exponent_two;
+    c.tupek_contact = s.contact.enabled();
+    c.eps = N->bond_strain;
+    c.eps.resize(B.size(), 0);
+    c.seth_m = N->m, c.lambda_bar = N->lambda_bar, c.mu_bar = N->mu_bar, c.beta = N->beta;
+    c.compression_only = N->compression_only, c.failure_scale = N->failure_scale;
+    c.nonlocal_damage = N->nonlocal_damage;
+    c.nonlocal_damage.resize(c.n, 0);
+    c.theta = N->theta;  // theta_phi (the model arrays' theta is not the nonlinear solid's)
+    c.theta.resize(c.n, 0);
+    c.dim = N->dimension;
+  }
   return c;
 }
 
@@ -148,6 +166,10 @@ kernels::FlatSystem FlatStorage::view() {
   s.fixed_mid = or_null(fixed_mid), s.fixed_v = or_null(fixed_v), s.b_next = or_null(b_next);
   s.b_before = or_null(b_before);
   s.nonfinite = nonfinite.data();
+  s.tupek = tupek, s.tupek_exponent_two = tupek_exponent_two, s.tupek_contact = tupek_contact;
+  s.eps = or_null(eps), s.seth_m = or_null(seth_m), s.lambda_bar = or_null(lambda_bar), s.mu_bar = or_null(mu_bar);
+  s.beta = or_null(beta), s.failure_scale = or_null(failure_scale), s.nonlocal_damage = or_null(nonlocal_damage);
+  s.compression_only = compression_only.empty() ? nullptr : compression_only.data();
   return s;
 }
 
@@ -160,8 +182,16 @@ void flat_write_back(const FlatStorage& c, System& s, bool energy) {
   if (energy) P.energy = c.energy;
   s.bonds.intact = c.intact;
   s.dissipated_at = c.dissipated;
-  s.model.min_stretch = c.min_stretch;
   s.model.intact_weight = c.intact_weight;
+  if (NonlinearState* N = c.tupek ? nonlinear_state(s) : nullptr) {
+    // What NonlinearSolid::force_pass leaves in its state (the model arrays' theta, P and
+    // smallest stretches are not its own: left as they are).
+    N->theta = c.theta;
+    N->bond_strain = c.eps;
+    N->nonlocal_damage = c.nonlocal_damage;
+    return;
+  }
+  s.model.min_stretch = c.min_stretch;
   s.model.theta = c.theta;
   s.model.P = c.P;
 }

@@ -14,8 +14,8 @@ namespace horizon {
 
 class Loads;
 
-// Why this run cannot be stepped over flat arrays, or "" when it can: unified models only
-// (ModelTraits::unified), no loads but initial conditions, force densities (traction,
+// Why this run cannot be stepped over flat arrays, or "" when it can: the unified models
+// (ModelTraits::unified) or Tupek's nonlinear solid (kernels/tupek.hpp), no loads but initial conditions, force densities (traction,
 // body_force, force, pressure) and prescribed velocities and displacements (values that
 // vary are the stepper's to evaluate before each step: FlatBackend), no thermal strain,
 // no contact friction, bonds broken before the force
@@ -47,6 +47,10 @@ struct FlatStorage {
   bool vary_constraints = false, vary_forces = false;
   std::vector<uint32_t> tracked, entry_slot, entry_load, entry_index;
   bool has_forces = false;
+  // Tupek's nonlinear solid (NonlinearState; empty otherwise).
+  bool tupek = false, tupek_exponent_two = true, tupek_contact = false;
+  std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage;
+  std::vector<uint8_t> compression_only;
   uint64_t n = 0;
   bool state_based = false;
   double dim = 3, dt = 0, damping = 0;
@@ -63,7 +67,8 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
 void flat_write_reactions(const FlatStorage& c, Loads& loads);
 
 // Writes the copy's u, v, f, damage, energy (with `energy`: a pass the CPU backend would
-// have computed it in), intact flags and dissipation back into s.
+// have computed it in), intact flags and dissipation back into s (and the nonlinear
+// solid's theta, bond strains and nonlocal damage into its NonlinearState).
 void flat_write_back(const FlatStorage& c, System& s, bool energy = true);
 
 }  // namespace horizon
