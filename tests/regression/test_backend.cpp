@@ -331,6 +331,32 @@ TEST(Backend, NonlinearSolidFlatGivesTheCpuBits) {
   expect_same_on_threads(deck, "tupek_contact", "nonlinear_solid striker on a bar through short-range contact");
 }
 
+// The adaptive step (solver.adaptive_time_step): the flat backend computes the nonlinear
+// solid's stable step over its copy with the host's rows (kernels::flat_tupek_stable_step)
+// and takes each step with the solver's dt, the loads that vary at the summed times. The
+// Kalthoff-Winkler example (2-D, plane strain, precracks, a velocity condition, contact,
+// the failure-length exponent 0, a new step every 10) coarsened 4 times, 25 us; the pulled
+// bar with its ramped traction, a new step every 3.
+TEST(Backend, NonlinearSolidAdaptiveStepFlatGivesTheCpuBits) {
+  std::string deck = slurp(fs::path(HORIZON_SOURCE_DIR) / "examples" / "kalthoff_winkler.yaml");
+  const std::string end = "end_time: 7.0e-5";
+  ASSERT_NE(deck.find(end), std::string::npos);
+  deck.replace(deck.find(end), end.size(), "end_time: 2.5e-5");
+  const Output cpu = run(deck, "kalthoff_adaptive", "cpu", 4, 1);
+  EXPECT_GT(cpu.summary["energy"]["dissipated"].get<double>(), 0);
+  EXPECT_LT(cpu.summary["time_step_range"][0].get<double>(), cpu.summary["time_step_range"][1].get<double>());
+  expect_same(run(deck, "kalthoff_adaptive", "flat", 4, 1), cpu, "kalthoff_winkler --coarsen 4, 25 us, adaptive step");
+  std::string bar = pulled_bar_deck(
+      "loads:\n  - {region: left, displacement: [0, null, 0]}\n"
+      "  - {region: right, traction: [\"4.0e8*min(t/2.0e-6, 1)\", 0, 0]}\n");
+  const std::string solver = "energy_balance_warning: 0.5";
+  ASSERT_NE(bar.find(solver), std::string::npos);
+  bar.replace(bar.find(solver), solver.size(), solver + ", adaptive_time_step: true, adaptive_every: 3");
+  const Output bar_cpu = run(bar, "tupek_adaptive", "cpu", 1, 1);
+  EXPECT_GT(bar_cpu.summary["energy"]["dissipated"].get<double>(), 0);
+  expect_same(run(bar, "tupek_adaptive", "flat", 1, 2), bar_cpu, "nonlinear_solid bar, adaptive step, ramped traction");
+}
+
 // A checkpoint written by a flat run is the CPU run's (the same bytes), and a restart from
 // it with backend flat ends where the uninterrupted CPU run ends.
 TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {

@@ -11,6 +11,7 @@
 
 #include "horizon/driver/explicit_state.hpp"
 #include "horizon/material/model.hpp"
+#include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/solver/flat_backend.hpp"
 
 #if defined(HORIZON_CUDA_BACKEND)
@@ -80,7 +81,9 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
     }
   if (why.empty() && s.heat.active()) why = "heat conduction";
   if (why.empty() && s.fe) why = "finite-element regions";
-  if (why.empty() && c.solver.adaptive_time_step) why = "solver.adaptive_time_step";
+  // The adaptive step: the nonlinear solid's stable step has flat rows (kernels/tupek.hpp).
+  if (why.empty() && c.solver.adaptive_time_step && !nonlinear_state(s))
+    why = "solver.adaptive_time_step with a model other than nonlinear_solid";
   if (why.empty() && c.solver.peridigm_verlet) why = "solver.verlet: peridigm (Peridigm's rounding of the step)";
   if (!why.empty()) {
     // The models the flat rows run: the registry's unified ones (ModelTraits::unified) and
@@ -89,7 +92,7 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
     for (const ModelEntry& e : model_registry())
       if (e.traits.unified || e.traits.name == "nonlinear_solid") flat.push_back(e.traits.name);
     throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of "
-                            "{} with a fixed time step, initial conditions, force densities, prescribed "
+                            "{} (the adaptive step with nonlinear_solid), initial conditions, force densities, prescribed "
                             "displacements and velocities and short-range contact (docs/input.md, solver.backend); "
                             "use backend cpu",
                             prefix, why, fmt::join(flat, ", ")));

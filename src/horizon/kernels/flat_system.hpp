@@ -129,6 +129,7 @@ struct FlatSystem {
   const uint8_t* compression_only = nullptr;  // n
   const double* failure_scale = nullptr;  // nkinds: |xi|^-p of s_c
   double* nonlocal_damage = nullptr;      // n: eq. 6.12
+  const double* contact_stiffness = nullptr;  // n: the family contact springs (the stable step)
 };
 
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).
@@ -476,6 +477,25 @@ inline void flat_forces(const FlatSystem& s) {
   for (uint64_t i = 0; i < n; ++i) pressure_row(s, i);
   HORIZON_FLAT_ROWS
   for (uint64_t i = 0; i < n; ++i) force_row(s, i);
+}
+
+// The nonlinear solid's stable time step over the copy (NonlinearSolid::stable_time_step's
+// rows, kernels/tupek.hpp): each row's S into S (n), then the smallest row step, a minimum
+// (the same bits in any order and on any device), as the host's min reduction takes it.
+inline double flat_tupek_stable_step(const FlatSystem& s, double* S) {
+  const TupekPass<Kind, FlatPoint> p = tupek_pass(s);
+  const uint64_t n = s.n;
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) S[i] = tupek_coupling_row(p, i);
+  double dt = INFINITY;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) reduction(min : dt)
+#endif
+  for (uint64_t i = 0; i < n; ++i) {
+    const double r = tupek_stable_row(p, S, s.contact_stiffness[i], s.density[i], i);
+    dt = r < dt ? r : dt;  // std::min(dt, r)
+  }
+  return dt;
 }
 
 // No work between a step's force pass and its second half kick, nor before a step.

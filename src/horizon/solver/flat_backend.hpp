@@ -36,6 +36,9 @@ class FlatBackend : public ExplicitBackend {
   // particle, as step does.
   void advance(int64_t n, bool energy) override;
   void copy_fields() override;
+  // The adaptive step: the nonlinear solid's over the copy (kernels::flat_tupek_stable_step,
+  // the host's rows: the CPU backend's bits); other models copy the fields back first.
+  bool stable_time_step(double& dt) override;
 
  protected:
   // Takes n steps over view_ (take_steps; the CUDA backend: on the device).
@@ -59,6 +62,8 @@ class FlatBackend : public ExplicitBackend {
   virtual bool went_non_finite() { return storage_.nonfinite[0] != 0; }
   // storage_ was made again from the System (the CUDA backend: copies it to the device).
   virtual void upload() {}
+  // view_.dt changed (the adaptive step; the CUDA backend: the device's copy of it).
+  virtual void step_changed() {}
 
   System& s_;
   Loads& loads_;
@@ -72,7 +77,15 @@ class FlatBackend : public ExplicitBackend {
   void write_state(bool energy);
   // The first particle whose u or v is not finite in storage_, or -1.
   int64_t first_non_finite() const;
+  // The step of the steps to come: view_.dt (and the device's) set to dt.
+  void set_step(double dt);
   bool energy_ = true;    // the last step computed what a CPU step with `energy` would
+  // The adaptive step (the solver's time a sum of steps, ExplicitSolver::fixed_step false):
+  // the dt and start time of each step since the System's state (the last copy_fields),
+  // so that a run of steps from it (prepare_step, the non-finite search) takes them again.
+  bool adaptive_ = false;
+  std::vector<double> step_dt_, step_t0_;
+  std::vector<double> stable_S_;  // flat_tupek_stable_step's per-row sums
   std::vector<Point4> contact_y_;  // contact_pass's copies of y4 and f (Point4 is 32-byte aligned)
   std::vector<Vec3> contact_f_;
   std::vector<Vec3> b_at_copy_;  // force densities that vary: b at the last copy

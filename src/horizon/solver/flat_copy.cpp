@@ -138,6 +138,8 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
     c.compression_only = N->compression_only, c.failure_scale = N->failure_scale;
     c.nonlocal_damage = N->nonlocal_damage;
     c.nonlocal_damage.resize(c.n, 0);
+    c.contact_stiffness = N->contact_stiffness;
+    c.contact_stiffness.resize(c.n, 0);
     c.theta = N->theta;  // theta_phi (the model arrays' theta is not the nonlinear solid's)
     c.theta.resize(c.n, 0);
     c.dim = N->dimension;
@@ -169,6 +171,7 @@ kernels::FlatSystem FlatStorage::view() {
   s.tupek = tupek, s.tupek_exponent_two = tupek_exponent_two, s.tupek_contact = tupek_contact;
   s.eps = or_null(eps), s.seth_m = or_null(seth_m), s.lambda_bar = or_null(lambda_bar), s.mu_bar = or_null(mu_bar);
   s.beta = or_null(beta), s.failure_scale = or_null(failure_scale), s.nonlocal_damage = or_null(nonlocal_damage);
+  s.contact_stiffness = or_null(contact_stiffness);
   s.compression_only = compression_only.empty() ? nullptr : compression_only.data();
   return s;
 }

@@ -49,7 +49,7 @@ struct FlatStorage {
   bool has_forces = false;
   // Tupek's nonlinear solid (NonlinearState; empty otherwise).
   bool tupek = false, tupek_exponent_two = true, tupek_contact = false;
-  std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage;
+  std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
   std::vector<uint8_t> compression_only;
   uint64_t n = 0;
   bool state_based = false;
