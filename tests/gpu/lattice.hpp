@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "horizon/kernels/flat_system.hpp"
+#include "horizon/material/models/nonlinear_solid.hpp"  // header-only: tupek_influence, tupek_lame, tupek_beta
 
 namespace horizon::test {
 
@@ -27,6 +28,10 @@ struct Lattice {
   std::vector<double> fixed_value, u_before, v_before, entry_reaction, ledger{0.0};
   std::vector<uint32_t> tracked, entry_slot;
   bool has_forces = false;
+  // Tupek's nonlinear solid (make_tupek_lattice; empty otherwise).
+  std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
+  std::vector<uint8_t> compression_only;
+  bool tupek = false;
   uint64_t n = 0;
   bool lps = false;
   double dt = 0;
@@ -47,6 +52,12 @@ struct Lattice {
     s.ntracked = tracked.size(), s.tracked = tracked.data(), s.u_before = u_before.data(), s.v_before = v_before.data();
     s.has_forces = has_forces, s.nentries = entry_slot.size(), s.entry_slot = entry_slot.data();
     s.entry_mask = entry_mask.data(), s.entry_reaction = entry_reaction.data(), s.ledger = ledger.data();
+    if (tupek) {
+      s.tupek = true, s.eps = eps.data(), s.seth_m = seth_m.data(), s.lambda_bar = lambda_bar.data();
+      s.mu_bar = mu_bar.data(), s.beta = beta.data(), s.compression_only = compression_only.data();
+      s.failure_scale = failure_scale.data(), s.nonlocal_damage = nonlocal_damage.data();
+      s.contact_stiffness = contact_stiffness.data();
+    }
     return s;
   }
 };
@@ -119,6 +130,38 @@ inline Lattice make_lattice(int nx, int ny, int nz, bool lps, double s0 = 0.002,
     if (lps && m > 0) L.dilatation_coef[i] = 3 * K / m, L.Q[i] = 15 * mu / m;
     L.intact_weight[i] = L.damage_total[i] = static_cast<double>(L.offset[i + 1] - L.offset[i]);
   }
+  return L;
+}
+
+// The same lattice as Tupek's nonlinear solid (material/models/nonlinear_solid.hpp, seed 000,
+// Tupek's thesis): the normalised 3-D influence of eq. 6.7 (omega V_j of each kind), the
+// peridynamic Lame constants of sec. 5.1 (E = 200 GPa, nu = 0.3), beta of s_c for the
+// fracture energy gc (eq. 6.3, p = 2), Seth-Hill parameter m, broken bonds pushing in
+// compression; no contact springs. The step: half the stable step of the rest state
+// (kernels::flat_tupek_stable_step). The striker (the first `striker` layers at (v0, v0/6,
+// 0)) stays bonded to the bar: the energy law breaks the bonds at the interface.
+inline Lattice make_tupek_lattice(int nx, int ny, int nz, double m = 0, double gc = 3000, int striker = 6,
+                                  double v0 = 40) {
+  Lattice L = make_lattice(nx, ny, nz, false, 0.002, striker, v0);
+  const double h = 1e-3, delta = 3 * h, V = h * h * h, E = 200e9, nu = 0.3;
+  L.tupek = true;
+  for (kernels::Kind& k : L.kinds) {
+    const double w = tupek_influence(k.length, delta, 3) * V;
+    k = {k.length, k.inv_length, 0.0, 0.0, w, w, 0.0, 0.0};
+    L.failure_scale.push_back(k.inv_length * k.inv_length);
+  }
+  const uint64_t n = L.n;
+  const TupekLame lame = tupek_lame(E, nu, 3, false);
+  L.seth_m.assign(n, m), L.lambda_bar.assign(n, lame.lambda_bar), L.mu_bar.assign(n, lame.mu_bar);
+  L.beta.assign(n, tupek_beta(gc, delta, 3)), L.compression_only.assign(n, 1);
+  L.nonlocal_damage.assign(n, 0.0), L.contact_stiffness.assign(n, 0.0), L.eps.assign(L.nbr.size(), 0.0);
+  for (uint64_t i = 0; i < n; ++i) {
+    double w = 0;
+    for (uint64_t k = L.offset[i]; k < L.offset[i + 1]; ++k) w += L.kinds[L.kind[k]].wv;
+    L.intact_weight[i] = L.damage_total[i] = w;
+  }
+  std::vector<double> S(n);
+  L.dt = 0.5 * kernels::flat_tupek_stable_step(L.view(), S.data());
   return L;
 }
 

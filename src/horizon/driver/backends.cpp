@@ -40,6 +40,13 @@ class CudaBackend final : public FlatBackend {
     run_.reset();
     run_ = std::make_unique<cuda::FlatRun>(view_);
   }
+  void step_changed() override { run_->set_dt(view_.dt); }
+  // The nonlinear solid's adaptive step on the device (no copy back); others: the System's.
+  bool stable_time_step(double& dt) override {
+    if (!storage_.tupek) return FlatBackend::stable_time_step(dt);
+    dt = run_->stable_time_step();
+    return true;
+  }
 
  private:
   std::unique_ptr<cuda::FlatRun> run_;
