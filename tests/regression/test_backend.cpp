@@ -206,6 +206,26 @@ TEST(Backend, LoadsThatVaryFlatGiveTheCpuBits) {
   expect_same(flat, cpu, "glass_branching --coarsen 4, tractions ramped");
 }
 
+// Critical stretches that vary in time (damage.critical_stretch as an expression in t):
+// FlatBackend sets them before each step at the step's new time, as ExplicitSolver::step
+// sets them before its force pass. PMB and LPS impacts with s0 growing from 0.001.
+TEST(Backend, CriticalStretchInTimeFlatGivesTheCpuBits) {
+  for (const char* model : {"pmb", "lps"}) {
+    const std::string material = fmt::format(
+        "{{model: {}, density: 7850, youngs_modulus: 200.0e9, {}damage: {{critical_stretch: "
+        "\"0.001*(1 + t/1.0e-6)\"}}}}",
+        model, std::string(model) == "lps" ? "poissons_ratio: 0.3, " : "");
+    const Output cpu = run(impact_deck(material), "s0_in_time", "cpu");
+    const Output flat = run(impact_deck(material), "s0_in_time", "flat");
+    EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+    expect_same(flat, cpu, std::string(model) + " impact, critical stretch in time");
+    // The schedule matters: s0 held at its first value breaks other bonds.
+    std::string fixed = material;
+    fixed.replace(fixed.find("\"0.001*(1 + t/1.0e-6)\""), 22, "0.001");
+    EXPECT_NE(run(impact_deck(fixed), "s0_fixed", "cpu").summary["state_crc32"], cpu.summary["state_crc32"]);
+  }
+}
+
 // Mass-proportional damping (issue 30 part B, the ledger's damped energy): the flat rows
 // book it per particle over the steps and sum the particles at a copy, ExplicitSolver::step
 // sums each step's particles first, so the damped energy (and the balance error made with
@@ -359,30 +379,43 @@ TEST(Backend, NonlinearSolidAdaptiveStepFlatGivesTheCpuBits) {
 
 // A checkpoint written by a flat run is the CPU run's (the same bytes), and a restart from
 // it with backend flat ends where the uninterrupted CPU run ends.
-TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
-  std::string deck = glass_deck();
-  const std::string frames = "frames: 4, history_every: 10}";
-  ASSERT_NE(deck.find(frames), std::string::npos);
-  deck.replace(deck.find(frames), frames.size(), "frames: 4, history_every: 10, checkpoint: {every: 70}}");
-  const Output cpu = run(deck, "ck", "cpu", 4);
-  const fs::path dir = scratch("ck_restart");
-  const fs::path file = dir / "ck.yaml";
+void expect_checkpoint_and_restart(const std::string& deck, const std::string& name, double coarsen) {
+  const Output cpu = run(deck, name, "cpu", coarsen);
+  const fs::path dir = scratch(name + "_restart");
+  const fs::path file = dir / (name + ".yaml");
   std::ofstream(file) << deck;
   RunOptions o;
   o.quiet = true;
   o.handle_signals = false;
   o.output_dir = (dir / "out").string();
-  o.coarsen = 4;
+  o.coarsen = coarsen;
   o.backend = "flat";
   ASSERT_EQ(run_deck(load_deck(file.string()), o), 0);
-  EXPECT_TRUE(slurp(dir / "out" / "checkpoint.hzc") == cpu.frames.at("checkpoint.hzc")) << "the checkpoints differ";
+  EXPECT_TRUE(slurp(dir / "out" / "checkpoint.hzc") == cpu.frames.at("checkpoint.hzc")) << name << ": the checkpoints differ";
   o.restart = (dir / "out" / "checkpoint.hzc").string();
   ASSERT_EQ(run_deck(load_deck(file.string()), o), 0);
-  EXPECT_EQ(slurp(dir / "out" / "history.csv"), cpu.history);
+  EXPECT_EQ(slurp(dir / "out" / "history.csv"), cpu.history) << name;
   const auto summary = nlohmann::json::parse(slurp(dir / "out" / "summary.json"));
-  EXPECT_EQ(summary["state_crc32"], cpu.summary["state_crc32"]);
-  EXPECT_EQ(summary["steps"], cpu.summary["steps"]);
+  EXPECT_EQ(summary["state_crc32"], cpu.summary["state_crc32"]) << name;
+  EXPECT_EQ(summary["steps"], cpu.summary["steps"]) << name;
   fs::remove_all(dir);
+}
+
+TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
+  std::string deck = glass_deck();
+  const std::string frames = "frames: 4, history_every: 10}";
+  ASSERT_NE(deck.find(frames), std::string::npos);
+  deck.replace(deck.find(frames), frames.size(), "frames: 4, history_every: 10, checkpoint: {every: 70}}");
+  expect_checkpoint_and_restart(deck, "ck", 4);
+  // The nonlinear solid with the adaptive step: the checkpoint holds its bond strains,
+  // theta and nonlocal damage, which the flat backend writes back into the model's state.
+  std::string bar = pulled_bar_deck("");
+  const std::string solver = "energy_balance_warning: 0.5";
+  bar.replace(bar.find(solver), solver.size(), solver + ", adaptive_time_step: true, adaptive_every: 4");
+  const std::string out = "output: {frames: 3, history_every: 7}";
+  ASSERT_NE(bar.find(out), std::string::npos);
+  bar.replace(bar.find(out), out.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 50}}");
+  expect_checkpoint_and_restart(bar, "ck_tupek", 1);
 }
 
 // A step too large: the state turns non-finite (exit status 2). The flat backend finds the

@@ -250,6 +250,7 @@ void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, voi
       up(d.fixed_mid, m.h.fixed_mid, 3 * d.n);
       up(d.fixed_v, m.h.fixed_v, 3 * d.n);
       up(d.b_next, m.h.b_next, 3 * d.n);
+      if (d.critical_stretch_varies) up(const_cast<double*>(d.critical_stretch), m.h.critical_stretch, d.n);
     }
     if (d.ntracked) save_tracked_kernel<<<m.tracked_grid, kBlock>>>(d);
     kick_drift_kernel<<<m.grid, kBlock>>>(d);

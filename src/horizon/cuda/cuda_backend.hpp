@@ -35,7 +35,8 @@ class FlatRun {
   // the constructor copied from, after_forces(ctx) runs there (the host's short-range
   // contact pairs add to f and the energy) and f and the energy go back to the device.
   // With `before_step`, before_step(ctx, k) runs on the host before step k and the loads'
-  // values it sets (fixed_value, fixed_mid, fixed_v, b_next, where present) go to the device.
+  // values it sets (fixed_value, fixed_mid, fixed_v, b_next, where present, and the critical
+  // stretches when they vary in time) go to the device.
   void advance(int64_t steps, void (*after_forces)(void*) = nullptr, void* ctx = nullptr,
                void (*before_step)(void*, int64_t) = nullptr);
   // Waits for the device and copies u, v, f, the intact flags, damage, energy, the

@@ -130,6 +130,9 @@ struct FlatSystem {
   const double* failure_scale = nullptr;  // nkinds: |xi|^-p of s_c
   double* nonlocal_damage = nullptr;      // n: eq. 6.12
   const double* contact_stiffness = nullptr;  // n: the family contact springs (the stable step)
+  // Critical stretches that vary in time (System::critical_stretch_schedules): the stepper
+  // sets critical_stretch at the step's end before each step (the CUDA backend copies it).
+  bool critical_stretch_varies = false;
 };
 
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).

@@ -96,6 +96,10 @@ void FlatBackend::prepare_step(int64_t k) {
         }
       }
     }
+  for (const auto& c : s_.critical_stretch_schedules) {  // ExplicitSolver::step, at the new time
+    const double s0 = c.s0(t1);
+    for (uint32_t i : c.particles) storage_.critical_stretch[i] = s0;
+  }
   if (storage_.vary_forces) {
     loads_.apply_forces(s_, t1);  // the System's b: the same sums as the CPU's
     for (std::size_t i = 0; i < P.size(); ++i)

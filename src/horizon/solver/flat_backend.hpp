@@ -51,10 +51,13 @@ class FlatBackend : public ExplicitBackend {
   static void contact_hook(void* self) { static_cast<FlatBackend*>(self)->contact_pass(); }
   // Before step k of a run_steps call (storage_steps_ at its start): the loads' values
   // that vary, evaluated as ExplicitSolver::step evaluates them (Loads::prescribe_velocity
-  // at t + dt/2, apply_constraints and apply_forces at t + dt) into view_; step_hook for
+  // at t + dt/2, apply_constraints and apply_forces at t + dt, the critical stretches that
+  // vary at t + dt, as step sets them before its force pass) into view_; step_hook for
   // FlatRun::advance. Whether there are any: varies().
   void prepare_step(int64_t k);
-  bool varies() const { return storage_.vary_constraints || storage_.vary_forces; }
+  bool varies() const {
+    return storage_.vary_constraints || storage_.vary_forces || storage_.vary_critical_stretch;
+  }
   static void step_hook(void* self, int64_t k) { static_cast<FlatBackend*>(self)->prepare_step(k); }
   // Brings storage_ up to date with the steps taken (the CUDA backend: copies back).
   virtual void fetch() {}

@@ -19,7 +19,6 @@ std::string flat_unsupported(const System& s, const Loads& loads) {
     if (L.support >= 0 || !L.share.empty()) return "the support " + L.name;
   }
   if (!s.thermal_strain.empty() || !s.critical_stretch_factor.empty()) return "temperature";
-  if (!s.critical_stretch_schedules.empty()) return "critical stretches that vary in time";
   // Short-range contact: the host's pair lists between the flat passes (FlatBackend);
   // friction reads the System's velocities, which the copy does not keep up to date.
   if (s.contact.enabled() && s.contact.config().law == ShortRangeLaw::peridigm && s.contact.config().friction > 0)
@@ -128,6 +127,7 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
   if (damping > 0) c.damped.assign(c.n, 0), c.speed2_before.assign(c.n, 0);
   if (c.vary_constraints) c.fixed_mid = c.fixed_value, c.fixed_v.assign(3 * c.n, 0);
   if (c.vary_forces) c.b_next = c.b, c.b_before.assign(3 * c.tracked.size(), 0);
+  c.vary_critical_stretch = !s.critical_stretch_schedules.empty();
   if (const NonlinearState* N = nonlinear_state(s)) {
     c.tupek = true;
     c.tupek_exponent_two = N->failure_exponent_two;
@@ -172,6 +172,7 @@ kernels::FlatSystem FlatStorage::view() {
   s.eps = or_null(eps), s.seth_m = or_null(seth_m), s.lambda_bar = or_null(lambda_bar), s.mu_bar = or_null(mu_bar);
   s.beta = or_null(beta), s.failure_scale = or_null(failure_scale), s.nonlocal_damage = or_null(nonlocal_damage);
   s.contact_stiffness = or_null(contact_stiffness);
+  s.critical_stretch_varies = vary_critical_stretch;
   s.compression_only = compression_only.empty() ? nullptr : compression_only.data();
   return s;
 }
@@ -195,6 +196,7 @@ void flat_write_back(const FlatStorage& c, System& s, bool energy) {
     return;
   }
   s.model.min_stretch = c.min_stretch;
+  if (c.vary_critical_stretch) s.model.critical_stretch = c.critical_stretch;  // s0 at the last step's time
   s.model.theta = c.theta;
   s.model.P = c.P;
 }

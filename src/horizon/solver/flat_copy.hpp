@@ -19,7 +19,7 @@ class Loads;
 // body_force, force, pressure) and prescribed velocities and displacements (values that
 // vary are the stepper's to evaluate before each step: FlatBackend), no thermal strain,
 // no contact friction, bonds broken before the force
-// pass, critical stretches fixed in time, one rank, no FE regions, kinds with their
+// pass (critical stretches that vary in time are the stepper's to set), one rank, no FE regions, kinds with their
 // lengths. Short-range contact: the flat rows hold the family pairs' part; the pairs
 // beyond the families are the stepper's (FlatBackend adds them between passes with the
 // host's lists; a bare advance_flat leaves them out).
@@ -45,6 +45,7 @@ struct FlatStorage {
   // Loads whose values vary in time or space (the stepper evaluates them before each step).
   std::vector<double> fixed_mid, fixed_v, b_next, b_before;
   bool vary_constraints = false, vary_forces = false;
+  bool vary_critical_stretch = false;  // System::critical_stretch_schedules (set before each step)
   std::vector<uint32_t> tracked, entry_slot, entry_load, entry_index;
   bool has_forces = false;
   // Tupek's nonlinear solid (NonlinearState; empty otherwise).
