@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "horizon/kernels/flat_system.hpp"
-#include "horizon/material/models/nonlinear_solid.hpp"  // header-only: tupek_influence, tupek_lame, tupek_beta
 
 namespace horizon::test {
 
@@ -134,26 +133,30 @@ inline Lattice make_lattice(int nx, int ny, int nz, bool lps, double s0 = 0.002,
 }
 
 // The same lattice as Tupek's nonlinear solid (material/models/nonlinear_solid.hpp, seed 000,
-// Tupek's thesis): the normalised 3-D influence of eq. 6.7 (omega V_j of each kind), the
-// peridynamic Lame constants of sec. 5.1 (E = 200 GPa, nu = 0.3), beta of s_c for the
-// fracture energy gc (eq. 6.3, p = 2), Seth-Hill parameter m, broken bonds pushing in
+// Tupek's thesis; its formulas written again here, so that the GPU-only build needs the
+// kernel headers alone): the normalised 3-D influence of eq. 6.7, omega = 315/(16 pi
+// delta^7) (3r + delta)(delta - r)^3 (omega V_j of each kind), the peridynamic Lame
+// constants of sec. 5.1 (lambda_bar = lambda - mu, mu_bar = 5/2 mu; E = 200 GPa, nu = 0.3),
+// beta = 16 delta gc/63 of s_c = beta omega/|xi|^2 (eq. 6.3 with p = 2, 3-D:
+// nonlinear_solid.hpp tupek_beta), Seth-Hill parameter m, broken bonds pushing in
 // compression; no contact springs. The step: half the stable step of the rest state
 // (kernels::flat_tupek_stable_step). The striker (the first `striker` layers at (v0, v0/6,
 // 0)) stays bonded to the bar: the energy law breaks the bonds at the interface.
 inline Lattice make_tupek_lattice(int nx, int ny, int nz, double m = 0, double gc = 3000, int striker = 6,
                                   double v0 = 40) {
   Lattice L = make_lattice(nx, ny, nz, false, 0.002, striker, v0);
-  const double h = 1e-3, delta = 3 * h, V = h * h * h, E = 200e9, nu = 0.3;
+  const double h = 1e-3, delta = 3 * h, V = h * h * h, E = 200e9, nu = 0.3, pi = 3.14159265358979323846;
   L.tupek = true;
   for (kernels::Kind& k : L.kinds) {
-    const double w = tupek_influence(k.length, delta, 3) * V;
+    const double r = k.length, gap = delta - r;
+    const double w = 315.0 / (16.0 * pi * std::pow(delta, 7)) * (3.0 * r + delta) * gap * gap * gap * V;
     k = {k.length, k.inv_length, 0.0, 0.0, w, w, 0.0, 0.0};
     L.failure_scale.push_back(k.inv_length * k.inv_length);
   }
   const uint64_t n = L.n;
-  const TupekLame lame = tupek_lame(E, nu, 3, false);
-  L.seth_m.assign(n, m), L.lambda_bar.assign(n, lame.lambda_bar), L.mu_bar.assign(n, lame.mu_bar);
-  L.beta.assign(n, tupek_beta(gc, delta, 3)), L.compression_only.assign(n, 1);
+  const double mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  L.seth_m.assign(n, m), L.lambda_bar.assign(n, lambda - mu), L.mu_bar.assign(n, 2.5 * mu);
+  L.beta.assign(n, 16.0 * delta * gc / 63.0), L.compression_only.assign(n, 1);
   L.nonlocal_damage.assign(n, 0.0), L.contact_stiffness.assign(n, 0.0), L.eps.assign(L.nbr.size(), 0.0);
   for (uint64_t i = 0; i < n; ++i) {
     double w = 0;
