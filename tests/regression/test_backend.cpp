@@ -226,6 +226,20 @@ TEST(Backend, CriticalStretchInTimeFlatGivesTheCpuBits) {
   }
 }
 
+// damage.breaks: after_force: a breaking bond carries its force in its pass (the fast
+// loops' kAfter rows; FlatSystem::break_after). PMB and LPS impacts.
+TEST(Backend, BreakAfterForceFlatGivesTheCpuBits) {
+  for (const std::string& material : {kPmb, kLps}) {
+    std::string after = material;
+    after.replace(after.find("critical_stretch: 0.002}"), 24, "critical_stretch: 0.002, breaks: after_force}");
+    const Output cpu = run(impact_deck(after), "after_force", "cpu");
+    const Output flat = run(impact_deck(after), "after_force", "flat");
+    EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+    EXPECT_NE(cpu.summary["state_crc32"], run(impact_deck(material), "before_force", "cpu").summary["state_crc32"]);
+    expect_same(flat, cpu, (material == kPmb ? "pmb" : "lps") + std::string(" impact, breaks: after_force"));
+  }
+}
+
 // Mass-proportional damping (issue 30 part B, the ledger's damped energy): the flat rows
 // book it per particle over the steps and sum the particles at a copy, ExplicitSolver::step
 // sums each step's particles first, so the damped energy (and the balance error made with
@@ -477,9 +491,6 @@ TEST(Backend, FlatRefusesWhatItDoesNotCover) {
   expect_refused(impact_deck(kPmb, "contact: {short_range: {law: peridigm, contact_radius: 0.0009, spring_constant: "
                                    "1.0e11, friction: 0.3}}\n"),
                  "short-range contact with friction (contact.short_range.friction)");
-  expect_refused(impact_deck("{model: pmb, density: 7850, youngs_modulus: 200.0e9, damage: {critical_stretch: 0.002, "
-                             "breaks: after_force}}"),
-                 "damage.break_after_force");
   expect_refused(impact_deck("{model: pmb, density: 7850, youngs_modulus: 200.0e9, damage: {critical_stretch: 0.002}, "
                              "thermal: {conductivity: 30, specific_heat: 880}}",
                              "thermal: {initial_temperature: 300}\n"),
@@ -498,8 +509,8 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
   // solver.backend in the deck: the refusal names its line and column.
   const fs::path dir = scratch("deck_key");
   const fs::path file = dir / "keyed.yaml";
-  const std::string after = "{model: pmb, density: 7850, youngs_modulus: 200.0e9, damage: {critical_stretch: 0.002, "
-                            "breaks: after_force}}";
+  const std::string after = "{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
+                            "yield_stress: 100.0e6}";
   std::ofstream(file) << impact_deck(after, "", ", backend: flat");
   RunOptions o;
   o.quiet = true;
@@ -512,7 +523,8 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
     m = e.what();
   }
   EXPECT_NE(m.find("keyed.yaml:18:"), std::string::npos) << m;
-  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has damage.break_after_force"), std::string::npos)
+  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has model elastic_plastic (materials.steel.model)"),
+            std::string::npos)
       << m;
   // A name that is none of the three: the deck's error, with the choices.
   std::ofstream(file) << impact_deck(kPmb, "", ", backend: gpu");

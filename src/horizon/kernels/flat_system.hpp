@@ -16,8 +16,9 @@
 // with its energy failure law: kernels/tupek.hpp, the rows NonlinearSolid::force_pass
 // calls), force densities, prescribed velocities and displacements and
 // their work (values that vary are set by the stepper before each step), with hooks for
-// the host's work between the passes (the contact pairs beyond the families). Thermal
-// strains, bonds broken after the force pass and decomposed runs are not here
+// the host's work between the passes (the contact pairs beyond the families), bonds
+// broken before or after the force pass (break_after). Thermal strains and decomposed
+// runs are not here
 // (solver/flat_copy.hpp says which runs a flat copy takes).
 #include <cstdint>
 
@@ -46,6 +47,10 @@ struct FlatPoint {
 struct FlatSystem {
   uint64_t n = 0, nb = 0, nkinds = 0;
   bool state_based = false;  // LPS rows present: the dilatation pass, then the force pass
+  // damage.breaks: after_force (System's model.break_after_force): a bond that breaks in a
+  // pass still carries its force in that pass (state-based: marked 2 by the dilatation row,
+  // counted in theta, cleared by the force row), as the fast loops' kAfter rows.
+  bool break_after = false;
   double dim = 3;            // d of theta
   double dt = 0, damping = 0;
   // Bonds, compressed rows: row i is [offset[i], offset[i+1]).
@@ -179,7 +184,7 @@ HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
     if (s.intact[k]) {
       const double r = root(r2), e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
       const bool brk = breaks(stretch, pi[3], pj[3]);
-      if (!brk) {
+      if (s.break_after || !brk) {
         const double a = pair_bond_coefficient(kc.pair, e, r);
         fx[l] += a * Yx;
         fy[l] += a * Yy;
@@ -226,10 +231,10 @@ HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
     const double e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
     s.r_of[k] = r;
     const bool brk = breaks(stretch, pi[3], pj[3]);
-    if (!brk) th[l] += dilatation_term(kc.wv, kc.length, e);
+    if (s.break_after || !brk) th[l] += dilatation_term(kc.wv, kc.length, e);
     sm[l] = stretch < sm[l] ? stretch : sm[l];
     if (brk) {
-      s.intact[k] = 0;
+      s.intact[k] = s.break_after ? 2 : 0;
       ++broken;
       lost += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
       s.intact_weight[i] -= kc.damage;
@@ -317,7 +322,8 @@ HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
       fx[l] += a * Yx;
       fy[l] += a * Yy;
       fz[l] += a * Yz;
-      en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
+      if (s.intact[k] == 1) en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
+      if (s.intact[k] == 2) s.intact[k] = 0;  // broken after this force (break_after)
     }
     double a, w;
     if (contact_coefficient(kc.contact_d2, kc.contact_d, kc.contact_k, r2, a, w)) {

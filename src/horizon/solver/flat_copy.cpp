@@ -23,7 +23,6 @@ std::string flat_unsupported(const System& s, const Loads& loads) {
   // friction reads the System's velocities, which the copy does not keep up to date.
   if (s.contact.enabled() && s.contact.config().law == ShortRangeLaw::peridigm && s.contact.config().friction > 0)
     return "short-range contact with friction (contact.short_range.friction)";
-  if (s.model.break_after_force) return "damage.break_after_force";
   if (s.decomposition) return "a run over several ranks";
   if (s.fe_coupling) return "finite-element regions";
   if (s.bonds.length_per_bond) return "bonds without kinds (an irregular cloud)";
@@ -49,6 +48,7 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
   FlatStorage c;
   c.n = P.size();
   c.state_based = M.state_based;
+  c.break_after = M.break_after_force;
   c.dim = M.dim, c.dt = dt, c.damping = damping;
   c.offset = B.offset, c.nbr = B.nbr, c.kind = B.kind, c.intact = B.intact;
   c.kinds.resize(M.kind.size());
@@ -150,6 +150,7 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
 kernels::FlatSystem FlatStorage::view() {
   kernels::FlatSystem s;
   s.n = n, s.nb = nbr.size(), s.nkinds = kinds.size(), s.state_based = state_based, s.dim = dim, s.dt = dt, s.damping = damping;
+  s.break_after = break_after;
   s.offset = offset.data(), s.nbr = nbr.data(), s.kind = kind.data(), s.intact = intact.data();
   s.kinds = kinds.data(), s.r_of = r_of.data();
   s.X = X.data(), s.u = u.data(), s.v = v.data(), s.f = f.data(), s.b = b.data();

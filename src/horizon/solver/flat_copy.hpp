@@ -18,8 +18,8 @@ class Loads;
 // (ModelTraits::unified) or Tupek's nonlinear solid (kernels/tupek.hpp), no loads but initial conditions, force densities (traction,
 // body_force, force, pressure) and prescribed velocities and displacements (values that
 // vary are the stepper's to evaluate before each step: FlatBackend), no thermal strain,
-// no contact friction, bonds broken before the force
-// pass (critical stretches that vary in time are the stepper's to set), one rank, no FE regions, kinds with their
+// no contact friction (bonds broken before or after the
+// force pass; critical stretches that vary in time are the stepper's to set), one rank, no FE regions, kinds with their
 // lengths. Short-range contact: the flat rows hold the family pairs' part; the pairs
 // beyond the families are the stepper's (FlatBackend adds them between passes with the
 // host's lists; a bare advance_flat leaves them out).
@@ -53,7 +53,7 @@ struct FlatStorage {
   std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
   std::vector<uint8_t> compression_only;
   uint64_t n = 0;
-  bool state_based = false;
+  bool state_based = false, break_after = false;
   double dim = 3, dt = 0, damping = 0;
 };
 
