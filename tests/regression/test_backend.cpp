@@ -240,6 +240,55 @@ TEST(Backend, BreakAfterForceFlatGivesTheCpuBits) {
   }
 }
 
+// An irregular cloud (a points body whose bonds carry their own lengths,
+// Bonds::length_per_bond): the flat rows finish each bond's constants from its |xi| as the
+// fast loops do (kernels::flat_kind). A jittered block of 12 x 10 x 8 points pulled apart
+// and squeezed (tests/unit/test_clouds.cpp's deck), PMB with the compression term and LPS
+// breaking after the force, both with short-range contact.
+std::string cloud_deck(const std::string& material) {
+  std::string points;
+  uint64_t state = 42;
+  auto next = [&state] {  // a fixed sequence in [-1, 1) (Knuth's MMIX LCG)
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 4503599627370496.0 - 1.0;
+  };
+  const double h = 1e-3;
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 10; ++j)
+      for (int i = 0; i < 12; ++i) {
+        const double x = (i + 0.5 + 0.3 * next()) * h, y = (j + 0.5 + 0.3 * next()) * h, z = (k + 0.5 + 0.3 * next()) * h;
+        points += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}, 1.0e-9]", points.empty() ? "" : ", ", x, y, z);
+      }
+  return fmt::format(R"yaml(dimension: 3
+spacing: 1.0e-3
+horizon: 3.015e-3
+materials:
+  m: {}
+bodies:
+  - {{name: b, material: m, shape: {{points: [{}]}}}}
+contact:
+  short_range: {{stiffness_factor: 15, reference_fraction: 0.9, max_distance: 1.35}}
+initial_conditions:
+  - {{velocity: ["100*(x-0.006)/0.006", "-50*(y-0.005)/0.005", 0]}}
+solver: {{type: explicit, end_time: 1.0e-6, time_step: 5.0e-8}}
+output: {{frames: 2, history_every: 5, damage_measure: volume}}
+)yaml",
+                     material, points);
+}
+
+TEST(Backend, IrregularCloudFlatGivesTheCpuBits) {
+  const std::string pmb =
+      "{model: pmb, density: 2200, micromodulus: 1.0e21, damage: {critical_stretch: 0.002, alpha: 0.25}}";
+  const std::string lps = "{model: lps, density: 2200, bulk_modulus: 14.9e9, shear_modulus: 14.9e9, damage: "
+                          "{critical_stretch: 0.002, alpha: 0.25, breaks: after_force}}";
+  for (const std::string& material : {pmb, lps}) {
+    const Output cpu = run(cloud_deck(material), "cloud", "cpu");
+    const Output flat = run(cloud_deck(material), "cloud", "flat");
+    EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+    expect_same(flat, cpu, material == pmb ? "pmb cloud" : "lps cloud, breaks: after_force");
+  }
+}
+
 // Mass-proportional damping (issue 30 part B, the ledger's damped energy): the flat rows
 // book it per particle over the steps and sum the particles at a copy, ExplicitSolver::step
 // sums each step's particles first, so the damped energy (and the balance error made with

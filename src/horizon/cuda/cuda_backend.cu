@@ -221,6 +221,7 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.failure_scale = upload(h.failure_scale, h.tupek ? h.nkinds : 0, o);
   d.nonlocal_damage = upload(h.nonlocal_damage, tn, o);
   d.contact_stiffness = upload(h.contact_stiffness, tn, o);
+  d.length_of = upload(h.length_of, h.length_of ? nb : 0, o);
   m.grid = static_cast<unsigned>((n + kBlock - 1) / kBlock);
   m.tracked_grid = static_cast<unsigned>((h.ntracked + kBlock - 1) / kBlock);
   check(cudaEventCreate(&m.start), "cudaEventCreate");

@@ -138,7 +138,30 @@ struct FlatSystem {
   // Critical stretches that vary in time (System::critical_stretch_schedules): the stepper
   // sets critical_stretch at the step's end before each step (the CUDA backend copies it).
   bool critical_stretch_varies = false;
+  // Bonds with their own lengths (an irregular cloud, Bonds::length_per_bond), else null:
+  // the kinds hold no length, `pair` holds omega V_j (R_i + R_j) before the division by
+  // |xi|, and flat_kind finishes each bond's constants as solver/forces.cpp per_bond does
+  // (the contact distance min(fraction |xi|, cutoff) when the family contact acts).
+  const double* length_of = nullptr;  // nb
+  bool contact_from_length = false;
+  double contact_fraction = 0, contact_cutoff = 0;
 };
+
+// Bond k's constants: its kind's, or with its own length (FlatSystem::length_of).
+HORIZON_HD inline Kind flat_kind(const FlatSystem& s, uint64_t k) {
+  Kind kc = s.kinds[s.kind[k]];
+  if (!s.length_of) return kc;
+  const double L = s.length_of[k];
+  kc.length = L;
+  kc.inv_length = 1.0 / L;
+  kc.pair = kc.pair / L;
+  if (s.contact_from_length) {
+    const double d = s.contact_fraction * L;
+    kc.contact_d = s.contact_cutoff < d ? s.contact_cutoff : d;  // std::min(d, cutoff)
+    kc.contact_d2 = kc.contact_d * kc.contact_d;
+  }
+  return kc;
+}
 
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).
 HORIZON_HD inline void pack_row(const FlatSystem& s, uint64_t i) {
@@ -177,7 +200,7 @@ HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
   double lost = 0;
   uint64_t broken = 0;
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
-    const Kind kc = s.kinds[s.kind[k]];
+    const Kind kc = flat_kind(s, k);
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -225,7 +248,7 @@ HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
   uint64_t broken = 0;
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     if (!s.intact[k]) return;
-    const Kind kc = s.kinds[s.kind[k]];
+    const Kind kc = flat_kind(s, k);
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double r = bond_length(pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]);
     const double e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
@@ -312,7 +335,7 @@ HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
   double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {};
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const uint32_t j = s.nbr[k];
-    const Kind kc = s.kinds[s.kind[k]];
+    const Kind kc = flat_kind(s, k);
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(j);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;

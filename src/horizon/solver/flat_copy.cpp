@@ -25,7 +25,7 @@ std::string flat_unsupported(const System& s, const Loads& loads) {
     return "short-range contact with friction (contact.short_range.friction)";
   if (s.decomposition) return "a run over several ranks";
   if (s.fe_coupling) return "finite-element regions";
-  if (s.bonds.length_per_bond) return "bonds without kinds (an irregular cloud)";
+  if (s.bonds.length_per_bond && s.models.owner()) return "bonds without kinds (an irregular cloud)";
   if (s.model.kind.size() != s.bonds.kinds.size()) return "no force pass yet";
   return "";
 }
@@ -49,6 +49,12 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
   c.n = P.size();
   c.state_based = M.state_based;
   c.break_after = M.break_after_force;
+  if (B.length_per_bond) {  // an irregular cloud: each bond's own |xi| (flat_kind)
+    c.length_of = B.lengths;
+    c.contact_from_length = s.contact.acts_on_family();
+    c.contact_fraction = c.contact_from_length ? s.contact.config().reference_fraction : 0.0;
+    c.contact_cutoff = s.contact.cutoff();
+  }
   c.dim = M.dim, c.dt = dt, c.damping = damping;
   c.offset = B.offset, c.nbr = B.nbr, c.kind = B.kind, c.intact = B.intact;
   c.kinds.resize(M.kind.size());
@@ -151,6 +157,8 @@ kernels::FlatSystem FlatStorage::view() {
   kernels::FlatSystem s;
   s.n = n, s.nb = nbr.size(), s.nkinds = kinds.size(), s.state_based = state_based, s.dim = dim, s.dt = dt, s.damping = damping;
   s.break_after = break_after;
+  s.length_of = length_of.empty() ? nullptr : length_of.data();
+  s.contact_from_length = contact_from_length, s.contact_fraction = contact_fraction, s.contact_cutoff = contact_cutoff;
   s.offset = offset.data(), s.nbr = nbr.data(), s.kind = kind.data(), s.intact = intact.data();
   s.kinds = kinds.data(), s.r_of = r_of.data();
   s.X = X.data(), s.u = u.data(), s.v = v.data(), s.f = f.data(), s.b = b.data();

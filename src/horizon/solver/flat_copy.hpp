@@ -15,14 +15,15 @@ namespace horizon {
 class Loads;
 
 // Why this run cannot be stepped over flat arrays, or "" when it can: the unified models
-// (ModelTraits::unified) or Tupek's nonlinear solid (kernels/tupek.hpp), no loads but initial conditions, force densities (traction,
-// body_force, force, pressure) and prescribed velocities and displacements (values that
-// vary are the stepper's to evaluate before each step: FlatBackend), no thermal strain,
-// no contact friction (bonds broken before or after the
-// force pass; critical stretches that vary in time are the stepper's to set), one rank, no FE regions, kinds with their
-// lengths. Short-range contact: the flat rows hold the family pairs' part; the pairs
-// beyond the families are the stepper's (FlatBackend adds them between passes with the
-// host's lists; a bare advance_flat leaves them out).
+// (ModelTraits::unified) or Tupek's nonlinear solid (kernels/tupek.hpp); no loads but
+// initial conditions, force densities (traction, body_force, force, pressure) and
+// prescribed velocities and displacements (values that vary are the stepper's to evaluate
+// before each step: FlatBackend); no thermal strain, no contact friction; bonds broken
+// before or after the force pass; critical stretches that vary in time (the stepper sets
+// them); one rank, no FE regions; kinds with their lengths or, for the unified models,
+// bonds with their own (an irregular cloud). Short-range contact: the flat rows hold the
+// family pairs' part; the pairs beyond the families are the stepper's (FlatBackend adds
+// them between passes with the host's lists; a bare advance_flat leaves them out).
 std::string flat_unsupported(const System& s, const Loads& loads);
 
 // Owning copies of every array a FlatSystem points to; view() points into them.
@@ -54,6 +55,9 @@ struct FlatStorage {
   std::vector<uint8_t> compression_only;
   uint64_t n = 0;
   bool state_based = false, break_after = false;
+  std::vector<double> length_of;  // an irregular cloud: each bond's |xi| (else empty)
+  bool contact_from_length = false;
+  double contact_fraction = 0, contact_cutoff = 0;
   double dim = 3, dt = 0, damping = 0;
 };
 
