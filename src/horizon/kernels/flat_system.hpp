@@ -147,20 +147,27 @@ struct FlatSystem {
   double contact_fraction = 0, contact_cutoff = 0;
 };
 
-// Bond k's constants: its kind's, or with its own length (FlatSystem::length_of).
+// Bond k's constants: its kind's, or with its own length (kOwn: FlatSystem::length_of).
+// The rows below take kOwn and break_after as template parameters, chosen once a row, so
+// that a lattice's rows keep their loop (the flag tests in the loop cost the host's rows
+// 14 %: examples/glass_branching.yaml --coarsen 2, backend flat).
+template <bool kOwn>
 HORIZON_HD inline Kind flat_kind(const FlatSystem& s, uint64_t k) {
-  Kind kc = s.kinds[s.kind[k]];
-  if (!s.length_of) return kc;
-  const double L = s.length_of[k];
-  kc.length = L;
-  kc.inv_length = 1.0 / L;
-  kc.pair = kc.pair / L;
-  if (s.contact_from_length) {
-    const double d = s.contact_fraction * L;
-    kc.contact_d = s.contact_cutoff < d ? s.contact_cutoff : d;  // std::min(d, cutoff)
-    kc.contact_d2 = kc.contact_d * kc.contact_d;
+  if constexpr (!kOwn) {
+    return s.kinds[s.kind[k]];
+  } else {
+    Kind kc = s.kinds[s.kind[k]];
+    const double L = s.length_of[k];
+    kc.length = L;
+    kc.inv_length = 1.0 / L;
+    kc.pair = kc.pair / L;
+    if (s.contact_from_length) {
+      const double d = s.contact_fraction * L;
+      kc.contact_d = s.contact_cutoff < d ? s.contact_cutoff : d;  // std::min(d, cutoff)
+      kc.contact_d2 = kc.contact_d * kc.contact_d;
+    }
+    return kc;
   }
-  return kc;
 }
 
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).
@@ -192,7 +199,8 @@ HORIZON_HD inline void finish_breaks(const FlatSystem& s, uint64_t i, uint64_t b
 
 // Bond-based runs, one fused row: breaking, the smallest stretch, force, contact, energy
 // (solver/forces.cpp pair_row_scalar, summed in its lanes).
-HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
+template <bool kOwn, bool kAfter>
+HORIZON_HD inline void bond_based_row_of(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i];
   double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {}, sm[kLanes];
@@ -200,14 +208,14 @@ HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
   double lost = 0;
   uint64_t broken = 0;
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
-    const Kind kc = flat_kind(s, k);
+    const Kind kc = flat_kind<kOwn>(s, k);
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
     if (s.intact[k]) {
       const double r = root(r2), e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
       const bool brk = breaks(stretch, pi[3], pj[3]);
-      if (s.break_after || !brk) {
+      if (kAfter || !brk) {
         const double a = pair_bond_coefficient(kc.pair, e, r);
         fx[l] += a * Yx;
         fy[l] += a * Yy;
@@ -239,7 +247,8 @@ HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
 // State-based runs, pass 1 of a row: breaking, the smallest stretch, |Y| of each bond, the
 // dilatation and P_i (solver/forces.cpp dilate_row_scalar, in its lanes; the broken
 // bond's energy with the last pass's P_i).
-HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
+template <bool kOwn, bool kAfter>
+HORIZON_HD inline void dilatation_row_of(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i], Qi = s.Q[i], Pi = s.P[i];
   double th[kLanes] = {}, sm[kLanes];
@@ -248,16 +257,16 @@ HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
   uint64_t broken = 0;
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     if (!s.intact[k]) return;
-    const Kind kc = flat_kind(s, k);
+    const Kind kc = flat_kind<kOwn>(s, k);
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double r = bond_length(pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]);
     const double e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
     s.r_of[k] = r;
     const bool brk = breaks(stretch, pi[3], pj[3]);
-    if (s.break_after || !brk) th[l] += dilatation_term(kc.wv, kc.length, e);
+    if (kAfter || !brk) th[l] += dilatation_term(kc.wv, kc.length, e);
     sm[l] = stretch < sm[l] ? stretch : sm[l];
     if (brk) {
-      s.intact[k] = s.break_after ? 2 : 0;
+      s.intact[k] = kAfter ? 2 : 0;
       ++broken;
       lost += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
       s.intact_weight[i] -= kc.damage;
@@ -329,13 +338,14 @@ HORIZON_HD inline void pressure_row(const FlatSystem& s, uint64_t i) { s.y4[4 * 
 
 // State-based runs, pass 2 of a row: the pair form of the force, contact, energy
 // (solver/forces.cpp force_row_scalar, in its lanes).
-HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
+template <bool kOwn>
+HORIZON_HD inline void force_row_of(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i], Pi = pi[3], Qi = s.Q[i];
   double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {};
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const uint32_t j = s.nbr[k];
-    const Kind kc = flat_kind(s, k);
+    const Kind kc = flat_kind<kOwn>(s, k);
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(j);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -358,6 +368,30 @@ HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
   });
   s.f[3 * i] = lane_total(fx), s.f[3 * i + 1] = lane_total(fy), s.f[3 * i + 2] = lane_total(fz);
   s.energy[i] = lane_total(en);
+}
+
+// The rows' entry points: the variant of the run's options.
+HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
+  if (s.length_of) {
+    if (s.break_after) bond_based_row_of<true, true>(s, i);
+    else bond_based_row_of<true, false>(s, i);
+  } else {
+    if (s.break_after) bond_based_row_of<false, true>(s, i);
+    else bond_based_row_of<false, false>(s, i);
+  }
+}
+HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
+  if (s.length_of) {
+    if (s.break_after) dilatation_row_of<true, true>(s, i);
+    else dilatation_row_of<true, false>(s, i);
+  } else {
+    if (s.break_after) dilatation_row_of<false, true>(s, i);
+    else dilatation_row_of<false, false>(s, i);
+  }
+}
+HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
+  if (s.length_of) force_row_of<true>(s, i);
+  else force_row_of<false>(s, i);
 }
 
 // Loads::apply_constraints at the step's end: u = g and v = (g(t) - g(t - dt))/dt on the
@@ -485,6 +519,25 @@ HORIZON_HD inline void book_load_work(const FlatSystem& s) {
 #endif
 
 // The force pass on the host.
+// The unified models' passes, with the run's options chosen once (kOwn, kAfter).
+template <bool kOwn, bool kAfter>
+inline void flat_unified_forces(const FlatSystem& s) {
+  const uint64_t n = s.n;
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) pack_row(s, i);
+  if (!s.state_based) {
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) bond_based_row_of<kOwn, kAfter>(s, i);
+    return;
+  }
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) dilatation_row_of<kOwn, kAfter>(s, i);
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) pressure_row(s, i);
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) force_row_of<kOwn>(s, i);
+}
+
 inline void flat_forces(const FlatSystem& s) {
   const uint64_t n = s.n;
   if (s.tupek) {
@@ -496,19 +549,13 @@ inline void flat_forces(const FlatSystem& s) {
     for (uint64_t i = 0; i < n; ++i) tupek_row(s, i);
     return;
   }
-  HORIZON_FLAT_ROWS
-  for (uint64_t i = 0; i < n; ++i) pack_row(s, i);
-  if (!s.state_based) {
-    HORIZON_FLAT_ROWS
-    for (uint64_t i = 0; i < n; ++i) bond_based_row(s, i);
-    return;
+  if (s.length_of) {
+    if (s.break_after) flat_unified_forces<true, true>(s);
+    else flat_unified_forces<true, false>(s);
+  } else {
+    if (s.break_after) flat_unified_forces<false, true>(s);
+    else flat_unified_forces<false, false>(s);
   }
-  HORIZON_FLAT_ROWS
-  for (uint64_t i = 0; i < n; ++i) dilatation_row(s, i);
-  HORIZON_FLAT_ROWS
-  for (uint64_t i = 0; i < n; ++i) pressure_row(s, i);
-  HORIZON_FLAT_ROWS
-  for (uint64_t i = 0; i < n; ++i) force_row(s, i);
 }
 
 // The nonlinear solid's stable time step over the copy (NonlinearSolid::stable_time_step's
