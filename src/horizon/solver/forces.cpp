@@ -6,10 +6,14 @@
 #include "horizon/solver/forces_general.hpp"
 #include "horizon/kernels/unified.hpp"
 
+#include "horizon/core/error.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <type_traits>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -40,11 +44,30 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 KernelPath g_path = KernelPath::automatic;
+bool g_path_known = false;  // g_path set by set_kernel_path or read from the environment
+
+// HORIZON_KERNEL_PATH (automatic, avx2, scalar or general) chooses the path of a whole
+// run as set_kernel_path does, so that a benchmark can run the AVX2 rows on a machine
+// with AVX-512 (bench/lammps/run.sh with HORIZON_KERNEL_PATH=avx2: an AVX2-only CPU's
+// loops). Read once, at the first pass; set_kernel_path overrides it.
+KernelPath path() {
+  if (g_path_known) return g_path;
+  const char* env = std::getenv("HORIZON_KERNEL_PATH");
+  const std::string v = env ? env : "";
+  if (v.empty() || v == "automatic") g_path = KernelPath::automatic;
+  else if (v == "avx2") g_path = KernelPath::avx2;
+  else if (v == "scalar") g_path = KernelPath::scalar;
+  else if (v == "general") g_path = KernelPath::general;
+  else
+    throw Error("HORIZON_KERNEL_PATH=" + v + ": expected automatic, avx2, scalar or general");
+  g_path_known = true;
+  return g_path;
+}
 
 bool use_avx2() {
 #if defined(HORIZON_AVX2_KERNELS)
   static const bool available = __builtin_cpu_supports("avx2");
-  return g_path != KernelPath::scalar && available;
+  return path() != KernelPath::scalar && available;
 #else
   return false;
 #endif
@@ -54,7 +77,7 @@ bool use_avx512() {
 #if defined(HORIZON_AVX2_KERNELS)
   static const bool available = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
                                 __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
-  return g_path == KernelPath::automatic && available;
+  return path() == KernelPath::automatic && available;
 #else
   return false;
 #endif
@@ -978,10 +1001,13 @@ void internal_force(System& s) {
 
 }  // namespace
 
-void set_kernel_path(KernelPath path) { g_path = path; }
+void set_kernel_path(KernelPath p) {
+  g_path = p;
+  g_path_known = true;
+}
 
 const char* kernel_path_name() {
-  if (g_path == KernelPath::general) return "general";
+  if (path() == KernelPath::general) return "general";
   return use_avx512() ? "avx512" : use_avx2() ? "avx2" : "scalar";
 }
 
@@ -1029,7 +1055,7 @@ ForceStats compute_forces(System& s, bool energy) {
   // critical stretch takes the general pass.
   // One-way bonds (bodies of different horizons) need t_ji with j's own weight: the
   // general pass too (the fast loops take omega_ij for both directions).
-  if (!s.models.all_unified() || g_path == KernelPath::general || !s.thermal_strain.empty() ||
+  if (!s.models.all_unified() || path() == KernelPath::general || !s.thermal_strain.empty() ||
       !s.critical_stretch_factor.empty() || s.one_way_bonds) {
     if (s.bonds.length_per_bond) {
       // The general pass reads kinds with their lengths: regrouped, the same damage weights
