@@ -387,7 +387,7 @@ struct Quad {
 
 // kIL: 1/L is needed (with the bonds' own lengths it costs a division).
 template <bool kWv, bool kFull, bool kIL = true>
-HORIZON_AVX2 inline void load_quad(Quad& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
+HORIZON_AVX2 __attribute__((always_inline)) inline void load_quad(Quad& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
                                    uint64_t total) {
   uint32_t j[4], kd[4];
   for (int l = 0; l < 4; ++l) {
@@ -532,7 +532,7 @@ HORIZON_AVX2 RowOut pair_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
   D8 fx{}, fy{}, fz{}, en{}, sm{{splat(kInf), splat(kInf)}};
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 __attribute__((always_inline)) {
     constexpr int h = decltype(half)::value;
     Quad q;
     load_quad<kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
@@ -570,7 +570,7 @@ HORIZON_AVX2 RowOut dilate_row_avx2(const Ctx& c, std::size_t i, double Pi, uint
   D8 th{}, sm{{splat(kInf), splat(kInf)}};
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 __attribute__((always_inline)) {
     constexpr int h = decltype(half)::value;
     Quad q;
     load_quad<true, decltype(full)::value>(q, c, pi, i, k, count, total);
@@ -601,7 +601,7 @@ HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) 
   D8 fx{}, fy{}, fz{}, en{};
   RowOut out;
   const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
+  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 __attribute__((always_inline)) {
     constexpr int h = decltype(half)::value;
     Quad q;
     load_quad<true, decltype(full)::value, kEnergy>(q, c, pi, i, k, count, total);
@@ -810,7 +810,7 @@ HORIZON_AVX512 RowOut pair_row_avx512(const Ctx& c, std::size_t i, uint64_t tota
   const d8 s0i = _mm512_set1_pd(pi.w), zero = _mm512_setzero_pd();
   d8 fx = zero, fy = zero, fz = zero, en = zero, sm = _mm512_set1_pd(kInf);
   RowOut out;
-  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 __attribute__((always_inline)) {
     Oct q;
     load_oct<KindView::bond_based, kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d8 r2 = norm2(q);
@@ -844,7 +844,7 @@ HORIZON_AVX512 RowOut dilate_row_avx512(const Ctx& c, std::size_t i, double Pi, 
   const d8 s0i = _mm512_set1_pd(pi.w);
   d8 th = _mm512_setzero_pd(), sm = _mm512_set1_pd(kInf);
   RowOut out;
-  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 __attribute__((always_inline)) {
     Oct q;
     load_oct<KindView::dilatation, false, decltype(full)::value>(q, c, pi, i, k, count, total);
     if (!q.live) return;
@@ -869,7 +869,7 @@ HORIZON_AVX512 RowOut force_row_avx512(const Ctx& c, std::size_t i, uint64_t tot
   const d8 Pi = _mm512_set1_pd(pi.w), Qi = _mm512_set1_pd(c.Q[i]), zero = _mm512_setzero_pd();
   d8 fx = zero, fy = zero, fz = zero, en = zero;
   RowOut out;
-  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 __attribute__((always_inline)) {
     Oct q;
     load_oct<KindView::force, kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d8 r2 = norm2(q);
