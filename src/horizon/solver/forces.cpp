@@ -767,7 +767,7 @@ HORIZON_AVX512 inline d8 gather_kind_field(const uint32_t* kd, const double* fie
 HORIZON_AVX512 inline __mmask8 lanes_of(int count) { return static_cast<__mmask8>((1u << count) - 1u); }
 
 template <KindView kView, bool kExtra, bool kFull>
-HORIZON_AVX512 inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
+HORIZON_AVX512 __attribute__((always_inline)) inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
                                     uint64_t total) {
   const double* rp[8];
   const double* rk[8];
