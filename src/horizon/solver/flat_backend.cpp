@@ -1,5 +1,6 @@
 #include "horizon/solver/flat_backend.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "horizon/loading/loads.hpp"
@@ -212,7 +213,8 @@ void FlatBackend::copy_fields() {
   if (!fetched_) fetch(), fetched_ = true;
   write_state(energy_);
   if (adaptive_) {  // the System's state is storage_'s now: the logs start again
-    const auto m = static_cast<std::ptrdiff_t>(storage_steps_ - system_steps_);
+    const auto m = std::min(static_cast<std::ptrdiff_t>(storage_steps_ - system_steps_),
+                            static_cast<std::ptrdiff_t>(step_dt_.size()));
     step_dt_.erase(step_dt_.begin(), step_dt_.begin() + m);
     step_t0_.erase(step_t0_.begin(), step_t0_.begin() + m);
   }
