@@ -147,27 +147,23 @@ struct FlatSystem {
   double contact_fraction = 0, contact_cutoff = 0;
 };
 
-// Bond k's constants: its kind's, or with its own length (kOwn: FlatSystem::length_of).
-// The rows below take kOwn and break_after as template parameters, chosen once a row, so
-// that a lattice's rows keep their loop (the flag tests in the loop cost the host's rows
-// 14 %: examples/glass_branching.yaml --coarsen 2, backend flat).
-template <bool kOwn>
+// Bond k's constants with its own length (FlatSystem::length_of). The rows below take the
+// bonds' own lengths (kOwn) and break_after as template parameters, chosen once a pass
+// (flat_unified_forces), and copy a kind's constants directly otherwise
+// (`kOwn ? flat_kind(s, k) : s.kinds[s.kind[k]]`): the flags tested in the loop, or the
+// kind returned through a function, cost the host's rows 10 to 20 % (a lattice, backend flat).
 HORIZON_HD inline Kind flat_kind(const FlatSystem& s, uint64_t k) {
-  if constexpr (!kOwn) {
-    return s.kinds[s.kind[k]];
-  } else {
-    Kind kc = s.kinds[s.kind[k]];
-    const double L = s.length_of[k];
-    kc.length = L;
-    kc.inv_length = 1.0 / L;
-    kc.pair = kc.pair / L;
-    if (s.contact_from_length) {
-      const double d = s.contact_fraction * L;
-      kc.contact_d = s.contact_cutoff < d ? s.contact_cutoff : d;  // std::min(d, cutoff)
-      kc.contact_d2 = kc.contact_d * kc.contact_d;
-    }
-    return kc;
+  Kind kc = s.kinds[s.kind[k]];
+  const double L = s.length_of[k];
+  kc.length = L;
+  kc.inv_length = 1.0 / L;
+  kc.pair = kc.pair / L;
+  if (s.contact_from_length) {
+    const double d = s.contact_fraction * L;
+    kc.contact_d = s.contact_cutoff < d ? s.contact_cutoff : d;  // std::min(d, cutoff)
+    kc.contact_d2 = kc.contact_d * kc.contact_d;
   }
+  return kc;
 }
 
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).
@@ -200,7 +196,7 @@ HORIZON_HD inline void finish_breaks(const FlatSystem& s, uint64_t i, uint64_t b
 // Bond-based runs, one fused row: breaking, the smallest stretch, force, contact, energy
 // (solver/forces.cpp pair_row_scalar, summed in its lanes).
 template <bool kOwn, bool kAfter>
-HORIZON_HD inline void bond_based_row_of(const FlatSystem& s, uint64_t i) {
+HORIZON_HD_INLINE void bond_based_row_of(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i];
   double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {}, sm[kLanes];
@@ -208,7 +204,7 @@ HORIZON_HD inline void bond_based_row_of(const FlatSystem& s, uint64_t i) {
   double lost = 0;
   uint64_t broken = 0;
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
-    const Kind kc = flat_kind<kOwn>(s, k);
+    const Kind kc = kOwn ? flat_kind(s, k) : s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -257,7 +253,7 @@ HORIZON_HD inline void dilatation_row_of(const FlatSystem& s, uint64_t i) {
   uint64_t broken = 0;
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     if (!s.intact[k]) return;
-    const Kind kc = flat_kind<kOwn>(s, k);
+    const Kind kc = kOwn ? flat_kind(s, k) : s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double r = bond_length(pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]);
     const double e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
@@ -338,14 +334,14 @@ HORIZON_HD inline void pressure_row(const FlatSystem& s, uint64_t i) { s.y4[4 * 
 
 // State-based runs, pass 2 of a row: the pair form of the force, contact, energy
 // (solver/forces.cpp force_row_scalar, in its lanes).
-template <bool kOwn>
+template <bool kOwn, bool kAfter>
 HORIZON_HD inline void force_row_of(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i], Pi = pi[3], Qi = s.Q[i];
   double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {};
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const uint32_t j = s.nbr[k];
-    const Kind kc = flat_kind<kOwn>(s, k);
+    const Kind kc = kOwn ? flat_kind(s, k) : s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(j);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -355,8 +351,12 @@ HORIZON_HD inline void force_row_of(const FlatSystem& s, uint64_t i) {
       fx[l] += a * Yx;
       fy[l] += a * Yy;
       fz[l] += a * Yz;
-      if (s.intact[k] == 1) en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
-      if (s.intact[k] == 2) s.intact[k] = 0;  // broken after this force (break_after)
+      if constexpr (kAfter) {  // a bond broken in this pass (2): its force, not its energy; then off
+        if (s.intact[k] == 1) en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
+        if (s.intact[k] == 2) s.intact[k] = 0;
+      } else {
+        en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
+      }
     }
     double a, w;
     if (contact_coefficient(kc.contact_d2, kc.contact_d, kc.contact_k, r2, a, w)) {
@@ -390,8 +390,13 @@ HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
   }
 }
 HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
-  if (s.length_of) force_row_of<true>(s, i);
-  else force_row_of<false>(s, i);
+  if (s.length_of) {
+    if (s.break_after) force_row_of<true, true>(s, i);
+    else force_row_of<true, false>(s, i);
+  } else {
+    if (s.break_after) force_row_of<false, true>(s, i);
+    else force_row_of<false, false>(s, i);
+  }
 }
 
 // Loads::apply_constraints at the step's end: u = g and v = (g(t) - g(t - dt))/dt on the
@@ -535,7 +540,7 @@ inline void flat_unified_forces(const FlatSystem& s) {
   HORIZON_FLAT_ROWS
   for (uint64_t i = 0; i < n; ++i) pressure_row(s, i);
   HORIZON_FLAT_ROWS
-  for (uint64_t i = 0; i < n; ++i) force_row_of<kOwn>(s, i);
+  for (uint64_t i = 0; i < n; ++i) force_row_of<kOwn, kAfter>(s, i);
 }
 
 inline void flat_forces(const FlatSystem& s) {
