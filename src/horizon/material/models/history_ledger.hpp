@@ -97,10 +97,18 @@ inline double inelastic_loss(double work, double stored_change, double booked) {
 // and step less to stream (docs/benchmarks.md). Every pass that can rebuild them does, so
 // a run's ledger does not depend on its thread or rank count; only a run whose passes
 // cannot (static solvers, a thermal strain, the scalar rows) reads the stored arrays.
+//
+// When the commit follows as well (the explicit step), the pass also writes its history
+// (the booked flags, and the models' own per-bond arrays: e^dp, the back extensions, the
+// plastic stretches) over the committed copy, bond by bond after reading it, and the commit
+// trades nothing (`in_place`): a trial array written without being read costs the line's
+// read as well as its write, 8 bytes a bond and step more for each such array
+// (docs/benchmarks.md). No pass reads the committed copy between the pass and its commit.
 struct LedgerRows {
   bool rebuild = false;      // t_n, e_n from RowPass::r_old and RowPass::t
   bool write_trial = true;   // write the trial t and e (a later pass or commit reads them)
   bool materialize = false;  // write the rebuilt t_n, e_n into the committed arrays
+  bool in_place = false;     // the history written over the committed copy (above)
 };
 
 // The ledger state of a history model, committed and trial: per directed bond what the
@@ -126,6 +134,9 @@ struct HistoryLedger {
   // and whether it was a plain scalar pass, its |Y| and q left in System::model.
   bool virtual_committed = false;
   bool kept_trial = true;  // the passes since the commit wrote the trial t and e
+  // The pass since the commit wrote its history over the committed copy (LedgerRows::in_place):
+  // the commit then trades no copies, and no other pass may come before it.
+  bool in_place = false;
   uint64_t committed_pass = 0;
   bool committed_plain = false;
   const System* system = nullptr;  // of the last pass (materialize at a checkpoint)
@@ -133,6 +144,7 @@ struct HistoryLedger {
   // A pass of the scalar form begins (`lanes`: its rows run in the lanes, which rebuild,
   // and it gives them RowPass::r_old): how its rows treat t_n and e_n (LedgerRows).
   LedgerRows begin_rows(const System& s, bool lanes) {
+    not_in_place();
     const bool rebuild = lanes && committed_plain && s.model.passes == committed_pass + 1;
     if (virtual_committed && !rebuild) begin_pass();  // fails: nothing left to rebuild from
     fresh = true;
@@ -141,17 +153,26 @@ struct HistoryLedger {
     m.rebuild = rebuild;
     m.write_trial = !(rebuild && s.model.commit_follows);
     m.materialize = rebuild && m.write_trial && virtual_committed;
+    m.in_place = rebuild && s.model.commit_follows;
     if (m.materialize) virtual_committed = false;
     kept_trial = m.write_trial;
+    in_place = m.in_place;
     return m;
   }
   // Any other pass (the vector form, the scalar rows): the stored arrays.
   void begin_pass() {
+    not_in_place();
     if (virtual_committed)
       throw Error("internal error: the energy ledger's committed force states were rebuilt from the last pass and "
                   "are gone (history_ledger.hpp LedgerRows)");
     fresh = true;
     kept_trial = true;
+  }
+  // The committed copies hold the last commit's state (not a pass's written in place).
+  void not_in_place() const {
+    if (in_place)
+      throw Error("internal error: a pass that wrote its history in place was not committed before another pass or "
+                  "a checkpoint (history_ledger.hpp LedgerRows::in_place)");
   }
   // The committed t_n, e_n rebuilt into the arrays from the committed pass's |Y| and q
   // (System::model), as the lanes rebuild them; before a checkpoint.
@@ -173,7 +194,7 @@ struct HistoryLedger {
 
   // Checkpoint and restart (core/state_archive.hpp).
   void checkpoint(StateArchive& a) {
-    if (!a.loading()) materialize();
+    if (!a.loading()) not_in_place(), materialize();
     force.checkpoint(a, "ledger_force", "ledger_force_trial", fresh);
     extension.checkpoint(a, "ledger_extension", "ledger_extension_trial", fresh);
     booked.checkpoint(a, "ledger_booked", "ledger_booked_trial", fresh);
@@ -204,7 +225,7 @@ struct HistoryLedger {
     pending_set.assign(nb, 0);
     // Bonds broken before the first pass (precracks) were never booked as dissipated.
     for (std::size_t k = 0; k < nb; ++k) booked.committed()[k] = booked.trial()[k] = B.intact[k] ? 0 : 1;
-    virtual_committed = false, kept_trial = true, committed_pass = 0, committed_plain = false;
+    virtual_committed = false, kept_trial = true, in_place = false, committed_pass = 0, committed_plain = false;
     return true;
   }
   // Starts bond k's trial record at extension e; adds to `booked` what the force pass
@@ -268,9 +289,10 @@ struct HistoryLedger {
   Row row() {
     return {extension.trial(), booked.committed(), booked.trial(), pending_set.data(), pending_amount.data()};
   }
-  // The trial bond records become the committed ones; true when they changed (a pass ran
-  // since the last commit): the model then commits its own bond arrays the same way. A
-  // pass that kept no trial t and e leaves them to be rebuilt (LedgerRows).
+  // The trial bond records become the committed ones; true when the model must trade its
+  // own bond arrays' copies the same way (a pass ran since the last commit and did not
+  // write in place). A pass that kept no trial t and e leaves them to be rebuilt, one that
+  // wrote in place leaves nothing to trade (LedgerRows).
   bool commit_bonds(const System& s) {
     if (!fresh) return false;
     if (kept_trial) {
@@ -280,9 +302,11 @@ struct HistoryLedger {
     virtual_committed = !kept_trial;
     committed_pass = s.model.passes;
     committed_plain = s.model.plain_scalar_pass == s.model.passes;
-    booked.flip();
+    const bool trade = !in_place;
+    if (trade) booked.flip();
     fresh = false;
-    return true;
+    in_place = false;
+    return trade;
   }
   // Makes particle i's trial stored energy the committed one; returns its loss [J/m^3].
   double commit_particle(std::size_t i) {

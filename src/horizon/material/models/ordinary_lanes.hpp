@@ -47,7 +47,8 @@ struct RowBonds {
   double* force_trial = nullptr;      // null: the pass keeps no trial t and e (LedgerRows)
   double* extension_trial = nullptr;
   const uint8_t* booked_committed = nullptr;
-  uint8_t* booked_trial = nullptr;
+  uint8_t* booked_trial = nullptr;  // with booked_in_place, the committed flags themselves
+  bool booked_in_place = false;     // LedgerRows::in_place: no copy of the flags, a booking sets the committed one
   uint8_t* pending_set = nullptr;
   double* pending_amount = nullptr;
   // The committed t_n and e_n rebuilt from the previous pass (history_ledger.hpp LedgerRows)
@@ -78,6 +79,7 @@ inline RowBonds row_bonds(const RowPass& pass, HistoryLedger& ledger, const Ledg
   b.old_force = ledger.force.committed(), b.old_extension = ledger.extension.committed();
   if (mode.write_trial) b.force_trial = ledger.force.trial(), b.extension_trial = row.extension_trial;
   b.booked_committed = row.booked_committed, b.booked_trial = row.booked_trial;
+  if (mode.in_place) b.booked_trial = ledger.booked.committed(), b.booked_in_place = true;
   b.pending_set = row.pending_set, b.pending_amount = row.pending_amount;
   if (mode.rebuild) {  // (t_old: set by a model whose row visits its bonds twice)
     if (!pass.r_old) throw Error("internal error: an ordinary row without the previous pass's |Y|");
@@ -167,9 +169,9 @@ struct BreakOut {
   double smin, lost, dilatation;
   uint64_t broken;
 };
-// r_old (indexed by bond; null: not kept): |Y| of the previous pass, as the sweep found it
-// in `deformed` before writing this pass's (RowPass::r_old).
-BreakOut break_row(const Sweep& s, std::size_t i, double* r_old = nullptr);
+// r_old (indexed by bond, the row's bonds at least): |Y| of the previous pass, as the sweep
+// found it in `deformed` before writing this pass's (RowPass::r_old).
+BreakOut break_row(const Sweep& s, std::size_t i, double* r_old);
 // Pass 2 of row i: f_i = sum_j V_j (q_ij + q_ji) Y over the acting bonds, plus the family
 // contact (w: its energy density; state/system.hpp family_contact).
 struct SumOut {
