@@ -15,10 +15,6 @@
 
 #include "horizon/material/models/history_ledger.hpp"
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#include <immintrin.h>  // the sum's gather (ordinary_lanes_body.inc), in the AVX-512 copy only
-#endif
-
 // The vector types never cross a call between targets (every function of a target's copy
 // has internal linkage and takes its vectors from memory), so the ABI notes do not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
