@@ -49,6 +49,12 @@ class BondHistory {
     cur_ = 0;
   }
   void flip() { cur_ = 1 - cur_; }
+  // Frees both copies (HistoryLedger: while the committed values live elsewhere).
+  void release() {
+    std::vector<T>().swap(buf_[0]);
+    std::vector<T>().swap(buf_[1]);
+    cur_ = 0;
+  }
   // The committed copy (and a reference to the array of a model's output fields).
   const std::vector<T>& committed_vector() const { return buf_[cur_]; }
   // Checkpoint and restart: the two copies under their names. After a commit (not
@@ -106,6 +112,7 @@ inline double inelastic_loss(double work, double stored_change, double booked) {
 // (docs/benchmarks.md). No pass reads the committed copy between the pass and its commit.
 struct LedgerRows {
   bool rebuild = false;      // t_n, e_n from RowPass::r_old and RowPass::t
+  bool zero = false;         // t_n = e_n = 0 (no commit yet), not read from arrays
   bool write_trial = true;   // write the trial t and e (a later pass or commit reads them)
   bool materialize = false;  // write the rebuilt t_n, e_n into the committed arrays
   bool in_place = false;     // the history written over the committed copy (above)
@@ -133,6 +140,11 @@ struct HistoryLedger {
   // followed a pass that rebuilt them and kept no trial copy; the pass (System::model.passes)
   // and whether it was a plain scalar pass, its |Y| and q left in System::model.
   bool virtual_committed = false;
+  // No commit since the bonds were sized: the committed force and extension are 0. In both
+  // states the arrays of t and e are not allocated (32 bytes a bond: a quarter of the
+  // elastic-plastic bench deck's memory, docs/benchmarks.md); a pass or a checkpoint that
+  // needs them allocates them (ensure_arrays, materialize).
+  bool zero_committed = false;
   bool kept_trial = true;  // the passes since the commit wrote the trial t and e
   // The pass since the commit wrote its history over the committed copy (LedgerRows::in_place):
   // the commit then trades no copies, and no other pass may come before it.
@@ -151,9 +163,16 @@ struct HistoryLedger {
     system = &s;
     LedgerRows m;
     m.rebuild = rebuild;
-    m.write_trial = !(rebuild && s.model.commit_follows);
+    // Before the first commit the lanes read t_n = e_n = 0 as they rebuild them later: the
+    // next pass can rebuild from this one.
+    m.zero = lanes && zero_committed;
+    m.write_trial = !((rebuild || m.zero) && s.model.commit_follows);
     m.materialize = rebuild && m.write_trial && virtual_committed;
-    m.in_place = rebuild && s.model.commit_follows;
+    m.in_place = (rebuild || m.zero) && s.model.commit_follows;
+    if (m.write_trial) {  // (the arrays hold the committed values, or 0 before the first commit)
+      ensure_arrays();
+      m.zero = false;
+    }
     if (m.materialize) virtual_committed = false;
     kept_trial = m.write_trial;
     in_place = m.in_place;
@@ -165,8 +184,17 @@ struct HistoryLedger {
     if (virtual_committed)
       throw Error("internal error: the energy ledger's committed force states were rebuilt from the last pass and "
                   "are gone (history_ledger.hpp LedgerRows)");
+    ensure_arrays();
     fresh = true;
     kept_trial = true;
+  }
+  // The arrays of t and e allocated; 0 in both copies when they were not (zero_committed).
+  void ensure_arrays() {
+    if (force.size() != booked.size()) {
+      force.assign(booked.size(), 0);
+      extension.assign(booked.size(), 0);
+    }
+    zero_committed = false;
   }
   // The committed copies hold the last commit's state (not a pass's written in place).
   void not_in_place() const {
@@ -177,9 +205,11 @@ struct HistoryLedger {
   // The committed t_n, e_n rebuilt into the arrays from the committed pass's |Y| and q
   // (System::model), as the lanes rebuild them; before a checkpoint.
   void materialize() {
+    if (zero_committed) ensure_arrays();
     if (!virtual_committed) return;
     if (fresh || !system || system->model.passes != committed_pass)
       throw Error("internal error: the energy ledger cannot rebuild its committed force states here");
+    ensure_arrays();
     const auto& B = system->bonds;
     const auto& M = system->model;
     double* t = force.committed();
@@ -206,7 +236,8 @@ struct HistoryLedger {
     uint8_t f = fresh ? 1 : 0;
     a.io("ledger_fresh", f);
     fresh = f != 0;
-    if (a.loading()) virtual_committed = false, kept_trial = true, committed_pass = 0, committed_plain = false;
+    if (a.loading())
+      virtual_committed = false, zero_committed = false, kept_trial = true, committed_pass = 0, committed_plain = false;
   }
 
   void size_particles(std::size_t n) {
@@ -217,9 +248,10 @@ struct HistoryLedger {
   // Sizes the bond arrays when the bond count changed; true when it did.
   bool size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();
-    if (force.size() == nb) return false;
-    force.assign(nb, 0);
-    extension.assign(nb, 0);
+    if (booked.size() == nb) return false;
+    force.release();  // (allocated when a pass or a checkpoint needs them: zero_committed)
+    extension.release();
+    zero_committed = true;
     booked.assign(nb, 0);
     pending_amount.assign(nb, 0);
     pending_set.assign(nb, 0);
@@ -300,6 +332,8 @@ struct HistoryLedger {
       extension.flip();
     }
     virtual_committed = !kept_trial;
+    if (virtual_committed) force.release(), extension.release();  // (rebuilt when asked: materialize)
+    zero_committed = false;
     committed_pass = s.model.passes;
     committed_plain = s.model.plain_scalar_pass == s.model.passes;
     const bool trade = !in_place;

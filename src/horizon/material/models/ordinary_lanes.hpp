@@ -41,7 +41,7 @@ struct RowBonds {
   const double* eps = nullptr;    // thermal strain per particle (null: none)
   double* q = nullptr;            // in: t_old of a bond broken in this pass (RowPass::t); out: t/|Y|
   // The energy ledger (material/models/history_ledger.hpp HistoryLedger::Row, and the
-  // committed and trial force states and extensions).
+  // committed and trial force states and extensions; old_force null and r_old null: 0).
   const double* old_force = nullptr;
   const double* old_extension = nullptr;
   double* force_trial = nullptr;      // null: the pass keeps no trial t and e (LedgerRows)
@@ -76,7 +76,7 @@ inline RowBonds row_bonds(const RowPass& pass, HistoryLedger& ledger, const Ledg
   b.kinds = pass.kinds;
   b.eps = thermal && !s.thermal_strain.empty() ? s.thermal_strain.data() : nullptr;
   b.q = pass.t;
-  b.old_force = ledger.force.committed(), b.old_extension = ledger.extension.committed();
+  if (!mode.zero) b.old_force = ledger.force.committed(), b.old_extension = ledger.extension.committed();
   if (mode.write_trial) b.force_trial = ledger.force.trial(), b.extension_trial = row.extension_trial;
   b.booked_committed = row.booked_committed, b.booked_trial = row.booked_trial;
   if (mode.in_place) b.booked_trial = ledger.booked.committed(), b.booked_in_place = true;
