@@ -8,7 +8,8 @@
 // machines that have it (wide()); elsewhere the models and the pass run their scalar rows
 // in bond order (GCC keeps eight-wide vectors in memory on AVX2 and SSE: 3-4 times
 // slower, docs/benchmarks.md). No FMA contraction in the file (CMakeLists.txt), so the
-// lanes are the scalar expressions, operand by operand. A bond's kind constants {|xi|,
+// lanes are the scalar expressions, operand by operand (but for theta |xi| / d, taken as
+// (theta / d) |xi| in the elastic-plastic and viscoelastic rows: one division a row). A bond's kind constants {|xi|,
 // omega, omega V_j, V_j} come in one 32-byte record per kind (System::model.kind_rows),
 // eight records turned into four vectors at once. Rare events (a bond breaking, the
 // ledger's booking of a bond broken in this pass, a pending booking, the family contact)
