@@ -163,12 +163,14 @@ struct HistoryLedger {
     system = &s;
     LedgerRows m;
     m.rebuild = rebuild;
-    // Before the first commit the lanes read t_n = e_n = 0 as they rebuild them later: the
-    // next pass can rebuild from this one.
+    // Before the first commit the lanes read t_n = e_n = 0 as they rebuild them later. The
+    // trial t and e are left out only when the next pass can rebuild them from this one: a
+    // plain pass of the lanes (no thermal strain: commit_bonds' committed_plain).
     m.zero = lanes && zero_committed;
-    m.write_trial = !((rebuild || m.zero) && s.model.commit_follows);
+    const bool plain = lanes && s.thermal_strain.empty();
+    m.write_trial = !((rebuild || m.zero) && plain && s.model.commit_follows);
     m.materialize = rebuild && m.write_trial && virtual_committed;
-    m.in_place = (rebuild || m.zero) && s.model.commit_follows;
+    m.in_place = lanes && s.model.commit_follows;
     if (m.write_trial) {  // (the arrays hold the committed values, or 0 before the first commit)
       ensure_arrays();
       m.zero = false;
