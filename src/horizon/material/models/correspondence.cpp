@@ -8,6 +8,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/kernels/affine.hpp"
+#include "horizon/kernels/laws.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/state/system.hpp"
 
@@ -161,9 +162,10 @@ class Correspondence final : public Model {
   correspondence::Flaw flaw_;
   bool hypo_ = false;     // a hypoelastic law: the Peridigm tensors are fields
   double tolerance_ = 0;  // shape_tolerance
-  // The affine row runs the law in the device-portable kernel (kernels/affine.hpp
-  // linear_elastic_row): linear_elastic, not in plane stress (whose iteration stays here).
+  // The affine row runs the law in the device-portable kernel (kernels/laws.hpp law_row):
+  // linear_elastic, neo_hookean and j2, not in plane stress (whose iteration stays here).
   bool portable_law_ = false;
+  kernels::LawConstants constants_;  // the law of law_row
   bool adaptive_ = false;  // solver.adaptive_time_step: spring_factors from the current state
   std::vector<uint32_t> particles_;
   std::vector<int32_t> local_;  // particle index -> index in particles_ (-1: not ours)
@@ -251,7 +253,14 @@ void Correspondence::setup(const ModelSetup& in) {
   form_ = choice(mat, "stabilization_form") == "peridigm" ? correspondence::Stabilization::peridigm
                                                           : correspondence::Stabilization::silling;
   tolerance_ = parameter(mat, "shape_tolerance");
-  portable_law_ = law_.law == StressLaw::linear_elastic && !(dim == 2 && law_.plane == PlaneMode::stress);
+  portable_law_ = (law_.law == StressLaw::linear_elastic || law_.law == StressLaw::neo_hookean ||
+                   law_.law == StressLaw::j2) &&
+                  !(dim == 2 && law_.plane == PlaneMode::stress);
+  constants_.law = law_.law == StressLaw::j2            ? kernels::kJ2Law
+                   : law_.law == StressLaw::neo_hookean ? kernels::kNeoHookeanLaw
+                                                        : kernels::kLinearElasticLaw;
+  constants_.lambda = law_.elastic.lambda, constants_.mu = law_.elastic.mu, constants_.kappa = law_.elastic.kappa;
+  constants_.yield_stress = law_.j2.yield_stress, constants_.hardening = law_.j2.hardening_modulus;
   adaptive_ = in.config.solver.adaptive_time_step;
 
   // The bond-based micromodulus of the same bulk modulus with omega = 1 (18k/(pi delta^4)
@@ -360,12 +369,24 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
   double f[9];  // F_i, row-major
   double W = 0;
   if (portable_law_) {
-    // The linear elastic law: the whole row in the device-portable kernel (no history).
-    const kernels::AffineRow row = kernels::linear_elastic_row(sums, law_.dimension, tolerance_, law_.elastic.lambda,
-                                                               law_.elastic.mu, G_, rec);
+    // The linear elastic, neo-Hookean and J2 laws: the whole row in the device-portable
+    // kernel (kernels/laws.hpp law_row), J2's history copied in and out as plain numbers.
+    const bool j2 = constants_.law == kernels::kJ2Law;
+    kernels::J2History committed{}, trial;
+    if (j2) {
+      const classical::J2State& c = committed_[l].plastic;
+      for (int k = 0; k < 9; ++k) committed.plastic_strain[k] = c.plastic_strain(k / 3, k % 3);
+      committed.alpha = c.alpha;
+    }
+    const kernels::AffineRow row =
+        kernels::law_row(sums, law_.dimension, tolerance_, constants_, G_, committed, trial, work_[l], rec);
     singular_[l] = row.carries ? 0 : 1;
     trial_[l] = committed_[l];
-    work_[l] = 0;
+    if (j2) {
+      classical::J2State& t = trial_[l].plastic;
+      for (int k = 0; k < 9; ++k) t.plastic_strain(k / 3, k % 3) = trial.plastic_strain[k];
+      t.alpha = trial.alpha;
+    }
     von_mises_[l] = row.von_mises;
     if (!row.carries) {
       if (pass.energy) pass.energy[i] = 0;
