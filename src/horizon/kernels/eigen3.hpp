@@ -34,15 +34,6 @@
 
 namespace horizon::kernels {
 
-// The host's and the device's natural logarithm (the Hencky strain; the host's is glibc's).
-HORIZON_HD inline double natural_log(double x) {
-#if defined(__CUDA_ARCH__)
-  return ::log(x);
-#else
-  return std::log(x);
-#endif
-}
-
 HORIZON_HD inline double absolute(double x) { return x < 0 ? -x : (x == 0 ? 0.0 : x); }
 
 // det m in Eigen's order (above).
@@ -140,8 +131,13 @@ HORIZON_HD inline bool svd3(const double* a, double* U, double* sv, double* V) {
   bool finished = false;
   for (int sweep = 0; !finished && sweep < kSvdSweeps; ++sweep) {
     finished = true;
-    for (int p = 1; p < 3; ++p)
-      for (int q = 0; q < p; ++q) {
+    // The pairs (1, 0), (2, 0), (2, 1) in Eigen's order, unrolled: constant indices keep
+    // w, U and V in a device thread's registers (no local memory).
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+    for (int pair = 0; pair < 3; ++pair) {
+      const int p = pair == 0 ? 1 : 2, q = pair == 2 ? 1 : 0;
         const double threshold = larger(DBL_MIN, precision * max_diag);
         if (absolute(w[3 * p + q]) > threshold || absolute(w[3 * q + p]) > threshold) {
           finished = false;
@@ -162,21 +158,24 @@ HORIZON_HD inline bool svd3(const double* a, double* U, double* sv, double* V) {
       for (int k = 0; k < 3; ++k) U[3 * k + i] = -U[3 * k + i];
   }
   for (int i = 0; i < 3; ++i) sv[i] *= scale;
-  for (int i = 0; i < 3; ++i) {
-    int pos = i;
-    for (int k = i + 1; k < 3; ++k)
-      if (sv[k] > sv[pos]) pos = k;
-    if (sv[pos] == 0.0) break;
-    if (pos != i) {
-      const double t = sv[i];
-      sv[i] = sv[pos], sv[pos] = t;
-      for (int k = 0; k < 3; ++k) {
-        const double u = U[3 * k + i], v = V[3 * k + i];
-        U[3 * k + i] = U[3 * k + pos], U[3 * k + pos] = u;
-        V[3 * k + i] = V[3 * k + pos], V[3 * k + pos] = v;
-      }
+  // Eigen's selection sort: for i = 0, 1 the first largest of sv[i..2] swapped to i with
+  // its columns of U and V, stopping at a zero maximum (written with constant indices).
+  auto swap_entries = [&](int i, int j) {
+    const double t = sv[i];
+    sv[i] = sv[j], sv[j] = t;
+    for (int k = 0; k < 3; ++k) {
+      const double u = U[3 * k + i], v = V[3 * k + i];
+      U[3 * k + i] = U[3 * k + j], U[3 * k + j] = u;
+      V[3 * k + i] = V[3 * k + j], V[3 * k + j] = v;
     }
-  }
+  };
+  const int first = sv[1] > sv[0] ? (sv[2] > sv[1] ? 2 : 1) : (sv[2] > sv[0] ? 2 : 0);
+  const double largest = first == 0 ? sv[0] : (first == 1 ? sv[1] : sv[2]);
+  if (largest == 0.0) return true;
+  if (first == 1) swap_entries(0, 1);
+  if (first == 2) swap_entries(0, 2);
+  if (sv[1] == 0.0 && sv[2] == 0.0) return true;
+  if (sv[2] > sv[1]) swap_entries(1, 2);
   return true;
 }
 

@@ -159,7 +159,12 @@ HORIZON_HD inline AffineRow law_row(const double* sums, int d, double tolerance,
     j2_stress(c.mu, c.kappa, c.yield_stress, c.hardening, committed, out.F, trial, work, r);
   out.von_mises = von_mises(r.sigma);
   out.W = r.ok ? r.W : 0.0;
-  affine_record_of_stress(r.ok ? r.P : nullptr, Kinv, out.F, G, rec);
+  // Two calls, not one with `r.ok ? r.P : nullptr`: a pointer chosen at run time would put
+  // r in a device thread's local memory.
+  if (r.ok)
+    affine_record_of_stress(r.P, Kinv, out.F, G, rec);
+  else
+    affine_record(nullptr, out.F, G, rec);
   return out;
 }
 
