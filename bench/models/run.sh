@@ -10,6 +10,8 @@
 # step, median of $REPEAT runs, and its ratio to the LPS's median. Usage, from the
 # repository root after a build:
 #   bench/models/run.sh [horizon binary]          (REPEAT=3, STEPS=100, N=30, MODELS="pmb lps ...")
+# MODELS may also name correspondence_j2 and correspondence_neo_hookean (correspondence with
+# those stress laws; not in the default list).
 # docs/benchmarks.md ("Every model on one deck") records the results.
 set -euo pipefail
 bin=$(realpath "${1:-build/horizon}")
@@ -45,6 +47,16 @@ model_lines() {
     nonlinear_solid) echo "    youngs_modulus: 200.0e9
     poissons_ratio: 0.25
     damage: {law: energy, fracture_energy: 2000}" ;;
+    correspondence_j2) echo "    youngs_modulus: 200.0e9
+    poissons_ratio: 0.25
+    stress_law: j2
+    yield_stress: 1.0e9
+    hardening_modulus: 2.0e9
+    damage: {critical_stretch: 0.01}" ;;
+    correspondence_neo_hookean) echo "    youngs_modulus: 200.0e9
+    poissons_ratio: 0.25
+    stress_law: neo_hookean
+    damage: {critical_stretch: 0.01}" ;;
     extended_correspondence) echo "    youngs_modulus: 200.0e9
     poissons_ratio: 0.25
     stress_law: j2
@@ -56,6 +68,15 @@ model_lines() {
   esac
 }
 
+# The registry's model of a bench entry: correspondence_j2 and correspondence_neo_hookean
+# are the correspondence model with those stress laws (the default is linear_elastic).
+model_of() {
+  case "$1" in
+    correspondence_*) echo correspondence ;;
+    *) echo "$1" ;;
+  esac
+}
+
 deck() {  # $1 model
   cat <<YAML
 dimension: 3
@@ -63,7 +84,7 @@ spacing: 1.0e-3
 horizon: 3.015e-3
 materials:
   solid:
-    model: $1
+    model: $(model_of "$1")
     density: 7800
 $(model_lines "$1")
 bodies:
