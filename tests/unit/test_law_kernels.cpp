@@ -15,7 +15,9 @@
 #include <random>
 
 #include "horizon/kernels/eigen3.hpp"
+#include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/laws.hpp"
+#include "horizon/material/classical/hypoelastic.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
 
 namespace horizon {
@@ -203,6 +205,80 @@ TEST(LawKernels, LawRowKeepsTheHostsBits) {
   }
   EXPECT_EQ(bad, 0);
   EXPECT_GT(carried, 3000);
+}
+
+
+void to_history(const classical::HypoState& h, kernels::HypoHistory& k) {
+  to_rows(h.F, k.F);
+  to_rows(h.V, k.V);
+  to_rows(h.R, k.R);
+  to_rows(h.sigma_u, k.sigma_u);
+  k.alpha = h.alpha;
+  k.thermal = h.thermal;
+}
+
+// hypoelastic_step against hypo_step: every return (work, peridigm, needleman) and
+// rotation update (cayley, peridigm), with F_dot given or not, with a thermal increment or
+// not, from random committed states; elastic and plastic steps.
+TEST(LawKernels, HypoelasticStepKeepsEigensBits) {
+  std::mt19937_64 g(21);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const classical::Elastic el = classical::elastic_from_bulk_shear(160e9, 80e9);
+  const classical::Needleman nm{0.1, 0.02, 1e-3, 0.002, 0.5};
+  int bad = 0, plastic = 0, n = 0;
+  int bad_by[3][2] = {};
+  for (int t = 0; t < 12000; ++t) {
+    const auto kind = static_cast<classical::PlasticReturn>(t % 3);
+    const auto rot = (t / 3) % 2 ? classical::RotationUpdate::peridigm : classical::RotationUpdate::cayley;
+    classical::HypoState h;
+    h.F = random_gradient(g, 0.05);
+    const Mat3 Ru = Eigen::AngleAxisd(3.0 * u(g), Eigen::Vector3d(u(g), u(g), u(g)).normalized()).toRotationMatrix();
+    Mat3 V;
+    for (int c = 0; c < 9; ++c) V(c / 3, c % 3) = (c % 4 == 0 ? 1.0 : 0.0) + 0.02 * u(g);
+    h.V = 0.5 * (V + V.transpose());
+    h.R = Ru;
+    Mat3 sg;
+    for (int c = 0; c < 9; ++c) sg(c / 3, c % 3) = 3e8 * u(g);
+    h.sigma_u = 0.5 * (sg + sg.transpose());
+    h.alpha = t % 2 ? 0.01 * (1 + u(g)) : 0.0;
+    h.thermal = 1e-4 * u(g);
+    Mat3 dF;
+    for (int c = 0; c < 9; ++c) dF(c / 3, c % 3) = 2e-3 * u(g);
+    const Mat3 F = h.F + dF;
+    const double dt = 1e-7, yield = (t / 6) % 2 ? 4e8 : 0.0;
+    const bool with_fdot = (t / 12) % 2, heat = (t / 24) % 2;
+    const Mat3 Fdot = dF / dt;
+    const double thermal = heat ? h.thermal + 1e-5 : h.thermal;
+    classical::HypoState trial;
+    double work = 0;
+    const classical::HypoResult r = classical::hypoelastic_step(el, yield, 2e9, h, F, dt, trial, work,
+                                                                with_fdot ? &Fdot : nullptr, kind, nm, thermal, rot);
+    kernels::HypoConstants c;
+    c.lambda = el.lambda, c.mu = el.mu, c.kappa = el.kappa, c.hardening = 2e9;
+    c.plastic_return = static_cast<int>(kind);
+    c.rotation = rot == classical::RotationUpdate::cayley ? kernels::kRotationCayley : kernels::kRotationPeridigm;
+    c.N = nm.N, c.m = nm.m, c.rate0 = nm.rate0, c.eps0 = nm.eps0, c.eps1 = nm.eps1;
+    kernels::HypoHistory kh, kt;
+    to_history(h, kh);
+    double f[9], fd[9], d[9], kwork = -1;
+    to_rows(F, f);
+    to_rows(Fdot, fd);
+    kernels::LawStress k;
+    kernels::hypo_step(c, yield, kh, f, dt, with_fdot ? fd : nullptr, thermal, kt, kwork, k, d);
+    ASSERT_EQ(r.law.ok, k.ok);
+    ++n;
+    plastic += work > 0;
+    const int b = differing(r.law.P, k.P) + differing(r.law.sigma, k.sigma) + (same_bits(r.law.W, k.W) ? 0 : 1) +
+                  differing(r.d, d) + differing(trial.R, kt.R) + differing(trial.V, kt.V) +
+                  differing(trial.sigma_u, kt.sigma_u) + (same_bits(trial.alpha, kt.alpha) ? 0 : 1) +
+                  (same_bits(work, kwork) ? 0 : 1);
+    bad += b;
+    bad_by[t % 3][(t / 3) % 2] += b;
+  }
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 2; ++b) EXPECT_EQ(bad_by[a][b], 0) << "return " << a << ", rotation " << b;
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(plastic, n / 8) << "the random steps are meant to yield";
 }
 
 }  // namespace
