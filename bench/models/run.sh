@@ -10,8 +10,9 @@
 # step, median of $REPEAT runs, and its ratio to the LPS's median. Usage, from the
 # repository root after a build:
 #   bench/models/run.sh [horizon binary]          (REPEAT=3, STEPS=100, N=30, MODELS="pmb lps ...")
-# MODELS may also name correspondence_j2 and correspondence_neo_hookean (correspondence with
-# those stress laws; not in the default list).
+# MODELS may also name correspondence_j2, correspondence_neo_hookean and
+# correspondence_hypoelastic_j2 (correspondence with those stress laws; not in the default
+# list).
 # docs/benchmarks.md ("Every model on one deck") records the results.
 set -euo pipefail
 bin=$(realpath "${1:-build/horizon}")
@@ -53,6 +54,12 @@ model_lines() {
     yield_stress: 1.0e9
     hardening_modulus: 2.0e9
     damage: {critical_stretch: 0.01}" ;;
+    correspondence_hypoelastic_j2) echo "    youngs_modulus: 200.0e9
+    poissons_ratio: 0.25
+    stress_law: hypoelastic_j2
+    yield_stress: 1.0e9
+    hardening_modulus: 2.0e9
+    damage: {critical_stretch: 0.01}" ;;
     correspondence_neo_hookean) echo "    youngs_modulus: 200.0e9
     poissons_ratio: 0.25
     stress_law: neo_hookean
@@ -68,8 +75,8 @@ model_lines() {
   esac
 }
 
-# The registry's model of a bench entry: correspondence_j2 and correspondence_neo_hookean
-# are the correspondence model with those stress laws (the default is linear_elastic).
+# The registry's model of a bench entry: correspondence_<law> is the correspondence model
+# with that stress law (the default is linear_elastic).
 model_of() {
   case "$1" in
     correspondence_*) echo correspondence ;;
