@@ -1,6 +1,7 @@
 // Compile check of the portable law kernels for the device (issue 30): the finite-strain
 // laws of the correspondence model (kernels/laws.hpp: law_row for the linear elastic,
-// neo-Hookean and J2 laws; the SVD and polar decomposition of kernels/eigen3.hpp), each
+// neo-Hookean and J2 laws; the SVD and polar decomposition of kernels/eigen3.hpp; the
+// rate-form step of kernels/hypoelastic.hpp), each
 // instantiated in a __global__ function of one thread a particle over flat arrays, as a
 // device pass of correspondence would call them. Built by cmake/cuda.cmake (an object
 // library: nothing runs it), so bench/gpu/device_check.sh compiles them in its one call;
@@ -8,6 +9,7 @@
 #include <cstdint>
 
 #include "horizon/kernels/eigen3.hpp"
+#include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/laws.hpp"
 
 namespace horizon::kernels {
@@ -49,6 +51,17 @@ __global__ void polar_points(const double* F, std::size_t n, double* R, double* 
   const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
   if (i >= n) return;
   ok[i] = polar_log3(F + 9 * i, R + 9 * i, log_U + 9 * i) ? 1 : 0;
+}
+
+// The rate-form step (hypoelastic laws) of one particle from its F and F_dot.
+__global__ void hypo_points(const double* F, const double* Fdot, std::size_t n, HypoConstants c, double yield,
+                            const HypoHistory* committed, HypoHistory* trial, double dt, double* work, double* P,
+                            double* d) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  LawStress r;
+  hypo_step(c, yield, committed[i], F + 9 * i, dt, Fdot + 9 * i, 0.0, trial[i], work[i], r, d + 9 * i);
+  for (int k = 0; k < 9; ++k) P[9 * i + k] = r.P[k];
 }
 
 }  // namespace horizon::kernels
