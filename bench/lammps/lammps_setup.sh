@@ -1,5 +1,5 @@
 # Sourced by the side-by-side scripts of bench/lammps: installs LAMMPS (Debian packages
-# lammps and lammps-examples) when it is missing and sets `examples` to the folder of
+# lammps and lammps-examples) and PyYAML (python3-yaml) when it is missing and sets `examples` to the folder of
 # LAMMPS's examples/peri decks. $1: a deck of that folder that must exist (in.peri.pmb).
 lammps_examples_dir() {
   local f
@@ -15,6 +15,14 @@ lammps_setup() {
     [ "$(id -u)" -ne 0 ] && sudo=sudo
     $sudo apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq lammps lammps-examples >/dev/null
+  fi
+  # block.py reads and writes the decks with PyYAML (Debian's python3-yaml).
+  if ! python3 -c 'import yaml' >/dev/null 2>&1; then
+    local sudo=""
+    [ "$(id -u)" -ne 0 ] && sudo=sudo
+    echo "installing python3-yaml (Debian package)"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq python3-yaml >/dev/null
   fi
   examples=$(lammps_examples_dir "$1")
   [ -n "$examples" ] || { echo "LAMMPS's examples/peri not found" >&2; exit 1; }

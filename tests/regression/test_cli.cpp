@@ -27,8 +27,9 @@ struct Result {
   std::string output;
 };
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string(HORIZON_BINARY) + " " + args + " 2>&1";
+// env: variable assignments put before the command ("NAME=value ").
+Result run(const std::string& args, const std::string& env = "") {
+  const std::string cmd = env + std::string(HORIZON_BINARY) + " " + args + " 2>&1";
   Result r;
   FILE* p = popen(cmd.c_str(), "r");
   char buf[4096];
@@ -109,6 +110,23 @@ TEST(Cli, DeckErrorNamesFileLineAndColumn) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("bad.yaml:7:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("density"), std::string::npos) << r.output;
+}
+
+// HORIZON_KERNEL_PATH picks the fast loops' path of a run (solver/forces.hpp): a value it
+// does not know is a clear error, not a silent fall-back to another path.
+TEST(Cli, UnknownKernelPathIsAnError) {
+  const fs::path d = scratch("kernel_path");
+  write(d / "plate.yaml", plate_deck(1e-7));
+  const Result bad = run("run " + (d / "plate.yaml").string() + " -q -o " + (d / "bad").string() + " --threads 1",
+                         "HORIZON_KERNEL_PATH=avx3 ");
+  EXPECT_EQ(bad.status, 1) << bad.output;
+  EXPECT_NE(bad.output.find("HORIZON_KERNEL_PATH=avx3: expected automatic, avx2, scalar or general"),
+            std::string::npos)
+      << bad.output;
+  const Result good = run("run " + (d / "plate.yaml").string() + " -q -o " + (d / "good").string() + " --threads 1",
+                          "HORIZON_KERNEL_PATH=avx2 ");
+  EXPECT_EQ(good.status, 0) << good.output;
+  fs::remove_all(d);
 }
 
 TEST(Cli, MissingDeckIsAnErrorNotACrash) {

@@ -6,10 +6,14 @@
 #include "horizon/solver/forces_general.hpp"
 #include "horizon/kernels/unified.hpp"
 
+#include "horizon/core/error.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <type_traits>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -40,11 +44,30 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 KernelPath g_path = KernelPath::automatic;
+bool g_path_known = false;  // g_path set by set_kernel_path or read from the environment
+
+// HORIZON_KERNEL_PATH (automatic, avx2, scalar or general) chooses the path of a whole
+// run as set_kernel_path does, so that a benchmark can run the AVX2 rows on a machine
+// with AVX-512 (bench/lammps/run.sh with HORIZON_KERNEL_PATH=avx2: an AVX2-only CPU's
+// loops). Read once, at the first pass; set_kernel_path overrides it.
+KernelPath path() {
+  if (g_path_known) return g_path;
+  const char* env = std::getenv("HORIZON_KERNEL_PATH");
+  const std::string v = env ? env : "";
+  if (v.empty() || v == "automatic") g_path = KernelPath::automatic;
+  else if (v == "avx2") g_path = KernelPath::avx2;
+  else if (v == "scalar") g_path = KernelPath::scalar;
+  else if (v == "general") g_path = KernelPath::general;
+  else
+    throw Error("HORIZON_KERNEL_PATH=" + v + ": expected automatic, avx2, scalar or general");
+  g_path_known = true;
+  return g_path;
+}
 
 bool use_avx2() {
 #if defined(HORIZON_AVX2_KERNELS)
   static const bool available = __builtin_cpu_supports("avx2");
-  return g_path != KernelPath::scalar && available;
+  return path() != KernelPath::scalar && available;
 #else
   return false;
 #endif
@@ -54,7 +77,7 @@ bool use_avx512() {
 #if defined(HORIZON_AVX2_KERNELS)
   static const bool available = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
                                 __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
-  return g_path == KernelPath::automatic && available;
+  return path() == KernelPath::automatic && available;
 #else
   return false;
 #endif
@@ -351,55 +374,81 @@ HORIZON_AVX2 inline __m256d halves(const double* a, const double* b) {
   return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(a)), _mm_loadu_pd(b), 1);
 }
 
+// Which 32-byte record of a bond's kind a loop reads whole (the other fields it needs
+// come apart): the bond-based row reads {L, 1/L, pair, d^2} (+ omega V_j for the
+// energy), the dilatation pass {L, 1/L, omega V_j, -}, the force pass {L, omega V_j, pair,
+// d^2} (+ 1/L for the energy). The AVX2 and AVX-512 rows read the same records.
+enum class KindView { bond_based, dilatation, force };
+
 // Four bonds k .. k + count - 1 of row i in lanes 0..3; lanes past the row's end are
 // padding (the particle itself, the first bond's kind, not live). Each 32-byte record
-// (a neighbour's Point4, a kind's first four coefficients) is loaded as two halves, so
-// that one unpack per column puts the lanes in order.
+// (a neighbour's Point4, a kind's record of kView) is loaded as two halves, so that one
+// unpack per column puts the lanes in order.
 struct Quad {
   d4 Yx, Yy, Yz, wj;    // Y = y_j - y_i; the neighbour's packed value
   d4 L, iL, pair, d2c;  // kind: length, 1/length, bond-based coefficient, contact distance^2
-  d4 wv;                // kind: omega V_j (loaded when asked)
+  d4 wv;                // kind: omega V_j
   m4 live, once;        // intact != 0, intact == 1
+  uint32_t j[4];        // the neighbours (padding: i)
 };
 
-// kIL: 1/L is needed (with the bonds' own lengths it costs a division).
-template <bool kWv, bool kFull, bool kIL = true>
-HORIZON_AVX2 inline void load_quad(Quad& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
-                                   uint64_t total) {
-  uint32_t j[4], kd[4];
+// kExtra: the field the view's record lacks (bond_based: omega V_j; force: 1/L).
+template <KindView kView, bool kExtra, bool kFull>
+HORIZON_AVX2 __attribute__((always_inline)) inline void load_quad(Quad& q, const Ctx& c, const Point4& pi,
+                                                                  std::size_t i, uint64_t k, int count,
+                                                                  uint64_t total) {
+  uint32_t kd[4];
   for (int l = 0; l < 4; ++l) {
     const bool in = kFull || l < count;
-    j[l] = in ? c.nbr[k + static_cast<uint64_t>(l)] : static_cast<uint32_t>(i);
+    q.j[l] = in ? c.nbr[k + static_cast<uint64_t>(l)] : static_cast<uint32_t>(i);
     kd[l] = c.kind[in ? k + static_cast<uint64_t>(l) : k];
   }
   const Point4* pt = c.pt;
-  const __m256d A = halves(&pt[j[0]].x, &pt[j[2]].x), B = halves(&pt[j[1]].x, &pt[j[3]].x);
-  const __m256d C = halves(&pt[j[0]].z, &pt[j[2]].z), D = halves(&pt[j[1]].z, &pt[j[3]].z);
+  const __m256d A = halves(&pt[q.j[0]].x, &pt[q.j[2]].x), B = halves(&pt[q.j[1]].x, &pt[q.j[3]].x);
+  const __m256d C = halves(&pt[q.j[0]].z, &pt[q.j[2]].z), D = halves(&pt[q.j[1]].z, &pt[q.j[3]].z);
   q.Yx = reinterpret_cast<d4>(_mm256_unpacklo_pd(A, B)) - splat(pi.x);
   q.Yy = reinterpret_cast<d4>(_mm256_unpackhi_pd(A, B)) - splat(pi.y);
   q.Yz = reinterpret_cast<d4>(_mm256_unpacklo_pd(C, D)) - splat(pi.z);
   q.wj = reinterpret_cast<d4>(_mm256_unpackhi_pd(C, D));
-  const KindCoefficients* kc = c.kc;
-  const __m256d E = halves(&kc[kd[0]].length, &kc[kd[2]].length), F = halves(&kc[kd[1]].length, &kc[kd[3]].length);
-  const __m256d G = halves(&kc[kd[0]].pair, &kc[kd[2]].pair), H = halves(&kc[kd[1]].pair, &kc[kd[3]].pair);
-  q.L = reinterpret_cast<d4>(_mm256_unpacklo_pd(E, F));
-  q.iL = reinterpret_cast<d4>(_mm256_unpackhi_pd(E, F));
-  q.pair = reinterpret_cast<d4>(_mm256_unpacklo_pd(G, H));
-  q.d2c = reinterpret_cast<d4>(_mm256_unpackhi_pd(G, H));
-  if constexpr (kWv) {
+  const double* r[4];
+  for (int l = 0; l < 4; ++l) {
+    if constexpr (kView == KindView::bond_based) r[l] = &c.kc[kd[l]].length;
+    if constexpr (kView == KindView::dilatation) r[l] = &c.kind_dilatation[kd[l]].x;
+    if constexpr (kView == KindView::force) r[l] = &c.kind_force[kd[l]].x;
+  }
+  const __m256d E = halves(r[0], r[2]), F = halves(r[1], r[3]);
+  const d4 first = reinterpret_cast<d4>(_mm256_unpacklo_pd(E, F)), second = reinterpret_cast<d4>(_mm256_unpackhi_pd(E, F));
+  q.L = first;
+  if constexpr (kView == KindView::force) q.wv = second;
+  else q.iL = second;
+  const __m256d G = halves(r[0] + 2, r[2] + 2), H = halves(r[1] + 2, r[3] + 2);
+  if constexpr (kView != KindView::dilatation) {
+    q.pair = reinterpret_cast<d4>(_mm256_unpacklo_pd(G, H));
+    q.d2c = reinterpret_cast<d4>(_mm256_unpackhi_pd(G, H));
+  } else {
+    q.wv = reinterpret_cast<d4>(_mm256_unpacklo_pd(G, H));
+  }
+  if constexpr (kExtra && kView == KindView::bond_based) {
+    const KindCoefficients* kc = c.kc;
     const __m256d U = halves(&kc[kd[0]].damage, &kc[kd[2]].damage), V = halves(&kc[kd[1]].damage, &kc[kd[3]].damage);
     q.wv = reinterpret_cast<d4>(_mm256_unpackhi_pd(U, V));
+  }
+  if constexpr (kExtra && kView == KindView::force) {
+    const KindCoefficients* kc = c.kc;
+    q.iL = d4{kc[kd[0]].inv_length, kc[kd[1]].inv_length, kc[kd[2]].inv_length, kc[kd[3]].inv_length};
   }
   if (c.lengths) {  // the bonds' own lengths (Ctx::lengths); padding lanes take bond k's
     d4 L;
     for (int l = 0; l < 4; ++l) L[l] = c.lengths[kFull || l < count ? k + static_cast<uint64_t>(l) : k];
     q.L = L;
-    if constexpr (kIL) q.iL = splat(1.0) / L;
-    if (any(q.pair != splat(0.0))) q.pair = q.pair / L;  // 0/L is the +0 the kind gives
-    if (c.contact) {
-      const d4 d = reinterpret_cast<d4>(
-          _mm256_min_pd(reinterpret_cast<__m256d>(splat(c.contact_fraction) * L), _mm256_set1_pd(c.contact_cutoff)));
-      q.d2c = d * d;
+    if constexpr (kView != KindView::force || kExtra) q.iL = splat(1.0) / L;
+    if constexpr (kView != KindView::dilatation) {
+      if (any(q.pair != splat(0.0))) q.pair = q.pair / L;  // 0/L is the +0 the kind gives
+      if (c.contact) {
+        const d4 d = reinterpret_cast<d4>(_mm256_min_pd(reinterpret_cast<__m256d>(splat(c.contact_fraction) * L),
+                                                        _mm256_set1_pd(c.contact_cutoff)));
+        q.d2c = d * d;
+      }
     }
   }
   // The four intact flags as masks: one 4-byte load where the array allows it.
@@ -466,57 +515,74 @@ HORIZON_AVX2 __attribute__((noinline)) void quad_breaks(const Ctx& c, const Poin
   }
 }
 
-// Calls f(k, count, full, half) for the blocks of four bonds of a row: half (0 or 1, a
-// compile-time constant) is the block's place in its block of eight, so lanes 0-3 and
-// 4-7 keep separate sums; full (a compile-time constant) tells the block has four
-// bonds, so that its loads need no padding.
-template <class F>
-HORIZON_AVX2 inline void for_each_quad(uint64_t begin, uint64_t end, F&& f) {
-  uint64_t k = begin;
-  for (; k + 8 <= end; k += 8) {
-    f(k, 4, std::true_type{}, LaneTag<0>{});
-    f(k + 4, 4, std::true_type{}, LaneTag<1>{});
-  }
-  if (k + 4 <= end) {
-    f(k, 4, std::true_type{}, LaneTag<0>{});
-    if (k + 4 < end) f(k + 4, static_cast<int>(end - k - 4), std::false_type{}, LaneTag<1>{});
-  } else if (k < end) {
-    f(k, static_cast<int>(end - k), std::false_type{}, LaneTag<0>{});
-  }
+// The rows walk the blocks of four bonds of one half at a time: lanes 0-3 of every block
+// of eight (half 0), then lanes 4-7 (half 1). Each lane still adds its bonds in bond
+// order, and the halves' sums are added as total8 adds them (sum4(half 0) + sum4(half 1)),
+// so the bits are those of the interleaved walk, with half the sums live at once: AVX2
+// has sixteen registers, and the interleaved walk kept its eight-lane sums on the stack.
+// full (a compile-time constant) tells the block has four bonds, so that its loads need
+// no padding. A breaking bond's booking (its energy and damage weight: sums in bond
+// order) waits for the end of the row: its block marks it kPending, and book_pending
+// books the marked bonds in bond order, as the interleaved walk booked them.
+template <int h, class F>
+HORIZON_AVX2 __attribute__((always_inline)) inline void for_each_quad_of_half(uint64_t begin, uint64_t end, F&& f) {
+  uint64_t k = begin + 4 * h;
+  for (; k + 4 <= end; k += 8) f(k, 4, std::true_type{});
+  if (k < end) f(k, static_cast<int>(end - k), std::false_type{});
 }
 
-// Eight lanes as two registers of four; sum8 adds them in the order of total8.
-struct D8 {
-  d4 v[2];
+constexpr uint8_t kPending = 0x80;  // intact flag of a bond that breaks in this row's pass
+
+HORIZON_AVX2 inline void mark_pending(const Ctx& c, uint64_t k, int mask) {
+  for (int l = 0; l < 4; ++l)
+    if ((mask >> l) & 1) c.intact[k + static_cast<uint64_t>(l)] = kPending;
+}
+
+// The marked bonds of a row, booked in bond order; they take the flag `state`.
+HORIZON_AVX2 __attribute__((noinline)) void book_pending(const Ctx& c, const Point4& pi, std::size_t i, uint8_t state,
+                                                         bool bond_based, double Ri, double Pi, double Qi, RowOut& out) {
+  for (uint64_t k = c.offset[i]; k < c.offset[i + 1]; ++k)
+    if (c.intact[k] == kPending) quad_breaks(c, pi, i, k, 1, state, bond_based, Ri, Pi, Qi, out);
+}
+
+// One half's lane sums.
+struct Half {
+  d4 fx, fy, fz, en, sm;
 };
-HORIZON_AVX2 inline double sum8(const D8& a) { return sum4(a.v[0]) + sum4(a.v[1]); }
+HORIZON_AVX2 inline Half half_start() { return {splat(0), splat(0), splat(0), splat(0), splat(kInf)}; }
 
-// The contact of a block's touching lanes added to the lane sums of half h.
-template <bool kEnergy, int h>
-HORIZON_AVX2 inline void add_contact(const Ctx& c, const Point4& pi, uint64_t k, m4 contact, D8& fx, D8& fy, D8& fz,
-                                     D8& en) {
+// The contact of a block's touching lanes added to the half's sums.
+template <bool kEnergy>
+HORIZON_AVX2 __attribute__((always_inline)) inline void add_contact4(const Ctx& c, const Point4& pi, uint64_t k, m4 contact, Half& s) {
   const Contact4 cc = quad_contact(c, pi, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(contact)));
-  fx.v[h] += cc.fx, fy.v[h] += cc.fy, fz.v[h] += cc.fz;
-  if constexpr (kEnergy) en.v[h] += cc.w;
+  s.fx += cc.fx, s.fy += cc.fy, s.fz += cc.fz;
+  if constexpr (kEnergy) s.en += cc.w;
 }
-HORIZON_AVX2 inline double min8(const D8& a) { return std::min(min4(a.v[0]), min4(a.v[1])); }
 
-template <bool kEnergy, bool kAfter>
-HORIZON_AVX2 RowOut pair_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
-  const Point4 pi = c.pt[i];
-  const double Ri = c.R[i];
+// The row's totals: half 0's lane sums (a), then half 1's added, in total8's order.
+HORIZON_AVX2 __attribute__((always_inline)) inline void add_half(RowOut& out, const Half& s, bool first) {
+  const double fx = sum4(s.fx), fy = sum4(s.fy), fz = sum4(s.fz), en = sum4(s.en), sm = min4(s.sm);
+  if (first) {
+    out.fx = fx, out.fy = fy, out.fz = fz, out.energy = en, out.smin = sm;
+  } else {
+    out.fx += fx, out.fy += fy, out.fz += fz, out.energy += en, out.smin = std::min(out.smin, sm);
+  }
+}
+
+template <bool kEnergy, bool kAfter, int h>
+HORIZON_AVX2 __attribute__((always_inline)) inline bool pair_half_avx2(const Ctx& c, const Point4& pi, std::size_t i,
+                                                                       uint64_t total, double Ri, Half& sums) {
+  Half s = sums;  // a local copy, so that the sums stay in registers
   const d4 s0i = splat(pi.w);
-  D8 fx{}, fy{}, fz{}, en{}, sm{{splat(kInf), splat(kInf)}};
-  RowOut out;
-  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
-    constexpr int h = decltype(half)::value;
+  bool pending = false;
+  for_each_quad_of_half<h>(c.offset[i], c.offset[i + 1],
+                           [&](uint64_t k, int count, auto full) HORIZON_AVX2 __attribute__((always_inline)) {
     Quad q;
-    load_quad<kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
+    load_quad<KindView::bond_based, kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
     const m4 contact = (r2 < q.d2c) & (r2 > splat(0));  // padding lanes have r2 = 0
     if (!any(q.live)) {  // four broken bonds: only their contact can act
-      if (any(contact)) add_contact<kEnergy, h>(c, pi, k, contact, fx, fy, fz, en);
+      if (any(contact)) add_contact4<kEnergy>(c, pi, k, contact, s);
       return;
     }
     const d4 r = sqrt4(r2), e = r - q.L, stretch = e * q.iL;
@@ -525,32 +591,45 @@ HORIZON_AVX2 RowOut pair_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
     const m4 carries = kAfter ? q.live : q.live & ~breaks;
     // Padding and broken lanes may hold inf or NaN; the masks never select them.
     const d4 a = select(carries, q.pair * e / r);
-    fx.v[h] += a * q.Yx;
-    fy.v[h] += a * q.Yy;
-    fz.v[h] += a * q.Yz;
-    sm.v[h] = (q.live & (stretch < sm.v[h])) ? stretch : sm.v[h];
-    if constexpr (kEnergy) en.v[h] += select(q.live & ~breaks, splat(0.5 * Ri) * q.wv * q.iL * e * e);
+    s.fx += a * q.Yx;
+    s.fy += a * q.Yy;
+    s.fz += a * q.Yz;
+    s.sm = (q.live & (stretch < s.sm)) ? stretch : s.sm;
+    if constexpr (kEnergy) s.en += select(q.live & ~breaks, splat(0.5 * Ri) * q.wv * q.iL * e * e);
     if (!any(breaks | contact)) return;
     const int broken_lanes = _mm256_movemask_pd(reinterpret_cast<__m256d>(breaks));
-    if (broken_lanes) quad_breaks(c, pi, i, k, broken_lanes, 0, true, Ri, 0.0, 0.0, out);
-    if (any(contact)) add_contact<kEnergy, h>(c, pi, k, contact, fx, fy, fz, en);
+    if (broken_lanes) mark_pending(c, k, broken_lanes), pending = true;
+    if (any(contact)) add_contact4<kEnergy>(c, pi, k, contact, s);
   });
-  out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en), out.smin = min8(sm);
+  sums = s;
+  return pending;
+}
+
+template <bool kEnergy, bool kAfter>
+HORIZON_AVX2 RowOut pair_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  const double Ri = c.R[i];
+  RowOut out;
+  Half s = half_start();
+  bool pending = pair_half_avx2<kEnergy, kAfter, 0>(c, pi, i, total, Ri, s);
+  add_half(out, s, true);
+  s = half_start();
+  pending |= pair_half_avx2<kEnergy, kAfter, 1>(c, pi, i, total, Ri, s);
+  add_half(out, s, false);
+  if (pending) book_pending(c, pi, i, 0, true, Ri, 0.0, 0.0, out);
   return out;
 }
 
-template <bool kAfter>
-HORIZON_AVX2 RowOut dilate_row_avx2(const Ctx& c, std::size_t i, double Pi, uint64_t total) {
-  const Point4 pi = c.pt[i];
-  const double Ri = c.R[i], Qi = c.Q[i];
+template <bool kAfter, int h>
+HORIZON_AVX2 __attribute__((always_inline)) inline bool dilate_half_avx2(const Ctx& c, const Point4& pi, std::size_t i,
+                                                                         uint64_t total, Half& sums) {
+  Half s = sums;  // a local copy, so that the sums stay in registers
   const d4 s0i = splat(pi.w);
-  D8 th{}, sm{{splat(kInf), splat(kInf)}};
-  RowOut out;
-  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
-    constexpr int h = decltype(half)::value;
+  bool pending = false;
+  for_each_quad_of_half<h>(c.offset[i], c.offset[i + 1],
+                           [&](uint64_t k, int count, auto full) HORIZON_AVX2 __attribute__((always_inline)) {
     Quad q;
-    load_quad<true, decltype(full)::value>(q, c, pi, i, k, count, total);
+    load_quad<KindView::dilatation, false, decltype(full)::value>(q, c, pi, i, k, count, total);
     if (!any(q.live)) return;
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
     const d4 r = sqrt4(r2), e = r - q.L, stretch = e * q.iL;
@@ -560,56 +639,82 @@ HORIZON_AVX2 RowOut dilate_row_avx2(const Ctx& c, std::size_t i, double Pi, uint
       for (int l = 0; l < count; ++l) c.r_of[k + static_cast<uint64_t>(l)] = r[l];
     const d4 s0 = s0i < q.wj ? s0i : q.wj;
     const m4 breaks = q.live & (stretch > s0);
-    th.v[h] += select(kAfter ? q.live : q.live & ~breaks, q.wv * q.L * e);
-    sm.v[h] = (q.live & (stretch < sm.v[h])) ? stretch : sm.v[h];
+    s.en += select(kAfter ? q.live : q.live & ~breaks, q.wv * q.L * e);  // the dilatation sum
+    s.sm = (q.live & (stretch < s.sm)) ? stretch : s.sm;
     if (!any(breaks)) return;
-    quad_breaks(c, pi, i, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(breaks)), kAfter ? 2 : 0, false, Ri, Pi,
-                Qi, out);
+    mark_pending(c, k, _mm256_movemask_pd(reinterpret_cast<__m256d>(breaks)));
+    pending = true;
   });
-  out.theta = sum8(th), out.smin = min8(sm);
+  sums = s;
+  return pending;
+}
+
+template <bool kAfter>
+HORIZON_AVX2 RowOut dilate_row_avx2(const Ctx& c, std::size_t i, double Pi, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  RowOut out;
+  Half s = half_start();
+  bool pending = dilate_half_avx2<kAfter, 0>(c, pi, i, total, s);
+  add_half(out, s, true);
+  s = half_start();
+  pending |= dilate_half_avx2<kAfter, 1>(c, pi, i, total, s);
+  add_half(out, s, false);
+  out.theta = out.energy, out.energy = 0;
+  if (pending) book_pending(c, pi, i, kAfter ? 2 : 0, false, c.R[i], Pi, c.Q[i], out);
   return out;
 }
 
-template <bool kEnergy>
-HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
-  const Point4 pi = c.pt[i];
+template <bool kEnergy, int h>
+HORIZON_AVX2 __attribute__((always_inline)) inline void force_half_avx2(const Ctx& c, const Point4& pi, std::size_t i,
+                                                                        uint64_t total, Half& sums) {
+  Half s = sums;  // a local copy, so that the sums stay in registers
   const double Ri = c.R[i];
   const d4 Pi = splat(pi.w), Qi = splat(c.Q[i]);
-  D8 fx{}, fy{}, fz{}, en{};
-  RowOut out;
-  const uint64_t begin = c.offset[i], end = c.offset[i + 1];
-  for_each_quad(begin, end, [&](uint64_t k, int count, auto full, auto half) HORIZON_AVX2 {
-    constexpr int h = decltype(half)::value;
+  for_each_quad_of_half<h>(c.offset[i], c.offset[i + 1],
+                           [&](uint64_t k, int count, auto full) HORIZON_AVX2 __attribute__((always_inline)) {
     Quad q;
-    load_quad<true, decltype(full)::value, kEnergy>(q, c, pi, i, k, count, total);
+    load_quad<KindView::force, kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d4 r2 = q.Yx * q.Yx + q.Yy * q.Yy + q.Yz * q.Yz;
     const m4 contact = (r2 < q.d2c) & (r2 > splat(0));  // padding lanes have r2 = 0
     if (!any(q.live)) {  // four broken bonds: only their contact can act
-      if (any(contact)) add_contact<kEnergy, h>(c, pi, k, contact, fx, fy, fz, en);
+      if (any(contact)) add_contact4<kEnergy>(c, pi, k, contact, s);
       return;
     }
-    d4 Qj = {}, r = splat(1.0);  // |Y| from the dilatation pass; padding lanes 1
-    if constexpr (decltype(full)::value) r = reinterpret_cast<d4>(_mm256_loadu_pd(c.r_of + k));
-    for (int l = 0; l < count; ++l) {
-      Qj[l] = c.Q[c.nbr[k + static_cast<uint64_t>(l)]];
-      if constexpr (!decltype(full)::value) r[l] = c.r_of[k + static_cast<uint64_t>(l)];
-    }
+    d4 r = splat(1.0);  // |Y| from the dilatation pass; padding lanes 1
+    if constexpr (decltype(full)::value)
+      r = reinterpret_cast<d4>(_mm256_loadu_pd(c.r_of + k));
+    else
+      for (int l = 0; l < count; ++l) r[l] = c.r_of[k + static_cast<uint64_t>(l)];
+    const d4 Qj = {c.Q[q.j[0]], c.Q[q.j[1]], c.Q[q.j[2]], c.Q[q.j[3]]};  // padding lanes Q_i
     const d4 wv = q.wv;
     const d4 e = r - q.L;
     const d4 t = (Pi + q.wj) * q.L + (Qi + Qj) * e;
     const d4 a = select(q.live, (wv * t + q.pair * e) / r);
-    fx.v[h] += a * q.Yx;
-    fy.v[h] += a * q.Yy;
-    fz.v[h] += a * q.Yz;
-    if constexpr (kEnergy) en.v[h] += select(q.once, splat(0.5) * wv * (Pi * q.L + (Qi + splat(Ri) * q.iL) * e) * e);
+    s.fx += a * q.Yx;
+    s.fy += a * q.Yy;
+    s.fz += a * q.Yz;
+    if constexpr (kEnergy) s.en += select(q.once, splat(0.5) * wv * (Pi * q.L + (Qi + splat(Ri) * q.iL) * e) * e);
     const m4 clear = q.live ^ q.once;
     if (!any(clear | contact)) return;
     const int cleared = _mm256_movemask_pd(reinterpret_cast<__m256d>(clear));
     for (int l = 0; l < count; ++l)
       if ((cleared >> l) & 1) c.intact[k + static_cast<uint64_t>(l)] = 0;
-    if (any(contact)) add_contact<kEnergy, h>(c, pi, k, contact, fx, fy, fz, en);
+    if (any(contact)) add_contact4<kEnergy>(c, pi, k, contact, s);
   });
-  out.fx = sum8(fx), out.fy = sum8(fy), out.fz = sum8(fz), out.energy = sum8(en);
+  sums = s;
+}
+
+template <bool kEnergy>
+HORIZON_AVX2 RowOut force_row_avx2(const Ctx& c, std::size_t i, uint64_t total) {
+  const Point4 pi = c.pt[i];
+  RowOut out;
+  Half s = half_start();
+  force_half_avx2<kEnergy, 0>(c, pi, i, total, s);
+  add_half(out, s, true);
+  s = half_start();
+  force_half_avx2<kEnergy, 1>(c, pi, i, total, s);
+  add_half(out, s, false);
+  out.smin = kInf;
   return out;
 }
 
@@ -652,11 +757,6 @@ struct Oct {
   __mmask8 live, once;
 };
 
-// Which 32-byte record of a bond's kind a loop reads whole (the other fields it needs
-// come by a gather): the bond-based row reads {L, 1/L, pair, d^2} (+ omega V_j for the
-// energy), the dilatation pass {L, 1/L, omega V_j, -}, the force pass {L, omega V_j, pair,
-// d^2} (+ 1/L for the energy).
-enum class KindView { bond_based, dilatation, force };
 
 // One double of each lane's kind, from the 64-byte KindCoefficients records.
 HORIZON_AVX512 inline d8 gather_kind_field(const uint32_t* kd, const double* field) {
@@ -667,7 +767,7 @@ HORIZON_AVX512 inline d8 gather_kind_field(const uint32_t* kd, const double* fie
 HORIZON_AVX512 inline __mmask8 lanes_of(int count) { return static_cast<__mmask8>((1u << count) - 1u); }
 
 template <KindView kView, bool kExtra, bool kFull>
-HORIZON_AVX512 inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
+HORIZON_AVX512 __attribute__((always_inline)) inline void load_oct(Oct& q, const Ctx& c, const Point4& pi, std::size_t i, uint64_t k, int count,
                                     uint64_t total) {
   const double* rp[8];
   const double* rk[8];
@@ -787,7 +887,7 @@ HORIZON_AVX512 RowOut pair_row_avx512(const Ctx& c, std::size_t i, uint64_t tota
   const d8 s0i = _mm512_set1_pd(pi.w), zero = _mm512_setzero_pd();
   d8 fx = zero, fy = zero, fz = zero, en = zero, sm = _mm512_set1_pd(kInf);
   RowOut out;
-  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 __attribute__((always_inline)) {
     Oct q;
     load_oct<KindView::bond_based, kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d8 r2 = norm2(q);
@@ -821,7 +921,7 @@ HORIZON_AVX512 RowOut dilate_row_avx512(const Ctx& c, std::size_t i, double Pi, 
   const d8 s0i = _mm512_set1_pd(pi.w);
   d8 th = _mm512_setzero_pd(), sm = _mm512_set1_pd(kInf);
   RowOut out;
-  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 __attribute__((always_inline)) {
     Oct q;
     load_oct<KindView::dilatation, false, decltype(full)::value>(q, c, pi, i, k, count, total);
     if (!q.live) return;
@@ -846,7 +946,7 @@ HORIZON_AVX512 RowOut force_row_avx512(const Ctx& c, std::size_t i, uint64_t tot
   const d8 Pi = _mm512_set1_pd(pi.w), Qi = _mm512_set1_pd(c.Q[i]), zero = _mm512_setzero_pd();
   d8 fx = zero, fy = zero, fz = zero, en = zero;
   RowOut out;
-  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 {
+  for_each_oct(c.offset[i], c.offset[i + 1], [&](uint64_t k, int count, auto full) HORIZON_AVX512 __attribute__((always_inline)) {
     Oct q;
     load_oct<KindView::force, kEnergy, decltype(full)::value>(q, c, pi, i, k, count, total);
     const d8 r2 = norm2(q);
@@ -978,10 +1078,13 @@ void internal_force(System& s) {
 
 }  // namespace
 
-void set_kernel_path(KernelPath path) { g_path = path; }
+void set_kernel_path(KernelPath p) {
+  g_path = p;
+  g_path_known = true;
+}
 
 const char* kernel_path_name() {
-  if (g_path == KernelPath::general) return "general";
+  if (path() == KernelPath::general) return "general";
   return use_avx512() ? "avx512" : use_avx2() ? "avx2" : "scalar";
 }
 
@@ -1029,7 +1132,7 @@ ForceStats compute_forces(System& s, bool energy) {
   // critical stretch takes the general pass.
   // One-way bonds (bodies of different horizons) need t_ji with j's own weight: the
   // general pass too (the fast loops take omega_ij for both directions).
-  if (!s.models.all_unified() || g_path == KernelPath::general || !s.thermal_strain.empty() ||
+  if (!s.models.all_unified() || path() == KernelPath::general || !s.thermal_strain.empty() ||
       !s.critical_stretch_factor.empty() || s.one_way_bonds) {
     if (s.bonds.length_per_bond) {
       // The general pass reads kinds with their lengths: regrouped, the same damage weights
