@@ -217,6 +217,29 @@ void to_history(const classical::HypoState& h, kernels::HypoHistory& k) {
   k.thermal = h.thermal;
 }
 
+// Peridigm's rotation increment alone, where the rounding of its small terms shows: spins
+// with a component 1e-9 of the others, and general (not skew) matrices.
+TEST(LawKernels, PeridigmRotationIncrementKeepsEigensBits) {
+  std::mt19937_64 g(23);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad = 0;
+  for (int t = 0; t < 20000; ++t) {
+    Eigen::Vector3d w(u(g), u(g), u(g));
+    w *= 1e4;
+    if (t % 2) w[t % 3] *= 1e-9;
+    Mat3 O;
+    O << 0, -w[2], w[1], w[2], 0, -w[0], -w[1], w[0], 0;
+    if (t % 4 >= 2)
+      for (int c = 0; c < 9; ++c) O(c / 3, c % 3) = 1e4 * u(g);
+    const Mat3 Q = classical::peridigm_rotation_increment(O, 1e-7);
+    double o[9], q[9];
+    to_rows(O, o);
+    kernels::hypo_peridigm_rotation(o, 1e-7, q);
+    bad += differing(Q, q);
+  }
+  EXPECT_EQ(bad, 0);
+}
+
 // hypoelastic_step against hypo_step: every return (work, peridigm, needleman) and
 // rotation update (cayley, peridigm), with F_dot given or not, with a thermal increment or
 // not, from random committed states; elastic and plastic steps.

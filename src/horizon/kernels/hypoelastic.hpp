@@ -11,7 +11,8 @@
 // update d - l u), a vector right-hand side by its unrolled substitutions (sums of the
 // known terms first, then one subtraction, a division by the pivot), a matrix right-hand
 // side by the column sweep of Eigen's triangular_solve_matrix (each known entry's term
-// subtracted in turn, the pivot's reciprocal multiplied). tests/unit/test_law_kernels.cpp
+// subtracted in turn, the pivot's reciprocal multiplied); a scalar times a product,
+// s (A B), as Eigen rewrites it, (s A) B. tests/unit/test_law_kernels.cpp
 // compares the whole step with hypoelastic_step bit for bit.
 #include <cmath>
 
@@ -202,9 +203,12 @@ HORIZON_HD inline void hypo_peridigm_rotation(const double* Omega, double dt, do
   }
   const double norm = root(w2);
   const double f1 = sine(dt * norm) / norm, f2 = -(1.0 - cosine(dt * norm)) / w2;
-  double O2[9];
-  mat3_mul(Omega, Omega, O2);
-  for (int k = 0; k < 9; ++k) Q[k] = (identity3(k) + f1 * Omega[k]) + f2 * O2[k];
+  // Eigen takes f2 (Omega Omega) as (f2 Omega) Omega (its scalar-times-product rewrite):
+  // the scaled left factor, then mat3_mul's order.
+  double fO[9], O2[9];
+  for (int k = 0; k < 9; ++k) fO[k] = f2 * Omega[k];
+  mat3_mul(fO, Omega, O2);
+  for (int k = 0; k < 9; ++k) Q[k] = (identity3(k) + f1 * Omega[k]) + O2[k];
 }
 
 // F_dot of the rate-form laws (Correspondence's law_at): N = sum_j omega V_j du (x) xi over

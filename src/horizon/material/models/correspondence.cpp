@@ -455,12 +455,9 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     }
     W = row.W;
     for (int c = 0; c < 9; ++c) f[c] = row.F[c];
-  } else if (hypo_ && law_.rotation == classical::RotationUpdate::cayley) {
-    // The rate-form laws with the Cayley rotation: the row in the device-portable kernel
-    // (kernels/hypoelastic.hpp hypo_step) after the host's bond sum of F_dot. Peridigm's
-    // rotation stays on the Eigen path below: its Eigen form, I + f1 Omega + f2 (Omega
-    // Omega), rounds differently in this file than in the unit test (1 ulp in R's small
-    // entries), so the kernel could not be matched to it bit for bit.
+  } else if (hypo_) {
+    // The rate-form laws: the row in the device-portable kernel (kernels/hypoelastic.hpp
+    // hypo_step) after the host's bond sum of F_dot.
     double Kinv[9];
     const bool ok = kernels::gradient_finish(sums, sums + 9, law_.dimension, tolerance_, Kinv, f);
     singular_[l] = ok ? 0 : 1;
