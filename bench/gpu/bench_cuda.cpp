@@ -1,6 +1,6 @@
 // Directed bond evaluations per second of the CUDA backend (issue 30's figures), on the
 // cubic lattice of tests/gpu/lattice.hpp (horizon 3 spacings, 122 neighbours inside):
-//   bench_cuda MODEL NX NY NZ STEPS     (MODEL pmb or lps)
+//   bench_cuda MODEL NX NY NZ STEPS     (MODEL pmb, lps or tupek: the nonlinear solid, log strain)
 // prints the lattice, the device time of STEPS steps after one warm-up step, the bond
 // evaluations per second (directed bonds x steps / time; LPS visits each bond twice a
 // step and counts once), and the device's copy bandwidth measured in the same run. The
@@ -15,7 +15,7 @@
 
 int main(int argc, char** argv) {
   if (argc != 6) {
-    std::fprintf(stderr, "usage: bench_cuda pmb|lps NX NY NZ STEPS\n");
+    std::fprintf(stderr, "usage: bench_cuda pmb|lps|tupek NX NY NZ STEPS\n");
     return 2;
   }
   const std::string model = argv[1];
@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
     return 77;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  horizon::test::Lattice L = horizon::test::make_lattice(nx, ny, nz, model == "lps");
+  horizon::test::Lattice L = model == "tupek" ? horizon::test::make_tupek_lattice(nx, ny, nz)
+                                              : horizon::test::make_lattice(nx, ny, nz, model == "lps");
   const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const horizon::kernels::FlatSystem view = L.view();
   horizon::cuda::FlatRun run(view);
@@ -40,8 +41,9 @@ int main(int argc, char** argv) {
   const double bonds = static_cast<double>(L.nbr.size());
   const double bandwidth = horizon::cuda::copy_bandwidth(1ull << 32);
   // Bytes a directed bond streams per step (neighbour 4, kind 4, intact 1; LPS adds |Y|
-  // written and read, 16, and reads the row's bonds twice, 9 more).
-  const double bytes = model == "lps" ? 34.0 : 9.0;
+  // written and read, 16, and reads the row's bonds twice, 9 more; the nonlinear solid
+  // reads the row's bonds in both sweeps and writes and reads its strain, 16).
+  const double bytes = model == "lps" || model == "tupek" ? 34.0 : 9.0;
   std::printf("bench_cuda %s: %llu particles, %.4g directed bonds (lattice built in %.1f s), %ld steps in %.4g s "
               "on the device: %.4g directed bond evaluations per second; %.0f B/bond streamed is %.3g TB/s, "
               "%.1f %% of the measured copy bandwidth %.3g TB/s (read + write); kinetic %.6g J, mean damage %.6g\n",

@@ -13,12 +13,15 @@
 # MODELS may also name correspondence_j2, correspondence_neo_hookean and
 # correspondence_hypoelastic_j2 (correspondence with those stress laws; not in the default
 # list).
+# BACKENDS="cpu flat" runs each model with each explicit backend (solver.backend), the
+# backends' runs interleaved within each repeat; a row is named model@backend (cpu: model).
 # docs/benchmarks.md ("Every model on one deck") records the results.
 set -euo pipefail
 bin=$(realpath "${1:-build/horizon}")
 repeat=${REPEAT:-3}
 steps=${STEPS:-100}
 n=${N:-30}
+backends=${BACKENDS:-cpu}
 models=${MODELS:-"pmb lps elastic_plastic viscoelastic microplastic nonlinear_solid correspondence extended_correspondence"}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -116,18 +119,25 @@ for m in $models; do
   OMP_NUM_THREADS=1 "$bin" run -q --end-time 1e-300 "$work/$m.yaml" > /dev/null
   dt=$(python3 -c "import json; print(json.load(open('$work/out_$m/summary.json'))['time_step'])")
   end=$(python3 -c "print(($steps - 0.5) * $dt)")
-  per=()
+  declare -A per=()
   for r in $(seq "$repeat"); do
-    OMP_NUM_THREADS=1 "$bin" run -q --threads 1 --end-time "$end" "$work/$m.yaml" > /dev/null 2>&1
-    per+=("$(python3 - "$work/out_$m/summary.json" "$steps" <<'PY'
+    for b in $backends; do
+      OMP_NUM_THREADS=1 "$bin" run -q --threads 1 --backend "$b" --end-time "$end" "$work/$m.yaml" > /dev/null 2>&1
+      per[$b]+=" $(python3 - "$work/out_$m/summary.json" "$steps" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["steps"] == int(sys.argv[2]), d["steps"]
 print(d["loop_cpu_time_s"] / (d["bonds"] * d["steps"]) * 1e9, d["bonds"], d["damage"].get("mean", 0) if isinstance(d["damage"], dict) else 0)
 PY
-)")
+)"
+    done
   done
-  echo "$m ${per[*]}" >> "$results"
+  for b in $backends; do
+    name=$m
+    [ "$b" = cpu ] || name="$m@$b"
+    echo "$name ${per[$b]}" >> "$results"
+  done
+  unset per
 done
 python3 - "$results" <<'PY'
 import statistics, sys

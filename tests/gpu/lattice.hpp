@@ -27,6 +27,10 @@ struct Lattice {
   std::vector<double> fixed_value, u_before, v_before, entry_reaction, ledger{0.0};
   std::vector<uint32_t> tracked, entry_slot;
   bool has_forces = false;
+  // Tupek's nonlinear solid (make_tupek_lattice; empty otherwise).
+  std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
+  std::vector<uint8_t> compression_only;
+  bool tupek = false;
   uint64_t n = 0;
   bool lps = false;
   double dt = 0;
@@ -47,6 +51,12 @@ struct Lattice {
     s.ntracked = tracked.size(), s.tracked = tracked.data(), s.u_before = u_before.data(), s.v_before = v_before.data();
     s.has_forces = has_forces, s.nentries = entry_slot.size(), s.entry_slot = entry_slot.data();
     s.entry_mask = entry_mask.data(), s.entry_reaction = entry_reaction.data(), s.ledger = ledger.data();
+    if (tupek) {
+      s.tupek = true, s.eps = eps.data(), s.seth_m = seth_m.data(), s.lambda_bar = lambda_bar.data();
+      s.mu_bar = mu_bar.data(), s.beta = beta.data(), s.compression_only = compression_only.data();
+      s.failure_scale = failure_scale.data(), s.nonlocal_damage = nonlocal_damage.data();
+      s.contact_stiffness = contact_stiffness.data();
+    }
     return s;
   }
 };
@@ -119,6 +129,42 @@ inline Lattice make_lattice(int nx, int ny, int nz, bool lps, double s0 = 0.002,
     if (lps && m > 0) L.dilatation_coef[i] = 3 * K / m, L.Q[i] = 15 * mu / m;
     L.intact_weight[i] = L.damage_total[i] = static_cast<double>(L.offset[i + 1] - L.offset[i]);
   }
+  return L;
+}
+
+// The same lattice as Tupek's nonlinear solid (material/models/nonlinear_solid.hpp, seed 000,
+// Tupek's thesis; its formulas written again here, so that the GPU-only build needs the
+// kernel headers alone): the normalised 3-D influence of eq. 6.7, omega = 315/(16 pi
+// delta^7) (3r + delta)(delta - r)^3 (omega V_j of each kind), the peridynamic Lame
+// constants of sec. 5.1 (lambda_bar = lambda - mu, mu_bar = 5/2 mu; E = 200 GPa, nu = 0.3),
+// beta = 16 delta gc/63 of s_c = beta omega/|xi|^2 (eq. 6.3 with p = 2, 3-D:
+// nonlinear_solid.hpp tupek_beta), Seth-Hill parameter m, broken bonds pushing in
+// compression; no contact springs. The step: half the stable step of the rest state
+// (kernels::flat_tupek_stable_step). The striker (the first `striker` layers at (v0, v0/6,
+// 0)) stays bonded to the bar: the energy law breaks the bonds at the interface.
+inline Lattice make_tupek_lattice(int nx, int ny, int nz, double m = 0, double gc = 3000, int striker = 6,
+                                  double v0 = 40) {
+  Lattice L = make_lattice(nx, ny, nz, false, 0.002, striker, v0);
+  const double h = 1e-3, delta = 3 * h, V = h * h * h, E = 200e9, nu = 0.3, pi = 3.14159265358979323846;
+  L.tupek = true;
+  for (kernels::Kind& k : L.kinds) {
+    const double r = k.length, gap = delta - r;
+    const double w = 315.0 / (16.0 * pi * std::pow(delta, 7)) * (3.0 * r + delta) * gap * gap * gap * V;
+    k = {k.length, k.inv_length, 0.0, 0.0, w, w, 0.0, 0.0};
+    L.failure_scale.push_back(k.inv_length * k.inv_length);
+  }
+  const uint64_t n = L.n;
+  const double mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  L.seth_m.assign(n, m), L.lambda_bar.assign(n, lambda - mu), L.mu_bar.assign(n, 2.5 * mu);
+  L.beta.assign(n, 16.0 * delta * gc / 63.0), L.compression_only.assign(n, 1);
+  L.nonlocal_damage.assign(n, 0.0), L.contact_stiffness.assign(n, 0.0), L.eps.assign(L.nbr.size(), 0.0);
+  for (uint64_t i = 0; i < n; ++i) {
+    double w = 0;
+    for (uint64_t k = L.offset[i]; k < L.offset[i + 1]; ++k) w += L.kinds[L.kind[k]].wv;
+    L.intact_weight[i] = L.damage_total[i] = w;
+  }
+  std::vector<double> S(n);
+  L.dt = 0.5 * kernels::flat_tupek_stable_step(L.view(), S.data());
   return L;
 }
 

@@ -1,6 +1,7 @@
 // The CUDA backend (src/horizon/cuda/) against the host's portable rows (label gpu;
 // bench/gpu/device_check.sh runs it on the device machine): a striker breaking into a bar
-// of a cubic lattice, PMB and LPS, without and with loads (lattice.hpp add_loads: a clamped
+// of a cubic lattice, PMB, LPS and Tupek's nonlinear solid (its stable step too), without
+// and with loads (lattice.hpp add_loads: a clamped
 // end, a held velocity, a body force, and their work), 200 steps on the device (in two
 // calls, with a copy back between them) and on the host with kernels::advance_flat. The
 // device runs the host's operations in the host's order (one thread a row, the lanes of
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "horizon/cuda/cuda_backend.hpp"
 #include "lattice.hpp"
@@ -23,19 +25,31 @@ using horizon::test::Lattice;
 
 double rel(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
 
-bool compare(bool lps, bool loads) {
-  const char* name = loads ? (lps ? "lps with loads" : "pmb with loads") : (lps ? "lps" : "pmb");
-  Lattice host = horizon::test::make_lattice(24, 10, 10, lps);
+// model: "pmb", "lps", or "tupek" (the nonlinear solid with the log strain, m = 0) and
+// "tupek_m05" (m = 1/2: the strain is sqrt(c) - 1, no log or expm1 whose device and host
+// libraries may round differently).
+bool compare(const std::string& model, bool loads) {
+  const std::string label = model + (loads ? " with loads" : "");
+  const char* name = label.c_str();
+  const bool tupek = model.rfind("tupek", 0) == 0;
+  Lattice host = tupek ? horizon::test::make_tupek_lattice(24, 10, 10, model == "tupek_m05" ? 0.5 : 0.0)
+                       : horizon::test::make_lattice(24, 10, 10, model == "lps");
   if (loads) horizon::test::add_loads(host, 24, 1e9);
   Lattice dev = host;
   const horizon::kernels::FlatSystem hv = host.view(), dv = dev.view();
   const uint64_t broken = horizon::kernels::advance_flat(hv, 200);
+  double device_dt = 0, host_dt = 0;
   {
     horizon::cuda::FlatRun run(dv);
     run.advance(120);
     run.download(dv);  // a frame's copy in the middle changes nothing on the device
     run.advance(80);
     run.download(dv);
+    if (tupek) {  // the adaptive step's stable step of the final state, on the device and the host
+      device_dt = run.stable_time_step();
+      std::vector<double> S(host.n);
+      host_dt = horizon::kernels::flat_tupek_stable_step(hv, S.data());
+    }
   }
   const auto h = horizon::kernels::flat_totals(hv), d = horizon::kernels::flat_totals(dv);
   const bool same_u = std::memcmp(host.u.data(), dev.u.data(), host.u.size() * sizeof(double)) == 0;
@@ -49,6 +63,17 @@ bool compare(bool lps, bool loads) {
               same_u ? "the same bits" : "differ", same_intact ? "the same" : "differ", host.ledger[0], dev.ledger[0],
               same_work ? "the same bits" : "differ");
   bool ok = true;
+  if (tupek) {
+    const bool same_eps = std::memcmp(host.eps.data(), dev.eps.data(), host.eps.size() * sizeof(double)) == 0;
+    std::printf("%s: bond strains %s; stable step %.17g (host) %.17g (device), %s\n", name,
+                same_eps ? "the same bits" : "differ", host_dt, device_dt, host_dt == device_dt ? "the same bits" : "differ");
+    if (!(rel(device_dt, host_dt) <= 1e-12 && host_dt > 0 && host_dt < INFINITY))
+      std::printf("%s: FAILED: the stable step differs by %.3g relative\n", name, rel(device_dt, host_dt)), ok = false;
+    double dh = 0, dd = 0;  // the energy of the broken bonds, summed in particle order
+    for (uint64_t i = 0; i < host.n; ++i) dh += host.dissipated[i], dd += dev.dissipated[i];
+    std::printf("%s: dissipated %.17g (host) %.17g (device)\n", name, dh, dd);
+    if (!(dh > 0 && rel(dd, dh) <= 1e-9)) std::printf("%s: FAILED: the dissipation differs (or is 0)\n", name), ok = false;
+  }
   if (loads && !(rel(dev.ledger[0], host.ledger[0]) <= 1e-9 && host.ledger[0] != 0))
     std::printf("%s: FAILED: the loads' work differs (or is 0)\n", name), ok = false;
   if (!(broken > 0 && h.mean_damage > 0)) std::printf("%s: FAILED: the impact broke no bond\n", name), ok = false;
@@ -66,8 +91,11 @@ int main() {
     std::printf("SKIPPED: %s (the GPU tests need a CUDA device)\n", why.c_str());
     return 77;
   }
-  const bool pmb = compare(false, false), lps = compare(true, false);
-  const bool loaded = compare(false, true) && compare(true, true);
-  std::printf("%s\n", pmb && lps && loaded ? "PASSED" : "FAILED");
-  return pmb && lps && loaded ? 0 : 1;
+  const bool pmb = compare("pmb", false), lps = compare("lps", false);
+  const bool loaded = compare("pmb", true) && compare("lps", true);
+  // The nonlinear solid (kernels/tupek.hpp rows), the log strain and m = 1/2, and with loads.
+  const bool tupek = compare("tupek", false) && compare("tupek_m05", false) && compare("tupek", true);
+  const bool ok = pmb && lps && loaded && tupek;
+  std::printf("%s\n", ok ? "PASSED" : "FAILED");
+  return ok ? 0 : 1;
 }

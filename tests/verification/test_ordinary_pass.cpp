@@ -152,6 +152,27 @@ TEST(OrdinaryPass, LedgerRebuiltFromTheLastPassMatchesTheStoredOne) {
   }
 }
 
+// The explicit step writes the models' history over the committed copy (history_ledger.hpp
+// LedgerRows::in_place), which is right only if the commit comes before any other pass: a
+// second pass would read the first one's history as committed. That must fail loudly.
+TEST(OrdinaryPass, HistoryWrittenInPlaceMustBeCommittedBeforeTheNextPass) {
+  if (!lanes::wide()) GTEST_SKIP() << "the scalar rows keep trial copies";
+  for (const std::string& m : {kPlastic, kViscous, kMicro}) {
+    Simulation sim(parse_deck(deck(m, m), "in_place.yaml"));
+    for (int n = 0; n < 3; ++n) sim.solver->step(true);
+    sim.system.model.commit_follows = true;  // as the explicit step says before its pass
+    compute_forces(sim.system, true);
+    sim.system.model.commit_follows = false;
+    std::string message;
+    try {
+      compute_forces(sim.system, true);  // no commit in between
+    } catch (const Error& e) {
+      message = e.what();
+    }
+    EXPECT_NE(message.find("was not committed before another pass"), std::string::npos) << m << ": '" << message << "'";
+  }
+}
+
 TEST(OrdinaryPass, ElasticPlasticMatchesTheVectorPass) {
   check("elastic_plastic", deck(kPlastic, kPlastic));
 }

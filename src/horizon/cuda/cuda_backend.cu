@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,33 @@ __global__ void pressure_kernel(FlatSystem s) {
 __global__ void force_kernel(FlatSystem s) {
   const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
   if (i < s.n) kernels::force_row(s, i);
+}
+// Tupek's nonlinear solid (FlatSystem::tupek): its three stages of the force pass.
+__global__ void tupek_pack_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::tupek_pack_row(s, i);
+}
+__global__ void tupek_theta_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::tupek_theta_row(s, i);
+}
+__global__ void tupek_force_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::tupek_row(s, i);
+}
+// Its stable step (kernels::flat_tupek_stable_step): each row's S, then the smallest row
+// step, a minimum over the warp (fmin, which skips NaN as the host's r < dt ? r : dt does)
+// and one atomicMin a warp on the bits of a positive double (their order is the values').
+__global__ void tupek_coupling_kernel(FlatSystem s, double* S) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) S[i] = kernels::tupek_coupling_row(kernels::tupek_pass(s), i);
+}
+__global__ void tupek_stable_kernel(FlatSystem s, const double* S, unsigned long long* best) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  double r = INFINITY;
+  if (i < s.n) r = kernels::tupek_stable_row(kernels::tupek_pass(s), S, s.contact_stiffness[i], s.density[i], i);
+  for (int o = 16; o > 0; o /= 2) r = fmin(r, __shfl_down_sync(0xffffffffu, r, o));
+  if ((threadIdx.x & 31u) == 0 && r == r) atomicMin(best, static_cast<unsigned long long>(__double_as_longlong(r)));
 }
 __global__ void kick_kernel(FlatSystem s) {
   const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
@@ -125,6 +153,8 @@ struct FlatRun::Impl {
   cudaEvent_t start = nullptr, stop = nullptr;
   double seconds = 0;
   unsigned grid = 0, tracked_grid = 0;
+  double* S = nullptr;                   // stable_time_step's per-row sums (n), on first use
+  unsigned long long* best = nullptr;    // its minimum's bits
 };
 
 FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
@@ -181,6 +211,17 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.damped = upload(h.damped, h.damped ? n : 0, o);
   d.nonfinite = upload(h.nonfinite, h.nonfinite ? 1 : 0, o);
   d.speed2_before = upload(h.speed2_before, h.damped ? n : 0, o);
+  const uint64_t tn = h.tupek ? n : 0;  // the nonlinear solid's arrays
+  d.eps = upload(h.eps, h.tupek ? nb : 0, o);
+  d.seth_m = upload(h.seth_m, tn, o);
+  d.lambda_bar = upload(h.lambda_bar, tn, o);
+  d.mu_bar = upload(h.mu_bar, tn, o);
+  d.beta = upload(h.beta, tn, o);
+  d.compression_only = upload(h.compression_only, tn, o);
+  d.failure_scale = upload(h.failure_scale, h.tupek ? h.nkinds : 0, o);
+  d.nonlocal_damage = upload(h.nonlocal_damage, tn, o);
+  d.contact_stiffness = upload(h.contact_stiffness, tn, o);
+  d.length_of = upload(h.length_of, h.length_of ? nb : 0, o);
   m.grid = static_cast<unsigned>((n + kBlock - 1) / kBlock);
   m.tracked_grid = static_cast<unsigned>((h.ntracked + kBlock - 1) / kBlock);
   check(cudaEventCreate(&m.start), "cudaEventCreate");
@@ -210,13 +251,19 @@ void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, voi
       up(d.fixed_mid, m.h.fixed_mid, 3 * d.n);
       up(d.fixed_v, m.h.fixed_v, 3 * d.n);
       up(d.b_next, m.h.b_next, 3 * d.n);
+      if (d.critical_stretch_varies) up(const_cast<double*>(d.critical_stretch), m.h.critical_stretch, d.n);
     }
     if (d.ntracked) save_tracked_kernel<<<m.tracked_grid, kBlock>>>(d);
     kick_drift_kernel<<<m.grid, kBlock>>>(d);
-    pack_kernel<<<m.grid, kBlock>>>(d);
-    if (!d.state_based) {
+    if (d.tupek) {
+      tupek_pack_kernel<<<m.grid, kBlock>>>(d);
+      tupek_theta_kernel<<<m.grid, kBlock>>>(d);
+      tupek_force_kernel<<<m.grid, kBlock>>>(d);
+    } else if (!d.state_based) {
+      pack_kernel<<<m.grid, kBlock>>>(d);
       bond_based_kernel<<<m.grid, kBlock>>>(d);
     } else {
+      pack_kernel<<<m.grid, kBlock>>>(d);
       dilatation_kernel<<<m.grid, kBlock>>>(d);
       pressure_kernel<<<m.grid, kBlock>>>(d);
       force_kernel<<<m.grid, kBlock>>>(d);
@@ -238,6 +285,34 @@ void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, voi
   float ms = 0;
   check(cudaEventElapsedTime(&ms, m.start, m.stop), "cudaEventElapsedTime");
   m.seconds += 1e-3 * ms;
+}
+
+void FlatRun::set_dt(double dt) {
+  impl_->d.dt = dt;
+  impl_->h.dt = dt;
+}
+
+double FlatRun::stable_time_step() {
+  Impl& m = *impl_;
+  const FlatSystem& d = m.d;
+  if (!d.tupek || d.n == 0) return INFINITY;
+  if (!m.S) {
+    check(cudaMalloc(&m.S, d.n * sizeof(double)), "cudaMalloc");
+    m.owned.push_back(m.S);
+    check(cudaMalloc(&m.best, sizeof(unsigned long long)), "cudaMalloc");
+    m.owned.push_back(m.best);
+  }
+  const double inf = INFINITY;
+  unsigned long long bits = 0;
+  std::memcpy(&bits, &inf, sizeof bits);
+  check(cudaMemcpy(m.best, &bits, sizeof bits, cudaMemcpyHostToDevice), "cudaMemcpy to the device");
+  tupek_coupling_kernel<<<m.grid, kBlock>>>(d, m.S);
+  tupek_stable_kernel<<<m.grid, kBlock>>>(d, m.S, m.best);
+  check(cudaGetLastError(), "kernel launch");
+  download_array(&bits, m.best, 1);
+  double dt = 0;
+  std::memcpy(&dt, &bits, sizeof dt);
+  return dt;
 }
 
 bool FlatRun::nonfinite() const {
@@ -274,6 +349,10 @@ void FlatRun::download(const FlatSystem& h) const {
   download_array(h.v_before, d.v_before, 3 * d.ntracked);
   download_array(h.entry_reaction, d.entry_reaction, 3 * d.nentries);
   if (h.damped) download_array(h.damped, d.damped, n);
+  if (h.tupek) {
+    download_array(h.eps, d.eps, nb);
+    download_array(h.nonlocal_damage, d.nonlocal_damage, n);
+  }
 }
 
 }  // namespace horizon::cuda

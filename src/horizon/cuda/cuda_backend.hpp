@@ -35,13 +35,21 @@ class FlatRun {
   // the constructor copied from, after_forces(ctx) runs there (the host's short-range
   // contact pairs add to f and the energy) and f and the energy go back to the device.
   // With `before_step`, before_step(ctx, k) runs on the host before step k and the loads'
-  // values it sets (fixed_value, fixed_mid, fixed_v, b_next, where present) go to the device.
+  // values it sets (fixed_value, fixed_mid, fixed_v, b_next, where present, and the critical
+  // stretches when they vary in time) go to the device.
   void advance(int64_t steps, void (*after_forces)(void*) = nullptr, void* ctx = nullptr,
                void (*before_step)(void*, int64_t) = nullptr);
   // Waits for the device and copies u, v, f, the intact flags, damage, energy, the
-  // dissipation, theta, P, the intact weights, the smallest stretches and the ledger back to `host`
+  // dissipation, theta, P, the intact weights, the smallest stretches, the ledger (and the
+  // nonlinear solid's bond strains and nonlocal damage) back to `host`
   // (the arrays the constructor copied from, or others of the same sizes).
   void download(const kernels::FlatSystem& host) const;
+  // The step of the steps to come (the adaptive step).
+  void set_dt(double dt);
+  // The nonlinear solid's stable time step of the device's state
+  // (kernels::flat_tupek_stable_step's rows and minimum, on the device; +inf for the
+  // unified models, which have no such rows).
+  double stable_time_step();
   // Whether a row's u or v has turned non-finite since the constructor (kernels'
   // FlatSystem::nonfinite; one byte copied back).
   bool nonfinite() const;

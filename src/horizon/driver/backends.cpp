@@ -11,6 +11,7 @@
 
 #include "horizon/driver/explicit_state.hpp"
 #include "horizon/material/model.hpp"
+#include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/solver/flat_backend.hpp"
 
 #if defined(HORIZON_CUDA_BACKEND)
@@ -38,6 +39,13 @@ class CudaBackend final : public FlatBackend {
   void upload() override {
     run_.reset();
     run_ = std::make_unique<cuda::FlatRun>(view_);
+  }
+  void step_changed() override { run_->set_dt(view_.dt); }
+  // The nonlinear solid's adaptive step on the device (no copy back); others: the System's.
+  bool stable_time_step(double& dt) override {
+    if (!storage_.tupek) return FlatBackend::stable_time_step(dt);
+    dt = run_->stable_time_step();
+    return true;
   }
 
  private:
@@ -70,20 +78,31 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
 #endif
   }
   std::string why = flat_backend_refusal(s, loads, c.solver.damping);
+  // A model without flat rows: name the first material of such a model (materials.NAME.model).
+  if (why.rfind("a model without flat rows", 0) == 0)
+    for (const MaterialConfig& m : c.materials) {
+      const ModelEntry* e = find_model(m.model);
+      if (e && (e->traits.unified || e->traits.name == "nonlinear_solid")) continue;
+      why = fmt::format("model {} (materials.{}.model), which has no flat rows", e ? e->traits.name : m.model, m.name);
+      break;
+    }
   if (why.empty() && s.heat.active()) why = "heat conduction";
   if (why.empty() && s.fe) why = "finite-element regions";
-  if (why.empty() && c.solver.adaptive_time_step) why = "solver.adaptive_time_step";
+  // The adaptive step: the nonlinear solid's stable step has flat rows (kernels/tupek.hpp).
+  if (why.empty() && c.solver.adaptive_time_step && !nonlinear_state(s))
+    why = "solver.adaptive_time_step with a model other than nonlinear_solid";
   if (why.empty() && c.solver.peridigm_verlet) why = "solver.verlet: peridigm (Peridigm's rounding of the step)";
   if (!why.empty()) {
-    // The models the flat rows run: the registry's unified ones (ModelTraits::unified).
-    std::vector<std::string> unified;
+    // The models the flat rows run: the registry's unified ones (ModelTraits::unified) and
+    // the nonlinear solid (kernels/tupek.hpp).
+    std::vector<std::string> flat;
     for (const ModelEntry& e : model_registry())
-      if (e.traits.unified) unified.push_back(e.traits.name);
+      if (e.traits.unified || e.traits.name == "nonlinear_solid") flat.push_back(e.traits.name);
     throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of "
-                            "the unified models ({}) with initial conditions, force densities, prescribed "
+                            "{} (the adaptive step with nonlinear_solid), initial conditions, force densities, prescribed "
                             "displacements and velocities and short-range contact (docs/input.md, solver.backend); "
                             "use backend cpu",
-                            prefix, why, fmt::join(unified, ", ")));
+                            prefix, why, fmt::join(flat, ", ")));
   }
 }
 

@@ -223,7 +223,11 @@ int64_t ExplicitRun::advance(int64_t n) {
       // An adaptive run ends by time: its step count (r.total, moved on below) is no end.
       bool last = !r.adaptive && step == r.total;
       if (r.adaptive) {
-        if (solver.steps() % r.adaptive_every == 0) r.dt_nominal = c.solver.safety_factor * whole_stable_step(r.s);
+        if (solver.steps() % r.adaptive_every == 0) {
+          double stable = 0;  // over the backend's copy (the flat backend), or the System's state
+          if (!backend.stable_time_step(stable)) stable = whole_stable_step(r.s);
+          r.dt_nominal = c.solver.safety_factor * stable;
+        }
         double dt = r.dt_nominal;
         if (solver.time() + dt >= r.end_time * (1 - 1e-12)) dt = r.end_time - solver.time(), last = true;
         solver.set_dt(dt);

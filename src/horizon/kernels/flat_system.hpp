@@ -1,5 +1,6 @@
 #pragma once
-// An explicit run of the unified models (PMB, LPS) over flat arrays: the state a backend
+// An explicit run of the unified models (PMB, LPS) and of Tupek's nonlinear solid over
+// flat arrays: the state a backend
 // keeps (raw pointers and counts, plain data), the work of one particle's row in each
 // stage of a step, and the host's loop over them (advance_flat). The CUDA backend
 // (cuda/cuda_backend.cu) launches the same row functions, one thread a particle, over
@@ -11,15 +12,19 @@
 // breaking (with the compression factor alpha and no_fail particles), damage, the
 // family's short-range contact and the strain energy, for bond-based runs (one fused
 // pass, as the fast loops' bond-based pass) and state-based ones (the dilatation pass,
-// then the force pass), force densities, prescribed velocities and displacements and
+// then the force pass), Tupek's nonlinear solid (the strain sweep, then the force sweep
+// with its energy failure law: kernels/tupek.hpp, the rows NonlinearSolid::force_pass
+// calls), force densities, prescribed velocities and displacements and
 // their work (values that vary are set by the stepper before each step), with hooks for
-// the host's work between the passes (the contact pairs beyond the families). Thermal
-// strains, bonds broken after the force pass and decomposed runs are not here
+// the host's work between the passes (the contact pairs beyond the families), bonds
+// broken before or after the force pass (break_after). Thermal strains and decomposed
+// runs are not here
 // (solver/flat_copy.hpp says which runs a flat copy takes).
 #include <cstdint>
 
 #include "horizon/core/portable.hpp"
 #include "horizon/kernels/lanes.hpp"
+#include "horizon/kernels/tupek.hpp"
 #include "horizon/kernels/unified.hpp"
 #include "horizon/kernels/verlet.hpp"
 
@@ -33,9 +38,19 @@ struct Kind {
 
 // A row's sums in the host's lanes: kernels/lanes.hpp.
 
+// y4's four values of a particle as the nonlinear solid's rows read them (core/point4.hpp's
+// Point4 without its 32-byte alignment: a device array or a std::vector<double> of 4n).
+struct FlatPoint {
+  double x, y, z, w;
+};
+
 struct FlatSystem {
   uint64_t n = 0, nb = 0, nkinds = 0;
   bool state_based = false;  // LPS rows present: the dilatation pass, then the force pass
+  // damage.breaks: after_force (System's model.break_after_force): a bond that breaks in a
+  // pass still carries its force in that pass (state-based: marked 2 by the dilatation row,
+  // counted in theta, cleared by the force row), as the fast loops' kAfter rows.
+  bool break_after = false;
   double dim = 3;            // d of theta
   double dt = 0, damping = 0;
   // Bonds, compressed rows: row i is [offset[i], offset[i+1]).
@@ -103,7 +118,53 @@ struct FlatSystem {
   uint8_t* nonfinite = nullptr;     // 1, or null
   double* damped = nullptr;        // n, or null without damping
   double* speed2_before = nullptr;  // n
+  // Tupek's nonlinear solid (material/models/nonlinear_solid.hpp NonlinearState; `tupek`
+  // set, state_based unused): its rows replace the unified ones, theta holds theta_phi of
+  // eq. 6.8, intact_weight the sum of omega V_j over the intact bonds, damage the broken
+  // fraction of that weight; R, Q, P, critical_stretch, alpha and the smallest stretches
+  // are not read.
+  bool tupek = false;
+  bool tupek_exponent_two = true;         // NonlinearState::failure_exponent_two
+  bool tupek_contact = false;             // short-range contact: broken bonds' ends repel
+  double* eps = nullptr;                  // nb: each bond's strain of the last pass (bond_strain)
+  const double* seth_m = nullptr;         // n: the Seth-Hill parameter m
+  const double* lambda_bar = nullptr;     // n
+  const double* mu_bar = nullptr;         // n
+  const double* beta = nullptr;           // n: +inf where bonds never break
+  const uint8_t* compression_only = nullptr;  // n
+  const double* failure_scale = nullptr;  // nkinds: |xi|^-p of s_c
+  double* nonlocal_damage = nullptr;      // n: eq. 6.12
+  const double* contact_stiffness = nullptr;  // n: the family contact springs (the stable step)
+  // Critical stretches that vary in time (System::critical_stretch_schedules): the stepper
+  // sets critical_stretch at the step's end before each step (the CUDA backend copies it).
+  bool critical_stretch_varies = false;
+  // Bonds with their own lengths (an irregular cloud, Bonds::length_per_bond), else null:
+  // the kinds hold no length, `pair` holds omega V_j (R_i + R_j) before the division by
+  // |xi|, and flat_kind finishes each bond's constants as solver/forces.cpp per_bond does
+  // (the contact distance min(fraction |xi|, cutoff) when the family contact acts).
+  const double* length_of = nullptr;  // nb
+  bool contact_from_length = false;
+  double contact_fraction = 0, contact_cutoff = 0;
 };
+
+// Bond k's constants with its own length (FlatSystem::length_of). The rows below take the
+// bonds' own lengths (kOwn) and break_after as template parameters, chosen once a pass
+// (flat_unified_forces), and copy a kind's constants directly otherwise
+// (`kOwn ? flat_kind(s, k) : s.kinds[s.kind[k]]`): the flags tested in the loop, or the
+// kind returned through a function, cost the host's rows 10 to 20 % (a lattice, backend flat).
+HORIZON_HD inline Kind flat_kind(const FlatSystem& s, uint64_t k) {
+  Kind kc = s.kinds[s.kind[k]];
+  const double L = s.length_of[k];
+  kc.length = L;
+  kc.inv_length = 1.0 / L;
+  kc.pair = kc.pair / L;
+  if (s.contact_from_length) {
+    const double d = s.contact_fraction * L;
+    kc.contact_d = s.contact_cutoff < d ? s.contact_cutoff : d;  // std::min(d, cutoff)
+    kc.contact_d2 = kc.contact_d * kc.contact_d;
+  }
+  return kc;
+}
 
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).
 HORIZON_HD inline void pack_row(const FlatSystem& s, uint64_t i) {
@@ -134,7 +195,8 @@ HORIZON_HD inline void finish_breaks(const FlatSystem& s, uint64_t i, uint64_t b
 
 // Bond-based runs, one fused row: breaking, the smallest stretch, force, contact, energy
 // (solver/forces.cpp pair_row_scalar, summed in its lanes).
-HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
+template <bool kOwn, bool kAfter>
+HORIZON_HD_INLINE void bond_based_row_of(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i];
   double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {}, sm[kLanes];
@@ -142,14 +204,14 @@ HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
   double lost = 0;
   uint64_t broken = 0;
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
-    const Kind kc = s.kinds[s.kind[k]];
+    const Kind kc = kOwn ? flat_kind(s, k) : s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
     if (s.intact[k]) {
       const double r = root(r2), e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
       const bool brk = breaks(stretch, pi[3], pj[3]);
-      if (!brk) {
+      if (kAfter || !brk) {
         const double a = pair_bond_coefficient(kc.pair, e, r);
         fx[l] += a * Yx;
         fy[l] += a * Yy;
@@ -181,7 +243,8 @@ HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
 // State-based runs, pass 1 of a row: breaking, the smallest stretch, |Y| of each bond, the
 // dilatation and P_i (solver/forces.cpp dilate_row_scalar, in its lanes; the broken
 // bond's energy with the last pass's P_i).
-HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
+template <bool kOwn, bool kAfter>
+HORIZON_HD inline void dilatation_row_of(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i], Qi = s.Q[i], Pi = s.P[i];
   double th[kLanes] = {}, sm[kLanes];
@@ -190,16 +253,16 @@ HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
   uint64_t broken = 0;
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     if (!s.intact[k]) return;
-    const Kind kc = s.kinds[s.kind[k]];
+    const Kind kc = kOwn ? flat_kind(s, k) : s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double r = bond_length(pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]);
     const double e = extension(r, kc.length, 0), stretch = e * kc.inv_length;
     s.r_of[k] = r;
     const bool brk = breaks(stretch, pi[3], pj[3]);
-    if (!brk) th[l] += dilatation_term(kc.wv, kc.length, e);
+    if (kAfter || !brk) th[l] += dilatation_term(kc.wv, kc.length, e);
     sm[l] = stretch < sm[l] ? stretch : sm[l];
     if (brk) {
-      s.intact[k] = 0;
+      s.intact[k] = kAfter ? 2 : 0;
       ++broken;
       lost += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
       s.intact_weight[i] -= kc.damage;
@@ -214,18 +277,71 @@ HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
   }
 }
 
+// Tupek's nonlinear solid (NonlinearSolid::force_pass, row by row): the two sweeps of
+// kernels/tupek.hpp over the flat arrays, y4's fourth slot 0 as the host packs it.
+HORIZON_HD inline TupekPass<Kind, FlatPoint> tupek_pass(const FlatSystem& s) {
+  TupekPass<Kind, FlatPoint> p;
+  p.pt = reinterpret_cast<const FlatPoint*>(s.y4);
+  p.kc = s.kinds;
+  p.nbr = s.nbr;
+  p.kind = s.kind;
+  p.offset = s.offset;
+  p.intact = s.intact;
+  p.eps = s.eps;
+  p.m = s.seth_m;
+  p.lambda_bar = s.lambda_bar;
+  p.mu_bar = s.mu_bar;
+  p.theta = s.theta;
+  p.beta = s.beta;
+  p.compression_only = s.compression_only;
+  p.failure_scale = s.failure_scale;
+  p.exponent_two = s.tupek_exponent_two;
+  p.contact = s.tupek_contact;
+  return p;
+}
+
+// Stage 1 of the nonlinear solid's pass: y = X + u, w = 0.
+HORIZON_HD inline void tupek_pack_row(const FlatSystem& s, uint64_t i) {
+  double* y = s.y4 + 4 * i;
+  y[0] = s.X[3 * i] + s.u[3 * i];
+  y[1] = s.X[3 * i + 1] + s.u[3 * i + 1];
+  y[2] = s.X[3 * i + 2] + s.u[3 * i + 2];
+  y[3] = 0.0;
+}
+
+// Sweep 1, row i: the bond strains and theta_i (eq. 6.8).
+HORIZON_HD inline void tupek_theta_row(const FlatSystem& s, uint64_t i) {
+  s.theta[i] = tupek_strain_row(tupek_pass(s), i);
+}
+
+// Sweep 2, row i: the pair criterion, the force, the dissipated energy, the row's energy
+// (with the bonds cut in this pass taken out, and the family contact of broken bonds),
+// the damage (its broken weight fraction), the nonlocal damage 1 - (1/d) sum omega phi V
+// (eq. 6.12) and the intact weight, as NonlinearSolid::force_pass leaves them.
+HORIZON_HD inline void tupek_row(const FlatSystem& s, uint64_t i) {
+  const TupekRow o = tupek_force_row(tupek_pass(s), i);
+  s.f[3 * i] = o.f[0], s.f[3 * i + 1] = o.f[1], s.f[3 * i + 2] = o.f[2];
+  s.broken[i] = o.broken;
+  if (o.lost != 0) s.dissipated[i] += o.lost * s.volume[i];
+  s.energy[i] = tupek_row_energy(o, s.lambda_bar[i], s.mu_bar[i], s.theta[i]);
+  s.damage[i] = damage_fraction(o.intact_w, o.total_w);
+  s.nonlocal_damage[i] = 1.0 - o.intact_w / s.dim;
+  s.intact_weight[i] = o.intact_w;
+}
+
 // Between the two passes: the packed fourth slot carries P_j to the force rows.
 HORIZON_HD inline void pressure_row(const FlatSystem& s, uint64_t i) { s.y4[4 * i + 3] = s.P[i]; }
 
 // State-based runs, pass 2 of a row: the pair form of the force, contact, energy
 // (solver/forces.cpp force_row_scalar, in its lanes).
-HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
+template <bool kOwn, bool kAfter>
+HORIZON_HD inline void force_row_of(const FlatSystem& s, uint64_t i) {
   const double* pi = s.y4 + 4 * i;
   const double Ri = s.R[i], Pi = pi[3], Qi = s.Q[i];
   double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {};
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const uint32_t j = s.nbr[k];
-    const Kind kc = s.kinds[s.kind[k]];
+    const Kind kc = kOwn ? flat_kind(s, k) : s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(j);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const double r2 = Yx * Yx + Yy * Yy + Yz * Yz;
@@ -235,7 +351,12 @@ HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
       fx[l] += a * Yx;
       fy[l] += a * Yy;
       fz[l] += a * Yz;
-      en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
+      if constexpr (kAfter) {  // a bond broken in this pass (2): its force, not its energy; then off
+        if (s.intact[k] == 1) en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
+        if (s.intact[k] == 2) s.intact[k] = 0;
+      } else {
+        en[l] += unified_bond_energy(kc.wv, Pi, Qi, Ri, kc.length, kc.inv_length, e);
+      }
     }
     double a, w;
     if (contact_coefficient(kc.contact_d2, kc.contact_d, kc.contact_k, r2, a, w)) {
@@ -247,6 +368,35 @@ HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
   });
   s.f[3 * i] = lane_total(fx), s.f[3 * i + 1] = lane_total(fy), s.f[3 * i + 2] = lane_total(fz);
   s.energy[i] = lane_total(en);
+}
+
+// The rows' entry points: the variant of the run's options.
+HORIZON_HD inline void bond_based_row(const FlatSystem& s, uint64_t i) {
+  if (s.length_of) {
+    if (s.break_after) bond_based_row_of<true, true>(s, i);
+    else bond_based_row_of<true, false>(s, i);
+  } else {
+    if (s.break_after) bond_based_row_of<false, true>(s, i);
+    else bond_based_row_of<false, false>(s, i);
+  }
+}
+HORIZON_HD inline void dilatation_row(const FlatSystem& s, uint64_t i) {
+  if (s.length_of) {
+    if (s.break_after) dilatation_row_of<true, true>(s, i);
+    else dilatation_row_of<true, false>(s, i);
+  } else {
+    if (s.break_after) dilatation_row_of<false, true>(s, i);
+    else dilatation_row_of<false, false>(s, i);
+  }
+}
+HORIZON_HD inline void force_row(const FlatSystem& s, uint64_t i) {
+  if (s.length_of) {
+    if (s.break_after) force_row_of<true, true>(s, i);
+    else force_row_of<true, false>(s, i);
+  } else {
+    if (s.break_after) force_row_of<false, true>(s, i);
+    else force_row_of<false, false>(s, i);
+  }
 }
 
 // Loads::apply_constraints at the step's end: u = g and v = (g(t) - g(t - dt))/dt on the
@@ -374,21 +524,62 @@ HORIZON_HD inline void book_load_work(const FlatSystem& s) {
 #endif
 
 // The force pass on the host.
-inline void flat_forces(const FlatSystem& s) {
+// The unified models' passes, with the run's options chosen once (kOwn, kAfter).
+template <bool kOwn, bool kAfter>
+inline void flat_unified_forces(const FlatSystem& s) {
   const uint64_t n = s.n;
   HORIZON_FLAT_ROWS
   for (uint64_t i = 0; i < n; ++i) pack_row(s, i);
   if (!s.state_based) {
     HORIZON_FLAT_ROWS
-    for (uint64_t i = 0; i < n; ++i) bond_based_row(s, i);
+    for (uint64_t i = 0; i < n; ++i) bond_based_row_of<kOwn, kAfter>(s, i);
     return;
   }
   HORIZON_FLAT_ROWS
-  for (uint64_t i = 0; i < n; ++i) dilatation_row(s, i);
+  for (uint64_t i = 0; i < n; ++i) dilatation_row_of<kOwn, kAfter>(s, i);
   HORIZON_FLAT_ROWS
   for (uint64_t i = 0; i < n; ++i) pressure_row(s, i);
   HORIZON_FLAT_ROWS
-  for (uint64_t i = 0; i < n; ++i) force_row(s, i);
+  for (uint64_t i = 0; i < n; ++i) force_row_of<kOwn, kAfter>(s, i);
+}
+
+inline void flat_forces(const FlatSystem& s) {
+  const uint64_t n = s.n;
+  if (s.tupek) {
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) tupek_pack_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) tupek_theta_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) tupek_row(s, i);
+    return;
+  }
+  if (s.length_of) {
+    if (s.break_after) flat_unified_forces<true, true>(s);
+    else flat_unified_forces<true, false>(s);
+  } else {
+    if (s.break_after) flat_unified_forces<false, true>(s);
+    else flat_unified_forces<false, false>(s);
+  }
+}
+
+// The nonlinear solid's stable time step over the copy (NonlinearSolid::stable_time_step's
+// rows, kernels/tupek.hpp): each row's S into S (n), then the smallest row step, a minimum
+// (the same bits in any order and on any device), as the host's min reduction takes it.
+inline double flat_tupek_stable_step(const FlatSystem& s, double* S) {
+  const TupekPass<Kind, FlatPoint> p = tupek_pass(s);
+  const uint64_t n = s.n;
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) S[i] = tupek_coupling_row(p, i);
+  double dt = INFINITY;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) reduction(min : dt)
+#endif
+  for (uint64_t i = 0; i < n; ++i) {
+    const double r = tupek_stable_row(p, S, s.contact_stiffness[i], s.density[i], i);
+    dt = r < dt ? r : dt;  // std::min(dt, r)
+  }
+  return dt;
 }
 
 // No work between a step's force pass and its second half kick, nor before a step.

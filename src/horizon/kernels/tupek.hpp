@@ -25,6 +25,27 @@
 
 namespace horizon::kernels {
 
+HORIZON_HD inline double natural_exp(double x) {
+#if defined(__CUDA_ARCH__)
+  return ::exp(x);
+#else
+  return std::exp(x);
+#endif
+}
+HORIZON_HD inline double real_power(double x, double y) {
+#if defined(__CUDA_ARCH__)
+  return ::pow(x, y);
+#else
+  return std::pow(x, y);
+#endif
+}
+HORIZON_HD inline double magnitude(double x) {
+#if defined(__CUDA_ARCH__)
+  return ::fabs(x);
+#else
+  return std::fabs(x);
+#endif
+}
 HORIZON_HD inline double exp_minus_one(double x) {
 #if defined(__CUDA_ARCH__)
   return ::expm1(x);
@@ -63,10 +84,12 @@ HORIZON_HD inline bool tupek_acts(uint8_t intact, bool compression_only, double 
   return intact || (compression_only && eps < 0);
 }
 
-// What the two sweeps read and write, as flat arrays (per particle unless said).
-template <class Kind>
+// What the two sweeps read and write, as flat arrays (per particle unless said). Point:
+// the host's Point4 (32-byte aligned), or any struct of x, y, z, w (the flat backend's
+// FlatPoint over its y4 array, kernels/flat_system.hpp).
+template <class Kind, class Point = Point4>
 struct TupekPass {
-  const Point4* pt = nullptr;        // y = X + u
+  const Point* pt = nullptr;         // y = X + u
   const Kind* kc = nullptr;          // per bond kind
   const uint32_t* nbr = nullptr;     // per bond
   const uint32_t* kind = nullptr;    // per bond
@@ -85,14 +108,14 @@ struct TupekPass {
 };
 
 // Sweep 1, row i: eps of each bond (stored) and theta_i over the acting ones (eq. 6.8).
-template <class Kind>
-HORIZON_HD inline double tupek_strain_row(const TupekPass<Kind>& p, std::size_t i) {
-  const Point4 pi = p.pt[i];
+template <class Kind, class Point>
+HORIZON_HD inline double tupek_strain_row(const TupekPass<Kind, Point>& p, std::size_t i) {
+  const Point pi = p.pt[i];
   const double m = p.m[i];
   const bool comp = p.compression_only[i];
   double theta = 0;
   for (uint64_t k = p.offset[i]; k < p.offset[i + 1]; ++k) {
-    const Point4 pj = p.pt[p.nbr[k]];
+    const Point pj = p.pt[p.nbr[k]];
     const Kind& c = p.kc[p.kind[k]];
     // (y_j - y_i)^2 and (y_i - y_j)^2 are the same bits: eps_ij == eps_ji exactly.
     const double dx = pj.x - pi.x, dy = pj.y - pi.y, dz = pj.z - pi.z;
@@ -118,17 +141,17 @@ struct TupekRow {
 
 // Sweep 2, row i: the pair criterion, then the force with the flags at the start of the
 // pass (a bond that breaks here still carries its force in this pass).
-template <class Kind>
-HORIZON_HD inline TupekRow tupek_force_row(const TupekPass<Kind>& p, std::size_t i) {
+template <class Kind, class Point>
+HORIZON_HD inline TupekRow tupek_force_row(const TupekPass<Kind, Point>& p, std::size_t i) {
   TupekRow o;
-  const Point4 pi = p.pt[i];
+  const Point pi = p.pt[i];
   const double m = p.m[i], li = p.lambda_bar[i], mi = p.mu_bar[i], ti = p.theta[i], bi = p.beta[i];
   const bool comp = p.compression_only[i];
   const double gi = li * ti;
   double fx = 0, fy = 0, fz = 0;
   for (uint64_t k = p.offset[i]; k < p.offset[i + 1]; ++k) {
     const uint32_t j = p.nbr[k];
-    const Point4 pj = p.pt[j];
+    const Point pj = p.pt[j];
     const Kind& c = p.kc[p.kind[k]];
     const double eps = p.eps[k];
     const double Yx = pj.x - pi.x, Yy = pj.y - pi.y, Yz = pj.z - pi.z;
@@ -183,6 +206,56 @@ HORIZON_HD inline TupekRow tupek_force_row(const TupekPass<Kind>& p, std::size_t
 HORIZON_HD inline double tupek_row_energy(const TupekRow& o, double lambda_bar, double mu_bar, double theta) {
   const double th = theta - o.theta_cut;
   return 0.5 * lambda_bar * th * th + mu_bar * o.mu_sum + o.contact_w;
+}
+
+// The stable time step of the current bond tangent stiffness (NonlinearSolid::
+// stable_time_step, digest sec. 13.1): min_i sqrt(2 rho_i / K_i), two sweeps over the rows.
+// |Y| of a bond from its strain: c^m = 1 + 2 m eps, |Y| = |xi| c^(1/2) (|xi| e^eps for m = 0).
+HORIZON_HD inline double tupek_bond_length(double length, double m, double eps) {
+  if (m == 0) return length * natural_exp(eps);
+  const double cm = 1 + 2 * m * eps;
+  return length * real_power(cm < 1e-300 ? 1e-300 : cm, 0.5 / m);  // std::max(cm, 1e-300)
+}
+
+// Sweep 1, row i: S_i = sum omega V_j |d eps/d|Y|| over the acting bonds (the dilatation
+// coupling of the row, bounded Gershgorin-wise). `eps` null: every strain 0 (before the
+// first force pass). The Kind needs `length` too.
+template <class Kind, class Point>
+HORIZON_HD inline double tupek_coupling_row(const TupekPass<Kind, Point>& p, std::size_t i) {
+  const double m = p.m[i];
+  const bool comp = p.compression_only[i];
+  double sum = 0;
+  for (uint64_t k = p.offset[i]; k < p.offset[i + 1]; ++k) {
+    const Kind& c = p.kc[p.kind[k]];
+    const double eps = p.eps ? p.eps[k] : 0.0;
+    if (!tupek_acts(p.intact[k], comp, eps)) continue;
+    const double Y = tupek_bond_length(c.length, m, eps);
+    sum += c.wv * magnitude(seth_hill_slope(eps, m, Y));
+  }
+  return sum;
+}
+
+// Sweep 2, row i: K_i = k_contact,i + sum omega V_j (|(lambda_bar_i theta_i + 2 mu_bar_i eps)
+// eps''| + 2 mu_bar_i eps'^2 + the same of j + |lambda_bar_i| |eps'| S_i + |lambda_bar_j|
+// |eps'| S_j); the row's stable step sqrt(2 rho_i / K_i), or +inf when K_i is 0.
+template <class Kind, class Point>
+HORIZON_HD inline double tupek_stable_row(const TupekPass<Kind, Point>& p, const double* S, double contact_stiffness,
+                                          double density, std::size_t i) {
+  const double m = p.m[i], li = p.lambda_bar[i], mi = p.mu_bar[i], ti = p.theta[i];
+  const bool comp = p.compression_only[i];
+  double K = contact_stiffness;
+  for (uint64_t k = p.offset[i]; k < p.offset[i + 1]; ++k) {
+    const uint32_t j = p.nbr[k];
+    const Kind& c = p.kc[p.kind[k]];
+    const double eps = p.eps ? p.eps[k] : 0.0;
+    if (!tupek_acts(p.intact[k], comp, eps)) continue;
+    const double Y = tupek_bond_length(c.length, m, eps);
+    const double d1 = seth_hill_slope(eps, m, Y), d2 = seth_hill_curvature(eps, m, Y);
+    const double lj = p.lambda_bar[j], mj = p.mu_bar[j], tj = p.theta[j];
+    K += c.wv * (magnitude((li * ti + 2 * mi * eps) * d2) + 2 * mi * d1 * d1 + magnitude((lj * tj + 2 * mj * eps) * d2) +
+                 2 * mj * d1 * d1 + magnitude(li) * magnitude(d1) * S[i] + magnitude(lj) * magnitude(d1) * S[j]);
+  }
+  return K > 0 ? root(2 * density / K) : INFINITY;
 }
 
 }  // namespace horizon::kernels

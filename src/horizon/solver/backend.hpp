@@ -26,6 +26,14 @@ class ExplicitBackend {
   // Copies the fields a frame or a history row reads (u, v, f, damage, energy, the intact
   // flags, the ledger) into the System and the solver.
   virtual void copy_fields() = 0;
+  // The adaptive step (solver.adaptive_time_step): the stable time step of the current
+  // state into dt, computed over the backend's own copy (true), or false when the System
+  // holds what the models' stable_time_step reads (the CPU backend; a backend without
+  // rows for it copies the fields first) and the driver computes it there.
+  virtual bool stable_time_step(double& dt) {
+    (void)dt;
+    return false;
+  }
 };
 
 // Today's code path: ExplicitSolver::step, one step a call.

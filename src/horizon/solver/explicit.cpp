@@ -73,7 +73,9 @@ void ExplicitSolver::initialize(double t0, double dt_before) {
   for (auto& p : loads_.projectiles()) p.finish_step(p.x, p.force, 0, 0);
   s_.time = t0;
   s_.dt = 0;
+  s_.model.commit_follows = true;  // (as in step(): the ordinary models keep no trial copies)
   compute_forces(s_, true);
+  s_.model.commit_follows = false;
   commit_history(s_);
   u_before_ = s_.particles.u;
   loads_.update_reactions(s_, u_before_);

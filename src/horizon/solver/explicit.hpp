@@ -66,6 +66,8 @@ class ExplicitSolver {
     dt_ = dt;
     fixed_dt_ = false;
   }
+  // No set_dt so far: t = t0 + steps dt (else the time is the sum of the steps).
+  bool fixed_step() const { return fixed_dt_; }
   double damping() const { return damping_; }
   // solver.verlet: peridigm (docs/input.md): the step rounds as Peridigm's velocity Verlet
   // does (its users' guide and Peridigm_VerletSolver; fitted bit for bit to the golds of

@@ -1,5 +1,6 @@
 #include "horizon/solver/flat_backend.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "horizon/loading/loads.hpp"
@@ -25,8 +26,33 @@ FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver)
 }
 
 void FlatBackend::run_steps(int64_t n) {
-  take_steps(n);
-  storage_steps_ += n;
+  if (!adaptive_) {
+    take_steps(n);
+    storage_steps_ += n;
+    return;
+  }
+  for (int64_t k = 0; k < n; ++k) {  // each step with its own dt
+    set_step(step_dt_[static_cast<std::size_t>(storage_steps_ - system_steps_)]);
+    take_steps(1);
+    ++storage_steps_;
+  }
+}
+
+void FlatBackend::set_step(double dt) {
+  if (view_.dt == dt) return;
+  storage_.dt = view_.dt = dt;
+  step_changed();
+}
+
+bool FlatBackend::stable_time_step(double& dt) {
+  if (!storage_.tupek) {  // the System's state, for the models' own stable step
+    copy_fields();
+    return false;
+  }
+  if (!fetched_) fetch(), fetched_ = true;
+  stable_S_.resize(storage_.n);
+  dt = kernels::flat_tupek_stable_step(view_, stable_S_.data());
+  return true;
 }
 
 void FlatBackend::take_steps(int64_t n) {
@@ -41,9 +67,14 @@ void FlatBackend::take_steps(int64_t n) {
 }
 
 void FlatBackend::prepare_step(int64_t k) {
-  const double dt = solver_.dt(), half = 0.5 * dt;
+  double dt = solver_.dt();
   const int64_t step = storage_steps_ + k;  // steps taken before this one
-  const double t0 = static_cast<double>(step) * dt, t1 = static_cast<double>(step + 1) * dt;  // t = n dt
+  double t0 = static_cast<double>(step) * dt, t1 = static_cast<double>(step + 1) * dt;  // t = n dt
+  if (adaptive_) {  // the time a sum of steps (ExplicitSolver::step): t1 = t0 + dt
+    const auto m = static_cast<std::size_t>(step - system_steps_);
+    dt = step_dt_[m], t0 = step_t0_[m], t1 = t0 + dt;
+  }
+  const double half = 0.5 * dt;
   const auto& P = s_.particles;
   if (storage_.vary_constraints)
     for (const AppliedLoad& L : loads_.loads()) {
@@ -66,6 +97,10 @@ void FlatBackend::prepare_step(int64_t k) {
         }
       }
     }
+  for (const auto& c : s_.critical_stretch_schedules) {  // ExplicitSolver::step, at the new time
+    const double s0 = c.s0(t1);
+    for (uint32_t i : c.particles) storage_.critical_stretch[i] = s0;
+  }
   if (storage_.vary_forces) {
     loads_.apply_forces(s_, t1);  // the System's b: the same sums as the CPU's
     for (std::size_t i = 0; i < P.size(); ++i)
@@ -112,6 +147,15 @@ int64_t FlatBackend::first_non_finite() const {
 }
 
 void FlatBackend::advance(int64_t n, bool energy) {
+  if (!solver_.fixed_step()) {  // the adaptive step: this call's steps with the solver's dt
+    adaptive_ = true;
+    double t = solver_.time();
+    for (int64_t k = 0; k < n; ++k) {
+      step_dt_.push_back(solver_.dt());
+      step_t0_.push_back(t);
+      t = t + solver_.dt();
+    }
+  }
   run_steps(n);
   fetched_ = false;  // the fields come back at copy_fields, when a frame or a row wants them
   if (!went_non_finite()) {
@@ -153,7 +197,7 @@ void FlatBackend::advance(int64_t n, bool energy) {
   write_state(good + 1 == total && energy);
   s_.particles.u = u;
   s_.particles.v = v;
-  s_.time = static_cast<double>(solver_.steps() + 1) * solver_.dt();  // (a fixed step: t = n dt)
+  s_.time = adaptive_ ? solver_.time() + solver_.dt() : static_cast<double>(solver_.steps() + 1) * solver_.dt();
   failed_ = true;  // copy_fields leaves the System as it is now
   const auto i = static_cast<std::size_t>(bad);
   throw NonFiniteState(i, s_.particles.X[i], solver_.steps() + 1);
@@ -168,6 +212,12 @@ void FlatBackend::copy_fields() {
   if (failed_) return;
   if (!fetched_) fetch(), fetched_ = true;
   write_state(energy_);
+  if (adaptive_) {  // the System's state is storage_'s now: the logs start again
+    const auto m = std::min(static_cast<std::ptrdiff_t>(storage_steps_ - system_steps_),
+                            static_cast<std::ptrdiff_t>(step_dt_.size()));
+    step_dt_.erase(step_dt_.begin(), step_dt_.begin() + m);
+    step_t0_.erase(step_t0_.begin(), step_t0_.begin() + m);
+  }
   system_steps_ = storage_steps_;
   if (storage_.vary_forces) b_at_copy_ = s_.particles.b;
   s_.time = solver_.time();

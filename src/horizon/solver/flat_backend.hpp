@@ -36,6 +36,9 @@ class FlatBackend : public ExplicitBackend {
   // particle, as step does.
   void advance(int64_t n, bool energy) override;
   void copy_fields() override;
+  // The adaptive step: the nonlinear solid's over the copy (kernels::flat_tupek_stable_step,
+  // the host's rows: the CPU backend's bits); other models copy the fields back first.
+  bool stable_time_step(double& dt) override;
 
  protected:
   // Takes n steps over view_ (take_steps; the CUDA backend: on the device).
@@ -48,10 +51,13 @@ class FlatBackend : public ExplicitBackend {
   static void contact_hook(void* self) { static_cast<FlatBackend*>(self)->contact_pass(); }
   // Before step k of a run_steps call (storage_steps_ at its start): the loads' values
   // that vary, evaluated as ExplicitSolver::step evaluates them (Loads::prescribe_velocity
-  // at t + dt/2, apply_constraints and apply_forces at t + dt) into view_; step_hook for
+  // at t + dt/2, apply_constraints and apply_forces at t + dt, the critical stretches that
+  // vary at t + dt, as step sets them before its force pass) into view_; step_hook for
   // FlatRun::advance. Whether there are any: varies().
   void prepare_step(int64_t k);
-  bool varies() const { return storage_.vary_constraints || storage_.vary_forces; }
+  bool varies() const {
+    return storage_.vary_constraints || storage_.vary_forces || storage_.vary_critical_stretch;
+  }
   static void step_hook(void* self, int64_t k) { static_cast<FlatBackend*>(self)->prepare_step(k); }
   // Brings storage_ up to date with the steps taken (the CUDA backend: copies back).
   virtual void fetch() {}
@@ -59,6 +65,8 @@ class FlatBackend : public ExplicitBackend {
   virtual bool went_non_finite() { return storage_.nonfinite[0] != 0; }
   // storage_ was made again from the System (the CUDA backend: copies it to the device).
   virtual void upload() {}
+  // view_.dt changed (the adaptive step; the CUDA backend: the device's copy of it).
+  virtual void step_changed() {}
 
   System& s_;
   Loads& loads_;
@@ -72,7 +80,15 @@ class FlatBackend : public ExplicitBackend {
   void write_state(bool energy);
   // The first particle whose u or v is not finite in storage_, or -1.
   int64_t first_non_finite() const;
+  // The step of the steps to come: view_.dt (and the device's) set to dt.
+  void set_step(double dt);
   bool energy_ = true;    // the last step computed what a CPU step with `energy` would
+  // The adaptive step (the solver's time a sum of steps, ExplicitSolver::fixed_step false):
+  // the dt and start time of each step since the System's state (the last copy_fields),
+  // so that a run of steps from it (prepare_step, the non-finite search) takes them again.
+  bool adaptive_ = false;
+  std::vector<double> step_dt_, step_t0_;
+  std::vector<double> stable_S_;  // flat_tupek_stable_step's per-row sums
   std::vector<Point4> contact_y_;  // contact_pass's copies of y4 and f (Point4 is 32-byte aligned)
   std::vector<Vec3> contact_f_;
   std::vector<Vec3> b_at_copy_;  // force densities that vary: b at the last copy

@@ -2,12 +2,16 @@
 
 
 #include "horizon/loading/loads.hpp"
+#include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/state/model_set.hpp"
 
 namespace horizon {
 
 std::string flat_unsupported(const System& s, const Loads& loads) {
-  if (s.models.owner() || !s.models.all_unified()) return "a model without the unified per-bond form (ModelTraits::unified)";
+  // The unified models' rows, or the nonlinear solid's (a model that owns its pass and
+  // shares a run with no other: material/models/nonlinear_solid.cpp).
+  if (s.models.owner() ? !nonlinear_state(s) : !s.models.all_unified())
+    return "a model without flat rows (the unified models and nonlinear_solid have them)";
   if (s.one_way_bonds) return "bodies of different horizons (one-way bonds: the general force pass)";
   if (!loads.projectiles().empty()) return "projectiles";
   for (const AppliedLoad& L : loads.loads()) {
@@ -15,15 +19,13 @@ std::string flat_unsupported(const System& s, const Loads& loads) {
     if (L.support >= 0 || !L.share.empty()) return "the support " + L.name;
   }
   if (!s.thermal_strain.empty() || !s.critical_stretch_factor.empty()) return "temperature";
-  if (!s.critical_stretch_schedules.empty()) return "critical stretches that vary in time";
   // Short-range contact: the host's pair lists between the flat passes (FlatBackend);
   // friction reads the System's velocities, which the copy does not keep up to date.
   if (s.contact.enabled() && s.contact.config().law == ShortRangeLaw::peridigm && s.contact.config().friction > 0)
     return "short-range contact with friction (contact.short_range.friction)";
-  if (s.model.break_after_force) return "damage.break_after_force";
   if (s.decomposition) return "a run over several ranks";
   if (s.fe_coupling) return "finite-element regions";
-  if (s.bonds.length_per_bond) return "bonds without kinds (an irregular cloud)";
+  if (s.bonds.length_per_bond && s.models.owner()) return "bonds without kinds (an irregular cloud)";
   if (s.model.kind.size() != s.bonds.kinds.size()) return "no force pass yet";
   return "";
 }
@@ -46,6 +48,13 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
   FlatStorage c;
   c.n = P.size();
   c.state_based = M.state_based;
+  c.break_after = M.break_after_force;
+  if (B.length_per_bond) {  // an irregular cloud: each bond's own |xi| (flat_kind)
+    c.length_of = B.lengths;
+    c.contact_from_length = s.contact.acts_on_family();
+    c.contact_fraction = c.contact_from_length ? s.contact.config().reference_fraction : 0.0;
+    c.contact_cutoff = s.contact.cutoff();
+  }
   c.dim = M.dim, c.dt = dt, c.damping = damping;
   c.offset = B.offset, c.nbr = B.nbr, c.kind = B.kind, c.intact = B.intact;
   c.kinds.resize(M.kind.size());
@@ -124,12 +133,32 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
   if (damping > 0) c.damped.assign(c.n, 0), c.speed2_before.assign(c.n, 0);
   if (c.vary_constraints) c.fixed_mid = c.fixed_value, c.fixed_v.assign(3 * c.n, 0);
   if (c.vary_forces) c.b_next = c.b, c.b_before.assign(3 * c.tracked.size(), 0);
+  c.vary_critical_stretch = !s.critical_stretch_schedules.empty();
+  if (const NonlinearState* N = nonlinear_state(s)) {
+    c.tupek = true;
+    c.tupek_exponent_two = N->failure_exponent_two;
+    c.tupek_contact = s.contact.enabled();
+    c.eps = N->bond_strain;
+    c.eps.resize(B.size(), 0);
+    c.seth_m = N->m, c.lambda_bar = N->lambda_bar, c.mu_bar = N->mu_bar, c.beta = N->beta;
+    c.compression_only = N->compression_only, c.failure_scale = N->failure_scale;
+    c.nonlocal_damage = N->nonlocal_damage;
+    c.nonlocal_damage.resize(c.n, 0);
+    c.contact_stiffness = N->contact_stiffness;
+    c.contact_stiffness.resize(c.n, 0);
+    c.theta = N->theta;  // theta_phi (the model arrays' theta is not the nonlinear solid's)
+    c.theta.resize(c.n, 0);
+    c.dim = N->dimension;
+  }
   return c;
 }
 
 kernels::FlatSystem FlatStorage::view() {
   kernels::FlatSystem s;
   s.n = n, s.nb = nbr.size(), s.nkinds = kinds.size(), s.state_based = state_based, s.dim = dim, s.dt = dt, s.damping = damping;
+  s.break_after = break_after;
+  s.length_of = length_of.empty() ? nullptr : length_of.data();
+  s.contact_from_length = contact_from_length, s.contact_fraction = contact_fraction, s.contact_cutoff = contact_cutoff;
   s.offset = offset.data(), s.nbr = nbr.data(), s.kind = kind.data(), s.intact = intact.data();
   s.kinds = kinds.data(), s.r_of = r_of.data();
   s.X = X.data(), s.u = u.data(), s.v = v.data(), s.f = f.data(), s.b = b.data();
@@ -148,6 +177,12 @@ kernels::FlatSystem FlatStorage::view() {
   s.fixed_mid = or_null(fixed_mid), s.fixed_v = or_null(fixed_v), s.b_next = or_null(b_next);
   s.b_before = or_null(b_before);
   s.nonfinite = nonfinite.data();
+  s.tupek = tupek, s.tupek_exponent_two = tupek_exponent_two, s.tupek_contact = tupek_contact;
+  s.eps = or_null(eps), s.seth_m = or_null(seth_m), s.lambda_bar = or_null(lambda_bar), s.mu_bar = or_null(mu_bar);
+  s.beta = or_null(beta), s.failure_scale = or_null(failure_scale), s.nonlocal_damage = or_null(nonlocal_damage);
+  s.contact_stiffness = or_null(contact_stiffness);
+  s.critical_stretch_varies = vary_critical_stretch;
+  s.compression_only = compression_only.empty() ? nullptr : compression_only.data();
   return s;
 }
 
@@ -160,8 +195,17 @@ void flat_write_back(const FlatStorage& c, System& s, bool energy) {
   if (energy) P.energy = c.energy;
   s.bonds.intact = c.intact;
   s.dissipated_at = c.dissipated;
-  s.model.min_stretch = c.min_stretch;
   s.model.intact_weight = c.intact_weight;
+  if (NonlinearState* N = c.tupek ? nonlinear_state(s) : nullptr) {
+    // What NonlinearSolid::force_pass leaves in its state (the model arrays' theta, P and
+    // smallest stretches are not its own: left as they are).
+    N->theta = c.theta;
+    N->bond_strain = c.eps;
+    N->nonlocal_damage = c.nonlocal_damage;
+    return;
+  }
+  s.model.min_stretch = c.min_stretch;
+  if (c.vary_critical_stretch) s.model.critical_stretch = c.critical_stretch;  // s0 at the last step's time
   s.model.theta = c.theta;
   s.model.P = c.P;
 }

@@ -14,15 +14,16 @@ namespace horizon {
 
 class Loads;
 
-// Why this run cannot be stepped over flat arrays, or "" when it can: unified models only
-// (ModelTraits::unified), no loads but initial conditions, force densities (traction,
-// body_force, force, pressure) and prescribed velocities and displacements (values that
-// vary are the stepper's to evaluate before each step: FlatBackend), no thermal strain,
-// no contact friction, bonds broken before the force
-// pass, critical stretches fixed in time, one rank, no FE regions, kinds with their
-// lengths. Short-range contact: the flat rows hold the family pairs' part; the pairs
-// beyond the families are the stepper's (FlatBackend adds them between passes with the
-// host's lists; a bare advance_flat leaves them out).
+// Why this run cannot be stepped over flat arrays, or "" when it can: the unified models
+// (ModelTraits::unified) or Tupek's nonlinear solid (kernels/tupek.hpp); no loads but
+// initial conditions, force densities (traction, body_force, force, pressure) and
+// prescribed velocities and displacements (values that vary are the stepper's to evaluate
+// before each step: FlatBackend); no thermal strain, no contact friction; bonds broken
+// before or after the force pass; critical stretches that vary in time (the stepper sets
+// them); one rank, no FE regions; kinds with their lengths or, for the unified models,
+// bonds with their own (an irregular cloud). Short-range contact: the flat rows hold the
+// family pairs' part; the pairs beyond the families are the stepper's (FlatBackend adds
+// them between passes with the host's lists; a bare advance_flat leaves them out).
 std::string flat_unsupported(const System& s, const Loads& loads);
 
 // Owning copies of every array a FlatSystem points to; view() points into them.
@@ -45,10 +46,18 @@ struct FlatStorage {
   // Loads whose values vary in time or space (the stepper evaluates them before each step).
   std::vector<double> fixed_mid, fixed_v, b_next, b_before;
   bool vary_constraints = false, vary_forces = false;
+  bool vary_critical_stretch = false;  // System::critical_stretch_schedules (set before each step)
   std::vector<uint32_t> tracked, entry_slot, entry_load, entry_index;
   bool has_forces = false;
+  // Tupek's nonlinear solid (NonlinearState; empty otherwise).
+  bool tupek = false, tupek_exponent_two = true, tupek_contact = false;
+  std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
+  std::vector<uint8_t> compression_only;
   uint64_t n = 0;
-  bool state_based = false;
+  bool state_based = false, break_after = false;
+  std::vector<double> length_of;  // an irregular cloud: each bond's |xi| (else empty)
+  bool contact_from_length = false;
+  double contact_fraction = 0, contact_cutoff = 0;
   double dim = 3, dt = 0, damping = 0;
 };
 
@@ -63,7 +72,8 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
 void flat_write_reactions(const FlatStorage& c, Loads& loads);
 
 // Writes the copy's u, v, f, damage, energy (with `energy`: a pass the CPU backend would
-// have computed it in), intact flags and dissipation back into s.
+// have computed it in), intact flags and dissipation back into s (and the nonlinear
+// solid's theta, bond strains and nonlocal damage into its NonlinearState).
 void flat_write_back(const FlatStorage& c, System& s, bool energy = true);
 
 }  // namespace horizon

@@ -327,7 +327,10 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   }
   lanes::EpRow row;
   const bool never_yielded = !yielded_[i];
-  if (!never_yielded) row.ep = ep_.committed(), row.ep_trial = ep_.trial();
+  // Written in place (LedgerRows::in_place), e^dp changes only where the return scales the
+  // row (beta != 1): a visit with beta = 1 writes nothing then (ep + 0 * e^de = ep).
+  double* const ep_out = mode_.in_place ? ep_.committed() : ep_.trial();
+  if (!never_yielded) row.ep = ep_.committed(), row.ep_trial = mode_.in_place ? nullptr : ep_out;
   row.ede = trial_row.data() - first;
   row.theta = theta, row.alpha = alpha, row.p_coef = dim * bulk_ * theta / m, row.dim = dim;
   // The yield norm needs theta, the forces need the return: two visits of the row. A
@@ -342,15 +345,18 @@ void ElasticPlastic::force_row(const RowPass& pass, std::size_t i, double dilata
   eps_p_trial_[i] = eps_p_[i] + rm.plastic_strain;
   flowed_[i] = rm.plastic_strain > 0;
   lambda_trial_[i] = lambda_[i] + plastic_multiplier_step(rm.scale, alpha);
-  if (never_yielded && rm.scale != 1.0) {  // its first flow: e^dp_n = 0 (not read), e^dp written
-    yielded_[i] = 1;
-    row.ep_trial = ep_.trial();
+  if (rm.scale != 1.0 && !row.ep_trial) {  // e^dp written (a first flow: e^dp_n = 0, not read)
+    if (never_yielded) yielded_[i] = 1;
+    row.ep_trial = ep_out;
   }
   if (!guess_elastic || rm.scale != 1.0) {
-    const double norm = sums.norm;
+    const lanes::RowSums first = sums;
     b.revisit = guess_elastic;  // the first visit wrote q
     sums = lanes::ep_row(b, row, rm.scale, false, true);
-    sums.norm = norm;
+    sums.norm = first.norm;
+    // A first visit that opened the bonds with the flags in place booked the bonds broken
+    // since the commit and set their flags: the second one finds them booked.
+    if (b.revisit && b.booked_in_place) sums.booked = first.booked, sums.inelastic = sums.inelastic || first.inelastic;
   }
   const bool inelastic = rm.plastic_strain > 0 || sums.inelastic;
   const double W = 0.5 * bulk_ * theta * theta + 0.5 * alpha * sums.dev;
@@ -482,7 +488,7 @@ void ElasticPlastic::commit(System& s) {
     const double loss = ledger_.commit_particle(i);
     if (loss != 0) s.dissipated_at[i] += loss * P.volume[i];
   }
-  if (ledger_.commit_bonds(s)) ep_.flip();  // the trial bond records become the committed ones
+  if (ledger_.commit_bonds(s)) ep_.flip();  // the trial bond records become the committed ones (unless in place)
 }
 
 }  // namespace

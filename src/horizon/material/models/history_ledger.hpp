@@ -49,6 +49,12 @@ class BondHistory {
     cur_ = 0;
   }
   void flip() { cur_ = 1 - cur_; }
+  // Frees both copies (HistoryLedger: while the committed values live elsewhere).
+  void release() {
+    std::vector<T>().swap(buf_[0]);
+    std::vector<T>().swap(buf_[1]);
+    cur_ = 0;
+  }
   // The committed copy (and a reference to the array of a model's output fields).
   const std::vector<T>& committed_vector() const { return buf_[cur_]; }
   // Checkpoint and restart: the two copies under their names. After a commit (not
@@ -97,10 +103,19 @@ inline double inelastic_loss(double work, double stored_change, double booked) {
 // and step less to stream (docs/benchmarks.md). Every pass that can rebuild them does, so
 // a run's ledger does not depend on its thread or rank count; only a run whose passes
 // cannot (static solvers, a thermal strain, the scalar rows) reads the stored arrays.
+//
+// When the commit follows as well (the explicit step), the pass also writes its history
+// (the booked flags, and the models' own per-bond arrays: e^dp, the back extensions, the
+// plastic stretches) over the committed copy, bond by bond after reading it, and the commit
+// trades nothing (`in_place`): a trial array written without being read costs the line's
+// read as well as its write, 8 bytes a bond and step more for each such array
+// (docs/benchmarks.md). No pass reads the committed copy between the pass and its commit.
 struct LedgerRows {
   bool rebuild = false;      // t_n, e_n from RowPass::r_old and RowPass::t
+  bool zero = false;         // t_n = e_n = 0 (no commit yet), not read from arrays
   bool write_trial = true;   // write the trial t and e (a later pass or commit reads them)
   bool materialize = false;  // write the rebuilt t_n, e_n into the committed arrays
+  bool in_place = false;     // the history written over the committed copy (above)
 };
 
 // The ledger state of a history model, committed and trial: per directed bond what the
@@ -125,7 +140,15 @@ struct HistoryLedger {
   // followed a pass that rebuilt them and kept no trial copy; the pass (System::model.passes)
   // and whether it was a plain scalar pass, its |Y| and q left in System::model.
   bool virtual_committed = false;
+  // No commit since the bonds were sized: the committed force and extension are 0. In both
+  // states the arrays of t and e are not allocated (32 bytes a bond: a quarter of the
+  // elastic-plastic bench deck's memory, docs/benchmarks.md); a pass or a checkpoint that
+  // needs them allocates them (ensure_arrays, materialize).
+  bool zero_committed = false;
   bool kept_trial = true;  // the passes since the commit wrote the trial t and e
+  // The pass since the commit wrote its history over the committed copy (LedgerRows::in_place):
+  // the commit then trades no copies, and no other pass may come before it.
+  bool in_place = false;
   uint64_t committed_pass = 0;
   bool committed_plain = false;
   const System* system = nullptr;  // of the last pass (materialize at a checkpoint)
@@ -133,32 +156,62 @@ struct HistoryLedger {
   // A pass of the scalar form begins (`lanes`: its rows run in the lanes, which rebuild,
   // and it gives them RowPass::r_old): how its rows treat t_n and e_n (LedgerRows).
   LedgerRows begin_rows(const System& s, bool lanes) {
+    not_in_place();
     const bool rebuild = lanes && committed_plain && s.model.passes == committed_pass + 1;
     if (virtual_committed && !rebuild) begin_pass();  // fails: nothing left to rebuild from
     fresh = true;
     system = &s;
     LedgerRows m;
     m.rebuild = rebuild;
-    m.write_trial = !(rebuild && s.model.commit_follows);
+    // Before the first commit the lanes read t_n = e_n = 0 as they rebuild them later. The
+    // trial t and e are left out only when the next pass can rebuild them from this one: a
+    // plain pass of the lanes (no thermal strain: commit_bonds' committed_plain).
+    m.zero = lanes && zero_committed;
+    const bool plain = lanes && s.thermal_strain.empty();
+    m.write_trial = !((rebuild || m.zero) && plain && s.model.commit_follows);
     m.materialize = rebuild && m.write_trial && virtual_committed;
+    m.in_place = lanes && s.model.commit_follows;
+    if (m.write_trial) {  // (the arrays hold the committed values, or 0 before the first commit)
+      ensure_arrays();
+      m.zero = false;
+    }
     if (m.materialize) virtual_committed = false;
     kept_trial = m.write_trial;
+    in_place = m.in_place;
     return m;
   }
   // Any other pass (the vector form, the scalar rows): the stored arrays.
   void begin_pass() {
+    not_in_place();
     if (virtual_committed)
       throw Error("internal error: the energy ledger's committed force states were rebuilt from the last pass and "
                   "are gone (history_ledger.hpp LedgerRows)");
+    ensure_arrays();
     fresh = true;
     kept_trial = true;
+  }
+  // The arrays of t and e allocated; 0 in both copies when they were not (zero_committed).
+  void ensure_arrays() {
+    if (force.size() != booked.size()) {
+      force.assign(booked.size(), 0);
+      extension.assign(booked.size(), 0);
+    }
+    zero_committed = false;
+  }
+  // The committed copies hold the last commit's state (not a pass's written in place).
+  void not_in_place() const {
+    if (in_place)
+      throw Error("internal error: a pass that wrote its history in place was not committed before another pass or "
+                  "a checkpoint (history_ledger.hpp LedgerRows::in_place)");
   }
   // The committed t_n, e_n rebuilt into the arrays from the committed pass's |Y| and q
   // (System::model), as the lanes rebuild them; before a checkpoint.
   void materialize() {
+    if (zero_committed) ensure_arrays();
     if (!virtual_committed) return;
     if (fresh || !system || system->model.passes != committed_pass)
       throw Error("internal error: the energy ledger cannot rebuild its committed force states here");
+    ensure_arrays();
     const auto& B = system->bonds;
     const auto& M = system->model;
     double* t = force.committed();
@@ -173,7 +226,7 @@ struct HistoryLedger {
 
   // Checkpoint and restart (core/state_archive.hpp).
   void checkpoint(StateArchive& a) {
-    if (!a.loading()) materialize();
+    if (!a.loading()) not_in_place(), materialize();
     force.checkpoint(a, "ledger_force", "ledger_force_trial", fresh);
     extension.checkpoint(a, "ledger_extension", "ledger_extension_trial", fresh);
     booked.checkpoint(a, "ledger_booked", "ledger_booked_trial", fresh);
@@ -185,7 +238,8 @@ struct HistoryLedger {
     uint8_t f = fresh ? 1 : 0;
     a.io("ledger_fresh", f);
     fresh = f != 0;
-    if (a.loading()) virtual_committed = false, kept_trial = true, committed_pass = 0, committed_plain = false;
+    if (a.loading())
+      virtual_committed = false, zero_committed = false, kept_trial = true, committed_pass = 0, committed_plain = false;
   }
 
   void size_particles(std::size_t n) {
@@ -196,15 +250,16 @@ struct HistoryLedger {
   // Sizes the bond arrays when the bond count changed; true when it did.
   bool size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();
-    if (force.size() == nb) return false;
-    force.assign(nb, 0);
-    extension.assign(nb, 0);
+    if (booked.size() == nb) return false;
+    force.release();  // (allocated when a pass or a checkpoint needs them: zero_committed)
+    extension.release();
+    zero_committed = true;
     booked.assign(nb, 0);
     pending_amount.assign(nb, 0);
     pending_set.assign(nb, 0);
     // Bonds broken before the first pass (precracks) were never booked as dissipated.
     for (std::size_t k = 0; k < nb; ++k) booked.committed()[k] = booked.trial()[k] = B.intact[k] ? 0 : 1;
-    virtual_committed = false, kept_trial = true, committed_pass = 0, committed_plain = false;
+    virtual_committed = false, kept_trial = true, in_place = false, committed_pass = 0, committed_plain = false;
     return true;
   }
   // Starts bond k's trial record at extension e; adds to `booked` what the force pass
@@ -268,9 +323,10 @@ struct HistoryLedger {
   Row row() {
     return {extension.trial(), booked.committed(), booked.trial(), pending_set.data(), pending_amount.data()};
   }
-  // The trial bond records become the committed ones; true when they changed (a pass ran
-  // since the last commit): the model then commits its own bond arrays the same way. A
-  // pass that kept no trial t and e leaves them to be rebuilt (LedgerRows).
+  // The trial bond records become the committed ones; true when the model must trade its
+  // own bond arrays' copies the same way (a pass ran since the last commit and did not
+  // write in place). A pass that kept no trial t and e leaves them to be rebuilt, one that
+  // wrote in place leaves nothing to trade (LedgerRows).
   bool commit_bonds(const System& s) {
     if (!fresh) return false;
     if (kept_trial) {
@@ -278,11 +334,15 @@ struct HistoryLedger {
       extension.flip();
     }
     virtual_committed = !kept_trial;
+    if (virtual_committed) force.release(), extension.release();  // (rebuilt when asked: materialize)
+    zero_committed = false;
     committed_pass = s.model.passes;
     committed_plain = s.model.plain_scalar_pass == s.model.passes;
-    booked.flip();
+    const bool trade = !in_place;
+    if (trade) booked.flip();
     fresh = false;
-    return true;
+    in_place = false;
+    return trade;
   }
   // Makes particle i's trial stored energy the committed one; returns its loss [J/m^3].
   double commit_particle(std::size_t i) {

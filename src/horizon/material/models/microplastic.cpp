@@ -130,7 +130,9 @@ class Microplastic final : public Model {
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override {
     if (!lanes::wide()) return force_row_scalar(pass, i, dilatation_sum);
     lanes::RowBonds b = lanes::row_bonds(pass, ledger_, mode_, i, false);
-    const lanes::RowSums sums = lanes::micro_row(b, {sbar_.committed(), sbar_.trial(), c_, yield_});
+    // (in place: over the committed copy, each bond's read before it is written; LedgerRows)
+    const lanes::RowSums sums =
+        lanes::micro_row(b, {sbar_.committed(), mode_.in_place ? sbar_.committed() : sbar_.trial(), c_, yield_});
     const double W = sums.dev;
     ledger_.stored_trial[i] = W;
     ledger_.loss_trial[i] = sums.inelastic ? inelastic_loss(sums.work, W - ledger_.stored[i], sums.booked) : 0.0;

@@ -48,11 +48,6 @@ void exchange_ghost_scalars(const System& s, std::vector<double>& a, std::vector
   for (std::size_t i = 0; i < a.size(); ++i) a[i] = scratch[i].x;
 }
 
-// phi of eq. 6.9 (kernels/tupek.hpp).
-inline bool acts(uint8_t intact, bool compression_only, double eps) {
-  return kernels::tupek_acts(intact, compression_only, eps);
-}
-
 const ModelTraits& traits() {
   static const ModelTraits t = [] {
     ModelTraits m;
@@ -184,6 +179,10 @@ ModelEntry nonlinear_solid_model() {
 
 const NonlinearState* nonlinear_state(const System& s) {
   const auto* m = dynamic_cast<const NonlinearSolid*>(s.models.owner());
+  return m ? &m->N : nullptr;
+}
+NonlinearState* nonlinear_state(System& s) {
+  auto* m = dynamic_cast<NonlinearSolid*>(s.models.owner());
   return m ? &m->N : nullptr;
 }
 
@@ -387,51 +386,36 @@ double NonlinearSolid::stable_time_step(const System& s) const {
   const auto& B = s.bonds;
   const auto& M = s.model;
   const std::size_t n = P.size();
-  const bool have_strain = N.bond_strain.size() == B.size();
+  // The rows are device-portable kernels (kernels/tupek.hpp tupek_coupling_row and
+  // tupek_stable_row), which the flat backend calls over its own copy.
+  kernels::TupekPass<KindCoefficients> tp;
+  tp.kc = M.kind.data();
+  tp.nbr = B.nbr.data();
+  tp.kind = B.kind.data();
+  tp.offset = B.offset.data();
+  tp.intact = const_cast<uint8_t*>(B.intact.data());  // (read only here)
+  tp.eps = N.bond_strain.size() == B.size() ? const_cast<double*>(N.bond_strain.data()) : nullptr;
+  tp.m = N.m.data();
+  tp.lambda_bar = N.lambda_bar.data();
+  tp.mu_bar = N.mu_bar.data();
+  tp.theta = N.theta.data();
+  tp.compression_only = N.compression_only.data();
   // S_i = sum_k omega V_k |d eps_ik/d|Y||: the dilatation coupling of row i (Gershgorin).
   // A decomposed run: the owned rows, S_j of the ghosts from their owners, and the
   // minimum over ranks taken by the caller (driver/check.cpp whole_stable_step).
   std::vector<double> S(n, 0);
-  auto strain = [&](uint64_t k) { return have_strain ? N.bond_strain[k] : 0.0; };
   const Rows rows(s);
 #pragma omp parallel for schedule(static)
   for (std::size_t r = 0; r < rows.count; ++r) {
     const std::size_t i = rows[r];
-    const double m = N.m[i];
-    double sum = 0;
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const KindCoefficients& c = M.kind[B.kind[k]];
-      const double eps = strain(k);
-      if (!acts(B.intact[k], N.compression_only[i], eps)) continue;
-      // |Y| from eps: c^m = 1 + 2 m eps, |Y| = L c^(1/2).
-      const double cm = 1 + 2 * m * eps;
-      const double Y = m == 0 ? c.length * std::exp(eps) : c.length * std::pow(std::max(cm, 1e-300), 0.5 / m);
-      sum += c.wv * std::abs(seth_hill_slope(eps, m, Y));
-    }
-    S[i] = sum;
+    S[i] = kernels::tupek_coupling_row(tp, i);
   }
   exchange_ghost_scalars(s, S, scratch_);
   double dt = kInf;
 #pragma omp parallel for schedule(static) reduction(min : dt)
   for (std::size_t r = 0; r < rows.count; ++r) {
     const std::size_t i = rows[r];
-    const double m = N.m[i], li = N.lambda_bar[i], mi = N.mu_bar[i], ti = N.theta[i];
-    double K = N.contact_stiffness[i];
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const uint32_t j = B.nbr[k];
-      const KindCoefficients& c = M.kind[B.kind[k]];
-      const double eps = strain(k);
-      if (!acts(B.intact[k], N.compression_only[i], eps)) continue;
-      const double cm = 1 + 2 * m * eps;
-      const double Y = m == 0 ? c.length * std::exp(eps) : c.length * std::pow(std::max(cm, 1e-300), 0.5 / m);
-      const double d1 = seth_hill_slope(eps, m, Y), d2 = seth_hill_curvature(eps, m, Y);
-      const double lj = N.lambda_bar[j], mj = N.mu_bar[j], tj = N.theta[j];
-      // d/d|Y| of (lambda theta + 2 mu eps) d eps/d|Y|, both ends, plus the coupling
-      // through theta_i and theta_j bounded by |lambda| |d eps/d|Y|| S.
-      K += c.wv * (std::abs((li * ti + 2 * mi * eps) * d2) + 2 * mi * d1 * d1 + std::abs((lj * tj + 2 * mj * eps) * d2) +
-                   2 * mj * d1 * d1 + std::abs(li) * std::abs(d1) * S[i] + std::abs(lj) * std::abs(d1) * S[j]);
-    }
-    if (K > 0) dt = std::min(dt, std::sqrt(2 * P.density[i] / K));
+    dt = std::min(dt, kernels::tupek_stable_row(tp, S.data(), N.contact_stiffness[i], P.density[i], i));
   }
   return dt;
 }

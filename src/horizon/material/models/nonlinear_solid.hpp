@@ -122,7 +122,9 @@ struct ModelEntry;
 struct System;
 ModelEntry nonlinear_solid_model();
 
-// The state of the run's nonlinear solid, or null when the run has none (tests, output).
+// The state of the run's nonlinear solid, or null when the run has none (tests, output;
+// the flat backend's copy writes its state back through the second: solver/flat_copy.cpp).
 const NonlinearState* nonlinear_state(const System& s);
+NonlinearState* nonlinear_state(System& s);
 
 }  // namespace horizon

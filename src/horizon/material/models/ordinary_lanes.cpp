@@ -15,6 +15,10 @@
 
 #include "horizon/material/models/history_ledger.hpp"
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#include <immintrin.h>  // the AVX-512 copy's mask test (ordinary_lanes_body.inc any)
+#endif
+
 // The vector types never cross a call between targets (every function of a target's copy
 // has internal linkage and takes its vectors from memory), so the ABI notes do not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -68,7 +72,10 @@ namespace base {
 #pragma GCC push_options
 #pragma GCC target("avx2,avx512f,avx512vl,avx512bw,avx512dq")
 namespace avx512 {
+// (the target pragma defines no __AVX512F__: the body's intrinsics ask for this)
+#define HORIZON_LANES_AVX512 1
 #include "horizon/material/models/ordinary_lanes_body.inc"
+#undef HORIZON_LANES_AVX512
 }  // namespace avx512
 #pragma GCC pop_options
 #endif

@@ -8,7 +8,8 @@
 // machines that have it (wide()); elsewhere the models and the pass run their scalar rows
 // in bond order (GCC keeps eight-wide vectors in memory on AVX2 and SSE: 3-4 times
 // slower, docs/benchmarks.md). No FMA contraction in the file (CMakeLists.txt), so the
-// lanes are the scalar expressions, operand by operand. A bond's kind constants {|xi|,
+// lanes are the scalar expressions, operand by operand (but for theta |xi| / d, taken as
+// (theta / d) |xi| in the elastic-plastic and viscoelastic rows: one division a row). A bond's kind constants {|xi|,
 // omega, omega V_j, V_j} come in one 32-byte record per kind (System::model.kind_rows),
 // eight records turned into four vectors at once. Rare events (a bond breaking, the
 // ledger's booking of a bond broken in this pass, a pending booking, the family contact)
@@ -41,13 +42,14 @@ struct RowBonds {
   const double* eps = nullptr;    // thermal strain per particle (null: none)
   double* q = nullptr;            // in: t_old of a bond broken in this pass (RowPass::t); out: t/|Y|
   // The energy ledger (material/models/history_ledger.hpp HistoryLedger::Row, and the
-  // committed and trial force states and extensions).
+  // committed and trial force states and extensions; old_force null and r_old null: 0).
   const double* old_force = nullptr;
   const double* old_extension = nullptr;
   double* force_trial = nullptr;      // null: the pass keeps no trial t and e (LedgerRows)
   double* extension_trial = nullptr;
   const uint8_t* booked_committed = nullptr;
-  uint8_t* booked_trial = nullptr;
+  uint8_t* booked_trial = nullptr;  // with booked_in_place, the committed flags themselves
+  bool booked_in_place = false;     // LedgerRows::in_place: no copy of the flags, a booking sets the committed one
   uint8_t* pending_set = nullptr;
   double* pending_amount = nullptr;
   // The committed t_n and e_n rebuilt from the previous pass (history_ledger.hpp LedgerRows)
@@ -75,9 +77,10 @@ inline RowBonds row_bonds(const RowPass& pass, HistoryLedger& ledger, const Ledg
   b.kinds = pass.kinds;
   b.eps = thermal && !s.thermal_strain.empty() ? s.thermal_strain.data() : nullptr;
   b.q = pass.t;
-  b.old_force = ledger.force.committed(), b.old_extension = ledger.extension.committed();
+  if (!mode.zero) b.old_force = ledger.force.committed(), b.old_extension = ledger.extension.committed();
   if (mode.write_trial) b.force_trial = ledger.force.trial(), b.extension_trial = row.extension_trial;
   b.booked_committed = row.booked_committed, b.booked_trial = row.booked_trial;
+  if (mode.in_place) b.booked_trial = ledger.booked.committed(), b.booked_in_place = true;
   b.pending_set = row.pending_set, b.pending_amount = row.pending_amount;
   if (mode.rebuild) {  // (t_old: set by a model whose row visits its bonds twice)
     if (!pass.r_old) throw Error("internal error: an ordinary row without the previous pass's |Y|");
@@ -167,9 +170,9 @@ struct BreakOut {
   double smin, lost, dilatation;
   uint64_t broken;
 };
-// r_old (indexed by bond; null: not kept): |Y| of the previous pass, as the sweep found it
-// in `deformed` before writing this pass's (RowPass::r_old).
-BreakOut break_row(const Sweep& s, std::size_t i, double* r_old = nullptr);
+// r_old (indexed by bond, the row's bonds at least): |Y| of the previous pass, as the sweep
+// found it in `deformed` before writing this pass's (RowPass::r_old).
+BreakOut break_row(const Sweep& s, std::size_t i, double* r_old);
 // Pass 2 of row i: f_i = sum_j V_j (q_ij + q_ji) Y over the acting bonds, plus the family
 // contact (w: its energy density; state/system.hpp family_contact).
 struct SumOut {

@@ -299,7 +299,8 @@ void Viscoelastic::force_row(const RowPass& pass, std::size_t i, double dilatati
   theta_row_trial_[i] = theta;
   row.branches = branches_;
   for (int br = 0; br < branches_; ++br) {
-    row.back_old[br] = back_[br].committed(), row.back_trial[br] = back_[br].trial();
+    // (in place: over the committed copy, each bond's read before it is written; LedgerRows)
+    row.back_old[br] = back_[br].committed(), row.back_trial[br] = mode_.in_place ? back_[br].committed() : back_[br].trial();
     row.decay[br] = step_[br].decay, row.from_old[br] = step_[br].from_old, row.from_new[br] = step_[br].from_new;
     row.lambda[br] = lambda_[br];
   }
