@@ -10,6 +10,9 @@
 # step, median of $REPEAT runs, and its ratio to the LPS's median. Usage, from the
 # repository root after a build:
 #   bench/models/run.sh [horizon binary]          (REPEAT=3, STEPS=100, N=30, MODELS="pmb lps ...")
+# MODELS may also name correspondence_j2, correspondence_neo_hookean and
+# correspondence_hypoelastic_j2 (correspondence with those stress laws; not in the default
+# list).
 # BACKENDS="cpu flat" runs each model with each explicit backend (solver.backend), the
 # backends' runs interleaved within each repeat; a row is named model@backend (cpu: model).
 # docs/benchmarks.md ("Every model on one deck") records the results.
@@ -48,6 +51,22 @@ model_lines() {
     nonlinear_solid) echo "    youngs_modulus: 200.0e9
     poissons_ratio: 0.25
     damage: {law: energy, fracture_energy: 2000}" ;;
+    correspondence_j2) echo "    youngs_modulus: 200.0e9
+    poissons_ratio: 0.25
+    stress_law: j2
+    yield_stress: 1.0e9
+    hardening_modulus: 2.0e9
+    damage: {critical_stretch: 0.01}" ;;
+    correspondence_hypoelastic_j2) echo "    youngs_modulus: 200.0e9
+    poissons_ratio: 0.25
+    stress_law: hypoelastic_j2
+    yield_stress: 1.0e9
+    hardening_modulus: 2.0e9
+    damage: {critical_stretch: 0.01}" ;;
+    correspondence_neo_hookean) echo "    youngs_modulus: 200.0e9
+    poissons_ratio: 0.25
+    stress_law: neo_hookean
+    damage: {critical_stretch: 0.01}" ;;
     extended_correspondence) echo "    youngs_modulus: 200.0e9
     poissons_ratio: 0.25
     stress_law: j2
@@ -59,6 +78,15 @@ model_lines() {
   esac
 }
 
+# The registry's model of a bench entry: correspondence_<law> is the correspondence model
+# with that stress law (the default is linear_elastic).
+model_of() {
+  case "$1" in
+    correspondence_*) echo correspondence ;;
+    *) echo "$1" ;;
+  esac
+}
+
 deck() {  # $1 model
   cat <<YAML
 dimension: 3
@@ -66,7 +94,7 @@ spacing: 1.0e-3
 horizon: 3.015e-3
 materials:
   solid:
-    model: $1
+    model: $(model_of "$1")
     density: 7800
 $(model_lines "$1")
 bodies:

@@ -7,10 +7,11 @@
 // stretch of 0.2 %). The portable rows sum each row in the fast loops' eight lanes, in
 // the same order, so the bits agree (tests/regression/test_backend.cpp runs whole decks).
 //
-// The correspondence model (linear elastic, stabilised) and Tupek's nonlinear solid: 40
+// The correspondence model (stabilised; linear elastic, neo-Hookean and J2 with its
+// history in flat arrays) and Tupek's nonlinear solid: 40
 // steps of a breaking run (the impact; a bar pulled apart for the nonlinear solid), and
 // after each of the host's steps the same force pass computed again over flat copies with
-// the portable kernels alone (kernels/affine.hpp: the breaking sweep, linear_elastic_row,
+// the portable kernels alone (kernels/affine.hpp: the breaking sweep, kernels/laws.hpp law_row,
 // the stabilisation energy, the pair sum; kernels/tupek.hpp: the strain and force rows),
 // from the pass's inputs (the packed positions and critical stretches) and the copies' own
 // broken flags, records and damage weights: the same forces, energies, damage,
@@ -27,6 +28,7 @@
 #include <fmt/format.h>
 
 #include "horizon/kernels/affine.hpp"
+#include "horizon/kernels/laws.hpp"
 #include "horizon/kernels/tupek.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
 #include "horizon/solver/flat_copy.hpp"
@@ -115,29 +117,39 @@ void expect_same_as_host(const char* model, uint64_t broken, uint64_t host_broke
               model, static_cast<unsigned long long>(broken), bad);
 }
 
-TEST(PortableKernels, CorrespondencePassThroughTheKernels) {
+// The correspondence model's pass recomputed through the kernels alone, for the law of
+// `law` (kernels/laws.hpp law_row: linear elastic, neo-Hookean, J2 with its history kept in
+// flat arrays and committed after each step, its plastic work booked as the model's commit
+// books it).
+void correspondence_through_kernels(const char* name, const std::string& law, int law_kind) {
   test::SingleThread one;
   const std::string material =
-      "{model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, stabilization: 0.5, "
-      "damage: {critical_stretch: 0.002}}";
+      "{model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, stabilization: 0.5, " +
+      law + "damage: {critical_stretch: 0.002}}";
   Simulation sim(parse_deck(impact_deck(material, 40, 1.0), "portable.yaml"));
   System& s = sim.system;
   ASSERT_TRUE(affine_general_pass(s));
   const std::size_t n = s.particles.size(), nb = s.bonds.size();
   const MaterialConfig& mat = sim.config.materials[0];
-  const double lambda = mat.bulk_modulus - 2.0 * mat.shear_modulus / 3.0, mu = mat.shear_modulus;
+  kernels::LawConstants c;
+  c.law = law_kind;
+  c.lambda = mat.bulk_modulus - 2.0 * mat.shear_modulus / 3.0, c.mu = mat.shear_modulus, c.kappa = mat.bulk_modulus;
+  c.yield_stress = Model::parameter(mat, "yield_stress"), c.hardening = Model::parameter(mat, "hardening_modulus");
   double G = 0;  // the stabilisation modulus, g_i of every record that carries stress
   for (std::size_t i = 0; i < n; ++i) G = std::max(G, s.model.affine_record[kernels::kAffineRecord * i + 9]);
   ASSERT_GT(G, 0);
-  // The copy's own state of the pass: flags, damage weights, records, last positions.
+  // The copy's own state of the pass: flags, damage weights, records, last positions, the
+  // law's history.
   std::vector<uint8_t> intact = s.bonds.intact;
   std::vector<double> weight = s.model.intact_weight, record = s.model.affine_record, dissipated = s.dissipated_at;
   std::vector<Vec3> y_old = s.model.affine_position;
   std::vector<Point4> ref(n);
   for (std::size_t i = 0; i < n; ++i) ref[i] = {s.particles.X[i].x, s.particles.X[i].y, s.particles.X[i].z, 0.0};
-  std::vector<double> f(3 * n), energy(n), damage(n);
+  std::vector<kernels::J2History> committed(n, kernels::J2History{}), trial(n);
+  std::vector<double> f(3 * n), energy(n), damage(n), work(n);
   uint64_t broken = 0, host_broken = 0;
   std::size_t bad = 0;
+  double plastic = 0;
   for (int step = 0; step < 40; ++step) {
     const uint64_t before = s.broken;
     sim.solver->step(true);
@@ -166,7 +178,7 @@ TEST(PortableKernels, CorrespondencePassThroughTheKernels) {
       if (o.broken) weight[i] = kernels::intact_weight_lanes(sw.offset, sw.intact, sw.kind, sw.kc, i);
       damage[i] = kernels::damage_fraction(weight[i], s.model.damage_total[i]);
       double* rec = record.data() + kernels::kAffineRecord * i;
-      const kernels::AffineRow row = kernels::linear_elastic_row(sums, 3, 1e-4, lambda, mu, G, rec);
+      const kernels::AffineRow row = kernels::law_row(sums, 3, 1e-4, c, G, committed[i], trial[i], work[i], rec);
       double W = row.carries ? row.W : 0.0;
       if (row.carries)
         for (uint64_t k = s.bonds.begin(i); k < s.bonds.end(i); ++k) {
@@ -184,11 +196,34 @@ TEST(PortableKernels, CorrespondencePassThroughTheKernels) {
       energy[i] += w;
     }
     for (std::size_t i = 0; i < n; ++i) y_old[i] = {sw.pt[i].x, sw.pt[i].y, sw.pt[i].z};
+    // The step's commit (Correspondence::commit): the trial history, the plastic work.
+    for (std::size_t i = 0; i < n; ++i) {
+      committed[i] = trial[i];
+      if (work[i] != 0) dissipated[i] += work[i] * s.particles.volume[i];
+      plastic += work[i] * s.particles.volume[i];
+    }
     bad += differing(f.data(), &s.particles.f[0].x, 3 * n) + differing(energy.data(), s.particles.energy.data(), n) +
            differing(damage.data(), s.particles.damage.data(), n) +
            differing(dissipated.data(), s.dissipated_at.data(), n) + (intact != s.bonds.intact ? 1 : 0);
   }
-  expect_same_as_host("correspondence", broken, host_broken, bad);
+  if (law_kind == kernels::kJ2Law) {
+    EXPECT_GT(plastic, 0) << "the impact is meant to yield";
+    std::printf("[ figure ] %s: plastic work of the 40 passes %.6e J\n", name, plastic);
+  }
+  expect_same_as_host(name, broken, host_broken, bad);
+}
+
+TEST(PortableKernels, CorrespondencePassThroughTheKernels) {
+  correspondence_through_kernels("correspondence", "", kernels::kLinearElasticLaw);
+}
+
+TEST(PortableKernels, CorrespondenceNeoHookeanPassThroughTheKernels) {
+  correspondence_through_kernels("correspondence neo_hookean", "stress_law: neo_hookean, ", kernels::kNeoHookeanLaw);
+}
+
+TEST(PortableKernels, CorrespondenceJ2PassThroughTheKernels) {
+  correspondence_through_kernels("correspondence j2", "stress_law: j2, yield_stress: 4.0e8, hardening_modulus: 2.0e9, ",
+                                 kernels::kJ2Law);
 }
 
 TEST(PortableKernels, NonlinearSolidPassThroughTheKernels) {

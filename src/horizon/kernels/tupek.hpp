@@ -25,13 +25,6 @@
 
 namespace horizon::kernels {
 
-HORIZON_HD inline double natural_log(double x) {
-#if defined(__CUDA_ARCH__)
-  return ::log(x);
-#else
-  return std::log(x);
-#endif
-}
 HORIZON_HD inline double natural_exp(double x) {
 #if defined(__CUDA_ARCH__)
   return ::exp(x);

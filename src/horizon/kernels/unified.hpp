@@ -27,6 +27,16 @@ HORIZON_HD inline double root(double x) {
 #endif
 }
 
+// The natural logarithm of the host's <cmath> and of the device's library (the nonlinear
+// solid's Seth-Hill strain, the Hencky strain of kernels/eigen3.hpp).
+HORIZON_HD inline double natural_log(double x) {
+#if defined(__CUDA_ARCH__)
+  return ::log(x);
+#else
+  return std::log(x);
+#endif
+}
+
 // x is neither infinite nor NaN (x - x is 0 exactly then, NaN otherwise); no library call,
 // the same on the host and the device.
 HORIZON_HD inline bool finite(double x) { return x - x == 0.0; }

@@ -8,6 +8,8 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/kernels/affine.hpp"
+#include "horizon/kernels/hypoelastic.hpp"
+#include "horizon/kernels/laws.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/state/system.hpp"
 
@@ -161,9 +163,11 @@ class Correspondence final : public Model {
   correspondence::Flaw flaw_;
   bool hypo_ = false;     // a hypoelastic law: the Peridigm tensors are fields
   double tolerance_ = 0;  // shape_tolerance
-  // The affine row runs the law in the device-portable kernel (kernels/affine.hpp
-  // linear_elastic_row): linear_elastic, not in plane stress (whose iteration stays here).
+  // The affine row runs the law in the device-portable kernel (kernels/laws.hpp law_row):
+  // linear_elastic, neo_hookean and j2, not in plane stress (whose iteration stays here).
   bool portable_law_ = false;
+  kernels::LawConstants constants_;  // the law of law_row
+  kernels::HypoConstants hypo_constants_;  // the rate-form laws' (hypo_row)
   bool adaptive_ = false;  // solver.adaptive_time_step: spring_factors from the current state
   std::vector<uint32_t> particles_;
   std::vector<int32_t> local_;  // particle index -> index in particles_ (-1: not ours)
@@ -188,6 +192,55 @@ class Correspondence final : public Model {
   // u - u_committed: the nonlocal gradient of the step's displacement increment (Peridigm
   // takes it from the velocities, which its Verlet and quasi-static steps make du/dt),
   // free of the rounding of F - F_n (1e-11 of D on ElasticCorrespondenceFullyPrescribedTension).
+  // Row l of a rate-form law in the affine pass, through kernels/hypoelastic.hpp: F_dot
+  // from the bonds as law_at forms it, the step, the output tensors, the record (K^-1, F
+  // row-major); returns the law's energy density (0 where it refuses F). The same bits as
+  // law_at (tests/unit/test_law_kernels.cpp).
+  double hypo_row(const System& s, std::size_t l, const double* Kinv, const double* F, double dt, double* rec) {
+    const uint32_t i = particles_[l];
+    double Fdot[9];
+    const bool rate = dt > 0 && u_committed_.size() == s.particles.size();
+    if (rate) {
+      const Bonds& B = s.bonds;
+      const Vec3 dui = s.particles.u[i] - u_committed_[i];
+      double N[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
+        if (!B.intact[k]) continue;
+        const uint32_t j = B.nbr[k];
+        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui, xi = s.particles.X[j] - s.particles.X[i];
+        const double a[3] = {du.x, du.y, du.z}, x[3] = {xi.x, xi.y, xi.z};
+        kernels::rate_gradient_add(N, a, x, B.weight[k] * B.volume[k]);
+      }
+      kernels::rate_gradient_finish(N, Kinv, dt, Fdot);
+    }
+    kernels::HypoHistory n, t;
+    const classical::HypoState& h = committed_[l].hypo;
+    for (int k = 0; k < 9; ++k) {
+      const int r = k / 3, c = k % 3;
+      n.F[k] = h.F(r, c), n.V[k] = h.V(r, c), n.R[k] = h.R(r, c), n.sigma_u[k] = h.sigma_u(r, c);
+    }
+    n.alpha = h.alpha, n.thermal = h.thermal;
+    const double yield = law_.law != StressLaw::hypoelastic ? law_.j2.yield_stress * yield_factor_[l] : 0.0;
+    kernels::LawStress r;
+    double d[9];
+    trial_[l] = committed_[l];
+    kernels::hypo_step(hypo_constants_, yield, n, F, dt, rate ? Fdot : nullptr, 0.0, t, work_[l], r, d);
+    classical::HypoState& th = trial_[l].hypo;
+    for (int k = 0; k < 9; ++k) {
+      const int a = k / 3, c = k % 3;
+      th.F(a, c) = t.F[k], th.V(a, c) = t.V[k], th.R(a, c) = t.R[k], th.sigma_u(a, c) = t.sigma_u[k];
+      kinv_[l](a, c) = Kinv[k], F_[l](a, c) = F[k], sigma_[l](a, c) = r.sigma[k], rate_[l](a, c) = d[k];
+    }
+    th.alpha = t.alpha, th.thermal = t.thermal;
+    trial_[l].plastic.alpha = t.alpha;
+    von_mises_[l] = kernels::von_mises(t.sigma_u);
+    if (!r.ok) {
+      kernels::affine_record(nullptr, F, G_, rec);
+      return 0.0;
+    }
+    kernels::affine_record_of_stress(r.P, Kinv, F, G_, rec);  // T = omega P K^-1 xi (seed 003 eq. 142)
+    return r.W;
+  }
   classical::LawResult law_at(const System& s, std::size_t l, const Mat3& F, const Mat3& Kinv, double dt) {
     Mat3 d = Mat3::Zero(), Fdot = Mat3::Zero();
     const bool rate = hypo_ && dt > 0 && u_committed_.size() == s.particles.size();
@@ -251,7 +304,24 @@ void Correspondence::setup(const ModelSetup& in) {
   form_ = choice(mat, "stabilization_form") == "peridigm" ? correspondence::Stabilization::peridigm
                                                           : correspondence::Stabilization::silling;
   tolerance_ = parameter(mat, "shape_tolerance");
-  portable_law_ = law_.law == StressLaw::linear_elastic && !(dim == 2 && law_.plane == PlaneMode::stress);
+  portable_law_ = (law_.law == StressLaw::linear_elastic || law_.law == StressLaw::neo_hookean ||
+                   law_.law == StressLaw::j2) &&
+                  !(dim == 2 && law_.plane == PlaneMode::stress);
+  constants_.law = law_.law == StressLaw::j2            ? kernels::kJ2Law
+                   : law_.law == StressLaw::neo_hookean ? kernels::kNeoHookeanLaw
+                                                        : kernels::kLinearElasticLaw;
+  constants_.lambda = law_.elastic.lambda, constants_.mu = law_.elastic.mu, constants_.kappa = law_.elastic.kappa;
+  constants_.yield_stress = law_.j2.yield_stress, constants_.hardening = law_.j2.hardening_modulus;
+  hypo_constants_.lambda = law_.elastic.lambda, hypo_constants_.mu = law_.elastic.mu;
+  hypo_constants_.kappa = law_.elastic.kappa, hypo_constants_.hardening = law_.j2.hardening_modulus;
+  hypo_constants_.plastic_return = law_.plastic_return == classical::PlasticReturn::peridigm    ? kernels::kReturnPeridigm
+                                   : law_.plastic_return == classical::PlasticReturn::needleman ? kernels::kReturnNeedleman
+                                                                                                : kernels::kReturnWork;
+  hypo_constants_.rotation =
+      law_.rotation == classical::RotationUpdate::peridigm ? kernels::kRotationPeridigm : kernels::kRotationCayley;
+  hypo_constants_.N = law_.needleman.N, hypo_constants_.m = law_.needleman.m;
+  hypo_constants_.rate0 = law_.needleman.rate0, hypo_constants_.eps0 = law_.needleman.eps0;
+  hypo_constants_.eps1 = law_.needleman.eps1;
   adaptive_ = in.config.solver.adaptive_time_step;
 
   // The bond-based micromodulus of the same bulk modulus with omega = 1 (18k/(pi delta^4)
@@ -360,12 +430,24 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
   double f[9];  // F_i, row-major
   double W = 0;
   if (portable_law_) {
-    // The linear elastic law: the whole row in the device-portable kernel (no history).
-    const kernels::AffineRow row = kernels::linear_elastic_row(sums, law_.dimension, tolerance_, law_.elastic.lambda,
-                                                               law_.elastic.mu, G_, rec);
+    // The linear elastic, neo-Hookean and J2 laws: the whole row in the device-portable
+    // kernel (kernels/laws.hpp law_row), J2's history copied in and out as plain numbers.
+    const bool j2 = constants_.law == kernels::kJ2Law;
+    kernels::J2History committed{}, trial;
+    if (j2) {
+      const classical::J2State& c = committed_[l].plastic;
+      for (int k = 0; k < 9; ++k) committed.plastic_strain[k] = c.plastic_strain(k / 3, k % 3);
+      committed.alpha = c.alpha;
+    }
+    const kernels::AffineRow row =
+        kernels::law_row(sums, law_.dimension, tolerance_, constants_, G_, committed, trial, work_[l], rec);
     singular_[l] = row.carries ? 0 : 1;
     trial_[l] = committed_[l];
-    work_[l] = 0;
+    if (j2) {
+      classical::J2State& t = trial_[l].plastic;
+      for (int k = 0; k < 9; ++k) t.plastic_strain(k / 3, k % 3) = trial.plastic_strain[k];
+      t.alpha = trial.alpha;
+    }
     von_mises_[l] = row.von_mises;
     if (!row.carries) {
       if (pass.energy) pass.energy[i] = 0;
@@ -373,6 +455,21 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     }
     W = row.W;
     for (int c = 0; c < 9; ++c) f[c] = row.F[c];
+  } else if (hypo_) {
+    // The rate-form laws: the row in the device-portable kernel (kernels/hypoelastic.hpp
+    // hypo_step) after the host's bond sum of F_dot.
+    double Kinv[9];
+    const bool ok = kernels::gradient_finish(sums, sums + 9, law_.dimension, tolerance_, Kinv, f);
+    singular_[l] = ok ? 0 : 1;
+    if (!ok) {
+      trial_[l] = committed_[l];
+      work_[l] = 0;
+      von_mises_[l] = 0;
+      kernels::affine_record(nullptr, nullptr, 0.0, rec);
+      if (pass.energy) pass.energy[i] = 0;
+      return;
+    }
+    W = hypo_row(s, l, Kinv, f, pass.dt, rec);
   } else {
     // The other laws (Eigen, history, plane stress's iteration): host code between the
     // kernels' K^-1 and F (NonlocalGradient::finish) and their record.

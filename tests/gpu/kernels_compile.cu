@@ -1,0 +1,67 @@
+// Compile check of the portable law kernels for the device (issue 30): the finite-strain
+// laws of the correspondence model (kernels/laws.hpp: law_row for the linear elastic,
+// neo-Hookean and J2 laws; the SVD and polar decomposition of kernels/eigen3.hpp; the
+// rate-form step of kernels/hypoelastic.hpp), each
+// instantiated in a __global__ function of one thread a particle over flat arrays, as a
+// device pass of correspondence would call them. Built by cmake/cuda.cmake (an object
+// library: nothing runs it), so bench/gpu/device_check.sh compiles them in its one call;
+// `-Xptxas -v` on this file gives their registers and spills (docs/design.md).
+#include <cstdint>
+
+#include "horizon/kernels/eigen3.hpp"
+#include "horizon/kernels/hypoelastic.hpp"
+#include "horizon/kernels/laws.hpp"
+
+namespace horizon::kernels {
+
+// Row i of the affine pass's law for n particles: sums (18 each) to records (kAffineRecord
+// each), J2 history in and out, the von Mises stress, the energy and the plastic work.
+__global__ void law_rows(const double* sums, std::size_t n, int d, double tolerance, LawConstants c, double G,
+                         const J2History* committed, J2History* trial, double* work, double* rec, double* von_mises,
+                         double* energy) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  const AffineRow row =
+      law_row(sums + 18 * i, d, tolerance, c, G, committed[i], trial[i], work[i], rec + kAffineRecord * i);
+  von_mises[i] = row.von_mises;
+  energy[i] = row.carries ? row.W : 0.0;
+}
+
+// The J2 return map alone (from F), and the neo-Hookean law alone.
+__global__ void j2_points(const double* F, std::size_t n, LawConstants c, const J2History* committed,
+                          J2History* trial, double* work, double* P) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  LawStress r;
+  j2_stress(c.mu, c.kappa, c.yield_stress, c.hardening, committed[i], F + 9 * i, trial[i], work[i], r);
+  for (int k = 0; k < 9; ++k) P[9 * i + k] = r.P[k];
+}
+
+__global__ void neo_hookean_points(const double* F, std::size_t n, double mu, double kappa, double* P, double* W) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  LawStress r;
+  neo_hookean_stress(mu, kappa, F + 9 * i, r);
+  for (int k = 0; k < 9; ++k) P[9 * i + k] = r.P[k];
+  W[i] = r.W;
+}
+
+// The SVD and the polar decomposition with ln U.
+__global__ void polar_points(const double* F, std::size_t n, double* R, double* log_U, uint8_t* ok) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  ok[i] = polar_log3(F + 9 * i, R + 9 * i, log_U + 9 * i) ? 1 : 0;
+}
+
+// The rate-form step (hypoelastic laws) of one particle from its F and F_dot.
+__global__ void hypo_points(const double* F, const double* Fdot, std::size_t n, HypoConstants c, double yield,
+                            const HypoHistory* committed, HypoHistory* trial, double dt, double* work, double* P,
+                            double* d) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  LawStress r;
+  hypo_step(c, yield, committed[i], F + 9 * i, dt, Fdot + 9 * i, 0.0, trial[i], work[i], r, d + 9 * i);
+  for (int k = 0; k < 9; ++k) P[9 * i + k] = r.P[k];
+}
+
+}  // namespace horizon::kernels
