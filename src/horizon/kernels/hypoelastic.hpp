@@ -23,13 +23,6 @@
 
 namespace horizon::kernels {
 
-HORIZON_HD inline double power(double x, double y) {
-#if defined(__CUDA_ARCH__)
-  return ::pow(x, y);
-#else
-  return std::pow(x, y);
-#endif
-}
 HORIZON_HD inline double sine(double x) {
 #if defined(__CUDA_ARCH__)
   return ::sin(x);

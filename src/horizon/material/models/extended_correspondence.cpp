@@ -10,6 +10,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/kernels/extended.hpp"
+#include "horizon/kernels/hencky.hpp"
 #include "horizon/kernels/unified.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/parallel/decomposition.hpp"
@@ -410,11 +411,15 @@ class ExtendedCorrespondence final : public Model {
   };
   LawPoint run_law(std::size_t l, const Mat3& E, const Mat3* Fbar, double dt, StrainLawState& trial) const {
     LawPoint r;
-    extended::HenckyMap h;
+    // The Hencky map in the portable kernels (kernels/hencky.hpp: Eigen's eigen-solver written
+    // out, the host form's bits), over row-major copies.
+    double hN[9] = {}, hl[3] = {};
     Mat3 strain = E;
     if (hencky_) {
-      h = extended::hencky_of_green(strain);
-      strain = h.strain;
+      double e[9], log_strain[9];
+      for (int k = 0; k < 9; ++k) e[k] = E(k / 3, k % 3);
+      kernels::hencky_of_green3(e, extended::kHenckyFloor, hN, hl, log_strain);
+      for (int k = 0; k < 9; ++k) strain(k / 3, k % 3) = log_strain[k];
     }
     Mat3 Id = Mat3::Identity();
     if (dim_ == 2) Id(2, 2) = 0.0;
@@ -433,7 +438,14 @@ class ExtendedCorrespondence final : public Model {
       T -= p * Id;
       r.pressure_map = p * Fbar->inverse().transpose();
     }
-    r.out.S = hencky_ ? extended::green_stress_of_hencky(h, T) : T;
+    if (hencky_) {
+      double t[9], S[9];
+      for (int k = 0; k < 9; ++k) t[k] = T(k / 3, k % 3);
+      kernels::green_stress_of_hencky3(hN, hl, t, S);
+      for (int k = 0; k < 9; ++k) r.out.S(k / 3, k % 3) = S[k];
+    } else {
+      r.out.S = T;
+    }
     return r;
   }
 

@@ -239,7 +239,11 @@ struct HenckyMap {
   Mat3 strain;   // E_log
 };
 
-inline HenckyMap hencky_of_green(const Mat3& E1, double floor = 1e-6) {
+// The model's law step computes this map with the portable kernels of kernels/hencky.hpp
+// (hencky_of_green3, green_stress_of_hencky3: the same bits, tests/unit/test_hencky_kernels.cpp);
+// the Eigen forms below are the reference those are held to.
+inline constexpr double kHenckyFloor = 1e-6;
+inline HenckyMap hencky_of_green(const Mat3& E1, double floor = kHenckyFloor) {
   const Mat3 C = Mat3::Identity() + 2.0 * E1;
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (C + C.transpose()));
   HenckyMap h;

@@ -1,0 +1,113 @@
+// Extended correspondence's Hencky map as portable kernels (kernels/hencky.hpp, issue 30)
+// against the Eigen host form it replaced in the model's law step
+// (material/models/extended_correspondence.hpp: hencky_of_green with Eigen's
+// SelfAdjointEigenSolver, green_stress_of_hencky): the same bits on random strains, near
+// isotropic ones (repeated eigenvalues: the deflation paths), diagonal and plane ones (the
+// tridiagonalisation's identity path), zero, and locally inverted ones (the floor).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "horizon/kernels/hencky.hpp"
+#include "horizon/material/models/extended_correspondence.hpp"
+
+namespace horizon {
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void to_rows(const Mat3& m, double* a) {
+  for (int c = 0; c < 9; ++c) a[c] = m(c / 3, c % 3);
+}
+
+int differing(const Mat3& m, const double* a) {
+  int n = 0;
+  for (int c = 0; c < 9; ++c) n += same_bits(m(c / 3, c % 3), a[c]) ? 0 : 1;
+  return n;
+}
+
+Mat3 random_symmetric(std::mt19937_64& g, int kind) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  Mat3 E = Mat3::Zero();
+  const double amp = kind % 4 == 0 ? 1e-3 : (kind % 4 == 1 ? 0.05 : (kind % 4 == 2 ? 0.4 : 3.0));
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c <= r; ++c) E(r, c) = E(c, r) = amp * u(g);
+  switch (kind % 7) {
+    case 0: E = Mat3::Identity() * E(0, 0) + 1e-9 * E; break;  // nearly isotropic
+    case 1: E(2, 0) = E(0, 2) = 0.0; break;                      // identity tridiagonalisation
+    case 2: E(2, 0) = E(0, 2) = E(2, 1) = E(1, 2) = E(2, 2) = 0.0; break;  // plane (2-D)
+    case 3: E = E.diagonal().asDiagonal(); break;                 // diagonal
+    case 4: E(0, 0) = -0.5 - 0.1 * std::abs(u(g)); break;         // C below the floor
+    default: break;
+  }
+  if (kind % 101 == 0) E.setZero();
+  if (kind % 53 == 0) E(1, 1) = E(0, 0);  // a repeated diagonal entry
+  return E;
+}
+
+TEST(HenckyKernels, SelfAdjointEigenSolverKeepsEigensBits) {
+  std::mt19937_64 g(11);
+  int bad = 0;
+  for (int t = 0; t < 30000; ++t) {
+    const Mat3 E = random_symmetric(g, t);
+    const Mat3 C = Mat3::Identity() + 2.0 * E;
+    double A[9], ev[3], Q[9];
+    to_rows(C, A);
+    const bool ok = kernels::sym_eigen3(A, ev, Q);
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(C);
+    ASSERT_EQ(ok, eig.info() == Eigen::Success);
+    bad += differing(eig.eigenvectors(), Q);
+    for (int a = 0; a < 3; ++a) bad += same_bits(eig.eigenvalues()[a], ev[a]) ? 0 : 1;
+  }
+  EXPECT_EQ(bad, 0);
+  // and the decomposition it is: C Q = Q diag(ev)
+  double A[9] = {2, 1, 0.5, 1, 3, -1, 0.5, -1, 1}, ev[3], Q[9];
+  ASSERT_TRUE(kernels::sym_eigen3(A, ev, Q));
+  for (int r = 0; r < 3; ++r)
+    for (int a = 0; a < 3; ++a) {
+      const double CQ = A[3 * r] * Q[a] + A[3 * r + 1] * Q[3 + a] + A[3 * r + 2] * Q[6 + a];
+      EXPECT_NEAR(CQ, Q[3 * r + a] * ev[a], 1e-14);
+    }
+  EXPECT_LT(ev[0], ev[1]);
+  EXPECT_LT(ev[1], ev[2]);
+}
+
+TEST(HenckyKernels, HenckyMapAndGreenStressKeepTheHostsBits) {
+  std::mt19937_64 g(13);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad_map = 0, bad_strain = 0, bad_stress = 0;
+  for (int t = 0; t < 30000; ++t) {
+    const Mat3 E = random_symmetric(g, t);
+    const extended::HenckyMap h = extended::hencky_of_green(E);
+    double e[9], N[9], l[3], strain[9];
+    to_rows(E, e);
+    kernels::hencky_of_green3(e, 1e-6, N, l, strain);
+    bad_map += differing(h.N, N);
+    bad_strain += differing(h.strain, strain);
+    for (int a = 0; a < 3; ++a) bad_map += same_bits(h.l[a], l[a]) ? 0 : 1;
+    Mat3 T;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c <= r; ++c) T(r, c) = T(c, r) = 1e8 * u(g);
+    if (t % 5 == 0) T(0, 1) = 3e7, T(1, 0) = -2e7;  // not symmetric: the products' orders show
+    double Tr[9], S[9];
+    to_rows(T, Tr);
+    kernels::green_stress_of_hencky3(N, l, Tr, S);
+    bad_stress += differing(extended::green_stress_of_hencky(h, T), S);
+  }
+  EXPECT_EQ(bad_map, 0);
+  EXPECT_EQ(bad_strain, 0);
+  EXPECT_EQ(bad_stress, 0);
+}
+
+TEST(HenckyKernels, LogDividedDifferenceIsTheSlopeOfTheLog) {
+  EXPECT_NEAR(kernels::log_divided_difference3(2.0, 1.0), std::log(2.0), 1e-15);
+  EXPECT_NEAR(kernels::log_divided_difference3(1.0 + 1e-9, 1.0), 1.0 - 0.5e-9, 1e-15);  // series branch
+}
+
+}  // namespace
+}  // namespace horizon
