@@ -3,7 +3,8 @@
 // (material/models/extended_correspondence.hpp: hencky_of_green with Eigen's
 // SelfAdjointEigenSolver, green_stress_of_hencky): the same bits on random strains, near
 // isotropic ones (repeated eigenvalues: the deflation paths), diagonal and plane ones (the
-// tridiagonalisation's identity path), zero, and locally inverted ones (the floor).
+// tridiagonalisation's identity path), zero, and locally inverted ones (the floor); and the
+// strain laws elastic and j2 (kernels/strain_laws.hpp) against classical/strain_laws.hpp.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -12,6 +13,8 @@
 #include <random>
 
 #include "horizon/kernels/hencky.hpp"
+#include "horizon/kernels/strain_laws.hpp"
+#include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/material/models/extended_correspondence.hpp"
 
 namespace horizon {
@@ -107,6 +110,41 @@ TEST(HenckyKernels, HenckyMapAndGreenStressKeepTheHostsBits) {
 TEST(HenckyKernels, LogDividedDifferenceIsTheSlopeOfTheLog) {
   EXPECT_NEAR(kernels::log_divided_difference3(2.0, 1.0), std::log(2.0), 1e-15);
   EXPECT_NEAR(kernels::log_divided_difference3(1.0 + 1e-9, 1.0), 1.0 - 0.5e-9, 1e-15);  // series branch
+}
+
+TEST(HenckyKernels, J2StrainLawKeepsTheHostsBits) {
+  std::mt19937_64 g(17);
+  std::uniform_real_distribution<double> u(-1, 1);
+  classical::StrainLawParams p;
+  p.kappa = 160e9, p.mu = 80e9, p.yield_stress = 1e9, p.hardening_modulus = 2e9;
+  int bad = 0, yielded = 0;
+  for (int t = 0; t < 30000; ++t) {
+    p.law = t % 5 == 0 ? classical::StrainLaw::elastic : classical::StrainLaw::j2;
+    const Mat3 E = random_symmetric(g, t) * (t % 2 ? 0.01 : 1.0);
+    classical::StrainLawState committed;  // a traceless plastic history half of the time
+    if (t % 2 == 0) {
+      const Mat3 P = random_symmetric(g, 5) * 0.02;
+      committed.plastic_strain = P - (P.trace() / 3.0) * Mat3::Identity();
+      committed.alpha = 0.05 * std::abs(u(g));
+    }
+    const double dt = t % 3 == 0 ? 0.0 : 1e-8;
+    classical::StrainLawState trial;
+    const classical::StrainLawOut host = classical::strain_law(p, committed, E, dt, trial);
+    kernels::StrainJ2 k;
+    k.kappa = p.kappa, k.mu = p.mu, k.yield_stress = p.yield_stress, k.hardening = p.hardening_modulus;
+    k.plastic = p.law == classical::StrainLaw::j2;
+    double e[9], Ep_n[9], Ep[9], alpha = -1;
+    to_rows(E, e);
+    to_rows(committed.plastic_strain, Ep_n);
+    kernels::StrainLawPoint out;
+    kernels::j2_strain_law(k, Ep_n, committed.alpha, e, dt, Ep, alpha, out);
+    yielded += host.plastic_work > 0 ? 1 : 0;
+    bad += differing(host.S, out.S) + differing(trial.plastic_strain, Ep);
+    bad += (same_bits(host.W, out.W) ? 0 : 1) + (same_bits(host.plastic_work, out.plastic_work) ? 0 : 1);
+    bad += (same_bits(host.rate, out.rate) ? 0 : 1) + (same_bits(trial.alpha, alpha) ? 0 : 1);
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(yielded, 5000);  // the return map ran
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/kernels/extended.hpp"
 #include "horizon/kernels/hencky.hpp"
+#include "horizon/kernels/strain_laws.hpp"
 #include "horizon/kernels/unified.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/parallel/decomposition.hpp"
@@ -409,6 +410,26 @@ class ExtendedCorrespondence final : public Model {
     Mat3 pressure_map = Mat3::Zero();  // with Fbar: p Fbar^-T
     bool ok = false;
   };
+  // classical::strain_law for the elastic and j2 laws in the portable kernel
+  // (kernels/strain_laws.hpp: the same bits), over row-major copies of the history.
+  classical::StrainLawOut j2_law(const StrainLawState& committed, const Mat3& E, double dt, StrainLawState& trial) const {
+    classical::StrainLawOut out;
+    trial = committed;
+    if (committed.damage >= 1.0) {
+      out.failed = true;
+      return out;
+    }
+    kernels::StrainJ2 p;
+    p.kappa = law_.kappa, p.mu = law_.mu, p.yield_stress = law_.yield_stress, p.hardening = law_.hardening_modulus;
+    p.plastic = law_.law == classical::StrainLaw::j2;
+    double e[9], Ep[9];
+    for (int k = 0; k < 9; ++k) e[k] = E(k / 3, k % 3), Ep[k] = committed.plastic_strain(k / 3, k % 3);
+    kernels::StrainLawPoint pt;
+    kernels::j2_strain_law(p, Ep, committed.alpha, e, dt, Ep, trial.alpha, pt);
+    for (int k = 0; k < 9; ++k) out.S(k / 3, k % 3) = pt.S[k], trial.plastic_strain(k / 3, k % 3) = Ep[k];
+    out.W = pt.W, out.plastic_work = pt.plastic_work, out.rate = pt.rate;
+    return out;
+  }
   LawPoint run_law(std::size_t l, const Mat3& E, const Mat3* Fbar, double dt, StrainLawState& trial) const {
     LawPoint r;
     // The Hencky map in the portable kernels (kernels/hencky.hpp: Eigen's eigen-solver written
@@ -428,7 +449,11 @@ class ExtendedCorrespondence final : public Model {
       J = std::max(Fbar->determinant(), 1e-6);
       strain += ((std::log(J) - (Id.array() * strain.array()).sum()) / dim_) * Id;
     }
-    r.out = classical::strain_law(law_, committed_[l], strain, dt, trial);
+    if (law_.law == classical::StrainLaw::johnson_cook) {
+      r.out = classical::strain_law(law_, committed_[l], strain, dt, trial);
+    } else {
+      r.out = j2_law(committed_[l], strain, dt, trial);
+    }
     if (r.out.failed) return r;
     r.ok = true;
     r.law_stress = r.out.S;

@@ -1,0 +1,80 @@
+#pragma once
+// Extended correspondence's strain laws elastic and j2 (material/classical/strain_laws.hpp:
+// S = kappa tr(E_e) I + 2 mu dev(E_e), von Mises yield with linear isotropic hardening, the
+// closed-form radial return of Simo and Hughes 1998, "Computational Inelasticity", box 3.2)
+// as a device-portable function (core/portable.hpp, issue 30) over row-major double[9].
+// Johnson-Cook (Newton return, damage) stays the host form.
+//
+// Bits. The host form's Eigen expressions, in their order (tests/unit/test_hencky_kernels.cpp
+// holds this to them on random input): the trace d0 + (d1 + d2); scalar factors multiplied
+// first ((2 mu) (E_e - (tr/3) I), ((2 mu) dgamma) n, (kappa tr) I); the identity's zeros
+// multiplied in (they set the signs of zero entries); and the sum of the nine squares
+// (s.array() * s.array()).sum() as Eigen's vectorised reduction of a column-major 3 x 3 with
+// two-double packets takes it: packets P_k = (a_2k, a_2k+1), k = 0..3, summed as
+// (P_0 + P_1) + (P_2 + P_3), its two lanes added, then the ninth entry a_8 (column-major).
+#include "horizon/core/portable.hpp"
+#include "horizon/kernels/unified.hpp"
+
+namespace horizon::kernels {
+
+struct StrainJ2 {
+  double kappa = 0, mu = 0;                    // bulk and shear moduli [Pa]
+  double yield_stress = 0, hardening = 0;      // j2: sigma_y, H
+  bool plastic = false;                        // false: the elastic law (no yield)
+};
+
+struct StrainLawPoint {
+  double S[9];              // stress conjugate to E [Pa]
+  double W = 0;             // elastic energy [J/m^3]
+  double plastic_work = 0;  // dissipated in the step [J/m^3]
+  double rate = 0;          // equivalent plastic strain rate [1/s]
+};
+
+// Sum of the squares of a 3 x 3 (row-major storage) in Eigen's order for a column-major one.
+HORIZON_HD inline double squares_sum9(const double* m) {
+  double a[9];
+  for (int k = 0; k < 9; ++k) a[k] = m[3 * (k % 3) + k / 3] * m[3 * (k % 3) + k / 3];
+  const double lane0 = (a[0] + a[2]) + (a[4] + a[6]), lane1 = (a[1] + a[3]) + (a[5] + a[7]);
+  return (lane0 + lane1) + a[8];
+}
+
+// The law at strain E from the committed plastic strain Ep_n and alpha_n; dt the time since
+// (0: rate 0). Ep, alpha: the trial history (Ep may alias Ep_n).
+HORIZON_HD inline void j2_strain_law(const StrainJ2& p, const double* Ep_n, double alpha_n, const double* E, double dt,
+                                     double* Ep, double& alpha, StrainLawPoint& out) {
+  double Ee[9], s[9];
+  for (int k = 0; k < 9; ++k) Ee[k] = E[k] - Ep_n[k];
+  const double tr = Ee[0] + (Ee[4] + Ee[8]);
+  const double t3 = tr / 3.0, mu2 = 2.0 * p.mu;
+  for (int k = 0; k < 9; ++k) s[k] = mu2 * (Ee[k] - t3 * ((k % 4 == 0) ? 1.0 : 0.0));
+  const double s_norm = root(squares_sum9(s));
+  const double q_trial = root(1.5) * s_norm;
+  double deps = 0, rate = 0;
+  alpha = alpha_n;
+  if (p.plastic) {
+    const double Y0 = p.yield_stress + p.hardening * alpha_n;
+    if (q_trial > Y0) {
+      deps = (q_trial - Y0) / (3.0 * p.mu + p.hardening);
+      rate = dt > 0 ? deps / dt : 0.0;
+      const double dgamma = root(1.5) * deps;
+      const double f = mu2 * dgamma;
+      for (int k = 0; k < 9; ++k) {
+        const double n = s[k] / s_norm;
+        s[k] -= f * n;
+        Ep[k] = Ep_n[k] + dgamma * n;
+      }
+      alpha = alpha_n + deps;
+      out.plastic_work = (p.yield_stress + p.hardening * alpha) * deps;
+    } else if (Ep != Ep_n) {
+      for (int k = 0; k < 9; ++k) Ep[k] = Ep_n[k];
+    }
+  } else if (Ep != Ep_n) {
+    for (int k = 0; k < 9; ++k) Ep[k] = Ep_n[k];
+  }
+  out.rate = rate;
+  const double kt = p.kappa * tr;
+  for (int k = 0; k < 9; ++k) out.S[k] = kt * ((k % 4 == 0) ? 1.0 : 0.0) + s[k];
+  out.W = 0.5 * p.kappa * tr * tr + squares_sum9(s) / (4.0 * p.mu);
+}
+
+}  // namespace horizon::kernels
