@@ -1,7 +1,8 @@
 // Compile check of the portable law kernels for the device (issue 30): the finite-strain
 // laws of the correspondence model (kernels/laws.hpp: law_row for the linear elastic,
 // neo-Hookean and J2 laws; the SVD and polar decomposition of kernels/eigen3.hpp; the
-// rate-form step of kernels/hypoelastic.hpp), each
+// rate-form step of kernels/hypoelastic.hpp; extended correspondence's law step: the Hencky
+// map of kernels/hencky.hpp around the strain law of kernels/strain_laws.hpp), each
 // instantiated in a __global__ function of one thread a particle over flat arrays, as a
 // device pass of correspondence would call them. Built by cmake/cuda.cmake (an object
 // library: nothing runs it), so bench/gpu/device_check.sh compiles them in its one call;
@@ -9,8 +10,11 @@
 #include <cstdint>
 
 #include "horizon/kernels/eigen3.hpp"
+#include "horizon/kernels/extended.hpp"
+#include "horizon/kernels/hencky.hpp"
 #include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/laws.hpp"
+#include "horizon/kernels/strain_laws.hpp"
 
 namespace horizon::kernels {
 
@@ -62,6 +66,30 @@ __global__ void hypo_points(const double* F, const double* Fdot, std::size_t n, 
   LawStress r;
   hypo_step(c, yield, committed[i], F + 9 * i, dt, Fdot + 9 * i, 0.0, trial[i], work[i], r, d + 9 * i);
   for (int k = 0; k < 9; ++k) P[9 * i + k] = r.P[k];
+}
+
+// Extended correspondence's law step of one particle (the model's run_law without Fbar):
+// the Green strain E to its Hencky strain, the elastic / j2 law there, the stress back
+// (history in and out as row-major E_p and alpha).
+__global__ void hencky_law_points(const double* E, std::size_t n, StrainJ2 p, const double* Ep_n,
+                                  const double* alpha_n, double dt, double* Ep, double* alpha, double* S, double* W,
+                                  double* work) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  double N[9], l[3], strain[9];
+  hencky_of_green3(E + 9 * i, 1e-6, N, l, strain);
+  StrainLawPoint pt;
+  j2_strain_law(p, Ep_n + 9 * i, alpha_n[i], strain, dt, Ep + 9 * i, alpha[i], pt);
+  green_stress_of_hencky3(N, l, pt.S, S + 9 * i);
+  W[i] = pt.W;
+  work[i] = pt.plastic_work;
+}
+
+// Eigen's symmetric eigen-solver alone.
+__global__ void sym_eigen_points(const double* A, std::size_t n, double* eval, double* Q, uint8_t* ok) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  ok[i] = sym_eigen3(A + 9 * i, eval + 3 * i, Q + 9 * i) ? 1 : 0;
 }
 
 }  // namespace horizon::kernels
