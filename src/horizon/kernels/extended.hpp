@@ -18,14 +18,6 @@
 
 namespace horizon::kernels {
 
-HORIZON_HD inline double power(double x, double y) {
-#if defined(__CUDA_ARCH__)
-  return ::pow(x, y);
-#else
-  return std::pow(x, y);
-#endif
-}
-
 // The functions below that take a type T compute one bond (T = double) or eight at once
 // (T a vector of eight doubles, the pair form's lanes: extended_correspondence.cpp
 // pair_*_lanes), with the same IEEE operations in the same order in every lane.

@@ -20,16 +20,10 @@
 #include "horizon/kernels/affine.hpp"
 #include "horizon/kernels/eigen3.hpp"
 #include "horizon/kernels/laws.hpp"
+#include "horizon/kernels/unified.hpp"
 
 namespace horizon::kernels {
 
-HORIZON_HD inline double power(double x, double y) {
-#if defined(__CUDA_ARCH__)
-  return ::pow(x, y);
-#else
-  return std::pow(x, y);
-#endif
-}
 HORIZON_HD inline double sine(double x) {
 #if defined(__CUDA_ARCH__)
   return ::sin(x);

@@ -37,6 +37,16 @@ HORIZON_HD inline double natural_log(double x) {
 #endif
 }
 
+// x to the power y, the host's <cmath> and the device's library (the nonlinear solid's
+// stable step, extended correspondence's Seth-Hill strains, the hypoelastic laws).
+HORIZON_HD inline double power(double x, double y) {
+#if defined(__CUDA_ARCH__)
+  return ::pow(x, y);
+#else
+  return std::pow(x, y);
+#endif
+}
+
 // x is neither infinite nor NaN (x - x is 0 exactly then, NaN otherwise); no library call,
 // the same on the host and the device.
 HORIZON_HD inline bool finite(double x) { return x - x == 0.0; }
