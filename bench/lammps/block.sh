@@ -17,15 +17,6 @@ mkdir -p "$build" && build=$(cd "$build" && pwd)
 . "$here/lammps_setup.sh"
 lammps_setup in.peri.pmb
 
-if [ ! -x "$build/horizon" ]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release
-  cmake --build "$build" --target horizon
-fi
-
-echo "date:    $(date -u +%Y-%m-%dT%H:%MZ)"
-echo "cpu:     $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), $(nproc) cores"
-echo "load:    $(cut -d' ' -f1-3 /proc/loadavg) (1, 5, 15 min)"
-echo "lammps:  $(lmp -h | grep -m1 'Large-scale' | sed 's/^ *//'), $(command -v lmp)"
-echo "horizon: $("$build/horizon" --version), $build/horizon${HORIZON_KERNEL_PATH:+ (HORIZON_KERNEL_PATH=$HORIZON_KERNEL_PATH)}"
+horizon_build_and_header
 python3 "$here/block.py" --horizon "$build/horizon" --examples "$examples" --repeat "${REPEAT:-3}" \
   --models "${MODELS:-pmb,lps}"

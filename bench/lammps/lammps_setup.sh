@@ -27,3 +27,18 @@ lammps_setup() {
   examples=$(lammps_examples_dir "$1")
   [ -n "$examples" ] || { echo "LAMMPS's examples/peri not found" >&2; exit 1; }
 }
+
+# Builds $build/horizon when it is missing ($root: the repository) and prints the run's
+# header: date, CPU, load, both programs (and HORIZON_KERNEL_PATH when it forces a path).
+horizon_build_and_header() {
+  if [ ! -x "$build/horizon" ]; then
+    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release
+    cmake --build "$build" --target horizon
+  fi
+
+  echo "date:    $(date -u +%Y-%m-%dT%H:%MZ)"
+  echo "cpu:     $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), $(nproc) cores"
+  echo "load:    $(cut -d' ' -f1-3 /proc/loadavg) (1, 5, 15 min)"
+  echo "lammps:  $(lmp -h | grep -m1 'Large-scale' | sed 's/^ *//'), $(command -v lmp)"
+  echo "horizon: $("$build/horizon" --version), $build/horizon${HORIZON_KERNEL_PATH:+ (HORIZON_KERNEL_PATH=$HORIZON_KERNEL_PATH)}"
+}

@@ -20,6 +20,7 @@
 #include "horizon/kernels/affine.hpp"
 #include "horizon/kernels/eigen3.hpp"
 #include "horizon/kernels/laws.hpp"
+#include "horizon/kernels/unified.hpp"
 
 namespace horizon::kernels {
 

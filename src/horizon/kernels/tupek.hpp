@@ -32,13 +32,6 @@ HORIZON_HD inline double natural_exp(double x) {
   return std::exp(x);
 #endif
 }
-HORIZON_HD inline double real_power(double x, double y) {
-#if defined(__CUDA_ARCH__)
-  return ::pow(x, y);
-#else
-  return std::pow(x, y);
-#endif
-}
 HORIZON_HD inline double magnitude(double x) {
 #if defined(__CUDA_ARCH__)
   return ::fabs(x);
@@ -214,7 +207,7 @@ HORIZON_HD inline double tupek_row_energy(const TupekRow& o, double lambda_bar, 
 HORIZON_HD inline double tupek_bond_length(double length, double m, double eps) {
   if (m == 0) return length * natural_exp(eps);
   const double cm = 1 + 2 * m * eps;
-  return length * real_power(cm < 1e-300 ? 1e-300 : cm, 0.5 / m);  // std::max(cm, 1e-300)
+  return length * power(cm < 1e-300 ? 1e-300 : cm, 0.5 / m);  // std::max(cm, 1e-300)
 }
 
 // Sweep 1, row i: S_i = sum omega V_j |d eps/d|Y|| over the acting bonds (the dilatation

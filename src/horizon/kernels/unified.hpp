@@ -37,8 +37,8 @@ HORIZON_HD inline double natural_log(double x) {
 #endif
 }
 
-// x to the power y, the host's <cmath> and the device's library (the Seth-Hill bond strain of
-// kernels/extended.hpp, the Needleman flow of kernels/hypoelastic.hpp).
+// x to the power y, the host's <cmath> and the device's library (the nonlinear solid's
+// stable step, extended correspondence's Seth-Hill strains, the hypoelastic laws).
 HORIZON_HD inline double power(double x, double y) {
 #if defined(__CUDA_ARCH__)
   return ::pow(x, y);

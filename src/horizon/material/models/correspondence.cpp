@@ -429,6 +429,15 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
   double* rec = pass.record + kernels::kAffineRecord * i;
   double f[9];  // F_i, row-major
   double W = 0;
+  // A particle whose shape tensor the gradient refuses carries no stress: its history
+  // stays, its record is zero.
+  const auto refuse_singular = [&] {
+    trial_[l] = committed_[l];
+    work_[l] = 0;
+    von_mises_[l] = 0;
+    kernels::affine_record(nullptr, nullptr, 0.0, rec);
+    if (pass.energy) pass.energy[i] = 0;
+  };
   if (portable_law_) {
     // The linear elastic, neo-Hookean and J2 laws: the whole row in the device-portable
     // kernel (kernels/laws.hpp law_row), J2's history copied in and out as plain numbers.
@@ -461,14 +470,7 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     double Kinv[9];
     const bool ok = kernels::gradient_finish(sums, sums + 9, law_.dimension, tolerance_, Kinv, f);
     singular_[l] = ok ? 0 : 1;
-    if (!ok) {
-      trial_[l] = committed_[l];
-      work_[l] = 0;
-      von_mises_[l] = 0;
-      kernels::affine_record(nullptr, nullptr, 0.0, rec);
-      if (pass.energy) pass.energy[i] = 0;
-      return;
-    }
+    if (!ok) return refuse_singular();
     W = hypo_row(s, l, Kinv, f, pass.dt, rec);
   } else {
     // The other laws (Eigen, history, plane stress's iteration): host code between the
@@ -478,14 +480,7 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     Mat3 Kinv, F;
     const bool ok = g.finish(law_.dimension, tolerance_, Kinv, F);
     singular_[l] = ok ? 0 : 1;
-    if (!ok) {
-      trial_[l] = committed_[l];
-      work_[l] = 0;
-      von_mises_[l] = 0;
-      kernels::affine_record(nullptr, nullptr, 0.0, rec);
-      if (pass.energy) pass.energy[i] = 0;
-      return;
-    }
+    if (!ok) return refuse_singular();
     const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
     von_mises_[l] = von_mises_of(l, r.sigma);
     // Row-major copies for the flat record (Eigen stores by column).
