@@ -4,7 +4,8 @@
 // SelfAdjointEigenSolver, green_stress_of_hencky): the same bits on random strains, near
 // isotropic ones (repeated eigenvalues: the deflation paths), diagonal and plane ones (the
 // tridiagonalisation's identity path), zero, and locally inverted ones (the floor); and the
-// strain laws elastic and j2 (kernels/strain_laws.hpp) against classical/strain_laws.hpp.
+// strain laws elastic and j2 (kernels/strain_laws.hpp) against classical/strain_laws.hpp, and
+// the volumetric gradient's corrections against the model's former Eigen expressions.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -145,6 +146,38 @@ TEST(HenckyKernels, J2StrainLawKeepsTheHostsBits) {
   }
   EXPECT_EQ(bad, 0);
   EXPECT_GT(yielded, 5000);  // the return map ran
+}
+
+// run_law's volumetric_strain gradient corrections as the host wrote them with Eigen
+// (extended_correspondence.cpp before the kernels), against kernels/strain_laws.hpp.
+TEST(HenckyKernels, VolumetricGradientCorrectionsKeepTheHostsBits) {
+  std::mt19937_64 g(19);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad = 0;
+  for (int t = 0; t < 30000; ++t) {
+    const int dim = t % 4 == 0 ? 2 : 3;
+    Mat3 Fbar = Mat3::Identity();
+    for (int c = 0; c < 9; ++c) Fbar(c / 3, c % 3) += (t % 2 ? 0.01 : 0.3) * u(g);
+    if (dim == 2) Fbar(2, 0) = Fbar(2, 1) = Fbar(0, 2) = Fbar(1, 2) = 0.0, Fbar(2, 2) = 1.0;
+    if (t % 97 == 0) Fbar *= 1e-3;  // det below the clamp
+    Mat3 strain = random_symmetric(g, t), T = random_symmetric(g, t + 1) * 1e9;
+    double st[9], Tr[9], F[9], pm[9];
+    to_rows(strain, st);
+    to_rows(T, Tr);
+    to_rows(Fbar, F);
+    Mat3 Id = Mat3::Identity();
+    if (dim == 2) Id(2, 2) = 0.0;
+    const double J = std::max(Fbar.determinant(), 1e-6);
+    strain += ((std::log(J) - (Id.array() * strain.array()).sum()) / dim) * Id;
+    kernels::volumetric_gradient_strain(F, dim, st);
+    bad += differing(strain, st);
+    const double p = (Id.array() * T.array()).sum() / dim;
+    T -= p * Id;
+    const Mat3 map = p * Fbar.inverse().transpose();
+    kernels::volumetric_pressure_split(F, dim, Tr, pm);
+    bad += differing(T, Tr) + differing(map, pm);
+  }
+  EXPECT_EQ(bad, 0);
 }
 
 }  // namespace

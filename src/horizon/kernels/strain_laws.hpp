@@ -2,7 +2,8 @@
 // Extended correspondence's strain laws elastic and j2 (material/classical/strain_laws.hpp:
 // S = kappa tr(E_e) I + 2 mu dev(E_e), von Mises yield with linear isotropic hardening, the
 // closed-form radial return of Simo and Hughes 1998, "Computational Inelasticity", box 3.2)
-// as a device-portable function (core/portable.hpp, issue 30) over row-major double[9].
+// as a device-portable function (core/portable.hpp, issue 30) over row-major double[9],
+// and the volumetric gradient's strain and stress corrections around it.
 // Johnson-Cook (Newton return, damage) stays the host form.
 //
 // Bits. The host form's Eigen expressions, in their order (tests/unit/test_hencky_kernels.cpp
@@ -13,6 +14,9 @@
 // two-double packets takes it: packets P_k = (a_2k, a_2k+1), k = 0..3, summed as
 // (P_0 + P_1) + (P_2 + P_3), its two lanes added, then the ninth entry a_8 (column-major).
 #include "horizon/core/portable.hpp"
+#include "horizon/kernels/affine.hpp"
+#include "horizon/kernels/eigen3.hpp"
+#include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/unified.hpp"
 
 namespace horizon::kernels {
@@ -30,12 +34,40 @@ struct StrainLawPoint {
   double rate = 0;          // equivalent plastic strain rate [1/s]
 };
 
-// Sum of the squares of a 3 x 3 (row-major storage) in Eigen's order for a column-major one.
-HORIZON_HD inline double squares_sum9(const double* m) {
+// Sum of the entrywise products of two 3 x 3 (row-major storage), (x.array() * y.array()).sum(),
+// in Eigen's order for column-major ones.
+HORIZON_HD inline double products_sum9(const double* x, const double* y) {
   double a[9];
-  for (int k = 0; k < 9; ++k) a[k] = m[3 * (k % 3) + k / 3] * m[3 * (k % 3) + k / 3];
+  for (int k = 0; k < 9; ++k) a[k] = x[3 * (k % 3) + k / 3] * y[3 * (k % 3) + k / 3];
   const double lane0 = (a[0] + a[2]) + (a[4] + a[6]), lane1 = (a[1] + a[3]) + (a[5] + a[7]);
   return (lane0 + lane1) + a[8];
+}
+HORIZON_HD inline double squares_sum9(const double* m) { return products_sum9(m, m); }
+
+// I_d, the identity of the d in-plane axes (d = 2: no zz entry), row-major entry k.
+HORIZON_HD inline double plane_identity(int d, int k) { return (k % 4 == 0 && (d == 3 || k != 8)) ? 1.0 : 0.0; }
+
+// Extended correspondence's volumetric_strain gradient (material/models/extended_correspondence.cpp,
+// run_law): the law's strain with its trace replaced by ln J, J = max(det Fbar, 1e-6),
+//   E' = E + ((ln J - I_d : E)/d) I_d,
+// and the split of the law's stress T into T - p I_d and the pressure map p Fbar^-T,
+// p = (I_d : T)/d. The host's Eigen expressions in their order (det and inverse as
+// eigen3.hpp's mat3_det and affine.hpp's mat3_inverse, the I_d contractions as products_sum9).
+HORIZON_HD inline void volumetric_gradient_strain(const double* Fbar, int d, double* strain) {
+  const double J = std_max(mat3_det(Fbar), 1e-6);
+  double Id[9];
+  for (int k = 0; k < 9; ++k) Id[k] = plane_identity(d, k);
+  const double f = (natural_log(J) - products_sum9(Id, strain)) / d;
+  for (int k = 0; k < 9; ++k) strain[k] += f * Id[k];
+}
+HORIZON_HD inline void volumetric_pressure_split(const double* Fbar, int d, double* T, double* pressure_map) {
+  double Id[9], inv[9];
+  for (int k = 0; k < 9; ++k) Id[k] = plane_identity(d, k);
+  const double p = products_sum9(Id, T) / d;
+  for (int k = 0; k < 9; ++k) T[k] -= p * Id[k];
+  mat3_inverse(Fbar, inv);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) pressure_map[3 * r + c] = p * inv[3 * c + r];
 }
 
 // The law at strain E from the committed plastic strain Ep_n and alpha_n; dt the time since

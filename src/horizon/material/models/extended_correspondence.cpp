@@ -412,7 +412,7 @@ class ExtendedCorrespondence final : public Model {
   };
   // classical::strain_law for the elastic and j2 laws in the portable kernel
   // (kernels/strain_laws.hpp: the same bits), over row-major copies of the history.
-  classical::StrainLawOut j2_law(const StrainLawState& committed, const Mat3& E, double dt, StrainLawState& trial) const {
+  classical::StrainLawOut j2_law(const StrainLawState& committed, const double* e, double dt, StrainLawState& trial) const {
     classical::StrainLawOut out;
     trial = committed;
     if (committed.damage >= 1.0) {
@@ -422,55 +422,53 @@ class ExtendedCorrespondence final : public Model {
     kernels::StrainJ2 p;
     p.kappa = law_.kappa, p.mu = law_.mu, p.yield_stress = law_.yield_stress, p.hardening = law_.hardening_modulus;
     p.plastic = law_.law == classical::StrainLaw::j2;
-    double e[9], Ep[9];
-    for (int k = 0; k < 9; ++k) e[k] = E(k / 3, k % 3), Ep[k] = committed.plastic_strain(k / 3, k % 3);
+    double Ep[9];
+    for (int k = 0; k < 9; ++k) Ep[k] = committed.plastic_strain(k / 3, k % 3);
     kernels::StrainLawPoint pt;
     kernels::j2_strain_law(p, Ep, committed.alpha, e, dt, Ep, trial.alpha, pt);
     for (int k = 0; k < 9; ++k) out.S(k / 3, k % 3) = pt.S[k], trial.plastic_strain(k / 3, k % 3) = Ep[k];
     out.W = pt.W, out.plastic_work = pt.plastic_work, out.rate = pt.rate;
     return out;
   }
+  // The law step in the portable kernels (kernels/hencky.hpp: the Hencky map, Eigen's
+  // eigen-solver written out; kernels/strain_laws.hpp: the volumetric gradient's corrections
+  // and the elastic / j2 laws; the host's Eigen forms' bits), over row-major copies; the
+  // Johnson-Cook law is still the host's classical::strain_law.
   LawPoint run_law(std::size_t l, const Mat3& E, const Mat3* Fbar, double dt, StrainLawState& trial) const {
     LawPoint r;
-    // The Hencky map in the portable kernels (kernels/hencky.hpp: Eigen's eigen-solver written
-    // out, the host form's bits), over row-major copies.
-    double hN[9] = {}, hl[3] = {};
-    Mat3 strain = E;
+    double hN[9] = {}, hl[3] = {}, strain[9], F[9] = {}, T[9], S[9];
+    for (int k = 0; k < 9; ++k) strain[k] = E(k / 3, k % 3);
     if (hencky_) {
-      double e[9], log_strain[9];
-      for (int k = 0; k < 9; ++k) e[k] = E(k / 3, k % 3);
-      kernels::hencky_of_green3(e, extended::kHenckyFloor, hN, hl, log_strain);
-      for (int k = 0; k < 9; ++k) strain(k / 3, k % 3) = log_strain[k];
+      double e[9];
+      for (int k = 0; k < 9; ++k) e[k] = strain[k];
+      kernels::hencky_of_green3(e, extended::kHenckyFloor, hN, hl, strain);
     }
-    Mat3 Id = Mat3::Identity();
-    if (dim_ == 2) Id(2, 2) = 0.0;
-    double J = 1;
     if (Fbar) {
-      J = std::max(Fbar->determinant(), 1e-6);
-      strain += ((std::log(J) - (Id.array() * strain.array()).sum()) / dim_) * Id;
+      for (int k = 0; k < 9; ++k) F[k] = (*Fbar)(k / 3, k % 3);
+      kernels::volumetric_gradient_strain(F, dim_, strain);
     }
     if (law_.law == classical::StrainLaw::johnson_cook) {
-      r.out = classical::strain_law(law_, committed_[l], strain, dt, trial);
+      Mat3 strain_m;
+      for (int k = 0; k < 9; ++k) strain_m(k / 3, k % 3) = strain[k];
+      r.out = classical::strain_law(law_, committed_[l], strain_m, dt, trial);
     } else {
       r.out = j2_law(committed_[l], strain, dt, trial);
     }
     if (r.out.failed) return r;
     r.ok = true;
     r.law_stress = r.out.S;
-    Mat3 T = r.out.S;
+    for (int k = 0; k < 9; ++k) T[k] = r.out.S(k / 3, k % 3);
     if (Fbar) {
-      const double p = (Id.array() * T.array()).sum() / dim_;
-      T -= p * Id;
-      r.pressure_map = p * Fbar->inverse().transpose();
+      double pm[9];
+      kernels::volumetric_pressure_split(F, dim_, T, pm);
+      for (int k = 0; k < 9; ++k) r.pressure_map(k / 3, k % 3) = pm[k];
     }
     if (hencky_) {
-      double t[9], S[9];
-      for (int k = 0; k < 9; ++k) t[k] = T(k / 3, k % 3);
-      kernels::green_stress_of_hencky3(hN, hl, t, S);
-      for (int k = 0; k < 9; ++k) r.out.S(k / 3, k % 3) = S[k];
+      kernels::green_stress_of_hencky3(hN, hl, T, S);
     } else {
-      r.out.S = T;
+      for (int k = 0; k < 9; ++k) S[k] = T[k];
     }
+    for (int k = 0; k < 9; ++k) r.out.S(k / 3, k % 3) = S[k];
     return r;
   }
 
