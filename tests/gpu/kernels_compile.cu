@@ -69,19 +69,20 @@ __global__ void hypo_points(const double* F, const double* Fdot, std::size_t n, 
 }
 
 // Extended correspondence's law step of one particle (the model's run_law): the Green strain
-// E to its Hencky strain, its trace from Fbar (volumetric_strain gradient), the elastic / j2
-// law there, the pressure split and the stress back (history in and out as row-major E_p
-// and alpha).
-__global__ void hencky_law_points(const double* E, const double* Fbar, std::size_t n, int d, StrainJ2 p,
-                                  const double* Ep_n, const double* alpha_n, double dt, double* Ep, double* alpha,
-                                  double* S, double* pressure_map, double* W, double* work) {
+// E to its Hencky strain, its trace from Fbar (volumetric_strain gradient), the law there
+// (elastic, j2 or Johnson-Cook), the pressure split and the stress back (history in and out
+// as row-major E_p, alpha and the damage D).
+__global__ void hencky_law_points(const double* E, const double* Fbar, std::size_t n, int d, StrainLawConstants p,
+                                  const double* Ep_n, const double* alpha_n, const double* D_n, double dt, double* Ep,
+                                  double* alpha, double* D, double* S, double* pressure_map, double* W,
+                                  double* work) {
   const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
   if (i >= n) return;
   double N[9], l[3], strain[9];
   hencky_of_green3(E + 9 * i, 1e-6, N, l, strain);
   volumetric_gradient_strain(Fbar + 9 * i, d, strain);
   StrainLawPoint pt;
-  j2_strain_law(p, Ep_n + 9 * i, alpha_n[i], strain, dt, Ep + 9 * i, alpha[i], pt);
+  strain_law_point(p, Ep_n + 9 * i, alpha_n[i], D_n[i], strain, dt, Ep + 9 * i, alpha[i], D[i], pt);
   volumetric_pressure_split(Fbar + 9 * i, d, pt.S, pressure_map + 9 * i);
   green_stress_of_hencky3(N, l, pt.S, S + 9 * i);
   W[i] = pt.W;

@@ -113,39 +113,47 @@ TEST(HenckyKernels, LogDividedDifferenceIsTheSlopeOfTheLog) {
   EXPECT_NEAR(kernels::log_divided_difference3(1.0 + 1e-9, 1.0), 1.0 - 0.5e-9, 1e-15);  // series branch
 }
 
-TEST(HenckyKernels, J2StrainLawKeepsTheHostsBits) {
+TEST(HenckyKernels, StrainLawsKeepTheHostsBits) {
   std::mt19937_64 g(17);
   std::uniform_real_distribution<double> u(-1, 1);
-  classical::StrainLawParams p;
-  p.kappa = 160e9, p.mu = 80e9, p.yield_stress = 1e9, p.hardening_modulus = 2e9;
-  int bad = 0, yielded = 0;
+  classical::StrainLawParams p;  // steel-like; Johnson-Cook as in examples/ballistic_plate.yaml's order
+  p.kappa = 160e9, p.mu = 80e9, p.yield_stress = p.sigma0 = 1e9, p.hardening_modulus = 2e9;
+  p.B = 5e8, p.n = 0.3, p.C = 0.02, p.rate0 = 1.0;
+  p.d1 = 0.05, p.d2 = 3.4, p.d3 = -1.5, p.d4 = 0.01, p.damage_rate0 = 1.0;
+  int bad = 0, yielded[3] = {0, 0, 0}, damaged = 0;
   for (int t = 0; t < 30000; ++t) {
-    p.law = t % 5 == 0 ? classical::StrainLaw::elastic : classical::StrainLaw::j2;
-    const Mat3 E = random_symmetric(g, t) * (t % 2 ? 0.01 : 1.0);
+    const int law = t % 3;
+    p.law = law == 0 ? classical::StrainLaw::elastic : law == 1 ? classical::StrainLaw::j2 : classical::StrainLaw::johnson_cook;
+    p.damage = law == 2 && t % 2 == 0;
+    const Mat3 E = random_symmetric(g, t / 3) * ((t / 3) % 2 ? 0.01 : 1.0);
     classical::StrainLawState committed;  // a traceless plastic history half of the time
-    if (t % 2 == 0) {
+    if ((t / 2) % 2 == 0) {
       const Mat3 P = random_symmetric(g, 5) * 0.02;
       committed.plastic_strain = P - (P.trace() / 3.0) * Mat3::Identity();
       committed.alpha = 0.05 * std::abs(u(g));
+      committed.damage = 0.5 * std::abs(u(g));
     }
-    const double dt = t % 3 == 0 ? 0.0 : 1e-8;
+    const double dt = t % 7 == 0 ? 0.0 : 1e-8;
     classical::StrainLawState trial;
     const classical::StrainLawOut host = classical::strain_law(p, committed, E, dt, trial);
-    kernels::StrainJ2 k;
-    k.kappa = p.kappa, k.mu = p.mu, k.yield_stress = p.yield_stress, k.hardening = p.hardening_modulus;
-    k.plastic = p.law == classical::StrainLaw::j2;
-    double e[9], Ep_n[9], Ep[9], alpha = -1;
+    const kernels::StrainLawConstants k = extended::strain_law_constants(p);
+    double e[9], Ep_n[9], Ep[9], alpha = -1, D = -1;
     to_rows(E, e);
     to_rows(committed.plastic_strain, Ep_n);
     kernels::StrainLawPoint out;
-    kernels::j2_strain_law(k, Ep_n, committed.alpha, e, dt, Ep, alpha, out);
-    yielded += host.plastic_work > 0 ? 1 : 0;
+    kernels::strain_law_point(k, Ep_n, committed.alpha, committed.damage, e, dt, Ep, alpha, D, out);
+    yielded[law] += host.plastic_work > 0 ? 1 : 0;
+    damaged += trial.damage > committed.damage ? 1 : 0;
     bad += differing(host.S, out.S) + differing(trial.plastic_strain, Ep);
     bad += (same_bits(host.W, out.W) ? 0 : 1) + (same_bits(host.plastic_work, out.plastic_work) ? 0 : 1);
     bad += (same_bits(host.rate, out.rate) ? 0 : 1) + (same_bits(trial.alpha, alpha) ? 0 : 1);
+    bad += same_bits(trial.damage, D) ? 0 : 1;
   }
   EXPECT_EQ(bad, 0);
-  EXPECT_GT(yielded, 5000);  // the return map ran
+  EXPECT_EQ(yielded[0], 0);
+  EXPECT_GT(yielded[1], 1500);  // the return maps ran
+  EXPECT_GT(yielded[2], 1500);
+  EXPECT_GT(damaged, 500);
 }
 
 // run_law's volumetric_strain gradient corrections as the host wrote them with Eigen

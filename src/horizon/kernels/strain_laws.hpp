@@ -1,10 +1,11 @@
 #pragma once
-// Extended correspondence's strain laws elastic and j2 (material/classical/strain_laws.hpp:
-// S = kappa tr(E_e) I + 2 mu dev(E_e), von Mises yield with linear isotropic hardening, the
-// closed-form radial return of Simo and Hughes 1998, "Computational Inelasticity", box 3.2)
-// as a device-portable function (core/portable.hpp, issue 30) over row-major double[9],
-// and the volumetric gradient's strain and stress corrections around it.
-// Johnson-Cook (Newton return, damage) stays the host form.
+// Extended correspondence's strain laws (material/classical/strain_laws.hpp: S = kappa
+// tr(E_e) I + 2 mu dev(E_e), von Mises yield, the radial return of Simo and Hughes 1998,
+// "Computational Inelasticity", box 3.1-3.2: elastic; j2, linear isotropic hardening, closed
+// form; johnson_cook, Tupek's modified Johnson-Cook flow stress (thesis sec. 7.2) by a
+// safeguarded Newton iteration, and its damage) as a device-portable function
+// (core/portable.hpp, issue 30) over row-major double[9], and the volumetric gradient's
+// strain and stress corrections around it.
 //
 // Bits. The host form's Eigen expressions, in their order (tests/unit/test_hencky_kernels.cpp
 // holds this to them on random input): the trace d0 + (d1 + d2); scalar factors multiplied
@@ -17,15 +18,22 @@
 #include "horizon/kernels/affine.hpp"
 #include "horizon/kernels/eigen3.hpp"
 #include "horizon/kernels/hypoelastic.hpp"
+#include "horizon/kernels/tupek.hpp"
 #include "horizon/kernels/unified.hpp"
 
 namespace horizon::kernels {
 
-struct StrainJ2 {
-  double kappa = 0, mu = 0;                    // bulk and shear moduli [Pa]
-  double yield_stress = 0, hardening = 0;      // j2: sigma_y, H
-  bool plastic = false;                        // false: the elastic law (no yield)
+// The law's constants (classical::StrainLawParams as plain data; law: 0 elastic, 1 j2,
+// 2 johnson_cook).
+struct StrainLawConstants {
+  int law = 0;
+  double kappa = 0, mu = 0;                // bulk and shear moduli [Pa]
+  double yield_stress = 0, hardening = 0;  // j2: sigma_y, H
+  double sigma0 = 0, B = 0, n = 1, C = 0, rate0 = 1;                       // johnson_cook flow
+  double d1 = 0, d2 = 0, d3 = 0, d4 = 0, damage_rate0 = 1;                 // johnson_cook damage
+  bool damage = false;                                                     // accumulate D
 };
+inline constexpr int kStrainElastic = 0, kStrainJ2 = 1, kStrainJohnsonCook = 2;
 
 struct StrainLawPoint {
   double S[9];              // stress conjugate to E [Pa]
@@ -33,6 +41,39 @@ struct StrainLawPoint {
   double plastic_work = 0;  // dissipated in the step [J/m^3]
   double rate = 0;          // equivalent plastic strain rate [1/s]
 };
+
+HORIZON_HD inline double arc_sinh(double x) {
+#if defined(__CUDA_ARCH__)
+  return ::asinh(x);
+#else
+  return std::asinh(x);
+#endif
+}
+
+// Tupek's modified Johnson-Cook flow stress and its slopes in eps_p and in the rate, and
+// the failure strain with the rate guard (classical/strain_laws.hpp, in its order).
+HORIZON_HD inline double jc_flow(const StrainLawConstants& p, double eps_p, double rate) {
+  const double eps0 = power(p.sigma0 / p.B, 1.0 / p.n);
+  return p.sigma0 * power(1.0 + eps_p / eps0, p.n) * (1.0 + p.C * arc_sinh(rate / (2.0 * p.rate0)));
+}
+HORIZON_HD inline double jc_hardening(const StrainLawConstants& p, double eps_p, double rate) {
+  const double eps0 = power(p.sigma0 / p.B, 1.0 / p.n);
+  return p.sigma0 * p.n / eps0 * power(1.0 + eps_p / eps0, p.n - 1.0) * (1.0 + p.C * arc_sinh(rate / (2.0 * p.rate0)));
+}
+HORIZON_HD inline double jc_rate(const StrainLawConstants& p, double eps_p, double rate) {
+  const double eps0 = power(p.sigma0 / p.B, 1.0 / p.n);
+  const double x = rate / (2.0 * p.rate0);
+  return p.sigma0 * power(1.0 + eps_p / eps0, p.n) * p.C / (2.0 * p.rate0 * root(1.0 + x * x));
+}
+HORIZON_HD inline double jc_failure(const StrainLawConstants& p, double triaxiality, double rate) {
+  const double ratio = std_max(rate / p.damage_rate0, 1.0);
+  return (p.d1 + p.d2 * natural_exp(-p.d3 * triaxiality)) * (1.0 + p.d4 * natural_log(ratio));
+}
+HORIZON_HD inline double strain_flow(const StrainLawConstants& p, double eps_p, double rate) {
+  if (p.law == kStrainJ2) return p.yield_stress + p.hardening * eps_p;
+  if (p.law == kStrainJohnsonCook) return jc_flow(p, eps_p, rate);
+  return INFINITY;
+}
 
 // Sum of the entrywise products of two 3 x 3 (row-major storage), (x.array() * y.array()).sum(),
 // in Eigen's order for column-major ones.
@@ -70,10 +111,12 @@ HORIZON_HD inline void volumetric_pressure_split(const double* Fbar, int d, doub
     for (int c = 0; c < 3; ++c) pressure_map[3 * r + c] = p * inv[3 * c + r];
 }
 
-// The law at strain E from the committed plastic strain Ep_n and alpha_n; dt the time since
-// (0: rate 0). Ep, alpha: the trial history (Ep may alias Ep_n).
-HORIZON_HD inline void j2_strain_law(const StrainJ2& p, const double* Ep_n, double alpha_n, const double* E, double dt,
-                                     double* Ep, double& alpha, StrainLawPoint& out) {
+// The law at strain E from the committed plastic strain Ep_n, alpha_n and damage D_n; dt the
+// time since (0: rate 0). Ep, alpha, D: the trial history (Ep may alias Ep_n). The caller
+// refuses a failed point (D_n >= 1) first, as the host form does.
+HORIZON_HD inline void strain_law_point(const StrainLawConstants& p, const double* Ep_n, double alpha_n,
+                                        double D_n, const double* E, double dt, double* Ep, double& alpha, double& D,
+                                        StrainLawPoint& out) {
   double Ee[9], s[9];
   for (int k = 0; k < 9; ++k) Ee[k] = E[k] - Ep_n[k];
   const double tr = Ee[0] + (Ee[4] + Ee[8]);
@@ -83,30 +126,60 @@ HORIZON_HD inline void j2_strain_law(const StrainJ2& p, const double* Ep_n, doub
   const double q_trial = root(1.5) * s_norm;
   double deps = 0, rate = 0;
   alpha = alpha_n;
-  if (p.plastic) {
-    const double Y0 = p.yield_stress + p.hardening * alpha_n;
+  D = D_n;
+  bool yielded = false;
+  if (p.law != kStrainElastic) {
+    const double Y0 = strain_flow(p, alpha_n, 0.0);
     if (q_trial > Y0) {
-      deps = (q_trial - Y0) / (3.0 * p.mu + p.hardening);
+      yielded = true;
+      if (p.law == kStrainJ2) {
+        deps = (q_trial - Y0) / (3.0 * p.mu + p.hardening);  // Simo-Hughes box 3.2
+      } else {
+        // g(x) = q_trial - 3 mu x - Y(alpha + x, x/dt) = 0 on [0, q_trial/(3 mu)]: Newton,
+        // falling back to bisection when it leaves the bracket (the host form's iteration).
+        double lo = 0, hi = q_trial / (3.0 * p.mu), x = 0.5 * (lo + hi);
+        for (int it = 0; it < 100; ++it) {
+          const double gx = q_trial - 3.0 * p.mu * x - strain_flow(p, alpha_n + x, dt > 0 ? x / dt : 0.0);
+          if (gx > 0)
+            lo = x;
+          else
+            hi = x;
+          const double r = dt > 0 ? x / dt : 0.0;
+          const double dg = -3.0 * p.mu - jc_hardening(p, alpha_n + x, r) - (dt > 0 ? jc_rate(p, alpha_n + x, r) / dt : 0.0);
+          double xn = x - gx / dg;
+          if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
+          if (absolute(xn - x) <= 1e-14 * std_max(hi, 1e-300)) {
+            x = xn;
+            break;
+          }
+          x = xn;
+        }
+        deps = x;
+      }
       rate = dt > 0 ? deps / dt : 0.0;
       const double dgamma = root(1.5) * deps;
       const double f = mu2 * dgamma;
       for (int k = 0; k < 9; ++k) {
-        const double n = s[k] / s_norm;
-        s[k] -= f * n;
-        Ep[k] = Ep_n[k] + dgamma * n;
+        const double nk = s[k] / s_norm;
+        s[k] -= f * nk;
+        Ep[k] = Ep_n[k] + dgamma * nk;
       }
       alpha = alpha_n + deps;
-      out.plastic_work = (p.yield_stress + p.hardening * alpha) * deps;
-    } else if (Ep != Ep_n) {
-      for (int k = 0; k < 9; ++k) Ep[k] = Ep_n[k];
+      out.plastic_work = strain_flow(p, alpha, rate) * deps;
     }
-  } else if (Ep != Ep_n) {
-    for (int k = 0; k < 9; ++k) Ep[k] = Ep_n[k];
   }
+  if (!yielded && Ep != Ep_n)
+    for (int k = 0; k < 9; ++k) Ep[k] = Ep_n[k];
   out.rate = rate;
   const double kt = p.kappa * tr;
   for (int k = 0; k < 9; ++k) out.S[k] = kt * ((k % 4 == 0) ? 1.0 : 0.0) + s[k];
-  out.W = 0.5 * p.kappa * tr * tr + squares_sum9(s) / (4.0 * p.mu);
+  const double s2 = squares_sum9(s);
+  out.W = 0.5 * p.kappa * tr * tr + s2 / (4.0 * p.mu);
+  if (p.damage && deps > 0) {
+    const double sm = p.kappa * tr, se = root(1.5) * root(s2);
+    const double ef = jc_failure(p, se > 0 ? sm / se : 0.0, rate);
+    D = ef > 0 ? std_min(1.0, D_n + deps / ef) : 1.0;
+  }
 }
 
 }  // namespace horizon::kernels

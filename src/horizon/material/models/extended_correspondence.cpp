@@ -410,30 +410,27 @@ class ExtendedCorrespondence final : public Model {
     Mat3 pressure_map = Mat3::Zero();  // with Fbar: p Fbar^-T
     bool ok = false;
   };
-  // classical::strain_law for the elastic and j2 laws in the portable kernel
-  // (kernels/strain_laws.hpp: the same bits), over row-major copies of the history.
-  classical::StrainLawOut j2_law(const StrainLawState& committed, const double* e, double dt, StrainLawState& trial) const {
+  // classical::strain_law in the portable kernel (kernels/strain_laws.hpp: the same bits),
+  // over row-major copies of the history.
+  classical::StrainLawOut law_point(const StrainLawState& committed, const double* e, double dt,
+                                    StrainLawState& trial) const {
     classical::StrainLawOut out;
     trial = committed;
     if (committed.damage >= 1.0) {
       out.failed = true;
       return out;
     }
-    kernels::StrainJ2 p;
-    p.kappa = law_.kappa, p.mu = law_.mu, p.yield_stress = law_.yield_stress, p.hardening = law_.hardening_modulus;
-    p.plastic = law_.law == classical::StrainLaw::j2;
     double Ep[9];
     for (int k = 0; k < 9; ++k) Ep[k] = committed.plastic_strain(k / 3, k % 3);
     kernels::StrainLawPoint pt;
-    kernels::j2_strain_law(p, Ep, committed.alpha, e, dt, Ep, trial.alpha, pt);
+    kernels::strain_law_point(klaw_, Ep, committed.alpha, committed.damage, e, dt, Ep, trial.alpha, trial.damage, pt);
     for (int k = 0; k < 9; ++k) out.S(k / 3, k % 3) = pt.S[k], trial.plastic_strain(k / 3, k % 3) = Ep[k];
     out.W = pt.W, out.plastic_work = pt.plastic_work, out.rate = pt.rate;
     return out;
   }
   // The law step in the portable kernels (kernels/hencky.hpp: the Hencky map, Eigen's
   // eigen-solver written out; kernels/strain_laws.hpp: the volumetric gradient's corrections
-  // and the elastic / j2 laws; the host's Eigen forms' bits), over row-major copies; the
-  // Johnson-Cook law is still the host's classical::strain_law.
+  // and the strain laws; the host's Eigen forms' bits), over row-major copies.
   LawPoint run_law(std::size_t l, const Mat3& E, const Mat3* Fbar, double dt, StrainLawState& trial) const {
     LawPoint r;
     double hN[9] = {}, hl[3] = {}, strain[9], F[9] = {}, T[9], S[9];
@@ -447,13 +444,7 @@ class ExtendedCorrespondence final : public Model {
       for (int k = 0; k < 9; ++k) F[k] = (*Fbar)(k / 3, k % 3);
       kernels::volumetric_gradient_strain(F, dim_, strain);
     }
-    if (law_.law == classical::StrainLaw::johnson_cook) {
-      Mat3 strain_m;
-      for (int k = 0; k < 9; ++k) strain_m(k / 3, k % 3) = strain[k];
-      r.out = classical::strain_law(law_, committed_[l], strain_m, dt, trial);
-    } else {
-      r.out = j2_law(committed_[l], strain, dt, trial);
-    }
+    r.out = law_point(committed_[l], strain, dt, trial);
     if (r.out.failed) return r;
     r.ok = true;
     r.law_stress = r.out.S;
@@ -729,6 +720,7 @@ class ExtendedCorrespondence final : public Model {
   }
 
   StrainLawParams law_;
+  kernels::StrainLawConstants klaw_;  // law_ for the portable kernel (run_law)
   int dim_ = 3;
   double m_ = 0, critical_ = 0.99, tolerance_ = 1e-4, min_acting_ = 0;
   std::vector<double> family_weight_;  // per particle: sum of w V over its reference family
@@ -833,6 +825,7 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   law_.d4 = parameter(mat, "failure_d4");
   law_.damage_rate0 = parameter(mat, "failure_reference_rate");
   law_.damage = law_.law == StrainLaw::johnson_cook && (law_.d1 != 0 || law_.d2 != 0);
+  klaw_ = extended::strain_law_constants(law_);
   if (law_.law != StrainLaw::elastic && !(law_.yield_stress > 0))
     throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
   if (law_.law == StrainLaw::johnson_cook && !(law_.B > 0))

@@ -49,6 +49,7 @@
 
 #include "horizon/core/vec3.hpp"
 #include "horizon/kernels/extended.hpp"
+#include "horizon/kernels/strain_laws.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/material/model.hpp"
 #include "horizon/material/models/nonlinear_solid.hpp"
@@ -233,6 +234,18 @@ inline Vec3 bond_force_state(const Vec6& a, const Vec6& b, double ks, double ome
 //   S = sum_ab theta_ab (N_a . T N_b) N_a (x) N_b,
 //   theta_aa = 1/l_a,  theta_ab = (ln l_a - ln l_b)/(l_a - l_b).
 // Eigenvalues below `floor` (a locally inverted average) are clamped to it.
+// The strain law's constants as the portable kernel takes them (kernels/strain_laws.hpp).
+inline kernels::StrainLawConstants strain_law_constants(const classical::StrainLawParams& p) {
+  kernels::StrainLawConstants k;
+  k.law = p.law == classical::StrainLaw::j2             ? kernels::kStrainJ2
+          : p.law == classical::StrainLaw::johnson_cook ? kernels::kStrainJohnsonCook
+                                                        : kernels::kStrainElastic;
+  k.kappa = p.kappa, k.mu = p.mu, k.yield_stress = p.yield_stress, k.hardening = p.hardening_modulus;
+  k.sigma0 = p.sigma0, k.B = p.B, k.n = p.n, k.C = p.C, k.rate0 = p.rate0;
+  k.d1 = p.d1, k.d2 = p.d2, k.d3 = p.d3, k.d4 = p.d4, k.damage_rate0 = p.damage_rate0, k.damage = p.damage;
+  return k;
+}
+
 struct HenckyMap {
   Mat3 N;        // eigenvectors of C (columns)
   double l[3];   // eigenvalues (clamped)
