@@ -13,23 +13,15 @@
 #include "horizon/kernels/affine.hpp"
 #include "horizon/kernels/extended.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
+#include "kernel_bits.hpp"
 
 namespace horizon {
 namespace {
 
-using Mat3 = Eigen::Matrix3d;
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-void to_rows(const Mat3& m, double* a) {
-  for (int c = 0; c < 9; ++c) a[c] = m(c / 3, c % 3);
-}
-
-int differing(const Mat3& m, const double* a) {
-  int n = 0;
-  for (int c = 0; c < 9; ++c) n += same_bits(m(c / 3, c % 3), a[c]) ? 0 : 1;
-  return n;
-}
+using test::Mat3;
+using test::differing;
+using test::same_bits;
+using test::to_rows;
 
 // A shape tensor like a family's: sum of w xi (x) xi over a few random bonds.
 Mat3 random_shape_tensor(std::mt19937_64& g, int bonds) {

@@ -17,23 +17,15 @@
 #include "horizon/kernels/strain_laws.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/material/models/extended_correspondence.hpp"
+#include "kernel_bits.hpp"
 
 namespace horizon {
 namespace {
 
-using Mat3 = Eigen::Matrix3d;
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-void to_rows(const Mat3& m, double* a) {
-  for (int c = 0; c < 9; ++c) a[c] = m(c / 3, c % 3);
-}
-
-int differing(const Mat3& m, const double* a) {
-  int n = 0;
-  for (int c = 0; c < 9; ++c) n += same_bits(m(c / 3, c % 3), a[c]) ? 0 : 1;
-  return n;
-}
+using test::Mat3;
+using test::differing;
+using test::same_bits;
+using test::to_rows;
 
 Mat3 random_symmetric(std::mt19937_64& g, int kind) {
   std::uniform_real_distribution<double> u(-1, 1);

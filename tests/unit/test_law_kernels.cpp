@@ -19,23 +19,15 @@
 #include "horizon/kernels/laws.hpp"
 #include "horizon/material/classical/hypoelastic.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
+#include "kernel_bits.hpp"
 
 namespace horizon {
 namespace {
 
-using Mat3 = Eigen::Matrix3d;
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-void to_rows(const Mat3& m, double* a) {
-  for (int c = 0; c < 9; ++c) a[c] = m(c / 3, c % 3);
-}
-
-int differing(const Mat3& m, const double* a) {
-  int n = 0;
-  for (int c = 0; c < 9; ++c) n += same_bits(m(c / 3, c % 3), a[c]) ? 0 : 1;
-  return n;
-}
+using test::Mat3;
+using test::differing;
+using test::same_bits;
+using test::to_rows;
 
 // A deformation gradient: I + a random part of size `amp`, sometimes a rotation in front
 // (finite rotations are what the polar decomposition is for).
