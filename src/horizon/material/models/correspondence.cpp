@@ -200,17 +200,13 @@ class Correspondence final : public Model {
     const uint32_t i = particles_[l];
     double Fdot[9];
     const bool rate = dt > 0 && u_committed_.size() == s.particles.size();
-    if (rate) {
+    if (rate) {  // F_dot's bond sum (kernels/hypoelastic.hpp rate_gradient_row)
       const Bonds& B = s.bonds;
-      const Vec3 dui = s.particles.u[i] - u_committed_[i];
-      double N[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-        if (!B.intact[k]) continue;
-        const uint32_t j = B.nbr[k];
-        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui, xi = s.particles.X[j] - s.particles.X[i];
-        const double a[3] = {du.x, du.y, du.z}, x[3] = {xi.x, xi.y, xi.z};
-        kernels::rate_gradient_add(N, a, x, B.weight[k] * B.volume[k]);
-      }
+      static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 arrays read as xyz doubles");
+      double N[9];
+      kernels::rate_gradient_row(&s.particles.X[0].x, &s.particles.u[0].x, &u_committed_[0].x, B.offset.data(),
+                                 B.nbr.data(), B.intact.data(),
+                                 [&B](uint64_t k) { return B.weight[k] * B.volume[k]; }, i, N);
       kernels::rate_gradient_finish(N, Kinv, dt, Fdot);
     }
     kernels::HypoHistory n, t;
