@@ -293,7 +293,7 @@ TEST(PortableKernels, FlatCopyNamesWhatItDoesNotTake) {
   const std::string plastic =
       "{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, yield_stress: 100.0e6}";
   Simulation sim(parse_deck(impact_deck(plastic, 40, 1.0), "portable.yaml"));
-  EXPECT_EQ(flat_unsupported(sim.system, sim.loads), "a model without flat rows (the unified models and nonlinear_solid have them)");
+  EXPECT_EQ(flat_unsupported(sim.system, sim.loads), "a model without flat rows (the unified models, nonlinear_solid and correspondence have them)");
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include <cstdint>
 
 #include "horizon/core/portable.hpp"
+#include "horizon/kernels/flat_affine.hpp"
 #include "horizon/kernels/lanes.hpp"
 #include "horizon/kernels/tupek.hpp"
 #include "horizon/kernels/unified.hpp"
@@ -145,6 +146,10 @@ struct FlatSystem {
   const double* length_of = nullptr;  // nb
   bool contact_from_length = false;
   double contact_fraction = 0, contact_cutoff = 0;
+  // The correspondence model's affine pass (kernels/flat_affine.hpp; `correspondence` set,
+  // state_based unused): its rows replace the unified ones and commit its history.
+  bool correspondence = false;
+  FlatAffine affine;
 };
 
 // Bond k's constants with its own length (FlatSystem::length_of). The rows below take the
@@ -545,6 +550,17 @@ inline void flat_unified_forces(const FlatSystem& s) {
 
 inline void flat_forces(const FlatSystem& s) {
   const uint64_t n = s.n;
+  if (s.correspondence) {  // kernels/flat_affine.hpp: the pass, then the commit that follows it
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) pack_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) flat_affine_break_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) flat_affine_sum_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) flat_affine_commit_row(s, i);
+    return;
+  }
   if (s.tupek) {
     HORIZON_FLAT_ROWS
     for (uint64_t i = 0; i < n; ++i) tupek_pack_row(s, i);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "horizon/kernels/flat_system.hpp"
+#include "horizon/solver/flat_affine_copy.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -53,6 +54,7 @@ struct FlatStorage {
   bool tupek = false, tupek_exponent_two = true, tupek_contact = false;
   std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
   std::vector<uint8_t> compression_only;
+  FlatAffineStorage affine;  // the correspondence model (solver/flat_affine_copy.hpp; off otherwise)
   uint64_t n = 0;
   bool state_based = false, break_after = false;
   std::vector<double> length_of;  // an irregular cloud: each bond's |xi| (else empty)

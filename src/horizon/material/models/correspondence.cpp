@@ -146,6 +146,7 @@ class Correspondence final : public Model {
   bool spring_factors(const System& s, std::vector<double>& g) const override;
   bool stiffness(const System& s, StiffnessSink& out) const override;
 
+  friend CorrespondenceState horizon::correspondence_state(Model& m);  // the flat backend's copy
   void checkpoint(StateArchive& a) override {
     a.io_listed("committed", committed_, particles_);
     a.io_listed("trial", trial_, particles_);
@@ -785,6 +786,25 @@ void Correspondence::tensor_fields(const System& s, std::vector<ModelField>& out
 
 ModelEntry correspondence_model() {
   return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Correspondence>()); }};
+}
+
+CorrespondenceState correspondence_state(Model& m) {
+  CorrespondenceState out;
+  auto* c = dynamic_cast<Correspondence*>(&m);
+  if (!c) return out;
+  out.model = c;
+  out.law = &c->law_;
+  out.constants = &c->constants_;
+  out.hypo_constants = &c->hypo_constants_;
+  out.G = c->G_, out.Cc = c->Cc_, out.tolerance = c->tolerance_;
+  out.portable_law = c->portable_law_, out.hypo = c->hypo_;
+  out.particles = &c->particles_;
+  out.committed = &c->committed_, out.trial = &c->trial_;
+  out.work = &c->work_, out.von_mises = &c->von_mises_, out.yield_factor = &c->yield_factor_;
+  out.singular = &c->singular_;
+  out.kinv = &c->kinv_, out.F = &c->F_, out.sigma = &c->sigma_, out.rate = &c->rate_;
+  out.u_committed = &c->u_committed_;
+  return out;
 }
 
 }  // namespace horizon

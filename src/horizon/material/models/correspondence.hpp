@@ -221,6 +221,31 @@ inline double von_mises(const Mat3& s) {
 
 }  // namespace correspondence
 
+namespace kernels {
+struct LawConstants;
+struct HypoConstants;
+}  // namespace kernels
+
+// A correspondence model's constants and state as the flat backend copies them and writes
+// them back (solver/flat_affine_copy.cpp): pointers into the model, `model` null when the
+// model is not correspondence.
+struct CorrespondenceState {
+  const Model* model = nullptr;
+  const correspondence::LawSettings* law = nullptr;
+  const kernels::LawConstants* constants = nullptr;    // law_row's (portable_law)
+  const kernels::HypoConstants* hypo_constants = nullptr;  // hypo_step's (hypo)
+  double G = 0, Cc = 0, tolerance = 0;
+  bool portable_law = false, hypo = false;
+  const std::vector<uint32_t>* particles = nullptr;
+  std::vector<correspondence::History>*committed = nullptr, *trial = nullptr;
+  std::vector<double>*work = nullptr, *von_mises = nullptr;
+  const std::vector<double>* yield_factor = nullptr;
+  std::vector<uint8_t>* singular = nullptr;
+  std::vector<correspondence::Mat3>*kinv = nullptr, *F = nullptr, *sigma = nullptr, *rate = nullptr;
+  std::vector<Vec3>* u_committed = nullptr;
+};
+CorrespondenceState correspondence_state(Model& m);
+
 // A History is numbers and fixed-size Eigen matrices: it checkpoints as its bytes (the
 // correspondence and bond-associated models both keep one).
 template <>
