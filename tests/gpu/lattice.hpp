@@ -34,6 +34,8 @@ struct Lattice {
   // The correspondence model (make_affine_lattice; off otherwise): kernels/flat_affine.hpp.
   bool affine = false;
   kernels::FlatAffine affine_constants;
+  std::vector<kernels::FlatAffineLaw> laws;
+  std::vector<uint32_t> material;
   std::vector<kernels::FlatPoint> ref, kind_record;
   std::vector<kernels::FlatBondKind> bond_kinds;
   std::vector<double> omega_volume, record, work, von_mises;
@@ -70,6 +72,7 @@ struct Lattice {
       s.correspondence = true;
       kernels::FlatAffine& a = s.affine;
       a = affine_constants;
+      a.nlaws = laws.size(), a.laws = laws.data(), a.material = material.data();
       a.ref = ref.data(), a.kind_record = kind_record.data(), a.bond_kinds = bond_kinds.data();
       a.omega_volume = omega_volume.data(), a.record = record.data(), a.y_old = y_old.data(), a.work = work.data();
       a.von_mises = von_mises.data(), a.singular = singular.data();
@@ -198,10 +201,13 @@ inline Lattice make_affine_lattice(int nx, int ny, int nz, double s0 = 0.002) {
   const double K = E / (3 * (1 - 2 * nu)), mu = E / (2 * (1 + nu)), c = 18 * K / (pi * std::pow(delta, 4));
   const uint64_t n = L.n;
   L.affine = true;
-  kernels::FlatAffine& a = L.affine_constants;
-  a.dim = 3, a.tolerance = 1e-4, a.G = 0.5 * c / delta, a.contact = false, a.rate = false;
+  L.affine_constants.contact = false;
+  kernels::FlatAffineLaw a;
+  a.dim = 3, a.tolerance = 1e-4, a.G = 0.5 * c / delta, a.rate = false;
   a.law.law = kernels::kJ2Law, a.law.lambda = K - 2.0 * mu / 3.0, a.law.mu = mu, a.law.kappa = K;
   a.law.yield_stress = 4.0e8, a.law.hardening = 2.0e9;
+  L.laws = {a};
+  L.material.assign(n, 0);
   for (const kernels::Kind& k : L.kinds) {
     L.kind_record.push_back({k.length, k.inv_length, V, 0.0});
     L.bond_kinds.push_back({V, 1.0, 1.0});

@@ -491,8 +491,9 @@ TEST(Backend, CorrespondenceFlatGivesTheCpuBits) {
 }
 
 // The options of the pass: 2-D plane strain, no stabilisation, bonds breaking after the
-// force, short-range contact between family pairs and beyond, prescribed conditions, and a
-// checkpoint (the model's committed and trial history, records, positions) with its restart.
+// force, short-range contact between family pairs and beyond, prescribed conditions, two
+// correspondence materials, and a checkpoint (the models' committed and trial histories,
+// records, positions) with its restart.
 TEST(Backend, CorrespondenceOptionsFlatGiveTheCpuBits) {
   const std::string plate = R"yaml(dimension: 2
 plane: strain
@@ -519,7 +520,19 @@ output: {frames: 3, history_every: 7}
       "  - {region: end, traction: [0, \"2.0e8*min(t/1.0e-6, 1)\", 0]}\n";
   expect_same_on_threads(impact_deck(correspondence(kJ2Law + "stabilization: 0.5, "), contact + loads),
                          "corr_contact_loads", "correspondence j2, short-range contact and prescribed conditions");
+  // Two correspondence materials (a J2 striker on a hypoelastic_j2 bar of another
+  // stabilisation: per-material constants, both histories), and its checkpoint.
   std::string ck = impact_deck(correspondence(kJ2Law + "stabilization: 0.5, "));
+  const std::string materials = "materials:\n  steel: {";
+  ASSERT_NE(ck.find(materials), std::string::npos);
+  ck.replace(ck.find(materials), materials.size(),
+             "materials:\n  soft: {model: correspondence, density: 2700, youngs_modulus: 70.0e9, poissons_ratio: 0.33, "
+             "stabilization: 0.2, stress_law: hypoelastic_j2, yield_stress: 2.0e8, hardening_modulus: 1.0e9, "
+             "damage: {critical_stretch: 0.003}}\n  steel: {");
+  const std::string bar = "  - name: bar\n    material: steel";
+  ASSERT_NE(ck.find(bar), std::string::npos);
+  ck.replace(ck.find(bar), bar.size(), "  - name: bar\n    material: soft");
+  expect_same_on_threads(ck, "corr_two", "correspondence j2 striker on a hypoelastic_j2 bar");
   const std::string out = "output: {frames: 3, history_every: 7}";
   ASSERT_NE(ck.find(out), std::string::npos);
   ck.replace(ck.find(out), out.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 40}}");

@@ -240,6 +240,8 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
     const kernels::FlatAffine& a = h.affine;
     kernels::FlatAffine& da = d.affine;
     const uint64_t nk = h.nkinds;
+    da.laws = upload(a.laws, a.nlaws, o);
+    da.material = upload(a.material, n, o);
     da.ref = upload(a.ref, n, o);
     da.kind_record = upload(a.kind_record, nk, o);
     da.bond_kinds = upload(a.bond_kinds, nk, o);

@@ -39,16 +39,23 @@ struct FlatBondKind {
   double volume, fraction, weight;
 };
 
-// The correspondence model's constants and state (material/models/correspondence.cpp),
-// every particle of the run one of its rows.
-struct FlatAffine {
-  int dim = 3;            // the law's dimension (2: plane strain)
-  double tolerance = 0;   // shape_tolerance
-  double G = 0;           // the stabilisation modulus
-  bool contact = false;   // the family pairs' short-range contact (ShortRangeContact::acts_on_family)
-  bool rate = false;      // a rate-form law (hypo_step), else law_row's `law`
-  LawConstants law;
+// One correspondence material's constants (material/models/correspondence.cpp).
+struct FlatAffineLaw {
+  int dim = 3;           // the law's dimension (2: plane strain)
+  double tolerance = 0;  // shape_tolerance
+  double G = 0;          // the stabilisation modulus
+  bool rate = false;     // a rate-form law (hypo_step), else law_row's `law`
+  LawConstants law;      // (the rate form: law.yield_stress its sigma_y, 0 for hypoelastic)
   HypoConstants hypo;
+};
+
+// The correspondence models' constants and state, every particle of the run a row of one
+// of them (its material's).
+struct FlatAffine {
+  bool contact = false;  // the family pairs' short-range contact (ShortRangeContact::acts_on_family)
+  uint64_t nlaws = 0;
+  const FlatAffineLaw* laws = nullptr;  // per material
+  const uint32_t* material = nullptr;   // n: the particle's material (Particles::material)
   const FlatPoint* ref = nullptr;          // n: X packed {x, y, z, 0}
   const FlatPoint* kind_record = nullptr;  // per kind {L, 1/L, omega V_j, 0} (System::model.kind_dilatation)
   const FlatBondKind* bond_kinds = nullptr;  // per kind
@@ -109,12 +116,13 @@ HORIZON_HD inline auto flat_affine_sweep(const Sys& s)
 template <class Sys>
 HORIZON_HD inline double flat_affine_law(const Sys& s, uint64_t i, const double* sums, double* F, bool& carries) {
   const FlatAffine& a = s.affine;
+  const FlatAffineLaw& m = a.laws[a.material[i]];
   double* rec = a.record + kAffineRecord * i;
-  if (!a.rate) {
+  if (!m.rate) {
     J2History none{};
-    const bool j2 = a.j2_committed != nullptr;
+    const bool j2 = m.law.law == kJ2Law;  // (the J2 arrays exist when a material is J2)
     J2History trial;
-    const AffineRow row = law_row(sums, a.dim, a.tolerance, a.law, a.G, j2 ? a.j2_committed[i] : none, trial,
+    const AffineRow row = law_row(sums, m.dim, m.tolerance, m.law, m.G, j2 ? a.j2_committed[i] : none, trial,
                                   a.work[i], rec);
     if (j2) a.j2_trial[i] = trial;
     a.singular[i] = row.carries ? 0 : 1;
@@ -125,7 +133,7 @@ HORIZON_HD inline double flat_affine_law(const Sys& s, uint64_t i, const double*
   }
   // The rate-form laws (Correspondence::hypo_row).
   double Kinv[9];
-  carries = gradient_finish(sums, sums + 9, a.dim, a.tolerance, Kinv, F);
+  carries = gradient_finish(sums, sums + 9, m.dim, m.tolerance, Kinv, F);
   a.singular[i] = carries ? 0 : 1;
   if (!carries) {  // refuse_singular: the history stays, the record is zero
     a.hypo_trial[i] = a.hypo_committed[i];
@@ -143,19 +151,19 @@ HORIZON_HD inline double flat_affine_law(const Sys& s, uint64_t i, const double*
                       N);
     rate_gradient_finish(N, Kinv, dt, Fdot);
   }
-  const double yield = a.law.yield_stress * a.yield_factor[i];  // 0 for hypoelastic (set so by the copy)
+  const double yield = m.law.yield_stress * a.yield_factor[i];  // 0 for hypoelastic (set so by the copy)
   LawStress r;
   double* d = a.d + 9 * i;
   HypoHistory t;
-  hypo_step(a.hypo, yield, a.hypo_committed[i], F, dt, rate ? Fdot : nullptr, 0.0, t, a.work[i], r, d);
+  hypo_step(m.hypo, yield, a.hypo_committed[i], F, dt, rate ? Fdot : nullptr, 0.0, t, a.work[i], r, d);
   a.hypo_trial[i] = t;
   for (int k = 0; k < 9; ++k) a.kinv[9 * i + k] = Kinv[k], a.F[9 * i + k] = F[k], a.sigma[9 * i + k] = r.sigma[k];
   a.von_mises[i] = von_mises(t.sigma_u);
   if (!r.ok) {
-    affine_record(nullptr, F, a.G, rec);
+    affine_record(nullptr, F, m.G, rec);
     return 0.0;
   }
-  affine_record_of_stress(r.P, Kinv, F, a.G, rec);  // T = omega P K^-1 xi (seed 003 eq. 142)
+  affine_record_of_stress(r.P, Kinv, F, m.G, rec);  // T = omega P K^-1 xi (seed 003 eq. 142)
   return r.W;
 }
 
@@ -174,7 +182,8 @@ HORIZON_HD inline void flat_affine_break_row(const Sys& s, uint64_t i) {
   double F[9];
   bool carries = false;
   double W = flat_affine_law(s, i, sums, F, carries);
-  if (carries && a.G != 0) {  // the stabilisation's energy, bond by bond (Correspondence::affine_row)
+  const double G = a.laws[a.material[i]].G;
+  if (carries && G != 0) {  // the stabilisation's energy, bond by bond (Correspondence::affine_row)
     const auto& pi = w.pt[i];
     const auto& xi_i = w.ref[i];
     for (uint64_t k = s.offset[i]; k < s.offset[i + 1]; ++k) {
@@ -184,7 +193,7 @@ HORIZON_HD inline void flat_affine_break_row(const Sys& s, uint64_t i) {
       const auto& xj = w.ref[j];
       const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
       const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
-      W += stabilization_energy(F, a.G, a.omega_volume[s.kind[k]], xi, Y);
+      W += stabilization_energy(F, G, a.omega_volume[s.kind[k]], xi, Y);
     }
   }
   s.energy[i] = W;

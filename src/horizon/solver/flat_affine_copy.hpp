@@ -17,6 +17,8 @@ namespace horizon {
 struct FlatAffineStorage {
   bool on = false;
   kernels::FlatAffine constants;  // the scalars (the pointers are view()'s)
+  std::vector<kernels::FlatAffineLaw> laws;  // per material
+  std::vector<uint32_t> material;            // per particle
   std::vector<kernels::FlatPoint> ref, kind_record;
   std::vector<kernels::FlatBondKind> bond_kinds;
   std::vector<double> omega_volume, record, work, von_mises, u_committed, yield_factor, kinv, F, sigma, d;
@@ -27,8 +29,8 @@ struct FlatAffineStorage {
   kernels::FlatAffine view();
 };
 
-// Whether the run's one model is correspondence (then flat_affine_unsupported says
-// whether its flat rows take it).
+// Whether every model of the run (one per material) is correspondence (then
+// flat_affine_unsupported says whether the flat rows take it).
 bool flat_affine_model(const System& s);
 // Why the flat rows cannot take this correspondence run, or "".
 std::string flat_affine_unsupported(const System& s);
