@@ -38,7 +38,7 @@ struct Lattice {
   std::vector<uint32_t> material;
   std::vector<kernels::FlatPoint> ref, kind_record;
   std::vector<kernels::FlatBondKind> bond_kinds;
-  std::vector<double> omega_volume, record, work, von_mises;
+  std::vector<double> omega_volume, record, work, von_mises, F_pass;
   std::vector<horizon::Vec3> y_old;
   std::vector<uint8_t> singular;
   std::vector<kernels::J2History> j2_committed, j2_trial;
@@ -75,7 +75,7 @@ struct Lattice {
       a.nlaws = laws.size(), a.laws = laws.data(), a.material = material.data();
       a.ref = ref.data(), a.kind_record = kind_record.data(), a.bond_kinds = bond_kinds.data();
       a.omega_volume = omega_volume.data(), a.record = record.data(), a.y_old = y_old.data(), a.work = work.data();
-      a.von_mises = von_mises.data(), a.singular = singular.data();
+      a.von_mises = von_mises.data(), a.singular = singular.data(), a.F_pass = F_pass.data();
       a.j2_committed = j2_committed.data(), a.j2_trial = j2_trial.data();
     }
     return s;
@@ -219,6 +219,7 @@ inline Lattice make_affine_lattice(int nx, int ny, int nz, double s0 = 0.002) {
     L.y_old[i] = {L.X[3 * i], L.X[3 * i + 1], L.X[3 * i + 2]};
   }
   L.record.assign(kernels::kAffineRecord * n, 0.0), L.work.assign(n, 0.0), L.von_mises.assign(n, 0.0);
+  L.F_pass.assign(9 * n, 0.0);
   L.singular.assign(n, 0), L.j2_committed.assign(n, kernels::J2History{}), L.j2_trial.assign(n, kernels::J2History{});
   // The stable step: the bond-based spring stiffened by the stabilisation (1 + G_s).
   L.dt /= std::sqrt(1.5);

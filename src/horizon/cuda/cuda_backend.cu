@@ -251,6 +251,7 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
     da.work = upload(a.work, n, o);
     da.von_mises = upload(a.von_mises, n, o);
     da.singular = upload(a.singular, n, o);
+    da.F_pass = upload(a.F_pass, 9 * n, o);
     da.j2_committed = upload(a.j2_committed, a.j2_committed ? n : 0, o);
     da.j2_trial = upload(a.j2_trial, a.j2_trial ? n : 0, o);
     da.hypo_committed = upload(a.hypo_committed, a.hypo_committed ? n : 0, o);

@@ -426,11 +426,19 @@ HORIZON_HD inline AffineBreak affine_break_row(const AffineSweep<Kind, BondK, Po
   return out;
 }
 
+// No work beside the sum's (the host's rows).
+struct NoBondWork {
+  HORIZON_HD void operator()(uint64_t, const double*, const double*) const {}
+};
+
 // Row i of the sum, once every row has its record: f_i = sum_j omega V_j ((M_i + M_j) xi +
 // (g_i + g_j) Y) over the acting bonds (affine_pair_add lane by lane, then
 // affine_pair_finish), plus the family contact of every bond (energy: its share).
-template <class Kind, class BondK, class Point>
-HORIZON_HD inline void affine_sum_row(const AffineSweep<Kind, BondK, Point>& s, std::size_t i, double* f, double& energy) {
+// `bond(k, xi, Y)` is called for each acting bond in bond order after its sums (the flat
+// rows: the stabilisation's energy, kernels/flat_affine.hpp).
+template <class Kind, class BondK, class Point, class BondWork = NoBondWork>
+HORIZON_HD inline void affine_sum_row(const AffineSweep<Kind, BondK, Point>& s, std::size_t i, double* f, double& energy,
+                                      const BondWork& bond = BondWork{}) {
   const Point pi = s.pt[i], xi_i = s.ref[i];
   double sxi[3][kLanes] = {}, sy[3][kLanes] = {}, acc[3][kLanes] = {}, w[kLanes] = {};
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
@@ -449,6 +457,7 @@ HORIZON_HD inline void affine_sum_row(const AffineSweep<Kind, BondK, Point>& s, 
         sy[r][l] += wv * Y[r];
         acc[r][l] += m[3 * r] * a[0] + m[3 * r + 1] * a[1] + m[3 * r + 2] * a[2] + gy * Y[r];
       }
+      bond(k, xi, Y);
     }
     if (s.contact) {
       const Kind& kc = s.kc[s.kind[k]];

@@ -11,11 +11,12 @@
 //      forces_affine.cpp, then the law of the row (kernels/laws.hpp law_row: linear
 //      elastic, neo-Hookean, J2; or kernels/hypoelastic.hpp hypo_step for the rate-form
 //      laws, F_dot from rate_gradient_row), the record, the von Mises stress, the trial
-//      history and the row's energy with the stabilisation's (Correspondence::affine_row,
-//      operation for operation);
+//      history and the law's energy (Correspondence::affine_row, operation for operation);
 //   2. flat_affine_sum_row, once every row has its record: affine_sum_row (the pair form
-//      and the family contact), the positions of the pass kept for the next pass's
-//      booking of broken bonds, bonds broken in this pass (break_after) switched off;
+//      and the family contact) and in its bond loop the stabilisation's energy (the host
+//      row adds it in a loop of its own, in the same order: no second sweep of the bonds
+//      here), the positions of the pass kept for the next pass's booking of broken
+//      bonds, bonds broken in this pass (break_after) switched off;
 //   3. flat_affine_commit_row: the trial history becomes the committed one and the plastic
 //      work goes to the particle's dissipation (Correspondence::commit, which the explicit
 //      solver calls after every force pass).
@@ -65,6 +66,7 @@ struct FlatAffine {
   double* work = nullptr;                  // n: the plastic work of the trial step [J/m^3]
   double* von_mises = nullptr;             // n
   uint8_t* singular = nullptr;             // n: 1 where the shape tensor was refused
+  double* F_pass = nullptr;                // 9n: F of this pass (the sum row's stabilisation energy)
   J2History* j2_committed = nullptr;       // n (law J2), else null
   J2History* j2_trial = nullptr;
   // The rate-form laws: history, F_dot's u at the last commit, the flaw's factor on the
@@ -181,32 +183,32 @@ HORIZON_HD inline void flat_affine_break_row(const Sys& s, uint64_t i) {
   s.min_stretch_next[i] = o.smin;
   double F[9];
   bool carries = false;
-  double W = flat_affine_law(s, i, sums, F, carries);
-  const double G = a.laws[a.material[i]].G;
-  if (carries && G != 0) {  // the stabilisation's energy, bond by bond (Correspondence::affine_row)
-    const auto& pi = w.pt[i];
-    const auto& xi_i = w.ref[i];
-    for (uint64_t k = s.offset[i]; k < s.offset[i + 1]; ++k) {
-      if (!s.intact[k]) continue;
-      const uint32_t j = s.nbr[k];
-      const auto& pj = w.pt[j];
-      const auto& xj = w.ref[j];
-      const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-      const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
-      W += stabilization_energy(F, G, a.omega_volume[s.kind[k]], xi, Y);
-    }
-  }
-  s.energy[i] = W;
+  // The law's energy density; the stabilisation's follows in the sum row's bond loop.
+  s.energy[i] = flat_affine_law(s, i, sums, F, carries);
+  for (int c = 0; c < 9; ++c) a.F_pass[9 * i + c] = F[c];
 }
 
-// Sweep 2, row i: the force density and the contact's energy share, the pass's position
-// kept, the bonds this pass broke but let act (break_after: 2) switched off.
+// Sweep 2, row i: the force density; the energy: the stabilisation's, (G/2) omega V_j
+// |Y - F xi|^2 of each acting bond in bond order added to the law's (as
+// Correspondence::affine_row adds it after the law, with the bonds' Y and xi as it forms
+// them), where the shape tensor was taken and G != 0, then the contact's share; the pass's
+// position kept, the bonds this pass broke but let act (break_after: 2) switched off.
 template <class Sys>
 HORIZON_HD inline void flat_affine_sum_row(const Sys& s, uint64_t i) {
+  const FlatAffine& a = s.affine;
   const auto w = flat_affine_sweep(s);
+  const double G = a.laws[a.material[i]].G;
+  const bool stabilised = G != 0 && !a.singular[i];
+  double F[9];
+  for (int c = 0; c < 9; ++c) F[c] = a.F_pass[9 * i + c];
+  double W = s.energy[i];
+  const auto bond = [&](uint64_t k, const double* xi, const double* Y) {
+    if (stabilised) W += stabilization_energy(F, G, a.omega_volume[s.kind[k]], xi, Y);
+  };
   double f[3], e = 0;
-  affine_sum_row(w, i, f, e);
+  affine_sum_row(w, i, f, e, bond);
   s.f[3 * i] = f[0], s.f[3 * i + 1] = f[1], s.f[3 * i + 2] = f[2];
+  s.energy[i] = W;
   s.energy[i] += e;
   s.affine.y_old[i] = {w.pt[i].x, w.pt[i].y, w.pt[i].z};
   if (s.break_after)

@@ -121,7 +121,7 @@ FlatAffineStorage flat_affine_copy(const System& s) {
   c.record.resize(kernels::kAffineRecord * n, 0.0);
   c.y_old = M.affine_position;
   c.y_old.resize(n);
-  c.work.assign(n, 0.0), c.von_mises.assign(n, 0.0), c.singular.assign(n, 0);
+  c.work.assign(n, 0.0), c.von_mises.assign(n, 0.0), c.singular.assign(n, 0), c.F_pass.assign(9 * n, 0.0);
   if (any_j2) c.j2_committed.assign(n, kernels::J2History{}), c.j2_trial.assign(n, kernels::J2History{});
   if (any_hypo) {
     c.hypo_committed.assign(n, kernels::HypoHistory{}), c.hypo_trial.assign(n, kernels::HypoHistory{});
@@ -157,7 +157,7 @@ kernels::FlatAffine FlatAffineStorage::view() {
   auto or_null = [](auto& v) { return v.empty() ? nullptr : v.data(); };
   a.ref = ref.data(), a.kind_record = kind_record.data(), a.bond_kinds = bond_kinds.data();
   a.omega_volume = omega_volume.data(), a.record = record.data(), a.y_old = y_old.data();
-  a.work = work.data(), a.von_mises = von_mises.data(), a.singular = singular.data();
+  a.work = work.data(), a.von_mises = von_mises.data(), a.singular = singular.data(), a.F_pass = F_pass.data();
   a.j2_committed = or_null(j2_committed), a.j2_trial = or_null(j2_trial);
   a.hypo_committed = or_null(hypo_committed), a.hypo_trial = or_null(hypo_trial);
   a.u_committed = or_null(u_committed), a.yield_factor = or_null(yield_factor);

@@ -21,7 +21,7 @@ struct FlatAffineStorage {
   std::vector<uint32_t> material;            // per particle
   std::vector<kernels::FlatPoint> ref, kind_record;
   std::vector<kernels::FlatBondKind> bond_kinds;
-  std::vector<double> omega_volume, record, work, von_mises, u_committed, yield_factor, kinv, F, sigma, d;
+  std::vector<double> omega_volume, record, work, von_mises, u_committed, yield_factor, kinv, F, sigma, d, F_pass;
   std::vector<Vec3> y_old;
   std::vector<uint8_t> singular;
   std::vector<kernels::J2History> j2_committed, j2_trial;

@@ -16,7 +16,8 @@ namespace horizon {
 class Loads;
 
 // Why this run cannot be stepped over flat arrays, or "" when it can: the unified models
-// (ModelTraits::unified) or Tupek's nonlinear solid (kernels/tupek.hpp); no loads but
+// (ModelTraits::unified), Tupek's nonlinear solid (kernels/tupek.hpp) or correspondence
+// in its affine pass (kernels/flat_affine.hpp; solver/flat_affine_copy.hpp); no loads but
 // initial conditions, force densities (traction, body_force, force, pressure) and
 // prescribed velocities and displacements (values that vary are the stepper's to evaluate
 // before each step: FlatBackend); no thermal strain, no contact friction; bonds broken
