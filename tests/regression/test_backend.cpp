@@ -492,7 +492,7 @@ TEST(Backend, CorrespondenceFlatGivesTheCpuBits) {
 
 // The options of the pass: 2-D plane strain, no stabilisation, bonds breaking after the
 // force, short-range contact between family pairs and beyond, prescribed conditions, two
-// correspondence materials, and a checkpoint (the models' committed and trial histories,
+// correspondence materials (with the adaptive step too), and a checkpoint (the models' committed and trial histories,
 // records, positions) with its restart.
 TEST(Backend, CorrespondenceOptionsFlatGiveTheCpuBits) {
   const std::string plate = R"yaml(dimension: 2
@@ -533,6 +533,17 @@ output: {frames: 3, history_every: 7}
   ASSERT_NE(ck.find(bar), std::string::npos);
   ck.replace(ck.find(bar), bar.size(), "  - name: bar\n    material: soft");
   expect_same_on_threads(ck, "corr_two", "correspondence j2 striker on a hypoelastic_j2 bar");
+  // The adaptive step (the model's stable step over the System, the fields copied back for
+  // it every 3 steps; the rate form's F_dot over each step's own dt).
+  std::string adaptive = ck;
+  const std::string solver = "energy_balance_warning: 0.5";
+  ASSERT_NE(adaptive.find(solver), std::string::npos);
+  adaptive.replace(adaptive.find(solver), solver.size(), solver + ", adaptive_time_step: true, adaptive_every: 3");
+  const Output adaptive_cpu = run(adaptive, "corr_adaptive", "cpu", 1, 1);
+  EXPECT_LT(adaptive_cpu.summary["time_step_range"][0].get<double>(),
+            adaptive_cpu.summary["time_step_range"][1].get<double>());
+  expect_same(run(adaptive, "corr_adaptive", "flat", 1, 2), adaptive_cpu,
+              "correspondence j2 striker on a hypoelastic_j2 bar, adaptive step");
   const std::string out = "output: {frames: 3, history_every: 7}";
   ASSERT_NE(ck.find(out), std::string::npos);
   ck.replace(ck.find(out), out.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 40}}");
