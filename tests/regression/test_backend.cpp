@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include "horizon/core/error.hpp"
@@ -40,8 +42,11 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
+// Per process: ctest -j runs the tests of this file side by side (and other checkouts'
+// tests share /tmp), and two refusal tests once removed each other's directory.
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("horizon_test_backend_" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("horizon_test_backend_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
