@@ -75,6 +75,12 @@ HORIZON_HD inline ReturnMap ep_return_map(double trial_norm2, double weighted_vo
   return r;
 }
 
+// d lambda of a step whose return scaled the trial deviatoric state by beta
+// (material/models/elastic_plastic.hpp: (1 - beta)/(alpha beta), 0 in an elastic step).
+HORIZON_HD inline double plastic_multiplier_step(double beta, double alpha) {
+  return beta < 1.0 ? (1.0 - beta) / (alpha * beta) : 0.0;
+}
+
 // One bond after the return: the elastic deviatoric extension e^de = beta e^de_tr and the
 // trial plastic extension e^dp + (1 - beta) e^de_tr.
 struct EpBond {
@@ -105,6 +111,11 @@ HORIZON_HD inline bool bond_booked_now(uint8_t intact, uint8_t booked) { return 
 // t_old the bond's scalar force state of the previous pass (history_ledger.hpp).
 HORIZON_HD inline double broken_bond_booking(double t_old, double length, double e, double volume) {
   return length > 0 ? 0.5 * t_old * e * volume : 0.0;
+}
+
+// D_i from the step's work, the change of W and the booking (all per unit V_i).
+HORIZON_HD inline double inelastic_loss(double work, double stored_change, double booked) {
+  return work - stored_change - booked;
 }
 
 // The ledger's per-bond arrays of one pass (HistoryLedger::Row): the trial extension (null

@@ -23,6 +23,7 @@ uint64_t intact_bonds(const FlatStorage& c) {
 FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver)
     : s_(s), loads_(loads), solver_(solver), system_steps_(solver.steps()) {
   copy_from_system();
+  host_step_ = storage_.ordinary && !flat_ordinary_ready(s_);
 }
 
 void FlatBackend::run_steps(int64_t n) {
@@ -147,6 +148,18 @@ int64_t FlatBackend::first_non_finite() const {
 }
 
 void FlatBackend::advance(int64_t n, bool energy) {
+  if (host_step_ && n > 0) {  // an ordinary model's ledger in its arrays (a restart): one CPU step
+    host_step_ = false;
+    failed_ = true;  // (a step that throws leaves the System as the CPU leaves it)
+    solver_.step(energy && n == 1);
+    failed_ = false;
+    system_steps_ = solver_.steps();
+    if (storage_.vary_forces) b_at_copy_ = s_.particles.b;
+    copy_from_system();
+    upload();
+    energy_ = energy && n == 1;
+    if (--n == 0) return;
+  }
   if (!solver_.fixed_step()) {  // the adaptive step: this call's steps with the solver's dt
     adaptive_ = true;
     double t = solver_.time();

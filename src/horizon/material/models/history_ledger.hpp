@@ -88,7 +88,7 @@ inline double broken_bond_booking(const Vec3& T_old, const Vec3& Y, double lengt
 using kernels::broken_bond_booking;  // (kernels/ordinary.hpp)
 
 // D_i from the step's work, the change of W and the booking (all per unit V_i).
-inline double inelastic_loss(double work, double stored_change, double booked) { return work - stored_change - booked; }
+using kernels::inelastic_loss;  // (kernels/ordinary.hpp)
 
 // How a pass of the scalar form's lanes reads the committed t_n and e_n of the ledger
 // (HistoryLedger::begin_rows). They are the last commit's force state and extension, and
