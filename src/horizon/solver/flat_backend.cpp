@@ -129,7 +129,7 @@ void FlatBackend::copy_from_system() {
   // Force densities that vary: the System's b is the last prepared step's; the copy starts
   // from the b of the System's state (the last copy_fields).
   if (!b_at_copy_.empty()) s_.particles.b = b_at_copy_;
-  storage_steps_ = system_steps_;
+  storage_steps_ = copied_at_ = system_steps_;
   storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_);
   view_ = storage_.view();
   intact_at_copy_ = intact_bonds(storage_);
@@ -239,7 +239,9 @@ void FlatBackend::copy_fields() {
   // step, the stored and kinetic energies of the last step that computed them.
   Ledger& g = solver_.ledger();
   g.external_work = storage_.ledger[0];
-  flat_write_reactions(storage_, loads_);
+  // The reactions of the copy's last step (none taken since the copy: the System's own,
+  // e.g. after the CPU's first step of a restart).
+  if (storage_steps_ != copied_at_) flat_write_reactions(storage_, loads_);
   g.dissipated = s_.dissipated();
   // The damped energy: per particle over the steps, then in index order (thread- and
   // device-independent; ExplicitSolver::step sums each step's terms first, so the last

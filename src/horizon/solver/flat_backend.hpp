@@ -98,6 +98,7 @@ class FlatBackend : public ExplicitBackend {
   bool failed_ = false;
   bool fetched_ = true;  // storage_ holds the steps taken (fetch() since the last run_steps)
   int64_t system_steps_ = 0;   // the step count of the System's state (the last copy_fields)
+  int64_t copied_at_ = 0;      // the step count when storage_ was copied from the System
   int64_t storage_steps_ = 0;  // the step count of storage_'s state   // a step turned the state non-finite: the System keeps what advance left
   uint64_t intact_at_copy_ = 0;  // intact bonds when storage_ was copied
   uint64_t broken_at_copy_ = 0;  // s.broken then
