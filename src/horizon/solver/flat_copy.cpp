@@ -10,12 +10,15 @@ namespace horizon {
 std::string flat_unsupported(const System& s, const Loads& loads) {
   // The unified models' rows, or the nonlinear solid's (a model that owns its pass and
   // shares a run with no other: material/models/nonlinear_solid.cpp).
-  if (s.models.owner() ? !nonlinear_state(s) : !s.models.all_unified()) {
+  if (s.models.owner() ? !nonlinear_state(s) : !s.models.all_unified() && !flat_ordinary_model(s)) {
     // The correspondence model's affine pass (kernels/flat_affine.hpp), or its reason.
     const std::string why = flat_affine_model(s) ? flat_affine_unsupported(s) : "no";
-    if (why == "no") return "a model without flat rows (the unified models, nonlinear_solid and correspondence have them)";
+    if (why == "no")
+      return "a model without flat rows (the unified models, nonlinear_solid, elastic_plastic, viscoelastic and "
+             "correspondence have them)";
     if (!why.empty()) return why;
   }
+  if (std::string why = flat_ordinary_unsupported(s); !why.empty()) return why;
   if (s.one_way_bonds) return "bodies of different horizons (one-way bonds: the general force pass)";
   if (!loads.projectiles().empty()) return "projectiles";
   for (const AppliedLoad& L : loads.loads()) {
@@ -154,6 +157,7 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
     c.theta.resize(c.n, 0);
     c.dim = N->dimension;
   }
+  c.ordinary = flat_ordinary_copy(s, dt);  // (null but for elastic_plastic, viscoelastic)
   if (flat_affine_model(s)) c.affine = flat_affine_copy(s);
   return c;
 }
@@ -188,6 +192,7 @@ kernels::FlatSystem FlatStorage::view() {
   s.contact_stiffness = or_null(contact_stiffness);
   s.critical_stretch_varies = vary_critical_stretch;
   s.compression_only = compression_only.empty() ? nullptr : compression_only.data();
+  s.ordinary = ordinary ? &ordinary->view : nullptr;
   s.correspondence = affine.on;
   if (affine.on) s.affine = affine.view();
   return s;
@@ -212,6 +217,7 @@ void flat_write_back(const FlatStorage& c, System& s, bool energy) {
     N->nonlocal_damage = c.nonlocal_damage;
     return;
   }
+  if (c.ordinary) flat_ordinary_write_back(*c.ordinary, s);
   s.model.min_stretch = c.min_stretch;
   if (c.vary_critical_stretch) s.model.critical_stretch = c.critical_stretch;  // s0 at the last step's time
   s.model.theta = c.theta;
