@@ -1,5 +1,5 @@
-// The portable kernels of microplastic, PALS and the linearised LPS (kernels/
-// microplastic.hpp, pals.hpp, linear_lps.hpp; issue 30): against closed forms, and bit for
+// The portable kernels of microplastic, PALS, the linearised LPS and the bond-pair model
+// (kernels/microplastic.hpp, pals.hpp, linear_lps.hpp, bond_pair.hpp; issue 30): against closed forms, and bit for
 // bit against the host forms they replaced (the models' loops as they were before the
 // kernels, copied here as the reference) on random rows.
 #include <gtest/gtest.h>
@@ -14,6 +14,7 @@
 #include "horizon/core/point4.hpp"
 #include "horizon/core/vec3.hpp"
 #include "horizon/family/bonds.hpp"
+#include "horizon/kernels/bond_pair.hpp"
 #include "horizon/kernels/linear_lps.hpp"
 #include "horizon/kernels/microplastic.hpp"
 #include "horizon/kernels/pals.hpp"
@@ -482,6 +483,125 @@ TEST(MicropalsKernels, LinearExtensionIsTheProjectedDisplacement) {
   // t = p omega |xi| + alpha omega e^d; W = k theta^2/2 + alpha/2 ||e^d||^2.
   EXPECT_DOUBLE_EQ(kernels::linear_lps_force_scalar(2.0, 0.5, 3.0, 4.0, 5.0), 13.0);
   EXPECT_DOUBLE_EQ(kernels::linear_lps_energy(2.0, 3.0, 4.0, 5.0), 19.0);
+}
+
+// --- bond pairs ---
+
+// BondPair::force_pass's per-pair and per-bond expressions (and bond_pair.hpp's helpers)
+// as they were before the kernels, over Vec3.
+struct OldElastic {
+  Vec3 Fj, Fjp;
+  double f;
+};
+OldElastic old_elastic_pair(const Vec3& Y, const Vec3& Yp, double coef, double c0, double s0) {
+  const double ia2 = 1 / dot(Y, Y), ib2 = 1 / dot(Yp, Yp), d = dot(Y, Yp);
+  const double r = std::sqrt(ia2 * ib2);
+  const Vec3 dY = (Yp - Y * (d * ia2)) * r, dYp = (Y - Yp * (d * ib2)) * r;
+  const double c = (1 + d * r) - 1;
+  double energy, dc;
+  if (s0 == 0) {
+    energy = 1 + c, dc = -c0;
+  } else {
+    const double s = std::max(std::sqrt(std::max(0.0, 1 - c * c)), 1e-9);
+    energy = 1 - c * c0 - s * s0, dc = -c0 + s0 * c / s;
+  }
+  return {dY * (-coef * dc), dYp * (-coef * dc), energy};
+}
+struct OldShell {
+  double n, t;  // the trial offset
+  Vec3 G;
+  double energy;
+};
+OldShell old_shell_pair(const Vec3& yj, const Vec3& yjp, const Vec3& yk, const Vec3& Xj, const Vec3& Xjp,
+                        const Vec3& Xk, double inv_length, double pn, double pt, double theta_yield, double coef,
+                        double& kink_n, double& kink_t) {
+  const Vec3 dv = (yj - Xj + (yjp - Xjp) - (yk - Xk) * 2.0) * inv_length;
+  const Vec3 e0 = (Xj - Xk) * inv_length;
+  const double dn = dv.z, dt = e0.x * dv.y - e0.y * dv.x;
+  kink_n = dn, kink_t = dt;
+  double tn = pn, tt = pt;
+  {
+    const double en = dn - pn, et = dt - pt, r = std::hypot(en, et);
+    if (r > theta_yield) {
+      const double f = (r - theta_yield) / r;
+      tn = pn + f * en, tt = pt + f * et;
+    }
+  }
+  const double en = dn - tn, et = dt - tt, r = std::hypot(en, et);
+  const double g = coef * (r > 0 ? std::sin(r) / r : 1.0) * inv_length;
+  return {tn, tt, Vec3{-e0.y * et * g, e0.x * et * g, en * g}, coef * (1 - std::cos(r))};
+}
+
+kernels::BpVec bpv(const Vec3& v) { return {v.x, v.y, v.z}; }
+bool same_vec(const Vec3& a, const kernels::BpVec& b) {
+  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
+}
+
+TEST(MicropalsKernels, BondPairKernelsKeepTheForcePasssBits) {
+  std::mt19937_64 g(34);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto near = [&](const Vec3& x, double h) { return Vec3{x.x + h * u(g), x.y + h * u(g), x.z + h * u(g)}; };
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double h = 1e-2 * (1 + u(g) * 0.5), inv = 1 / h, coef = 1e3 * (1 + u(g) * 0.5);
+    const Vec3 Xk{u(g), u(g), 0}, Xj = Xk + Vec3{h, 0.3 * h * u(g), 0}, Xjp = Xk - (Xj - Xk);
+    const double amp = trial % 3 == 0 ? 1e-3 * h : 0.05 * h;
+    const Vec3 yk = near(Xk, amp), yj = near(Xj, amp), yjp = near(Xjp, amp);
+    const Vec3 Y = yj - yk, Yp = yjp - yk;
+    // Elastic pairs, straight and with a reference angle.
+    const double theta0 = trial % 2 ? 0.0 : 0.3 * u(g);
+    const double c0 = trial % 2 ? -1.0 : -std::cos(theta0), s0 = trial % 2 ? 0.0 : std::sin(theta0);
+    const OldElastic want = old_elastic_pair(Y, Yp, coef, c0, s0);
+    const kernels::BpElasticPair got = kernels::bp_elastic_pair(bpv(Y), bpv(Yp), coef, c0, s0);
+    ASSERT_TRUE(same_vec(want.Fj, got.Fj) && same_vec(want.Fjp, got.Fjp) && same_bits(want.f, got.f)) << trial;
+    // Shell pairs with a plastic offset, yielding or not.
+    const double pn = 1e-3 * u(g), pt = 1e-3 * u(g), ty = trial % 4 ? 1e-3 : 1.0;
+    double kn, kt;
+    const OldShell ws = old_shell_pair(yj, yjp, yk, Xj, Xjp, Xk, inv, pn, pt, ty, coef, kn, kt);
+    const kernels::BpKink d = kernels::bp_shell_kink(bpv(yj), bpv(yjp), bpv(yk), bpv(Xj), bpv(Xjp), bpv(Xk), inv);
+    ASSERT_TRUE(same_bits(kn, d.n) && same_bits(kt, d.t));
+    const kernels::BpShellPair gs = kernels::bp_shell_pair(d, {pn, pt}, ty, coef, inv, bpv(Xj), bpv(Xk));
+    ASSERT_TRUE(same_bits(ws.n, gs.offset.n) && same_bits(ws.t, gs.offset.t));
+    ASSERT_TRUE(same_vec(ws.G, gs.G) && same_bits(ws.energy, gs.energy)) << trial;
+    // Signed (transverse) pairs.
+    const double sk_want = (yj.z + yjp.z - 2 * yk.z) / (1 / inv) - (Xj.z + Xjp.z - 2 * Xk.z) * inv;
+    const double sk = kernels::bp_transverse_kink(yj.z, yjp.z, yk.z, Xj.z, Xjp.z, Xk.z, inv);
+    ASSERT_TRUE(same_bits(sk_want, sk));
+    const double tp_old = 1e-3 * u(g);
+    double tp = tp_old;
+    if (std::abs(sk - tp_old) > ty) tp = tp_old + (sk - tp_old > 0 ? sk - tp_old - ty : sk - tp_old + ty);
+    const kernels::BpSignedPair sp = kernels::bp_signed_pair(sk, tp_old, ty, coef, inv);
+    ASSERT_TRUE(same_bits(tp, sp.offset));
+    ASSERT_TRUE(same_bits(coef * std::sin(sk - tp) * inv, sp.g));
+    ASSERT_TRUE(same_bits(coef * (1 - std::cos(sk - tp)), sp.energy));
+    // The isotropic-curvature term and the extension spring with the dilatation term.
+    const double Vj = h * h * (1 + 0.1 * u(g)), Vk = h * h, m0 = 0.7 + 0.1 * u(g);
+    ASSERT_TRUE(same_vec((Y + Yp) * (2 * inv * Vj * m0), kernels::bp_curvature_term(bpv(Y), bpv(Yp), inv, Vj, m0)));
+    const double length = std::sqrt(dot(Xj - Xk, Xj - Xk)), dil = 0.3 + 0.1 * u(g), dil_coef = trial % 2 ? 0.0 : 5.0;
+    const double th_k = 1e-3 * u(g), th_j = 1e-3 * u(g);
+    const double L = norm(Y), e = L - length;
+    double t = 2 * coef * e;
+    if (dil_coef != 0) t += dil_coef * (th_k * Vk * dil * Vj + th_j * Vj * dil * Vk);
+    ASSERT_TRUE(same_bits(e, kernels::bp_bond_extension(bpv(Y), length)));
+    ASSERT_TRUE(same_vec(Y * (t / L), kernels::bp_spring_force(bpv(Y), length, coef, dil_coef, dil, th_k, th_j, Vk, Vj)));
+    ASSERT_TRUE(same_bits(0.5 * coef * e * e, kernels::bp_spring_energy(coef, e)));
+  }
+}
+
+TEST(MicropalsKernels, BondPairStraightPairHasNoForceAndItsKinkCostsTheSpringEnergy) {
+  // A straight pair at rest: f = 1 + cos(pi) = 0, no force.
+  const kernels::BpElasticPair rest = kernels::bp_elastic_pair({1e-2, 0, 0}, {-1e-2, 0, 0}, 5.0, -1, 0);
+  EXPECT_EQ(rest.f, 0.0);
+  EXPECT_EQ(rest.Fj.x, 0.0);
+  EXPECT_EQ(rest.Fj.z, 0.0);
+  // Kinked by a small angle a: f = 1 - cos(a) ~ a^2/2; the force on j is normal to Y.
+  const double a = 1e-3;
+  const kernels::BpElasticPair k =
+      kernels::bp_elastic_pair({1e-2, 0, 0}, {-1e-2 * std::cos(a), 0, 1e-2 * std::sin(a)}, 5.0, -1, 0);
+  EXPECT_NEAR(k.f / (a * a / 2), 1.0, 1e-6);
+  EXPECT_NEAR(k.Fj.x, 0.0, 1e-15);
+  // A signed pair below yield is elastic (offset kept), above it the force is capped.
+  EXPECT_EQ(kernels::bp_signed_pair(1e-4, 0, 1e-3, 2.0, 10.0).offset, 0.0);
+  EXPECT_NEAR(kernels::bp_signed_pair(5e-3, 0, 1e-3, 2.0, 10.0).g / (2.0 * std::sin(1e-3) * 10.0), 1.0, 1e-12);
 }
 
 }  // namespace
