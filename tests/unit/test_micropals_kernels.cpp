@@ -584,6 +584,18 @@ TEST(MicropalsKernels, BondPairKernelsKeepTheForcePasssBits) {
     ASSERT_TRUE(same_bits(e, kernels::bp_bond_extension(bpv(Y), length)));
     ASSERT_TRUE(same_vec(Y * (t / L), kernels::bp_spring_force(bpv(Y), length, coef, dil_coef, dil, th_k, th_j, Vk, Vj)));
     ASSERT_TRUE(same_bits(0.5 * coef * e * e, kernels::bp_spring_energy(coef, e)));
+    // A node's force density: F / V, z only (transverse) or the energy weight in plane.
+    const Vec3 F = Y * (1e6 * u(g));
+    const double Vn = 1e-6 * (1 + 0.5 * u(g)), w = trial % 3 == 0 ? 0.5 : 1.0;
+    const bool transverse = trial % 2 == 0;
+    Vec3 f = F / Vn;
+    if (transverse) f = Vec3{0, 0, 1} * f.z;
+    else if (w != 1) f = Vec3{f.x * w, f.y * w, f.z};
+    ASSERT_TRUE(same_vec(f, kernels::bp_node_force(bpv(F), Vn, transverse, w)));
+    const double en = 1e3 * u(g);
+    double booked = en;
+    booked *= w / Vn;
+    ASSERT_TRUE(same_bits(booked, kernels::bp_node_energy(en, w, Vn)));
   }
 }
 

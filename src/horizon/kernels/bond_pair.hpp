@@ -219,4 +219,25 @@ HORIZON_HD inline BpVec bp_ghost_term(const BpVec& u, const BpVec& coeff, const 
   return bp_add(u, {coeff.x * um.x, coeff.y * um.y, coeff.z * um.z});
 }
 
+// --- Per node ---
+
+// A real node's force density from its summed force F (core/vec3.hpp's F / V: F times
+// 1/V): beams and plates move in z only (the force (0, 0, 1) f_z), and a shell's node on a
+// support line takes its energy weight w on its in-plane force (BondPair::force_pass).
+HORIZON_HD inline BpVec bp_node_force(const BpVec& F, double volume, bool transverse, double weight) {
+  const BpVec f = bp_scale(F, 1.0 / volume);
+  if (transverse) return {0.0 * f.z, 0.0 * f.z, 1.0 * f.z};
+  if (weight != 1) return {f.x * weight, f.y * weight, f.z};
+  return f;
+}
+// The node's booked energy density, its energies' sum e times w/V.
+HORIZON_HD inline double bp_node_energy(double e, double weight, double volume) { return e * (weight / volume); }
+// Damage: the fraction of failed pairs about the node (dissertation Fig. 5.16).
+HORIZON_HD inline double bp_damage(double failed, double pairs) { return pairs > 0 ? failed / pairs : 0.0; }
+// The node's stable step 2/sqrt(lambda_max), lambda_max <= bound/(rho section) (digest sec. 4.8).
+HORIZON_HD inline double bp_stable_step(double bound, double density, double section) {
+  const double mass = density * section;  // rho A or rho h
+  return 2 / root(bound / mass);
+}
+
 }  // namespace horizon::kernels

@@ -560,7 +560,6 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   auto add_energy = [&](uint32_t node, double e) {
     if (energy && node < n_real_) P.energy[node] += e;
   };
-  const Vec3 nz{0, 0, 1};
   uint64_t newly_failed = 0;
 
   // A pair that fails is counted by its keeper's owner alone (summed over ranks).
@@ -716,18 +715,15 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   // then -dE/du of the booked energy (without it the ledger of a shell pushed along a
   // support drifted). The held w keeps the whole force: it is the support's reaction.
   for (std::size_t i = 0; i < n_real_; ++i) {
-    Vec3 f = F_[i] / P.volume[i];
-    if (transverse_) f = nz * f.z;
-    else if (energy_weight_[i] != 1) f = Vec3{f.x * energy_weight_[i], f.y * energy_weight_[i], f.z};
-    P.f[i] = f;
-    if (energy) P.energy[i] *= energy_weight_[i] / P.volume[i];
+    P.f[i] = vec(kernels::bp_node_force(bp(F_[i]), P.volume[i], transverse_, energy_weight_[i]));
+    if (energy) P.energy[i] = kernels::bp_node_energy(P.energy[i], energy_weight_[i], P.volume[i]);
   }
   // Damage: the fraction of failed pairs about each node (dissertation Fig. 5.16).
   if (theta_fail_ > 0) {
     failed_at_.assign(n_real_, 0.0);
     for (std::size_t q = 0; q < pairs_.size(); ++q)
       if (failed_[q] && pairs_[q].k < n_real_) failed_at_[pairs_[q].k] += 1;
-    for (std::size_t i = 0; i < n_real_; ++i) P.damage[i] = pairs_at_[i] > 0 ? failed_at_[i] / pairs_at_[i] : 0.0;
+    for (std::size_t i = 0; i < n_real_; ++i) P.damage[i] = kernels::bp_damage(failed_at_[i], pairs_at_[i]);
   }
   (void)N;
   return newly_failed;
@@ -767,10 +763,7 @@ double BondPair::stable_time_step(const System& s) const {
   const auto& P = s.particles;
   double dt = std::numeric_limits<double>::infinity();
   const double bound = bending_bound_ + membrane_bound_ + iso_bound_;
-  for (std::size_t i = 0; i < n_real_; ++i) {
-    const double mass = P.density[i] * section_[i];  // rho A or rho h
-    dt = std::min(dt, 2 / std::sqrt(bound / mass));
-  }
+  for (std::size_t i = 0; i < n_real_; ++i) dt = std::min(dt, kernels::bp_stable_step(bound, P.density[i], section_[i]));
   return dt;
 }
 
