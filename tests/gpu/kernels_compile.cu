@@ -181,4 +181,16 @@ __global__ void bond_pair_springs(const BpVec* y, const uint32_t* k, const uint3
   energy[b] = bp_spring_energy(coef[b], e);
 }
 
+// The bond-pair model's nodes: force density, booked energy, damage and stable step.
+__global__ void bond_pair_nodes(const BpVec* F, const double* volume, const double* weight, const double* failed,
+                                const double* pairs, const double* density, const double* section, std::size_t n,
+                                bool transverse, double bound, BpVec* f, double* energy, double* damage, double* dt) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  f[i] = bp_node_force(F[i], volume[i], transverse, weight[i]);
+  energy[i] = bp_node_energy(energy[i], weight[i], volume[i]);
+  damage[i] = bp_damage(failed[i], pairs[i]);
+  dt[i] = bp_stable_step(bound, density[i], section[i]);
+}
+
 }  // namespace horizon::kernels
