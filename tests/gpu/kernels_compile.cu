@@ -176,8 +176,8 @@ __global__ void bond_pair_springs(const BpVec* y, const uint32_t* k, const uint3
   const std::size_t b = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
   if (b >= n) return;
   const BpVec Y = bp_sub(y[j[b]], y[k[b]]);
-  const double e = bp_bond_extension(Y, length[b]);
-  f[b] = bp_spring_force(Y, length[b], coef[b], dil_coef, dil[b], theta[k[b]], theta[j[b]], V[k[b]], V[j[b]]);
+  const double L = bp_bond_length(Y), e = L - length[b];
+  f[b] = bp_spring_force(Y, L, e, coef[b], dil_coef, dil[b], theta[k[b]], theta[j[b]], V[k[b]], V[j[b]]);
   energy[b] = bp_spring_energy(coef[b], e);
 }
 

@@ -582,7 +582,9 @@ TEST(MicropalsKernels, BondPairKernelsKeepTheForcePasssBits) {
     double t = 2 * coef * e;
     if (dil_coef != 0) t += dil_coef * (th_k * Vk * dil * Vj + th_j * Vj * dil * Vk);
     ASSERT_TRUE(same_bits(e, kernels::bp_bond_extension(bpv(Y), length)));
-    ASSERT_TRUE(same_vec(Y * (t / L), kernels::bp_spring_force(bpv(Y), length, coef, dil_coef, dil, th_k, th_j, Vk, Vj)));
+    ASSERT_TRUE(same_bits(L, kernels::bp_bond_length(bpv(Y))));
+    ASSERT_TRUE(same_vec(Y * (t / L), kernels::bp_spring_force(bpv(Y), kernels::bp_bond_length(bpv(Y)), e, coef,
+                                                               dil_coef, dil, th_k, th_j, Vk, Vj)));
     ASSERT_TRUE(same_bits(0.5 * coef * e * e, kernels::bp_spring_energy(coef, e)));
     // A node's force density: F / V, z only (transverse) or the energy weight in plane.
     const Vec3 F = Y * (1e6 * u(g));

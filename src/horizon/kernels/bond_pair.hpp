@@ -194,15 +194,16 @@ HORIZON_HD inline double bp_curvature_energy(double C, const BpVec& kbar, double
 
 // --- Extension springs (one unordered bond k-j) ---
 
-// |Y| - |xi| of the bond.
-HORIZON_HD inline double bp_bond_extension(const BpVec& Y, double length) { return root(bp_dot(Y, Y)) - length; }
+// |Y| of the bond, and |Y| - |xi|.
+HORIZON_HD inline double bp_bond_length(const BpVec& Y) { return root(bp_dot(Y, Y)); }
+HORIZON_HD inline double bp_bond_extension(const BpVec& Y, double length) { return bp_bond_length(Y) - length; }
 // The bond's term of an end's 2-D dilatation, (2 omega |xi| / m_b) V e of the other end's V.
 HORIZON_HD inline double bp_dilatation_term(double dil, double e, double V) { return dil * e * V; }
 // The force on k (j takes minus it), Y dE/d|Y| / |Y| with dE/d|Y| = 2 coef e, plus the
-// dilatation term dil_coef (theta_k V_k dil V_j + theta_j V_j dil V_k) when dil_coef != 0.
-HORIZON_HD inline BpVec bp_spring_force(const BpVec& Y, double length, double coef, double dil_coef, double dil,
+// dilatation term dil_coef (theta_k V_k dil V_j + theta_j V_j dil V_k) when dil_coef != 0
+// (L = |Y|, e = |Y| - |xi|).
+HORIZON_HD inline BpVec bp_spring_force(const BpVec& Y, double L, double e, double coef, double dil_coef, double dil,
                                         double theta_k, double theta_j, double Vk, double Vj) {
-  const double L = root(bp_dot(Y, Y)), e = L - length;
   double t = 2 * coef * e;
   if (dil_coef != 0) t += dil_coef * (theta_k * Vk * dil * Vj + theta_j * Vj * dil * Vk);
   return bp_scale(Y, t / L);

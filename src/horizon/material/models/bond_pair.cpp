@@ -668,10 +668,10 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
     for (std::size_t a = 0; a < bond_count; ++a) {
       const Bond& b = bond_at(a);
       const kernels::BpVec Y = bp(y_[b.j] - y_[b.k]);
-      const double e = kernels::bp_bond_extension(Y, b.length);
+      const double L = kernels::bp_bond_length(Y), e = L - b.length;
       // dE/d|Y| = 2 coef e (+ the dilatation term) along Y.
-      const Vec3 f = vec(kernels::bp_spring_force(Y, b.length, b.coef, dil_coef_, b.dil, theta_[b.k], theta_[b.j],
-                                                  V_[b.k], V_[b.j]));
+      const Vec3 f = vec(kernels::bp_spring_force(Y, L, e, b.coef, dil_coef_, b.dil, theta_[b.k], theta_[b.j], V_[b.k],
+                                                  V_[b.j]));
       F_[b.k] += f;
       F_[b.j] -= f;
       add_energy(b.k, kernels::bp_spring_energy(b.coef, e));
