@@ -18,7 +18,6 @@
 #include "horizon/kernels/linear_lps.hpp"
 #include "horizon/kernels/microplastic.hpp"
 #include "horizon/kernels/pals.hpp"
-#include "horizon/material/models/history_ledger.hpp"
 #include "kernel_bits.hpp"
 
 namespace horizon {
@@ -78,13 +77,44 @@ TEST(MicropalsKernels, MicroplasticBondIsElasticBelowYieldAndPerfectlyPlasticAbo
   EXPECT_EQ(kernels::microplastic_critical_stretch(0.5 * sy, sy), 0.5 * sy);
 }
 
-// Microplastic::force_row_scalar as it was before the kernel (its loop, the ledger's
-// opening through HistoryLedger::Row).
+// The ledger's arrays of one row and its opening of a bond, as HistoryLedger::Row::open_bond
+// had them (history_ledger.hpp), copied so that the reference does not move with it.
+struct LedgerArrays {
+  std::vector<double> extension_trial, pending_amount;
+  std::vector<uint8_t> booked_committed, booked_trial, pending_set;
+  LedgerArrays(std::mt19937_64& g, std::size_t n) : extension_trial(n), pending_amount(n), booked_trial(n) {
+    for (std::size_t k = 0; k < n; ++k) {
+      booked_committed.push_back(g() % 3 == 0 ? 1 : 0);
+      pending_set.push_back(g() % 5 == 0 ? 1 : 0);
+      pending_amount[k] = pending_set[k] ? 1e-3 * static_cast<double>(g() % 100) : 0.0;
+    }
+  }
+  bool open_bond(uint64_t k, uint8_t intact, double t_old, double length, double e, double volume,
+                 double& booked_sum) {
+    extension_trial[k] = e;
+    const uint8_t was = booked_committed[k];
+    booked_trial[k] = was;
+    if (!was && intact != 1) {  // bond_booked_now
+      if (!pending_set[k]) {
+        pending_amount[k] = length > 0 ? 0.5 * t_old * e * volume : 0.0;  // broken_bond_booking
+        pending_set[k] = 1;
+      }
+      booked_sum += pending_amount[k];
+      booked_trial[k] = 1;
+      return true;
+    }
+    if (pending_set[k]) pending_set[k] = 0;
+    return false;
+  }
+};
+
+// Microplastic::force_row_scalar as it was before the kernel (its loop; the ledger's
+// opening below).
 struct MicroOld {
   double W = 0, work = 0, booked = 0;
   bool inelastic = false;
 };
-MicroOld micro_old(const RandomRow& row, const HistoryLedger::Row& ledger, const double* r, double* q,
+MicroOld micro_old(const RandomRow& row, LedgerArrays& ledger, const double* r, double* q,
                    const double* sbar_old, double* sbar_trial, const double* old_force, const double* old_extension,
                    double* force_trial, double c_, double yield_) {
   const BondKind* kinds = row.kinds.data();
@@ -119,23 +149,6 @@ MicroOld micro_old(const RandomRow& row, const HistoryLedger::Row& ledger, const
   return {W, work, booked, inelastic};
 }
 
-// The ledger's arrays of one row (history_ledger.hpp HistoryLedger::Row).
-struct LedgerArrays {
-  std::vector<double> extension_trial, pending_amount;
-  std::vector<uint8_t> booked_committed, booked_trial, pending_set;
-  LedgerArrays(std::mt19937_64& g, std::size_t n) : extension_trial(n), pending_amount(n), booked_trial(n) {
-    for (std::size_t k = 0; k < n; ++k) {
-      booked_committed.push_back(g() % 3 == 0 ? 1 : 0);
-      pending_set.push_back(g() % 5 == 0 ? 1 : 0);
-      pending_amount[k] = pending_set[k] ? 1e-3 * static_cast<double>(g() % 100) : 0.0;
-    }
-  }
-  HistoryLedger::Row row() {
-    return {extension_trial.data(), booked_committed.data(), booked_trial.data(), pending_set.data(),
-            pending_amount.data()};
-  }
-};
-
 TEST(MicropalsKernels, MicroplasticRowKeepsTheHostRowsBits) {
   std::mt19937_64 g(30);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -155,17 +168,16 @@ TEST(MicropalsKernels, MicroplasticRowKeepsTheHostRowsBits) {
     }
     LedgerArrays la(g, n), lb = la;
     std::vector<double> sbar_a(n), sbar_b(n), force_a(n), force_b(n), q_a = q, q_b = q;
-    const MicroOld want = micro_old(row, la.row(), r.data(), q_a.data(), sbar_old.data(), sbar_a.data(),
+    const MicroOld want = micro_old(row, la, r.data(), q_a.data(), sbar_old.data(), sbar_a.data(),
                                     old_force.data(), old_extension.data(), force_a.data(), c, sy);
     kernels::MicroplasticRow<BondKind> a;
     a.kinds = row.kinds.data(), a.kind = row.kind.data(), a.intact = row.intact.data(), a.r = r.data();
     a.sbar_old = sbar_old.data(), a.sbar_trial = sbar_b.data();
     a.old_force = old_force.data(), a.old_extension = old_extension.data(), a.force_trial = force_b.data();
     a.c = c, a.yield = sy;
-    const HistoryLedger::Row ledger = lb.row();
     const kernels::MicroplasticSums got =
         kernels::microplastic_row(a, 0, n, [&](uint64_t k, double e, double vj, double& booked) {
-          return ledger.open_bond(k, row.intact[k], q_b[k], r[k], e, vj, booked);
+          return lb.open_bond(k, row.intact[k], q_b[k], r[k], e, vj, booked);
         });
     ASSERT_TRUE(same_bits(want.W, got.W));
     ASSERT_TRUE(same_bits(want.work, got.work));
