@@ -26,24 +26,19 @@ using correspondence::StressLaw;
 // heat.md): the multiplicative split F = F_e F_th with F_th = (1 + eps) on the body's axes
 // (Lu and Pister 1975, Int. J. Solids Struct. 11:927), the law's energy per intermediate
 // volume: W = J_th W_e(F_e), P = dW/dF = J_th P_e(F_e) F_th^-T, J_th = det F_th; sigma is
-// the law's. A free expansion F = F_th is stress-free for every law.
+// the law's. A free expansion F = F_th is stress-free for every law. The total-form laws
+// run it (and plane stress's iteration) in the device-portable kernels/plane_stress.hpp
+// law_point (correspondence::total_form_law).
 // The rate-form laws' arguments (dt, yield_factor, rate, Fdot) pass through unchanged.
 classical::LawResult evaluate_with_expansion(const LawSettings& law, const Mat3& F, double eps,
                                              const History& committed, History& trial, double& work, double dt = 0,
                                              double yield_factor = 1, Mat3* rate = nullptr,
                                              const Mat3* Fdot = nullptr) {
   // The rate form takes the thermal strain's increment out of its strain increment.
-  if (eps == 0 || correspondence::rate_form(law.law))
+  if (correspondence::rate_form(law.law))
     return correspondence::evaluate_law(law, F, committed, trial, work, dt, yield_factor, rate, Fdot, eps);
-  Mat3 inverse = Mat3::Identity();
-  for (int a = 0; a < law.dimension; ++a) inverse(a, a) = 1.0 / (1.0 + eps);
-  classical::LawResult r =
-      correspondence::evaluate_law(law, F * inverse, committed, trial, work, dt, yield_factor, rate, Fdot);
-  const double J = 1.0 / inverse.determinant();
-  r.P = J * r.P * inverse.transpose();
-  r.W *= J;
-  work *= J;  // per reference volume, as the ledger books it
-  return r;
+  work = 0;
+  return correspondence::total_form_law(law, correspondence::law_constants(law), F, eps, committed, trial, work);
 }
 
 const ModelTraits& traits() {
@@ -473,8 +468,9 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     if (!ok) return refuse_singular();
     W = hypo_row(s, l, Kinv, f, pass.dt, rec);
   } else {
-    // The other laws (Eigen, history, plane stress's iteration): host code between the
-    // kernels' K^-1 and F (NonlocalGradient::finish) and their record.
+    // 2-D plane stress: the law and its secant iteration in the portable law_point
+    // (kernels/plane_stress.hpp, through law_at), the plane-stress history (lambda3) kept
+    // in the host's History, between the kernels' K^-1 and F and their record.
     NonlocalGradient g;
     g.set_sums(sums, sums + 9);
     Mat3 Kinv, F;
