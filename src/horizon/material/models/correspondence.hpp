@@ -39,6 +39,7 @@
 
 #include "horizon/core/vec3.hpp"
 #include "horizon/deck/config.hpp"
+#include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/plane_stress.hpp"
 #include "horizon/material/classical/hypoelastic.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
@@ -170,6 +171,63 @@ inline classical::LawResult total_form_law(const LawSettings& s, const kernels::
   return out;
 }
 
+// The rate-form laws' constants and history as kernels/hypoelastic.hpp takes them.
+inline kernels::HypoConstants hypo_constants(const LawSettings& s) {
+  kernels::HypoConstants c;
+  c.lambda = s.elastic.lambda, c.mu = s.elastic.mu, c.kappa = s.elastic.kappa;
+  c.hardening = s.j2.hardening_modulus;
+  c.plastic_return = s.plastic_return == classical::PlasticReturn::peridigm    ? kernels::kReturnPeridigm
+                     : s.plastic_return == classical::PlasticReturn::needleman ? kernels::kReturnNeedleman
+                                                                               : kernels::kReturnWork;
+  c.rotation = s.rotation == classical::RotationUpdate::peridigm ? kernels::kRotationPeridigm : kernels::kRotationCayley;
+  c.N = s.needleman.N, c.m = s.needleman.m, c.rate0 = s.needleman.rate0, c.eps0 = s.needleman.eps0;
+  c.eps1 = s.needleman.eps1;
+  return c;
+}
+inline kernels::HypoHistory hypo_history(const classical::HypoState& h) {
+  kernels::HypoHistory k;
+  for (int c = 0; c < 9; ++c) {
+    const int a = c / 3, b = c % 3;
+    k.F[c] = h.F(a, b), k.V[c] = h.V(a, b), k.R[c] = h.R(a, b), k.sigma_u[c] = h.sigma_u(a, b);
+  }
+  k.alpha = h.alpha, k.thermal = h.thermal;
+  return k;
+}
+inline void set_hypo_state(classical::HypoState& h, const kernels::HypoHistory& k) {
+  for (int c = 0; c < 9; ++c) {
+    const int a = c / 3, b = c % 3;
+    h.F(a, b) = k.F[c], h.V(a, b) = k.V[c], h.R(a, b) = k.R[c], h.sigma_u(a, b) = k.sigma_u[c];
+  }
+  h.alpha = k.alpha, h.thermal = k.thermal;
+}
+
+// A rate-form law (hypoelastic, hypoelastic_j2, viscoplastic_needleman) over dt from the
+// committed history: the device-portable kernels/hypoelastic.hpp hypo_step (the same bits
+// as classical::hypoelastic_step, tests/unit/test_law_kernels.cpp) over row-major copies.
+inline classical::LawResult rate_form_law(const LawSettings& s, const Mat3& F, const History& committed,
+                                          History& trial, double& plastic_work, double dt, double yield_factor,
+                                          Mat3* rate, const Mat3* Fdot, double thermal) {
+  trial = committed;
+  const double yield = s.law != StressLaw::hypoelastic ? s.j2.yield_stress * yield_factor : 0.0;
+  double f[9], fd[9], d[9];
+  for (int k = 0; k < 9; ++k) f[k] = F(k / 3, k % 3), fd[k] = Fdot ? (*Fdot)(k / 3, k % 3) : 0.0;
+  kernels::HypoHistory t;
+  kernels::LawStress r;
+  kernels::hypo_step(hypo_constants(s), yield, hypo_history(committed.hypo), f, dt, Fdot ? fd : nullptr, thermal, t,
+                     plastic_work, r, d);
+  set_hypo_state(trial.hypo, t);
+  trial.plastic.alpha = t.alpha;
+  classical::LawResult out;
+  for (int k = 0; k < 9; ++k) {
+    const int a = k / 3, b = k % 3;
+    out.P(a, b) = r.P[k], out.sigma(a, b) = r.sigma[k];
+    if (rate) (*rate)(a, b) = d[k];
+  }
+  out.W = r.W;
+  out.ok = r.ok;
+  return out;
+}
+
 // The classical law at F (from NonlocalGradient::finish: F(2,2) = 1 in 2-D) from the
 // committed history; the trial history and the plastic work of the step come back.
 // The hypoelastic laws integrate over dt (the time since the committed state) with the
@@ -183,15 +241,7 @@ inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, co
                                          const Mat3* Fdot = nullptr, double thermal = 0) {
   trial = committed;
   plastic_work = 0;
-  if (rate_form(s.law)) {
-    const double yield = s.law != StressLaw::hypoelastic ? s.j2.yield_stress * yield_factor : 0.0;
-    const classical::HypoResult h = classical::hypoelastic_step(s.elastic, yield, s.j2.hardening_modulus,
-                                                                committed.hypo, F, dt, trial.hypo, plastic_work, Fdot,
-                                                                s.plastic_return, s.needleman, thermal, s.rotation);
-    if (rate) *rate = h.d;
-    trial.plastic.alpha = trial.hypo.alpha;
-    return h.law;
-  }
+  if (rate_form(s.law)) return rate_form_law(s, F, committed, trial, plastic_work, dt, yield_factor, rate, Fdot, thermal);
   return total_form_law(s, law_constants(s), F, 0.0, committed, trial, plastic_work);
 }
 
