@@ -11,7 +11,9 @@
 #include <cmath>
 #include <random>
 
+#include "horizon/kernels/force_state.hpp"
 #include "horizon/kernels/plane_stress.hpp"
+#include "horizon/material/models/correspondence.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
 #include "kernel_bits.hpp"
 
@@ -142,6 +144,48 @@ TEST(PlaneStressKernels, LawPointKeepsTheHostsBits) {
   EXPECT_GT(plastic, n / 20) << "the random steps are meant to yield at times";
   EXPECT_GT(iterated, n / 3) << "and to iterate the out-of-plane stretch";
   EXPECT_GT(refused, 0);
+}
+
+// The general pass's force state of a bond (kernels/force_state.hpp) against
+// correspondence.hpp's Eigen forms: bond_force_state, peridigm_hourglass (added to it as
+// force_state adds it), bond_stabilization_energy, von_mises.
+TEST(PlaneStressKernels, GeneralPassBondStateKeepsTheHostsBits) {
+  std::mt19937_64 g(32);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad = 0;
+  for (int t = 0; t < 20000; ++t) {
+    const Mat3 F = random_gradient(g, 0.1, t % 2 ? 3 : 2);
+    Mat3 A;
+    for (int c = 0; c < 9; ++c) A(c / 3, c % 3) = 1e17 * u(g);
+    if (t % 13 == 0) A.setZero();
+    const Vec3 xi{1e-3 * u(g), 1e-3 * u(g), t % 2 ? 1e-3 * u(g) : 0.0};
+    const Eigen::Vector3d Fx = F * correspondence::to_eigen(xi);
+    Vec3 Y{Fx[0] + 1e-5 * u(g), Fx[1] + 1e-5 * u(g), Fx[2] + (t % 2 ? 1e-5 * u(g) : 0.0)};
+    if (t % 17 == 0) Y = Vec3{};
+    const double G = t % 5 == 0 ? 0.0 : 1e20 * (1 + u(g)), omega = 1 + 0.5 * u(g), Cc = 1e17 * (1 + u(g));
+    const double wv = 1e-9 * (1.5 + u(g));
+    Vec3 T = correspondence::bond_force_state(A, F, G, omega, xi, Y);
+    const Vec3 T1 = T;
+    T += correspondence::peridigm_hourglass(F, Cc, omega, xi, Y);
+    const double E = correspondence::bond_stabilization_energy(F, G, wv, xi, Y);
+    double a[9], f[9], x[3] = {xi.x, xi.y, xi.z}, y[3] = {Y.x, Y.y, Y.z}, kt[3];
+    to_rows(A, a), to_rows(F, f);
+    kernels::correspondence_bond_state(a, f, G, omega, x, y, kt);
+    bad += (same_bits(T1.x, kt[0]) ? 0 : 1) + (same_bits(T1.y, kt[1]) ? 0 : 1) + (same_bits(T1.z, kt[2]) ? 0 : 1);
+    kernels::peridigm_hourglass_add(f, Cc, omega, x, y, kt);
+    bad += (same_bits(T.x, kt[0]) ? 0 : 1) + (same_bits(T.y, kt[1]) ? 0 : 1) + (same_bits(T.z, kt[2]) ? 0 : 1);
+    bad += same_bits(E, kernels::stabilization_energy(f, G, wv, x, y)) ? 0 : 1;
+    Mat3 sigma;
+    for (int c = 0; c < 9; ++c) sigma(c / 3, c % 3) = 1e8 * u(g);
+    double sg[9];
+    to_rows(sigma, sg);
+    bad += same_bits(correspondence::von_mises(sigma), kernels::von_mises(sg)) ? 0 : 1;
+    if (bad) {
+      ADD_FAILURE() << "case " << t;
+      break;
+    }
+  }
+  EXPECT_EQ(bad, 0);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/kernels/affine.hpp"
+#include "horizon/kernels/force_state.hpp"
 #include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/laws.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
@@ -243,15 +244,19 @@ class Correspondence final : public Model {
       const uint32_t i = particles_[l];
       const Bonds& B = s.bonds;
       const Vec3 dui = s.particles.u[i] - u_committed_[i];
-      Mat3 N = Mat3::Zero();
+      // F_dot in the portable kernels (kernels/hypoelastic.hpp rate_gradient_add and
+      // _finish: the bits of the Eigen sum N += w du (x) xi and N K^-1 / dt).
+      double N[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, ki[9], fd[9];
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
         if (!B.intact[k]) continue;
         const uint32_t j = B.nbr[k];
-        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui;
-        N += (B.weight[k] * B.volume[k]) * correspondence::to_eigen(du) *
-             correspondence::to_eigen(s.particles.X[j] - s.particles.X[i]).transpose();
+        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui, xv = s.particles.X[j] - s.particles.X[i];
+        const double dv[3] = {du.x, du.y, du.z}, x[3] = {xv.x, xv.y, xv.z};
+        kernels::rate_gradient_add(N, dv, x, B.weight[k] * B.volume[k]);
       }
-      Fdot = N * Kinv / dt;
+      for (int c = 0; c < 9; ++c) ki[c] = Kinv(c / 3, c % 3);
+      kernels::rate_gradient_finish(N, ki, dt, fd);
+      for (int c = 0; c < 9; ++c) Fdot(c / 3, c % 3) = fd[c];
     }
     const uint32_t i = particles_[l];
     const double eps = i < s.thermal_strain.size() ? s.thermal_strain[i] : 0.0;
@@ -369,24 +374,31 @@ void Correspondence::force_state(ForcePass& pass) {
     const uint32_t i = particles_[l];
     if (!s.computes_row(i)) continue;  // another rank's row (ModelTraits::rows_local)
     const Point4 yi = y[i];
-    auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
-    // K_i and F_i over the acting bonds (seed 003 eq. 17, 134).
-    NonlocalGradient g;
+    // K_i and F_i over the acting bonds (seed 003 eq. 17, 134) in the portable kernels
+    // (kernels/affine.hpp gradient_add and gradient_finish: NonlocalGradient's bits).
+    kernels::GradientSums sums;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!B.intact[k]) continue;
       const uint32_t j = B.nbr[k];
-      g.add(X[j] - X[i], deformed(j), B.weight[k] * B.volume[k]);
+      const Vec3 xv = X[j] - X[i];
+      const double xi[3] = {xv.x, xv.y, xv.z}, Y[3] = {y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z};
+      kernels::gradient_add(sums, xi, Y, B.weight[k] * B.volume[k]);
     }
-    Mat3 Kinv, F;
-    const bool ok = g.finish(dim, tolerance_, Kinv, F);
+    double kinv[9], f[9], a[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const bool ok = kernels::gradient_finish(sums.v, sums.v + 9, dim, tolerance_, kinv, f);
     singular_[l] = ok ? 0 : 1;
-    Mat3 A = Mat3::Zero();
     double W = 0;
     if (ok) {
+      Mat3 Kinv, F;
+      for (int c = 0; c < 9; ++c) Kinv(c / 3, c % 3) = kinv[c], F(c / 3, c % 3) = f[c];
+      // The law in the portable kernels (law_at: kernels/plane_stress.hpp law_point or
+      // kernels/hypoelastic.hpp hypo_step).
       const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
       if (Cc_ != 0) F_[l] = F;
       if (r.ok) {
-        A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
+        double p[9];
+        for (int c = 0; c < 9; ++c) p[c] = r.P(c / 3, c % 3);
+        kernels::mat3_mul(p, kinv, a);  // A = P K^-1: T = omega P K^-1 xi (seed 003 eq. 142)
         W = r.W;
       }
       von_mises_[l] = von_mises_of(l, r.sigma);
@@ -401,11 +413,15 @@ void Correspondence::force_state(ForcePass& pass) {
         continue;
       }
       const uint32_t j = B.nbr[k];
-      const Vec3 xi = X[j] - X[i], Y = deformed(j);
+      const Vec3 xv = X[j] - X[i];
+      const double xi[3] = {xv.x, xv.y, xv.z}, Y[3] = {y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z};
       const double omega = B.weight[k];
-      T[k] = correspondence::bond_force_state(A, F, G_, omega, xi, Y);
-      if (Cc_ != 0) T[k] += correspondence::peridigm_hourglass(F, Cc_, omega, xi, Y);
-      if (pass.energy && G_ != 0) W += correspondence::bond_stabilization_energy(F, G_, omega * B.volume[k], xi, Y);
+      // The bond's force state in the portable kernels (kernels/force_state.hpp).
+      double t[3];
+      kernels::correspondence_bond_state(a, f, G_, omega, xi, Y, t);
+      if (Cc_ != 0) kernels::peridigm_hourglass_add(f, Cc_, omega, xi, Y, t);
+      T[k] = {t[0], t[1], t[2]};
+      if (pass.energy && G_ != 0) W += kernels::stabilization_energy(f, G_, omega * B.volume[k], xi, Y);
     }
     if (pass.energy) pass.energy[i] = W;
   }
