@@ -52,6 +52,35 @@ HORIZON_HD inline double plane_stress_scale(const LawStress& r, double mu) {
   return m < floor ? floor : m;
 }
 
+// The law at F (row-major, written to): with `iterate` false once, at F as given; with it
+// true the plane-stress iteration below on F's in-plane block, F33 = F[8] the start.
+// One call site of the law for the whole iteration: on a device the J2 law (the SVD)
+// inlined once, not three times.
+HORIZON_HD inline void law_iterated(const LawConstants& c, const J2History& committed, double* F, bool iterate,
+                                    double& lambda3, J2History& trial, double& work, LawStress& r) {
+  constexpr double kTolerance = 1e-14;
+  constexpr int kSteps = 60;
+  double x = F[8], x_prev = 0, g_prev = 0;
+  for (int it = 0; it <= kSteps + 1; ++it) {
+    F[8] = x;
+    law_stress(c, committed, F, trial, work, r);
+    if (!iterate) return;
+    if (it == kSteps + 1) break;  // the law at the last iterate
+    const double g = r.sigma[8];
+    if (!r.ok || absolute(g) <= kTolerance * plane_stress_scale(r, c.mu) || (it > 0 && g == g_prev)) break;
+    double next;
+    if (it == 0) {  // the elastic estimate with modulus lambda + 2 mu
+      next = x - g / (c.lambda + 2.0 * c.mu);
+      if (!(next > 0)) next = 0.5 * x;
+    } else {  // a secant step
+      next = x - g * (x - x_prev) / (g - g_prev);
+      if (!(next > 0) || !finite(next)) next = 0.5 * x;
+    }
+    x_prev = x, g_prev = g, x = next;
+  }
+  lambda3 = x;
+}
+
 // Plane stress (classical/stress_laws.hpp plane_stress): F2's in-plane 2 x 2 block (its
 // other entries ignored) with F33 = lambda3 > 0 such that sigma33 = 0, by the secant
 // iteration started at `lambda3` (the committed value; 1 if it is not a positive finite
@@ -61,32 +90,8 @@ HORIZON_HD inline double plane_stress_scale(const LawStress& r, double mu) {
 HORIZON_HD inline void plane_stress_law(const LawConstants& c, const J2History& committed, const double* F2,
                                         double& lambda3, J2History& trial, double& work, LawStress& r) {
   double F[9] = {F2[0], F2[1], 0.0, F2[3], F2[4], 0.0, 0.0, 0.0, 0.0};
-  double x0 = lambda3 > 0 && finite(lambda3) ? lambda3 : 1.0;
-  F[8] = x0;
-  law_stress(c, committed, F, trial, work, r);
-  constexpr double kTolerance = 1e-14;
-  if (!r.ok || absolute(r.sigma[8]) <= kTolerance * plane_stress_scale(r, c.mu)) {
-    lambda3 = x0;
-    return;
-  }
-  double g0 = r.sigma[8];
-  double x1 = x0 - g0 / (c.lambda + 2.0 * c.mu);
-  if (!(x1 > 0)) x1 = 0.5 * x0;
-  for (int it = 0; it < 60; ++it) {
-    F[8] = x1;
-    law_stress(c, committed, F, trial, work, r);
-    const double g1 = r.sigma[8];
-    if (!r.ok || absolute(g1) <= kTolerance * plane_stress_scale(r, c.mu) || g1 == g0) {
-      lambda3 = x1;
-      return;
-    }
-    double x2 = x1 - g1 * (x1 - x0) / (g1 - g0);
-    if (!(x2 > 0) || !finite(x2)) x2 = 0.5 * x1;
-    x0 = x1, g0 = g1, x1 = x2;
-  }
-  F[8] = x1;
-  lambda3 = x1;
-  law_stress(c, committed, F, trial, work, r);
+  F[8] = lambda3 > 0 && finite(lambda3) ? lambda3 : 1.0;
+  law_iterated(c, committed, F, true, lambda3, trial, work, r);
 }
 
 // The law as the correspondence family evaluates it at a point (correspondence.hpp
@@ -100,17 +105,24 @@ HORIZON_HD inline void law_point(const LawConstants& c, int dimension, bool plan
                                  const J2History& committed, const double* F, double& lambda3, J2History& trial,
                                  double& work, LawStress& r) {
   double inverse[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  double Fe[9];
-  const double* Fl = F;
+  // The law's F in an array of its own in both cases (a pointer chosen at run time would
+  // put the arrays in a device thread's local memory).
+  double Fl[9];
   if (eps != 0) {
-    for (int a = 0; a < dimension; ++a) inverse[4 * a] = 1.0 / (1.0 + eps);
-    mat3_mul(F, inverse, Fe);
-    Fl = Fe;
+    // Constant indices (an index known at run time would put `inverse` in local memory).
+    const double shrink = 1.0 / (1.0 + eps);
+    inverse[0] = shrink;
+    if (dimension > 1) inverse[4] = shrink;
+    if (dimension > 2) inverse[8] = shrink;
+    mat3_mul(F, inverse, Fl);
+  } else {
+    for (int k = 0; k < 9; ++k) Fl[k] = F[k];
   }
-  if (plane_stress)
-    plane_stress_law(c, committed, Fl, lambda3, trial, work, r);
-  else
-    law_stress(c, committed, Fl, trial, work, r);
+  if (plane_stress) {
+    Fl[2] = 0.0, Fl[5] = 0.0, Fl[6] = 0.0, Fl[7] = 0.0;
+    Fl[8] = lambda3 > 0 && finite(lambda3) ? lambda3 : 1.0;
+  }
+  law_iterated(c, committed, Fl, plane_stress, lambda3, trial, work, r);
   if (eps == 0) return;
   const double J = 1.0 / mat3_det(inverse);
   double JP[9];
