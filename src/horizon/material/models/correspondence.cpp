@@ -160,7 +160,8 @@ class Correspondence final : public Model {
   bool hypo_ = false;     // a hypoelastic law: the Peridigm tensors are fields
   double tolerance_ = 0;  // shape_tolerance
   // The affine row runs the law in the device-portable kernel (kernels/laws.hpp law_row):
-  // linear_elastic, neo_hookean and j2, not in plane stress (whose iteration stays here).
+  // linear_elastic, neo_hookean and j2, not in plane stress (whose iteration, law_point of
+  // kernels/plane_stress.hpp, runs through law_at with the History's lambda3).
   bool portable_law_ = false;
   kernels::LawConstants constants_;  // the law of law_row
   kernels::HypoConstants hypo_constants_;  // the rate-form laws' (hypo_row)
