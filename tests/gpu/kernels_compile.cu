@@ -115,6 +115,19 @@ __global__ void law_point_points(const double* F, std::size_t n, LawConstants c,
   W[i] = r.W;
 }
 
+// Row i of the affine pass in 2-D plane stress (kernels/plane_stress.hpp law_point_row):
+// sums to record with J2's history and the out-of-plane stretch in and out.
+__global__ void law_point_rows(const double* sums, std::size_t n, double tolerance, LawConstants c, double G,
+                               const J2History* committed, const double* lambda3_n, J2History* trial,
+                               double* lambda3, double* work, double* rec, double* von_mises, double* energy) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  const AffineRow row = law_point_row(sums + 18 * i, 2, tolerance, c, true, G, committed[i], lambda3_n[i], trial[i],
+                                      lambda3[i], work[i], rec + kAffineRecord * i);
+  von_mises[i] = row.von_mises;
+  energy[i] = row.carries ? row.W : 0.0;
+}
+
 // The general pass's force state of one bond (kernels/force_state.hpp), one thread a bond:
 // the row's A and F (9 + 9 numbers per particle) read through the bond's row index.
 __global__ void general_bond_states(const double* A, const double* F, const uint32_t* row, const double* xi,

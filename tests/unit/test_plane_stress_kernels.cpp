@@ -14,6 +14,7 @@
 #include "horizon/kernels/force_state.hpp"
 #include "horizon/kernels/plane_stress.hpp"
 #include "horizon/material/models/correspondence.hpp"
+#include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
 #include "kernel_bits.hpp"
 
@@ -143,6 +144,83 @@ TEST(PlaneStressKernels, LawPointKeepsTheHostsBits) {
   EXPECT_EQ(bad, 0);
   EXPECT_GT(plastic, n / 20) << "the random steps are meant to yield at times";
   EXPECT_GT(iterated, n / 3) << "and to iterate the out-of-plane stretch";
+  EXPECT_GT(refused, 0);
+}
+
+// law_point_row (the affine row of 2-D plane stress) against correspondence.cpp's host
+// path as it was: NonlocalGradient's K^-1 and F from the sums, the law with plane
+// stress's iteration, von Mises of sigma, the record {P K^-1 - G F, G}.
+TEST(PlaneStressKernels, LawPointRowKeepsTheHostsBits) {
+  std::mt19937_64 g(33);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const classical::Elastic el = classical::elastic_from_bulk_shear(130e9, 43e9);
+  const classical::J2Params jp{300e6, 1e9};
+  int bad = 0, refused = 0;
+  for (int t = 0; t < 6000; ++t) {
+    const Law law = static_cast<Law>(t % 3);
+    // A 2-D family's sums: K = sum w xi (x) xi, N = sum w Y (x) xi, Y = F xi + noise.
+    const Mat3 F0 = random_gradient(g, t % 2 ? 0.01 : 0.2, 2);
+    Mat3 K = Mat3::Zero(), N = Mat3::Zero();
+    const int bonds = t % 97 == 0 ? 1 : 12;  // one bond: a refused shape tensor
+    for (int b = 0; b < bonds; ++b) {
+      const Eigen::Vector3d xi(1e-3 * u(g), 1e-3 * u(g), 0.0);
+      const Eigen::Vector3d Y = F0 * xi + Eigen::Vector3d(1e-6 * u(g), 1e-6 * u(g), 0.0);
+      const double w = 1e-9 * (1.5 + u(g));
+      K += w * xi * xi.transpose();
+      N += w * Y * xi.transpose();
+    }
+    double sums[18];
+    to_rows(K, sums);
+    to_rows(N, sums + 9);
+    History committed;
+    if (t % 2) {
+      committed.plastic.alpha = 0.01 * (1 + u(g));
+      committed.plastic.plastic_strain(0, 0) = 0.002 * u(g);
+      committed.plastic.plastic_strain(1, 1) = -committed.plastic.plastic_strain(0, 0);
+    }
+    committed.lambda3 = 1.0 + 0.01 * u(g);
+    const double G = t % 4 == 0 ? 0.0 : 1e20 * (1 + u(g));
+    // The host's path.
+    NonlocalGradient grad;
+    grad.set_sums(sums, sums + 9);
+    Mat3 Kinv, F;
+    const bool ok = grad.finish(2, 1e-4, Kinv, F);
+    History trial = committed;
+    double work = 0, vm = 0, W = 0, rec[10] = {}, f[9], ki[9];
+    if (ok) {
+      const classical::LawResult r = reference_law(law, el, jp, 2, true, F, committed, trial, work);
+      vm = correspondence::von_mises(r.sigma);
+      double p[9];
+      to_rows(r.P, p), to_rows(Kinv, ki), to_rows(F, f);
+      if (r.ok) W = r.W;
+      kernels::affine_record_of_stress(r.ok ? p : nullptr, ki, f, G, rec);
+    }
+    refused += ok ? 0 : 1;
+    // The kernel.
+    kernels::LawConstants c;
+    c.law = law == Law::j2 ? kernels::kJ2Law : law == Law::neo_hookean ? kernels::kNeoHookeanLaw
+                                                                        : kernels::kLinearElasticLaw;
+    c.lambda = el.lambda, c.mu = el.mu, c.kappa = el.kappa, c.yield_stress = jp.yield_stress;
+    c.hardening = jp.hardening_modulus;
+    kernels::J2History kc, kt;
+    to_rows(committed.plastic.plastic_strain, kc.plastic_strain);
+    kc.alpha = committed.plastic.alpha;
+    double l3 = 0, kwork = -1, krec[10];
+    const kernels::AffineRow row =
+        kernels::law_point_row(sums, 2, 1e-4, c, true, G, kc, committed.lambda3, kt, l3, kwork, krec);
+    ASSERT_EQ(ok, row.carries);
+    int b = 0;
+    for (int k = 0; k < 10; ++k) b += same_bits(rec[k], krec[k]) ? 0 : 1;
+    if (ok)
+      b += differing(F, row.F) + (same_bits(vm, row.von_mises) ? 0 : 1) + (same_bits(W, row.W) ? 0 : 1) +
+           (same_bits(work, kwork) ? 0 : 1) + (same_bits(trial.lambda3, l3) ? 0 : 1) +
+           differing(trial.plastic.plastic_strain, kt.plastic_strain) +
+           (same_bits(trial.plastic.alpha, kt.alpha) ? 0 : 1);
+    EXPECT_EQ(b, 0) << "case " << t;
+    bad += b;
+    if (bad > 20) break;
+  }
+  EXPECT_EQ(bad, 0);
   EXPECT_GT(refused, 0);
 }
 

@@ -132,4 +132,35 @@ HORIZON_HD inline void law_point(const LawConstants& c, int dimension, bool plan
   work *= J;
 }
 
+// Row i of the affine pass (kernels/affine.hpp) for a total-form law as law_point takes it
+// (2-D plane stress's iteration included; no thermal strain: the affine pass runs without
+// one): from its sums (K then N) to its record, as law_row (kernels/laws.hpp) — gradient_finish,
+// the law from the committed history and stretch lambda3_n, the von Mises stress of sigma,
+// the record {P K^-1 - G F, G} (A = 0 where the law refuses F). trial, lambda3 and work:
+// the evaluation's history, stretch and plastic work. A refused shape tensor: record 0,
+// trial = committed, lambda3 = lambda3_n, work 0.
+HORIZON_HD inline AffineRow law_point_row(const double* sums, int d, double tolerance, const LawConstants& c,
+                                          bool plane_stress, double G, const J2History& committed, double lambda3_n,
+                                          J2History& trial, double& lambda3, double& work, double* rec) {
+  trial = committed;
+  lambda3 = lambda3_n;
+  work = 0;
+  AffineRow out;
+  double Kinv[9];
+  out.carries = gradient_finish(sums, sums + 9, d, tolerance, Kinv, out.F);
+  if (!out.carries) {
+    affine_record(nullptr, nullptr, 0.0, rec);
+    return out;
+  }
+  LawStress r;
+  law_point(c, d, plane_stress, 0.0, committed, out.F, lambda3, trial, work, r);
+  out.von_mises = von_mises(r.sigma);
+  out.W = r.ok ? r.W : 0.0;
+  if (r.ok)  // two calls, not a pointer chosen at run time (law_row)
+    affine_record_of_stress(r.P, Kinv, out.F, G, rec);
+  else
+    affine_record(nullptr, out.F, G, rec);
+  return out;
+}
+
 }  // namespace horizon::kernels

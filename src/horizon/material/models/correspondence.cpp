@@ -485,22 +485,23 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     if (!ok) return refuse_singular();
     W = hypo_row(s, l, Kinv, f, pass.dt, rec);
   } else {
-    // 2-D plane stress: the law and its secant iteration in the portable law_point
-    // (kernels/plane_stress.hpp, through law_at), the plane-stress history (lambda3) kept
-    // in the host's History, between the kernels' K^-1 and F and their record.
-    NonlocalGradient g;
-    g.set_sums(sums, sums + 9);
-    Mat3 Kinv, F;
-    const bool ok = g.finish(law_.dimension, tolerance_, Kinv, F);
-    singular_[l] = ok ? 0 : 1;
-    if (!ok) return refuse_singular();
-    const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
-    von_mises_[l] = von_mises_of(l, r.sigma);
-    // Row-major copies for the flat record (Eigen stores by column).
-    double p[9], ki[9];
-    for (int c = 0; c < 9; ++c) p[c] = r.P(c / 3, c % 3), ki[c] = Kinv(c / 3, c % 3), f[c] = F(c / 3, c % 3);
-    if (r.ok) W = r.W;
-    kernels::affine_record_of_stress(r.ok ? p : nullptr, ki, f, G_, rec);  // T = omega P K^-1 xi (seed 003 eq. 142)
+    // 2-D plane stress (the total-form laws): the whole row in the device-portable kernel
+    // (kernels/plane_stress.hpp law_point_row: the law and its secant iteration), J2's
+    // history and the stretch lambda3 copied in and out as plain numbers.
+    const bool j2 = constants_.law == kernels::kJ2Law;
+    const kernels::J2History committed = j2 ? correspondence::j2_history(committed_[l].plastic) : kernels::J2History{};
+    kernels::J2History trial;
+    double l3 = 1;
+    const kernels::AffineRow row = kernels::law_point_row(sums, law_.dimension, tolerance_, constants_, true, G_,
+                                                          committed, committed_[l].lambda3, trial, l3, work_[l], rec);
+    singular_[l] = row.carries ? 0 : 1;
+    if (!row.carries) return refuse_singular();
+    trial_[l] = committed_[l];
+    trial_[l].lambda3 = l3;
+    if (j2) correspondence::set_j2_state(trial_[l].plastic, trial);
+    von_mises_[l] = row.von_mises;
+    W = row.W;
+    for (int c = 0; c < 9; ++c) f[c] = row.F[c];
   }
   if (!pass.energy) return;
   if (G_ != 0)
