@@ -256,6 +256,8 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
     da.F_pass = upload(a.F_pass, 9 * n, o);
     da.j2_committed = upload(a.j2_committed, a.j2_committed ? n : 0, o);
     da.j2_trial = upload(a.j2_trial, a.j2_trial ? n : 0, o);
+    da.lambda3_committed = upload(a.lambda3_committed, a.lambda3_committed ? n : 0, o);
+    da.lambda3_trial = upload(a.lambda3_trial, a.lambda3_trial ? n : 0, o);
     da.hypo_committed = upload(a.hypo_committed, a.hypo_committed ? n : 0, o);
     da.hypo_trial = upload(a.hypo_trial, a.hypo_trial ? n : 0, o);
     da.u_committed = upload(a.u_committed, a.u_committed ? 3 * n : 0, o);
@@ -408,6 +410,8 @@ void FlatRun::download(const FlatSystem& h) const {
     download_array(a.von_mises, da.von_mises, n);
     download_array(a.singular, da.singular, n);
     if (a.j2_committed) download_array(a.j2_committed, da.j2_committed, n), download_array(a.j2_trial, da.j2_trial, n);
+    if (a.lambda3_committed)
+      download_array(a.lambda3_committed, da.lambda3_committed, n), download_array(a.lambda3_trial, da.lambda3_trial, n);
     if (a.hypo_committed) {
       download_array(a.hypo_committed, da.hypo_committed, n);
       download_array(a.hypo_trial, da.hypo_trial, n);

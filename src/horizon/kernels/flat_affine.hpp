@@ -30,6 +30,7 @@
 #include "horizon/kernels/affine.hpp"
 #include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/laws.hpp"
+#include "horizon/kernels/plane_stress.hpp"
 
 namespace horizon::kernels {
 
@@ -42,7 +43,8 @@ struct FlatBondKind {
 
 // One correspondence material's constants (material/models/correspondence.cpp).
 struct FlatAffineLaw {
-  int dim = 3;           // the law's dimension (2: plane strain)
+  int dim = 3;           // the law's dimension (2: plane strain or stress)
+  bool plane_stress = false;  // 2-D plane stress: law_point_row's secant iteration (kernels/plane_stress.hpp)
   double tolerance = 0;  // shape_tolerance
   double G = 0;          // the stabilisation modulus
   bool rate = false;     // a rate-form law (hypo_step), else law_row's `law`
@@ -69,6 +71,8 @@ struct FlatAffine {
   double* F_pass = nullptr;                // 9n: F of this pass (the sum row's stabilisation energy)
   J2History* j2_committed = nullptr;       // n (law J2), else null
   J2History* j2_trial = nullptr;
+  double* lambda3_committed = nullptr;  // n: plane stress's out-of-plane stretch, or null
+  double* lambda3_trial = nullptr;
   // The rate-form laws: history, F_dot's u at the last commit, the flaw's factor on the
   // yield stress, and the output tensors of the last pass (K^-1, F, sigma, d; row-major).
   HypoHistory* hypo_committed = nullptr;  // n
@@ -124,8 +128,13 @@ HORIZON_HD inline double flat_affine_law(const Sys& s, uint64_t i, const double*
     J2History none{};
     const bool j2 = m.law.law == kJ2Law;  // (the J2 arrays exist when a material is J2)
     J2History trial;
-    const AffineRow row = law_row(sums, m.dim, m.tolerance, m.law, m.G, j2 ? a.j2_committed[i] : none, trial,
-                                  a.work[i], rec);
+    // 2-D plane stress: the row with the out-of-plane stretch's iteration (the host's
+    // Correspondence::affine_row calls law_point_row there, law_row elsewhere).
+    const AffineRow row = m.plane_stress ? law_point_row(sums, m.dim, m.tolerance, m.law, true, m.G,
+                                                         j2 ? a.j2_committed[i] : none, a.lambda3_committed[i],
+                                                         trial, a.lambda3_trial[i], a.work[i], rec)
+                                         : law_row(sums, m.dim, m.tolerance, m.law, m.G,
+                                                   j2 ? a.j2_committed[i] : none, trial, a.work[i], rec);
     if (j2) a.j2_trial[i] = trial;
     a.singular[i] = row.carries ? 0 : 1;
     a.von_mises[i] = row.von_mises;
@@ -221,6 +230,7 @@ template <class Sys>
 HORIZON_HD inline void flat_affine_commit_row(const Sys& s, uint64_t i) {
   const FlatAffine& a = s.affine;
   if (a.j2_committed) a.j2_committed[i] = a.j2_trial[i];
+  if (a.lambda3_committed) a.lambda3_committed[i] = a.lambda3_trial[i];
   if (a.hypo_committed) a.hypo_committed[i] = a.hypo_trial[i];
   if (a.u_committed)
     for (int c = 0; c < 3; ++c) a.u_committed[3 * i + c] = s.u[3 * i + c];

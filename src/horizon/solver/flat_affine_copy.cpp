@@ -64,8 +64,6 @@ std::string flat_affine_unsupported(const System& s) {
   for (const CorrespondenceState& c : models) {
     if (c.Cc != 0)
       return "correspondence with stabilization_form: peridigm (its hourglass force takes the general pass)";
-    if (!c.portable_law && !c.hypo)
-      return "correspondence in plane stress (the out-of-plane stretch's iteration is host code)";
     rows += c.particles->size();
   }
   if (rows != s.particles.size()) return "correspondence over some of the particles";
@@ -84,13 +82,14 @@ FlatAffineStorage flat_affine_copy(const System& s) {
   const std::size_t n = P.size();
   c.on = true;
   c.constants.contact = s.contact.acts_on_family();
-  bool any_j2 = false, any_hypo = false;
+  bool any_j2 = false, any_hypo = false, any_plane_stress = false;
   for (const CorrespondenceState& m : models) {
     kernels::FlatAffineLaw k;
     k.dim = m.law->dimension;
     k.tolerance = m.tolerance;
     k.G = m.G;
     k.rate = m.hypo;
+    k.plane_stress = !m.portable_law && !m.hypo;  // the total-form laws in 2-D plane stress
     k.law = *m.constants;
     k.hypo = *m.hypo_constants;
     // The rate form's yield stress (Correspondence::hypo_row): sigma_y times the flaw's
@@ -100,6 +99,7 @@ FlatAffineStorage flat_affine_copy(const System& s) {
     c.laws.push_back(k);
     any_j2 = any_j2 || (!m.hypo && m.constants->law == kernels::kJ2Law);
     any_hypo = any_hypo || m.hypo;
+    any_plane_stress = any_plane_stress || k.plane_stress;
   }
   c.material.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) c.material[i] = static_cast<uint32_t>(P.material[i]);
@@ -123,6 +123,7 @@ FlatAffineStorage flat_affine_copy(const System& s) {
   c.y_old.resize(n);
   c.work.assign(n, 0.0), c.von_mises.assign(n, 0.0), c.singular.assign(n, 0), c.F_pass.assign(9 * n, 0.0);
   if (any_j2) c.j2_committed.assign(n, kernels::J2History{}), c.j2_trial.assign(n, kernels::J2History{});
+  if (any_plane_stress) c.lambda3_committed.assign(n, 1.0), c.lambda3_trial.assign(n, 1.0);
   if (any_hypo) {
     c.hypo_committed.assign(n, kernels::HypoHistory{}), c.hypo_trial.assign(n, kernels::HypoHistory{});
     c.yield_factor.assign(n, 1.0);
@@ -140,6 +141,8 @@ FlatAffineStorage flat_affine_copy(const System& s) {
       const uint32_t i = (*m.particles)[l];
       c.work[i] = (*m.work)[l], c.von_mises[i] = (*m.von_mises)[l], c.singular[i] = (*m.singular)[l];
       if (j2) c.j2_committed[i] = j2_of((*m.committed)[l].plastic), c.j2_trial[i] = j2_of((*m.trial)[l].plastic);
+      if (!m.portable_law && !m.hypo)
+        c.lambda3_committed[i] = (*m.committed)[l].lambda3, c.lambda3_trial[i] = (*m.trial)[l].lambda3;
       if (m.hypo) {
         c.hypo_committed[i] = hypo_of((*m.committed)[l].hypo), c.hypo_trial[i] = hypo_of((*m.trial)[l].hypo);
         c.yield_factor[i] = (*m.yield_factor)[l];
@@ -159,6 +162,7 @@ kernels::FlatAffine FlatAffineStorage::view() {
   a.omega_volume = omega_volume.data(), a.record = record.data(), a.y_old = y_old.data();
   a.work = work.data(), a.von_mises = von_mises.data(), a.singular = singular.data(), a.F_pass = F_pass.data();
   a.j2_committed = or_null(j2_committed), a.j2_trial = or_null(j2_trial);
+  a.lambda3_committed = or_null(lambda3_committed), a.lambda3_trial = or_null(lambda3_trial);
   a.hypo_committed = or_null(hypo_committed), a.hypo_trial = or_null(hypo_trial);
   a.u_committed = or_null(u_committed), a.yield_factor = or_null(yield_factor);
   a.kinv = or_null(kinv), a.F = or_null(F), a.sigma = or_null(sigma), a.d = or_null(d);
@@ -177,6 +181,8 @@ void flat_affine_write_back(const FlatAffineStorage& c, System& s) {
       const uint32_t i = (*m.particles)[l];
       (*m.work)[l] = c.work[i], (*m.von_mises)[l] = c.von_mises[i], (*m.singular)[l] = c.singular[i];
       if (j2) j2_into(c.j2_committed[i], (*m.committed)[l].plastic), j2_into(c.j2_trial[i], (*m.trial)[l].plastic);
+      if (!m.portable_law && !m.hypo)
+        (*m.committed)[l].lambda3 = c.lambda3_committed[i], (*m.trial)[l].lambda3 = c.lambda3_trial[i];
       if (m.hypo) {
         hypo_into(c.hypo_committed[i], (*m.committed)[l]);
         hypo_into(c.hypo_trial[i], (*m.trial)[l]);

@@ -25,6 +25,7 @@ struct FlatAffineStorage {
   std::vector<Vec3> y_old;
   std::vector<uint8_t> singular;
   std::vector<kernels::J2History> j2_committed, j2_trial;
+  std::vector<double> lambda3_committed, lambda3_trial;  // plane stress
   std::vector<kernels::HypoHistory> hypo_committed, hypo_trial;
   kernels::FlatAffine view();
 };
