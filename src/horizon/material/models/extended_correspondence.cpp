@@ -404,63 +404,20 @@ class ExtendedCorrespondence final : public Model {
   //   T : dE' = (T - p I_d) : dE_log + p d(ln J),  p = (I_d : T)/d,
   // the first part through the central force (4.7), the second as the classical
   // correspondence force of p Fbar^-T (d ln J = Fbar^-T : dFbar): T_k += omega p Fbar^-T K^-1 xi.
-  struct LawPoint {
-    classical::StrainLawOut out;  // out.S: the stress conjugate to E (the deviatoric part with Fbar)
-    Mat3 law_stress = Mat3::Zero();  // the law's own stress (conjugate to its strain argument)
-    Mat3 pressure_map = Mat3::Zero();  // with Fbar: p Fbar^-T
-    bool ok = false;
-  };
-  // classical::strain_law in the portable kernel (kernels/strain_laws.hpp: the same bits),
-  // over row-major copies of the history.
-  classical::StrainLawOut law_point(const StrainLawState& committed, const double* e, double dt,
-                                    StrainLawState& trial) const {
-    classical::StrainLawOut out;
-    trial = committed;
-    if (committed.damage >= 1.0) {
-      out.failed = true;
-      return out;
-    }
-    double Ep[9];
-    for (int k = 0; k < 9; ++k) Ep[k] = committed.plastic_strain(k / 3, k % 3);
-    kernels::StrainLawPoint pt;
-    kernels::strain_law_point(klaw_, Ep, committed.alpha, committed.damage, e, dt, Ep, trial.alpha, trial.damage, pt);
-    for (int k = 0; k < 9; ++k) out.S(k / 3, k % 3) = pt.S[k], trial.plastic_strain(k / 3, k % 3) = Ep[k];
-    out.W = pt.W, out.plastic_work = pt.plastic_work, out.rate = pt.rate;
-    return out;
-  }
-  // The law step in the portable kernels (kernels/hencky.hpp: the Hencky map, Eigen's
-  // eigen-solver written out; kernels/strain_laws.hpp: the volumetric gradient's corrections
-  // and the strain laws; the host's Eigen forms' bits), over row-major copies.
-  LawPoint run_law(std::size_t l, const Mat3& E, const Mat3* Fbar, double dt, StrainLawState& trial) const {
-    LawPoint r;
-    double hN[9] = {}, hl[3] = {}, strain[9], F[9] = {}, T[9], S[9];
-    for (int k = 0; k < 9; ++k) strain[k] = E(k / 3, k % 3);
-    if (hencky_) {
-      double e[9];
-      for (int k = 0; k < 9; ++k) e[k] = strain[k];
-      kernels::hencky_of_green3(e, extended::kHenckyFloor, hN, hl, strain);
-    }
-    if (Fbar) {
-      for (int k = 0; k < 9; ++k) F[k] = (*Fbar)(k / 3, k % 3);
-      kernels::volumetric_gradient_strain(F, dim_, strain);
-    }
-    r.out = law_point(committed_[l], strain, dt, trial);
-    if (r.out.failed) return r;
-    r.ok = true;
-    r.law_stress = r.out.S;
-    for (int k = 0; k < 9; ++k) T[k] = r.out.S(k / 3, k % 3);
-    if (Fbar) {
-      double pm[9];
-      kernels::volumetric_pressure_split(F, dim_, T, pm);
-      for (int k = 0; k < 9; ++k) r.pressure_map(k / 3, k % 3) = pm[k];
-    }
-    if (hencky_) {
-      kernels::green_stress_of_hencky3(hN, hl, T, S);
-    } else {
-      for (int k = 0; k < 9; ++k) S[k] = T[k];
-    }
-    for (int k = 0; k < 9; ++k) r.out.S(k / 3, k % 3) = S[k];
-    return r;
+  // The law row in the portable kernel (kernels/extended_law.hpp extended_law_row: Fbar =
+  // N K^-1, the Hencky map, the volumetric gradient's corrections, the strain law, the
+  // pressure map P K^-1, a = dual(S) when `inv` (M^-1) is given, the von Mises stress; the
+  // host's former Eigen forms' bits), the history copied row-major in and out.
+  bool law_row(std::size_t l, const Vec6& E, const Mat3& N, const Mat3& Kinv, const double* inv, double dt,
+               StrainLawState& trial, kernels::ExtendedLawRow& out) const {
+    const StrainLawState& c = committed_[l];
+    kernels::ExtendedLawHistory hc, ht;
+    for (int k = 0; k < 9; ++k) hc.Ep[k] = c.plastic_strain(k / 3, k % 3);
+    hc.alpha = c.alpha, hc.damage = c.damage;
+    kernels::extended_law_row(kext_, inv, E.data(), N.data(), Kinv.data(), hc, dt, ht, out);
+    for (int k = 0; k < 9; ++k) trial.plastic_strain(k / 3, k % 3) = ht.Ep[k];
+    trial.alpha = ht.alpha, trial.damage = ht.damage;
+    return out.ok;
   }
 
   // Sweep 1's end, both forms: particle l's E over its acting bonds (and N = sum w Y (x) xi
@@ -482,9 +439,7 @@ class ExtendedCorrespondence final : public Model {
   // energy_with overwrote the strains of the old set's bonds, and the acting ones are
   // written again with the pair pass's pair_strain instead of the vector form's.
   struct RowLaw {
-    classical::StrainLawOut out;
-    Mat3 law_stress = Mat3::Zero();  // the law's stress (conjugate to its strain argument)
-    Mat3 PK = Mat3::Zero();          // p Fbar^-T K^-1 (volumetric_strain gradient)
+    kernels::ExtendedLawRow out{};  // S, the law's stress, PK = p Fbar^-T K^-1, a = dual(S), W, ...
     double before = 0;               // a changed set: energy + plastic work over the old set
     bool changed = false;            // the acting set of an active particle changed in this pass
   };
@@ -509,17 +464,7 @@ class ExtendedCorrespondence final : public Model {
     }
     ok = ok && e_fin_[l] != 0;
     if (ok) {
-      Mat3 Fbar = Mat3::Identity();  // volumetric_strain gradient: the classical nonlocal F
-      if (vol_gradient_) {
-        Fbar = n_sum_[l] * kinv_[l];
-        if (dim_ == 2) Fbar(2, 2) = 1.0;
-      }
-      const LawPoint lp =
-          run_law(l, extended::to_mat3(e_full_[l]), vol_gradient_ ? &Fbar : nullptr, pass.dt, trial_[l]);
-      ok = lp.ok;
-      r.out = lp.out;
-      r.law_stress = lp.law_stress;
-      r.PK = lp.pressure_map * kinv_[l];
+      ok = law_row(l, e_full_[l], n_sum_[l], kinv_[l], maps_[l].inverse(), pass.dt, trial_[l], r.out);
     } else {
       trial_[l] = committed_[l];
     }
@@ -541,9 +486,26 @@ class ExtendedCorrespondence final : public Model {
     if (r.changed) thinned_[l] += r.before - (W + work_[l]);
     // acted_ = acts_ over the row (a copy: the byte loop does not vectorise through the members).
     if (B.end(i) > B.begin(i)) std::memcpy(&acted_[B.begin(i)], &acts_[B.begin(i)], B.end(i) - B.begin(i));
-    const Mat3 dev = r.law_stress - (r.law_stress.trace() / 3.0) * Mat3::Identity();
-    von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+    von_mises_[l] = r.out.von_mises;
     if (pass.energy) pass.energy[i] = W;
+  }
+  // The volumetric gradient's bond terms (kernels/extended_law.hpp, Eigen's bits): N += w Y (x) xi,
+  // the force term w P xi of a column-major P (PK), and P v.
+  static void gradient_add(Mat3& N, double w, const Vec3& Y, const Vec3& xi) {
+    const double y[3] = {Y.x, Y.y, Y.z}, x[3] = {xi.x, xi.y, xi.z};
+    kernels::gradient_outer_add(N.data(), w, y, x);
+  }
+  static Vec3 pressure_term(const double* PK, double w, const Vec3& xi) {
+    const double x[3] = {xi.x, xi.y, xi.z};
+    double t[3];
+    kernels::pressure_bond_term(PK, w, x, t);
+    return {t[0], t[1], t[2]};
+  }
+  static Vec3 pressure_sum(const double* PK, const Vec3& v) {
+    const double x[3] = {v.x, v.y, v.z};
+    double t[3];
+    kernels::mat3c_vec(PK, x, t);
+    return {t[0], t[1], t[2]};
   }
   // 1/|xi|^2 of bond k from its kind's 1/|xi| (the same bits from either end).
   static double pair_inv2(const System& s, uint64_t k) {
@@ -571,15 +533,12 @@ class ExtendedCorrespondence final : public Model {
       const Vec3 xi = X[B.nbr[k]] - X[i], Y = deformed(B.nbr[k]);
       const double w = B.weight[k] * B.volume[k];
       eps_[k] = E.add_strain(xi, Y, w);
-      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+      if (vol_gradient_) gradient_add(N, w, Y, xi);
     }
     if (!E.finish(false)) return 0.0;
-    Mat3 Fbar = N * Kinv;
-    if (dim_ == 2) Fbar(2, 2) = 1.0;
     StrainLawState scratch;
-    const LawPoint lp = run_law(l, E.strain(), vol_gradient_ ? &Fbar : nullptr, pass.dt, scratch);
-    if (!lp.ok) return 0.0;
-    const classical::StrainLawOut& out = lp.out;
+    kernels::ExtendedLawRow out;
+    if (!law_row(l, E.strain_vector(), N, Kinv, nullptr, pass.dt, scratch, out)) return 0.0;
     if (ks_[l] == 0) return out.W + out.plastic_work;
     const Stabilisation st = stabilisation(B, X, i, l, E, acts, scratch.alpha, out.rate, false);
     return out.W + out.plastic_work + st.W + st.work;
@@ -617,17 +576,15 @@ class ExtendedCorrespondence final : public Model {
       const BondKind& bk = B.kinds[B.kind[k]];
       const double w = bk.weight * (bk.volume * bk.fraction);
       kernels::strain_sum_add(S.data(), w * eps, h);
-      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+      if (vol_gradient_) gradient_add(N, w, Y, xi);
     }
     const Vec6 E = old_maps_[l].solve(S);
     if (!E.allFinite()) return 0.0;
-    Mat3 Fbar = N * old_kinv_[l];
-    if (dim_ == 2) Fbar(2, 2) = 1.0;
     StrainLawState scratch;
-    const LawPoint lp = run_law(l, extended::to_mat3(E), vol_gradient_ ? &Fbar : nullptr, pass.dt, scratch);
-    if (!lp.ok) return 0.0;
+    kernels::ExtendedLawRow lp;
+    if (!law_row(l, E, N, old_kinv_[l], nullptr, pass.dt, scratch, lp)) return 0.0;
     const double ks = ks_[l];
-    if (ks == 0) return lp.out.W + lp.out.plastic_work;
+    if (ks == 0) return lp.W + lp.plastic_work;
     double Ws = 0;
     for (uint64_t k = begin; k < end; ++k) {
       if (!acted_[k]) continue;
@@ -649,7 +606,7 @@ class ExtendedCorrespondence final : public Model {
       const double w = bk.weight * (bk.volume * bk.fraction);
       Ws += coef * w * r * r;
     }
-    return lp.out.W + lp.out.plastic_work + Ws;
+    return lp.W + lp.plastic_work + Ws;
   }
 
   // The bond-level stabilisation of particle i (local index l) at the strain E (eps_ holds
@@ -720,7 +677,7 @@ class ExtendedCorrespondence final : public Model {
   }
 
   StrainLawParams law_;
-  kernels::StrainLawConstants klaw_;  // law_ for the portable kernel (run_law)
+  kernels::ExtendedLawConstants kext_;  // law_ and the measures for the portable law row (law_row)
   int dim_ = 3;
   double m_ = 0, critical_ = 0.99, tolerance_ = 1e-4, min_acting_ = 0;
   std::vector<double> family_weight_;  // per particle: sum of w V over its reference family
@@ -825,7 +782,7 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   law_.d4 = parameter(mat, "failure_d4");
   law_.damage_rate0 = parameter(mat, "failure_reference_rate");
   law_.damage = law_.law == StrainLaw::johnson_cook && (law_.d1 != 0 || law_.d2 != 0);
-  klaw_ = extended::strain_law_constants(law_);
+  kext_.law = extended::strain_law_constants(law_);
   if (law_.law != StrainLaw::elastic && !(law_.yield_stress > 0))
     throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
   if (law_.law == StrainLaw::johnson_cook && !(law_.B > 0))
@@ -884,6 +841,10 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   old_maps_.assign(n, extended::MomentMap{});
   old_kinv_.assign(n, Mat3::Zero());
   vol_gradient_ = choice(mat, "volumetric_strain") == "gradient";
+  kext_.dimension = dim_;
+  kext_.hencky = hencky_;
+  kext_.vol_gradient = vol_gradient_;
+  kext_.floor = extended::kHenckyFloor;
   adaptive_ = in.config.solver.adaptive_time_step;
   acting_.assign(n, UINT32_MAX);
   map_ok_.assign(n, 0);
@@ -1013,7 +974,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       const Vec3 xi = X[j] - X[i], Y = deformed(j);
       const double w = B.weight[k] * B.volume[k];
       eps_[k] = E.add_strain(xi, Y, w);
-      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+      if (vol_gradient_) gradient_add(N, w, Y, xi);
     }
     if (E.finish(false)) keep_strain(l, E.strain_vector(), N);
   }
@@ -1031,12 +992,11 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) T[k] = {};
       continue;
     }
-    const classical::StrainLawOut& out = law.out;
-    const Mat3& PK = law.PK;
+    const kernels::ExtendedLawRow& out = law.out;
     extended::NonlocalStrain E(dim_, m_);
     E.use(maps_[l]);
     E.set_strain(e_full_[l]);
-    const Vec6 a = E.dual(out.S);
+    const Vec6 a = Eigen::Map<const Vec6>(out.a);  // dual(S)
     Vec6 b = Vec6::Zero();
     double W = out.W;
     const double ks = ks_[l];
@@ -1056,10 +1016,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       const Vec3 xi = X[j] - X[i], Y = deformed(j);
       const double r = ks != 0 ? rforce_[k] : 0.0;
       T[k] = extended::bond_force_state(a, b, ks, B.weight[k], m_, dim_, xi, Y, r);
-      if (vol_gradient_) {
-        const Eigen::Vector3d t = B.weight[k] * (PK * Eigen::Vector3d(xi.x, xi.y, xi.z));
-        T[k] = T[k] + Vec3{t[0], t[1], t[2]};
-      }
+      if (vol_gradient_) T[k] = T[k] + pressure_term(out.PK, B.weight[k], xi);
     }
     row_end(pass, l, i, law, W);
   }
@@ -1137,8 +1094,7 @@ __attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_brea
         // (1/2) (T_old . Y/|Y|) e V_j with T_old the bond's force state of the last pass
         // (forces_general.cpp break_row), rebuilt from its scalar, PK_i and the positions.
         const Vec3 Yo = pair_y_[j] - pair_y_[i];
-        const Eigen::Vector3d t = bk.weight * (pk_old * Eigen::Vector3d(xi.x, xi.y, xi.z));
-        const Vec3 T_old = pair_q_[k] * Yo + Vec3{t[0], t[1], t[2]};
+        const Vec3 T_old = pair_q_[k] * Yo + pressure_term(pk_old.data(), bk.weight, xi);
         lost += 0.5 * dot(T_old, Y) / r * e * (bk.volume * bk.fraction);
       }
       M.intact_weight[i] -= kc.damage;
@@ -1155,7 +1111,7 @@ __attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_brea
     double h[6];
     kernels::unit_shape_state(n, dim_, h);
     kernels::strain_sum_add(S.data(), w * eps, h);
-    if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+    if (vol_gradient_) gradient_add(N, w, Y, xi);
   }
   if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
   if (row_broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
@@ -1183,8 +1139,7 @@ void ExtendedCorrespondence::book_break(const PairPass& c, std::size_t i, uint64
     const Point4 pi = c.y[i], pj = c.y[j];
     const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z}, xi = c.X[j] - c.X[i];
     const Vec3 Yo = pair_y_[j] - pair_y_[i];
-    const Eigen::Vector3d t = bk.weight * (pair_pk_[local_[i]] * Eigen::Vector3d(xi.x, xi.y, xi.z));
-    const Vec3 T_old = pair_q_[k] * Yo + Vec3{t[0], t[1], t[2]};
+    const Vec3 T_old = pair_q_[k] * Yo + pressure_term(pair_pk_[local_[i]].data(), bk.weight, xi);
     lost += 0.5 * dot(T_old, Y) / r * e * (bk.volume * bk.fraction);
   }
   s.model.intact_weight[i] -= c.kcs[B.kind[k]].damage;
@@ -1330,9 +1285,9 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
     ws_[l] = Ws;
   }
   const extended::MomentMap& map = maps_[l];
-  rec.A = map.dual(law.out.S);
+  rec.A = Eigen::Map<const Vec6>(law.out.a);  // dual(S)
   if (ks != 0) rec.A -= (2.0 * ks) * map.dual_weighted(Rp);
-  pair_pk_[l] = law.PK;
+  pair_pk_[l] = Eigen::Map<const Mat3>(law.out.PK);
   rec.ks = ks;
   rec.on = 1;
   if (c.lanes) lane_record(l);
@@ -1456,8 +1411,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
       if (c.keep_q) pair_q_[k] = pb.q;
       f += pb.scale * Y;
       if (vol_gradient_) {
-        const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
-        f += Vec3{t[0], t[1], t[2]};
+        f += pressure_term(pair_pk_[lj].data(), wv, xi);
         xw += wv * xi;  // omega V_j PK_i xi summed as PK_i (sum omega V_j xi), after the row
       }
     }
@@ -1468,10 +1422,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
       wc_sum += wc;
     }
   }
-  if (vol_gradient_) {
-    const Eigen::Vector3d t = pair_pk_[li] * Eigen::Vector3d(xw.x, xw.y, xw.z);
-    f += Vec3{t[0], t[1], t[2]};
-  }
+  if (vol_gradient_) f += pressure_sum(pair_pk_[li].data(), xw);
   P.f[i] = f;
   if (energy) P.energy[i] += wc_sum;
 }
@@ -1614,9 +1565,7 @@ __attribute__((always_inline)) inline bool ExtendedCorrespondence::pair_sum_lane
   }
   Vec3 fi{lanes_total(f[0]), lanes_total(f[1]), lanes_total(f[2])};
   if (vol_gradient_) {
-    const Eigen::Vector3d t =
-        pair_pk_[i] * Eigen::Vector3d(lanes_total(xw[0]), lanes_total(xw[1]), lanes_total(xw[2]));
-    fi += Vec3{t[0], t[1], t[2]};
+    fi += pressure_sum(pair_pk_[i].data(), Vec3{lanes_total(xw[0]), lanes_total(xw[1]), lanes_total(xw[2])});
   }
   s.particles.f[i] = fi;
   if (c.energy) s.particles.energy[i] += lanes_total(wc);

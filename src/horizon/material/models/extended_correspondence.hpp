@@ -49,6 +49,7 @@
 
 #include "horizon/core/vec3.hpp"
 #include "horizon/kernels/extended.hpp"
+#include "horizon/kernels/extended_law.hpp"
 #include "horizon/kernels/strain_laws.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/material/model.hpp"
@@ -137,29 +138,40 @@ inline double strain_gradient_factor(double c, double m, double xi2) {
 }
 
 // The moment map M_i of (*) and its factorisation: it depends on the reference bonds and
-// the acting set only, so a particle keeps it until its acting set changes.
+// the acting set only, so a particle keeps it until its acting set changes. The algebra is
+// the device-portable kernels of kernels/extended_law.hpp (Eigen's outer products, its
+// FullPivLU and the products with M^-1 written out in Eigen's order: the same bits,
+// tests/unit/test_extended_law_kernels.cpp) over the Eigen matrices' column-major storage.
 class MomentMap {
  public:
-  void reset(int dimension) {
-    M_.setZero();
-    if (dimension == 2) M_(2, 2) = M_(3, 3) = M_(4, 4) = 1.0;  // plane strain: E_33 = E_23 = E_13 = 0
-  }
+  void reset(int dimension) { kernels::moment_map_reset(M_.data(), dimension); }
   void add(const Vec3& xi, double w, int dimension) {
-    M_.noalias() += w * shape_state(xi, dimension) * normal_projector(xi).transpose();
+    const double x[3] = {xi.x, xi.y, xi.z};
+    kernels::moment_map_add(M_.data(), x, w, dimension);
   }
-  // False when M is singular.
-  bool finish() {
-    const Eigen::FullPivLU<Mat6> lu(M_);
-    if (!lu.isInvertible()) return false;
-    inverse_ = lu.inverse();
-    return inverse_.allFinite();
+  // False when M is singular (Eigen's FullPivLU rank test) or M^-1 is not finite.
+  bool finish() { return kernels::moment_map_inverse(M_.data(), inverse_.data()); }
+  Vec6 solve(const Vec6& b) const {
+    Vec6 e;
+    kernels::moment_solve(inverse_.data(), b.data(), e.data());
+    return e;
   }
-  Vec6 solve(const Vec6& b) const { return inverse_ * b; }
   // The vector a with t : Ht_j = a . h_j for a tensor t (a = M^-T W t).
-  Vec6 dual(const Mat3& t) const { return inverse_.transpose() * contraction_weights().cwiseProduct(to_vec6(t)); }
+  Vec6 dual(const Mat3& t) const {
+    double r[9];
+    for (int k = 0; k < 9; ++k) r[k] = t(k / 3, k % 3);
+    Vec6 a;
+    kernels::moment_dual(inverse_.data(), r, a.data());
+    return a;
+  }
   // dual of a tensor given as its weighted 6-vector w .* to_vec6(t) (a sum of normal
   // projectors p: the pair pass's stabilisation, R = sum c n (x) n, is sum c p so).
-  Vec6 dual_weighted(const Vec6& wt) const { return inverse_.transpose() * wt; }
+  Vec6 dual_weighted(const Vec6& wt) const {
+    Vec6 a;
+    kernels::moment_dual_weighted(inverse_.data(), wt.data(), a.data());
+    return a;
+  }
+  const double* inverse() const { return inverse_.data(); }
 
  private:
   Mat6 M_ = Mat6::Zero();
