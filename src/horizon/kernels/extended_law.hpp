@@ -31,6 +31,8 @@
 //   - M^-T v: each entry a dot product of a column of M^-1 with v, Eigen's two-lane reduction
 //     (kernels::dot6's order);
 //   - w (P xi) as Eigen rewrites a scalar times a product, (w P) xi, in mat3_vec's order.
+#include <cstdint>
+
 #include "horizon/core/portable.hpp"
 #include "horizon/kernels/affine.hpp"
 #include "horizon/kernels/extended.hpp"
@@ -199,6 +201,88 @@ HORIZON_HD inline void moment_dual(const double* inv, const double* t, double* a
   moment_dual_weighted(inv, v, a);
 }
 
+// One particle's moment map, shape-tensor guard and their factorisations over its acting
+// bonds (ExtendedCorrespondence::rebuild_map): bond(k, xi, w) gives bond k's reference
+// vector xi and weight w = omega V_j and says whether it acts. M^-1 into inv, K^-1
+// (column-major) into Kinv, sum w into acting_weight; false when the acting weight is
+// under min_weight, the shape tensor is refused (kernels/affine.hpp gradient_finish,
+// `tolerance`) or M is singular (moment_map_inverse), in that order: a later test is not
+// run, and inv and Kinv stay 0 where their test was not reached.
+template <class Bond>
+HORIZON_HD inline bool moment_map_row(uint64_t begin, uint64_t end, Bond bond, int dimension, double tolerance,
+                                      double min_weight, double* M, double* inv, double* Kinv,
+                                      double& acting_weight) {
+  moment_map_reset(M, dimension);
+  GradientSums g;
+  acting_weight = 0.0;
+  for (uint64_t k = begin; k < end; ++k) {
+    double xi[3], w;
+    if (!bond(k, xi, w)) continue;
+    moment_map_add(M, xi, w, dimension);
+    gradient_add(g, xi, xi, w);  // NonlocalGradient::add(xi, xi, w): K (and an unused N)
+    acting_weight += w;
+  }
+  for (int k = 0; k < 36; ++k) inv[k] = 0.0;
+  for (int k = 0; k < 9; ++k) Kinv[k] = 0.0;
+  if (!(acting_weight >= min_weight)) return false;
+  double ki[9], f[9];
+  const bool shape_ok = gradient_finish(g.v, g.v + 9, dimension, tolerance, ki, f);
+  for (int r = 0; r < 3; ++r)
+    for (int q = 0; q < 3; ++q) Kinv[3 * q + r] = ki[3 * r + q];
+  return shape_ok && moment_map_inverse(M, inv);
+}
+
+// ---- the pair form's stabilisation and record ----
+
+// One acting bond of a row as the stabilisation reads it: n = xi/|xi| (from the kind's
+// 1/|xi|), the bond strain eps, w = omega V_j, and (mid) the other end's E and k_s when it
+// sends its E for the midpoint residual.
+struct StabilisationBond {
+  double n[3];
+  double eps, w;
+  const double* Ej;
+  double ksj;
+  bool mid;
+};
+
+// The pair form's stabilisation sums of a row with k_s != 0 (ExtendedCorrespondence::
+// pair_law_row): each acting bond's residual r = eps - p . E (midpoint: p . (E + E_j)/2,
+// coef (k_s + k_s,j)/2, else k_s) into rforce[k], Rp = sum (w r coef/k_s) p and
+// Ws = sum coef w r^2. bond(k, b) fills b and says whether bond k acts.
+template <class Bond>
+HORIZON_HD inline void pair_stabilisation_row(uint64_t begin, uint64_t end, Bond bond, const double* E, double ks,
+                                              double* rforce, double* Rp, double& Ws) {
+  const double inv_ks = 1.0 / ks;
+  for (int q = 0; q < 6; ++q) Rp[q] = 0.0;
+  Ws = 0.0;
+  for (uint64_t k = begin; k < end; ++k) {
+    StabilisationBond b;
+    if (!bond(k, b)) continue;
+    double p[6];
+    unit_normal_projector(b.n, p);
+    double r, coef = ks;
+    if (b.mid) {
+      r = b.eps - dot6_mid(p, E, b.Ej);
+      coef = 0.5 * (ks + b.ksj);
+    } else {
+      r = b.eps - dot6(p, E);
+    }
+    rforce[k] = r;
+    const double wr = b.w * r, f = wr * (coef * inv_ks);
+    for (int q = 0; q < 6; ++q) Rp[q] += f * p[q];
+    Ws += coef * wr * r;
+  }
+}
+
+// The pair sum's record A = a - 2 k_s M^-T Rp (a = dual(S) of the law row).
+HORIZON_HD inline void pair_record(const double* a, double ks, const double* inv, const double* Rp, double* A) {
+  for (int q = 0; q < 6; ++q) A[q] = a[q];
+  if (ks == 0) return;
+  double d[6];
+  moment_dual_weighted(inv, Rp, d);
+  for (int q = 0; q < 6; ++q) A[q] -= (2.0 * ks) * d[q];
+}
+
 // ---- the volumetric gradient's bond terms ----
 
 // N += w Y (x) xi (column-major N; the classical nonlocal gradient's sum of the acting bonds).
@@ -308,6 +392,26 @@ HORIZON_HD inline void extended_law_row(const ExtendedLawConstants& c, const dou
   double dev[9];
   for (int k = 0; k < 9; ++k) dev[k] = out.law_stress[k] - t3 * (k % 4 == 0 ? 1.0 : 0.0);
   out.von_mises = root(1.5 * squares_sum9(dev));
+}
+
+// The pair form's whole law row of one particle (ExtendedCorrespondence::pair_law_row on
+// rows the lanes do not take): extended_law_row, then with k_s != 0 the stabilisation sums
+// (pair_stabilisation_row) and the record A (pair_record); W_s into Ws (0 without
+// stabilisation). False: the point has failed (nothing else is written).
+template <class Bond>
+HORIZON_HD inline bool extended_pair_law_row(const ExtendedLawConstants& c, const double* inv, const double* E,
+                                             const double* N, const double* Kinv,
+                                             const ExtendedLawHistory& committed, double dt, double ks,
+                                             uint64_t begin, uint64_t end, Bond bond, double* rforce,
+                                             ExtendedLawHistory& trial, ExtendedLawRow& out, double* A,
+                                             double& Ws) {
+  extended_law_row(c, inv, E, N, Kinv, committed, dt, trial, out);
+  Ws = 0.0;
+  if (!out.ok) return false;
+  double Rp[6] = {0, 0, 0, 0, 0, 0};
+  if (ks != 0) pair_stabilisation_row(begin, end, bond, E, ks, rforce, Rp, Ws);
+  pair_record(out.a, ks, inv, Rp, A);
+  return true;
 }
 
 }  // namespace horizon::kernels

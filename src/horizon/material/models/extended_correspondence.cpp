@@ -410,14 +410,21 @@ class ExtendedCorrespondence final : public Model {
   // host's former Eigen forms' bits), the history copied row-major in and out.
   bool law_row(std::size_t l, const Vec6& E, const Mat3& N, const Mat3& Kinv, const double* inv, double dt,
                StrainLawState& trial, kernels::ExtendedLawRow& out) const {
-    const StrainLawState& c = committed_[l];
-    kernels::ExtendedLawHistory hc, ht;
-    for (int k = 0; k < 9; ++k) hc.Ep[k] = c.plastic_strain(k / 3, k % 3);
-    hc.alpha = c.alpha, hc.damage = c.damage;
-    kernels::extended_law_row(kext_, inv, E.data(), N.data(), Kinv.data(), hc, dt, ht, out);
-    for (int k = 0; k < 9; ++k) trial.plastic_strain(k / 3, k % 3) = ht.Ep[k];
-    trial.alpha = ht.alpha, trial.damage = ht.damage;
+    kernels::ExtendedLawHistory ht;
+    kernels::extended_law_row(kext_, inv, E.data(), N.data(), Kinv.data(), history_in(l), dt, ht, out);
+    history_out(ht, trial);
     return out.ok;
+  }
+  kernels::ExtendedLawHistory history_in(std::size_t l) const {
+    const StrainLawState& c = committed_[l];
+    kernels::ExtendedLawHistory h;
+    for (int k = 0; k < 9; ++k) h.Ep[k] = c.plastic_strain(k / 3, k % 3);
+    h.alpha = c.alpha, h.damage = c.damage;
+    return h;
+  }
+  static void history_out(const kernels::ExtendedLawHistory& h, StrainLawState& trial) {
+    for (int k = 0; k < 9; ++k) trial.plastic_strain(k / 3, k % 3) = h.Ep[k];
+    trial.alpha = h.alpha, trial.damage = h.damage;
   }
 
   // Sweep 1's end, both forms: particle l's E over its acting bonds (and N = sum w Y (x) xi
@@ -444,6 +451,13 @@ class ExtendedCorrespondence final : public Model {
     bool changed = false;            // the acting set of an active particle changed in this pass
   };
   bool row_law(const ForcePass& pass, std::size_t l, uint32_t i, bool pair, RowLaw& r) {
+    return row_law(pass, l, i, pair, r, [&](kernels::ExtendedLawRow& out) {
+      return law_row(l, e_full_[l], n_sum_[l], kinv_[l], maps_[l].inverse(), pass.dt, trial_[l], out);
+    });
+  }
+  // The same with the law row computed by law(out) (the pair form: the whole row in one kernel).
+  template <class Law>
+  bool row_law(const ForcePass& pass, std::size_t l, uint32_t i, bool pair, RowLaw& r, Law law) {
     const System& s = pass.system;
     const Bonds& B = s.bonds;
     const std::vector<Vec3>& X = s.particles.X;
@@ -464,7 +478,7 @@ class ExtendedCorrespondence final : public Model {
     }
     ok = ok && e_fin_[l] != 0;
     if (ok) {
-      ok = law_row(l, e_full_[l], n_sum_[l], kinv_[l], maps_[l].inverse(), pass.dt, trial_[l], r.out);
+      ok = law(r.out);
     } else {
       trial_[l] = committed_[l];
     }
@@ -887,28 +901,25 @@ void ExtendedCorrespondence::rebuild_map(const Bonds& B, const std::vector<Vec3>
     old_maps_[l] = maps_[l];
     old_kinv_[l] = kinv_[l];
   }
-  NonlocalGradient K;  // the shape tensor, for the conditioning guard only
-  extended::MomentMap map;
-  map.reset(dim_);
-  double acting_weight = 0;
-  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-    if (!acts_[k]) continue;
-    const Vec3 xi = X[B.nbr[k]] - X[i];
-    const double w = B.weight[k] * B.volume[k];
-    map.add(xi, w, dim_);
-    K.add(xi, xi, w);
-    acting_weight += w;
-  }
+  // The map, K and their factorisations in one portable kernel (kernels/extended_law.hpp
+  // moment_map_row: MomentMap::add, NonlocalGradient::add and their finish, the same bits).
   // The moment map M = sum w H (x) n n of a family that omega_D has thinned to a
   // share s of its weight is ~ s M_full: E = M^-1 sum w eps H and the force of
   // (4.7) both scale as 1/s, so the particle's stiffness grows as 1/s while the
   // stable step was taken from the full family. min_acting_fraction bounds 1/s.
-  const bool enough = acting_weight >= min_acting_ * family_weight_[l];
+  auto bond = [&](uint64_t k, double* xi, double& w) {
+    if (!acts_[k]) return false;
+    const Vec3 d = X[B.nbr[k]] - X[i];
+    xi[0] = d.x, xi[1] = d.y, xi[2] = d.z;
+    w = B.weight[k] * B.volume[k];
+    return true;
+  };
+  double acting_weight = 0;
+  map_ok_[l] = kernels::moment_map_row(B.begin(i), B.end(i), bond, dim_, tolerance_, min_acting_ * family_weight_[l],
+                                       maps_[l].matrix_data(), maps_[l].inverse_data(), kinv_[l].data(), acting_weight)
+                   ? 1
+                   : 0;
   acting_share_[l] = family_weight_[l] > 0 ? acting_weight / family_weight_[l] : 0.0;
-  Mat3 Kinv, F;
-  map_ok_[l] = enough && K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
-  maps_[l] = map;
-  kinv_[l] = Kinv;
   acting_[l] = count;
 }
 
@@ -1243,8 +1254,48 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
   PairRecord& rec = pair_[l];
   rec.mid = midpoint_ && e_ok_[l];
   rec.E = rec.mid ? e_vec_[l] : e_full_[l];
+  // The law row: the law (kernels/extended_law.hpp extended_law_row), the stabilisation
+  // (stabilisation() without the cap, takes_pair_pass; n from the kind's 1/|xi|; R summed as
+  // its weighted 6-vector sum w r_force p, the dual's argument, instead of sum w r_force
+  // n (x) n) and the record A = dual(S) - 2 k_s dual_weighted(Rp): one portable kernel
+  // (extended_pair_law_row) bond by bond, or the law, the lanes' stabilisation sums and the
+  // record (pair_record).
+  const double ks = ks_[l];
+  const Vec6& Ei = e_full_[l];
+  const double* inv = maps_[l].inverse();
+  double Ws = 0;
+  auto whole_row = [&](kernels::ExtendedLawRow& out) {
+    auto bond = [&](uint64_t k, kernels::StabilisationBond& b) {
+      if (!acts_[k]) return false;
+      const uint32_t j = B.nbr[k];
+      const Vec3 nv = kcs[B.kind[k]].inv_length * (X[j] - X[i]);
+      b.n[0] = nv.x, b.n[1] = nv.y, b.n[2] = nv.z;
+      b.eps = eps_[k];
+      const BondKind& bk = kinds[B.kind[k]];
+      b.w = bk.weight * (bk.volume * bk.fraction);
+      const int32_t lj = midpoint_ ? local_[j] : -1;
+      b.mid = lj >= 0 && e_ok_[lj];
+      b.Ej = b.mid ? e_vec_[lj].data() : nullptr;
+      b.ksj = b.mid ? ks_[lj] : 0.0;
+      return true;
+    };
+    kernels::ExtendedLawHistory ht;
+    const bool ok = kernels::extended_pair_law_row(kext_, inv, Ei.data(), n_sum_[l].data(), kinv_[l].data(),
+                                                   history_in(l), pass.dt, ks, B.begin(i), B.end(i), bond,
+                                                   rforce_.data(), ht, out, rec.A.data(), Ws);
+    history_out(ht, trial_[l]);
+    return ok;
+  };
+  auto lane_row = [&](kernels::ExtendedLawRow& out) {
+    if (!law_row(l, Ei, n_sum_[l], kinv_[l], inv, pass.dt, trial_[l], out)) return false;
+    Vec6 Rp = Vec6::Zero();
+    if (ks != 0) pair_stabilisation_lanes(c, l, Ei, ks, Rp, Ws);
+    kernels::pair_record(out.a, ks, inv, Rp.data(), rec.A.data());
+    return true;
+  };
   RowLaw law;
-  if (!row_law(pass, l, i, true, law)) {
+  const bool on = c.lanes ? row_law(pass, l, i, true, law, lane_row) : row_law(pass, l, i, true, law, whole_row);
+  if (!on) {
     rec.on = 0;
     rec.A.setZero();
     rec.ks = 0;
@@ -1252,41 +1303,11 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
     if (c.lanes) lane_record(l);
     return;
   }
-  const Vec6 Ei = e_full_[l];
-  const double ks = ks_[l];
-  // stabilisation() without the cap (takes_pair_pass), n from the kind's 1/|xi|, and R
-  // summed as its weighted 6-vector sum w r_force p (the dual's argument) instead of
-  // sum w r_force n (x) n: six multiply-adds a bond instead of nine, no conversion.
-  Vec6 Rp = Vec6::Zero();
   double W = law.out.W;
   if (ks != 0) {
-    const double inv_ks = 1.0 / ks;
-    double Ws = 0;
-    if (c.lanes) pair_stabilisation_lanes(c, l, Ei, ks, Rp, Ws);
-    for (uint64_t k = c.lanes ? B.end(i) : B.begin(i); k < B.end(i); ++k) {
-      if (!acts_[k]) continue;
-      const uint32_t j = B.nbr[k];
-      const Vec6 p = extended::unit_normal_projector(kcs[B.kind[k]].inv_length * (X[j] - X[i]));
-      const int32_t lj = midpoint_ ? local_[j] : -1;
-      double r, coef = ks;
-      if (lj >= 0 && e_ok_[lj]) {
-        r = eps_[k] - p.dot(0.5 * (Ei + e_vec_[lj]));
-        coef = 0.5 * (ks + ks_[lj]);
-      } else {
-        r = eps_[k] - p.dot(Ei);
-      }
-      rforce_[k] = r;  // the pair sum's i side (kernels::pair_bond_kept)
-      const BondKind& bk = kinds[B.kind[k]];
-      const double w = bk.weight * (bk.volume * bk.fraction), wr = w * r;
-      Rp.noalias() += (wr * (coef * inv_ks)) * p;
-      Ws += coef * wr * r;
-    }
     W += Ws;
     ws_[l] = Ws;
   }
-  const extended::MomentMap& map = maps_[l];
-  rec.A = Eigen::Map<const Vec6>(law.out.a);  // dual(S)
-  if (ks != 0) rec.A -= (2.0 * ks) * map.dual_weighted(Rp);
   pair_pk_[l] = Eigen::Map<const Mat3>(law.out.PK);
   rec.ks = ks;
   rec.on = 1;

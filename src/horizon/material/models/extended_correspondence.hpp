@@ -172,6 +172,9 @@ class MomentMap {
     return a;
   }
   const double* inverse() const { return inverse_.data(); }
+  // The column-major storage of M and M^-1 (kernels/extended_law.hpp moment_map_row).
+  double* matrix_data() { return M_.data(); }
+  double* inverse_data() { return inverse_.data(); }
 
  private:
   Mat6 M_ = Mat6::Zero();
