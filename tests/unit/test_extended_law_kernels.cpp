@@ -15,6 +15,7 @@
 #include "horizon/kernels/hencky.hpp"
 #include "horizon/kernels/strain_laws.hpp"
 #include "horizon/material/models/extended_correspondence.hpp"
+#include "horizon/material/nonlocal_gradient.hpp"
 #include "kernel_bits.hpp"
 
 namespace horizon {
@@ -120,6 +121,125 @@ TEST(ExtendedLawKernels, MomentMapInverseSolveAndDualKeepEigensBits) {
   EXPECT_EQ(bad, 0);
   EXPECT_GT(singular, 500);  // the refusals ran
   EXPECT_GT(regular, 3000);
+}
+
+// rebuild_map's row as it was: MomentMap (Eigen) and NonlocalGradient over the acting bonds,
+// the acting-weight guard, K's guard, M's FullPivLU, against moment_map_row.
+TEST(ExtendedLawKernels, MomentMapRowKeepsTheHostsBits) {
+  std::mt19937_64 g(37);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad = 0, outcomes[2] = {0, 0};
+  for (int t = 0; t < 4000; ++t) {
+    const int dim = t % 3 == 0 ? 2 : 3, kind = t % 11 == 0 ? 2 : (t % 4 == 1 ? 1 : 0);
+    const std::vector<Vec3d> fam = random_family(g, kind, dim);
+    std::vector<double> w(fam.size());
+    std::vector<uint8_t> acts(fam.size());
+    for (std::size_t b = 0; b < fam.size(); ++b) w[b] = 1e-9 * (0.5 + std::abs(u(g))), acts[b] = u(g) > -0.6;
+    const double min_weight = t % 5 == 0 ? 1e-9 * 8 : 0.0, tolerance = 1e-4;
+    Mat6 M = Mat6::Zero();
+    if (dim == 2) M(2, 2) = M(3, 3) = M(4, 4) = 1.0;
+    NonlocalGradient K;
+    double acting = 0;
+    for (std::size_t b = 0; b < fam.size(); ++b) {
+      if (!acts[b]) continue;
+      M.noalias() += w[b] * eigen_shape_state(fam[b], dim) * eigen_normal_projector(fam[b]).transpose();
+      const Vec3 x{fam[b].x(), fam[b].y(), fam[b].z()};
+      K.add(x, x, w[b]);
+      acting += w[b];
+    }
+    Mat3 Kinv = Mat3::Zero(), F;
+    Mat6 inverse = Mat6::Zero();
+    bool ok = acting >= min_weight && K.finish(dim, tolerance, Kinv, F);
+    if (ok) {
+      const Eigen::FullPivLU<Mat6> lu(M);
+      ok = lu.isInvertible();
+      if (ok) {
+        inverse = lu.inverse();
+        ok = inverse.allFinite();
+      }
+    }
+    auto bond = [&](uint64_t k, double* xi, double& wk) {
+      if (!acts[k]) return false;
+      xi[0] = fam[k].x(), xi[1] = fam[k].y(), xi[2] = fam[k].z();
+      wk = w[k];
+      return true;
+    };
+    double Mk[36], inv[36], Ki[9], aw = -1;
+    const bool kok = kernels::moment_map_row(0, fam.size(), bond, dim, tolerance, min_weight, Mk, inv, Ki, aw);
+    ASSERT_EQ(ok, kok) << t;
+    outcomes[ok ? 1 : 0] += 1;
+    bad += differing(M.data(), Mk, 36) + differing(inverse.data(), inv, 36) + differing(&acting, &aw, 1);
+    if (acting >= min_weight) bad += differing(Kinv.data(), Ki, 9);
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(outcomes[0], 300);
+  EXPECT_GT(outcomes[1], 2000);
+}
+
+// pair_law_row's stabilisation loop and record as they were (Eigen 6-vectors), against
+// pair_stabilisation_row and pair_record.
+TEST(ExtendedLawKernels, PairStabilisationAndRecordKeepTheHostsBits) {
+  std::mt19937_64 g(41);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad = 0;
+  for (int t = 0; t < 4000; ++t) {
+    const int n = 10 + t % 30;
+    Vec6 Ei, a;
+    for (int q = 0; q < 6; ++q) Ei[q] = 0.01 * u(g), a[q] = 1e9 * u(g);
+    Mat6 inv;
+    for (int k = 0; k < 36; ++k) inv.data()[k] = (k % 7 == 0 ? 1.0 : 0.0) + 0.1 * u(g);
+    const double ks = t % 9 == 0 ? 0.0 : 1e10 * (0.5 + std::abs(u(g)));
+    std::vector<kernels::StabilisationBond> bonds(n);
+    std::vector<Vec6> Ej(n);
+    std::vector<uint8_t> acts(n);
+    for (int k = 0; k < n; ++k) {
+      const Vec3d x(u(g), u(g), u(g));
+      const Vec3d nv = x / x.norm();
+      kernels::StabilisationBond& b = bonds[k];
+      b.n[0] = nv.x(), b.n[1] = nv.y(), b.n[2] = nv.z();
+      b.eps = 0.01 * u(g), b.w = 1e-9 * std::abs(u(g));
+      for (int q = 0; q < 6; ++q) Ej[k][q] = 0.01 * u(g);
+      b.mid = t % 2 == 0 && u(g) > -0.5;
+      b.Ej = b.mid ? Ej[k].data() : nullptr;
+      b.ksj = b.mid ? 1e10 * std::abs(u(g)) : 0.0;
+      acts[k] = u(g) > -0.7;
+    }
+    // The host's loop.
+    std::vector<double> r_host(n, 0.0), r_k(n, 0.0);
+    Vec6 Rp = Vec6::Zero();
+    double Ws = 0;
+    Vec6 A = a;
+    if (ks != 0) {
+      const double inv_ks = 1.0 / ks;
+      for (int k = 0; k < n; ++k) {
+        if (!acts[k]) continue;
+        const kernels::StabilisationBond& b = bonds[k];
+        const Vec6 p = extended::unit_normal_projector(Vec3{b.n[0], b.n[1], b.n[2]});
+        double r, coef = ks;
+        if (b.mid) {
+          r = b.eps - p.dot(0.5 * (Ei + Ej[k]));
+          coef = 0.5 * (ks + b.ksj);
+        } else {
+          r = b.eps - p.dot(Ei);
+        }
+        r_host[k] = r;
+        const double wr = b.w * r;
+        Rp.noalias() += (wr * (coef * inv_ks)) * p;
+        Ws += coef * wr * r;
+      }
+      A -= (2.0 * ks) * (inv.transpose() * Rp);
+    }
+    auto bond = [&](uint64_t k, kernels::StabilisationBond& b) {
+      b = bonds[k];
+      return acts[k] != 0;
+    };
+    double Rk[6] = {0, 0, 0, 0, 0, 0}, Wk = 0, Ak[6];
+    if (ks != 0) kernels::pair_stabilisation_row(0, n, bond, Ei.data(), ks, r_k.data(), Rk, Wk);
+    kernels::pair_record(a.data(), ks, inv.data(), Rk, Ak);
+    bad += differing(Rp.data(), Rk, 6) + differing(&Ws, &Wk, 1) + differing(A.data(), Ak, 6);
+    bad += differing(r_host.data(), r_k.data(), n);
+  }
+  EXPECT_EQ(bad, 0);
 }
 
 TEST(ExtendedLawKernels, VolumetricGradientBondTermsKeepEigensBits) {
