@@ -213,13 +213,16 @@ HORIZON_HD inline bool moment_map_row(uint64_t begin, uint64_t end, Bond bond, i
                                       double min_weight, double* M, double* inv, double* Kinv,
                                       double& acting_weight) {
   moment_map_reset(M, dimension);
-  GradientSums g;
+  GradientSums g;  // K (N stays 0: only K's guard and inverse are asked for)
   acting_weight = 0.0;
   for (uint64_t k = begin; k < end; ++k) {
     double xi[3], w;
     if (!bond(k, xi, w)) continue;
     moment_map_add(M, xi, w, dimension);
-    gradient_add(g, xi, xi, w);  // NonlocalGradient::add(xi, xi, w): K (and an unused N)
+    for (int r = 0; r < 3; ++r) {  // K += w xi (x) xi, as gradient_add (NonlocalGradient::add) sums it
+      const double wa = w * xi[r];
+      for (int q = 0; q < 3; ++q) g.v[3 * r + q] += wa * xi[q];
+    }
     acting_weight += w;
   }
   for (int k = 0; k < 36; ++k) inv[k] = 0.0;
