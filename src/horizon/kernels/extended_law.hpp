@@ -82,17 +82,18 @@ HORIZON_HD inline void moment_map_add(double* M, const double* xi, double w, int
 }
 
 // Eigen's FullPivLU of a column-major 6 x 6 in place: row[k], col[k] the row and column
-// swapped into k; the number of nonzero pivots and the largest |pivot| come back.
+// swapped into k; the number of nonzero pivots and the largest |pivot| come back. |x| is
+// tupek.hpp's magnitude (fabs: -0 scores as 0, which compares as absolute()'s -0 would).
 HORIZON_HD inline void full_piv_lu6(double* lu, int* row, int* col, int& nonzero, double& max_pivot) {
   nonzero = 6;
   max_pivot = 0.0;
   for (int k = 0; k < 6; ++k) {
     // The first largest |entry| of the corner, column by column (Eigen's max_coeff_visitor).
     int pr = k, pc = k;
-    double big = absolute(lu[6 * k + k]);
+    double big = magnitude(lu[6 * k + k]);
     for (int c = k; c < 6; ++c)
       for (int r = (c == k ? k + 1 : k); r < 6; ++r) {
-        const double v = absolute(lu[6 * c + r]);
+        const double v = magnitude(lu[6 * c + r]);
         if (v > big) big = v, pr = r, pc = c;
       }
     if (big == 0.0) {
@@ -156,7 +157,7 @@ HORIZON_HD inline bool moment_map_inverse(const double* M, double* inv) {
   full_piv_lu6(lu, row, col, nonzero, max_pivot);
   const double threshold = max_pivot * (2.220446049250313e-16 * 6.0);
   int rank = 0;
-  for (int k = 0; k < nonzero; ++k) rank += absolute(lu[6 * k + k]) > threshold ? 1 : 0;
+  for (int k = 0; k < nonzero; ++k) rank += magnitude(lu[6 * k + k]) > threshold ? 1 : 0;
   if (rank != 6) return false;
   // P and Q as Eigen accumulates the transpositions (P: last to first, Q: first to last).
   int p[6], q[6];
@@ -212,20 +213,21 @@ template <class Bond>
 HORIZON_HD inline bool moment_map_row(uint64_t begin, uint64_t end, Bond bond, int dimension, double tolerance,
                                       double min_weight, double* M, double* inv, double* Kinv,
                                       double& acting_weight) {
-  moment_map_reset(M, dimension);
+  double Ml[36];  // summed here, in the function's own storage (M may alias what bond() reads)
+  moment_map_reset(Ml, dimension);
   GradientSums g;  // K (N stays 0: only K's guard and inverse are asked for)
   acting_weight = 0.0;
   for (uint64_t k = begin; k < end; ++k) {
     double xi[3], w;
     if (!bond(k, xi, w)) continue;
-    moment_map_add(M, xi, w, dimension);
+    moment_map_add(Ml, xi, w, dimension);
     for (int r = 0; r < 3; ++r) {  // K += w xi (x) xi, as gradient_add (NonlocalGradient::add) sums it
       const double wa = w * xi[r];
       for (int q = 0; q < 3; ++q) g.v[3 * r + q] += wa * xi[q];
     }
     acting_weight += w;
   }
-  for (int k = 0; k < 36; ++k) inv[k] = 0.0;
+  for (int k = 0; k < 36; ++k) M[k] = Ml[k], inv[k] = 0.0;
   for (int k = 0; k < 9; ++k) Kinv[k] = 0.0;
   if (!(acting_weight >= min_weight)) return false;
   double ki[9], f[9];
