@@ -71,14 +71,40 @@ HORIZON_HD inline void moment_map_reset(double* M, int dimension) {
   if (dimension == 2) M[6 * 2 + 2] = M[6 * 3 + 3] = M[6 * 4 + 4] = 1.0;
 }
 
-// M += w H<xi> (x) p(xi) (column-major M).
+// M += w H<xi> (x) p(xi) (column-major M): shape_state_of and normal_projector_of's
+// numerators each divided by |xi|^2, then M_ab += (w h_a) p_b. On the host the twelve
+// divisions and the 36 products go in pairs of lanes (GCC vectors of two doubles, as
+// Eigen's SSE2 packets took the outer product): the same IEEE operations per entry.
 HORIZON_HD inline void moment_map_add(double* M, const double* xi, double w, int dimension) {
-  double h[6], p[6];
-  shape_state_of(xi, dimension, h);
-  normal_projector_of(xi, p);
-  for (int a = 0; a < 6; ++a) h[a] = w * h[a];
+  const double L2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+  const double a = dimension == 3 ? 2.5 : 2.0;
+  double q[12] = {a * xi[0] * xi[0], a * xi[1] * xi[1], a * xi[2] * xi[2], a * xi[1] * xi[2],
+                  a * xi[0] * xi[2], a * xi[0] * xi[1], xi[0] * xi[0],     xi[1] * xi[1],
+                  xi[2] * xi[2],     2 * xi[1] * xi[2], 2 * xi[0] * xi[2], 2 * xi[0] * xi[1]};
+#if defined(__CUDA_ARCH__) || !defined(__GNUC__) || defined(HORIZON_KERNELS_SCALAR)  // (scalar: the device, or a test)
+  for (int k = 0; k < 12; ++k) q[k] = q[k] / L2;
+  const double h[6] = {w * (q[0] - 0.5), w * (q[1] - 0.5), w * (dimension == 3 ? q[2] - 0.5 : 0.0),
+                       w * q[3],         w * q[4],         w * q[5]};
   for (int b = 0; b < 6; ++b)
-    for (int a = 0; a < 6; ++a) M[6 * b + a] += h[a] * p[b];
+    for (int r = 0; r < 6; ++r) M[6 * b + r] += h[r] * q[6 + b];
+#else
+  typedef double pair __attribute__((vector_size(16)));
+  pair v[6];
+  __builtin_memcpy(v, q, sizeof v);
+  for (int k = 0; k < 6; ++k) v[k] = v[k] / L2;
+  __builtin_memcpy(q, v, sizeof v);
+  const double h[6] = {w * (q[0] - 0.5), w * (q[1] - 0.5), w * (dimension == 3 ? q[2] - 0.5 : 0.0),
+                       w * q[3],         w * q[4],         w * q[5]};
+  pair hw[3];
+  __builtin_memcpy(hw, h, sizeof hw);
+  for (int b = 0; b < 6; ++b)
+    for (int r = 0; r < 3; ++r) {
+      pair m;
+      __builtin_memcpy(&m, M + 6 * b + 2 * r, sizeof m);
+      m += hw[r] * q[6 + b];
+      __builtin_memcpy(M + 6 * b + 2 * r, &m, sizeof m);
+    }
+#endif
 }
 
 // Eigen's FullPivLU of a column-major 6 x 6 in place: row[k], col[k] the row and column
