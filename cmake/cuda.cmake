@@ -13,7 +13,8 @@ find_package(CUDAToolkit REQUIRED)
 set(CMAKE_CUDA_STANDARD 17)
 set(CMAKE_CUDA_STANDARD_REQUIRED ON)
 
-add_library(horizon_cuda STATIC ${PROJECT_SOURCE_DIR}/src/horizon/cuda/cuda_backend.cu)
+add_library(horizon_cuda STATIC ${PROJECT_SOURCE_DIR}/src/horizon/cuda/cuda_backend.cu
+                                ${PROJECT_SOURCE_DIR}/src/horizon/cuda/cuda_ordinary.cu)
 # Not the directory's host options (-Wall ...: nvcc takes them through -Xcompiler).
 set_property(TARGET horizon_cuda PROPERTY COMPILE_OPTIONS "")
 # No fused multiply-add contraction: the device computes each row with the host's

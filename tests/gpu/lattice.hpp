@@ -31,6 +31,13 @@ struct Lattice {
   std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
   std::vector<uint8_t> compression_only;
   bool tupek = false;
+  // elastic_plastic or viscoelastic (make_ordinary_lattice; ord.model 0 otherwise): the
+  // arrays kernels::FlatOrdinary points to (view() points ord into them).
+  kernels::FlatOrdinary ord;
+  std::vector<double> o_omega, o_vj, o_r, o_r_old, o_q, o_pending_amount, o_stored, o_theta, o_ep, o_eps_p, o_lambda,
+      o_shear_factor, o_dissipated, o_back[kernels::kFlatBranches];
+  std::vector<uint64_t> o_rev;
+  std::vector<uint8_t> o_booked, o_pending_set, o_flowed, o_yielded;
   uint64_t n = 0;
   bool lps = false;
   double dt = 0;
@@ -56,6 +63,16 @@ struct Lattice {
       s.mu_bar = mu_bar.data(), s.beta = beta.data(), s.compression_only = compression_only.data();
       s.failure_scale = failure_scale.data(), s.nonlocal_damage = nonlocal_damage.data();
       s.contact_stiffness = contact_stiffness.data();
+    }
+    if (ord.model) {
+      auto p = [](auto& a) { return a.empty() ? nullptr : a.data(); };
+      ord.omega = p(o_omega), ord.vj = p(o_vj), ord.r = p(o_r), ord.r_old = p(o_r_old), ord.q = p(o_q);
+      ord.rev = p(o_rev), ord.booked = p(o_booked), ord.pending_set = p(o_pending_set);
+      ord.pending_amount = p(o_pending_amount), ord.stored = p(o_stored), ord.theta = p(o_theta), ord.ep = p(o_ep);
+      ord.eps_p = p(o_eps_p), ord.lambda = p(o_lambda), ord.shear_factor = p(o_shear_factor);
+      ord.flowed = p(o_flowed), ord.yielded = p(o_yielded), ord.dissipated_density = p(o_dissipated);
+      for (int b = 0; b < kernels::kFlatBranches; ++b) ord.back[b] = p(o_back[b]);
+      s.ordinary = &ord;
     }
     return s;
   }
@@ -165,6 +182,54 @@ inline Lattice make_tupek_lattice(int nx, int ny, int nz, double m = 0, double g
   }
   std::vector<double> S(n);
   L.dt = 0.5 * kernels::flat_tupek_stable_step(L.view(), S.data());
+  return L;
+}
+
+// The same lattice as an ordinary history model (kernels/flat_ordinary.hpp; material/models/
+// elastic_plastic.hpp and viscoelastic.hpp, their constants written again here): omega = 1,
+// E = 200 GPa, nu = 1/4 (k' = K in 3-D, alpha m = 15 mu); elastic_plastic with yield stress
+// 150 MPa and hardening 2 GPa, viscoelastic with two Maxwell branches (lambda 0.4, tau 0.2 us;
+// lambda 0.3, tau 1 us: the exact SLS step of viscoelastic.hpp sls_step, h >= 0.05 here).
+// At rest as after the initial pass: |Y| = |xi|, q = 0.
+inline Lattice make_ordinary_lattice(int nx, int ny, int nz, bool plastic, double s0 = 0.004, double v0 = 60) {
+  Lattice L = make_lattice(nx, ny, nz, false, s0, 6, v0);
+  const double E = 200e9, nu = 0.25, V = 1e-9;
+  const double K = E / (3 * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  kernels::FlatOrdinary& o = L.ord;
+  o.model = plastic ? 1 : 2;
+  o.dim = 3;
+  o.dev_factor = 15.0;
+  o.mu = mu;
+  const uint64_t n = L.n, nb = L.nbr.size();
+  for (kernels::Kind& k : L.kinds) {
+    k.pair = 0.0, k.wv = V;  // omega V_j
+    L.o_omega.push_back(1.0), L.o_vj.push_back(V);
+  }
+  for (uint64_t k = 0; k < nb; ++k) L.o_r.push_back(L.kinds[L.kind[k]].length);
+  L.o_r_old.assign(nb, 0.0), L.o_q.assign(nb, 0.0), L.o_booked.assign(nb, 0), L.o_pending_set.assign(nb, 0);
+  L.o_pending_amount.assign(nb, 0.0), L.o_stored.assign(n, 0.0), L.o_theta.assign(n, 0.0);
+  L.o_rev.resize(nb);
+  for (uint64_t i = 0; i < n; ++i)
+    for (uint64_t k = L.offset[i]; k < L.offset[i + 1]; ++k) {
+      const uint32_t j = L.nbr[k];
+      for (uint64_t q = L.offset[j]; q < L.offset[j + 1]; ++q)
+        if (L.nbr[q] == i) L.o_rev[k] = q;
+    }
+  if (plastic) {
+    o.bulk = K, o.yield = 150e6, o.hardening = 2e9;
+    L.o_ep.assign(nb, 0.0), L.o_eps_p.assign(n, 0.0), L.o_lambda.assign(n, 0.0), L.o_shear_factor.assign(n, 1.0);
+    L.o_flowed.assign(n, 0), L.o_yielded.assign(n, 0);
+  } else {
+    o.bulk_elastic = K, o.lambda_inf = 0.3, o.branches = 2;
+    const double lambda[2] = {0.4, 0.3}, tau[2] = {2e-7, 1e-6};
+    for (int b = 0; b < 2; ++b) {
+      const double h = L.dt / tau[b], ratio = -std::expm1(-h) / h;  // sls_step (h >= 0.05)
+      o.branch_lambda[b] = lambda[b], o.decay[b] = std::exp(-h), o.from_old[b] = ratio - o.decay[b];
+      o.from_new[b] = 1.0 - ratio;
+      L.o_back[b].assign(nb, 0.0);
+    }
+    L.o_dissipated.assign(n, 0.0);
+  }
   return L;
 }
 

@@ -1,6 +1,7 @@
 // The CUDA backend (src/horizon/cuda/) against the host's portable rows (label gpu;
 // bench/gpu/device_check.sh runs it on the device machine): a striker breaking into a bar
-// of a cubic lattice, PMB, LPS and Tupek's nonlinear solid (its stable step too), without
+// of a cubic lattice, PMB, LPS, Tupek's nonlinear solid (its stable step too),
+// elastic_plastic and viscoelastic (kernels/flat_ordinary.hpp), without
 // and with loads (lattice.hpp add_loads: a clamped
 // end, a held velocity, a body force, and their work), 200 steps on the device (in two
 // calls, with a copy back between them) and on the host with kernels::advance_flat. The
@@ -32,8 +33,10 @@ bool compare(const std::string& model, bool loads) {
   const std::string label = model + (loads ? " with loads" : "");
   const char* name = label.c_str();
   const bool tupek = model.rfind("tupek", 0) == 0;
-  Lattice host = tupek ? horizon::test::make_tupek_lattice(24, 10, 10, model == "tupek_m05" ? 0.5 : 0.0)
-                       : horizon::test::make_lattice(24, 10, 10, model == "lps");
+  const bool ordinary = model == "elastic_plastic" || model == "viscoelastic";
+  Lattice host = tupek       ? horizon::test::make_tupek_lattice(24, 10, 10, model == "tupek_m05" ? 0.5 : 0.0)
+                 : ordinary ? horizon::test::make_ordinary_lattice(24, 10, 10, model == "elastic_plastic")
+                            : horizon::test::make_lattice(24, 10, 10, model == "lps");
   if (loads) horizon::test::add_loads(host, 24, 1e9);
   Lattice dev = host;
   const horizon::kernels::FlatSystem hv = host.view(), dv = dev.view();
@@ -74,6 +77,17 @@ bool compare(const std::string& model, bool loads) {
     std::printf("%s: dissipated %.17g (host) %.17g (device)\n", name, dh, dd);
     if (!(dh > 0 && rel(dd, dh) <= 1e-9)) std::printf("%s: FAILED: the dissipation differs (or is 0)\n", name), ok = false;
   }
+  if (ordinary) {  // the history (e^dp or the back extensions), q and the dissipation (plastic or viscous, and the bonds')
+    const std::vector<double>& hh = model == "elastic_plastic" ? host.o_ep : host.o_back[0];
+    const std::vector<double>& dh_ = model == "elastic_plastic" ? dev.o_ep : dev.o_back[0];
+    const bool same_history = std::memcmp(hh.data(), dh_.data(), hh.size() * sizeof(double)) == 0 &&
+                              std::memcmp(host.o_q.data(), dev.o_q.data(), host.o_q.size() * sizeof(double)) == 0;
+    double dh = 0, dd = 0;
+    for (uint64_t i = 0; i < host.n; ++i) dh += host.dissipated[i], dd += dev.dissipated[i];
+    std::printf("%s: history and force scalars %s; dissipated %.17g (host) %.17g (device)\n", name,
+                same_history ? "the same bits" : "differ", dh, dd);
+    if (!(dh != 0 && rel(dd, dh) <= 1e-9)) std::printf("%s: FAILED: the dissipation differs (or is 0)\n", name), ok = false;
+  }
   if (loads && !(rel(dev.ledger[0], host.ledger[0]) <= 1e-9 && host.ledger[0] != 0))
     std::printf("%s: FAILED: the loads' work differs (or is 0)\n", name), ok = false;
   if (!(broken > 0 && h.mean_damage > 0)) std::printf("%s: FAILED: the impact broke no bond\n", name), ok = false;
@@ -95,7 +109,10 @@ int main() {
   const bool loaded = compare("pmb", true) && compare("lps", true);
   // The nonlinear solid (kernels/tupek.hpp rows), the log strain and m = 1/2, and with loads.
   const bool tupek = compare("tupek", false) && compare("tupek_m05", false) && compare("tupek", true);
-  const bool ok = pmb && lps && loaded && tupek;
+  // The ordinary history models (kernels/flat_ordinary.hpp), without and with loads.
+  const bool ordinary = compare("elastic_plastic", false) && compare("viscoelastic", false) &&
+                        compare("elastic_plastic", true) && compare("viscoelastic", true);
+  const bool ok = pmb && lps && loaded && tupek && ordinary;
   std::printf("%s\n", ok ? "PASSED" : "FAILED");
   return ok ? 0 : 1;
 }

@@ -26,6 +26,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/deck/deck.hpp"
 #include "horizon/driver/run.hpp"
+#include "horizon/material/models/ordinary_lanes.hpp"
 #include "../test_paths.hpp"
 
 namespace fs = std::filesystem;
@@ -440,6 +441,81 @@ TEST(Backend, NonlinearSolidAdaptiveStepFlatGivesTheCpuBits) {
   expect_same(run(bar, "tupek_adaptive", "flat", 1, 2), bar_cpu, "nonlinear_solid bar, adaptive step, ramped traction");
 }
 
+// The ordinary history models (kernels/flat_ordinary.hpp: the scalar pass's sweeps and
+// the models' rows in the AVX-512 lanes' order, their commit in place): elastic_plastic
+// and viscoelastic on the striker-on-bar impact (yielding, bonds breaking), with
+// prescribed conditions and loads that vary, with breaks: after_force and the family's
+// short-range contact, and viscoelastic in 2-D plane strain (its relaxing pressure). CPU
+// and flat backends on 1 and 2 threads: the same bytes (history.csv with the plastic and
+// viscous dissipation, every frame with the models' fields, state_crc32). The CPU's rows
+// sum in the lanes only on a machine with AVX-512 (lanes::wide()); elsewhere they sum in
+// bond order and the flat rows agree with them to round-off, not bits.
+const std::string kEps = "{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
+                         "yield_stress: 150.0e6, hardening_modulus: 2.0e9, damage: {critical_stretch: 0.01}}";
+const std::string kVes = "{model: viscoelastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
+                         "lambda_1: 0.4, tau_1: 2.0e-7, lambda_2: 0.3, tau_2: 1.0e-6, damage: {critical_stretch: 0.003}}";
+const std::string kOrdinaryLoads =
+    "loads:\n  - {region: end, displacement: [\"-2.0*t*(1 + 100*y)\", null, 0]}\n"
+    "  - {region: striker, velocity: [null, \"6.5*cos(1.0e6*t)\", null]}\n"
+    "  - {region: end, traction: [0, \"2.0e8*min(t/1.0e-6, 1)\", 0]}\n";
+
+// The impact at 100 m/s (viscoelastic: it relaxes and breaks bonds in 3 us).
+std::string ordinary_impact_deck(const std::string& material, const std::string& extra = "") {
+  std::string deck = impact_deck(material, extra);
+  const std::string v = "velocity: [40, 6.5, 0]";
+  deck.replace(deck.find(v), v.size(), "velocity: [100, 6.5, 0]");
+  return deck;
+}
+
+std::string after_force_with_contact(std::string material) {
+  const std::string c = "damage: {critical_stretch: ";
+  material.replace(material.find(c), c.size(), "damage: {breaks: after_force, critical_stretch: ");
+  return material;
+}
+
+// elastic_plastic at the impact's 40 m/s: it yields (the striker's end) and breaks bonds.
+// (At 100 m/s its dissipated energy turns negative on the CPU as on the flat rows: the
+// bonds broken in tension after flowing release more than the trapezoidal work booked.)
+TEST(Backend, ElasticPlasticFlatGivesTheCpuBits) {
+  if (!lanes::wide()) GTEST_SKIP() << "the CPU's ordinary rows sum in bond order here (no AVX-512)";
+  expect_same_on_threads(impact_deck(kEps), "eps_impact", "elastic_plastic impact");
+  expect_same_on_threads(impact_deck(kEps, kOrdinaryLoads), "eps_loads",
+                         "elastic_plastic impact, prescribed conditions and loads that vary");
+  expect_same_on_threads(impact_deck(after_force_with_contact(kEps), "contact: {short_range: {max_distance: 1.35}}\n"),
+                         "eps_after", "elastic_plastic impact, breaks: after_force, short-range contact");
+}
+
+TEST(Backend, ViscoelasticFlatGivesTheCpuBits) {
+  if (!lanes::wide()) GTEST_SKIP() << "the CPU's ordinary rows sum in bond order here (no AVX-512)";
+  expect_same_on_threads(ordinary_impact_deck(kVes), "ves_impact", "viscoelastic impact");
+  expect_same_on_threads(ordinary_impact_deck(kVes, kOrdinaryLoads), "ves_loads",
+                         "viscoelastic impact, prescribed conditions and loads that vary");
+  expect_same_on_threads(
+      ordinary_impact_deck(after_force_with_contact(kVes), "contact: {short_range: {max_distance: 1.35}}\n"),
+      "ves_after", "viscoelastic impact, breaks: after_force, short-range contact");
+  // 2-D plane strain: the dilatation's relaxing part (Viscoelastic::pressure).
+  const std::string plate = fmt::format(R"yaml(dimension: 2
+plane: strain
+thickness: 0.001
+spacing: 1.0e-3
+horizon: 3.0e-3
+materials:
+  steel: {}
+bodies:
+  - {{name: plate, material: steel, shape: {{box: {{min: [0, 0], max: [0.02, 0.01]}}}}}}
+regions:
+  left: {{box: {{min: [0, 0], max: [0.001, 0.01]}}}}
+initial_conditions:
+  - {{region: all, velocity: ["3000*(x-0.01)", "-800*(y-0.005)"]}}
+loads:
+  - {{region: left, velocity: [null, 2]}}
+solver: {{type: explicit, end_time: 4.0e-6, safety_factor: 0.5, energy_balance_warning: 0.5}}
+output: {{frames: 3, history_every: 7}}
+)yaml",
+                                        kVes);
+  expect_same_on_threads(plate, "ves_plane", "viscoelastic plate, plane strain");
+}
+
 // A checkpoint written by a flat run is the CPU run's (the same bytes), and a restart from
 // it with backend flat ends where the uninterrupted CPU run ends.
 void expect_checkpoint_and_restart(const std::string& deck, const std::string& name, double coarsen) {
@@ -479,6 +555,16 @@ TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
   ASSERT_NE(bar.find(out), std::string::npos);
   bar.replace(bar.find(out), out.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 50}}");
   expect_checkpoint_and_restart(bar, "ck_tupek", 1);
+  // The ordinary models: the checkpoint holds their history (e^dp, the back extensions, the
+  // ledger's flags and stored energy; the committed t and e rebuilt from |Y| and q). The
+  // restart's first step is the CPU's (its ledger in arrays), then the flat rows.
+  if (!lanes::wide()) return;  // (the CPU's ordinary rows sum in bond order here)
+  for (const std::string& material : {kEps, kVes}) {
+    std::string deck = material == kEps ? impact_deck(material, kOrdinaryLoads) : ordinary_impact_deck(material, kOrdinaryLoads);
+    const std::string o = "output: {frames: 3, history_every: 7}";
+    deck.replace(deck.find(o), o.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 20}}");
+    expect_checkpoint_and_restart(deck, material == kEps ? "ck_eps" : "ck_ves", 1);
+  }
 }
 
 // A step too large: the state turns non-finite (exit status 2). The flat backend finds the
@@ -534,9 +620,13 @@ void expect_refused(const std::string& deck, const std::string& why) {
 }
 
 TEST(Backend, FlatRefusesWhatItDoesNotCover) {
-  expect_refused(impact_deck("{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
-                             "yield_stress: 100.0e6}"),
-                 "model elastic_plastic (materials.steel.model), which has no flat rows");
+  expect_refused(impact_deck("{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.001}"),
+                 "model microplastic (materials.steel.model), which has no flat rows");
+  // The ordinary models' rows take one material.
+  std::string two = impact_deck(kEps);
+  two.replace(two.find("  steel: "), 9, "  soft: " + kLps + "\n  steel: ");
+  two.replace(two.find("name: bar\n    material: steel"), 29, "name: bar\n    material: soft");
+  expect_refused(two, "model elastic_plastic with other materials");
   expect_refused(impact_deck(kPmb, "contact: {short_range: {law: peridigm, contact_radius: 0.0009, spring_constant: "
                                    "1.0e11, friction: 0.3}}\n"),
                  "short-range contact with friction (contact.short_range.friction)");
@@ -558,8 +648,7 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
   // solver.backend in the deck: the refusal names its line and column.
   const fs::path dir = scratch("deck_key");
   const fs::path file = dir / "keyed.yaml";
-  const std::string after = "{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
-                            "yield_stress: 100.0e6}";
+  const std::string after = "{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.001}";
   std::ofstream(file) << impact_deck(after, "", ", backend: flat");
   RunOptions o;
   o.quiet = true;
@@ -572,7 +661,7 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
     m = e.what();
   }
   EXPECT_NE(m.find("keyed.yaml:18:"), std::string::npos) << m;
-  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has model elastic_plastic (materials.steel.model)"),
+  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has model microplastic (materials.steel.model)"),
             std::string::npos)
       << m;
   // A name that is none of the three: the deck's error, with the choices.

@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <random>
+#include <vector>
 
 #include "horizon/kernels/flat_system.hpp"
 #include "horizon/kernels/ordinary.hpp"
+#include "horizon/material/models/history_ledger.hpp"
 
 namespace horizon::kernels {
 namespace {
@@ -83,4 +87,58 @@ TEST(Kernels, FamilyContactPushesApartInsideItsDistance) {
 }
 
 }  // namespace
+// The ledger's booking as a portable kernel (kernels::ledger_open_bond, which
+// HistoryLedger::Row and the flat rows call) against the host ledger's own member path
+// (HistoryLedger::open_bond, scalar form: open() with the booking as a callback), on
+// random bonds: intact 0, 1 or 2, booked or not, a pending booking or not. The same trial
+// extensions, flags, pending amounts and booked sums, bit for bit; and with the flags in
+// place (the trial flags the committed ones), the same as the host ledger's copies.
+TEST(Kernels, LedgerBookingIsTheHostLedgersBitForBit) {
+  std::mt19937_64 rng(30);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const std::size_t nb = 4000;
+  HistoryLedger host;
+  host.booked.assign(nb, 0);
+  host.extension.assign(nb, 0.0);
+  host.pending_amount.assign(nb, 0.0);
+  host.pending_set.assign(nb, 0);
+  std::vector<uint8_t> intact(nb);
+  for (std::size_t k = 0; k < nb; ++k) {
+    intact[k] = static_cast<uint8_t>(rng() % 3);
+    host.booked.committed()[k] = static_cast<uint8_t>(rng() % 2);
+    host.pending_set[k] = static_cast<uint8_t>(rng() % 2);
+    host.pending_amount[k] = u(rng);
+  }
+  std::vector<double> ext(nb, 0.0), amount = host.pending_amount;
+  std::vector<uint8_t> committed(host.booked.committed(), host.booked.committed() + nb), trial(nb, 0),
+      pending = host.pending_set, in_place = committed, pending_in_place = pending;
+  std::vector<double> amount_in_place = amount;
+  const kernels::LedgerBonds L{ext.data(), committed.data(), trial.data(), pending.data(), amount.data()};
+  const kernels::LedgerBonds P{ext.data(), in_place.data(), in_place.data(), pending_in_place.data(),
+                               amount_in_place.data()};
+  double sum_host = 0, sum_kernel = 0, sum_in_place = 0;
+  int booked = 0;
+  for (std::size_t k = 0; k < nb; ++k) {
+    const double t = 1e3 * u(rng), length = k % 17 == 0 ? 0.0 : 1e-3 * (1.5 + u(rng)), e = 1e-5 * u(rng),
+                 V = 1e-9 * (1.2 + u(rng));
+    const bool h = host.open_bond(k, intact[k], t, length, e, V, sum_host);
+    const bool a = kernels::ledger_open_bond(L, k, intact[k], t, length, e, V, sum_kernel);
+    const bool b = kernels::ledger_open_bond(P, k, intact[k], t, length, e, V, sum_in_place);
+    EXPECT_EQ(h, a);
+    EXPECT_EQ(h, b);
+    booked += h;
+  }
+  EXPECT_GT(booked, 100);
+  auto same = [](double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; };
+  EXPECT_TRUE(same(sum_host, sum_kernel));
+  EXPECT_TRUE(same(sum_host, sum_in_place));
+  int bad = 0;
+  for (std::size_t k = 0; k < nb; ++k)
+    bad += !same(host.extension.trial()[k], ext[k]) || host.booked.trial()[k] != trial[k] ||
+           host.booked.trial()[k] != in_place[k] || host.pending_set[k] != pending[k] ||
+           host.pending_set[k] != pending_in_place[k] || !same(host.pending_amount[k], amount[k]) ||
+           !same(host.pending_amount[k], amount_in_place[k]);
+  EXPECT_EQ(bad, 0);
+}
+
 }  // namespace horizon::kernels

@@ -290,8 +290,7 @@ solver: {type: explicit, end_time: 1.0, safety_factor: 0.5}
 }
 
 TEST(PortableKernels, FlatCopyNamesWhatItDoesNotTake) {
-  const std::string plastic =
-      "{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, yield_stress: 100.0e6}";
+  const std::string plastic = "{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.001}";
   Simulation sim(parse_deck(impact_deck(plastic, 40, 1.0), "portable.yaml"));
   EXPECT_EQ(flat_unsupported(sim.system, sim.loads), "a model without flat rows (the unified models and nonlinear_solid have them)");
 }

@@ -6,6 +6,7 @@
 //
 // Compiled with nvcc 13.0 (sm_90) on a machine without a GPU: it has never run.
 #include "horizon/cuda/cuda_backend.hpp"
+#include "horizon/cuda/cuda_ordinary.hpp"
 
 #include <cuda_runtime.h>
 
@@ -155,6 +156,7 @@ struct FlatRun::Impl {
   unsigned grid = 0, tracked_grid = 0;
   double* S = nullptr;                   // stable_time_step's per-row sums (n), on first use
   unsigned long long* best = nullptr;    // its minimum's bits
+  kernels::FlatOrdinary ordinary;        // elastic_plastic, viscoelastic: device pointers (cuda_ordinary.hpp)
 };
 
 FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
@@ -222,6 +224,7 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.nonlocal_damage = upload(h.nonlocal_damage, tn, o);
   d.contact_stiffness = upload(h.contact_stiffness, tn, o);
   d.length_of = upload(h.length_of, h.length_of ? nb : 0, o);
+  if (h.ordinary) d.ordinary = upload_ordinary(*h.ordinary, n, nb, h.nkinds, m.ordinary, o);
   m.grid = static_cast<unsigned>((n + kBlock - 1) / kBlock);
   m.tracked_grid = static_cast<unsigned>((h.ntracked + kBlock - 1) / kBlock);
   check(cudaEventCreate(&m.start), "cudaEventCreate");
@@ -255,7 +258,9 @@ void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, voi
     }
     if (d.ntracked) save_tracked_kernel<<<m.tracked_grid, kBlock>>>(d);
     kick_drift_kernel<<<m.grid, kBlock>>>(d);
-    if (d.tupek) {
+    if (d.ordinary) {
+      ordinary_pass(d, m.grid, kBlock);
+    } else if (d.tupek) {
       tupek_pack_kernel<<<m.grid, kBlock>>>(d);
       tupek_theta_kernel<<<m.grid, kBlock>>>(d);
       tupek_force_kernel<<<m.grid, kBlock>>>(d);
@@ -349,6 +354,7 @@ void FlatRun::download(const FlatSystem& h) const {
   download_array(h.v_before, d.v_before, 3 * d.ntracked);
   download_array(h.entry_reaction, d.entry_reaction, 3 * d.nentries);
   if (h.damped) download_array(h.damped, d.damped, n);
+  if (h.ordinary) download_ordinary(*h.ordinary, impl_->ordinary, n, nb);
   if (h.tupek) {
     download_array(h.eps, d.eps, nb);
     download_array(h.nonlocal_damage, d.nonlocal_damage, n);

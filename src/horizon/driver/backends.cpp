@@ -82,7 +82,9 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
   if (why.rfind("a model without flat rows", 0) == 0)
     for (const MaterialConfig& m : c.materials) {
       const ModelEntry* e = find_model(m.model);
-      if (e && (e->traits.unified || e->traits.name == "nonlinear_solid")) continue;
+      if (e && (e->traits.unified || e->traits.name == "nonlinear_solid" || e->traits.name == "elastic_plastic" ||
+                e->traits.name == "viscoelastic"))
+        continue;
       why = fmt::format("model {} (materials.{}.model), which has no flat rows", e ? e->traits.name : m.model, m.name);
       break;
     }
@@ -97,7 +99,9 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
     // the nonlinear solid (kernels/tupek.hpp).
     std::vector<std::string> flat;
     for (const ModelEntry& e : model_registry())
-      if (e.traits.unified || e.traits.name == "nonlinear_solid") flat.push_back(e.traits.name);
+      if (e.traits.unified || e.traits.name == "nonlinear_solid" || e.traits.name == "elastic_plastic" ||
+          e.traits.name == "viscoelastic")
+        flat.push_back(e.traits.name);
     throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of "
                             "{} (the adaptive step with nonlinear_solid), initial conditions, force densities, prescribed "
                             "displacements and velocities and short-range contact (docs/input.md, solver.backend); "

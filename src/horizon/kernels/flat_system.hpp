@@ -44,6 +44,8 @@ struct FlatPoint {
   double x, y, z, w;
 };
 
+struct FlatOrdinary;  // the ordinary history models' state (kernels/flat_ordinary.hpp)
+
 struct FlatSystem {
   uint64_t n = 0, nb = 0, nkinds = 0;
   bool state_based = false;  // LPS rows present: the dilatation pass, then the force pass
@@ -145,6 +147,9 @@ struct FlatSystem {
   const double* length_of = nullptr;  // nb
   bool contact_from_length = false;
   double contact_fraction = 0, contact_cutoff = 0;
+  // elastic_plastic or viscoelastic (kernels/flat_ordinary.hpp), else null: their rows
+  // replace the unified ones.
+  const FlatOrdinary* ordinary = nullptr;
 };
 
 // Bond k's constants with its own length (FlatSystem::length_of). The rows below take the
@@ -543,8 +548,11 @@ inline void flat_unified_forces(const FlatSystem& s) {
   for (uint64_t i = 0; i < n; ++i) force_row_of<kOwn, kAfter>(s, i);
 }
 
+inline void flat_ordinary_forces(const FlatSystem& s);  // kernels/flat_ordinary.hpp
+
 inline void flat_forces(const FlatSystem& s) {
   const uint64_t n = s.n;
+  if (s.ordinary) return flat_ordinary_forces(s);
   if (s.tupek) {
     HORIZON_FLAT_ROWS
     for (uint64_t i = 0; i < n; ++i) tupek_pack_row(s, i);
@@ -631,3 +639,5 @@ inline FlatTotals flat_totals(const FlatSystem& s) {
 }
 
 }  // namespace horizon::kernels
+
+#include "horizon/kernels/flat_ordinary.hpp"  // (the ordinary models' rows, which flat_forces runs)

@@ -23,6 +23,7 @@ uint64_t intact_bonds(const FlatStorage& c) {
 FlatBackend::FlatBackend(System& s, Loads& loads, ExplicitSolver& solver)
     : s_(s), loads_(loads), solver_(solver), system_steps_(solver.steps()) {
   copy_from_system();
+  host_step_ = storage_.ordinary && !flat_ordinary_ready(s_);
 }
 
 void FlatBackend::run_steps(int64_t n) {
@@ -128,7 +129,7 @@ void FlatBackend::copy_from_system() {
   // Force densities that vary: the System's b is the last prepared step's; the copy starts
   // from the b of the System's state (the last copy_fields).
   if (!b_at_copy_.empty()) s_.particles.b = b_at_copy_;
-  storage_steps_ = system_steps_;
+  storage_steps_ = copied_at_ = system_steps_;
   storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_);
   view_ = storage_.view();
   intact_at_copy_ = intact_bonds(storage_);
@@ -147,6 +148,18 @@ int64_t FlatBackend::first_non_finite() const {
 }
 
 void FlatBackend::advance(int64_t n, bool energy) {
+  if (host_step_ && n > 0) {  // an ordinary model's ledger in its arrays (a restart): one CPU step
+    host_step_ = false;
+    failed_ = true;  // (a step that throws leaves the System as the CPU leaves it)
+    solver_.step(energy && n == 1);
+    failed_ = false;
+    system_steps_ = solver_.steps();
+    if (storage_.vary_forces) b_at_copy_ = s_.particles.b;
+    copy_from_system();
+    upload();
+    energy_ = energy && n == 1;
+    if (--n == 0) return;
+  }
   if (!solver_.fixed_step()) {  // the adaptive step: this call's steps with the solver's dt
     adaptive_ = true;
     double t = solver_.time();
@@ -226,7 +239,9 @@ void FlatBackend::copy_fields() {
   // step, the stored and kinetic energies of the last step that computed them.
   Ledger& g = solver_.ledger();
   g.external_work = storage_.ledger[0];
-  flat_write_reactions(storage_, loads_);
+  // The reactions of the copy's last step (none taken since the copy: the System's own,
+  // e.g. after the CPU's first step of a restart).
+  if (storage_steps_ != copied_at_) flat_write_reactions(storage_, loads_);
   g.dissipated = s_.dissipated();
   // The damped energy: per particle over the steps, then in index order (thread- and
   // device-independent; ExplicitSolver::step sums each step's terms first, so the last

@@ -83,6 +83,9 @@ class FlatBackend : public ExplicitBackend {
   // The step of the steps to come: view_.dt (and the device's) set to dt.
   void set_step(double dt);
   bool energy_ = true;    // the last step computed what a CPU step with `energy` would
+  // An ordinary model whose ledger holds its committed t_n, e_n in arrays (a restart): the
+  // first step is the CPU's, then the copy (solver/flat_ordinary_copy.hpp flat_ordinary_ready).
+  bool host_step_ = false;
   // The adaptive step (the solver's time a sum of steps, ExplicitSolver::fixed_step false):
   // the dt and start time of each step since the System's state (the last copy_fields),
   // so that a run of steps from it (prepare_step, the non-finite search) takes them again.
@@ -95,6 +98,7 @@ class FlatBackend : public ExplicitBackend {
   bool failed_ = false;
   bool fetched_ = true;  // storage_ holds the steps taken (fetch() since the last run_steps)
   int64_t system_steps_ = 0;   // the step count of the System's state (the last copy_fields)
+  int64_t copied_at_ = 0;      // the step count when storage_ was copied from the System
   int64_t storage_steps_ = 0;  // the step count of storage_'s state   // a step turned the state non-finite: the System keeps what advance left
   uint64_t intact_at_copy_ = 0;  // intact bonds when storage_ was copied
   uint64_t broken_at_copy_ = 0;  // s.broken then

@@ -10,8 +10,9 @@ namespace horizon {
 std::string flat_unsupported(const System& s, const Loads& loads) {
   // The unified models' rows, or the nonlinear solid's (a model that owns its pass and
   // shares a run with no other: material/models/nonlinear_solid.cpp).
-  if (s.models.owner() ? !nonlinear_state(s) : !s.models.all_unified())
+  if (s.models.owner() ? !nonlinear_state(s) : !s.models.all_unified() && !flat_ordinary_model(s))
     return "a model without flat rows (the unified models and nonlinear_solid have them)";
+  if (std::string why = flat_ordinary_unsupported(s); !why.empty()) return why;
   if (s.one_way_bonds) return "bodies of different horizons (one-way bonds: the general force pass)";
   if (!loads.projectiles().empty()) return "projectiles";
   for (const AppliedLoad& L : loads.loads()) {
@@ -150,6 +151,7 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
     c.theta.resize(c.n, 0);
     c.dim = N->dimension;
   }
+  c.ordinary = flat_ordinary_copy(s, dt);  // (null but for elastic_plastic, viscoelastic)
   return c;
 }
 
@@ -183,6 +185,7 @@ kernels::FlatSystem FlatStorage::view() {
   s.contact_stiffness = or_null(contact_stiffness);
   s.critical_stretch_varies = vary_critical_stretch;
   s.compression_only = compression_only.empty() ? nullptr : compression_only.data();
+  s.ordinary = ordinary ? &ordinary->view : nullptr;
   return s;
 }
 
@@ -204,6 +207,7 @@ void flat_write_back(const FlatStorage& c, System& s, bool energy) {
     N->nonlocal_damage = c.nonlocal_damage;
     return;
   }
+  if (c.ordinary) flat_ordinary_write_back(*c.ordinary, s);
   s.model.min_stretch = c.min_stretch;
   if (c.vary_critical_stretch) s.model.critical_stretch = c.critical_stretch;  // s0 at the last step's time
   s.model.theta = c.theta;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "horizon/kernels/flat_system.hpp"
+#include "horizon/solver/flat_ordinary_copy.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -55,6 +56,8 @@ struct FlatStorage {
   std::vector<uint8_t> compression_only;
   uint64_t n = 0;
   bool state_based = false, break_after = false;
+  // elastic_plastic or viscoelastic (solver/flat_ordinary_copy.hpp), else null.
+  std::shared_ptr<FlatOrdinaryStorage> ordinary;
   std::vector<double> length_of;  // an irregular cloud: each bond's |xi| (else empty)
   bool contact_from_length = false;
   double contact_fraction = 0, contact_cutoff = 0;

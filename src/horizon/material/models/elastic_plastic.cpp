@@ -9,6 +9,7 @@
 #include "horizon/core/error.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/material/models/history_ledger.hpp"
+#include "horizon/material/models/ordinary_flat.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/material/shear_correction.hpp"
@@ -102,6 +103,16 @@ class ElasticPlastic final : public Model {
     ledger_.checkpoint(a);
     if (a.loading()) std::fill(yielded_.begin(), yielded_.end(), 0), yield_flags_stale_ = true;
   }
+  // The flat backend's view of the state (material/models/ordinary_flat.hpp).
+  void flat_state(OrdinaryModelState& o) {
+    o.kind = OrdinaryModelState::elastic_plastic;
+    o.dim = dim_, o.ledger = &ledger_, o.mu = mu_;
+    o.bulk = bulk_, o.yield = yield_, o.hardening = hardening_, o.yield_volume = yield_volume_, o.plastic = plastic_;
+    o.eps_p = &eps_p_, o.eps_p_trial = &eps_p_trial_, o.lambda = &lambda_, o.lambda_trial = &lambda_trial_;
+    o.theta = &theta_, o.shear_factor = &shear_factor_, o.flowed = &flowed_, o.yielded = &yielded_;
+    o.yield_flags_stale = &yield_flags_stale_, o.ep = &ep_;
+  }
+
  private:
   void size_bonds(const Bonds& B) {
     const std::size_t nb = B.size();
@@ -492,6 +503,12 @@ void ElasticPlastic::commit(System& s) {
 }
 
 }  // namespace
+
+bool elastic_plastic_state(Model& m, OrdinaryModelState& out) {
+  auto* p = dynamic_cast<ElasticPlastic*>(&m);
+  if (p) p->flat_state(out);
+  return p != nullptr;
+}
 
 ModelEntry elastic_plastic_model() {
   return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<ElasticPlastic>()); }};

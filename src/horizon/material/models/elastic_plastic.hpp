@@ -97,9 +97,7 @@ inline double ep_plastic_strain_factor(double weighted_volume, int dimension) {
 }
 
 // d lambda of a step whose return scaled the trial deviatoric state by beta (above).
-inline double plastic_multiplier_step(double beta, double alpha) {
-  return beta < 1.0 ? (1.0 - beta) / (alpha * beta) : 0.0;
-}
+using kernels::plastic_multiplier_step;  // (kernels/ordinary.hpp)
 
 ModelEntry elastic_plastic_model();
 

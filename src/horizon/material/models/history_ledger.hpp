@@ -26,6 +26,7 @@
 #include "horizon/core/vec3.hpp"
 #include "horizon/core/state_archive.hpp"
 #include "horizon/family/bonds.hpp"
+#include "horizon/kernels/ordinary.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -72,7 +73,7 @@ class BondHistory {
 
 // The general force pass books a bond in the pass that breaks it: its flag is 0 (broken
 // before the forces) or 2 (broken after them: it still acts in this pass).
-inline bool bond_booked_now(uint8_t intact, uint8_t booked) { return !booked && intact != 1; }
+using kernels::bond_booked_now;
 
 // What the force pass booked for it, per unit V_i: (1/2) (T_old . Y/|Y|) e V_j, T_old the
 // bond's force state of the previous pass (still in ForcePass::T when the model runs).
@@ -84,12 +85,10 @@ inline double broken_bond_booking(const Vec3& T_old, const Vec3& Y, double lengt
 // t_old (1 - cos) of the bond's turn in one step, is far below the ledger's error; RowPass::t
 // holds t_old for a bond broken in the pass), exactly as that pass books the bond's energy
 // when it breaks it, so that the two cancel.
-inline double broken_bond_booking(double t_old, double length, double e, double volume) {
-  return length > 0 ? 0.5 * t_old * e * volume : 0.0;
-}
+using kernels::broken_bond_booking;  // (kernels/ordinary.hpp)
 
 // D_i from the step's work, the change of W and the booking (all per unit V_i).
-inline double inelastic_loss(double work, double stored_change, double booked) { return work - stored_change - booked; }
+using kernels::inelastic_loss;  // (kernels/ordinary.hpp)
 
 // How a pass of the scalar form's lanes reads the committed t_n and e_n of the ledger
 // (HistoryLedger::begin_rows). They are the last commit's force state and extension, and
@@ -295,33 +294,16 @@ struct HistoryLedger {
   // The per-bond arrays of one pass as plain pointers, taken once per row by the scalar
   // pass's rows: open() through the ledger's vectors reloads their pointers after every
   // store of a flag (a byte store may alias anything), bond by bond. The same operations
-  // as open() and open_bond() (scalar form) on the same arrays.
-  struct Row {
-    double* extension_trial;
-    const uint8_t* booked_committed;
-    uint8_t* booked_trial;
-    uint8_t* pending_set;
-    double* pending_amount;
+  // as open() and open_bond() (scalar form) on the same arrays: the portable booking of
+  // kernels/ordinary.hpp (ledger_open_bond), which the flat rows call too.
+  struct Row : kernels::LedgerBonds {
     bool open_bond(uint64_t k, uint8_t intact, double t_old, double length, double e, double volume,
                    double& booked_sum) const {
-      extension_trial[k] = e;
-      const uint8_t was = booked_committed[k];
-      booked_trial[k] = was;
-      if (bond_booked_now(intact, was)) {
-        if (!pending_set[k]) {
-          pending_amount[k] = broken_bond_booking(t_old, length, e, volume);
-          pending_set[k] = 1;
-        }
-        booked_sum += pending_amount[k];
-        booked_trial[k] = 1;
-        return true;
-      }
-      if (pending_set[k]) pending_set[k] = 0;  // a solver restored the bond (a failed static increment)
-      return false;
+      return kernels::ledger_open_bond(*this, k, intact, t_old, length, e, volume, booked_sum);
     }
   };
   Row row() {
-    return {extension.trial(), booked.committed(), booked.trial(), pending_set.data(), pending_amount.data()};
+    return {{extension.trial(), booked.committed(), booked.trial(), pending_set.data(), pending_amount.data()}};
   }
   // The trial bond records become the committed ones; true when the model must trade its
   // own bond arrays' copies the same way (a pass ran since the last commit and did not

@@ -28,22 +28,11 @@ namespace horizon::lanes {
 namespace {
 
 // The booking part of HistoryLedger::Row::open_bond for bond k (the trial extension and
-// flag already written): a bond broken since the commit books what the breaking sweep
-// booked for it, (1/2) t_old e V_j (t_old in q[k]); a pending booking of a restored bond
-// is dropped. Returns true when the bond is booked.
+// flag already written): kernels::ledger_book_bond (kernels/ordinary.hpp), t_old in q[k].
+// Returns true when the bond is booked.
 __attribute__((noinline)) bool open_bond_rare(const RowBonds& b, uint64_t k, double e, double vj, double& booked) {
-  const uint8_t was = b.booked_committed[k];
-  if (bond_booked_now(b.intact[k], was)) {
-    if (!b.pending_set[k]) {
-      b.pending_amount[k] = broken_bond_booking(b.q[k], b.r[k], e, vj);
-      b.pending_set[k] = 1;
-    }
-    booked += b.pending_amount[k];
-    b.booked_trial[k] = 1;
-    return true;
-  }
-  if (b.pending_set[k]) b.pending_set[k] = 0;  // a solver restored the bond (a failed static increment)
-  return false;
+  const kernels::LedgerBonds L{nullptr, b.booked_committed, b.booked_trial, b.pending_set, b.pending_amount};
+  return kernels::ledger_book_bond(L, k, b.intact[k], b.booked_committed[k], b.q[k], b.r[k], e, vj, booked);
 }
 
 // How far ahead the sum asks for the reverse bond's force scalar (bonds).

@@ -7,6 +7,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/material/models/history_ledger.hpp"
+#include "horizon/material/models/ordinary_flat.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
@@ -71,6 +72,21 @@ class Viscoelastic final : public Model {
     }
     ledger_.checkpoint(a);
   }
+  // The flat backend's view of the state (material/models/ordinary_flat.hpp).
+  void flat_state(OrdinaryModelState& o) {
+    static_assert(kMaxViscousBranches <= kOrdinaryFlatBranches);
+    o.kind = OrdinaryModelState::viscoelastic;
+    o.dim = dim_, o.ledger = &ledger_, o.mu = mu_;
+    o.bulk_elastic = bulk_elastic_, o.dilatation_shear = dilatation_shear_, o.lambda_inf = lambda_inf_;
+    o.branches = branches_;
+    for (int b = 0; b < kMaxViscousBranches; ++b) {
+      o.branch_lambda[b] = lambda_[b], o.tau[b] = tau_[b];
+      o.theta_back[b] = &theta_back_[b], o.theta_back_trial[b] = &theta_back_trial_[b], o.back[b] = &back_[b];
+    }
+    o.theta_row = &theta_row_, o.theta_row_trial = &theta_row_trial_, o.theta_strain = &theta_;
+    o.theta_strain_trial = &theta_trial_, o.dissipated = &dissipated_;
+  }
+
  private:
   // p_i = k theta + (mu/3) [lambda_inf theta + sum_b lambda_b (theta - theta^b_b)] in plane
   // strain (header); stores the branches' trial back dilatations and theta's trial value, and
@@ -416,6 +432,12 @@ void Viscoelastic::commit(System& s) {
 }
 
 }  // namespace
+
+bool viscoelastic_state(Model& m, OrdinaryModelState& out) {
+  auto* p = dynamic_cast<Viscoelastic*>(&m);
+  if (p) p->flat_state(out);
+  return p != nullptr;
+}
 
 ModelEntry viscoelastic_model() {
   return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Viscoelastic>()); }};

@@ -1,0 +1,342 @@
+#pragma once
+// The ordinary history models (elastic_plastic, viscoelastic) over flat arrays
+// (kernels/flat_system.hpp FlatSystem::ordinary): the scalar general pass
+// (solver/forces_ordinary.cpp) as row functions, one thread a particle, that the flat
+// backend runs on the host's threads and the CUDA backend on the device.
+//
+// A pass is three rows (flat_ordinary_forces): y = X + u with this pass's s0 (pack_row);
+// ordinary_row: the breaking sweep of row i (lanes::break_row: |Y|, breaking, the smallest
+// stretch, the dilatation sum), then the model's row (ElasticPlastic::force_row,
+// Viscoelastic::force_row: the force scalars q = t/|Y| and the ledger of the step), then
+// the model's commit of the row (the explicit step commits after every pass: the history
+// is written in place, ord6's LedgerRows::in_place); ordinary_sum_row: f_i = sum_j V_j
+// (q_ij + q_ji) Y and the family contact (lanes::sum_row). Every sum is the AVX-512 lanes'
+// (bond k of a row into lane (k - start) mod 8, kernels/lanes.hpp), the rare events (a
+// bond breaking, the ledger's booking) in bond order, every expression operand by operand
+// as material/models/ordinary_lanes_body.inc writes it: a flat run gives the CPU backend's
+// bits on a machine whose rows run in the lanes (lanes::wide(); elsewhere the CPU's rows
+// sum in bond order, and the two agree to round-off).
+//
+// The ledger's committed t_n and e_n are rebuilt from the previous pass as the lanes
+// rebuild them (history_ledger.hpp LedgerRows::rebuild): e_n = |Y_n| - |xi|, t_n = q_n |Y_n|
+// (for a bond broken in this pass, t_n itself, which the breaking sweep leaves in q), |Y_n|
+// kept per bond by the breaking sweep (r_old). The copy must start from a state the CPU's
+// next pass would rebuild from (solver/flat_ordinary_copy.hpp).
+#include <cstdint>
+
+#include "horizon/core/portable.hpp"
+#include "horizon/kernels/flat_system.hpp"
+#include "horizon/kernels/lanes.hpp"
+#include "horizon/kernels/ordinary.hpp"
+#include "horizon/kernels/unified.hpp"
+
+namespace horizon::kernels {
+
+constexpr int kFlatBranches = 3;  // viscoelastic's Maxwell branches at most (kMaxViscousBranches)
+
+struct FlatOrdinary {
+  int model = 0;  // 1: elastic_plastic; 2: viscoelastic
+  int dim = 3;
+  bool contact = false;  // the family's short-range contact (a kind's contact distance)
+  // Per kind: omega and V_j (System::model.kind_rows' y and w).
+  const double* omega = nullptr;
+  const double* vj = nullptr;
+  // Per bond: |Y| of this pass and of the previous one, q = t/|Y| (System::model's
+  // deformed_length and force_scalar), the reverse bond, the ledger's booked flags (written
+  // in place) and pending bookings.
+  double* r = nullptr;
+  double* r_old = nullptr;
+  double* q = nullptr;
+  const uint64_t* rev = nullptr;
+  uint8_t* booked = nullptr;
+  uint8_t* pending_set = nullptr;
+  double* pending_amount = nullptr;
+  // Per particle: the ledger's committed stored energy density W, and theta of the last
+  // pass (elastic_plastic: its dilatation output; viscoelastic: theta_n of e^d_n).
+  double* stored = nullptr;
+  double* theta = nullptr;
+  double dev_factor = 0;  // lps_deviatoric_factor(d): alpha m / mu
+  // elastic_plastic (material/models/elastic_plastic.cpp): per bond e^dp; per particle
+  // eps_p, lambda, the shear correction factor, whether the row flowed in its last pass
+  // (the host row's guess, which decides a pending booking's flag: ep_flat_row) and
+  // whether it ever flowed.
+  double* ep = nullptr;
+  double* eps_p = nullptr;
+  double* lambda = nullptr;
+  const double* shear_factor = nullptr;
+  uint8_t* flowed = nullptr;
+  uint8_t* yielded = nullptr;
+  double bulk = 0, mu = 0, yield = 0, hardening = 0, yield_volume = 0;
+  bool plastic = true;
+  // viscoelastic (material/models/viscoelastic.cpp): per bond each branch's back
+  // extension; per particle the dissipated energy density (its output) and, in plane
+  // strain, theta and each branch's back dilatation; the branches' step coefficients.
+  double* back[kFlatBranches] = {};
+  double* dissipated_density = nullptr;
+  double* theta_strain = nullptr;  // plane strain: theta_ (dilatation_shear != 0)
+  double* theta_back[kFlatBranches] = {};
+  int branches = 0;
+  double bulk_elastic = 0, dilatation_shear = 0, lambda_inf = 1;
+  double branch_lambda[kFlatBranches] = {}, decay[kFlatBranches] = {}, from_old[kFlatBranches] = {},
+         from_new[kFlatBranches] = {};
+};
+
+// The breaking sweep of row i (lanes::break_row): |Y| of every bond (the previous pass's
+// kept in r_old), breaking, the smallest stretch, the energy of the broken bonds and the
+// damage; returns sum_j omega V_j |xi| e over the bonds that act in this pass.
+template <bool kAfter>
+HORIZON_HD inline double ordinary_break_row(const FlatSystem& s, const FlatOrdinary& o, uint64_t i) {
+  const double* pi = s.y4 + 4 * i;
+  double th[kLanes] = {}, sm[kLanes];
+  for (int l = 0; l < kLanes; ++l) sm[l] = INFINITY;
+  double lost = 0;
+  uint64_t broken = 0;
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
+    const Kind& kc = s.kinds[s.kind[k]];
+    const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
+    const double r = bond_length(pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]);
+    const double r_old = o.r[k];
+    o.r_old[k] = r_old;
+    o.r[k] = r;
+    if (!s.intact[k]) return;
+    const double e = r - kc.length, stretch = e * kc.inv_length;
+    sm[l] = stretch < sm[l] ? stretch : sm[l];
+    const bool brk = breaks(stretch, pi[3], pj[3]);
+    if (kAfter || !brk) th[l] += dilatation_term(kc.wv, kc.length, e);
+    if (brk) {  // (1/2) t_old e V_j, t_old = q_old |Y_old|, left in q for the model's booking
+      s.intact[k] = kAfter ? 2 : 0;
+      ++broken;
+      const double t_old = o.q[k] * r_old;
+      o.q[k] = t_old;
+      if (r > 0) lost += 0.5 * t_old * e * o.vj[s.kind[k]];
+      s.intact_weight[i] -= kc.damage;
+    }
+  });
+  finish_breaks(s, i, broken, lost);
+  s.min_stretch_next[i] = lane_min(sm);
+  return lane_total(th);
+}
+
+// The committed force state t_n of bond k, rebuilt (LedgerRows::rebuild), before q[k] is
+// written: q_n |Y_n|, or for a bond broken since the commit, the t_n the sweep left in q.
+HORIZON_HD inline double ordinary_old_force(const FlatOrdinary& o, uint64_t k, uint8_t intact, uint8_t was) {
+  const double qo = o.q[k];
+  return bond_booked_now(intact, was) ? qo : qo * o.r_old[k];
+}
+
+// elastic_plastic's row (ElasticPlastic::force_row with ordinary_lanes_body.inc ep_body):
+// the trial norm, the return, the forces and the ledger, then the commit of the row.
+HORIZON_HD inline void ep_flat_row(const FlatSystem& s, const FlatOrdinary& o, uint64_t i, double dilatation_sum) {
+  const uint64_t first = s.offset[i], last = s.offset[i + 1];
+  const int dim = o.dim;
+  const double m = s.weighted_volume[i];
+  const double alpha = o.shear_factor[i] * o.dev_factor * o.mu / m;
+  const double mu = o.shear_factor[i] * o.mu;
+  const double theta = dim * dilatation_sum / m;
+  o.theta[i] = theta;
+  // theta |xi| / d as (theta / d) |xi| (the lanes' rounding).
+  const double theta_d = theta / dim;
+  // The trial deviatoric extension e^d - e^dp_n and its weighted norm.
+  double nrm[kLanes] = {};
+  for_each_lane(first, last, [&](uint64_t k, int l) {
+    if (!s.intact[k]) return;
+    const Kind& kc = s.kinds[s.kind[k]];
+    const double ede = ((o.r[k] - kc.length) - theta_d * kc.length) - o.ep[k];
+    nrm[l] += kc.wv * ede * ede;  // weighted_square
+  });
+  const double n2 = lane_total(nrm) * (alpha * alpha);
+  const ReturnMap rm = o.plastic ? ep_return_map(n2, o.yield_volume > 0 ? o.yield_volume : m, dim, mu, o.yield,
+                                                 o.hardening, o.eps_p[i])
+                                 : ReturnMap{};
+  const double beta = rm.scale;
+  // The host row takes a row that did not flow in its last pass as elastic at first and
+  // visits it again when the return scales it; that second visit finds the bonds the
+  // first one booked already booked and drops their pending flag (lanes open_bond_rare).
+  const bool revisit = !o.flowed[i] && beta != 1.0;
+  o.flowed[i] = rm.plastic_strain > 0;
+  if (beta != 1.0) o.yielded[i] = 1;
+  o.eps_p[i] = o.eps_p[i] + rm.plastic_strain;  // (the commit: eps_p = eps_p_trial)
+  o.lambda[i] = o.lambda[i] + plastic_multiplier_step(beta, alpha);
+  const double p_coef = dim * o.bulk * theta / m;  // t^i = (d k' theta/m) omega |xi|
+  const double rest = 1.0 - beta;
+  double dev[kLanes] = {}, work[kLanes] = {};
+  double booked = 0;
+  bool inelastic = rm.plastic_strain > 0;
+  const LedgerBonds ledger{nullptr, o.booked, o.booked, o.pending_set, o.pending_amount};
+  for_each_lane(first, last, [&](uint64_t k, int l) {
+    const uint32_t kd = s.kind[k];
+    const Kind& kc = s.kinds[kd];
+    const double L = kc.length, omega = o.omega[kd], vj = o.vj[kd];
+    const double r = o.r[k], e = r - L;
+    const uint8_t live = s.intact[k];
+    double t = 0.0;
+    if (live) {
+      const double ep = o.ep[k];
+      const double ede = (e - theta_d * L) - ep;
+      const double elastic = beta * ede;  // ep_bond
+      if (beta != 1.0) o.ep[k] = ep + rest * ede;
+      dev[l] += kc.wv * elastic * elastic;
+      t = p_coef * omega * L + alpha * omega * elastic;  // ordinary_force_scalar
+    }
+    const uint8_t was = o.booked[k];
+    const double of = ordinary_old_force(o, k, live, was), oe = o.r_old[k] - L;
+    work[l] += 0.5 * (of + t) * (e - oe) * vj;  // trapezoid_work
+    if (!live && of != 0.0) inelastic = true;  // it acted at the start of the step
+    if (bond_booked_now(live, was) || o.pending_set[k]) {
+      if (ledger_book_bond(ledger, k, live, was, o.q[k], r, e, vj, booked)) {
+        inelastic = true;
+        if (revisit) o.pending_set[k] = 0;
+      }
+    }
+    o.q[k] = live ? t / r : 0.0;
+  });
+  const double W = 0.5 * o.bulk * theta * theta + 0.5 * alpha * lane_total(dev);
+  const double loss = inelastic ? inelastic_loss(lane_total(work), W - o.stored[i], booked) : 0.0;
+  o.stored[i] = W;
+  s.energy[i] = W;
+  if (loss != 0) s.dissipated[i] += loss * s.volume[i];
+}
+
+// viscoelastic's row (Viscoelastic::force_row with ordinary_lanes_body.inc ves_body): the
+// pressure, e^d, the branches' back extensions, the forces and the ledger, then the commit.
+HORIZON_HD inline void ves_flat_row(const FlatSystem& s, const FlatOrdinary& o, uint64_t i, double dilatation_sum) {
+  const uint64_t first = s.offset[i], last = s.offset[i + 1];
+  const int dim = o.dim, nbranch = o.branches;
+  const double m = s.weighted_volume[i];
+  const double alpha = o.dev_factor * o.mu / m;
+  const double theta = dim * dilatation_sum / m;
+  // p_i = k' theta, or in plane strain k theta + (mu/3) [lambda_inf theta + sum_b lambda_b
+  // (theta - theta^b_b)] (Viscoelastic::pressure), the back dilatations committed at once.
+  double pressure = o.bulk_elastic * theta, dil_springs = 0;
+  if (o.dilatation_shear != 0) {
+    double relaxing = o.lambda_inf * theta;
+    dil_springs = o.lambda_inf * theta * theta;
+    for (int b = 0; b < nbranch; ++b) {
+      const double back =
+          sls_back_extension(o.decay[b], o.from_old[b], o.from_new[b], o.theta_back[b][i], o.theta_strain[i], theta);
+      o.theta_back[b][i] = back;
+      relaxing += o.branch_lambda[b] * (theta - back);
+      dil_springs += o.branch_lambda[b] * (theta - back) * (theta - back);
+    }
+    o.theta_strain[i] = theta;
+    pressure = pressure + o.dilatation_shear * relaxing;
+  }
+  const double theta_old = o.theta[i];
+  o.theta[i] = theta;
+  const double p_coef = dim * pressure / m;
+  // theta |xi| / d as (theta / d) |xi|, likewise theta_n (the lanes' rounding).
+  const double theta_d = theta / dim, theta_old_d = theta_old / dim;
+  double stored[kLanes] = {}, work[kLanes] = {};
+  double booked = 0;
+  const LedgerBonds ledger{nullptr, o.booked, o.booked, o.pending_set, o.pending_amount};
+  for_each_lane(first, last, [&](uint64_t k, int l) {
+    const uint32_t kd = s.kind[k];
+    const Kind& kc = s.kinds[kd];
+    const double L = kc.length, omega = o.omega[kd], vj = o.vj[kd];
+    const double r = o.r[k], e = r - L;
+    const uint8_t live = s.intact[k];
+    const double ed = e - theta_d * L;  // deviatoric_extension
+    const uint8_t was = o.booked[k];
+    const double of = ordinary_old_force(o, k, live, was), oe = o.r_old[k] - L;
+    const double ed_old = oe - theta_old_d * L;  // e^d_n, as the last pass computed it
+    double dev = o.lambda_inf * ed, springs = o.lambda_inf * ed * ed;
+    for (int b = 0; b < nbranch; ++b) {
+      const double back = sls_back_extension(o.decay[b], o.from_old[b], o.from_new[b], o.back[b][k], ed_old, ed);
+      if (live) o.back[b][k] = back;
+      const double qb = ed - back;
+      dev = dev + o.branch_lambda[b] * qb;
+      springs = springs + o.branch_lambda[b] * qb * qb;
+    }
+    double t = 0.0;
+    if (live) {
+      stored[l] += kc.wv * springs;
+      t = p_coef * omega * L + alpha * omega * dev;  // ordinary_force_scalar
+    }
+    work[l] += 0.5 * (of + t) * (e - oe) * vj;  // trapezoid_work
+    if (bond_booked_now(live, was) || o.pending_set[k]) ledger_book_bond(ledger, k, live, was, o.q[k], r, e, vj, booked);
+    o.q[k] = live ? t / r : 0.0;
+  });
+  const double W = 0.5 * o.bulk_elastic * theta * theta + 0.5 * o.dilatation_shear * dil_springs +
+                   0.5 * alpha * lane_total(stored);
+  const double loss = inelastic_loss(lane_total(work), W - o.stored[i], booked);
+  o.stored[i] = W;
+  s.energy[i] = W;
+  if (loss != 0) {
+    s.dissipated[i] += loss * s.volume[i];
+    o.dissipated_density[i] += loss;
+  }
+}
+
+// Pass 1 of row i: the breaking sweep, then the model's row and its commit.
+template <bool kAfter>
+HORIZON_HD inline void ordinary_row_of(const FlatSystem& s, uint64_t i) {
+  const FlatOrdinary& o = *s.ordinary;
+  const double dilatation = ordinary_break_row<kAfter>(s, o, i);
+  if (o.model == 1)
+    ep_flat_row(s, o, i, dilatation);
+  else
+    ves_flat_row(s, o, i, dilatation);
+}
+
+// Pass 2 of row i (lanes::sum_row): f_i = sum_j V_j (q_ij + q_ji) Y over the acting bonds,
+// plus the family contact (its energy added to W_i); with break_after, the bonds broken
+// in this pass are off after it.
+template <bool kAfter>
+HORIZON_HD inline void ordinary_sum_row_of(const FlatSystem& s, uint64_t i) {
+  const FlatOrdinary& o = *s.ordinary;
+  const double* pi = s.y4 + 4 * i;
+  double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {};
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
+    const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
+    const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
+    const uint8_t live = s.intact[k];
+    if (live) {
+      const double vj = o.vj[s.kind[k]], qij = o.q[k], qji = o.q[o.rev[k]];
+      fx[l] += vj * (qij * Yx + qji * Yx);
+      fy[l] += vj * (qij * Yy + qji * Yy);
+      fz[l] += vj * (qij * Yz + qji * Yz);
+    }
+    if (o.contact) {  // every family pair, intact or broken (state/system.hpp family_contact)
+      const Kind& kc = s.kinds[s.kind[k]];
+      double a, w;
+      if (contact_coefficient(kc.contact_d2, kc.contact_d, kc.contact_k, Yx * Yx + Yy * Yy + Yz * Yz, a, w)) {
+        fx[l] += a * Yx;
+        fy[l] += a * Yy;
+        fz[l] += a * Yz;
+        en[l] += w;
+      }
+    }
+    if (kAfter && live == 2) s.intact[k] = 0;
+  });
+  s.f[3 * i] = lane_total(fx), s.f[3 * i + 1] = lane_total(fy), s.f[3 * i + 2] = lane_total(fz);
+  s.energy[i] += lane_total(en);
+}
+
+HORIZON_HD inline void ordinary_row(const FlatSystem& s, uint64_t i) {
+  if (s.break_after) ordinary_row_of<true>(s, i);
+  else ordinary_row_of<false>(s, i);
+}
+HORIZON_HD inline void ordinary_sum_row(const FlatSystem& s, uint64_t i) {
+  if (s.break_after) ordinary_sum_row_of<true>(s, i);
+  else ordinary_sum_row_of<false>(s, i);
+}
+
+// The pass on the host (flat_forces when FlatSystem::ordinary is set).
+inline void flat_ordinary_forces(const FlatSystem& s) {
+  const uint64_t n = s.n;
+  HORIZON_FLAT_ROWS
+  for (uint64_t i = 0; i < n; ++i) pack_row(s, i);
+  if (s.break_after) {
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) ordinary_row_of<true>(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) ordinary_sum_row_of<true>(s, i);
+  } else {
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) ordinary_row_of<false>(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) ordinary_sum_row_of<false>(s, i);
+  }
+}
+
+}  // namespace horizon::kernels

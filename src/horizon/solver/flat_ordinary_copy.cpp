@@ -1,0 +1,133 @@
+#include "horizon/solver/flat_ordinary_copy.hpp"
+
+#include <algorithm>
+
+#include "horizon/family/bond_helpers.hpp"
+#include "horizon/state/model_set.hpp"
+#include "horizon/material/models/ordinary_flat.hpp"
+#include "horizon/material/models/viscoelastic.hpp"
+#include "horizon/material/constants.hpp"
+
+namespace horizon {
+
+namespace {
+OrdinaryModelState state_of(const System& s) {
+  for (std::size_t m = 0; m < s.models.size(); ++m) {
+    OrdinaryModelState o = ordinary_model_state(const_cast<Model&>(s.models[m]));
+    if (o.kind != OrdinaryModelState::none) return o;
+  }
+  return {};
+}
+}  // namespace
+
+bool flat_ordinary_model(const System& s) { return state_of(s).kind != OrdinaryModelState::none; }
+
+std::string flat_ordinary_unsupported(const System& s) {
+  const OrdinaryModelState o = state_of(s);
+  if (o.kind == OrdinaryModelState::none) return "";
+  const char* name = o.kind == OrdinaryModelState::elastic_plastic ? "elastic_plastic" : "viscoelastic";
+  if (s.models.size() != 1)
+    return std::string("model ") + name + " with other materials (the flat rows take one material of elastic_plastic "
+           "or viscoelastic)";
+  if (s.bonds.length_per_bond) return std::string("model ") + name + " on bonds without kinds (an irregular cloud)";
+  return "";
+}
+
+bool flat_ordinary_ready(const System& s) {
+  const OrdinaryModelState o = state_of(s);
+  if (o.kind == OrdinaryModelState::none) return true;
+  const HistoryLedger& L = *o.ledger;
+  return !L.fresh && !L.in_place && !L.zero_committed && L.committed_plain && L.committed_pass == s.model.passes &&
+         s.model.deformed_length.size() == s.bonds.size() && s.model.force_scalar.size() == s.bonds.size();
+}
+
+std::shared_ptr<FlatOrdinaryStorage> flat_ordinary_copy(const System& s, double dt) {
+  const OrdinaryModelState o = state_of(s);
+  if (o.kind == OrdinaryModelState::none) return nullptr;
+  const auto& B = s.bonds;
+  const auto& M = s.model;
+  const std::size_t nb = B.size();
+  auto c = std::make_shared<FlatOrdinaryStorage>();
+  kernels::FlatOrdinary& v = c->view;
+  v.model = o.kind == OrdinaryModelState::elastic_plastic ? 1 : 2;
+  v.dim = o.dim;
+  v.contact = s.contact.acts_on_family();
+  v.dev_factor = lps_deviatoric_factor(o.dim);
+  v.mu = o.mu;
+  for (const BondKind& bk : B.kinds) c->omega.push_back(bk.weight), c->vj.push_back(bk.volume * bk.fraction);
+  c->r = M.deformed_length, c->q = M.force_scalar;
+  c->r.resize(nb, 1.0), c->q.resize(nb, 0.0);
+  c->r_old.assign(nb, 0.0);
+  c->rev = reverse_bonds(B, false);
+  const HistoryLedger& L = *o.ledger;
+  c->booked.assign(L.booked.committed(), L.booked.committed() + L.booked.size());
+  c->pending_set = L.pending_set, c->pending_amount = L.pending_amount;
+  c->stored = L.stored;
+  if (o.kind == OrdinaryModelState::elastic_plastic) {
+    v.bulk = o.bulk, v.yield = o.yield, v.hardening = o.hardening, v.yield_volume = o.yield_volume;
+    v.plastic = o.plastic;
+    c->ep.assign(o.ep->committed(), o.ep->committed() + o.ep->size());
+    c->eps_p = *o.eps_p, c->lambda = *o.lambda, c->theta = *o.theta, c->shear_factor = *o.shear_factor;
+    c->flowed = *o.flowed, c->yielded = *o.yielded;
+  } else {
+    v.bulk_elastic = o.bulk_elastic, v.dilatation_shear = o.dilatation_shear, v.lambda_inf = o.lambda_inf;
+    v.branches = o.branches;
+    for (int b = 0; b < o.branches; ++b) {
+      const SlsStep st = sls_step(dt, o.tau[b]);  // (Viscoelastic::begin_rows: the pass's dt)
+      v.branch_lambda[b] = o.branch_lambda[b], v.decay[b] = st.decay, v.from_old[b] = st.from_old;
+      v.from_new[b] = st.from_new;
+      c->back[b].assign(o.back[b]->committed(), o.back[b]->committed() + o.back[b]->size());
+      if (o.dilatation_shear != 0) c->theta_back[b] = *o.theta_back[b];
+    }
+    c->theta = *o.theta_row, c->dissipated_density = *o.dissipated;
+    if (o.dilatation_shear != 0) c->theta_strain = *o.theta_strain;
+  }
+  c->point();
+  return c;
+}
+
+void FlatOrdinaryStorage::point() {
+  kernels::FlatOrdinary& v = view;
+  auto p = [](auto& a) { return a.empty() ? nullptr : a.data(); };
+  v.omega = p(omega), v.vj = p(vj), v.r = p(r), v.r_old = p(r_old), v.q = p(q), v.rev = p(rev);
+  v.booked = p(booked), v.pending_set = p(pending_set), v.pending_amount = p(pending_amount);
+  v.stored = p(stored), v.theta = p(theta), v.ep = p(ep), v.eps_p = p(eps_p), v.lambda = p(lambda);
+  v.shear_factor = p(shear_factor), v.flowed = p(flowed), v.yielded = p(yielded);
+  v.dissipated_density = p(dissipated_density), v.theta_strain = p(theta_strain);
+  for (int b = 0; b < kernels::kFlatBranches; ++b) v.back[b] = p(back[b]), v.theta_back[b] = p(theta_back[b]);
+}
+
+void flat_ordinary_write_back(const FlatOrdinaryStorage& c, System& s) {
+  OrdinaryModelState o = state_of(s);
+  if (o.kind == OrdinaryModelState::none) return;
+  auto& M = s.model;
+  M.deformed_length = c.r;
+  M.force_scalar = c.q;
+  // The ledger as HistoryLedger::commit_bonds leaves it after a pass of the lanes without a
+  // thermal strain, written in place: t_n and e_n to be rebuilt from this |Y| and q.
+  HistoryLedger& L = *o.ledger;
+  std::copy(c.booked.begin(), c.booked.end(), L.booked.committed());
+  L.pending_set = c.pending_set, L.pending_amount = c.pending_amount;
+  L.stored = c.stored, L.stored_trial = c.stored;
+  std::fill(L.loss_trial.begin(), L.loss_trial.end(), 0.0);
+  L.force.release(), L.extension.release();
+  L.fresh = false, L.in_place = false, L.zero_committed = false, L.kept_trial = false;
+  L.virtual_committed = true, L.committed_plain = true;
+  L.committed_pass = M.passes, M.plain_scalar_pass = M.passes;
+  L.system = &s;
+  if (o.kind == OrdinaryModelState::elastic_plastic) {
+    std::copy(c.ep.begin(), c.ep.end(), o.ep->committed());
+    *o.eps_p = c.eps_p, *o.eps_p_trial = c.eps_p, *o.lambda = c.lambda, *o.lambda_trial = c.lambda;
+    *o.theta = c.theta, *o.flowed = c.flowed, *o.yielded = c.yielded;
+    *o.yield_flags_stale = false;
+  } else {
+    for (int b = 0; b < o.branches; ++b) {
+      std::copy(c.back[b].begin(), c.back[b].end(), o.back[b]->committed());
+      if (o.dilatation_shear != 0) *o.theta_back[b] = c.theta_back[b], *o.theta_back_trial[b] = c.theta_back[b];
+    }
+    *o.theta_row = c.theta, *o.theta_row_trial = c.theta, *o.dissipated = c.dissipated_density;
+    if (o.dilatation_shear != 0) *o.theta_strain = c.theta_strain, *o.theta_strain_trial = c.theta_strain;
+  }
+}
+
+}  // namespace horizon
