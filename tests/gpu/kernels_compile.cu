@@ -152,6 +152,31 @@ __global__ void extended_pair_law_rows(const uint64_t* offset, const uint32_t* n
   W[i] = out.W + Ws;
 }
 
+// The vector form's stabilisation of a row (capped, midpoint residual): R, W_s, the work.
+__global__ void vector_stabilisation_rows(const uint64_t* offset, const uint32_t* nbr, const double* X,
+                                          const double* w, const uint8_t* acts, const double* eps, std::size_t n,
+                                          const double* E, const double* ks, const uint8_t* e_ok, double r_c,
+                                          const double* rp_committed, double* rp_trial, double* rforce, double* R,
+                                          double* W) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  auto bond = [&](uint64_t k, VectorStabilisationBond& b) {
+    if (!acts[k]) return false;
+    const uint32_t j = nbr[k];
+    for (int a = 0; a < 3; ++a) b.xi[a] = X[3 * j + a] - X[3 * i + a];
+    b.eps = eps[k], b.w = w[k];
+    b.mid = e_ok[j] != 0;
+    b.Ej = E + 6 * j;
+    b.ksj = ks[j];
+    return true;
+  };
+  VectorStabilisation st;
+  vector_stabilisation_row(offset[i], offset[i + 1], bond, E + 6 * i, ks[i], r_c > 0, r_c, rp_committed, rp_trial,
+                           rforce, st);
+  for (int k = 0; k < 9; ++k) R[9 * i + k] = st.R[k];
+  W[i] = st.W + st.work;
+}
+
 // The volumetric gradient's bond terms of a row: N = sum w Y (x) xi, and sum w P_j xi.
 __global__ void pressure_rows(const uint64_t* offset, const uint32_t* nbr, const double* X, const double* y,
                               const double* w, std::size_t n, const double* PK, double* N, double* f) {

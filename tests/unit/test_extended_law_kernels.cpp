@@ -242,6 +242,78 @@ TEST(ExtendedLawKernels, PairStabilisationAndRecordKeepTheHostsBits) {
   EXPECT_EQ(bad, 0);
 }
 
+// The vector form's stabilisation() loop as it was (Eigen), capped and not, midpoint and
+// full residuals, against vector_stabilisation_row.
+TEST(ExtendedLawKernels, VectorStabilisationKeepsTheHostsBits) {
+  std::mt19937_64 g(43);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad = 0, returned = 0;
+  for (int t = 0; t < 4000; ++t) {
+    const int n = 10 + t % 30;
+    Vec6 Ei;
+    for (int q = 0; q < 6; ++q) Ei[q] = 0.01 * u(g);
+    const double ks = 1e10 * (0.5 + std::abs(u(g)));
+    const bool capped = t % 2 == 0;
+    const double r_c = capped ? 0.003 * std::abs(u(g)) : 0.0;
+    std::vector<kernels::VectorStabilisationBond> bonds(n);
+    std::vector<Vec6> Ej(n);
+    std::vector<uint8_t> acts(n);
+    std::vector<double> rpc(n), rpt_host(n, -1.0), rpt_k(n, -1.0), rf_host(n, 0.0), rf_k(n, 0.0);
+    for (int k = 0; k < n; ++k) {
+      kernels::VectorStabilisationBond& b = bonds[k];
+      for (int a = 0; a < 3; ++a) b.xi[a] = 1e-3 * u(g);
+      if (t % 7 == 0) b.xi[2] = 0.0;
+      b.eps = 0.01 * u(g), b.w = 1e-9 * std::abs(u(g));
+      for (int q = 0; q < 6; ++q) Ej[k][q] = 0.01 * u(g);
+      b.mid = t % 3 == 0 && u(g) > -0.5;
+      b.Ej = b.mid ? Ej[k].data() : nullptr;
+      b.ksj = b.mid ? 1e10 * std::abs(u(g)) : 0.0;
+      acts[k] = u(g) > -0.7;
+      rpc[k] = 0.002 * u(g);
+    }
+    // The host's loop.
+    Mat3 R = Mat3::Zero();
+    double W = 0, work = 0;
+    for (int k = 0; k < n; ++k) {
+      if (!acts[k]) continue;
+      const kernels::VectorStabilisationBond& b = bonds[k];
+      const Vec3d xi(b.xi[0], b.xi[1], b.xi[2]);
+      double r0, coef = ks;
+      if (b.mid) {
+        r0 = b.eps - eigen_normal_projector(xi).dot(0.5 * (Ei + Ej[k]));
+        coef = 0.5 * (ks + b.ksj);
+      } else {
+        r0 = b.eps - eigen_normal_projector(xi).dot(Ei);
+      }
+      double rp = 0;
+      if (capped) {
+        const double rc = rpc[k];
+        rp = std::abs(r0 - rc) > r_c ? r0 - std::copysign(r_c, r0 - rc) : rc;
+        work += 2.0 * coef * r_c * std::abs(rp - rc) * b.w;
+        rpt_host[k] = rp;
+        returned += rp != rc ? 1 : 0;
+      }
+      const double r = r0 - rp;
+      rf_host[k] = r * coef / ks;
+      const Eigen::Vector3d nv = xi.normalized();
+      R.noalias() += (b.w * rf_host[k]) * nv * nv.transpose();
+      W += coef * b.w * r * r;
+    }
+    auto bond = [&](uint64_t k, kernels::VectorStabilisationBond& b) {
+      b = bonds[k];
+      return acts[k] != 0;
+    };
+    kernels::VectorStabilisation st;
+    kernels::vector_stabilisation_row(0, n, bond, Ei.data(), ks, capped, r_c, rpc.data(), rpt_k.data(), rf_k.data(),
+                                      st);
+    bad += test::differing(R, st.R) + differing(&W, &st.W, 1) + differing(&work, &st.work, 1);
+    bad += differing(rf_host.data(), rf_k.data(), n);
+    if (capped) bad += differing(rpt_host.data(), rpt_k.data(), n);
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(returned, 5000);  // the capped return ran
+}
+
 TEST(ExtendedLawKernels, VolumetricGradientBondTermsKeepEigensBits) {
   std::mt19937_64 g(29);
   std::uniform_real_distribution<double> u(-1, 1);

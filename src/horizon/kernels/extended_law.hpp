@@ -314,6 +314,82 @@ HORIZON_HD inline void pair_record(const double* a, double ks, const double* inv
   for (int q = 0; q < 6; ++q) A[q] -= (2.0 * ks) * d[q];
 }
 
+// ---- the vector form's stabilisation ----
+
+// std::copysign (the capped stabilisation's return).
+HORIZON_HD inline double copy_sign(double x, double y) {
+#if defined(__CUDA_ARCH__)
+  return ::copysign(x, y);
+#else
+  return __builtin_copysign(x, y);
+#endif
+}
+
+// One acting bond as the vector form's stabilisation reads it: xi itself (the residual's
+// projector and n = xi/|xi| from it), the bond strain eps, w = omega V_j, and (mid) the other
+// end's E and k_s for the midpoint residual.
+struct VectorStabilisationBond {
+  double xi[3];
+  double eps, w;
+  const double* Ej;
+  double ksj;
+  bool mid;
+};
+
+struct VectorStabilisation {
+  double R[9];      // sum w r_force n (x) n (row-major)
+  double W, work;   // W_s and the capped part's dissipation in the step [J/m^3]
+};
+
+// ExtendedCorrespondence::stabilisation (the vector form: force_state, energy_with): each
+// acting bond's residual r0 = eps - p(xi) . E (midpoint: p . (E + E_j)/2, coef (k_s +
+// k_s,j)/2, else k_s); capped (r_c > 0: the stabilisation yields at r_c), the plastic
+// residual's closest-point return from rp_committed[k] (written to rp_trial[k] when given)
+// and its work 2 coef r_c |dr_p| w; rforce[k] = r coef/k_s with r = r0 - r_p; R += (w
+// r_force) n (x) n with n = xi/|xi| (Eigen's normalized(): xi / sqrt((x^2 + y^2) + z^2));
+// W_s = sum coef w r^2. bond(k, b) fills b and says whether bond k acts.
+template <class Bond>
+HORIZON_HD inline void vector_stabilisation_row(uint64_t begin, uint64_t end, Bond bond, const double* E, double ks,
+                                                bool capped, double r_c, const double* rp_committed,
+                                                double* rp_trial, double* rforce, VectorStabilisation& out) {
+  for (int q = 0; q < 9; ++q) out.R[q] = 0.0;
+  out.W = out.work = 0.0;
+  for (uint64_t k = begin; k < end; ++k) {
+    VectorStabilisationBond b;
+    if (!bond(k, b)) continue;
+    double p[6];
+    normal_projector_of(b.xi, p);
+    double r0, coef = ks;
+    if (b.mid) {
+      r0 = b.eps - dot6_mid(p, E, b.Ej);
+      coef = 0.5 * (ks + b.ksj);
+    } else {
+      r0 = b.eps - dot6(p, E);
+    }
+    double rp = 0;
+    if (capped) {
+      const double rc = rp_committed[k];
+      rp = magnitude(r0 - rc) > r_c ? r0 - copy_sign(r_c, r0 - rc) : rc;
+      out.work += 2.0 * coef * r_c * magnitude(rp - rc) * b.w;
+      if (rp_trial) rp_trial[k] = rp;
+    }
+    const double r = r0 - rp;
+    rforce[k] = r * coef / ks;
+    const double z = (b.xi[0] * b.xi[0] + b.xi[1] * b.xi[1]) + b.xi[2] * b.xi[2];
+    double n[3] = {b.xi[0], b.xi[1], b.xi[2]};
+    if (z > 0) {
+      const double sz = root(z);
+      for (int a = 0; a < 3; ++a) n[a] = n[a] / sz;
+    }
+    const double f = b.w * rforce[k];
+    for (int a = 0; a < 3; ++a) {
+      const double fa = f * n[a];
+      for (int c = 0; c < 3; ++c) out.R[3 * a + c] += fa * n[c];
+    }
+    out.W += coef * b.w * r * r;
+  }
+}
+
 // ---- the volumetric gradient's bond terms ----
 
 // N += w Y (x) xi (column-major N; the classical nonlocal gradient's sum of the acting bonds).

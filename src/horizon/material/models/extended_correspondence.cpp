@@ -641,43 +641,31 @@ class ExtendedCorrespondence final : public Model {
   template <class Acts>
   Stabilisation stabilisation(const Bonds& B, const std::vector<Vec3>& X, uint32_t i, std::size_t l,
                               const extended::NonlocalStrain& E, Acts acts, double alpha, double rate, bool write) {
+    // The bond loop is a portable kernel (kernels/extended_law.hpp vector_stabilisation_row:
+    // this loop's Eigen form, the same bits).
     Stabilisation out;
     const double ks = ks_[l];
     const bool capped = stab_yield_ > 0 && !rp_committed_.empty();
-    const double r_c = capped ? stab_yield_ * classical::flow_stress(law_, alpha, rate) / (2.0 * gs_mu_bar_) : 0.0;
-    const Vec6& Ei = E.strain_vector();
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      if (!acts(k)) continue;
+    const double r_c = capped ? stab_yield_ * kernels::strain_flow(kext_.law, alpha, rate) / (2.0 * gs_mu_bar_) : 0.0;
+    auto bond = [&](uint64_t k, kernels::VectorStabilisationBond& b) {
+      if (!acts(k)) return false;
       const uint32_t j = B.nbr[k];
       const Vec3 xi = X[j] - X[i];
-      double r0, coef = ks;
+      b.xi[0] = xi.x, b.xi[1] = xi.y, b.xi[2] = xi.z;
+      b.eps = eps_[k];
+      b.w = B.weight[k] * B.volume[k];
       const int32_t lj = midpoint_ ? local_[j] : -1;
-      if (lj >= 0 && e_ok_[lj]) {
-        r0 = eps_[k] - extended::normal_projector(xi).dot(0.5 * (Ei + e_vec_[lj]));
-        coef = 0.5 * (ks + ks_[lj]);
-      } else {
-        r0 = E.residual(xi, eps_[k]);
-      }
-      const double w = B.weight[k] * B.volume[k];
-      // The capped (plastic) stabilisation. W_s is diagonal in the per-bond plastic residual
-      // r_p (dW_s/dr_p = -2 k w (r0 - r_p)), so the closest-point return is bond by bond.
-      // The bond's stabilisation stress, in the units of the law's, is tau = 2 G_s mu_bar
-      // (r0 - r_p) (k_s = G_s mu_bar d / sum w); |tau| <= stabilization_yield x the flow
-      // stress after the step, i.e. |r0 - r_p| <= r_c. Dissipation: 2 k r_c |Delta r_p| w
-      // per bond (backward Euler, as the law's Y Delta eps_p).
-      double rp = 0;
-      if (capped) {
-        const double rc = rp_committed_[k];
-        rp = std::abs(r0 - rc) > r_c ? r0 - std::copysign(r_c, r0 - rc) : rc;
-        out.work += 2.0 * coef * r_c * std::abs(rp - rc) * w;
-        if (write) rp_trial_[k] = rp;
-      }
-      const double r = r0 - rp;
-      rforce_[k] = r * coef / ks;
-      const Eigen::Vector3d nv = Eigen::Vector3d(xi.x, xi.y, xi.z).normalized();
-      out.R.noalias() += (w * rforce_[k]) * nv * nv.transpose();
-      out.W += coef * w * r * r;
-    }
+      b.mid = lj >= 0 && e_ok_[lj];
+      b.Ej = b.mid ? e_vec_[lj].data() : nullptr;
+      b.ksj = b.mid ? ks_[lj] : 0.0;
+      return true;
+    };
+    kernels::VectorStabilisation st;
+    kernels::vector_stabilisation_row(B.begin(i), B.end(i), bond, E.strain_vector().data(), ks, capped, r_c,
+                                      capped ? rp_committed_.data() : nullptr,
+                                      capped && write ? rp_trial_.data() : nullptr, rforce_.data(), st);
+    for (int k = 0; k < 9; ++k) out.R(k / 3, k % 3) = st.R[k];
+    out.W = st.W, out.work = st.work;
     return out;
   }
   bool failed_committed(uint32_t i) const {
