@@ -177,6 +177,24 @@ __global__ void vector_stabilisation_rows(const uint64_t* offset, const uint32_t
   W[i] = st.W + st.work;
 }
 
+// The vector form's bond sweeps of a row: the strains and their sum S (sweep 1), then the
+// force states with a = dual(S), b = dual(R) of the row (sweep 2).
+__global__ void vector_form_rows(const uint64_t* offset, const uint32_t* nbr, const double* X, const double* y,
+                                 const double* w, const double* omega, std::size_t n, double m, int d,
+                                 const double* a, const double* b, const double* ks, const double* rforce,
+                                 double* eps, double* S, double* T) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  double Si[6] = {};
+  for (uint64_t k = offset[i]; k < offset[i + 1]; ++k) {
+    double xi[3], Y[3];
+    for (int q = 0; q < 3; ++q) xi[q] = X[3 * nbr[k] + q] - X[3 * i + q], Y[q] = y[3 * nbr[k] + q] - y[3 * i + q];
+    eps[k] = vector_strain_add(Si, xi, Y, w[k], m, d);
+    vector_bond_force(a + 6 * i, b + 6 * i, ks[i], omega[k], m, d, xi, Y, rforce[k], T + 3 * k);
+  }
+  for (int q = 0; q < 6; ++q) S[6 * i + q] = Si[q];
+}
+
 // The volumetric gradient's bond terms of a row: N = sum w Y (x) xi, and sum w P_j xi.
 __global__ void pressure_rows(const uint64_t* offset, const uint32_t* nbr, const double* X, const double* y,
                               const double* w, std::size_t n, const double* PK, double* N, double* f) {

@@ -314,6 +314,48 @@ TEST(ExtendedLawKernels, VectorStabilisationKeepsTheHostsBits) {
   EXPECT_GT(returned, 5000);  // the capped return ran
 }
 
+// The vector form's bond terms as they were (NonlocalStrain::add_strain, residual and
+// bond_force_state with Eigen 6-vectors), against vector_strain_add, dot6 and vector_bond_force.
+TEST(ExtendedLawKernels, VectorFormBondTermsKeepEigensBits) {
+  std::mt19937_64 g(47);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bad = 0;
+  for (int t = 0; t < 20000; ++t) {
+    const int dim = t % 3 == 0 ? 2 : 3;
+    const double m = t % 4 == 0 ? 0.0 : (t % 4 == 1 ? 1.0 : (t % 4 == 2 ? 0.5 : -1.0));
+    const Vec3d xi(1e-3 * u(g), 1e-3 * u(g), dim == 3 ? 1e-3 * u(g) : 0.0);
+    const Vec3d Y = xi * (1.0 + 0.1 * u(g)) + Vec3d(1e-4 * u(g), 1e-4 * u(g), dim == 3 ? 1e-4 * u(g) : 0.0);
+    const double w = 1e-9 * std::abs(u(g)), x[3] = {xi.x(), xi.y(), xi.z()}, y[3] = {Y.x(), Y.y(), Y.z()};
+    Vec6 S, a, b, E;
+    for (int q = 0; q < 6; ++q) S[q] = 1e-9 * u(g), a[q] = 1e9 * u(g), b[q] = 0.01 * u(g), E[q] = 0.01 * u(g);
+    // add_strain
+    const double c = (Y.x() * Y.x() + Y.y() * Y.y() + Y.z() * Y.z()) / (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    const double eps = kernels::seth_hill_strain(c, m);
+    Vec6 Sk = S;
+    S.noalias() += (w * eps) * eigen_shape_state(xi, dim);
+    const double ek = kernels::vector_strain_add(Sk.data(), x, y, w, m, dim);
+    bad += differing(S.data(), Sk.data(), 6) + differing(&eps, &ek, 1);
+    // residual
+    const double r_host = eps - eigen_normal_projector(xi).dot(E);
+    double p[6];
+    kernels::normal_projector_of(x, p);
+    const double r_k = eps - kernels::dot6(p, E.data());
+    bad += differing(&r_host, &r_k, 1);
+    // bond_force_state
+    const double ks = t % 5 == 0 ? 0.0 : 1e10 * std::abs(u(g)), omega = std::abs(u(g)), r = 0.01 * u(g);
+    const double xi2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2], cc = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) / xi2;
+    const Vec6 h = eigen_shape_state(xi, dim);
+    const double s = a.dot(h) + 2.0 * ks * (r - b.dot(h));
+    const double gf = (m == 0.0 ? 1.0 / cc : m == 1.0 ? 1.0 : std::pow(cc, m - 1.0)) / xi2;
+    const double f = omega * s * gf;
+    const double T[3] = {f * y[0], f * y[1], f * y[2]};
+    double Tk[3];
+    kernels::vector_bond_force(a.data(), b.data(), ks, omega, m, dim, x, y, r, Tk);
+    bad += differing(T, Tk, 3);
+  }
+  EXPECT_EQ(bad, 0);
+}
+
 TEST(ExtendedLawKernels, VolumetricGradientBondTermsKeepEigensBits) {
   std::mt19937_64 g(29);
   std::uniform_real_distribution<double> u(-1, 1);

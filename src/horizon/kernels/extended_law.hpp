@@ -314,6 +314,35 @@ HORIZON_HD inline void pair_record(const double* a, double ks, const double* inv
   for (int q = 0; q < 6; ++q) A[q] -= (2.0 * ks) * d[q];
 }
 
+// ---- the vector form's bond terms ----
+
+// Sweep 1 of the vector form (NonlocalStrain::add_strain): the bond's Seth-Hill strain of
+// (4.2) from c = |Y|^2/|xi|^2, and S += (w eps) H<xi>; returns eps.
+HORIZON_HD inline double vector_strain_add(double* S, const double* xi, const double* Y, double w, double m,
+                                           int dimension) {
+  const double c = (Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2]) / (xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+  const double eps = seth_hill_strain(c, m);
+  double h[6];
+  shape_state_of(xi, dimension, h);
+  strain_sum_add(S, w * eps, h);
+  return eps;
+}
+
+// The force state (**) of one bond in the vector form (bond_force_state): a = dual(S),
+// b = dual(R), omega the influence weight, r the bond's r_force:
+//   T = omega (a . h + 2 k_s (r - b . h)) c^(m-1)/|xi|^2 Y.
+HORIZON_HD inline void vector_bond_force(const double* a, const double* b, double ks, double omega, double m,
+                                         int dimension, const double* xi, const double* Y, double r, double* T) {
+  const double xi2 = xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2];
+  const double c = (Y[0] * Y[0] + Y[1] * Y[1] + Y[2] * Y[2]) / xi2;
+  double h[6];
+  shape_state_of(xi, dimension, h);
+  const double s = dot6(a, h) + 2.0 * ks * (r - dot6(b, h));
+  const double g = (m == 0.0 ? 1.0 / c : m == 1.0 ? 1.0 : power(c, m - 1.0)) / xi2;
+  const double f = omega * s * g;
+  for (int q = 0; q < 3; ++q) T[q] = f * Y[q];
+}
+
 // ---- the vector form's stabilisation ----
 
 // std::copysign (the capped stabilisation's return).

@@ -193,10 +193,8 @@ class NonlocalStrain {
   }
   // Sweep 1 with a kept moment map (use()).
   double add_strain(const Vec3& xi, const Vec3& Y, double w) {
-    const double c = dot(Y, Y) / dot(xi, xi);
-    const double eps = seth_hill_strain(c, m_);
-    S_.noalias() += (w * eps) * shape_state(xi, dim_);
-    return eps;
+    const double x[3] = {xi.x, xi.y, xi.z}, y[3] = {Y.x, Y.y, Y.z};
+    return kernels::vector_strain_add(S_.data(), x, y, w, m_, dim_);  // (kernels/extended_law.hpp)
   }
   void use(const MomentMap& map) { map_ = map; }
   const MomentMap& map() const { return map_; }
@@ -212,7 +210,12 @@ class NonlocalStrain {
   const Vec6& strain_vector() const { return E_; }
   Vec6 dual(const Mat3& sigma) const { return map_.dual(sigma); }
   // r_j = eps_j - n . E n.
-  double residual(const Vec3& xi, double eps) const { return eps - normal_projector(xi).dot(E_); }
+  double residual(const Vec3& xi, double eps) const {
+    const double x[3] = {xi.x, xi.y, xi.z};
+    double p[6];
+    kernels::normal_projector_of(x, p);
+    return eps - kernels::dot6(p, E_.data());
+  }
 
  private:
   int dim_;
@@ -224,12 +227,13 @@ class NonlocalStrain {
 
 // The force state (**) of one bond: a = dual(sigma), b = dual(R), ks the stabilisation
 // modulus, omega the (damage-dependent) influence weight.
+// (kernels/extended_law.hpp vector_bond_force: the former Eigen form's bits.)
 inline Vec3 bond_force_state(const Vec6& a, const Vec6& b, double ks, double omega, double m, int dimension,
                              const Vec3& xi, const Vec3& Y, double r) {
-  const double xi2 = dot(xi, xi), c = dot(Y, Y) / xi2;
-  const Vec6 h = shape_state(xi, dimension);
-  const double s = a.dot(h) + 2.0 * ks * (r - b.dot(h));
-  return (omega * s * strain_gradient_factor(c, m, xi2)) * Y;
+  const double x[3] = {xi.x, xi.y, xi.z}, y[3] = {Y.x, Y.y, Y.z};
+  double T[3];
+  kernels::vector_bond_force(a.data(), b.data(), ks, omega, m, dimension, x, y, r, T);
+  return {T[0], T[1], T[2]};
 }
 
 // The `hencky` strain measure (not in the thesis; departure documented in the model page).
