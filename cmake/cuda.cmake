@@ -26,8 +26,10 @@ target_link_libraries(horizon_cuda PUBLIC CUDA::cudart)
 
 # The portable law kernels that no device pass calls yet (kernels/laws.hpp, eigen3.hpp:
 # the correspondence model's neo-Hookean and J2 rows), compiled for the device in every
-# GPU build so that device_check.sh checks them in its one call (nothing runs them).
-add_library(horizon_kernels_compile OBJECT ${PROJECT_SOURCE_DIR}/tests/gpu/kernels_compile.cu)
+# GPU build so that device_check.sh checks them in its one call (nothing runs them);
+# kernels_compile_models.cu: those of microplastic, PALS, the linearised LPS and bond_pair.
+add_library(horizon_kernels_compile OBJECT ${PROJECT_SOURCE_DIR}/tests/gpu/kernels_compile.cu
+                                          ${PROJECT_SOURCE_DIR}/tests/gpu/kernels_compile_models.cu)
 set_property(TARGET horizon_kernels_compile PROPERTY COMPILE_OPTIONS "")
 target_compile_options(horizon_kernels_compile PRIVATE $<$<COMPILE_LANGUAGE:CUDA>:--fmad=false -Xcompiler=-Wall,-Wextra>)
 target_include_directories(horizon_kernels_compile PRIVATE ${PROJECT_SOURCE_DIR}/src)

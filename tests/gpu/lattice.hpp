@@ -34,10 +34,10 @@ struct Lattice {
   // elastic_plastic or viscoelastic (make_ordinary_lattice; ord.model 0 otherwise): the
   // arrays kernels::FlatOrdinary points to (view() points ord into them).
   kernels::FlatOrdinary ord;
-  std::vector<double> o_omega, o_vj, o_r, o_r_old, o_q, o_pending_amount, o_stored, o_theta, o_ep, o_eps_p, o_lambda,
+  std::vector<double> o_omega, o_vj, o_r[2], o_q[2], o_pending_amount, o_stored, o_theta, o_ep, o_eps_p, o_lambda,
       o_shear_factor, o_dissipated, o_back[kernels::kFlatBranches];
   std::vector<uint64_t> o_rev;
-  std::vector<uint8_t> o_booked, o_pending_set, o_flowed, o_yielded;
+  std::vector<uint8_t> o_booked, o_pending_set, o_flowed, o_yielded, o_current{0};
   uint64_t n = 0;
   bool lps = false;
   double dt = 0;
@@ -66,7 +66,8 @@ struct Lattice {
     }
     if (ord.model) {
       auto p = [](auto& a) { return a.empty() ? nullptr : a.data(); };
-      ord.omega = p(o_omega), ord.vj = p(o_vj), ord.r = p(o_r), ord.r_old = p(o_r_old), ord.q = p(o_q);
+      ord.omega = p(o_omega), ord.vj = p(o_vj), ord.current = p(o_current);
+      for (int b = 0; b < 2; ++b) ord.r[b] = p(o_r[b]), ord.q[b] = p(o_q[b]);
       ord.rev = p(o_rev), ord.booked = p(o_booked), ord.pending_set = p(o_pending_set);
       ord.pending_amount = p(o_pending_amount), ord.stored = p(o_stored), ord.theta = p(o_theta), ord.ep = p(o_ep);
       ord.eps_p = p(o_eps_p), ord.lambda = p(o_lambda), ord.shear_factor = p(o_shear_factor);
@@ -205,8 +206,9 @@ inline Lattice make_ordinary_lattice(int nx, int ny, int nz, bool plastic, doubl
     k.pair = 0.0, k.wv = V;  // omega V_j
     L.o_omega.push_back(1.0), L.o_vj.push_back(V);
   }
-  for (uint64_t k = 0; k < nb; ++k) L.o_r.push_back(L.kinds[L.kind[k]].length);
-  L.o_r_old.assign(nb, 0.0), L.o_q.assign(nb, 0.0), L.o_booked.assign(nb, 0), L.o_pending_set.assign(nb, 0);
+  for (uint64_t k = 0; k < nb; ++k) L.o_r[0].push_back(L.kinds[L.kind[k]].length);
+  L.o_r[1].assign(nb, 0.0), L.o_q[0].assign(nb, 0.0), L.o_q[1].assign(nb, 0.0);
+  L.o_booked.assign(nb, 0), L.o_pending_set.assign(nb, 0);
   L.o_pending_amount.assign(nb, 0.0), L.o_stored.assign(n, 0.0), L.o_theta.assign(n, 0.0);
   L.o_rev.resize(nb);
   for (uint64_t i = 0; i < n; ++i)

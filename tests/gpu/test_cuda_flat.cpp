@@ -81,7 +81,9 @@ bool compare(const std::string& model, bool loads) {
     const std::vector<double>& hh = model == "elastic_plastic" ? host.o_ep : host.o_back[0];
     const std::vector<double>& dh_ = model == "elastic_plastic" ? dev.o_ep : dev.o_back[0];
     const bool same_history = std::memcmp(hh.data(), dh_.data(), hh.size() * sizeof(double)) == 0 &&
-                              std::memcmp(host.o_q.data(), dev.o_q.data(), host.o_q.size() * sizeof(double)) == 0;
+                              host.o_current == dev.o_current &&
+                              std::memcmp(host.o_q[0].data(), dev.o_q[0].data(), host.o_q[0].size() * sizeof(double)) == 0 &&
+                              std::memcmp(host.o_q[1].data(), dev.o_q[1].data(), host.o_q[1].size() * sizeof(double)) == 0;
     double dh = 0, dd = 0;
     for (uint64_t i = 0; i < host.n; ++i) dh += host.dissipated[i], dd += dev.dissipated[i];
     std::printf("%s: history and force scalars %s; dissipated %.17g (host) %.17g (device)\n", name,

@@ -46,6 +46,8 @@ __global__ void ordinary_sum_kernel(kernels::FlatSystem s) {
   const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
   if (i < s.n) kernels::ordinary_sum_row(s, i);
 }
+// One thread, after the sums: this pass's |Y| and q become the last pass's.
+__global__ void ordinary_flip_kernel(kernels::FlatSystem s) { kernels::flip_ordinary(s); }
 
 }  // namespace
 
@@ -53,7 +55,8 @@ const kernels::FlatOrdinary* upload_ordinary(const kernels::FlatOrdinary& h, uin
                                              uint64_t nkinds, kernels::FlatOrdinary& d, std::vector<void*>& o) {
   d = h;  // the constants; every pointer is replaced below
   d.omega = up(h.omega, nkinds, o), d.vj = up(h.vj, nkinds, o);
-  d.r = up(h.r, nb, o), d.r_old = up(h.r_old, nb, o), d.q = up(h.q, nb, o), d.rev = up(h.rev, nb, o);
+  for (int b = 0; b < 2; ++b) d.r[b] = up(h.r[b], nb, o), d.q[b] = up(h.q[b], nb, o);
+  d.rev = up(h.rev, nb, o), d.current = up(h.current, 1, o);
   d.booked = up(h.booked, nb, o), d.pending_set = up(h.pending_set, nb, o);
   d.pending_amount = up(h.pending_amount, nb, o);
   d.stored = up(h.stored, n, o), d.theta = up(h.theta, n, o);
@@ -66,7 +69,8 @@ const kernels::FlatOrdinary* upload_ordinary(const kernels::FlatOrdinary& h, uin
 }
 
 void download_ordinary(const kernels::FlatOrdinary& h, const kernels::FlatOrdinary& d, uint64_t n, uint64_t nb) {
-  down(h.r, d.r, nb), down(h.q, d.q, nb);
+  for (int b = 0; b < 2; ++b) down(h.r[b], d.r[b], nb), down(h.q[b], d.q[b], nb);
+  down(h.current, d.current, 1);
   down(h.booked, d.booked, nb), down(h.pending_set, d.pending_set, nb), down(h.pending_amount, d.pending_amount, nb);
   down(h.stored, d.stored, n), down(h.theta, d.theta, n);
   down(h.ep, d.ep, nb), down(h.eps_p, d.eps_p, n), down(h.lambda, d.lambda, n);
@@ -79,6 +83,7 @@ void ordinary_pass(const kernels::FlatSystem& d, unsigned grid, int block) {
   ordinary_pack_kernel<<<grid, block>>>(d);
   ordinary_row_kernel<<<grid, block>>>(d);
   ordinary_sum_kernel<<<grid, block>>>(d);
+  ordinary_flip_kernel<<<1, 1>>>(d);
 }
 
 }  // namespace horizon::cuda

@@ -18,7 +18,7 @@ const kernels::FlatOrdinary* upload_ordinary(const kernels::FlatOrdinary& h, uin
                                              std::vector<void*>& owned);
 // The model's state back into h's arrays (what flat_ordinary_write_back reads).
 void download_ordinary(const kernels::FlatOrdinary& h, const kernels::FlatOrdinary& device, uint64_t n, uint64_t nb);
-// One force pass (kernels::flat_ordinary_forces): pack, the rows, the sums.
+// One force pass (kernels::flat_ordinary_forces): pack, the rows, the sums, the flip.
 void ordinary_pass(const kernels::FlatSystem& d, unsigned grid, int block);
 
 }  // namespace horizon::cuda

@@ -19,9 +19,11 @@
 //
 // The ledger's committed t_n and e_n are rebuilt from the previous pass as the lanes
 // rebuild them (history_ledger.hpp LedgerRows::rebuild): e_n = |Y_n| - |xi|, t_n = q_n |Y_n|
-// (for a bond broken in this pass, t_n itself, which the breaking sweep leaves in q), |Y_n|
-// kept per bond by the breaking sweep (r_old). The copy must start from a state the CPU's
-// next pass would rebuild from (solver/flat_ordinary_copy.hpp).
+// (for a bond broken in this pass, t_n itself, which the breaking sweep leaves in q). |Y|
+// and q are kept in two copies, the last pass's and this one's (FlatOrdinary::current says
+// which is the last pass's; the pass flips it at its end), so that a row reads the last
+// pass's values however often it visits its bonds. The copy must start from a state the
+// CPU's next pass would rebuild from (solver/flat_ordinary_copy.hpp).
 #include <cstdint>
 
 #include "horizon/core/portable.hpp"
@@ -41,12 +43,13 @@ struct FlatOrdinary {
   // Per kind: omega and V_j (System::model.kind_rows' y and w).
   const double* omega = nullptr;
   const double* vj = nullptr;
-  // Per bond: |Y| of this pass and of the previous one, q = t/|Y| (System::model's
-  // deformed_length and force_scalar), the reverse bond, the ledger's booked flags (written
-  // in place) and pending bookings.
-  double* r = nullptr;
-  double* r_old = nullptr;
-  double* q = nullptr;
+  // Per bond, two copies: |Y| and q = t/|Y| (System::model's deformed_length and
+  // force_scalar) of the last pass, r[*current] and q[*current], and of this pass, the
+  // other copy. Then the reverse bond, the ledger's booked flags (written in place) and
+  // pending bookings.
+  double* r[2] = {};
+  double* q[2] = {};
+  uint8_t* current = nullptr;  // one byte: 0 or 1
   const uint64_t* rev = nullptr;
   uint8_t* booked = nullptr;
   uint8_t* pending_set = nullptr;
@@ -81,8 +84,8 @@ struct FlatOrdinary {
          from_new[kFlatBranches] = {};
 };
 
-// The breaking sweep of row i (lanes::break_row): |Y| of every bond (the previous pass's
-// kept in r_old), breaking, the smallest stretch, the energy of the broken bonds and the
+// The breaking sweep of row i (lanes::break_row): |Y| of every bond (into this pass's copy),
+// breaking, the smallest stretch, the energy of the broken bonds and the
 // damage; returns sum_j omega V_j |xi| e over the bonds that act in this pass.
 template <bool kAfter>
 HORIZON_HD inline double ordinary_break_row(const FlatSystem& s, const FlatOrdinary& o, uint64_t i) {
@@ -91,13 +94,15 @@ HORIZON_HD inline double ordinary_break_row(const FlatSystem& s, const FlatOrdin
   for (int l = 0; l < kLanes; ++l) sm[l] = INFINITY;
   double lost = 0;
   uint64_t broken = 0;
+  const int last = *o.current;
+  double* r_now = o.r[1 - last];
+  const double* r_last = o.r[last];
+  double* q_last = o.q[last];
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const Kind& kc = s.kinds[s.kind[k]];
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double r = bond_length(pj[0] - pi[0], pj[1] - pi[1], pj[2] - pi[2]);
-    const double r_old = o.r[k];
-    o.r_old[k] = r_old;
-    o.r[k] = r;
+    r_now[k] = r;
     if (!s.intact[k]) return;
     const double e = r - kc.length, stretch = e * kc.inv_length;
     sm[l] = stretch < sm[l] ? stretch : sm[l];
@@ -106,8 +111,8 @@ HORIZON_HD inline double ordinary_break_row(const FlatSystem& s, const FlatOrdin
     if (brk) {  // (1/2) t_old e V_j, t_old = q_old |Y_old|, left in q for the model's booking
       s.intact[k] = kAfter ? 2 : 0;
       ++broken;
-      const double t_old = o.q[k] * r_old;
-      o.q[k] = t_old;
+      const double t_old = q_last[k] * r_last[k];
+      q_last[k] = t_old;
       if (r > 0) lost += 0.5 * t_old * e * o.vj[s.kind[k]];
       s.intact_weight[i] -= kc.damage;
     }
@@ -117,17 +122,71 @@ HORIZON_HD inline double ordinary_break_row(const FlatSystem& s, const FlatOrdin
   return lane_total(th);
 }
 
-// The committed force state t_n of bond k, rebuilt (LedgerRows::rebuild), before q[k] is
-// written: q_n |Y_n|, or for a bond broken since the commit, the t_n the sweep left in q.
-HORIZON_HD inline double ordinary_old_force(const FlatOrdinary& o, uint64_t k, uint8_t intact, uint8_t was) {
-  const double qo = o.q[k];
-  return bond_booked_now(intact, was) ? qo : qo * o.r_old[k];
+// The sums of one visit of an elastic-plastic row (lanes::RowSums).
+struct EpSums {
+  double norm = 0, dev = 0, work = 0, booked = 0;
+  bool inelastic = false;
+};
+
+// One visit of elastic_plastic's row i (ordinary_lanes_body.inc ep_body): with kNorm the
+// trial deviatoric extension e^d - e^dp_n and its weighted norm, with kForce the return's
+// scaling beta of it, e^dp (written where beta != 1), the force states, the step's work
+// with the rebuilt t_n, e_n, and the ledger's bookings. `revisit`: a second force visit of
+// the pass (the first, taken with beta = 1, booked the bonds broken since the commit and
+// left their pending flags set, which this one drops, as the host row's second visit does).
+template <bool kNorm, bool kForce>
+HORIZON_HD inline EpSums ep_visit(const FlatSystem& s, const FlatOrdinary& o, uint64_t i, double theta_d, double beta,
+                                  double alpha, double p_coef, bool revisit) {
+  EpSums out;
+  double nrm[kLanes] = {}, dev[kLanes] = {}, work[kLanes] = {};
+  const int last = *o.current;
+  const double* r_now = o.r[1 - last];
+  const double* r_last = o.r[last];
+  const double* q_last = o.q[last];
+  double* q_now = o.q[1 - last];
+  const double rest = 1.0 - beta;
+  const LedgerBonds ledger{nullptr, o.booked, o.booked, o.pending_set, o.pending_amount};
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
+    const uint32_t kd = s.kind[k];
+    const Kind& kc = s.kinds[kd];
+    const double L = kc.length, r = r_now[k], e = r - L;
+    const uint8_t live = s.intact[k];
+    double t = 0.0;
+    if (live) {
+      const double ep = o.ep[k];
+      const double ede = (e - theta_d * L) - ep;  // deviatoric_extension(e, theta, L, d) - e^dp_n
+      if constexpr (kNorm) nrm[l] += kc.wv * ede * ede;  // weighted_square
+      if constexpr (kForce) {
+        const double elastic = beta * ede;  // ep_bond
+        if (beta != 1.0) o.ep[k] = ep + rest * ede;
+        dev[l] += kc.wv * elastic * elastic;
+        t = p_coef * o.omega[kd] * L + alpha * o.omega[kd] * elastic;  // ordinary_force_scalar
+      }
+    }
+    if constexpr (kForce) {
+      const double vj = o.vj[kd];
+      const uint8_t was = o.booked[k];
+      // t_n rebuilt: q_n |Y_n|, or for a bond broken since the commit, the t_n the sweep
+      // left in q (a revisit finds it booked by the first visit, its pending flag set).
+      const double qo = q_last[k], ro = r_last[k];
+      const double of = (revisit ? o.pending_set[k] != 0 : bond_booked_now(live, was)) ? qo : qo * ro;
+      work[l] += 0.5 * (of + t) * (e - (ro - L)) * vj;  // trapezoid_work
+      if (!live && of != 0.0) out.inelastic = true;   // it acted at the start of the step
+      if (bond_booked_now(live, was) || o.pending_set[k])
+        if (ledger_book_bond(ledger, k, live, was, qo, r, e, vj, out.booked)) out.inelastic = true;
+      q_now[k] = live ? t / r : 0.0;
+    }
+  });
+  out.norm = lane_total(nrm), out.dev = lane_total(dev), out.work = lane_total(work);
+  return out;
 }
 
-// elastic_plastic's row (ElasticPlastic::force_row with ordinary_lanes_body.inc ep_body):
-// the trial norm, the return, the forces and the ledger, then the commit of the row.
+// elastic_plastic's row (ElasticPlastic::force_row): the trial norm, the return, the forces
+// and the ledger, then the commit of the row. As the host row, a row that did not flow in
+// its last pass is taken as elastic first (beta = 1: one visit for the norm and the forces)
+// and visited again only if the return then scales it; a row that flowed takes a norm visit
+// and a force visit. Every written value is the two-visit one either way.
 HORIZON_HD inline void ep_flat_row(const FlatSystem& s, const FlatOrdinary& o, uint64_t i, double dilatation_sum) {
-  const uint64_t first = s.offset[i], last = s.offset[i + 1];
   const int dim = o.dim;
   const double m = s.weighted_volume[i];
   const double alpha = o.shear_factor[i] * o.dev_factor * o.mu / m;
@@ -136,62 +195,27 @@ HORIZON_HD inline void ep_flat_row(const FlatSystem& s, const FlatOrdinary& o, u
   o.theta[i] = theta;
   // theta |xi| / d as (theta / d) |xi| (the lanes' rounding).
   const double theta_d = theta / dim;
-  // The trial deviatoric extension e^d - e^dp_n and its weighted norm.
-  double nrm[kLanes] = {};
-  for_each_lane(first, last, [&](uint64_t k, int l) {
-    if (!s.intact[k]) return;
-    const Kind& kc = s.kinds[s.kind[k]];
-    const double ede = ((o.r[k] - kc.length) - theta_d * kc.length) - o.ep[k];
-    nrm[l] += kc.wv * ede * ede;  // weighted_square
-  });
-  const double n2 = lane_total(nrm) * (alpha * alpha);
+  const double p_coef = dim * o.bulk * theta / m;  // t^i = (d k' theta/m) omega |xi|
+  const bool guess_elastic = !o.flowed[i];
+  const EpSums first = guess_elastic ? ep_visit<true, true>(s, o, i, theta_d, 1.0, alpha, p_coef, false)
+                                     : ep_visit<true, false>(s, o, i, theta_d, 1.0, alpha, p_coef, false);
+  const double n2 = first.norm * (alpha * alpha);
   const ReturnMap rm = o.plastic ? ep_return_map(n2, o.yield_volume > 0 ? o.yield_volume : m, dim, mu, o.yield,
                                                  o.hardening, o.eps_p[i])
                                  : ReturnMap{};
   const double beta = rm.scale;
-  // The host row takes a row that did not flow in its last pass as elastic at first and
-  // visits it again when the return scales it; that second visit finds the bonds the
-  // first one booked already booked and drops their pending flag (lanes open_bond_rare).
-  const bool revisit = !o.flowed[i] && beta != 1.0;
   o.flowed[i] = rm.plastic_strain > 0;
   if (beta != 1.0) o.yielded[i] = 1;
   o.eps_p[i] = o.eps_p[i] + rm.plastic_strain;  // (the commit: eps_p = eps_p_trial)
   o.lambda[i] = o.lambda[i] + plastic_multiplier_step(beta, alpha);
-  const double p_coef = dim * o.bulk * theta / m;  // t^i = (d k' theta/m) omega |xi|
-  const double rest = 1.0 - beta;
-  double dev[kLanes] = {}, work[kLanes] = {};
-  double booked = 0;
-  bool inelastic = rm.plastic_strain > 0;
-  const LedgerBonds ledger{nullptr, o.booked, o.booked, o.pending_set, o.pending_amount};
-  for_each_lane(first, last, [&](uint64_t k, int l) {
-    const uint32_t kd = s.kind[k];
-    const Kind& kc = s.kinds[kd];
-    const double L = kc.length, omega = o.omega[kd], vj = o.vj[kd];
-    const double r = o.r[k], e = r - L;
-    const uint8_t live = s.intact[k];
-    double t = 0.0;
-    if (live) {
-      const double ep = o.ep[k];
-      const double ede = (e - theta_d * L) - ep;
-      const double elastic = beta * ede;  // ep_bond
-      if (beta != 1.0) o.ep[k] = ep + rest * ede;
-      dev[l] += kc.wv * elastic * elastic;
-      t = p_coef * omega * L + alpha * omega * elastic;  // ordinary_force_scalar
-    }
-    const uint8_t was = o.booked[k];
-    const double of = ordinary_old_force(o, k, live, was), oe = o.r_old[k] - L;
-    work[l] += 0.5 * (of + t) * (e - oe) * vj;  // trapezoid_work
-    if (!live && of != 0.0) inelastic = true;  // it acted at the start of the step
-    if (bond_booked_now(live, was) || o.pending_set[k]) {
-      if (ledger_book_bond(ledger, k, live, was, o.q[k], r, e, vj, booked)) {
-        inelastic = true;
-        if (revisit) o.pending_set[k] = 0;
-      }
-    }
-    o.q[k] = live ? t / r : 0.0;
-  });
-  const double W = 0.5 * o.bulk * theta * theta + 0.5 * alpha * lane_total(dev);
-  const double loss = inelastic ? inelastic_loss(lane_total(work), W - o.stored[i], booked) : 0.0;
+  EpSums sums = first;
+  if (!guess_elastic || beta != 1.0) {
+    sums = ep_visit<false, true>(s, o, i, theta_d, beta, alpha, p_coef, guess_elastic);
+    if (guess_elastic) sums.booked = first.booked, sums.inelastic = sums.inelastic || first.inelastic;
+  }
+  const bool inelastic = rm.plastic_strain > 0 || sums.inelastic;
+  const double W = 0.5 * o.bulk * theta * theta + 0.5 * alpha * sums.dev;
+  const double loss = inelastic ? inelastic_loss(sums.work, W - o.stored[i], sums.booked) : 0.0;
   o.stored[i] = W;
   s.energy[i] = W;
   if (loss != 0) s.dissipated[i] += loss * s.volume[i];
@@ -229,15 +253,22 @@ HORIZON_HD inline void ves_flat_row(const FlatSystem& s, const FlatOrdinary& o, 
   double stored[kLanes] = {}, work[kLanes] = {};
   double booked = 0;
   const LedgerBonds ledger{nullptr, o.booked, o.booked, o.pending_set, o.pending_amount};
+  const int cur = *o.current;
+  const double* r_now = o.r[1 - cur];
+  const double* r_last = o.r[cur];
+  const double* q_last = o.q[cur];
+  double* q_now = o.q[1 - cur];
   for_each_lane(first, last, [&](uint64_t k, int l) {
     const uint32_t kd = s.kind[k];
     const Kind& kc = s.kinds[kd];
     const double L = kc.length, omega = o.omega[kd], vj = o.vj[kd];
-    const double r = o.r[k], e = r - L;
+    const double r = r_now[k], e = r - L;
     const uint8_t live = s.intact[k];
     const double ed = e - theta_d * L;  // deviatoric_extension
     const uint8_t was = o.booked[k];
-    const double of = ordinary_old_force(o, k, live, was), oe = o.r_old[k] - L;
+    // t_n rebuilt: q_n |Y_n|, or for a bond broken since the commit, the t_n the sweep left in q.
+    const double qo = q_last[k], ro = r_last[k];
+    const double of = bond_booked_now(live, was) ? qo : qo * ro, oe = ro - L;
     const double ed_old = oe - theta_old_d * L;  // e^d_n, as the last pass computed it
     double dev = o.lambda_inf * ed, springs = o.lambda_inf * ed * ed;
     for (int b = 0; b < nbranch; ++b) {
@@ -253,8 +284,8 @@ HORIZON_HD inline void ves_flat_row(const FlatSystem& s, const FlatOrdinary& o, 
       t = p_coef * omega * L + alpha * omega * dev;  // ordinary_force_scalar
     }
     work[l] += 0.5 * (of + t) * (e - oe) * vj;  // trapezoid_work
-    if (bond_booked_now(live, was) || o.pending_set[k]) ledger_book_bond(ledger, k, live, was, o.q[k], r, e, vj, booked);
-    o.q[k] = live ? t / r : 0.0;
+    if (bond_booked_now(live, was) || o.pending_set[k]) ledger_book_bond(ledger, k, live, was, qo, r, e, vj, booked);
+    q_now[k] = live ? t / r : 0.0;
   });
   const double W = 0.5 * o.bulk_elastic * theta * theta + 0.5 * o.dilatation_shear * dil_springs +
                    0.5 * alpha * lane_total(stored);
@@ -285,13 +316,14 @@ template <bool kAfter>
 HORIZON_HD inline void ordinary_sum_row_of(const FlatSystem& s, uint64_t i) {
   const FlatOrdinary& o = *s.ordinary;
   const double* pi = s.y4 + 4 * i;
+  const double* q = o.q[1 - *o.current];  // this pass's
   double fx[kLanes] = {}, fy[kLanes] = {}, fz[kLanes] = {}, en[kLanes] = {};
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const double* pj = s.y4 + 4 * static_cast<uint64_t>(s.nbr[k]);
     const double Yx = pj[0] - pi[0], Yy = pj[1] - pi[1], Yz = pj[2] - pi[2];
     const uint8_t live = s.intact[k];
     if (live) {
-      const double vj = o.vj[s.kind[k]], qij = o.q[k], qji = o.q[o.rev[k]];
+      const double vj = o.vj[s.kind[k]], qij = q[k], qji = q[o.rev[k]];
       fx[l] += vj * (qij * Yx + qji * Yx);
       fy[l] += vj * (qij * Yy + qji * Yy);
       fz[l] += vj * (qij * Yz + qji * Yz);
@@ -321,6 +353,11 @@ HORIZON_HD inline void ordinary_sum_row(const FlatSystem& s, uint64_t i) {
   else ordinary_sum_row_of<false>(s, i);
 }
 
+// After a pass (one thread): this pass's |Y| and q become the last pass's.
+HORIZON_HD inline void flip_ordinary(const FlatSystem& s) {
+  s.ordinary->current[0] = static_cast<uint8_t>(1 - s.ordinary->current[0]);
+}
+
 // The pass on the host (flat_forces when FlatSystem::ordinary is set).
 inline void flat_ordinary_forces(const FlatSystem& s) {
   const uint64_t n = s.n;
@@ -337,6 +374,7 @@ inline void flat_ordinary_forces(const FlatSystem& s) {
     HORIZON_FLAT_ROWS
     for (uint64_t i = 0; i < n; ++i) ordinary_sum_row_of<false>(s, i);
   }
+  flip_ordinary(s);
 }
 
 }  // namespace horizon::kernels

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 
+#include "horizon/solver/linear.hpp"
+
 namespace horizon {
 
 namespace {
@@ -33,7 +35,7 @@ class ProductOp {
 class ShiftInvertOp {
  public:
   using Scalar = double;
-  explicit ShiftInvertOp(const SparseMatrix& K) : K_(K) {}
+  explicit ShiftInvertOp(const SparseMatrix& K) : K_(K) { pin_blas_threads(); }
   Eigen::Index rows() const { return K_.rows(); }
   Eigen::Index cols() const { return K_.cols(); }
   void set_shift(double sigma) {

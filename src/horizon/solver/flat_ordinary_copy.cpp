@@ -55,9 +55,9 @@ std::shared_ptr<FlatOrdinaryStorage> flat_ordinary_copy(const System& s, double 
   v.dev_factor = lps_deviatoric_factor(o.dim);
   v.mu = o.mu;
   for (const BondKind& bk : B.kinds) c->omega.push_back(bk.weight), c->vj.push_back(bk.volume * bk.fraction);
-  c->r = M.deformed_length, c->q = M.force_scalar;
-  c->r.resize(nb, 1.0), c->q.resize(nb, 0.0);
-  c->r_old.assign(nb, 0.0);
+  c->r[0] = M.deformed_length, c->q[0] = M.force_scalar;  // (the last pass's copy: current = 0)
+  c->r[0].resize(nb, 1.0), c->q[0].resize(nb, 0.0);
+  c->r[1].assign(nb, 0.0), c->q[1].assign(nb, 0.0);
   c->rev = reverse_bonds(B, false);
   const HistoryLedger& L = *o.ledger;
   c->booked.assign(L.booked.committed(), L.booked.committed() + L.booked.size());
@@ -89,7 +89,8 @@ std::shared_ptr<FlatOrdinaryStorage> flat_ordinary_copy(const System& s, double 
 void FlatOrdinaryStorage::point() {
   kernels::FlatOrdinary& v = view;
   auto p = [](auto& a) { return a.empty() ? nullptr : a.data(); };
-  v.omega = p(omega), v.vj = p(vj), v.r = p(r), v.r_old = p(r_old), v.q = p(q), v.rev = p(rev);
+  v.omega = p(omega), v.vj = p(vj), v.rev = p(rev), v.current = p(current);
+  for (int b = 0; b < 2; ++b) v.r[b] = p(r[b]), v.q[b] = p(q[b]);
   v.booked = p(booked), v.pending_set = p(pending_set), v.pending_amount = p(pending_amount);
   v.stored = p(stored), v.theta = p(theta), v.ep = p(ep), v.eps_p = p(eps_p), v.lambda = p(lambda);
   v.shear_factor = p(shear_factor), v.flowed = p(flowed), v.yielded = p(yielded);
@@ -101,8 +102,8 @@ void flat_ordinary_write_back(const FlatOrdinaryStorage& c, System& s) {
   OrdinaryModelState o = state_of(s);
   if (o.kind == OrdinaryModelState::none) return;
   auto& M = s.model;
-  M.deformed_length = c.r;
-  M.force_scalar = c.q;
+  M.deformed_length = c.r[c.current[0]];  // the last pass's copy
+  M.force_scalar = c.q[c.current[0]];
   // The ledger as HistoryLedger::commit_bonds leaves it after a pass of the lanes without a
   // thermal strain, written in place: t_n and e_n to be rebuilt from this |Y| and q.
   HistoryLedger& L = *o.ledger;

@@ -17,10 +17,10 @@ namespace horizon {
 // (point(), after any change of the vectors).
 struct FlatOrdinaryStorage {
   kernels::FlatOrdinary view;
-  std::vector<double> omega, vj, r, r_old, q, pending_amount, stored, theta, ep, eps_p, lambda, shear_factor,
+  std::vector<double> omega, vj, r[2], q[2], pending_amount, stored, theta, ep, eps_p, lambda, shear_factor,
       dissipated_density, theta_strain;
   std::vector<uint64_t> rev;
-  std::vector<uint8_t> booked, pending_set, flowed, yielded;
+  std::vector<uint8_t> booked, pending_set, flowed, yielded, current{0};
   std::vector<double> back[kernels::kFlatBranches], theta_back[kernels::kFlatBranches];
   void point();
 };

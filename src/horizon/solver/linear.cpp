@@ -3,9 +3,14 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
 #include <Eigen/IterativeLinearSolvers>
+#include <dlfcn.h>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
+#include <string>
+
+#include "horizon/core/error.hpp"
 
 namespace horizon {
 
@@ -25,6 +30,31 @@ void add_to_diagonal(SparseMatrix& K, const Eigen::VectorXd& shift) {
   for (int c = 0; c < K.outerSize(); ++c)
     for (SparseMatrix::InnerIterator it(K, c); it; ++it)
       if (it.row() == c) it.valueRef() += shift[c];
+}
+
+void pin_blas_threads() {
+  // HORIZON_BLAS_THREADS=N gives BLAS N threads instead: faster factorisations of large 3-D
+  // tangents, whose last bits then depend on N. Looked up at run time: which BLAS
+  // libblas.so.3 is comes from Debian's alternatives, and the reference BLAS (no threads)
+  // has no such function.
+  static const int threads = [] {
+    int n = 1;
+    if (const char* env = std::getenv("HORIZON_BLAS_THREADS"); env && *env) {
+      const std::string v = env;
+      std::size_t used = 0;
+      try {
+        n = std::stoi(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != v.size() || n < 1)
+        throw Error("HORIZON_BLAS_THREADS=" + v + ": expected a whole number of threads, at least 1");
+    }
+    using SetThreads = void (*)(int);
+    if (auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(n);
+    return n;
+  }();
+  (void)threads;
 }
 
 namespace {
@@ -112,6 +142,7 @@ LinearStats LinearSolver::solve(SparseMatrix& K, const Eigen::VectorXd& shift, c
   LinearStats st;
   if (kind_ == LinearSolverKind::cholesky) {
     if (!direct_) direct_ = std::make_unique<Direct>();
+    pin_blas_threads();
     const uint64_t pattern = pattern_checksum(K);
     if (!direct_->analysed || pattern != direct_->pattern) {
       direct_->llt.analyzePattern(K);

@@ -47,4 +47,13 @@ class LinearSolver {
 // Adds shift to the diagonal of K (entries present: every free dof's row holds its diagonal).
 void add_to_diagonal(SparseMatrix& K, const Eigen::VectorXd& shift);
 
+// Puts the dense BLAS under CHOLMOD on one thread, once per process. CHOLMOD's supernodal
+// factorisation calls BLAS on its dense blocks, and OpenBLAS splits each call over its
+// own threads (as many as OMP_NUM_THREADS or OPENBLAS_NUM_THREADS say), which changes the
+// order of the sums: examples/plate_navier.yaml's state_crc32 differed between 1 and 2
+// threads. Horizon's results do not depend on the thread count (docs/design.md), so the
+// factorisation runs on one thread (HORIZON_BLAS_THREADS=N: N threads, the bits then
+// depend on N; a bad value is an Error); the force passes and products keep OpenMP's threads.
+void pin_blas_threads();
+
 }  // namespace horizon

@@ -16,6 +16,10 @@ namespace {
 
 constexpr double kPiValue = 3.14159265358979323846;
 
+// Vec3 to the kernels' three doubles and back (kernels/bond_pair.hpp; no arithmetic).
+kernels::BpVec bp(const Vec3& v) { return {v.x, v.y, v.z}; }
+Vec3 vec(const kernels::BpVec& v) { return {v.x, v.y, v.z}; }
+
 const ModelTraits& traits() {
   static const ModelTraits t = [] {
     ModelTraits m;
@@ -466,13 +470,10 @@ void BondPair::current_positions(const System& s, std::vector<Vec3>& y) const {
   y.resize(X_.size());
   for (std::size_t i = 0; i < n_real_; ++i) y[i] = P.X[i] + P.u[i];
   for (std::size_t g = 0; g + n_real_ < X_.size(); ++g) {
-    Vec3 u{};
-    for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t) {
-      const GhostTerm& gt = ghost_terms_[t];
-      const Vec3& um = P.u[gt.node];
-      u += Vec3{gt.coeff.x * um.x, gt.coeff.y * um.y, gt.coeff.z * um.z};
-    }
-    y[n_real_ + g] = X_[n_real_ + g] + u;
+    kernels::BpVec u{};
+    for (uint64_t t = ghost_offset_[g]; t < ghost_offset_[g + 1]; ++t)
+      u = kernels::bp_ghost_term(u, bp(ghost_terms_[t].coeff), bp(P.u[ghost_terms_[t].node]));
+    y[n_real_ + g] = vec(kernels::bp_add(bp(X_[n_real_ + g]), u));
   }
 }
 
@@ -481,9 +482,8 @@ void BondPair::positions(const System& s) { current_positions(s, y_); }
 // The kink vector of a pair of a flat shell (Kink, bond_pair.hpp): d = (u_j + u_j' -
 // 2 u_k)/|xi| in the pair's reference frame, n along z, t along z x xi/|xi|.
 Kink BondPair::shell_kink(const std::vector<Vec3>& y, const Pair& p) const {
-  const Vec3 d = (y[p.j] - X_[p.j] + (y[p.jp] - X_[p.jp]) - (y[p.k] - X_[p.k]) * 2.0) * p.inv_length;
-  const Vec3 e0 = (X_[p.j] - X_[p.k]) * p.inv_length;
-  return {d.z, e0.x * d.y - e0.y * d.x};
+  return kernels::bp_shell_kink(bp(y[p.j]), bp(y[p.jp]), bp(y[p.k]), bp(X_[p.j]), bp(X_[p.jp]), bp(X_[p.k]),
+                                p.inv_length);
 }
 
 // |trial - committed| plastic offset of pair q (the length of the kink vector's increment).
@@ -560,7 +560,6 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   auto add_energy = [&](uint32_t node, double e) {
     if (energy && node < n_real_) P.energy[node] += e;
   };
-  const Vec3 nz{0, 0, 1};
   uint64_t newly_failed = 0;
 
   // A pair that fails is counted by its keeper's owner alone (summed over ranks).
@@ -575,63 +574,57 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       // Flat shell with plastic offsets: e = coef (1 - cos |d - p|), d the kink vector, p its
       // plastic offset (plastic_offset of a Kink, a circular yield surface).
       const Kink d = shell_kink(y_, p);
-      if (theta_fail_ > 0 && !no_fail_[q] && std::hypot(d.n, d.t) >= theta_fail_) {
+      if (kernels::bp_fails(theta_fail_, no_fail_[q], kernels::bp_hypot(d.n, d.t), theta_fail_)) {
         if (!held_) {
           failed_[q] = 1;
           newly_failed += counts(q);
           continue;
         }
       }
-      const Kink tp = plastic_offset(d, {theta_p_[2 * q], theta_p_[2 * q + 1]}, theta_yield_);
-      theta_p_trial_[2 * q] = tp.n;
-      theta_p_trial_[2 * q + 1] = tp.t;
-      const double en = d.n - tp.n, et = d.t - tp.t, r = std::hypot(en, et);
       // de/dd = coef sin(r) (en, et)/r; the node's share of dd/dy is (1, 1, -2)/|xi| along n and t.
-      const double g = p.coef * (r > 0 ? std::sin(r) / r : 1.0) * p.inv_length;
-      const Vec3 e0 = (X_[p.j] - X_[p.k]) * p.inv_length;
-      const Vec3 G{-e0.y * et * g, e0.x * et * g, en * g};
+      const kernels::BpShellPair sp = kernels::bp_shell_pair(d, {theta_p_[2 * q], theta_p_[2 * q + 1]}, theta_yield_,
+                                                              p.coef, p.inv_length, bp(X_[p.j]), bp(X_[p.k]));
+      theta_p_trial_[2 * q] = sp.offset.n;
+      theta_p_trial_[2 * q + 1] = sp.offset.t;
+      const Vec3 G = vec(sp.G);
       F_[p.j] -= G;
       F_[p.jp] -= G;
       F_[p.k] += G * 2.0;
-      add_energy(p.k, p.coef * (1 - std::cos(r)));
+      add_energy(p.k, sp.energy);
       continue;
     }
     if (signed_mode_) {
       // Transverse mode with plastic offsets: e = coef (1 - cos(s - theta_p)).
-      const double sk = signed_kink(y_[p.j].z, y_[p.jp].z, y_[p.k].z, 1 / p.inv_length) -
-                        (X_[p.j].z + X_[p.jp].z - 2 * X_[p.k].z) * p.inv_length;
-      if (theta_fail_ > 0 && !no_fail_[q] && std::abs(sk) >= theta_fail_) {
+      const double sk =
+          kernels::bp_transverse_kink(y_[p.j].z, y_[p.jp].z, y_[p.k].z, X_[p.j].z, X_[p.jp].z, X_[p.k].z, p.inv_length);
+      if (kernels::bp_fails(theta_fail_, no_fail_[q], kernels::bp_abs(sk), theta_fail_)) {
         if (!held_) {
           failed_[q] = 1;
           newly_failed += counts(q);
           continue;
         }
       }
-      const double tp = plastic_offset(sk, theta_p_[q], theta_yield_);
-      theta_p_trial_[q] = tp;
-      const double se = sk - tp;
-      const double dEds = p.coef * std::sin(se);
-      const double g = dEds * p.inv_length;
-      F_[p.j].z -= g;
-      F_[p.jp].z -= g;
-      F_[p.k].z += 2 * g;
-      add_energy(p.k, p.coef * (1 - std::cos(se)));
+      const kernels::BpSignedPair sp = kernels::bp_signed_pair(sk, theta_p_[q], theta_yield_, p.coef, p.inv_length);
+      theta_p_trial_[q] = sp.offset;
+      F_[p.j].z -= sp.g;
+      F_[p.jp].z -= sp.g;
+      F_[p.k].z += 2 * sp.g;
+      add_energy(p.k, sp.energy);
       continue;
     }
-    const PairGradient gr = bond_pair_gradient(Y, Yp);
-    const ReferencedPair rp = referenced_pair(gr.one_plus_cos - 1, p.c0, p.s0);
-    if (theta_fail_ > 0 && !no_fail_[q] && rp.energy >= 1 - std::cos(theta_fail_)) {
+    const kernels::BpElasticPair ep = kernels::bp_elastic_pair(bp(Y), bp(Yp), p.coef, p.c0, p.s0);
+    if (kernels::bp_fails(theta_fail_, no_fail_[q], ep.f, 1 - kernels::bp_cos(theta_fail_))) {
       if (!held_) {
         failed_[q] = 1;
         newly_failed += counts(q);
         continue;
       }
     }
-    const Vec3 Fj = gr.dY * (-p.coef * rp.dc), Fjp = gr.dYp * (-p.coef * rp.dc);
+    const Vec3 Fj = vec(ep.Fj), Fjp = vec(ep.Fjp);
     F_[p.j] += Fj;
     F_[p.jp] += Fjp;
     F_[p.k] -= Fj + Fjp;
-    add_energy(p.k, p.coef * rp.energy);
+    add_energy(p.k, p.coef * ep.f);
   }
 
   // Isotropic-curvature (bond-multiple) correction for nu != 1/3 (eq. 4.14, digest sec. 4.4):
@@ -644,19 +637,19 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       if (failed_[q]) continue;
       const Vec3 Y = y_[p.j] - y_[p.k], Yp = y_[p.jp] - y_[p.k];
       // Both orientations of the pair: 2 omega V_j (Y + Y')/|xi|^2, omega_iso = |xi|.
-      kbar_[p.k] += (Y + Yp) * (2 * p.inv_length * V_[p.j] * m0_inv_[p.k]);
+      kbar_[p.k] += vec(kernels::bp_curvature_term(bp(Y), bp(Yp), p.inv_length, V_[p.j], m0_inv_[p.k]));
     }
     for (std::size_t a = 0; a < pair_count; ++a) {
       const std::size_t q = pair_at(a);
       const Pair& p = pairs_[q];
       if (failed_[q]) continue;
-      const Vec3 g = kbar_[p.k] * p.iso;  // dE'/dy_j = dE'/dy_j' = (4C/m0) omega Vk Vj kbar_k/|xi|^2
+      const Vec3 g = vec(kernels::bp_scale(bp(kbar_[p.k]), p.iso));  // dE'/dy_j = dE'/dy_j' = (4C/m0) omega Vk Vj kbar_k/|xi|^2
       F_[p.j] -= g;
       F_[p.jp] -= g;
       F_[p.k] += g * 2.0;
     }
     if (energy)
-      for (std::size_t k = 0; k < n_real_; ++k) P.energy[k] += iso_C_ * dot(kbar_[k], kbar_[k]) * V_[k];
+      for (std::size_t k = 0; k < n_real_; ++k) P.energy[k] += kernels::bp_curvature_energy(iso_C_, bp(kbar_[k]), V_[k]);
   }
 
   // Extension springs (eq. 4.13): e = beta omega Vk Vj (|Y| - |xi|)^2 per bond, and for
@@ -667,25 +660,25 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
       std::fill(theta_.begin(), theta_.end(), 0.0);
       for (std::size_t a = 0; a < bond_count; ++a) {
         const Bond& b = bond_at(a);
-        const double e = norm(y_[b.j] - y_[b.k]) - b.length;
-        theta_[b.k] += b.dil * e * V_[b.j];
-        theta_[b.j] += b.dil * e * V_[b.k];
+        const double e = kernels::bp_bond_extension(bp(y_[b.j] - y_[b.k]), b.length);
+        theta_[b.k] += kernels::bp_dilatation_term(b.dil, e, V_[b.j]);
+        theta_[b.j] += kernels::bp_dilatation_term(b.dil, e, V_[b.k]);
       }
     }
     for (std::size_t a = 0; a < bond_count; ++a) {
       const Bond& b = bond_at(a);
-      const Vec3 Y = y_[b.j] - y_[b.k];
-      const double L = norm(Y), e = L - b.length;
-      double t = 2 * b.coef * e;  // dE/d|Y|
-      if (dil_coef_ != 0) t += dil_coef_ * (theta_[b.k] * V_[b.k] * b.dil * V_[b.j] + theta_[b.j] * V_[b.j] * b.dil * V_[b.k]);
-      const Vec3 f = Y * (t / L);
+      const kernels::BpVec Y = bp(y_[b.j] - y_[b.k]);
+      const double L = kernels::bp_bond_length(Y), e = L - b.length;
+      // dE/d|Y| = 2 coef e (+ the dilatation term) along Y.
+      const Vec3 f = vec(kernels::bp_spring_force(Y, L, e, b.coef, dil_coef_, b.dil, theta_[b.k], theta_[b.j], V_[b.k],
+                                                  V_[b.j]));
       F_[b.k] += f;
       F_[b.j] -= f;
-      add_energy(b.k, 0.5 * b.coef * e * e);
-      add_energy(b.j, 0.5 * b.coef * e * e);
+      add_energy(b.k, kernels::bp_spring_energy(b.coef, e));
+      add_energy(b.j, kernels::bp_spring_energy(b.coef, e));
     }
     if (energy && dil_coef_ != 0)
-      for (std::size_t k = 0; k < n_real_; ++k) P.energy[k] += 0.5 * dil_coef_ * theta_[k] * theta_[k] * V_[k];
+      for (std::size_t k = 0; k < n_real_; ++k) P.energy[k] += kernels::bp_dilatation_energy(dil_coef_, theta_[k], V_[k]);
   }
 
   // The ghosts' forces act on no particle: the supports take them (their reactions,
@@ -722,18 +715,15 @@ uint64_t BondPair::force_pass(System& s, bool energy) {
   // then -dE/du of the booked energy (without it the ledger of a shell pushed along a
   // support drifted). The held w keeps the whole force: it is the support's reaction.
   for (std::size_t i = 0; i < n_real_; ++i) {
-    Vec3 f = F_[i] / P.volume[i];
-    if (transverse_) f = nz * f.z;
-    else if (energy_weight_[i] != 1) f = Vec3{f.x * energy_weight_[i], f.y * energy_weight_[i], f.z};
-    P.f[i] = f;
-    if (energy) P.energy[i] *= energy_weight_[i] / P.volume[i];
+    P.f[i] = vec(kernels::bp_node_force(bp(F_[i]), P.volume[i], transverse_, energy_weight_[i]));
+    if (energy) P.energy[i] = kernels::bp_node_energy(P.energy[i], energy_weight_[i], P.volume[i]);
   }
   // Damage: the fraction of failed pairs about each node (dissertation Fig. 5.16).
   if (theta_fail_ > 0) {
     failed_at_.assign(n_real_, 0.0);
     for (std::size_t q = 0; q < pairs_.size(); ++q)
       if (failed_[q] && pairs_[q].k < n_real_) failed_at_[pairs_[q].k] += 1;
-    for (std::size_t i = 0; i < n_real_; ++i) P.damage[i] = pairs_at_[i] > 0 ? failed_at_[i] / pairs_at_[i] : 0.0;
+    for (std::size_t i = 0; i < n_real_; ++i) P.damage[i] = kernels::bp_damage(failed_at_[i], pairs_at_[i]);
   }
   (void)N;
   return newly_failed;
@@ -773,10 +763,7 @@ double BondPair::stable_time_step(const System& s) const {
   const auto& P = s.particles;
   double dt = std::numeric_limits<double>::infinity();
   const double bound = bending_bound_ + membrane_bound_ + iso_bound_;
-  for (std::size_t i = 0; i < n_real_; ++i) {
-    const double mass = P.density[i] * section_[i];  // rho A or rho h
-    dt = std::min(dt, 2 / std::sqrt(bound / mass));
-  }
+  for (std::size_t i = 0; i < n_real_; ++i) dt = std::min(dt, kernels::bp_stable_step(bound, P.density[i], section_[i]));
   return dt;
 }
 

@@ -17,24 +17,27 @@
 #include <cmath>
 
 #include "horizon/core/vec3.hpp"
+#include "horizon/kernels/bond_pair.hpp"
 #include "horizon/material/model.hpp"
 
 namespace horizon {
 
+// The pair algebra is kernels/bond_pair.hpp's (portable: the force pass calls it there);
+// these are its forms over Vec3 for the tangent (stiffness) and the tests.
+
 // d(1 + cos theta)/dY and d(1 + cos theta)/dY' of a pair with deformed bonds Y = y_j - y_k
 // and Y' = y_j' - y_k: (Yhat' - cos theta Yhat)/|Y| (digest sec. 3.1, the second form of
 // eq. 4.1, derived via a x (a x b) = (a.b) a - b), and the same with the roles swapped.
+// Written with one square root and two divisions (the explicit pass is bound by their
+// latency): with r = 1/(|Y||Y'|), cos theta = (Y.Y') r and
+//   (Yhat' - cos theta Yhat)/|Y| = (Y' - (Y.Y'/|Y|^2) Y) r,   and symmetrically.
 struct PairGradient {
   Vec3 dY, dYp;
   double one_plus_cos = 0;
 };
-// Written with one square root and two divisions (the explicit pass is bound by their
-// latency): with r = 1/(|Y||Y'|), cos theta = (Y.Y') r and
-//   (Yhat' - cos theta Yhat)/|Y| = (Y' - (Y.Y'/|Y|^2) Y) r,   and symmetrically.
 inline PairGradient bond_pair_gradient(const Vec3& Y, const Vec3& Yp) {
-  const double ia2 = 1 / dot(Y, Y), ib2 = 1 / dot(Yp, Yp), d = dot(Y, Yp);
-  const double r = std::sqrt(ia2 * ib2);
-  return {(Yp - Y * (d * ia2)) * r, (Y - Yp * (d * ib2)) * r, 1 + d * r};
+  const kernels::BpGradient g = kernels::bp_gradient({Y.x, Y.y, Y.z}, {Yp.x, Yp.y, Yp.z});
+  return {{g.dY.x, g.dY.y, g.dY.z}, {g.dYp.x, g.dYp.y, g.dYp.z}, g.one_plus_cos};
 }
 
 // A pair with a reference angle theta0 (a curved shell; the dissertation's ch. 6: "apply
@@ -43,27 +46,21 @@ inline PairGradient bond_pair_gradient(const Vec3& Y, const Vec3& Yp) {
 // zero at rest, invariant under rigid motions and uniform scaling, 1 + c for a straight
 // pair (c0 = -1, s0 = 0). Returns f, f'(c) = -c0 + s0 c/s and f''(c) = s0/s^3 (s kept
 // above 1e-9: the angle of a pair folded flat or pulled straight has no direction).
-struct ReferencedPair {
-  double energy, dc, dcc;
-};
-inline ReferencedPair referenced_pair(double c, double c0, double s0) {
-  if (s0 == 0) return {1 + c, -c0, 0};
-  const double s = std::max(std::sqrt(std::max(0.0, 1 - c * c)), 1e-9);
-  return {1 - c * c0 - s * s0, -c0 + s0 * c / s, s0 / (s * s * s)};
-}
+using ReferencedPair = kernels::BpReferenced;
+inline ReferencedPair referenced_pair(double c, double c0, double s0) { return kernels::bp_referenced(c, c0, s0); }
 
 // The signed kink of a pair in the transverse (z-only) mode: the deviation from straight
 // Delta theta ~ (w_j + w_j' - 2 w_k)/|xi| (digest sec. 3.2, eqs. 4.2-4.3, and the recipe
 // of sec. 3.5 for z-only beams and plates).
-inline double signed_kink(double wj, double wjp, double wk, double length) { return (wj + wjp - 2 * wk) / length; }
+inline double signed_kink(double wj, double wjp, double wk, double length) {
+  return kernels::bp_signed_kink(wj, wjp, wk, length);
+}
 
 // Elastic-perfectly-plastic return mapping of one pair (digest sec. 3.5 recipe, eq. 4.8):
 // the trial elastic kink s - theta_p; beyond the critical kink theta_c the plastic offset
 // grows so that the elastic part stays at +-theta_c. Returns the new plastic offset.
 inline double plastic_offset(double s, double theta_p, double theta_c) {
-  const double trial = s - theta_p;
-  if (std::abs(trial) <= theta_c) return theta_p;
-  return theta_p + (trial > 0 ? trial - theta_c : trial + theta_c);
+  return kernels::bp_plastic_offset(s, theta_p, theta_c);
 }
 
 // The kink vector of a pair in a flat shell, in the pair's reference frame: the normal
@@ -72,21 +69,14 @@ inline double plastic_offset(double s, double theta_p, double theta_c) {
 // straight pair d = (Y + Y')/|xi| is zero under any rigid motion and any uniform stretch;
 // its part along the pair (a difference of the two bonds' stretches, which leaves the
 // angle unchanged) is dropped, so |(n, t)| is the kink angle Delta theta to first order.
-struct Kink {
-  double n = 0, t = 0;
-};
+using Kink = kernels::BpKink;
 
 // The return mapping of plastic_offset for the kink vector (digest sec. 3.5 recipe with a
 // circular yield surface |d - p| <= theta_c: the pair yields at the same kink whatever its
 // plane, the isotropic choice; in 3-D the kink plane is not fixed, so the plastic offset is
 // a vector): beyond theta_c the offset p moves along the trial elastic kink d - p (radial
 // return) so that the elastic part stays on the circle. Returns the new offset.
-inline Kink plastic_offset(const Kink& d, const Kink& p, double theta_c) {
-  const double en = d.n - p.n, et = d.t - p.t, r = std::hypot(en, et);
-  if (r <= theta_c) return p;
-  const double f = (r - theta_c) / r;
-  return {p.n + f * en, p.t + f * et};
-}
+inline Kink plastic_offset(const Kink& d, const Kink& p, double theta_c) { return kernels::bp_kink_offset(d, p, theta_c); }
 
 // The critical kink of every pair: the longest pairs (|xi| = delta) reach it when the
 // surface fibre (depth t) reaches the strain eps_c: Delta theta_c = 2 delta eps_c / t

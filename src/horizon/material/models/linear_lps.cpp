@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "horizon/core/error.hpp"
+#include "horizon/kernels/linear_lps.hpp"
 #include "horizon/state/system.hpp"
 
 namespace horizon {
@@ -42,47 +43,19 @@ class LinearLps final : public Model {
   void force_state(ForcePass& pass) override {
     const System& s = pass.system;
     const auto& B = s.bonds;
-    const auto& X = s.particles.X;
-    const Point4* y = pass.y;
-    Vec3* T = pass.T;
+    kernels::LinearLpsRow<BondKind, Point4, Vec3> a;
+    a.kinds = B.kinds.data(), a.kind = B.kind.data(), a.nbr = B.nbr.data(), a.intact = B.intact.data();
+    a.y = pass.y, a.X = s.particles.X.data(), a.T = pass.T;
+    a.bulk = bulk_, a.alpha_m = alpha_m_, a.dim = dim_;
     const std::size_t count = particles_.size();
-    const double d = dim_;
 #pragma omp parallel for schedule(static)
     for (std::size_t q = 0; q < count; ++q) {
       const uint32_t i = particles_[q];
       if (!s.computes_row(i)) continue;  // another rank's row (ModelTraits::rows_local)
-      const uint64_t first = B.begin(i), last = B.end(i);
-      const double m = s.model.weighted_volume[i];
-      // eta . xi/|xi| = (Y - xi) . xi/|xi| with Y the current bond.
-      auto extension = [&](uint64_t k, const Vec3& xi, double length) {
-        const Point4 pi = y[i], pj = y[B.nbr[k]];
-        const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
-        return dot(Y - xi, xi) / length;
-      };
-      double sum = 0;
-      for (uint64_t k = first; k < last; ++k) {
-        if (!B.intact[k]) continue;
-        const BondKind& b = B.kind_of(k);
-        sum += b.weight * b.volume * b.fraction * b.length * extension(k, X[B.nbr[k]] - X[i], b.length);
-      }
-      const double theta = m > 0 ? d * sum / m : 0.0;
-      const double alpha = m > 0 ? alpha_m_ / m : 0.0;
-      const double p = m > 0 ? d * bulk_ * theta / m : 0.0;
-      double dev = 0;
-      for (uint64_t k = first; k < last; ++k) {
-        if (!B.intact[k]) {
-          T[k] = {};
-          continue;
-        }
-        const BondKind& b = B.kind_of(k);
-        const Vec3 xi = X[B.nbr[k]] - X[i];
-        const double ed = extension(k, xi, b.length) - theta * b.length / d;
-        dev += b.weight * b.volume * b.fraction * ed * ed;
-        const double t = p * b.weight * b.length + alpha * b.weight * ed;
-        T[k] = (t / b.length) * xi;
-      }
-      theta_[i] = theta;
-      if (pass.energy) pass.energy[i] = 0.5 * bulk_ * theta * theta + 0.5 * alpha * dev;
+      // theta, T and W of the row (kernels/linear_lps.hpp).
+      const kernels::LinearLpsSums sums = kernels::linear_lps_row(a, i, B.begin(i), B.end(i), s.model.weighted_volume[i]);
+      theta_[i] = sums.theta;
+      if (pass.energy) pass.energy[i] = sums.W;
     }
   }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "horizon/kernels/microplastic.hpp"
 #include "horizon/material/models/history_ledger.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
@@ -94,21 +95,21 @@ class Microplastic final : public Model {
           sbar_trial[k] = sbar_old[k];
           ledger_.force.trial()[k] = 0;
           if (old_force != 0) {
-            work += 0.5 * old_force * (e - old_extension) * vj;
+            work += kernels::released_work(old_force, e, old_extension, vj);
             inelastic = true;
           }
           continue;
         }
-        const double stretch = e / bk.length;
-        const double sbar = microplastic_return(stretch, sbar_old[k], yield_);
-        sbar_trial[k] = sbar;
-        if (sbar != sbar_old[k]) inelastic = true;
-        // t = omega (c/2) (s - sbar): half the pair force (eq. 19); W_i = sum_j (t/2)(s - sbar) |xi| v_j,
-        // the elastic part of the micropotential w = c (s - sbar)^2 |xi|/2 halved between the ends.
-        const double t = bk.weight * 0.5 * c_ * (stretch - sbar);
-        W += 0.5 * t * (stretch - sbar) * bk.length * vj;
+        // t = omega (c/2) (s - sbar): half the pair force (eq. 19); W_i = sum_j (t/2)(s - sbar) |xi| v_j
+        // (kernels/microplastic.hpp microplastic_bond).
+        const kernels::MicroplasticBond mb = kernels::microplastic_bond(
+            e, bk.length, bk.weight, vj, c_, yield_, sbar_old[k], old_force, old_extension);
+        sbar_trial[k] = mb.sbar;
+        if (mb.yielded) inelastic = true;
+        const double t = mb.t;
+        W += mb.energy;
         ledger_.force.trial()[k] = t;
-        work += 0.5 * (old_force + t) * (e - old_extension) * vj;
+        work += mb.work;
         T[k] = (r > 0 ? t / r : 0.0) * Y;
       }
       ledger_.stored_trial[i] = W;
@@ -143,47 +144,24 @@ class Microplastic final : public Model {
   void force_row_scalar(const RowPass& pass, std::size_t i, double dilatation_sum) {
     (void)dilatation_sum;  // bond-based
     const auto& B = pass.system.bonds;
-    const BondKind* kinds = B.kinds.data();
-    const uint32_t* kind = B.kind.data();
-    const uint8_t* intact = B.intact.data();
     const double* r = pass.deformed;
     double* q = pass.t;
-    const double* sbar_old = sbar_.committed();
-    double* sbar_trial = sbar_.trial();
-    const double* old_force = ledger_.force.committed();
-    const double* old_extension = ledger_.extension.committed();
-    double* force_trial = ledger_.force.trial();
-    double W = 0, work = 0, booked = 0;
-    bool inelastic = false;
+    kernels::MicroplasticRow<BondKind> a;
+    a.kinds = B.kinds.data(), a.kind = B.kind.data(), a.intact = B.intact.data(), a.r = r;
+    a.sbar_old = sbar_.committed(), a.sbar_trial = sbar_.trial();
+    a.old_force = ledger_.force.committed(), a.old_extension = ledger_.extension.committed();
+    a.force_trial = ledger_.force.trial();
+    a.c = c_, a.yield = yield_;
     const HistoryLedger::Row ledger = ledger_.row();
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      const BondKind& bk = kinds[kind[k]];
-      const double vj = bk.volume * bk.fraction;
-      const double e = r[k] - bk.length;
-      inelastic = ledger.open_bond(k, intact[k], q[k], r[k], e, vj, booked) || inelastic;
-      if (!intact[k]) {
-        q[k] = 0;
-        sbar_trial[k] = sbar_old[k];
-        force_trial[k] = 0;
-        if (old_force[k] != 0) {
-          work += 0.5 * old_force[k] * (e - old_extension[k]) * vj;
-          inelastic = true;
-        }
-        continue;
-      }
-      const double stretch = e / bk.length;
-      const double sbar = microplastic_return(stretch, sbar_old[k], yield_);
-      sbar_trial[k] = sbar;
-      if (sbar != sbar_old[k]) inelastic = true;
-      const double t = bk.weight * 0.5 * c_ * (stretch - sbar);  // force_state's t, W and work
-      W += 0.5 * t * (stretch - sbar) * bk.length * vj;
-      force_trial[k] = t;
-      work += 0.5 * (old_force[k] + t) * (e - old_extension[k]) * vj;
-    }
+    const kernels::MicroplasticSums sums =
+        kernels::microplastic_row(a, B.begin(i), B.end(i), [&](uint64_t k, double e, double vj, double& booked) {
+          return ledger.open_bond(k, B.intact[k], q[k], r[k], e, vj, booked);
+        });
+    const double W = sums.W;
     // q = t/|Y| (0 where the bond does not act), vectorised apart from the sums (ordinary_rows.hpp).
-    rows::force_scalars(force_trial, r, intact, true, B.begin(i), B.end(i), q);
+    rows::force_scalars(a.force_trial, r, a.intact, true, B.begin(i), B.end(i), q);
     ledger_.stored_trial[i] = W;
-    ledger_.loss_trial[i] = inelastic ? inelastic_loss(work, W - ledger_.stored[i], booked) : 0.0;
+    ledger_.loss_trial[i] = sums.inelastic ? inelastic_loss(sums.work, W - ledger_.stored[i], sums.booked) : 0.0;
     if (pass.energy) pass.energy[i] = W;
   }
 

@@ -12,28 +12,15 @@
 // the pair force omega c (s - sbar) V_j along the bond (as PMB's t = c s/2). The plastic
 // stretch is kept per directed bond; both copies of a bond see the same stretch bit for
 // bit and so carry the same history. docs/models/microplastic.md.
+#include "horizon/kernels/microplastic.hpp"
 #include "horizon/material/model.hpp"
 
 namespace horizon {
 
-// The return map of one bond (digest 002 sec. 2.2): r = s - sbar_old; if |r| > s_Y,
-// sbar = s - sign(r) s_Y. Returns the new plastic stretch; the force is c (s - sbar).
-inline double microplastic_return(double s, double sbar_old, double yield_stretch) {
-  const double r = s - sbar_old;
-  if (r > yield_stretch) return s - yield_stretch;
-  if (r < -yield_stretch) return s + yield_stretch;
-  return sbar_old;
-}
-
-// The critical stretch s0 of a microplastic bond that takes the same work to break as a
-// PMB bond breaking at s_e (from the fracture energy): the work per bond is c |xi| s0^2/2
-// elastic, and c |xi| (s_Y s0 - s_Y^2/2) with yield, monotonic loading (seed eq. 26; the
-// integral of eq. 27-28 over the bonds crossing a plane is the same, so only the stretch
-// function changes): s0 = (s_e^2 + s_Y^2)/(2 s_Y) when s_e > s_Y, else s_e.
-inline double microplastic_critical_stretch(double elastic_equivalent, double yield_stretch) {
-  if (elastic_equivalent <= yield_stretch) return elastic_equivalent;
-  return (elastic_equivalent * elastic_equivalent + yield_stretch * yield_stretch) / (2 * yield_stretch);
-}
+// The return map of one bond and the critical stretch equivalent to a PMB bond's
+// (kernels/microplastic.hpp has both, with their derivations).
+using kernels::microplastic_critical_stretch;
+using kernels::microplastic_return;
 
 ModelEntry microplastic_model();
 

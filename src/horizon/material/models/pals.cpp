@@ -5,6 +5,7 @@
 #include <string>
 
 #include "horizon/core/error.hpp"
+#include "horizon/kernels/pals.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/state/system.hpp"
 
@@ -12,103 +13,19 @@ namespace horizon {
 
 namespace pals {
 
-namespace {
-
-// Solves the 6 x 6 system a x = b by Gaussian elimination with partial pivoting; false
-// when a pivot is below 1e-13 of the largest entry (a family too small or too flat to
-// carry the six constraints).
-bool solve6(double a[6][6], double b[6], double x[6]) {
-  double scale = 0;
-  for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 6; ++c) scale = std::max(scale, std::abs(a[r][c]));
-  if (!(scale > 0)) return false;
-  for (int c = 0; c < 6; ++c) {
-    int p = c;
-    for (int r = c + 1; r < 6; ++r)
-      if (std::abs(a[r][c]) > std::abs(a[p][c])) p = r;
-    if (!(std::abs(a[p][c]) > 1e-13 * scale)) return false;
-    if (p != c) {
-      for (int k = 0; k < 6; ++k) std::swap(a[p][k], a[c][k]);
-      std::swap(b[p], b[c]);
-    }
-    for (int r = c + 1; r < 6; ++r) {
-      const double f = a[r][c] / a[c][c];
-      for (int k = c; k < 6; ++k) a[r][k] -= f * a[c][k];
-      b[r] -= f * b[c];
-    }
-  }
-  for (int r = 5; r >= 0; --r) {
-    double s = b[r];
-    for (int k = r + 1; k < 6; ++k) s -= a[r][k] * x[k];
-    x[r] = s / a[r][r];
-  }
-  return true;
-}
-
-// The dilatation constraints' measures of a bond: xi_a xi_b in the order xx, yy, zz, xy,
-// xz, yz (Peridigm's order of Lagrange_Multiplier_Dilatation_1..6).
-void quadratic(const Vec3& x, double q[6]) {
-  q[0] = x.x * x.x, q[1] = x.y * x.y, q[2] = x.z * x.z;
-  q[3] = x.x * x.y, q[4] = x.x * x.z, q[5] = x.y * x.z;
-}
-
-// g_k(xi) = (xi . D_k . xi)^2 / |xi|^2 of the six deviatoric modes (header): D_a = e_a e_a
-// - I/3 (xi . D . xi = xi_a^2 - |xi|^2/3), then the shears xy, xz, yz (2 xi_a xi_b).
-void modes(const Vec3& x, double g[6]) {
-  const double r2 = dot(x, x);
-  const double s[6] = {x.x * x.x - r2 / 3, x.y * x.y - r2 / 3, x.z * x.z - r2 / 3,
-                       2 * x.x * x.y,      2 * x.x * x.z,      2 * x.y * x.z};
-  for (int k = 0; k < 6; ++k) g[k] = s[k] * s[k] / r2;
-}
-
-// D_k : D_k of the modes: 2/3 for the deviatoric uniaxial strains, 2 for the shears.
-constexpr double kModeNorm[6] = {2.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0, 2.0, 2.0, 2.0};
-
-}  // namespace
-
+// The set-up's algebra is kernels/pals.hpp's (the 6 x 6 solves written out there).
 double dilatation_factor(const double lambda[6], const Vec3& x) {
-  double q[6];
-  quadratic(x, q);
-  // Lambda : xi (x) xi with Lambda symmetric: the off-diagonal terms twice.
-  return 1 + lambda[0] * q[0] + lambda[1] * q[1] + lambda[2] * q[2] +
-         2 * (lambda[3] * q[3] + lambda[4] * q[4] + lambda[5] * q[5]);
+  return kernels::pals_dilatation_factor(lambda, x.x, x.y, x.z);
 }
 
-double deviatoric_factor(const double mu[6], const Vec3& x) {
-  double g[6];
-  modes(x, g);
-  double s = 1;
-  for (int k = 0; k < 6; ++k) s += mu[k] * g[k];
-  return s;
-}
+double deviatoric_factor(const double mu[6], const Vec3& x) { return kernels::pals_deviatoric_factor(mu, x.x, x.y, x.z); }
 
 bool dilatation_multipliers(const std::vector<Vec3>& xi, const std::vector<double>& wv, double out[6]) {
-  // sum_j omega V (1 + Lambda : xi xi) xi_a xi_b = delta_ab.
-  double a[6][6] = {}, b[6] = {1, 1, 1, 0, 0, 0};
-  for (std::size_t j = 0; j < xi.size(); ++j) {
-    double q[6];
-    quadratic(xi[j], q);
-    for (int r = 0; r < 6; ++r) {
-      b[r] -= wv[j] * q[r];
-      for (int c = 0; c < 6; ++c) a[r][c] += wv[j] * q[r] * q[c] * (c < 3 ? 1.0 : 2.0);
-    }
-  }
-  return solve6(a, b, out);
+  return kernels::pals_dilatation_multipliers(xi.data(), wv.data(), xi.size(), out);
 }
 
 bool deviatoric_multipliers(const std::vector<Vec3>& xi, const std::vector<double>& wv, double out[6]) {
-  // sum_j omega V (1 + sum_l mu_l g_l) g_k = D_k : D_k.
-  double a[6][6] = {}, b[6];
-  for (int k = 0; k < 6; ++k) b[k] = kModeNorm[k];
-  for (std::size_t j = 0; j < xi.size(); ++j) {
-    double g[6];
-    modes(xi[j], g);
-    for (int r = 0; r < 6; ++r) {
-      b[r] -= wv[j] * g[r];
-      for (int c = 0; c < 6; ++c) a[r][c] += wv[j] * g[r] * g[c];
-    }
-  }
-  return solve6(a, b, out);
+  return kernels::pals_deviatoric_multipliers(xi.data(), wv.data(), xi.size(), out);
 }
 
 }  // namespace pals
@@ -260,17 +177,17 @@ void Pals::force_state(ForcePass& pass) {
       const BondKind& b = B.kind_of(k);
       const double e = std::sqrt(dx * dx + dy * dy + dz * dz) - b.length;
       ext[k - first] = e;
-      if (B.intact[k]) theta += sigma_[k] * b.length * e * b.volume * b.fraction;
+      if (B.intact[k]) theta += kernels::pals_dilatation_term(sigma_[k], b.length, e, b.volume, b.fraction);
     }
-    // S = sum tau e^d |xi| V and the deviatoric energy sum tau (e^d)^2 V.
+    // S = sum tau e^d |xi| V and the deviatoric energy sum tau (e^d)^2 V (kernels/pals.hpp).
     double S = 0, dev = 0;
     for (uint64_t k = first; k < last; ++k) {
       if (!B.intact[k]) continue;
       const BondKind& b = B.kind_of(k);
-      const double ed = ext[k - first] - theta * b.length / 3;
+      const double ed = kernels::deviatoric_extension(ext[k - first], theta, b.length, 3);
       const double v = b.volume * b.fraction;
-      S += tau_[k] * ed * b.length * v;
-      dev += tau_[k] * ed * ed * v;
+      S += kernels::pals_shear_term(tau_[k], ed, b.length, v);
+      dev += kernels::pals_deviatoric_term(tau_[k], ed, v);
     }
     for (uint64_t k = first; k < last; ++k) {
       if (!B.intact[k]) {
@@ -278,53 +195,28 @@ void Pals::force_state(ForcePass& pass) {
         continue;
       }
       const BondKind& b = B.kind_of(k);
-      const double ed = ext[k - first] - theta * b.length / 3;
-      const double t = kappa_ * theta * sigma_[k] * b.length + 2 * mu_ * tau_[k] * ed -
-                       (2 * mu_ / 3) * S * sigma_[k] * b.length;
+      const double ed = kernels::deviatoric_extension(ext[k - first], theta, b.length, 3);
+      const double t = kernels::pals_force_scalar(kappa_, mu_, theta, sigma_[k], tau_[k], b.length, ed, S);
       const Point4 pj = y[B.nbr[k]];
       const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
       const double r = ext[k - first] + b.length;
       T[k] = r > 0 ? (t / r) * Y : Vec3{};
     }
     theta_[i] = theta;
-    if (pass.energy) pass.energy[i] = 0.5 * kappa_ * theta * theta + mu_ * dev;
+    if (pass.energy) pass.energy[i] = kernels::pals_energy(kappa_, mu_, theta, dev);
   }
 }
 
 void Pals::force_row(const RowPass& pass, std::size_t i, double dilatation_sum) {
   (void)dilatation_sum;  // omega-weighted: PALS weighs theta with sigma instead
   const auto& B = pass.system.bonds;
-  const double* r = pass.deformed;
-  double* q = pass.t;
-  const uint64_t first = B.begin(i), last = B.end(i);
-  double theta = 0;
-  for (uint64_t k = first; k < last; ++k) {
-    const BondKind& b = B.kind_of(k);
-    const double e = r[k] - b.length;
-    if (B.intact[k]) theta += sigma_[k] * b.length * e * b.volume * b.fraction;
-  }
-  double S = 0, dev = 0;
-  for (uint64_t k = first; k < last; ++k) {
-    if (!B.intact[k]) continue;
-    const BondKind& b = B.kind_of(k);
-    const double ed = (r[k] - b.length) - theta * b.length / 3;
-    const double v = b.volume * b.fraction;
-    S += tau_[k] * ed * b.length * v;
-    dev += tau_[k] * ed * ed * v;
-  }
-  for (uint64_t k = first; k < last; ++k) {
-    if (!B.intact[k]) {
-      q[k] = 0;
-      continue;
-    }
-    const BondKind& b = B.kind_of(k);
-    const double ed = (r[k] - b.length) - theta * b.length / 3;
-    const double t = kappa_ * theta * sigma_[k] * b.length + 2 * mu_ * tau_[k] * ed -
-                     (2 * mu_ / 3) * S * sigma_[k] * b.length;
-    q[k] = r[k] > 0 ? t / r[k] : 0.0;
-  }
-  theta_[i] = theta;
-  if (pass.energy) pass.energy[i] = 0.5 * kappa_ * theta * theta + mu_ * dev;
+  kernels::PalsRow<BondKind> a;
+  a.kinds = B.kinds.data(), a.kind = B.kind.data(), a.intact = B.intact.data(), a.r = pass.deformed;
+  a.sigma = sigma_.data(), a.tau = tau_.data(), a.q = pass.t;
+  a.kappa = kappa_, a.mu = mu_;
+  const kernels::PalsSums sums = kernels::pals_row(a, B.begin(i), B.end(i));
+  theta_[i] = sums.theta;
+  if (pass.energy) pass.energy[i] = sums.W;
 }
 
 }  // namespace
