@@ -10,6 +10,10 @@
 //   - `extended_law_row`: one particle's law row from E and the kept maps: Fbar = N K^-1, the
 //     law step of kernels/hencky.hpp and strain_laws.hpp (the model's run_law), the pressure
 //     map P K^-1, the record's a = dual(S), the von Mises stress;
+//   - the pair form's stabilisation sums and record, and its whole law row in one call
+//     (`extended_pair_law_row`);
+//   - the vector form's stabilisation (capped or not) and its bond terms (the strain sum of
+//     sweep 1, the force state (**));
 //   - per bond, the volumetric gradient's sum N += w Y (x) xi and its force term w P xi.
 // The 3 x 3 and 6 x 6 matrices here are column-major, Eigen's storage, which the model keeps
 // (its maps, K^-1, N and P K^-1 are Eigen matrices read through .data()); 6-vectors are
@@ -30,7 +34,9 @@
 //   - M^-1 S: each entry's six products summed in column order (the lazy product's packets);
 //   - M^-T v: each entry a dot product of a column of M^-1 with v, Eigen's two-lane reduction
 //     (kernels::dot6's order);
-//   - w (P xi) as Eigen rewrites a scalar times a product, (w P) xi, in mat3_vec's order.
+//   - w (P xi) as Eigen rewrites a scalar times a product, (w P) xi, in mat3_vec's order;
+//   - normalized(): xi / sqrt((x^2 + y^2) + z^2), and R += ((w r) n_a) n_b;
+//   - the 6-vector dot products in kernels::dot6's (and dot6_mid's) order.
 #include <cstdint>
 
 #include "horizon/core/portable.hpp"
