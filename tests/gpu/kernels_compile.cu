@@ -2,8 +2,11 @@
 // laws of the correspondence model (kernels/laws.hpp: law_row for the linear elastic,
 // neo-Hookean and J2 laws; the SVD and polar decomposition of kernels/eigen3.hpp; the
 // rate-form step of kernels/hypoelastic.hpp; extended correspondence's law step: the Hencky
-// map of kernels/hencky.hpp around the strain law of kernels/strain_laws.hpp), each
-// instantiated in a __global__ function of one thread a particle over flat arrays, as a
+// map of kernels/hencky.hpp around the strain law of kernels/strain_laws.hpp; the law at a
+// point with plane stress's iteration and the thermal split, kernels/plane_stress.hpp; the
+// general pass's bond force state, kernels/force_state.hpp; bond-associated correspondence's
+// rows, kernels/bond_associated.hpp), each
+// instantiated in a __global__ function of one thread a particle (or a bond) over flat arrays, as a
 // device pass of correspondence would call them. Built by cmake/cuda.cmake (an object
 // library: nothing runs it), so bench/gpu/device_check.sh compiles them in its one call;
 // `-Xptxas -v` on this file gives their registers and spills (docs/design.md). Extended
@@ -12,12 +15,15 @@
 // of the pair form would hold them.
 #include <cstdint>
 
+#include "horizon/kernels/bond_associated.hpp"
 #include "horizon/kernels/eigen3.hpp"
 #include "horizon/kernels/extended.hpp"
 #include "horizon/kernels/extended_law.hpp"
+#include "horizon/kernels/force_state.hpp"
 #include "horizon/kernels/hencky.hpp"
 #include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/laws.hpp"
+#include "horizon/kernels/plane_stress.hpp"
 #include "horizon/kernels/strain_laws.hpp"
 
 namespace horizon::kernels {
@@ -211,6 +217,72 @@ __global__ void pressure_rows(const uint64_t* offset, const uint32_t* nbr, const
   }
   for (int k = 0; k < 9; ++k) N[9 * i + k] = Ni[k];
   for (int a = 0; a < 3; ++a) f[3 * i + a] = fi[a];
+}
+
+// The total-form law at a point (kernels/plane_stress.hpp law_point: 2-D plane stress's
+// secant iteration and the thermal split around the law of c), history in and out.
+__global__ void law_point_points(const double* F, std::size_t n, LawConstants c, int dim, bool plane_stress,
+                                 const double* eps, const J2History* committed, double* lambda3, J2History* trial,
+                                 double* work, double* P, double* W) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  LawStress r;
+  law_point(c, dim, plane_stress, eps[i], committed[i], F + 9 * i, lambda3[i], trial[i], work[i], r);
+  for (int k = 0; k < 9; ++k) P[9 * i + k] = r.P[k];
+  W[i] = r.W;
+}
+
+// Row i of the affine pass in 2-D plane stress (kernels/plane_stress.hpp law_point_row):
+// sums to record with J2's history and the out-of-plane stretch in and out.
+__global__ void law_point_rows(const double* sums, std::size_t n, double tolerance, LawConstants c, double G,
+                               const J2History* committed, const double* lambda3_n, J2History* trial,
+                               double* lambda3, double* work, double* rec, double* von_mises, double* energy) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  const AffineRow row = law_point_row(sums + 18 * i, 2, tolerance, c, true, G, committed[i], lambda3_n[i], trial[i],
+                                      lambda3[i], work[i], rec + kAffineRecord * i);
+  von_mises[i] = row.von_mises;
+  energy[i] = row.carries ? row.W : 0.0;
+}
+
+// The general pass's force state of one bond (kernels/force_state.hpp), one thread a bond:
+// the row's A and F (9 + 9 numbers per particle) read through the bond's row index.
+__global__ void general_bond_states(const double* A, const double* F, const uint32_t* row, const double* xi,
+                                    const double* Y, const double* omega, std::size_t bonds, double G, double Cc,
+                                    double* T) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k >= bonds) return;
+  const std::size_t i = row[k];
+  correspondence_bond_state(A + 9 * i, F + 9 * i, G, omega[k], xi + 3 * k, Y + 3 * k, T + 3 * k);
+  if (Cc != 0) peridigm_hourglass_add(F + 9 * i, Cc, omega[k], xi + 3 * k, Y + 3 * k, T + 3 * k);
+}
+
+// Bond-associated correspondence, one thread a row over its bonds (CSR offsets, neighbours,
+// xi and Y per bond): the bond-level gradient, the total-form law with the bond's history,
+// the bond's force term and S_i, then the second term with A = S_i K_i^-1.
+__global__ void bond_associated_rows(const uint64_t* offset, const uint32_t* nbr, std::size_t n, const double* F,
+                                     const double* Kinv, const double* m, const double* xi, const double* Y,
+                                     const double* omega, const double* volume, LawConstants c, int dim,
+                                     bool plane_stress, const J2History* committed, const double* lambda3_n,
+                                     J2History* trial, double* lambda3, double* work, double* T) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  double S[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  for (uint64_t k = offset[i]; k < offset[i + 1]; ++k) {
+    const std::size_t j = nbr[k];
+    const double* b = xi + 3 * k;
+    const double bb = squared_norm3(b);
+    double Fb[9];
+    bond_level_gradient(F + 9 * i, F + 9 * j, b, Y + 3 * k, bb, Fb);
+    LawStress r;
+    lambda3[k] = lambda3_n[k];
+    law_point(c, dim, plane_stress, 0.0, committed[k], Fb, lambda3[k], trial[k], work[k], r);
+    if (!r.ok) continue;
+    bond_associated_terms(r.P, b, bb, omega[k] / m[i], omega[k] / m[j], volume[k], T + 3 * k, S);
+  }
+  double A[9];
+  mat3_mul(S, Kinv + 9 * i, A);
+  for (uint64_t k = offset[i]; k < offset[i + 1]; ++k) bond_associated_tail(A, omega[k], xi + 3 * k, T + 3 * k);
 }
 
 }  // namespace horizon::kernels

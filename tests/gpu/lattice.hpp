@@ -31,6 +31,17 @@ struct Lattice {
   std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
   std::vector<uint8_t> compression_only;
   bool tupek = false;
+  // The correspondence model (make_affine_lattice; off otherwise): kernels/flat_affine.hpp.
+  bool affine = false;
+  kernels::FlatAffine affine_constants;
+  std::vector<kernels::FlatAffineLaw> laws;
+  std::vector<uint32_t> material;
+  std::vector<kernels::FlatPoint> ref, kind_record;
+  std::vector<kernels::FlatBondKind> bond_kinds;
+  std::vector<double> omega_volume, record, work, von_mises, F_pass;
+  std::vector<horizon::Vec3> y_old;
+  std::vector<uint8_t> singular;
+  std::vector<kernels::J2History> j2_committed, j2_trial;
   // elastic_plastic or viscoelastic (make_ordinary_lattice; ord.model 0 otherwise): the
   // arrays kernels::FlatOrdinary points to (view() points ord into them).
   kernels::FlatOrdinary ord;
@@ -63,6 +74,16 @@ struct Lattice {
       s.mu_bar = mu_bar.data(), s.beta = beta.data(), s.compression_only = compression_only.data();
       s.failure_scale = failure_scale.data(), s.nonlocal_damage = nonlocal_damage.data();
       s.contact_stiffness = contact_stiffness.data();
+    }
+    if (affine) {
+      s.correspondence = true;
+      kernels::FlatAffine& a = s.affine;
+      a = affine_constants;
+      a.nlaws = laws.size(), a.laws = laws.data(), a.material = material.data();
+      a.ref = ref.data(), a.kind_record = kind_record.data(), a.bond_kinds = bond_kinds.data();
+      a.omega_volume = omega_volume.data(), a.record = record.data(), a.y_old = y_old.data(), a.work = work.data();
+      a.von_mises = von_mises.data(), a.singular = singular.data(), a.F_pass = F_pass.data();
+      a.j2_committed = j2_committed.data(), a.j2_trial = j2_trial.data();
     }
     if (ord.model) {
       auto p = [](auto& a) { return a.empty() ? nullptr : a.data(); };
@@ -183,6 +204,43 @@ inline Lattice make_tupek_lattice(int nx, int ny, int nz, double m = 0, double g
   }
   std::vector<double> S(n);
   L.dt = 0.5 * kernels::flat_tupek_stable_step(L.view(), S.data());
+  return L;
+}
+
+// The same lattice as the correspondence model (material/models/correspondence.hpp; its
+// constants written again here for the GPU-only build): the J2 law (Simo and Hughes' return
+// on the Hencky strain, kernels/laws.hpp) with the lattice's K and mu, sigma_y = 400 MPa,
+// H = 2 GPa, Silling 2017's stabilisation G = 0.5 c/delta (c = 18 K/(pi delta^4), as the
+// model's stabilization_modulus), omega = 1, bonds breaking at the critical stretch s0;
+// the records start at 0, the last pass's positions at X (as after a first pass at rest).
+inline Lattice make_affine_lattice(int nx, int ny, int nz, double s0 = 0.002) {
+  Lattice L = make_lattice(nx, ny, nz, false, s0);
+  const double h = 1e-3, delta = 3 * h, V = h * h * h, E = 200e9, nu = 0.25, pi = 3.14159265358979323846;
+  const double K = E / (3 * (1 - 2 * nu)), mu = E / (2 * (1 + nu)), c = 18 * K / (pi * std::pow(delta, 4));
+  const uint64_t n = L.n;
+  L.affine = true;
+  L.affine_constants.contact = false;
+  kernels::FlatAffineLaw a;
+  a.dim = 3, a.tolerance = 1e-4, a.G = 0.5 * c / delta, a.rate = false;
+  a.law.law = kernels::kJ2Law, a.law.lambda = K - 2.0 * mu / 3.0, a.law.mu = mu, a.law.kappa = K;
+  a.law.yield_stress = 4.0e8, a.law.hardening = 2.0e9;
+  L.laws = {a};
+  L.material.assign(n, 0);
+  for (const kernels::Kind& k : L.kinds) {
+    L.kind_record.push_back({k.length, k.inv_length, V, 0.0});
+    L.bond_kinds.push_back({V, 1.0, 1.0});
+    L.omega_volume.push_back(V);
+  }
+  L.ref.resize(n), L.y_old.resize(n);
+  for (uint64_t i = 0; i < n; ++i) {
+    L.ref[i] = {L.X[3 * i], L.X[3 * i + 1], L.X[3 * i + 2], 0.0};
+    L.y_old[i] = {L.X[3 * i], L.X[3 * i + 1], L.X[3 * i + 2]};
+  }
+  L.record.assign(kernels::kAffineRecord * n, 0.0), L.work.assign(n, 0.0), L.von_mises.assign(n, 0.0);
+  L.F_pass.assign(9 * n, 0.0);
+  L.singular.assign(n, 0), L.j2_committed.assign(n, kernels::J2History{}), L.j2_trial.assign(n, kernels::J2History{});
+  // The stable step: the bond-based spring stiffened by the stabilisation (1 + G_s).
+  L.dt /= std::sqrt(1.5);
   return L;
 }
 

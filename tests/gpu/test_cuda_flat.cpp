@@ -1,7 +1,8 @@
 // The CUDA backend (src/horizon/cuda/) against the host's portable rows (label gpu;
 // bench/gpu/device_check.sh runs it on the device machine): a striker breaking into a bar
 // of a cubic lattice, PMB, LPS, Tupek's nonlinear solid (its stable step too),
-// elastic_plastic and viscoelastic (kernels/flat_ordinary.hpp), without
+// elastic_plastic and viscoelastic (kernels/flat_ordinary.hpp) and the correspondence
+// model (J2, stabilised: lattice.hpp make_affine_lattice), without
 // and with loads (lattice.hpp add_loads: a clamped
 // end, a held velocity, a body force, and their work), 200 steps on the device (in two
 // calls, with a copy back between them) and on the host with kernels::advance_flat. The
@@ -32,10 +33,11 @@ double rel(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 
 bool compare(const std::string& model, bool loads) {
   const std::string label = model + (loads ? " with loads" : "");
   const char* name = label.c_str();
-  const bool tupek = model.rfind("tupek", 0) == 0;
+  const bool tupek = model.rfind("tupek", 0) == 0, affine = model == "correspondence";
   const bool ordinary = model == "elastic_plastic" || model == "viscoelastic";
   Lattice host = tupek       ? horizon::test::make_tupek_lattice(24, 10, 10, model == "tupek_m05" ? 0.5 : 0.0)
                  : ordinary ? horizon::test::make_ordinary_lattice(24, 10, 10, model == "elastic_plastic")
+                 : affine   ? horizon::test::make_affine_lattice(24, 10, 10)
                             : horizon::test::make_lattice(24, 10, 10, model == "lps");
   if (loads) horizon::test::add_loads(host, 24, 1e9);
   Lattice dev = host;
@@ -77,6 +79,15 @@ bool compare(const std::string& model, bool loads) {
     std::printf("%s: dissipated %.17g (host) %.17g (device)\n", name, dh, dd);
     if (!(dh > 0 && rel(dd, dh) <= 1e-9)) std::printf("%s: FAILED: the dissipation differs (or is 0)\n", name), ok = false;
   }
+  if (affine) {  // the plastic work and the broken bonds' energy, and the law's history
+    double dh = 0, dd = 0;
+    for (uint64_t i = 0; i < host.n; ++i) dh += host.dissipated[i], dd += dev.dissipated[i];
+    const bool same_history = std::memcmp(host.j2_committed.data(), dev.j2_committed.data(),
+                                          host.n * sizeof(horizon::kernels::J2History)) == 0;
+    std::printf("%s: dissipated %.17g (host) %.17g (device); J2 history %s\n", name, dh, dd,
+                same_history ? "the same bits" : "differs");
+    if (!(dh > 0 && rel(dd, dh) <= 1e-9)) std::printf("%s: FAILED: the dissipation differs (or is 0)\n", name), ok = false;
+  }
   if (ordinary) {  // the history (e^dp or the back extensions), q and the dissipation (plastic or viscous, and the bonds')
     const std::vector<double>& hh = model == "elastic_plastic" ? host.o_ep : host.o_back[0];
     const std::vector<double>& dh_ = model == "elastic_plastic" ? dev.o_ep : dev.o_back[0];
@@ -114,7 +125,9 @@ int main() {
   // The ordinary history models (kernels/flat_ordinary.hpp), without and with loads.
   const bool ordinary = compare("elastic_plastic", false) && compare("viscoelastic", false) &&
                         compare("elastic_plastic", true) && compare("viscoelastic", true);
-  const bool ok = pmb && lps && loaded && tupek && ordinary;
+  // The correspondence model (kernels/flat_affine.hpp rows: J2, stabilised), with loads too.
+  const bool affine = compare("correspondence", false) && compare("correspondence", true);
+  const bool ok = pmb && lps && loaded && tupek && ordinary && affine;
   std::printf("%s\n", ok ? "PASSED" : "FAILED");
   return ok ? 0 : 1;
 }

@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include "horizon/core/error.hpp"
@@ -41,8 +43,11 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
+// Per process: ctest -j runs the tests of this file side by side (and other checkouts'
+// tests share /tmp), and two refusal tests once removed each other's directory.
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("horizon_test_backend_" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("horizon_test_backend_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -540,6 +545,92 @@ void expect_checkpoint_and_restart(const std::string& deck, const std::string& n
   fs::remove_all(dir);
 }
 
+// The correspondence model (kernels/flat_affine.hpp: forces_affine.cpp's breaking sweep and
+// pair sum, Correspondence::affine_row's law and energy, its commit, over the flat arrays):
+// the striker on the bar, bonds breaking, for the linear elastic law stabilised, J2
+// (plastic work into the ledger), neo-Hookean and the rate form hypoelastic_j2; CPU and
+// flat backends on 1 and 2 threads, the same bytes (the frames hold the model's von Mises
+// stress, equivalent plastic strain and singular flags, written back from the copy).
+std::string correspondence(const std::string& law) {
+  return "{model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, " + law +
+         "damage: {critical_stretch: 0.002}}";
+}
+const std::string kJ2Law = "stress_law: j2, yield_stress: 4.0e8, hardening_modulus: 2.0e9, ";
+
+TEST(Backend, CorrespondenceFlatGivesTheCpuBits) {
+  const std::string linear = impact_deck(correspondence("stabilization: 0.5, "));
+  expect_same(run(linear, "corr_linear", "flat"), run(linear, "corr_linear", "cpu"),
+              "correspondence linear elastic, stabilised");
+  expect_same_on_threads(impact_deck(correspondence(kJ2Law + "stabilization: 0.5, ")), "corr_j2",
+                         "correspondence j2, stabilised");
+  const std::string nh = impact_deck(correspondence("stress_law: neo_hookean, stabilization: 0.2, "));
+  expect_same(run(nh, "corr_nh", "flat"), run(nh, "corr_nh", "cpu"), "correspondence neo_hookean");
+  expect_same_on_threads(
+      impact_deck(correspondence("stress_law: hypoelastic_j2, yield_stress: 4.0e8, hardening_modulus: 2.0e9, "
+                                 "stabilization: 0.5, ")),
+      "corr_hypo", "correspondence hypoelastic_j2");
+}
+
+// The options of the pass: 2-D plane strain, no stabilisation, bonds breaking after the
+// force, short-range contact between family pairs and beyond, prescribed conditions, two
+// correspondence materials (with the adaptive step too), and a checkpoint (the models' committed and trial histories,
+// records, positions) with its restart.
+TEST(Backend, CorrespondenceOptionsFlatGiveTheCpuBits) {
+  const std::string plate = R"yaml(dimension: 2
+plane: strain
+thickness: 1.0e-3
+spacing: 5.0e-4
+horizon: 1.5e-3
+materials:
+  steel: {model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, stabilization: 0.5,
+          stress_law: j2, yield_stress: 3.0e8, hardening_modulus: 2.0e9, damage: {critical_stretch: 0.004}}
+bodies:
+  - {name: plate, material: steel, shape: {box: {min: [0, 0], max: [0.012, 0.006]}}}
+initial_conditions:
+  - {region: all, velocity: ["4000*(x-0.006)", "0"]}
+solver: {type: explicit, end_time: 4.0e-6, safety_factor: 0.5, energy_balance_warning: 0.5}
+output: {frames: 3, history_every: 7}
+)yaml";
+  expect_same_on_threads(plate, "corr_plane_strain", "correspondence j2, 2-D plane strain");
+  std::string after = correspondence(kJ2Law + "stabilization: 0, ");
+  after.replace(after.find("critical_stretch: 0.002}"), 24, "critical_stretch: 0.002, breaks: after_force}");
+  expect_same_on_threads(impact_deck(after), "corr_after", "correspondence j2 unstabilised, breaks: after_force");
+  const std::string contact = "contact: {short_range: {max_distance: 1.35}}\n";
+  const std::string loads =
+      "loads:\n  - {region: end, displacement: [0, null, 0]}\n  - {region: striker, velocity: [null, 3, null]}\n"
+      "  - {region: end, traction: [0, \"2.0e8*min(t/1.0e-6, 1)\", 0]}\n";
+  expect_same_on_threads(impact_deck(correspondence(kJ2Law + "stabilization: 0.5, "), contact + loads),
+                         "corr_contact_loads", "correspondence j2, short-range contact and prescribed conditions");
+  // Two correspondence materials (a J2 striker on a hypoelastic_j2 bar of another
+  // stabilisation: per-material constants, both histories), and its checkpoint.
+  std::string ck = impact_deck(correspondence(kJ2Law + "stabilization: 0.5, "));
+  const std::string materials = "materials:\n  steel: {";
+  ASSERT_NE(ck.find(materials), std::string::npos);
+  ck.replace(ck.find(materials), materials.size(),
+             "materials:\n  soft: {model: correspondence, density: 2700, youngs_modulus: 70.0e9, poissons_ratio: 0.33, "
+             "stabilization: 0.2, stress_law: hypoelastic_j2, yield_stress: 2.0e8, hardening_modulus: 1.0e9, "
+             "damage: {critical_stretch: 0.003}}\n  steel: {");
+  const std::string bar = "  - name: bar\n    material: steel";
+  ASSERT_NE(ck.find(bar), std::string::npos);
+  ck.replace(ck.find(bar), bar.size(), "  - name: bar\n    material: soft");
+  expect_same_on_threads(ck, "corr_two", "correspondence j2 striker on a hypoelastic_j2 bar");
+  // The adaptive step (the model's stable step over the System, the fields copied back for
+  // it every 3 steps; the rate form's F_dot over each step's own dt).
+  std::string adaptive = ck;
+  const std::string solver = "energy_balance_warning: 0.5";
+  ASSERT_NE(adaptive.find(solver), std::string::npos);
+  adaptive.replace(adaptive.find(solver), solver.size(), solver + ", adaptive_time_step: true, adaptive_every: 3");
+  const Output adaptive_cpu = run(adaptive, "corr_adaptive", "cpu", 1, 1);
+  EXPECT_LT(adaptive_cpu.summary["time_step_range"][0].get<double>(),
+            adaptive_cpu.summary["time_step_range"][1].get<double>());
+  expect_same(run(adaptive, "corr_adaptive", "flat", 1, 2), adaptive_cpu,
+              "correspondence j2 striker on a hypoelastic_j2 bar, adaptive step");
+  const std::string out = "output: {frames: 3, history_every: 7}";
+  ASSERT_NE(ck.find(out), std::string::npos);
+  ck.replace(ck.find(out), out.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 40}}");
+  expect_checkpoint_and_restart(ck, "ck_corr", 1);
+}
+
 TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
   std::string deck = glass_deck();
   const std::string frames = "frames: 4, history_every: 10}";
@@ -634,6 +725,19 @@ TEST(Backend, FlatRefusesWhatItDoesNotCover) {
                              "thermal: {conductivity: 30, specific_heat: 880}}",
                              "thermal: {initial_temperature: 300}\n"),
                  "heat conduction");
+  // Correspondence in plane stress: the out-of-plane stretch's iteration is host code.
+  const std::string plane_stress = R"yaml(dimension: 2
+plane: stress
+thickness: 1.0e-3
+spacing: 5.0e-4
+horizon: 1.5e-3
+materials:
+  steel: {model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3}
+bodies:
+  - {name: plate, material: steel, shape: {box: {min: [0, 0], max: [0.006, 0.003]}}}
+solver: {type: explicit, end_time: 1.0e-7}
+)yaml";
+  expect_refused(plane_stress, "correspondence in plane stress");
 }
 
 TEST(Backend, CudaIsRefusedWithoutCuda) {

@@ -13,7 +13,9 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <vector>
 
+#include "horizon/core/vec3.hpp"
 #include "horizon/kernels/eigen3.hpp"
 #include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/laws.hpp"
@@ -294,6 +296,48 @@ TEST(LawKernels, HypoelasticStepKeepsEigensBits) {
     for (int b = 0; b < 2; ++b) EXPECT_EQ(bad_by[a][b], 0) << "return " << a << ", rotation " << b;
   EXPECT_EQ(bad, 0);
   EXPECT_GT(plastic, n / 8) << "the random steps are meant to yield";
+}
+
+// F_dot's bond sum as a portable row (rate_gradient_row) against the host loop it replaced
+// in Correspondence::hypo_row (Vec3 differences, then rate_gradient_add bond by bond): the
+// same bits on random families, broken bonds skipped.
+TEST(LawKernels, RateGradientRowKeepsTheHostLoopsBits) {
+  std::mt19937_64 g(30);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const std::size_t n = 40;
+  std::vector<Vec3> X(n), U(n), Uc(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    X[i] = {1e-3 * u(g), 1e-3 * u(g), 1e-3 * u(g)};
+    U[i] = {1e-5 * u(g), 1e-5 * u(g), 1e-5 * u(g)};
+    Uc[i] = {U[i].x + 1e-8 * u(g), U[i].y + 1e-8 * u(g), U[i].z + 1e-8 * u(g)};
+  }
+  std::vector<uint64_t> offset{0};
+  std::vector<uint32_t> nbr;
+  std::vector<uint8_t> intact;
+  std::vector<double> w;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j)
+      if (j != i && u(g) > 0) nbr.push_back(static_cast<uint32_t>(j)), intact.push_back(u(g) > -0.6 ? 1 : 0),
+                                  w.push_back(1e-9 * (1.5 + u(g)));
+    offset.push_back(nbr.size());
+  }
+  int bad = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double host[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const Vec3 dui = U[i] - Uc[i];
+    for (uint64_t k = offset[i]; k < offset[i + 1]; ++k) {
+      if (!intact[k]) continue;
+      const uint32_t j = nbr[k];
+      const Vec3 du = (U[j] - Uc[j]) - dui, xi = X[j] - X[i];
+      const double a[3] = {du.x, du.y, du.z}, x[3] = {xi.x, xi.y, xi.z};
+      kernels::rate_gradient_add(host, a, x, w[k]);
+    }
+    double row[9];
+    kernels::rate_gradient_row(&X[0].x, &U[0].x, &Uc[0].x, offset.data(), nbr.data(), intact.data(),
+                               [&w](uint64_t k) { return w[k]; }, i, row);
+    for (int c = 0; c < 9; ++c) bad += same_bits(host[c], row[c]) ? 0 : 1;
+  }
+  EXPECT_EQ(bad, 0);
 }
 
 }  // namespace

@@ -7,6 +7,9 @@
 // stretch of 0.2 %). The portable rows sum each row in the fast loops' eight lanes, in
 // the same order, so the bits agree (tests/regression/test_backend.cpp runs whole decks).
 //
+// The correspondence model stepped over a flat copy (J2, stabilised: advance_flat with
+// kernels/flat_affine.hpp's rows and commit) gives the host's steps' bits too.
+//
 // The correspondence model (stabilised; linear elastic, neo-Hookean and J2 with its
 // history in flat arrays) and Tupek's nonlinear solid: 40
 // steps of a breaking run (the impact; a bar pulled apart for the nonlinear solid), and
@@ -97,6 +100,43 @@ void compare(const std::string& material, bool state_based) {
 }
 
 TEST(PortableKernels, PmbFlatRunMatchesTheFastLoops) { compare(kPmb, false); }
+
+// The correspondence model stepped over a flat copy (kernels/flat_affine.hpp: the affine
+// pass's rows and the commit, through advance_flat) against the host's steps: J2,
+// stabilised, bonds breaking; the same state, damage, dissipation (the broken bonds' energy
+// and the plastic work) and energies, bit for bit.
+TEST(PortableKernels, CorrespondenceFlatRunMatchesTheHostSteps) {
+  test::SingleThread one;
+  const std::string material =
+      "{model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, stabilization: 0.5, "
+      "stress_law: j2, yield_stress: 4.0e8, hardening_modulus: 2.0e9, damage: {critical_stretch: 0.002}}";
+  Simulation sim(parse_deck(impact_deck(material, 40, 1.0), "portable.yaml"));
+  ASSERT_EQ(flat_unsupported(sim.system, sim.loads), "");
+  FlatStorage copy = flat_copy(sim.system, sim.solver->dt(), sim.config.solver.damping);
+  ASSERT_TRUE(copy.affine.on);
+  const kernels::FlatSystem view = copy.view();
+  const uint64_t broken_before = sim.system.broken;
+  for (int n = 0; n < 40; ++n) sim.solver->step(true);
+  const uint64_t flat_broken = kernels::advance_flat(view, 40);
+  const System& s = sim.system;
+  EXPECT_GT(flat_broken, 0u);
+  EXPECT_EQ(flat_broken, s.broken - broken_before);
+  EXPECT_EQ(copy.intact, s.bonds.intact);
+  EXPECT_LE(relative(copy.u, flat(s.particles.u)), 0.0);
+  EXPECT_LE(relative(copy.v, flat(s.particles.v)), 0.0);
+  EXPECT_LE(relative(copy.damage, s.particles.damage), 0.0);
+  EXPECT_LE(relative(copy.dissipated, s.dissipated_at), 0.0);
+  EXPECT_LE(relative(copy.affine.record, s.model.affine_record), 0.0);
+  const kernels::FlatTotals t = kernels::flat_totals(view);
+  EXPECT_LE(rel(t.kinetic, kinetic_energy(s)), 0.0);
+  EXPECT_LE(rel(t.strain, strain_energy(s)), 0.0);
+  double plastic = 0;
+  for (double d : copy.dissipated) plastic += d;
+  std::printf("[ figure ] correspondence j2: flat rows against the host's steps, 40 steps, %llu bonds broken, "
+              "dissipated %.6e J: |du|/|u| = %.1e, strain %.1e relative\n",
+              static_cast<unsigned long long>(flat_broken), plastic, relative(copy.u, flat(s.particles.u)),
+              rel(t.strain, strain_energy(s)));
+}
 TEST(PortableKernels, LpsFlatRunMatchesTheFastLoops) { compare(kLps, true); }
 
 // Bitwise equality of two arrays of doubles (counts the entries that differ).
@@ -292,7 +332,9 @@ solver: {type: explicit, end_time: 1.0, safety_factor: 0.5}
 TEST(PortableKernels, FlatCopyNamesWhatItDoesNotTake) {
   const std::string plastic = "{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.001}";
   Simulation sim(parse_deck(impact_deck(plastic, 40, 1.0), "portable.yaml"));
-  EXPECT_EQ(flat_unsupported(sim.system, sim.loads), "a model without flat rows (the unified models and nonlinear_solid have them)");
+  EXPECT_EQ(flat_unsupported(sim.system, sim.loads),
+            "a model without flat rows (the unified models, nonlinear_solid, elastic_plastic, viscoelastic and "
+            "correspondence have them)");
 }
 
 }  // namespace

@@ -82,6 +82,20 @@ __global__ void tupek_stable_kernel(FlatSystem s, const double* S, unsigned long
   for (int o = 16; o > 0; o /= 2) r = fmin(r, __shfl_down_sync(0xffffffffu, r, o));
   if ((threadIdx.x & 31u) == 0 && r == r) atomicMin(best, static_cast<unsigned long long>(__double_as_longlong(r)));
 }
+// The correspondence model's pass (FlatSystem::correspondence, kernels/flat_affine.hpp):
+// the breaking sweep with the law, the pair sum, the commit.
+__global__ void affine_break_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::flat_affine_break_row(s, i);
+}
+__global__ void affine_sum_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::flat_affine_sum_row(s, i);
+}
+__global__ void affine_commit_kernel(FlatSystem s) {
+  const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
+  if (i < s.n) kernels::flat_affine_commit_row(s, i);
+}
 __global__ void kick_kernel(FlatSystem s) {
   const uint64_t i = blockIdx.x * static_cast<uint64_t>(blockDim.x) + threadIdx.x;
   if (i < s.n) kernels::kick_row(s, i);
@@ -224,6 +238,33 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.nonlocal_damage = upload(h.nonlocal_damage, tn, o);
   d.contact_stiffness = upload(h.contact_stiffness, tn, o);
   d.length_of = upload(h.length_of, h.length_of ? nb : 0, o);
+  if (h.correspondence) {  // kernels/flat_affine.hpp FlatAffine: null host arrays stay null
+    const kernels::FlatAffine& a = h.affine;
+    kernels::FlatAffine& da = d.affine;
+    const uint64_t nk = h.nkinds;
+    da.laws = upload(a.laws, a.nlaws, o);
+    da.material = upload(a.material, n, o);
+    da.ref = upload(a.ref, n, o);
+    da.kind_record = upload(a.kind_record, nk, o);
+    da.bond_kinds = upload(a.bond_kinds, nk, o);
+    da.omega_volume = upload(a.omega_volume, nk, o);
+    da.record = upload(a.record, kernels::kAffineRecord * n, o);
+    da.y_old = upload(a.y_old, n, o);
+    da.work = upload(a.work, n, o);
+    da.von_mises = upload(a.von_mises, n, o);
+    da.singular = upload(a.singular, n, o);
+    da.F_pass = upload(a.F_pass, 9 * n, o);
+    da.j2_committed = upload(a.j2_committed, a.j2_committed ? n : 0, o);
+    da.j2_trial = upload(a.j2_trial, a.j2_trial ? n : 0, o);
+    da.hypo_committed = upload(a.hypo_committed, a.hypo_committed ? n : 0, o);
+    da.hypo_trial = upload(a.hypo_trial, a.hypo_trial ? n : 0, o);
+    da.u_committed = upload(a.u_committed, a.u_committed ? 3 * n : 0, o);
+    da.yield_factor = upload(a.yield_factor, a.yield_factor ? n : 0, o);
+    da.kinv = upload(a.kinv, a.kinv ? 9 * n : 0, o);
+    da.F = upload(a.F, a.F ? 9 * n : 0, o);
+    da.sigma = upload(a.sigma, a.sigma ? 9 * n : 0, o);
+    da.d = upload(a.d, a.d ? 9 * n : 0, o);
+  }
   if (h.ordinary) d.ordinary = upload_ordinary(*h.ordinary, n, nb, h.nkinds, m.ordinary, o);
   m.grid = static_cast<unsigned>((n + kBlock - 1) / kBlock);
   m.tracked_grid = static_cast<unsigned>((h.ntracked + kBlock - 1) / kBlock);
@@ -260,6 +301,11 @@ void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, voi
     kick_drift_kernel<<<m.grid, kBlock>>>(d);
     if (d.ordinary) {
       ordinary_pass(d, m.grid, kBlock);
+    } else if (d.correspondence) {
+      pack_kernel<<<m.grid, kBlock>>>(d);
+      affine_break_kernel<<<m.grid, kBlock>>>(d);
+      affine_sum_kernel<<<m.grid, kBlock>>>(d);
+      affine_commit_kernel<<<m.grid, kBlock>>>(d);
     } else if (d.tupek) {
       tupek_pack_kernel<<<m.grid, kBlock>>>(d);
       tupek_theta_kernel<<<m.grid, kBlock>>>(d);
@@ -354,6 +400,24 @@ void FlatRun::download(const FlatSystem& h) const {
   download_array(h.v_before, d.v_before, 3 * d.ntracked);
   download_array(h.entry_reaction, d.entry_reaction, 3 * d.nentries);
   if (h.damped) download_array(h.damped, d.damped, n);
+  if (h.correspondence) {  // the model's state (solver/flat_affine_copy.cpp writes it back)
+    const kernels::FlatAffine &a = h.affine, &da = d.affine;
+    download_array(a.record, da.record, kernels::kAffineRecord * n);
+    download_array(a.y_old, da.y_old, n);
+    download_array(a.work, da.work, n);
+    download_array(a.von_mises, da.von_mises, n);
+    download_array(a.singular, da.singular, n);
+    if (a.j2_committed) download_array(a.j2_committed, da.j2_committed, n), download_array(a.j2_trial, da.j2_trial, n);
+    if (a.hypo_committed) {
+      download_array(a.hypo_committed, da.hypo_committed, n);
+      download_array(a.hypo_trial, da.hypo_trial, n);
+      download_array(a.u_committed, da.u_committed, 3 * n);
+      download_array(a.kinv, da.kinv, 9 * n);
+      download_array(a.F, da.F, 9 * n);
+      download_array(a.sigma, da.sigma, 9 * n);
+      download_array(a.d, da.d, 9 * n);
+    }
+  }
   if (h.ordinary) download_ordinary(*h.ordinary, impl_->ordinary, n, nb);
   if (h.tupek) {
     download_array(h.eps, d.eps, nb);

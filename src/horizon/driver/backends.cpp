@@ -83,27 +83,29 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
     for (const MaterialConfig& m : c.materials) {
       const ModelEntry* e = find_model(m.model);
       if (e && (e->traits.unified || e->traits.name == "nonlinear_solid" || e->traits.name == "elastic_plastic" ||
-                e->traits.name == "viscoelastic"))
+                e->traits.name == "viscoelastic" || e->traits.name == "correspondence"))
         continue;
       why = fmt::format("model {} (materials.{}.model), which has no flat rows", e ? e->traits.name : m.model, m.name);
       break;
     }
   if (why.empty() && s.heat.active()) why = "heat conduction";
   if (why.empty() && s.fe) why = "finite-element regions";
-  // The adaptive step: the nonlinear solid's stable step has flat rows (kernels/tupek.hpp).
-  if (why.empty() && c.solver.adaptive_time_step && !nonlinear_state(s))
-    why = "solver.adaptive_time_step with a model other than nonlinear_solid";
+  // The adaptive step: the nonlinear solid's stable step has flat rows (kernels/tupek.hpp);
+  // correspondence's is the model's own over the System, the fields copied back for it
+  // (FlatBackend::stable_time_step).
+  if (why.empty() && c.solver.adaptive_time_step && !nonlinear_state(s) && !flat_affine_model(s))
+    why = "solver.adaptive_time_step with a model other than nonlinear_solid or correspondence";
   if (why.empty() && c.solver.peridigm_verlet) why = "solver.verlet: peridigm (Peridigm's rounding of the step)";
   if (!why.empty()) {
-    // The models the flat rows run: the registry's unified ones (ModelTraits::unified) and
-    // the nonlinear solid (kernels/tupek.hpp).
+    // The models the flat rows run: the registry's unified ones (ModelTraits::unified),
+    // the nonlinear solid (kernels/tupek.hpp) and correspondence (kernels/flat_affine.hpp).
     std::vector<std::string> flat;
     for (const ModelEntry& e : model_registry())
       if (e.traits.unified || e.traits.name == "nonlinear_solid" || e.traits.name == "elastic_plastic" ||
-          e.traits.name == "viscoelastic")
+          e.traits.name == "viscoelastic" || e.traits.name == "correspondence")
         flat.push_back(e.traits.name);
     throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of "
-                            "{} (the adaptive step with nonlinear_solid), initial conditions, force densities, prescribed "
+                            "{} (the adaptive step with nonlinear_solid and correspondence), initial conditions, force densities, prescribed "
                             "displacements and velocities and short-range contact (docs/input.md, solver.backend); "
                             "use backend cpu",
                             prefix, why, fmt::join(flat, ", ")));

@@ -328,15 +328,17 @@ HORIZON_HD inline AffineRow linear_elastic_row(const double* sums, int d, double
 // members.
 
 // What the sweeps read and write, taken from the System once per pass.
-template <class Kind, class BondK>
+// Point: the packed points' type, the host's aligned Point4 or the flat arrays' FlatPoint
+// (kernels/flat_system.hpp, the same four doubles without the alignment).
+template <class Kind, class BondK, class Point = Point4>
 struct AffineSweep {
-  const Point4* pt = nullptr;           // y, w = s0 of the pass (packed positions)
-  const Point4* ref = nullptr;          // the reference positions X, packed {x, y, z, 0}
+  const Point* pt = nullptr;            // y, w = s0 of the pass (packed positions)
+  const Point* ref = nullptr;           // the reference positions X, packed {x, y, z, 0}
   const Vec3* y_old = nullptr;          // the positions of the last pass (System::model.affine_position)
   const double* record = nullptr;       // the records (System::model.affine_record): the last pass's
                                         // in the breaking sweep, this pass's in the sum
   const Kind* kc = nullptr;             // per kind
-  const Point4* kind_record = nullptr;  // per kind {L, 1/L, omega V_j, -} (System::model.kind_dilatation)
+  const Point* kind_record = nullptr;   // per kind {L, 1/L, omega V_j, -} (System::model.kind_dilatation)
   const BondK* kinds = nullptr;
   const uint32_t* nbr = nullptr;
   const uint32_t* kind = nullptr;
@@ -365,15 +367,15 @@ HORIZON_HD inline double scaled_s0(double w, double f) { return (w == INFINITY |
 // force state of the last pass rebuilt from i's record and that pass's positions (zero
 // before the first: the records start at 0), as forces_general.cpp break_row books it.
 // r, e: this pass's |Y| and extension, computed as the lanes compute them.
-template <class Kind, class BondK>
-HORIZON_HD inline void affine_break_bond(const AffineSweep<Kind, BondK>& s, std::size_t i, uint64_t k, double r,
+template <class Kind, class BondK, class Point>
+HORIZON_HD inline void affine_break_bond(const AffineSweep<Kind, BondK, Point>& s, std::size_t i, uint64_t k, double r,
                                          double e, AffineBreak& out) {
   const uint32_t j = s.nbr[k];
   const BondK& bk = s.kinds[s.kind[k]];
   s.intact[k] = s.after ? 2 : 0;
   ++out.broken;
   if (r > 0) {
-    const Point4 pi = s.pt[i], pj = s.pt[j], xi_i = s.ref[i], xj = s.ref[j];
+    const Point pi = s.pt[i], pj = s.pt[j], xi_i = s.ref[i], xj = s.ref[j];
     const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
     const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
     const Vec3 &yo_i = s.y_old[i], &yo_j = s.y_old[j];
@@ -388,10 +390,10 @@ HORIZON_HD inline void affine_break_bond(const AffineSweep<Kind, BondK>& s, std:
 // Row i of the breaking sweep: the critical-stretch breaking of its intact bonds, their
 // smallest stretch, and over the bonds that act in this pass sums[0..8] = K, sums[9..17]
 // = N (row-major; w the kind's omega V_j), what the model's row reads.
-template <class Kind, class BondK>
-HORIZON_HD inline AffineBreak affine_break_row(const AffineSweep<Kind, BondK>& s, std::size_t i, double* sums) {
+template <class Kind, class BondK, class Point>
+HORIZON_HD inline AffineBreak affine_break_row(const AffineSweep<Kind, BondK, Point>& s, std::size_t i, double* sums) {
   constexpr int kSums = 18;
-  const Point4 pi = s.pt[i], xi_i = s.ref[i];
+  const Point pi = s.pt[i], xi_i = s.ref[i];
   const double wi = s.soft ? scaled_s0(pi.w, s.soft[i]) : pi.w;
   double acc[kSums][kLanes] = {};
   double sm[kLanes];
@@ -400,7 +402,7 @@ HORIZON_HD inline AffineBreak affine_break_row(const AffineSweep<Kind, BondK>& s
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     if (!s.intact[k]) return;
     const uint32_t j = s.nbr[k];
-    const Point4 pj = s.pt[j], xj = s.ref[j], kr = s.kind_record[s.kind[k]];
+    const Point pj = s.pt[j], xj = s.ref[j], kr = s.kind_record[s.kind[k]];
     const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
     const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
     const double r = bond_length(Y[0], Y[1], Y[2]), e = r - kr.x, stretch = e * kr.y;
@@ -424,19 +426,27 @@ HORIZON_HD inline AffineBreak affine_break_row(const AffineSweep<Kind, BondK>& s
   return out;
 }
 
+// No work beside the sum's (the host's rows).
+struct NoBondWork {
+  HORIZON_HD void operator()(uint64_t, const double*, const double*) const {}
+};
+
 // Row i of the sum, once every row has its record: f_i = sum_j omega V_j ((M_i + M_j) xi +
 // (g_i + g_j) Y) over the acting bonds (affine_pair_add lane by lane, then
 // affine_pair_finish), plus the family contact of every bond (energy: its share).
-template <class Kind, class BondK>
-HORIZON_HD inline void affine_sum_row(const AffineSweep<Kind, BondK>& s, std::size_t i, double* f, double& energy) {
-  const Point4 pi = s.pt[i], xi_i = s.ref[i];
+// `bond(k, xi, Y)` is called for each acting bond in bond order after its sums (the flat
+// rows: the stabilisation's energy, kernels/flat_affine.hpp).
+template <class Kind, class BondK, class Point, class BondWork = NoBondWork>
+HORIZON_HD inline void affine_sum_row(const AffineSweep<Kind, BondK, Point>& s, std::size_t i, double* f, double& energy,
+                                      const BondWork& bond = BondWork{}) {
+  const Point pi = s.pt[i], xi_i = s.ref[i];
   double sxi[3][kLanes] = {}, sy[3][kLanes] = {}, acc[3][kLanes] = {}, w[kLanes] = {};
   for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
     const uint32_t j = s.nbr[k];
-    const Point4 pj = s.pt[j];
+    const Point pj = s.pt[j];
     const double Y[3] = {pj.x - pi.x, pj.y - pi.y, pj.z - pi.z};
     if (s.intact[k]) {
-      const Point4 xj = s.ref[j];
+      const Point xj = s.ref[j];
       const double* m = s.record + kAffineRecord * static_cast<std::size_t>(j);
       const double xi[3] = {xj.x - xi_i.x, xj.y - xi_i.y, xj.z - xi_i.z};
       const double wv = s.kind_record[s.kind[k]].z;  // omega V_j of the kind
@@ -447,6 +457,7 @@ HORIZON_HD inline void affine_sum_row(const AffineSweep<Kind, BondK>& s, std::si
         sy[r][l] += wv * Y[r];
         acc[r][l] += m[3 * r] * a[0] + m[3 * r + 1] * a[1] + m[3 * r + 2] * a[2] + gy * Y[r];
       }
+      bond(k, xi, Y);
     }
     if (s.contact) {
       const Kind& kc = s.kc[s.kind[k]];

@@ -23,6 +23,7 @@
 #include <cstdint>
 
 #include "horizon/core/portable.hpp"
+#include "horizon/kernels/flat_affine.hpp"
 #include "horizon/kernels/lanes.hpp"
 #include "horizon/kernels/tupek.hpp"
 #include "horizon/kernels/unified.hpp"
@@ -150,6 +151,10 @@ struct FlatSystem {
   // elastic_plastic or viscoelastic (kernels/flat_ordinary.hpp), else null: their rows
   // replace the unified ones.
   const FlatOrdinary* ordinary = nullptr;
+  // The correspondence model's affine pass (kernels/flat_affine.hpp; `correspondence` set,
+  // state_based unused): its rows replace the unified ones and commit its history.
+  bool correspondence = false;
+  FlatAffine affine;
 };
 
 // Bond k's constants with its own length (FlatSystem::length_of). The rows below take the
@@ -553,6 +558,17 @@ inline void flat_ordinary_forces(const FlatSystem& s);  // kernels/flat_ordinary
 inline void flat_forces(const FlatSystem& s) {
   const uint64_t n = s.n;
   if (s.ordinary) return flat_ordinary_forces(s);
+  if (s.correspondence) {  // kernels/flat_affine.hpp: the pass, then the commit that follows it
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) pack_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) flat_affine_break_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) flat_affine_sum_row(s, i);
+    HORIZON_FLAT_ROWS
+    for (uint64_t i = 0; i < n; ++i) flat_affine_commit_row(s, i);
+    return;
+  }
   if (s.tupek) {
     HORIZON_FLAT_ROWS
     for (uint64_t i = 0; i < n; ++i) tupek_pack_row(s, i);

@@ -15,6 +15,7 @@
 // s (A B), as Eigen rewrites it, (s A) B. tests/unit/test_law_kernels.cpp
 // compares the whole step with hypoelastic_step bit for bit.
 #include <cmath>
+#include <cstdint>
 
 #include "horizon/core/portable.hpp"
 #include "horizon/kernels/affine.hpp"
@@ -212,6 +213,28 @@ HORIZON_HD inline void rate_gradient_add(double* N, const double* du, const doub
   const double a[3] = {w * du[0], w * du[1], w * du[2]};
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) N[3 * r + c] = N[3 * r + c] + xi[c] * a[r];
+}
+// Row i's sum N of F_dot over its acting bonds (intact != 0), in bond order, as
+// Correspondence::affine_row formed it with a host loop: du = (u_j - uc_j) - (u_i - uc_i)
+// (uc: u at the last commit), xi = X_j - X_i, each a difference per component, and the
+// bond's w = omega V_j from w_of(k) (the host: B.weight[k] * B.volume[k]). X, u and uc are
+// xyz interleaved (3n; a std::vector<Vec3>'s data read as doubles). N starts at 0.
+template <class WeightOf>
+HORIZON_HD inline void rate_gradient_row(const double* X, const double* u, const double* uc, const uint64_t* offset,
+                                         const uint32_t* nbr, const uint8_t* intact, const WeightOf& w_of,
+                                         uint64_t i, double* N) {
+  for (int k = 0; k < 9; ++k) N[k] = 0.0;
+  const double dui[3] = {u[3 * i] - uc[3 * i], u[3 * i + 1] - uc[3 * i + 1], u[3 * i + 2] - uc[3 * i + 2]};
+  for (uint64_t k = offset[i]; k < offset[i + 1]; ++k) {
+    if (!intact[k]) continue;
+    const uint64_t j = nbr[k];
+    double du[3], xi[3];
+    for (int c = 0; c < 3; ++c) {
+      du[c] = (u[3 * j + c] - uc[3 * j + c]) - dui[c];
+      xi[c] = X[3 * j + c] - X[3 * i + c];
+    }
+    rate_gradient_add(N, du, xi, w_of(k));
+  }
 }
 HORIZON_HD inline void rate_gradient_finish(const double* N, const double* Kinv, double dt, double* Fdot) {
   double NK[9];

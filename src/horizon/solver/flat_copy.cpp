@@ -10,8 +10,14 @@ namespace horizon {
 std::string flat_unsupported(const System& s, const Loads& loads) {
   // The unified models' rows, or the nonlinear solid's (a model that owns its pass and
   // shares a run with no other: material/models/nonlinear_solid.cpp).
-  if (s.models.owner() ? !nonlinear_state(s) : !s.models.all_unified() && !flat_ordinary_model(s))
-    return "a model without flat rows (the unified models and nonlinear_solid have them)";
+  if (s.models.owner() ? !nonlinear_state(s) : !s.models.all_unified() && !flat_ordinary_model(s)) {
+    // The correspondence model's affine pass (kernels/flat_affine.hpp), or its reason.
+    const std::string why = flat_affine_model(s) ? flat_affine_unsupported(s) : "no";
+    if (why == "no")
+      return "a model without flat rows (the unified models, nonlinear_solid, elastic_plastic, viscoelastic and "
+             "correspondence have them)";
+    if (!why.empty()) return why;
+  }
   if (std::string why = flat_ordinary_unsupported(s); !why.empty()) return why;
   if (s.one_way_bonds) return "bodies of different horizons (one-way bonds: the general force pass)";
   if (!loads.projectiles().empty()) return "projectiles";
@@ -152,6 +158,7 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
     c.dim = N->dimension;
   }
   c.ordinary = flat_ordinary_copy(s, dt);  // (null but for elastic_plastic, viscoelastic)
+  if (flat_affine_model(s)) c.affine = flat_affine_copy(s);
   return c;
 }
 
@@ -186,6 +193,8 @@ kernels::FlatSystem FlatStorage::view() {
   s.critical_stretch_varies = vary_critical_stretch;
   s.compression_only = compression_only.empty() ? nullptr : compression_only.data();
   s.ordinary = ordinary ? &ordinary->view : nullptr;
+  s.correspondence = affine.on;
+  if (affine.on) s.affine = affine.view();
   return s;
 }
 
@@ -199,6 +208,7 @@ void flat_write_back(const FlatStorage& c, System& s, bool energy) {
   s.bonds.intact = c.intact;
   s.dissipated_at = c.dissipated;
   s.model.intact_weight = c.intact_weight;
+  flat_affine_write_back(c.affine, s);  // the correspondence model's state (when it is the run's)
   if (NonlinearState* N = c.tupek ? nonlinear_state(s) : nullptr) {
     // What NonlinearSolid::force_pass leaves in its state (the model arrays' theta, P and
     // smallest stretches are not its own: left as they are).

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "horizon/kernels/flat_system.hpp"
+#include "horizon/solver/flat_affine_copy.hpp"
 #include "horizon/solver/flat_ordinary_copy.hpp"
 #include "horizon/state/system.hpp"
 
@@ -16,7 +17,8 @@ namespace horizon {
 class Loads;
 
 // Why this run cannot be stepped over flat arrays, or "" when it can: the unified models
-// (ModelTraits::unified) or Tupek's nonlinear solid (kernels/tupek.hpp); no loads but
+// (ModelTraits::unified), Tupek's nonlinear solid (kernels/tupek.hpp) or correspondence
+// in its affine pass (kernels/flat_affine.hpp; solver/flat_affine_copy.hpp); no loads but
 // initial conditions, force densities (traction, body_force, force, pressure) and
 // prescribed velocities and displacements (values that vary are the stepper's to evaluate
 // before each step: FlatBackend); no thermal strain, no contact friction; bonds broken
@@ -54,6 +56,7 @@ struct FlatStorage {
   bool tupek = false, tupek_exponent_two = true, tupek_contact = false;
   std::vector<double> eps, seth_m, lambda_bar, mu_bar, beta, failure_scale, nonlocal_damage, contact_stiffness;
   std::vector<uint8_t> compression_only;
+  FlatAffineStorage affine;  // the correspondence model (solver/flat_affine_copy.hpp; off otherwise)
   uint64_t n = 0;
   bool state_based = false, break_after = false;
   // elastic_plastic or viscoelastic (solver/flat_ordinary_copy.hpp), else null.

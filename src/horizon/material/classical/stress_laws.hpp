@@ -35,6 +35,10 @@
 //
 // Plane stress (2-D): plane_stress() finds the out-of-plane stretch F33 with sigma33 = 0
 // by a secant iteration started from the elastic estimate; plane strain takes F33 = 1.
+// The runs evaluate these laws in the device-portable kernels (kernels/laws.hpp, and
+// kernels/plane_stress.hpp for the iteration and the thermal split, through
+// correspondence::total_form_law); the forms here are their reference (the unit tests
+// hold the kernels to them bit for bit) and what the tests of the laws call.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>

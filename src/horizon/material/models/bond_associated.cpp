@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "horizon/core/error.hpp"
+#include "horizon/kernels/bond_associated.hpp"
 #include "horizon/material/models/correspondence.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
 #include "horizon/state/system.hpp"
@@ -63,14 +64,21 @@ const ModelTraits& traits() {
   return t;
 }
 
-// What row i's bonds read of each end: the nonlocal gradient, its rate, K^-1 and m.
+// What row i's bonds read of each end: the nonlocal gradient, its rate, K^-1 and m, row-major
+// (the portable kernels' form: kernels/affine.hpp, kernels/bond_associated.hpp).
 struct End {
-  Mat3 F = Mat3::Identity();     // F_i (reference gradient)
-  Mat3 rate = Mat3::Zero();      // lagrangian: F_dot_i; semi_lagrangian: L_i
-  Mat3 kinv = Mat3::Zero();      // K_i^-1 (semi_lagrangian: of the current bonds)
-  double m = 0;                  // sum_j omega V_j over the acting bonds
-  bool ok = false;               // the shape tensor was accepted
+  double F[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // F_i (reference gradient)
+  double rate[9] = {};                         // lagrangian: F_dot_i; semi_lagrangian: L_i
+  double kinv[9] = {};                         // K_i^-1 (semi_lagrangian: of the current bonds)
+  double m = 0;                                // sum_j omega V_j over the acting bonds
+  bool ok = false;                             // the shape tensor was accepted
 };
+
+Mat3 matrix_of(const double* a) {
+  Mat3 m;
+  for (int c = 0; c < 9; ++c) m(c / 3, c % 3) = a[c];
+  return m;
+}
 
 class BondAssociated final : public Model {
  public:
@@ -101,6 +109,9 @@ class BondAssociated final : public Model {
   bool history_ = false;   // the law keeps a history per bond
   bool semi_ = false;      // kinematics: semi_lagrangian
   double tolerance_ = 0;   // shape_tolerance
+  bool plane_stress_ = false;            // 2-D plane stress: the law's secant iteration
+  kernels::LawConstants constants_;      // the total-form laws (kernels/plane_stress.hpp)
+  kernels::HypoConstants hypo_constants_;  // the rate-form laws (kernels/hypoelastic.hpp)
   std::vector<uint32_t> particles_;  // this material's particles
   std::vector<uint32_t> ends_;       // those and their neighbours: the rows whose End is computed
   std::vector<End> end_;             // per particle of the system (those of ends_ filled)
@@ -139,6 +150,9 @@ void BondAssociated::setup(const ModelSetup& in) {
                 "': the bond-associated correspondence model needs the bonds both ways (one horizon for its bodies)");
   history_ = hypo_ || law_.law == StressLaw::j2 || (dim == 2 && law_.plane == PlaneMode::stress);
   tolerance_ = parameter(mat, "shape_tolerance");
+  plane_stress_ = dim == 2 && law_.plane == PlaneMode::stress;
+  constants_ = correspondence::law_constants(law_);
+  hypo_constants_ = correspondence::hypo_constants(law_);
   particles_ = in.particles;
   // The stable step of the bond-based spring of the same bulk modulus. Forces reach three
   // bonds (f_i takes T_ji, whose S_j reads F_k of j's neighbours k): the finite-difference
@@ -187,42 +201,44 @@ void BondAssociated::gradient(const System& s, const Point4* y, double dt, uint3
   const bool rate = hypo_ && dt > 0 && u_committed_.size() == s.particles.size();
   const Vec3 yi{y[i].x, y[i].y, y[i].z};
   const Vec3 dui = rate ? s.particles.u[i] - u_committed_[i] : Vec3{};
-  NonlocalGradient g, gc, gr;
+  // The sums of NonlocalGradient::add in the portable kernel (kernels/affine.hpp
+  // gradient_add, the same bits): g of F_i, gc of K_c and sum omega V du (x) Y, gr of
+  // sum omega V du (x) xi.
+  kernels::GradientSums g, gc, gr;
   e.m = 0;
   for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
     if (!B.intact[k]) continue;
     const uint32_t j = B.nbr[k];
     const double wv = B.weight[k] * B.volume[k];
-    const Vec3 xi = X[j] - X[i], Y = Vec3{y[j].x, y[j].y, y[j].z} - yi;
+    const Vec3 xv = X[j] - X[i], Yv = Vec3{y[j].x, y[j].y, y[j].z} - yi;
+    const double xi[3] = {xv.x, xv.y, xv.z}, Y[3] = {Yv.x, Yv.y, Yv.z};
     e.m += wv;
-    g.add(xi, Y, wv);
+    kernels::gradient_add(g, xi, Y, wv);
     if (rate) {
-      const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui;
-      if (semi_) gc.add(Y, du, wv);  // K_c and sum omega V du (x) Y
-      else gr.add(xi, du, wv);       // sum omega V du (x) xi
+      const Vec3 dv = (s.particles.u[j] - u_committed_[j]) - dui;
+      const double du[3] = {dv.x, dv.y, dv.z};
+      if (semi_) kernels::gradient_add(gc, Y, du, wv);  // K_c and sum omega V du (x) Y
+      else kernels::gradient_add(gr, xi, du, wv);       // sum omega V du (x) xi
     } else if (semi_) {
-      gc.add(Y, Vec3{}, wv);
+      const double zero[3] = {0, 0, 0};
+      kernels::gradient_add(gc, Y, zero, wv);
     }
   }
-  Mat3 Kinv, F;
-  e.ok = g.finish(dim, tolerance_, Kinv, F);
-  e.F = F;
-  e.kinv = Kinv;
-  e.rate = Mat3::Zero();
+  e.ok = kernels::gradient_finish(g.v, g.v + 9, dim, tolerance_, e.kinv, e.F);
+  for (double& r : e.rate) r = 0.0;
   if (!e.ok) return;
+  double M[9];
   if (semi_) {
-    Mat3 Kc, L;
-    e.ok = gc.finish(dim, tolerance_, Kc, L);
-    e.kinv = Kc;
+    e.ok = kernels::gradient_finish(gc.v, gc.v + 9, dim, tolerance_, e.kinv, M);
     if (rate) {
-      for (int a = dim; a < 3; ++a) L(a, a) = 0;  // finish puts 1 on the unused axes
-      e.rate = L / dt;
+      for (int a = dim; a < 3; ++a) M[4 * a] = 0;  // finish puts 1 on the unused axes
+      for (int c = 0; c < 9; ++c) e.rate[c] = M[c] / dt;
     }
   } else if (rate) {
-    Mat3 Kr, D;
-    gr.finish(dim, 0.0, Kr, D);
-    for (int a = dim; a < 3; ++a) D(a, a) = 0;
-    e.rate = D / dt;
+    double Kr[9];
+    kernels::gradient_finish(gr.v, gr.v + 9, dim, 0.0, Kr, M);
+    for (int a = dim; a < 3; ++a) M[4 * a] = 0;
+    for (int c = 0; c < 9; ++c) e.rate[c] = M[c] / dt;
   }
 }
 
@@ -254,20 +270,25 @@ void BondAssociated::force_state(ForcePass& pass) {
     if (ei.ok) {
       double w = 0;
       Mat3 d = Mat3::Zero();
-      Mat3 Fdot = semi_ ? Mat3(ei.rate * ei.F) : ei.rate;
+      const Mat3 Fi = matrix_of(ei.F), Ri = matrix_of(ei.rate);
+      Mat3 Fdot = semi_ ? Mat3(Ri * Fi) : Ri;
       const classical::LawResult r =
-          correspondence::evaluate_law(law_, ei.F, committed_[l], trial_[l], w, dt, 1.0, &d, rate ? &Fdot : nullptr);
+          correspondence::evaluate_law(law_, Fi, committed_[l], trial_[l], w, dt, 1.0, &d, rate ? &Fdot : nullptr);
       von_mises_[l] = correspondence::von_mises(r.sigma);
       if (hypo_) {
         sigma_[l] = r.sigma;
         rate_[l] = d;
-        L_[l] = semi_ ? ei.rate : Mat3(ei.rate * ei.F.inverse());
+        L_[l] = semi_ ? Ri : Mat3(Ri * Fi.inverse());
       }
     } else {
       trial_[l] = committed_[l];
       von_mises_[l] = 0;
     }
-    Mat3 S = Mat3::Zero();  // S_i of the header
+    // Row i's bonds in the portable kernels (kernels/bond_associated.hpp: the bond-level
+    // gradient and its rate, the bond's force term and its share of S_i; the law in
+    // kernels/plane_stress.hpp law_point or kernels/hypoelastic.hpp hypo_step), the
+    // history of each bond copied in and out of the host's History.
+    double S[9] = {};  // S_i of the header
     double W = 0;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       T[k] = {};
@@ -276,33 +297,57 @@ void BondAssociated::force_state(ForcePass& pass) {
       const End& ej = end_[j];
       // m_j > 0 whenever the reverse bond acts; a bond one way alone carries nothing.
       if (!B.intact[k] || !ei.ok || !ej.ok || !(ej.m > 0)) continue;
-      const Vec xi = to_eigen(X[j] - X[i]);
-      const Vec Y = to_eigen(Vec3{y[j].x, y[j].y, y[j].z} - yi);
-      const double xx = xi.squaredNorm();
-      if (!(xx > 0) || (semi_ && !(Y.squaredNorm() > 0))) continue;  // two particles on one spot: no direction
-      const Mat3 Fbar = 0.5 * (ei.F + ej.F);
-      const Mat3 Fb = Fbar + (Y - Fbar * xi) * xi.transpose() / xx;
-      Mat3 Fdot = Mat3::Zero();
+      const Vec3 xv = X[j] - X[i], Yv = Vec3{y[j].x, y[j].y, y[j].z} - yi;
+      const double xi[3] = {xv.x, xv.y, xv.z}, Y[3] = {Yv.x, Yv.y, Yv.z};
+      const double xx = kernels::squared_norm3(xi), yy = kernels::squared_norm3(Y);
+      if (!(xx > 0) || (semi_ && !(yy > 0))) continue;  // two particles on one spot: no direction
+      double Fb[9], Fdot[9];
+      kernels::bond_level_gradient(ei.F, ej.F, xi, Y, xx, Fb);
       if (rate) {
-        const Vec dY = to_eigen((s.particles.u[j] - u_committed_[j]) - dui) / dt;
-        const Mat3 Rbar = 0.5 * (ei.rate + ej.rate);
-        if (semi_) Fdot = (Rbar + (dY - Rbar * Y) * Y.transpose() / Y.squaredNorm()) * Fb;  // L_ij F_ij
-        else Fdot = Rbar + (dY - Rbar * xi) * xi.transpose() / xx;
+        const Vec3 dv = (s.particles.u[j] - u_committed_[j]) - dui;
+        const double dY[3] = {dv.x / dt, dv.y / dt, dv.z / dt};
+        if (semi_) {
+          double L[9];
+          kernels::bond_level_gradient(ei.rate, ej.rate, Y, dY, yy, L);
+          kernels::mat3_mul(L, Fb, Fdot);  // L_ij F_ij
+        } else {
+          kernels::bond_level_gradient(ei.rate, ej.rate, xi, dY, xx, Fdot);
+        }
       }
-      History scratch;
-      const History& before = history_ ? bond_committed_[k] : scratch;
-      History& after = history_ ? bond_trial_[k] : scratch;
+      kernels::LawStress r;
       double w = 0;
-      const classical::LawResult r =
-          correspondence::evaluate_law(law_, Fb, before, after, w, dt, 1.0, nullptr, rate ? &Fdot : nullptr);
-      if (!r.ok) continue;
+      if (hypo_) {
+        const kernels::HypoHistory before = correspondence::hypo_history(bond_committed_[k].hypo);
+        kernels::HypoHistory after;
+        double d[9];
+        kernels::hypo_step(hypo_constants_, law_.law != StressLaw::hypoelastic ? law_.j2.yield_stress : 0.0, before,
+                           Fb, dt, rate ? Fdot : nullptr, 0.0, after, w, r, d);
+        correspondence::set_hypo_state(bond_trial_[k].hypo, after);
+        bond_trial_[k].plastic.alpha = after.alpha;
+        if (!r.ok) continue;
+        if (semi_) {  // P = J_n sigma, J_n = det V of the bond's committed step
+          const double Jn = kernels::mat3_det(before.V);
+          for (int c = 0; c < 9; ++c) r.P[c] = Jn * r.sigma[c];
+        }
+      } else {
+        const bool j2 = constants_.law == kernels::kJ2Law;
+        kernels::J2History before{}, after;
+        double l3 = 1;
+        if (history_) {
+          if (j2) before = correspondence::j2_history(bond_committed_[k].plastic);
+          l3 = bond_committed_[k].lambda3;
+        }
+        kernels::law_point(constants_, law_.dimension, plane_stress_, 0.0, before, Fb, l3, after, w, r);
+        if (history_) {
+          bond_trial_[k].lambda3 = l3;
+          if (j2) correspondence::set_j2_state(bond_trial_[k].plastic, after);
+        }
+        if (!r.ok) continue;
+      }
       const double c_ij = B.weight[k] / ei.m, c_ji = B.weight[k] / ej.m;
-      const Mat3 P = semi_ ? Mat3(before.hypo.V.determinant() * r.sigma) : r.P;
-      const Vec b = semi_ ? Y : xi;
-      const double bb = b.squaredNorm();
-      const Vec nb = b / std::sqrt(bb);
-      T[k] = to_vec3(c_ij * (P * b) / bb);
-      S += (0.5 * B.volume[k] * (c_ij + c_ji)) * (P - (P * nb) * nb.transpose());
+      double t[3];
+      kernels::bond_associated_terms(r.P, semi_ ? Y : xi, semi_ ? yy : xx, c_ij, c_ji, B.volume[k], t, S);
+      T[k] = {t[0], t[1], t[2]};
       W += c_ij * B.volume[k] * r.W;
       if (history_) bond_work_[k] = w;
       work_[l] += c_ij * B.volume[k] * w;
@@ -311,13 +356,17 @@ void BondAssociated::force_state(ForcePass& pass) {
       if (pass.energy) pass.energy[i] = 0;
       continue;
     }
-    const Mat3 A = S * ei.kinv;
+    double A[9];
+    kernels::mat3_mul(S, ei.kinv, A);
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!B.intact[k]) continue;
       const uint32_t j = B.nbr[k];
       if (!end_[j].ok || !(end_[j].m > 0)) continue;
-      const Vec b = semi_ ? to_eigen(Vec3{y[j].x, y[j].y, y[j].z} - yi) : to_eigen(X[j] - X[i]);
-      T[k] += to_vec3(B.weight[k] * (A * b));
+      const Vec3 bv = semi_ ? Vec3{y[j].x, y[j].y, y[j].z} - yi : X[j] - X[i];
+      const double b3[3] = {bv.x, bv.y, bv.z};
+      double t[3] = {T[k].x, T[k].y, T[k].z};
+      kernels::bond_associated_tail(A, B.weight[k], b3, t);
+      T[k] = {t[0], t[1], t[2]};
     }
     if (pass.energy) pass.energy[i] = W;
   }
@@ -370,7 +419,8 @@ void BondAssociated::fields(const System& s, std::vector<ModelField>& out) const
     for (std::size_t l = 0; l < b->particles_.size(); ++l) {
       const uint32_t i = b->particles_[l];
       const classical::HypoState& h = b->committed_[l].hypo;
-      const Mat3* m[7] = {&h.V, &h.R, &b->end_[i].kinv, &b->rate_[l], &b->sigma_[l], &h.sigma_u, &b->L_[l]};
+      const Mat3 kinv = matrix_of(b->end_[i].kinv);
+      const Mat3* m[7] = {&h.V, &h.R, &kinv, &b->rate_[l], &b->sigma_[l], &h.sigma_u, &b->L_[l]};
       for (int t = 0; t < 7; ++t)
         for (int k = 0; k < 9; ++k) f[static_cast<std::size_t>(9 * t + k)].values[i] = (*m[t])(k / 3, k % 3);
       jac.values[i] = h.V.determinant();

@@ -8,6 +8,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/kernels/affine.hpp"
+#include "horizon/kernels/force_state.hpp"
 #include "horizon/kernels/hypoelastic.hpp"
 #include "horizon/kernels/laws.hpp"
 #include "horizon/material/nonlocal_gradient.hpp"
@@ -26,24 +27,19 @@ using correspondence::StressLaw;
 // heat.md): the multiplicative split F = F_e F_th with F_th = (1 + eps) on the body's axes
 // (Lu and Pister 1975, Int. J. Solids Struct. 11:927), the law's energy per intermediate
 // volume: W = J_th W_e(F_e), P = dW/dF = J_th P_e(F_e) F_th^-T, J_th = det F_th; sigma is
-// the law's. A free expansion F = F_th is stress-free for every law.
+// the law's. A free expansion F = F_th is stress-free for every law. The total-form laws
+// run it (and plane stress's iteration) in the device-portable kernels/plane_stress.hpp
+// law_point (correspondence::total_form_law).
 // The rate-form laws' arguments (dt, yield_factor, rate, Fdot) pass through unchanged.
 classical::LawResult evaluate_with_expansion(const LawSettings& law, const Mat3& F, double eps,
                                              const History& committed, History& trial, double& work, double dt = 0,
                                              double yield_factor = 1, Mat3* rate = nullptr,
                                              const Mat3* Fdot = nullptr) {
   // The rate form takes the thermal strain's increment out of its strain increment.
-  if (eps == 0 || correspondence::rate_form(law.law))
+  if (correspondence::rate_form(law.law))
     return correspondence::evaluate_law(law, F, committed, trial, work, dt, yield_factor, rate, Fdot, eps);
-  Mat3 inverse = Mat3::Identity();
-  for (int a = 0; a < law.dimension; ++a) inverse(a, a) = 1.0 / (1.0 + eps);
-  classical::LawResult r =
-      correspondence::evaluate_law(law, F * inverse, committed, trial, work, dt, yield_factor, rate, Fdot);
-  const double J = 1.0 / inverse.determinant();
-  r.P = J * r.P * inverse.transpose();
-  r.W *= J;
-  work *= J;  // per reference volume, as the ledger books it
-  return r;
+  work = 0;
+  return correspondence::total_form_law(law, correspondence::law_constants(law), F, eps, committed, trial, work);
 }
 
 const ModelTraits& traits() {
@@ -146,6 +142,7 @@ class Correspondence final : public Model {
   bool spring_factors(const System& s, std::vector<double>& g) const override;
   bool stiffness(const System& s, StiffnessSink& out) const override;
 
+  friend CorrespondenceState horizon::correspondence_state(Model& m);  // the flat backend's copy
   void checkpoint(StateArchive& a) override {
     a.io_listed("committed", committed_, particles_);
     a.io_listed("trial", trial_, particles_);
@@ -164,7 +161,8 @@ class Correspondence final : public Model {
   bool hypo_ = false;     // a hypoelastic law: the Peridigm tensors are fields
   double tolerance_ = 0;  // shape_tolerance
   // The affine row runs the law in the device-portable kernel (kernels/laws.hpp law_row):
-  // linear_elastic, neo_hookean and j2, not in plane stress (whose iteration stays here).
+  // linear_elastic, neo_hookean and j2, not in plane stress (whose iteration, law_point of
+  // kernels/plane_stress.hpp, runs through law_at with the History's lambda3).
   bool portable_law_ = false;
   kernels::LawConstants constants_;  // the law of law_row
   kernels::HypoConstants hypo_constants_;  // the rate-form laws' (hypo_row)
@@ -200,17 +198,13 @@ class Correspondence final : public Model {
     const uint32_t i = particles_[l];
     double Fdot[9];
     const bool rate = dt > 0 && u_committed_.size() == s.particles.size();
-    if (rate) {
+    if (rate) {  // F_dot's bond sum (kernels/hypoelastic.hpp rate_gradient_row)
       const Bonds& B = s.bonds;
-      const Vec3 dui = s.particles.u[i] - u_committed_[i];
-      double N[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-      for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-        if (!B.intact[k]) continue;
-        const uint32_t j = B.nbr[k];
-        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui, xi = s.particles.X[j] - s.particles.X[i];
-        const double a[3] = {du.x, du.y, du.z}, x[3] = {xi.x, xi.y, xi.z};
-        kernels::rate_gradient_add(N, a, x, B.weight[k] * B.volume[k]);
-      }
+      static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 arrays read as xyz doubles");
+      double N[9];
+      kernels::rate_gradient_row(&s.particles.X[0].x, &s.particles.u[0].x, &u_committed_[0].x, B.offset.data(),
+                                 B.nbr.data(), B.intact.data(),
+                                 [&B](uint64_t k) { return B.weight[k] * B.volume[k]; }, i, N);
       kernels::rate_gradient_finish(N, Kinv, dt, Fdot);
     }
     kernels::HypoHistory n, t;
@@ -248,15 +242,19 @@ class Correspondence final : public Model {
       const uint32_t i = particles_[l];
       const Bonds& B = s.bonds;
       const Vec3 dui = s.particles.u[i] - u_committed_[i];
-      Mat3 N = Mat3::Zero();
+      // F_dot in the portable kernels (kernels/hypoelastic.hpp rate_gradient_add and
+      // _finish: the bits of the Eigen sum N += w du (x) xi and N K^-1 / dt).
+      double N[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, ki[9], fd[9];
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
         if (!B.intact[k]) continue;
         const uint32_t j = B.nbr[k];
-        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui;
-        N += (B.weight[k] * B.volume[k]) * correspondence::to_eigen(du) *
-             correspondence::to_eigen(s.particles.X[j] - s.particles.X[i]).transpose();
+        const Vec3 du = (s.particles.u[j] - u_committed_[j]) - dui, xv = s.particles.X[j] - s.particles.X[i];
+        const double dv[3] = {du.x, du.y, du.z}, x[3] = {xv.x, xv.y, xv.z};
+        kernels::rate_gradient_add(N, dv, x, B.weight[k] * B.volume[k]);
       }
-      Fdot = N * Kinv / dt;
+      for (int c = 0; c < 9; ++c) ki[c] = Kinv(c / 3, c % 3);
+      kernels::rate_gradient_finish(N, ki, dt, fd);
+      for (int c = 0; c < 9; ++c) Fdot(c / 3, c % 3) = fd[c];
     }
     const uint32_t i = particles_[l];
     const double eps = i < s.thermal_strain.size() ? s.thermal_strain[i] : 0.0;
@@ -374,24 +372,31 @@ void Correspondence::force_state(ForcePass& pass) {
     const uint32_t i = particles_[l];
     if (!s.computes_row(i)) continue;  // another rank's row (ModelTraits::rows_local)
     const Point4 yi = y[i];
-    auto deformed = [&](uint32_t j) { return Vec3{y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z}; };
-    // K_i and F_i over the acting bonds (seed 003 eq. 17, 134).
-    NonlocalGradient g;
+    // K_i and F_i over the acting bonds (seed 003 eq. 17, 134) in the portable kernels
+    // (kernels/affine.hpp gradient_add and gradient_finish: NonlocalGradient's bits).
+    kernels::GradientSums sums;
     for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
       if (!B.intact[k]) continue;
       const uint32_t j = B.nbr[k];
-      g.add(X[j] - X[i], deformed(j), B.weight[k] * B.volume[k]);
+      const Vec3 xv = X[j] - X[i];
+      const double xi[3] = {xv.x, xv.y, xv.z}, Y[3] = {y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z};
+      kernels::gradient_add(sums, xi, Y, B.weight[k] * B.volume[k]);
     }
-    Mat3 Kinv, F;
-    const bool ok = g.finish(dim, tolerance_, Kinv, F);
+    double kinv[9], f[9], a[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const bool ok = kernels::gradient_finish(sums.v, sums.v + 9, dim, tolerance_, kinv, f);
     singular_[l] = ok ? 0 : 1;
-    Mat3 A = Mat3::Zero();
     double W = 0;
     if (ok) {
+      Mat3 Kinv, F;
+      for (int c = 0; c < 9; ++c) Kinv(c / 3, c % 3) = kinv[c], F(c / 3, c % 3) = f[c];
+      // The law in the portable kernels (law_at: kernels/plane_stress.hpp law_point or
+      // kernels/hypoelastic.hpp hypo_step).
       const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
       if (Cc_ != 0) F_[l] = F;
       if (r.ok) {
-        A = r.P * Kinv;  // T = omega P K^-1 xi (seed 003 eq. 142)
+        double p[9];
+        for (int c = 0; c < 9; ++c) p[c] = r.P(c / 3, c % 3);
+        kernels::mat3_mul(p, kinv, a);  // A = P K^-1: T = omega P K^-1 xi (seed 003 eq. 142)
         W = r.W;
       }
       von_mises_[l] = von_mises_of(l, r.sigma);
@@ -406,11 +411,15 @@ void Correspondence::force_state(ForcePass& pass) {
         continue;
       }
       const uint32_t j = B.nbr[k];
-      const Vec3 xi = X[j] - X[i], Y = deformed(j);
+      const Vec3 xv = X[j] - X[i];
+      const double xi[3] = {xv.x, xv.y, xv.z}, Y[3] = {y[j].x - yi.x, y[j].y - yi.y, y[j].z - yi.z};
       const double omega = B.weight[k];
-      T[k] = correspondence::bond_force_state(A, F, G_, omega, xi, Y);
-      if (Cc_ != 0) T[k] += correspondence::peridigm_hourglass(F, Cc_, omega, xi, Y);
-      if (pass.energy && G_ != 0) W += correspondence::bond_stabilization_energy(F, G_, omega * B.volume[k], xi, Y);
+      // The bond's force state in the portable kernels (kernels/force_state.hpp).
+      double t[3];
+      kernels::correspondence_bond_state(a, f, G_, omega, xi, Y, t);
+      if (Cc_ != 0) kernels::peridigm_hourglass_add(f, Cc_, omega, xi, Y, t);
+      T[k] = {t[0], t[1], t[2]};
+      if (pass.energy && G_ != 0) W += kernels::stabilization_energy(f, G_, omega * B.volume[k], xi, Y);
     }
     if (pass.energy) pass.energy[i] = W;
   }
@@ -473,21 +482,23 @@ void Correspondence::affine_row(const AffineRowPass& pass, std::size_t i, const 
     if (!ok) return refuse_singular();
     W = hypo_row(s, l, Kinv, f, pass.dt, rec);
   } else {
-    // The other laws (Eigen, history, plane stress's iteration): host code between the
-    // kernels' K^-1 and F (NonlocalGradient::finish) and their record.
-    NonlocalGradient g;
-    g.set_sums(sums, sums + 9);
-    Mat3 Kinv, F;
-    const bool ok = g.finish(law_.dimension, tolerance_, Kinv, F);
-    singular_[l] = ok ? 0 : 1;
-    if (!ok) return refuse_singular();
-    const classical::LawResult r = law_at(s, l, F, Kinv, pass.dt);
-    von_mises_[l] = von_mises_of(l, r.sigma);
-    // Row-major copies for the flat record (Eigen stores by column).
-    double p[9], ki[9];
-    for (int c = 0; c < 9; ++c) p[c] = r.P(c / 3, c % 3), ki[c] = Kinv(c / 3, c % 3), f[c] = F(c / 3, c % 3);
-    if (r.ok) W = r.W;
-    kernels::affine_record_of_stress(r.ok ? p : nullptr, ki, f, G_, rec);  // T = omega P K^-1 xi (seed 003 eq. 142)
+    // 2-D plane stress (the total-form laws): the whole row in the device-portable kernel
+    // (kernels/plane_stress.hpp law_point_row: the law and its secant iteration), J2's
+    // history and the stretch lambda3 copied in and out as plain numbers.
+    const bool j2 = constants_.law == kernels::kJ2Law;
+    const kernels::J2History committed = j2 ? correspondence::j2_history(committed_[l].plastic) : kernels::J2History{};
+    kernels::J2History trial;
+    double l3 = 1;
+    const kernels::AffineRow row = kernels::law_point_row(sums, law_.dimension, tolerance_, constants_, true, G_,
+                                                          committed, committed_[l].lambda3, trial, l3, work_[l], rec);
+    singular_[l] = row.carries ? 0 : 1;
+    if (!row.carries) return refuse_singular();
+    trial_[l] = committed_[l];
+    trial_[l].lambda3 = l3;
+    if (j2) correspondence::set_j2_state(trial_[l].plastic, trial);
+    von_mises_[l] = row.von_mises;
+    W = row.W;
+    for (int c = 0; c < 9; ++c) f[c] = row.F[c];
   }
   if (!pass.energy) return;
   if (G_ != 0)
@@ -789,6 +800,25 @@ void Correspondence::tensor_fields(const System& s, std::vector<ModelField>& out
 
 ModelEntry correspondence_model() {
   return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Correspondence>()); }};
+}
+
+CorrespondenceState correspondence_state(Model& m) {
+  CorrespondenceState out;
+  auto* c = dynamic_cast<Correspondence*>(&m);
+  if (!c) return out;
+  out.model = c;
+  out.law = &c->law_;
+  out.constants = &c->constants_;
+  out.hypo_constants = &c->hypo_constants_;
+  out.G = c->G_, out.Cc = c->Cc_, out.tolerance = c->tolerance_;
+  out.portable_law = c->portable_law_, out.hypo = c->hypo_;
+  out.particles = &c->particles_;
+  out.committed = &c->committed_, out.trial = &c->trial_;
+  out.work = &c->work_, out.von_mises = &c->von_mises_, out.yield_factor = &c->yield_factor_;
+  out.singular = &c->singular_;
+  out.kinv = &c->kinv_, out.F = &c->F_, out.sigma = &c->sigma_, out.rate = &c->rate_;
+  out.u_committed = &c->u_committed_;
+  return out;
 }
 
 }  // namespace horizon

@@ -39,6 +39,8 @@
 
 #include "horizon/core/vec3.hpp"
 #include "horizon/deck/config.hpp"
+#include "horizon/kernels/hypoelastic.hpp"
+#include "horizon/kernels/plane_stress.hpp"
 #include "horizon/material/classical/hypoelastic.hpp"
 #include "horizon/material/classical/stress_laws.hpp"
 #include "horizon/material/model.hpp"
@@ -121,6 +123,111 @@ struct History {
   double lambda3 = 1;  // plane stress: the out-of-plane stretch of the last evaluation
 };
 
+// The total-form laws' constants and J2 history as the portable kernels take them
+// (kernels/laws.hpp; row-major copies of the Eigen history).
+inline kernels::LawConstants law_constants(const LawSettings& s) {
+  kernels::LawConstants c;
+  c.law = s.law == StressLaw::j2            ? kernels::kJ2Law
+          : s.law == StressLaw::neo_hookean ? kernels::kNeoHookeanLaw
+                                            : kernels::kLinearElasticLaw;
+  c.lambda = s.elastic.lambda, c.mu = s.elastic.mu, c.kappa = s.elastic.kappa;
+  c.yield_stress = s.j2.yield_stress, c.hardening = s.j2.hardening_modulus;
+  return c;
+}
+inline kernels::J2History j2_history(const classical::J2State& h) {
+  kernels::J2History k;
+  for (int c = 0; c < 9; ++c) k.plastic_strain[c] = h.plastic_strain(c / 3, c % 3);
+  k.alpha = h.alpha;
+  return k;
+}
+inline void set_j2_state(classical::J2State& h, const kernels::J2History& k) {
+  for (int c = 0; c < 9; ++c) h.plastic_strain(c / 3, c % 3) = k.plastic_strain[c];
+  h.alpha = k.alpha;
+}
+
+// A total-form law (linear_elastic, neo_hookean, j2) at F from the committed history with
+// the thermal strain eps (0: none): the device-portable kernels/plane_stress.hpp law_point
+// (the law, plane stress's secant iteration in 2-D, the thermal split), over row-major
+// copies. trial = committed but for J2's E_p, alpha and plane stress's lambda3.
+inline classical::LawResult total_form_law(const LawSettings& s, const kernels::LawConstants& c, const Mat3& F,
+                                           double eps, const History& committed, History& trial,
+                                           double& plastic_work) {
+  trial = committed;
+  double f[9];
+  for (int k = 0; k < 9; ++k) f[k] = F(k / 3, k % 3);
+  const bool j2 = c.law == kernels::kJ2Law;
+  const kernels::J2History kc = j2 ? j2_history(committed.plastic) : kernels::J2History{};
+  kernels::J2History kt;
+  kernels::LawStress r;
+  double l3 = committed.lambda3;
+  kernels::law_point(c, s.dimension, s.dimension == 2 && s.plane == PlaneMode::stress, eps, kc, f, l3, kt,
+                     plastic_work, r);
+  trial.lambda3 = l3;
+  if (j2) set_j2_state(trial.plastic, kt);
+  classical::LawResult out;
+  for (int k = 0; k < 9; ++k) out.P(k / 3, k % 3) = r.P[k], out.sigma(k / 3, k % 3) = r.sigma[k];
+  out.W = r.W;
+  out.ok = r.ok;
+  return out;
+}
+
+// The rate-form laws' constants and history as kernels/hypoelastic.hpp takes them.
+inline kernels::HypoConstants hypo_constants(const LawSettings& s) {
+  kernels::HypoConstants c;
+  c.lambda = s.elastic.lambda, c.mu = s.elastic.mu, c.kappa = s.elastic.kappa;
+  c.hardening = s.j2.hardening_modulus;
+  c.plastic_return = s.plastic_return == classical::PlasticReturn::peridigm    ? kernels::kReturnPeridigm
+                     : s.plastic_return == classical::PlasticReturn::needleman ? kernels::kReturnNeedleman
+                                                                               : kernels::kReturnWork;
+  c.rotation = s.rotation == classical::RotationUpdate::peridigm ? kernels::kRotationPeridigm : kernels::kRotationCayley;
+  c.N = s.needleman.N, c.m = s.needleman.m, c.rate0 = s.needleman.rate0, c.eps0 = s.needleman.eps0;
+  c.eps1 = s.needleman.eps1;
+  return c;
+}
+inline kernels::HypoHistory hypo_history(const classical::HypoState& h) {
+  kernels::HypoHistory k;
+  for (int c = 0; c < 9; ++c) {
+    const int a = c / 3, b = c % 3;
+    k.F[c] = h.F(a, b), k.V[c] = h.V(a, b), k.R[c] = h.R(a, b), k.sigma_u[c] = h.sigma_u(a, b);
+  }
+  k.alpha = h.alpha, k.thermal = h.thermal;
+  return k;
+}
+inline void set_hypo_state(classical::HypoState& h, const kernels::HypoHistory& k) {
+  for (int c = 0; c < 9; ++c) {
+    const int a = c / 3, b = c % 3;
+    h.F(a, b) = k.F[c], h.V(a, b) = k.V[c], h.R(a, b) = k.R[c], h.sigma_u(a, b) = k.sigma_u[c];
+  }
+  h.alpha = k.alpha, h.thermal = k.thermal;
+}
+
+// A rate-form law (hypoelastic, hypoelastic_j2, viscoplastic_needleman) over dt from the
+// committed history: the device-portable kernels/hypoelastic.hpp hypo_step (the same bits
+// as classical::hypoelastic_step, tests/unit/test_law_kernels.cpp) over row-major copies.
+inline classical::LawResult rate_form_law(const LawSettings& s, const Mat3& F, const History& committed,
+                                          History& trial, double& plastic_work, double dt, double yield_factor,
+                                          Mat3* rate, const Mat3* Fdot, double thermal) {
+  trial = committed;
+  const double yield = s.law != StressLaw::hypoelastic ? s.j2.yield_stress * yield_factor : 0.0;
+  double f[9], fd[9], d[9];
+  for (int k = 0; k < 9; ++k) f[k] = F(k / 3, k % 3), fd[k] = Fdot ? (*Fdot)(k / 3, k % 3) : 0.0;
+  kernels::HypoHistory t;
+  kernels::LawStress r;
+  kernels::hypo_step(hypo_constants(s), yield, hypo_history(committed.hypo), f, dt, Fdot ? fd : nullptr, thermal, t,
+                     plastic_work, r, d);
+  set_hypo_state(trial.hypo, t);
+  trial.plastic.alpha = t.alpha;
+  classical::LawResult out;
+  for (int k = 0; k < 9; ++k) {
+    const int a = k / 3, b = k % 3;
+    out.P(a, b) = r.P[k], out.sigma(a, b) = r.sigma[k];
+    if (rate) (*rate)(a, b) = d[k];
+  }
+  out.W = r.W;
+  out.ok = r.ok;
+  return out;
+}
+
 // The classical law at F (from NonlocalGradient::finish: F(2,2) = 1 in 2-D) from the
 // committed history; the trial history and the plastic work of the step come back.
 // The hypoelastic laws integrate over dt (the time since the committed state) with the
@@ -134,34 +241,8 @@ inline classical::LawResult evaluate_law(const LawSettings& s, const Mat3& F, co
                                          const Mat3* Fdot = nullptr, double thermal = 0) {
   trial = committed;
   plastic_work = 0;
-  if (rate_form(s.law)) {
-    const double yield = s.law != StressLaw::hypoelastic ? s.j2.yield_stress * yield_factor : 0.0;
-    const classical::HypoResult h = classical::hypoelastic_step(s.elastic, yield, s.j2.hardening_modulus,
-                                                                committed.hypo, F, dt, trial.hypo, plastic_work, Fdot,
-                                                                s.plastic_return, s.needleman, thermal, s.rotation);
-    if (rate) *rate = h.d;
-    trial.plastic.alpha = trial.hypo.alpha;
-    return h.law;
-  }
-  auto law = [&](const Mat3& F3) -> classical::LawResult {
-    switch (s.law) {
-      case StressLaw::linear_elastic: return classical::linear_elastic(s.elastic, F3);
-      case StressLaw::neo_hookean: return classical::neo_hookean(s.elastic, F3);
-      case StressLaw::j2:
-        return classical::j2_plasticity(s.elastic, s.j2, committed.plastic, F3, trial.plastic, plastic_work);
-      case StressLaw::hypoelastic:
-      case StressLaw::hypoelastic_j2:
-      case StressLaw::viscoplastic_needleman: break;  // handled above
-    }
-    return {};
-  };
-  if (s.dimension == 2 && s.plane == PlaneMode::stress) {
-    double l3 = committed.lambda3;
-    const classical::LawResult r = classical::plane_stress(F, s.elastic, l3, law);
-    trial.lambda3 = l3;
-    return r;
-  }
-  return law(F);
+  if (rate_form(s.law)) return rate_form_law(s, F, committed, trial, plastic_work, dt, yield_factor, rate, Fdot, thermal);
+  return total_form_law(s, law_constants(s), F, 0.0, committed, trial, plastic_work);
 }
 
 inline Eigen::Vector3d to_eigen(const Vec3& a) { return {a.x, a.y, a.z}; }
@@ -220,6 +301,31 @@ inline double von_mises(const Mat3& s) {
 }
 
 }  // namespace correspondence
+
+namespace kernels {
+struct LawConstants;
+struct HypoConstants;
+}  // namespace kernels
+
+// A correspondence model's constants and state as the flat backend copies them and writes
+// them back (solver/flat_affine_copy.cpp): pointers into the model, `model` null when the
+// model is not correspondence.
+struct CorrespondenceState {
+  const Model* model = nullptr;
+  const correspondence::LawSettings* law = nullptr;
+  const kernels::LawConstants* constants = nullptr;    // law_row's (portable_law)
+  const kernels::HypoConstants* hypo_constants = nullptr;  // hypo_step's (hypo)
+  double G = 0, Cc = 0, tolerance = 0;
+  bool portable_law = false, hypo = false;
+  const std::vector<uint32_t>* particles = nullptr;
+  std::vector<correspondence::History>*committed = nullptr, *trial = nullptr;
+  std::vector<double>*work = nullptr, *von_mises = nullptr;
+  const std::vector<double>* yield_factor = nullptr;
+  std::vector<uint8_t>* singular = nullptr;
+  std::vector<correspondence::Mat3>*kinv = nullptr, *F = nullptr, *sigma = nullptr, *rate = nullptr;
+  std::vector<Vec3>* u_committed = nullptr;
+};
+CorrespondenceState correspondence_state(Model& m);
 
 // A History is numbers and fixed-size Eigen matrices: it checkpoints as its bytes (the
 // correspondence and bond-associated models both keep one).
