@@ -9,12 +9,16 @@
 // instantiated in a __global__ function of one thread a particle (or a bond) over flat arrays, as a
 // device pass of correspondence would call them. Built by cmake/cuda.cmake (an object
 // library: nothing runs it), so bench/gpu/device_check.sh compiles them in its one call;
-// `-Xptxas -v` on this file gives their registers and spills (docs/design.md).
+// `-Xptxas -v` on this file gives their registers and spills (docs/design.md). Extended
+// correspondence's law row (kernels/extended_law.hpp): the moment map row, the pair form's
+// whole law row and the volumetric gradient's bond terms, over CSR bonds as a device pass
+// of the pair form would hold them.
 #include <cstdint>
 
 #include "horizon/kernels/bond_associated.hpp"
 #include "horizon/kernels/eigen3.hpp"
 #include "horizon/kernels/extended.hpp"
+#include "horizon/kernels/extended_law.hpp"
 #include "horizon/kernels/force_state.hpp"
 #include "horizon/kernels/hencky.hpp"
 #include "horizon/kernels/hypoelastic.hpp"
@@ -100,6 +104,119 @@ __global__ void sym_eigen_points(const double* A, std::size_t n, double* eval, d
   const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
   if (i >= n) return;
   ok[i] = sym_eigen3(A + 9 * i, eval + 3 * i, Q + 9 * i) ? 1 : 0;
+}
+
+// Extended correspondence, one particle a thread over CSR bonds (offset, nbr, per-bond w =
+// omega V_j, 1/|xi|, acting flags): the moment map and K^-1 of the acting set, factorised.
+__global__ void moment_map_rows(const uint64_t* offset, const uint32_t* nbr, const double* X, const double* w,
+                                const uint8_t* acts, std::size_t n, int d, double tolerance, const double* min_weight,
+                                double* M, double* inv, double* Kinv, uint8_t* ok) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  auto bond = [&](uint64_t k, double* xi, double& wk) {
+    if (!acts[k]) return false;
+    for (int a = 0; a < 3; ++a) xi[a] = X[3 * nbr[k] + a] - X[3 * i + a];
+    wk = w[k];
+    return true;
+  };
+  double acting = 0;
+  ok[i] = moment_map_row(offset[i], offset[i + 1], bond, d, tolerance, min_weight[i], M + 36 * i, inv + 36 * i,
+                         Kinv + 9 * i, acting)
+              ? 1
+              : 0;
+}
+
+// The pair form's law row of one particle: E = M^-1 S, then the law, the stabilisation
+// (midpoint residual with the neighbours' E), the record A and P K^-1.
+__global__ void extended_pair_law_rows(const uint64_t* offset, const uint32_t* nbr, const double* X,
+                                       const double* w, const double* inv_length, const uint8_t* acts,
+                                       const double* eps, std::size_t n, ExtendedLawConstants c, const double* inv,
+                                       const double* S, const double* N, const double* Kinv,
+                                       const ExtendedLawHistory* committed, double dt, const double* ks,
+                                       const uint8_t* e_ok, double* E, double* rforce, ExtendedLawHistory* trial,
+                                       double* A, double* PK, double* W, uint8_t* on) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  moment_solve(inv + 36 * i, S + 6 * i, E + 6 * i);
+  auto bond = [&](uint64_t k, StabilisationBond& b) {
+    if (!acts[k]) return false;
+    const uint32_t j = nbr[k];
+    for (int a = 0; a < 3; ++a) b.n[a] = inv_length[k] * (X[3 * j + a] - X[3 * i + a]);
+    b.eps = eps[k], b.w = w[k];
+    b.mid = e_ok[j] != 0;
+    b.Ej = E + 6 * j;
+    b.ksj = ks[j];
+    return true;
+  };
+  ExtendedLawRow out;
+  double Ws = 0;
+  on[i] = extended_pair_law_row(c, inv + 36 * i, E + 6 * i, N + 9 * i, Kinv + 9 * i, committed[i], dt, ks[i],
+                                offset[i], offset[i + 1], bond, rforce, trial[i], out, A + 6 * i, Ws)
+              ? 1
+              : 0;
+  for (int k = 0; k < 9; ++k) PK[9 * i + k] = out.PK[k];
+  W[i] = out.W + Ws;
+}
+
+// The vector form's stabilisation of a row (capped, midpoint residual): R, W_s, the work.
+__global__ void vector_stabilisation_rows(const uint64_t* offset, const uint32_t* nbr, const double* X,
+                                          const double* w, const uint8_t* acts, const double* eps, std::size_t n,
+                                          const double* E, const double* ks, const uint8_t* e_ok, double r_c,
+                                          const double* rp_committed, double* rp_trial, double* rforce, double* R,
+                                          double* W) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  auto bond = [&](uint64_t k, VectorStabilisationBond& b) {
+    if (!acts[k]) return false;
+    const uint32_t j = nbr[k];
+    for (int a = 0; a < 3; ++a) b.xi[a] = X[3 * j + a] - X[3 * i + a];
+    b.eps = eps[k], b.w = w[k];
+    b.mid = e_ok[j] != 0;
+    b.Ej = E + 6 * j;
+    b.ksj = ks[j];
+    return true;
+  };
+  VectorStabilisation st;
+  vector_stabilisation_row(offset[i], offset[i + 1], bond, E + 6 * i, ks[i], r_c > 0, r_c, rp_committed, rp_trial,
+                           rforce, st);
+  for (int k = 0; k < 9; ++k) R[9 * i + k] = st.R[k];
+  W[i] = st.W + st.work;
+}
+
+// The vector form's bond sweeps of a row: the strains and their sum S (sweep 1), then the
+// force states with a = dual(S), b = dual(R) of the row (sweep 2).
+__global__ void vector_form_rows(const uint64_t* offset, const uint32_t* nbr, const double* X, const double* y,
+                                 const double* w, const double* omega, std::size_t n, double m, int d,
+                                 const double* a, const double* b, const double* ks, const double* rforce,
+                                 double* eps, double* S, double* T) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  double Si[6] = {};
+  for (uint64_t k = offset[i]; k < offset[i + 1]; ++k) {
+    double xi[3], Y[3];
+    for (int q = 0; q < 3; ++q) xi[q] = X[3 * nbr[k] + q] - X[3 * i + q], Y[q] = y[3 * nbr[k] + q] - y[3 * i + q];
+    eps[k] = vector_strain_add(Si, xi, Y, w[k], m, d);
+    vector_bond_force(a + 6 * i, b + 6 * i, ks[i], omega[k], m, d, xi, Y, rforce[k], T + 3 * k);
+  }
+  for (int q = 0; q < 6; ++q) S[6 * i + q] = Si[q];
+}
+
+// The volumetric gradient's bond terms of a row: N = sum w Y (x) xi, and sum w P_j xi.
+__global__ void pressure_rows(const uint64_t* offset, const uint32_t* nbr, const double* X, const double* y,
+                              const double* w, std::size_t n, const double* PK, double* N, double* f) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  double Ni[9] = {}, fi[3] = {};
+  for (uint64_t k = offset[i]; k < offset[i + 1]; ++k) {
+    const uint32_t j = nbr[k];
+    double xi[3], Y[3], t[3];
+    for (int a = 0; a < 3; ++a) xi[a] = X[3 * j + a] - X[3 * i + a], Y[a] = y[3 * j + a] - y[3 * i + a];
+    gradient_outer_add(Ni, w[k], Y, xi);
+    pressure_bond_term(PK + 9 * j, w[k], xi, t);
+    for (int a = 0; a < 3; ++a) fi[a] += t[a];
+  }
+  for (int k = 0; k < 9; ++k) N[9 * i + k] = Ni[k];
+  for (int a = 0; a < 3; ++a) f[3 * i + a] = fi[a];
 }
 
 // The total-form law at a point (kernels/plane_stress.hpp law_point: 2-D plane stress's

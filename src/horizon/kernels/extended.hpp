@@ -5,7 +5,7 @@
 // geometry (H<xi> of Tupek's eq. 4.4 and the normal projector p from n = xi/|xi|), the
 // pair strain, the strain sum of the breaking sweep, and the pair sum's bond term
 //   T_ij - T_ji = omega g ((A_i . h + 2 coef r_ij) + (A_j . h + 2 coef r_ji)) Y + ...
-// (the volumetric gradient's omega PK xi terms stay with the host: a 3 x 3 Eigen product).
+// (the volumetric gradient's omega PK xi terms: kernels/extended_law.hpp pressure_bond_term).
 // Symmetric tensors are 6-vectors (11, 22, 33, 23, 13, 12) as double[6], the records'
 // Eigen vectors read through .data().
 //

@@ -404,63 +404,27 @@ class ExtendedCorrespondence final : public Model {
   //   T : dE' = (T - p I_d) : dE_log + p d(ln J),  p = (I_d : T)/d,
   // the first part through the central force (4.7), the second as the classical
   // correspondence force of p Fbar^-T (d ln J = Fbar^-T : dFbar): T_k += omega p Fbar^-T K^-1 xi.
-  struct LawPoint {
-    classical::StrainLawOut out;  // out.S: the stress conjugate to E (the deviatoric part with Fbar)
-    Mat3 law_stress = Mat3::Zero();  // the law's own stress (conjugate to its strain argument)
-    Mat3 pressure_map = Mat3::Zero();  // with Fbar: p Fbar^-T
-    bool ok = false;
-  };
-  // classical::strain_law in the portable kernel (kernels/strain_laws.hpp: the same bits),
-  // over row-major copies of the history.
-  classical::StrainLawOut law_point(const StrainLawState& committed, const double* e, double dt,
-                                    StrainLawState& trial) const {
-    classical::StrainLawOut out;
-    trial = committed;
-    if (committed.damage >= 1.0) {
-      out.failed = true;
-      return out;
-    }
-    double Ep[9];
-    for (int k = 0; k < 9; ++k) Ep[k] = committed.plastic_strain(k / 3, k % 3);
-    kernels::StrainLawPoint pt;
-    kernels::strain_law_point(klaw_, Ep, committed.alpha, committed.damage, e, dt, Ep, trial.alpha, trial.damage, pt);
-    for (int k = 0; k < 9; ++k) out.S(k / 3, k % 3) = pt.S[k], trial.plastic_strain(k / 3, k % 3) = Ep[k];
-    out.W = pt.W, out.plastic_work = pt.plastic_work, out.rate = pt.rate;
-    return out;
+  // The law row in the portable kernel (kernels/extended_law.hpp extended_law_row: Fbar =
+  // N K^-1, the Hencky map, the volumetric gradient's corrections, the strain law, the
+  // pressure map P K^-1, a = dual(S) when `inv` (M^-1) is given, the von Mises stress; the
+  // host's former Eigen forms' bits), the history copied row-major in and out.
+  bool law_row(std::size_t l, const Vec6& E, const Mat3& N, const Mat3& Kinv, const double* inv, double dt,
+               StrainLawState& trial, kernels::ExtendedLawRow& out) const {
+    kernels::ExtendedLawHistory ht;
+    kernels::extended_law_row(kext_, inv, E.data(), N.data(), Kinv.data(), history_in(l), dt, ht, out);
+    history_out(ht, trial);
+    return out.ok;
   }
-  // The law step in the portable kernels (kernels/hencky.hpp: the Hencky map, Eigen's
-  // eigen-solver written out; kernels/strain_laws.hpp: the volumetric gradient's corrections
-  // and the strain laws; the host's Eigen forms' bits), over row-major copies.
-  LawPoint run_law(std::size_t l, const Mat3& E, const Mat3* Fbar, double dt, StrainLawState& trial) const {
-    LawPoint r;
-    double hN[9] = {}, hl[3] = {}, strain[9], F[9] = {}, T[9], S[9];
-    for (int k = 0; k < 9; ++k) strain[k] = E(k / 3, k % 3);
-    if (hencky_) {
-      double e[9];
-      for (int k = 0; k < 9; ++k) e[k] = strain[k];
-      kernels::hencky_of_green3(e, extended::kHenckyFloor, hN, hl, strain);
-    }
-    if (Fbar) {
-      for (int k = 0; k < 9; ++k) F[k] = (*Fbar)(k / 3, k % 3);
-      kernels::volumetric_gradient_strain(F, dim_, strain);
-    }
-    r.out = law_point(committed_[l], strain, dt, trial);
-    if (r.out.failed) return r;
-    r.ok = true;
-    r.law_stress = r.out.S;
-    for (int k = 0; k < 9; ++k) T[k] = r.out.S(k / 3, k % 3);
-    if (Fbar) {
-      double pm[9];
-      kernels::volumetric_pressure_split(F, dim_, T, pm);
-      for (int k = 0; k < 9; ++k) r.pressure_map(k / 3, k % 3) = pm[k];
-    }
-    if (hencky_) {
-      kernels::green_stress_of_hencky3(hN, hl, T, S);
-    } else {
-      for (int k = 0; k < 9; ++k) S[k] = T[k];
-    }
-    for (int k = 0; k < 9; ++k) r.out.S(k / 3, k % 3) = S[k];
-    return r;
+  kernels::ExtendedLawHistory history_in(std::size_t l) const {
+    const StrainLawState& c = committed_[l];
+    kernels::ExtendedLawHistory h;
+    for (int k = 0; k < 9; ++k) h.Ep[k] = c.plastic_strain(k / 3, k % 3);
+    h.alpha = c.alpha, h.damage = c.damage;
+    return h;
+  }
+  static void history_out(const kernels::ExtendedLawHistory& h, StrainLawState& trial) {
+    for (int k = 0; k < 9; ++k) trial.plastic_strain(k / 3, k % 3) = h.Ep[k];
+    trial.alpha = h.alpha, trial.damage = h.damage;
   }
 
   // Sweep 1's end, both forms: particle l's E over its acting bonds (and N = sum w Y (x) xi
@@ -482,13 +446,18 @@ class ExtendedCorrespondence final : public Model {
   // energy_with overwrote the strains of the old set's bonds, and the acting ones are
   // written again with the pair pass's pair_strain instead of the vector form's.
   struct RowLaw {
-    classical::StrainLawOut out;
-    Mat3 law_stress = Mat3::Zero();  // the law's stress (conjugate to its strain argument)
-    Mat3 PK = Mat3::Zero();          // p Fbar^-T K^-1 (volumetric_strain gradient)
+    kernels::ExtendedLawRow out{};  // S, the law's stress, PK = p Fbar^-T K^-1, a = dual(S), W, ...
     double before = 0;               // a changed set: energy + plastic work over the old set
     bool changed = false;            // the acting set of an active particle changed in this pass
   };
   bool row_law(const ForcePass& pass, std::size_t l, uint32_t i, bool pair, RowLaw& r) {
+    return row_law(pass, l, i, pair, r, [&](kernels::ExtendedLawRow& out) {
+      return law_row(l, e_full_[l], n_sum_[l], kinv_[l], maps_[l].inverse(), pass.dt, trial_[l], out);
+    });
+  }
+  // The same with the law row computed by law(out) (the pair form: the whole row in one kernel).
+  template <class Law>
+  bool row_law(const ForcePass& pass, std::size_t l, uint32_t i, bool pair, RowLaw& r, Law law) {
     const System& s = pass.system;
     const Bonds& B = s.bonds;
     const std::vector<Vec3>& X = s.particles.X;
@@ -509,17 +478,7 @@ class ExtendedCorrespondence final : public Model {
     }
     ok = ok && e_fin_[l] != 0;
     if (ok) {
-      Mat3 Fbar = Mat3::Identity();  // volumetric_strain gradient: the classical nonlocal F
-      if (vol_gradient_) {
-        Fbar = n_sum_[l] * kinv_[l];
-        if (dim_ == 2) Fbar(2, 2) = 1.0;
-      }
-      const LawPoint lp =
-          run_law(l, extended::to_mat3(e_full_[l]), vol_gradient_ ? &Fbar : nullptr, pass.dt, trial_[l]);
-      ok = lp.ok;
-      r.out = lp.out;
-      r.law_stress = lp.law_stress;
-      r.PK = lp.pressure_map * kinv_[l];
+      ok = law(r.out);
     } else {
       trial_[l] = committed_[l];
     }
@@ -541,9 +500,26 @@ class ExtendedCorrespondence final : public Model {
     if (r.changed) thinned_[l] += r.before - (W + work_[l]);
     // acted_ = acts_ over the row (a copy: the byte loop does not vectorise through the members).
     if (B.end(i) > B.begin(i)) std::memcpy(&acted_[B.begin(i)], &acts_[B.begin(i)], B.end(i) - B.begin(i));
-    const Mat3 dev = r.law_stress - (r.law_stress.trace() / 3.0) * Mat3::Identity();
-    von_mises_[l] = std::sqrt(1.5 * (dev.array() * dev.array()).sum());
+    von_mises_[l] = r.out.von_mises;
     if (pass.energy) pass.energy[i] = W;
+  }
+  // The volumetric gradient's bond terms (kernels/extended_law.hpp, Eigen's bits): N += w Y (x) xi,
+  // the force term w P xi of a column-major P (PK), and P v.
+  static void gradient_add(Mat3& N, double w, const Vec3& Y, const Vec3& xi) {
+    const double y[3] = {Y.x, Y.y, Y.z}, x[3] = {xi.x, xi.y, xi.z};
+    kernels::gradient_outer_add(N.data(), w, y, x);
+  }
+  static Vec3 pressure_term(const double* PK, double w, const Vec3& xi) {
+    const double x[3] = {xi.x, xi.y, xi.z};
+    double t[3];
+    kernels::pressure_bond_term(PK, w, x, t);
+    return {t[0], t[1], t[2]};
+  }
+  static Vec3 pressure_sum(const double* PK, const Vec3& v) {
+    const double x[3] = {v.x, v.y, v.z};
+    double t[3];
+    kernels::mat3c_vec(PK, x, t);
+    return {t[0], t[1], t[2]};
   }
   // 1/|xi|^2 of bond k from its kind's 1/|xi| (the same bits from either end).
   static double pair_inv2(const System& s, uint64_t k) {
@@ -571,15 +547,12 @@ class ExtendedCorrespondence final : public Model {
       const Vec3 xi = X[B.nbr[k]] - X[i], Y = deformed(B.nbr[k]);
       const double w = B.weight[k] * B.volume[k];
       eps_[k] = E.add_strain(xi, Y, w);
-      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+      if (vol_gradient_) gradient_add(N, w, Y, xi);
     }
     if (!E.finish(false)) return 0.0;
-    Mat3 Fbar = N * Kinv;
-    if (dim_ == 2) Fbar(2, 2) = 1.0;
     StrainLawState scratch;
-    const LawPoint lp = run_law(l, E.strain(), vol_gradient_ ? &Fbar : nullptr, pass.dt, scratch);
-    if (!lp.ok) return 0.0;
-    const classical::StrainLawOut& out = lp.out;
+    kernels::ExtendedLawRow out;
+    if (!law_row(l, E.strain_vector(), N, Kinv, nullptr, pass.dt, scratch, out)) return 0.0;
     if (ks_[l] == 0) return out.W + out.plastic_work;
     const Stabilisation st = stabilisation(B, X, i, l, E, acts, scratch.alpha, out.rate, false);
     return out.W + out.plastic_work + st.W + st.work;
@@ -617,17 +590,15 @@ class ExtendedCorrespondence final : public Model {
       const BondKind& bk = B.kinds[B.kind[k]];
       const double w = bk.weight * (bk.volume * bk.fraction);
       kernels::strain_sum_add(S.data(), w * eps, h);
-      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+      if (vol_gradient_) gradient_add(N, w, Y, xi);
     }
     const Vec6 E = old_maps_[l].solve(S);
     if (!E.allFinite()) return 0.0;
-    Mat3 Fbar = N * old_kinv_[l];
-    if (dim_ == 2) Fbar(2, 2) = 1.0;
     StrainLawState scratch;
-    const LawPoint lp = run_law(l, extended::to_mat3(E), vol_gradient_ ? &Fbar : nullptr, pass.dt, scratch);
-    if (!lp.ok) return 0.0;
+    kernels::ExtendedLawRow lp;
+    if (!law_row(l, E, N, old_kinv_[l], nullptr, pass.dt, scratch, lp)) return 0.0;
     const double ks = ks_[l];
-    if (ks == 0) return lp.out.W + lp.out.plastic_work;
+    if (ks == 0) return lp.W + lp.plastic_work;
     double Ws = 0;
     for (uint64_t k = begin; k < end; ++k) {
       if (!acted_[k]) continue;
@@ -649,7 +620,7 @@ class ExtendedCorrespondence final : public Model {
       const double w = bk.weight * (bk.volume * bk.fraction);
       Ws += coef * w * r * r;
     }
-    return lp.out.W + lp.out.plastic_work + Ws;
+    return lp.W + lp.plastic_work + Ws;
   }
 
   // The bond-level stabilisation of particle i (local index l) at the strain E (eps_ holds
@@ -670,43 +641,31 @@ class ExtendedCorrespondence final : public Model {
   template <class Acts>
   Stabilisation stabilisation(const Bonds& B, const std::vector<Vec3>& X, uint32_t i, std::size_t l,
                               const extended::NonlocalStrain& E, Acts acts, double alpha, double rate, bool write) {
+    // The bond loop is a portable kernel (kernels/extended_law.hpp vector_stabilisation_row:
+    // this loop's Eigen form, the same bits).
     Stabilisation out;
     const double ks = ks_[l];
     const bool capped = stab_yield_ > 0 && !rp_committed_.empty();
-    const double r_c = capped ? stab_yield_ * classical::flow_stress(law_, alpha, rate) / (2.0 * gs_mu_bar_) : 0.0;
-    const Vec6& Ei = E.strain_vector();
-    for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-      if (!acts(k)) continue;
+    const double r_c = capped ? stab_yield_ * kernels::strain_flow(kext_.law, alpha, rate) / (2.0 * gs_mu_bar_) : 0.0;
+    auto bond = [&](uint64_t k, kernels::VectorStabilisationBond& b) {
+      if (!acts(k)) return false;
       const uint32_t j = B.nbr[k];
       const Vec3 xi = X[j] - X[i];
-      double r0, coef = ks;
+      b.xi[0] = xi.x, b.xi[1] = xi.y, b.xi[2] = xi.z;
+      b.eps = eps_[k];
+      b.w = B.weight[k] * B.volume[k];
       const int32_t lj = midpoint_ ? local_[j] : -1;
-      if (lj >= 0 && e_ok_[lj]) {
-        r0 = eps_[k] - extended::normal_projector(xi).dot(0.5 * (Ei + e_vec_[lj]));
-        coef = 0.5 * (ks + ks_[lj]);
-      } else {
-        r0 = E.residual(xi, eps_[k]);
-      }
-      const double w = B.weight[k] * B.volume[k];
-      // The capped (plastic) stabilisation. W_s is diagonal in the per-bond plastic residual
-      // r_p (dW_s/dr_p = -2 k w (r0 - r_p)), so the closest-point return is bond by bond.
-      // The bond's stabilisation stress, in the units of the law's, is tau = 2 G_s mu_bar
-      // (r0 - r_p) (k_s = G_s mu_bar d / sum w); |tau| <= stabilization_yield x the flow
-      // stress after the step, i.e. |r0 - r_p| <= r_c. Dissipation: 2 k r_c |Delta r_p| w
-      // per bond (backward Euler, as the law's Y Delta eps_p).
-      double rp = 0;
-      if (capped) {
-        const double rc = rp_committed_[k];
-        rp = std::abs(r0 - rc) > r_c ? r0 - std::copysign(r_c, r0 - rc) : rc;
-        out.work += 2.0 * coef * r_c * std::abs(rp - rc) * w;
-        if (write) rp_trial_[k] = rp;
-      }
-      const double r = r0 - rp;
-      rforce_[k] = r * coef / ks;
-      const Eigen::Vector3d nv = Eigen::Vector3d(xi.x, xi.y, xi.z).normalized();
-      out.R.noalias() += (w * rforce_[k]) * nv * nv.transpose();
-      out.W += coef * w * r * r;
-    }
+      b.mid = lj >= 0 && e_ok_[lj];
+      b.Ej = b.mid ? e_vec_[lj].data() : nullptr;
+      b.ksj = b.mid ? ks_[lj] : 0.0;
+      return true;
+    };
+    kernels::VectorStabilisation st;
+    kernels::vector_stabilisation_row(B.begin(i), B.end(i), bond, E.strain_vector().data(), ks, capped, r_c,
+                                      capped ? rp_committed_.data() : nullptr,
+                                      capped && write ? rp_trial_.data() : nullptr, rforce_.data(), st);
+    for (int k = 0; k < 9; ++k) out.R(k / 3, k % 3) = st.R[k];
+    out.W = st.W, out.work = st.work;
     return out;
   }
   bool failed_committed(uint32_t i) const {
@@ -720,7 +679,7 @@ class ExtendedCorrespondence final : public Model {
   }
 
   StrainLawParams law_;
-  kernels::StrainLawConstants klaw_;  // law_ for the portable kernel (run_law)
+  kernels::ExtendedLawConstants kext_;  // law_ and the measures for the portable law row (law_row)
   int dim_ = 3;
   double m_ = 0, critical_ = 0.99, tolerance_ = 1e-4, min_acting_ = 0;
   std::vector<double> family_weight_;  // per particle: sum of w V over its reference family
@@ -825,7 +784,7 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   law_.d4 = parameter(mat, "failure_d4");
   law_.damage_rate0 = parameter(mat, "failure_reference_rate");
   law_.damage = law_.law == StrainLaw::johnson_cook && (law_.d1 != 0 || law_.d2 != 0);
-  klaw_ = extended::strain_law_constants(law_);
+  kext_.law = extended::strain_law_constants(law_);
   if (law_.law != StrainLaw::elastic && !(law_.yield_stress > 0))
     throw Error("material '" + mat.name + "': stress_law " + law + " needs a positive yield_stress [Pa]");
   if (law_.law == StrainLaw::johnson_cook && !(law_.B > 0))
@@ -884,6 +843,10 @@ void ExtendedCorrespondence::setup(const ModelSetup& in) {
   old_maps_.assign(n, extended::MomentMap{});
   old_kinv_.assign(n, Mat3::Zero());
   vol_gradient_ = choice(mat, "volumetric_strain") == "gradient";
+  kext_.dimension = dim_;
+  kext_.hencky = hencky_;
+  kext_.vol_gradient = vol_gradient_;
+  kext_.floor = extended::kHenckyFloor;
   adaptive_ = in.config.solver.adaptive_time_step;
   acting_.assign(n, UINT32_MAX);
   map_ok_.assign(n, 0);
@@ -926,28 +889,25 @@ void ExtendedCorrespondence::rebuild_map(const Bonds& B, const std::vector<Vec3>
     old_maps_[l] = maps_[l];
     old_kinv_[l] = kinv_[l];
   }
-  NonlocalGradient K;  // the shape tensor, for the conditioning guard only
-  extended::MomentMap map;
-  map.reset(dim_);
-  double acting_weight = 0;
-  for (uint64_t k = B.begin(i); k < B.end(i); ++k) {
-    if (!acts_[k]) continue;
-    const Vec3 xi = X[B.nbr[k]] - X[i];
-    const double w = B.weight[k] * B.volume[k];
-    map.add(xi, w, dim_);
-    K.add(xi, xi, w);
-    acting_weight += w;
-  }
+  // The map, K and their factorisations in one portable kernel (kernels/extended_law.hpp
+  // moment_map_row: MomentMap::add, NonlocalGradient::add and their finish, the same bits).
   // The moment map M = sum w H (x) n n of a family that omega_D has thinned to a
   // share s of its weight is ~ s M_full: E = M^-1 sum w eps H and the force of
   // (4.7) both scale as 1/s, so the particle's stiffness grows as 1/s while the
   // stable step was taken from the full family. min_acting_fraction bounds 1/s.
-  const bool enough = acting_weight >= min_acting_ * family_weight_[l];
+  auto bond = [&](uint64_t k, double* xi, double& w) {
+    if (!acts_[k]) return false;
+    const Vec3 d = X[B.nbr[k]] - X[i];
+    xi[0] = d.x, xi[1] = d.y, xi[2] = d.z;
+    w = B.weight[k] * B.volume[k];
+    return true;
+  };
+  double acting_weight = 0;
+  map_ok_[l] = kernels::moment_map_row(B.begin(i), B.end(i), bond, dim_, tolerance_, min_acting_ * family_weight_[l],
+                                       maps_[l].matrix_data(), maps_[l].inverse_data(), kinv_[l].data(), acting_weight)
+                   ? 1
+                   : 0;
   acting_share_[l] = family_weight_[l] > 0 ? acting_weight / family_weight_[l] : 0.0;
-  Mat3 Kinv, F;
-  map_ok_[l] = enough && K.finish(dim_, tolerance_, Kinv, F) && map.finish() ? 1 : 0;
-  maps_[l] = map;
-  kinv_[l] = Kinv;
   acting_[l] = count;
 }
 
@@ -1013,7 +973,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       const Vec3 xi = X[j] - X[i], Y = deformed(j);
       const double w = B.weight[k] * B.volume[k];
       eps_[k] = E.add_strain(xi, Y, w);
-      if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+      if (vol_gradient_) gradient_add(N, w, Y, xi);
     }
     if (E.finish(false)) keep_strain(l, E.strain_vector(), N);
   }
@@ -1031,12 +991,11 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       for (uint64_t k = B.begin(i); k < B.end(i); ++k) T[k] = {};
       continue;
     }
-    const classical::StrainLawOut& out = law.out;
-    const Mat3& PK = law.PK;
+    const kernels::ExtendedLawRow& out = law.out;
     extended::NonlocalStrain E(dim_, m_);
     E.use(maps_[l]);
     E.set_strain(e_full_[l]);
-    const Vec6 a = E.dual(out.S);
+    const Vec6 a = Eigen::Map<const Vec6>(out.a);  // dual(S)
     Vec6 b = Vec6::Zero();
     double W = out.W;
     const double ks = ks_[l];
@@ -1056,10 +1015,7 @@ void ExtendedCorrespondence::force_state(ForcePass& pass) {
       const Vec3 xi = X[j] - X[i], Y = deformed(j);
       const double r = ks != 0 ? rforce_[k] : 0.0;
       T[k] = extended::bond_force_state(a, b, ks, B.weight[k], m_, dim_, xi, Y, r);
-      if (vol_gradient_) {
-        const Eigen::Vector3d t = B.weight[k] * (PK * Eigen::Vector3d(xi.x, xi.y, xi.z));
-        T[k] = T[k] + Vec3{t[0], t[1], t[2]};
-      }
+      if (vol_gradient_) T[k] = T[k] + pressure_term(out.PK, B.weight[k], xi);
     }
     row_end(pass, l, i, law, W);
   }
@@ -1137,8 +1093,7 @@ __attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_brea
         // (1/2) (T_old . Y/|Y|) e V_j with T_old the bond's force state of the last pass
         // (forces_general.cpp break_row), rebuilt from its scalar, PK_i and the positions.
         const Vec3 Yo = pair_y_[j] - pair_y_[i];
-        const Eigen::Vector3d t = bk.weight * (pk_old * Eigen::Vector3d(xi.x, xi.y, xi.z));
-        const Vec3 T_old = pair_q_[k] * Yo + Vec3{t[0], t[1], t[2]};
+        const Vec3 T_old = pair_q_[k] * Yo + pressure_term(pk_old.data(), bk.weight, xi);
         lost += 0.5 * dot(T_old, Y) / r * e * (bk.volume * bk.fraction);
       }
       M.intact_weight[i] -= kc.damage;
@@ -1155,7 +1110,7 @@ __attribute__((always_inline)) inline uint64_t ExtendedCorrespondence::pair_brea
     double h[6];
     kernels::unit_shape_state(n, dim_, h);
     kernels::strain_sum_add(S.data(), w * eps, h);
-    if (vol_gradient_) N.noalias() += w * Eigen::Vector3d(Y.x, Y.y, Y.z) * Eigen::RowVector3d(xi.x, xi.y, xi.z);
+    if (vol_gradient_) gradient_add(N, w, Y, xi);
   }
   if (lost != 0) s.dissipated_at[i] += lost * P.volume[i];
   if (row_broken) M.intact_weight[i] = intact_damage_weight(s, i);  // afresh (state/system.hpp)
@@ -1183,8 +1138,7 @@ void ExtendedCorrespondence::book_break(const PairPass& c, std::size_t i, uint64
     const Point4 pi = c.y[i], pj = c.y[j];
     const Vec3 Y{pj.x - pi.x, pj.y - pi.y, pj.z - pi.z}, xi = c.X[j] - c.X[i];
     const Vec3 Yo = pair_y_[j] - pair_y_[i];
-    const Eigen::Vector3d t = bk.weight * (pair_pk_[local_[i]] * Eigen::Vector3d(xi.x, xi.y, xi.z));
-    const Vec3 T_old = pair_q_[k] * Yo + Vec3{t[0], t[1], t[2]};
+    const Vec3 T_old = pair_q_[k] * Yo + pressure_term(pair_pk_[local_[i]].data(), bk.weight, xi);
     lost += 0.5 * dot(T_old, Y) / r * e * (bk.volume * bk.fraction);
   }
   s.model.intact_weight[i] -= c.kcs[B.kind[k]].damage;
@@ -1288,8 +1242,48 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
   PairRecord& rec = pair_[l];
   rec.mid = midpoint_ && e_ok_[l];
   rec.E = rec.mid ? e_vec_[l] : e_full_[l];
+  // The law row: the law (kernels/extended_law.hpp extended_law_row), the stabilisation
+  // (stabilisation() without the cap, takes_pair_pass; n from the kind's 1/|xi|; R summed as
+  // its weighted 6-vector sum w r_force p, the dual's argument, instead of sum w r_force
+  // n (x) n) and the record A = dual(S) - 2 k_s dual_weighted(Rp): one portable kernel
+  // (extended_pair_law_row) bond by bond, or the law, the lanes' stabilisation sums and the
+  // record (pair_record).
+  const double ks = ks_[l];
+  const Vec6& Ei = e_full_[l];
+  const double* inv = maps_[l].inverse();
+  double Ws = 0;
+  auto whole_row = [&](kernels::ExtendedLawRow& out) {
+    auto bond = [&](uint64_t k, kernels::StabilisationBond& b) {
+      if (!acts_[k]) return false;
+      const uint32_t j = B.nbr[k];
+      const Vec3 nv = kcs[B.kind[k]].inv_length * (X[j] - X[i]);
+      b.n[0] = nv.x, b.n[1] = nv.y, b.n[2] = nv.z;
+      b.eps = eps_[k];
+      const BondKind& bk = kinds[B.kind[k]];
+      b.w = bk.weight * (bk.volume * bk.fraction);
+      const int32_t lj = midpoint_ ? local_[j] : -1;
+      b.mid = lj >= 0 && e_ok_[lj];
+      b.Ej = b.mid ? e_vec_[lj].data() : nullptr;
+      b.ksj = b.mid ? ks_[lj] : 0.0;
+      return true;
+    };
+    kernels::ExtendedLawHistory ht;
+    const bool ok = kernels::extended_pair_law_row(kext_, inv, Ei.data(), n_sum_[l].data(), kinv_[l].data(),
+                                                   history_in(l), pass.dt, ks, B.begin(i), B.end(i), bond,
+                                                   rforce_.data(), ht, out, rec.A.data(), Ws);
+    history_out(ht, trial_[l]);
+    return ok;
+  };
   RowLaw law;
-  if (!row_law(pass, l, i, true, law)) {
+  // (The lanes' sums run here, in the row itself, not in a lambda: a lambda does not take
+  // the AVX-512 target of pair_law_avx512, and its eight-lane code then runs 1.3x slower.)
+  const bool on = c.lanes ? row_law(pass, l, i, true, law) : row_law(pass, l, i, true, law, whole_row);
+  if (on && c.lanes) {
+    Vec6 Rp = Vec6::Zero();
+    if (ks != 0) pair_stabilisation_lanes(c, l, Ei, ks, Rp, Ws);
+    kernels::pair_record(law.out.a, ks, inv, Rp.data(), rec.A.data());
+  }
+  if (!on) {
     rec.on = 0;
     rec.A.setZero();
     rec.ks = 0;
@@ -1297,42 +1291,12 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_law_row(
     if (c.lanes) lane_record(l);
     return;
   }
-  const Vec6 Ei = e_full_[l];
-  const double ks = ks_[l];
-  // stabilisation() without the cap (takes_pair_pass), n from the kind's 1/|xi|, and R
-  // summed as its weighted 6-vector sum w r_force p (the dual's argument) instead of
-  // sum w r_force n (x) n: six multiply-adds a bond instead of nine, no conversion.
-  Vec6 Rp = Vec6::Zero();
   double W = law.out.W;
   if (ks != 0) {
-    const double inv_ks = 1.0 / ks;
-    double Ws = 0;
-    if (c.lanes) pair_stabilisation_lanes(c, l, Ei, ks, Rp, Ws);
-    for (uint64_t k = c.lanes ? B.end(i) : B.begin(i); k < B.end(i); ++k) {
-      if (!acts_[k]) continue;
-      const uint32_t j = B.nbr[k];
-      const Vec6 p = extended::unit_normal_projector(kcs[B.kind[k]].inv_length * (X[j] - X[i]));
-      const int32_t lj = midpoint_ ? local_[j] : -1;
-      double r, coef = ks;
-      if (lj >= 0 && e_ok_[lj]) {
-        r = eps_[k] - p.dot(0.5 * (Ei + e_vec_[lj]));
-        coef = 0.5 * (ks + ks_[lj]);
-      } else {
-        r = eps_[k] - p.dot(Ei);
-      }
-      rforce_[k] = r;  // the pair sum's i side (kernels::pair_bond_kept)
-      const BondKind& bk = kinds[B.kind[k]];
-      const double w = bk.weight * (bk.volume * bk.fraction), wr = w * r;
-      Rp.noalias() += (wr * (coef * inv_ks)) * p;
-      Ws += coef * wr * r;
-    }
     W += Ws;
     ws_[l] = Ws;
   }
-  const extended::MomentMap& map = maps_[l];
-  rec.A = map.dual(law.out.S);
-  if (ks != 0) rec.A -= (2.0 * ks) * map.dual_weighted(Rp);
-  pair_pk_[l] = law.PK;
+  pair_pk_[l] = Eigen::Map<const Mat3>(law.out.PK);
   rec.ks = ks;
   rec.on = 1;
   if (c.lanes) lane_record(l);
@@ -1456,8 +1420,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
       if (c.keep_q) pair_q_[k] = pb.q;
       f += pb.scale * Y;
       if (vol_gradient_) {
-        const Eigen::Vector3d t = wv * (pair_pk_[lj] * Eigen::Vector3d(xi.x, xi.y, xi.z));
-        f += Vec3{t[0], t[1], t[2]};
+        f += pressure_term(pair_pk_[lj].data(), wv, xi);
         xw += wv * xi;  // omega V_j PK_i xi summed as PK_i (sum omega V_j xi), after the row
       }
     }
@@ -1468,10 +1431,7 @@ __attribute__((always_inline)) inline void ExtendedCorrespondence::pair_sum_row(
       wc_sum += wc;
     }
   }
-  if (vol_gradient_) {
-    const Eigen::Vector3d t = pair_pk_[li] * Eigen::Vector3d(xw.x, xw.y, xw.z);
-    f += Vec3{t[0], t[1], t[2]};
-  }
+  if (vol_gradient_) f += pressure_sum(pair_pk_[li].data(), xw);
   P.f[i] = f;
   if (energy) P.energy[i] += wc_sum;
 }
@@ -1614,9 +1574,7 @@ __attribute__((always_inline)) inline bool ExtendedCorrespondence::pair_sum_lane
   }
   Vec3 fi{lanes_total(f[0]), lanes_total(f[1]), lanes_total(f[2])};
   if (vol_gradient_) {
-    const Eigen::Vector3d t =
-        pair_pk_[i] * Eigen::Vector3d(lanes_total(xw[0]), lanes_total(xw[1]), lanes_total(xw[2]));
-    fi += Vec3{t[0], t[1], t[2]};
+    fi += pressure_sum(pair_pk_[i].data(), Vec3{lanes_total(xw[0]), lanes_total(xw[1]), lanes_total(xw[2])});
   }
   s.particles.f[i] = fi;
   if (c.energy) s.particles.energy[i] += lanes_total(wc);

@@ -49,6 +49,7 @@
 
 #include "horizon/core/vec3.hpp"
 #include "horizon/kernels/extended.hpp"
+#include "horizon/kernels/extended_law.hpp"
 #include "horizon/kernels/strain_laws.hpp"
 #include "horizon/material/classical/strain_laws.hpp"
 #include "horizon/material/model.hpp"
@@ -137,29 +138,43 @@ inline double strain_gradient_factor(double c, double m, double xi2) {
 }
 
 // The moment map M_i of (*) and its factorisation: it depends on the reference bonds and
-// the acting set only, so a particle keeps it until its acting set changes.
+// the acting set only, so a particle keeps it until its acting set changes. The algebra is
+// the device-portable kernels of kernels/extended_law.hpp (Eigen's outer products, its
+// FullPivLU and the products with M^-1 written out in Eigen's order: the same bits,
+// tests/unit/test_extended_law_kernels.cpp) over the Eigen matrices' column-major storage.
 class MomentMap {
  public:
-  void reset(int dimension) {
-    M_.setZero();
-    if (dimension == 2) M_(2, 2) = M_(3, 3) = M_(4, 4) = 1.0;  // plane strain: E_33 = E_23 = E_13 = 0
-  }
+  void reset(int dimension) { kernels::moment_map_reset(M_.data(), dimension); }
   void add(const Vec3& xi, double w, int dimension) {
-    M_.noalias() += w * shape_state(xi, dimension) * normal_projector(xi).transpose();
+    const double x[3] = {xi.x, xi.y, xi.z};
+    kernels::moment_map_add(M_.data(), x, w, dimension);
   }
-  // False when M is singular.
-  bool finish() {
-    const Eigen::FullPivLU<Mat6> lu(M_);
-    if (!lu.isInvertible()) return false;
-    inverse_ = lu.inverse();
-    return inverse_.allFinite();
+  // False when M is singular (Eigen's FullPivLU rank test) or M^-1 is not finite.
+  bool finish() { return kernels::moment_map_inverse(M_.data(), inverse_.data()); }
+  Vec6 solve(const Vec6& b) const {
+    Vec6 e;
+    kernels::moment_solve(inverse_.data(), b.data(), e.data());
+    return e;
   }
-  Vec6 solve(const Vec6& b) const { return inverse_ * b; }
   // The vector a with t : Ht_j = a . h_j for a tensor t (a = M^-T W t).
-  Vec6 dual(const Mat3& t) const { return inverse_.transpose() * contraction_weights().cwiseProduct(to_vec6(t)); }
+  Vec6 dual(const Mat3& t) const {
+    double r[9];
+    for (int k = 0; k < 9; ++k) r[k] = t(k / 3, k % 3);
+    Vec6 a;
+    kernels::moment_dual(inverse_.data(), r, a.data());
+    return a;
+  }
   // dual of a tensor given as its weighted 6-vector w .* to_vec6(t) (a sum of normal
   // projectors p: the pair pass's stabilisation, R = sum c n (x) n, is sum c p so).
-  Vec6 dual_weighted(const Vec6& wt) const { return inverse_.transpose() * wt; }
+  Vec6 dual_weighted(const Vec6& wt) const {
+    Vec6 a;
+    kernels::moment_dual_weighted(inverse_.data(), wt.data(), a.data());
+    return a;
+  }
+  const double* inverse() const { return inverse_.data(); }
+  // The column-major storage of M and M^-1 (kernels/extended_law.hpp moment_map_row).
+  double* matrix_data() { return M_.data(); }
+  double* inverse_data() { return inverse_.data(); }
 
  private:
   Mat6 M_ = Mat6::Zero();
@@ -178,10 +193,8 @@ class NonlocalStrain {
   }
   // Sweep 1 with a kept moment map (use()).
   double add_strain(const Vec3& xi, const Vec3& Y, double w) {
-    const double c = dot(Y, Y) / dot(xi, xi);
-    const double eps = seth_hill_strain(c, m_);
-    S_.noalias() += (w * eps) * shape_state(xi, dim_);
-    return eps;
+    const double x[3] = {xi.x, xi.y, xi.z}, y[3] = {Y.x, Y.y, Y.z};
+    return kernels::vector_strain_add(S_.data(), x, y, w, m_, dim_);  // (kernels/extended_law.hpp)
   }
   void use(const MomentMap& map) { map_ = map; }
   const MomentMap& map() const { return map_; }
@@ -197,7 +210,12 @@ class NonlocalStrain {
   const Vec6& strain_vector() const { return E_; }
   Vec6 dual(const Mat3& sigma) const { return map_.dual(sigma); }
   // r_j = eps_j - n . E n.
-  double residual(const Vec3& xi, double eps) const { return eps - normal_projector(xi).dot(E_); }
+  double residual(const Vec3& xi, double eps) const {
+    const double x[3] = {xi.x, xi.y, xi.z};
+    double p[6];
+    kernels::normal_projector_of(x, p);
+    return eps - kernels::dot6(p, E_.data());
+  }
 
  private:
   int dim_;
@@ -209,12 +227,13 @@ class NonlocalStrain {
 
 // The force state (**) of one bond: a = dual(sigma), b = dual(R), ks the stabilisation
 // modulus, omega the (damage-dependent) influence weight.
+// (kernels/extended_law.hpp vector_bond_force: the former Eigen form's bits.)
 inline Vec3 bond_force_state(const Vec6& a, const Vec6& b, double ks, double omega, double m, int dimension,
                              const Vec3& xi, const Vec3& Y, double r) {
-  const double xi2 = dot(xi, xi), c = dot(Y, Y) / xi2;
-  const Vec6 h = shape_state(xi, dimension);
-  const double s = a.dot(h) + 2.0 * ks * (r - b.dot(h));
-  return (omega * s * strain_gradient_factor(c, m, xi2)) * Y;
+  const double x[3] = {xi.x, xi.y, xi.z}, y[3] = {Y.x, Y.y, Y.z};
+  double T[3];
+  kernels::vector_bond_force(a.data(), b.data(), ks, omega, m, dimension, x, y, r, T);
+  return {T[0], T[1], T[2]};
 }
 
 // The `hencky` strain measure (not in the thesis; departure documented in the model page).
