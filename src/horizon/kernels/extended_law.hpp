@@ -282,6 +282,20 @@ struct StabilisationBond {
   bool mid;
 };
 
+// A bond's stabilisation residual r = eps - p : E and its spring coef (the midpoint option:
+// r against the mean of both ends' strains, coef the mean of their k_s), shared by the pair
+// and vector forms (B: StabilisationBond or VectorStabilisationBond).
+template <class B>
+HORIZON_HD inline double stabilisation_residual(const B& b, const double* p, const double* E, double ks,
+                                                double& coef) {
+  if (b.mid) {
+    coef = 0.5 * (ks + b.ksj);
+    return b.eps - dot6_mid(p, E, b.Ej);
+  }
+  coef = ks;
+  return b.eps - dot6(p, E);
+}
+
 // The pair form's stabilisation sums of a row with k_s != 0 (ExtendedCorrespondence::
 // pair_law_row): each acting bond's residual r = eps - p . E (midpoint: p . (E + E_j)/2,
 // coef (k_s + k_s,j)/2, else k_s) into rforce[k], Rp = sum (w r coef/k_s) p and
@@ -297,13 +311,8 @@ HORIZON_HD inline void pair_stabilisation_row(uint64_t begin, uint64_t end, Bond
     if (!bond(k, b)) continue;
     double p[6];
     unit_normal_projector(b.n, p);
-    double r, coef = ks;
-    if (b.mid) {
-      r = b.eps - dot6_mid(p, E, b.Ej);
-      coef = 0.5 * (ks + b.ksj);
-    } else {
-      r = b.eps - dot6(p, E);
-    }
+    double coef;
+    const double r = stabilisation_residual(b, p, E, ks, coef);
     rforce[k] = r;
     const double wr = b.w * r, f = wr * (coef * inv_ks);
     for (int q = 0; q < 6; ++q) Rp[q] += f * p[q];
@@ -394,13 +403,8 @@ HORIZON_HD inline void vector_stabilisation_row(uint64_t begin, uint64_t end, Bo
     if (!bond(k, b)) continue;
     double p[6];
     normal_projector_of(b.xi, p);
-    double r0, coef = ks;
-    if (b.mid) {
-      r0 = b.eps - dot6_mid(p, E, b.Ej);
-      coef = 0.5 * (ks + b.ksj);
-    } else {
-      r0 = b.eps - dot6(p, E);
-    }
+    double coef;
+    const double r0 = stabilisation_residual(b, p, E, ks, coef);
     double rp = 0;
     if (capped) {
       const double rc = rp_committed[k];

@@ -135,6 +135,19 @@ struct LawConstants {
   double yield_stress = 0, hardening = 0;  // j2
 };
 
+// The end of a law row once the law ran at F: the von Mises stress of sigma, the energy,
+// the record {P K^-1 - G F, G} (A = 0 where the law refused F: the stabilisation stays).
+// Two calls, not one with `r.ok ? r.P : nullptr`: a pointer chosen at run time would put
+// r in a device thread's local memory.
+HORIZON_HD inline void law_row_finish(const LawStress& r, const double* Kinv, double G, AffineRow& out, double* rec) {
+  out.von_mises = von_mises(r.sigma);
+  out.W = r.ok ? r.W : 0.0;
+  if (r.ok)
+    affine_record_of_stress(r.P, Kinv, out.F, G, rec);
+  else
+    affine_record(nullptr, out.F, G, rec);
+}
+
 // Row i from its sums (K then N, GradientSums) to its record, as linear_elastic_row, for
 // the law of `c`: gradient_finish, the law at F from the committed history (J2; the others
 // ignore it, trial = committed), the von Mises stress of sigma, the record {P K^-1 - G F,
@@ -157,14 +170,7 @@ HORIZON_HD inline AffineRow law_row(const double* sums, int d, double tolerance,
     neo_hookean_stress(c.mu, c.kappa, out.F, r);
   else
     j2_stress(c.mu, c.kappa, c.yield_stress, c.hardening, committed, out.F, trial, work, r);
-  out.von_mises = von_mises(r.sigma);
-  out.W = r.ok ? r.W : 0.0;
-  // Two calls, not one with `r.ok ? r.P : nullptr`: a pointer chosen at run time would put
-  // r in a device thread's local memory.
-  if (r.ok)
-    affine_record_of_stress(r.P, Kinv, out.F, G, rec);
-  else
-    affine_record(nullptr, out.F, G, rec);
+  law_row_finish(r, Kinv, G, out, rec);
   return out;
 }
 

@@ -154,12 +154,7 @@ HORIZON_HD inline AffineRow law_point_row(const double* sums, int d, double tole
   }
   LawStress r;
   law_point(c, d, plane_stress, 0.0, committed, out.F, lambda3, trial, work, r);
-  out.von_mises = von_mises(r.sigma);
-  out.W = r.ok ? r.W : 0.0;
-  if (r.ok)  // two calls, not a pointer chosen at run time (law_row)
-    affine_record_of_stress(r.P, Kinv, out.F, G, rec);
-  else
-    affine_record(nullptr, out.F, G, rec);
+  law_row_finish(r, Kinv, G, out, rec);
   return out;
 }
 
