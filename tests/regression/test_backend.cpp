@@ -521,6 +521,25 @@ output: {{frames: 3, history_every: 7}}
   expect_same_on_threads(plate, "ves_plane", "viscoelastic plate, plane strain");
 }
 
+// microplastic (kernels/flat_ordinary.hpp micro_flat_row: the AVX-512 lanes' micro_body):
+// the striker-on-bar impact, which yields (the plastic stretch of the striker's bonds) and
+// breaks bonds, then with prescribed conditions and loads that vary, then with breaks:
+// after_force and the family's short-range contact.
+const std::string kMicro = "{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.0005, "
+                           "damage: {critical_stretch: 0.002}}";
+
+TEST(Backend, MicroplasticFlatGivesTheCpuBits) {
+  if (!lanes::wide()) GTEST_SKIP() << "the CPU's ordinary rows sum in bond order here (no AVX-512)";
+  const Output cpu = run(impact_deck(kMicro), "micro_impact", "cpu", 1, 1);
+  EXPECT_GT(cpu.summary["energy"]["dissipated"].get<double>(), 0);  // it yields and breaks
+  EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+  expect_same_on_threads(impact_deck(kMicro), "micro_impact", "microplastic impact");
+  expect_same_on_threads(impact_deck(kMicro, kOrdinaryLoads), "micro_loads",
+                         "microplastic impact, prescribed conditions and loads that vary");
+  expect_same_on_threads(impact_deck(after_force_with_contact(kMicro), "contact: {short_range: {max_distance: 1.35}}\n"),
+                         "micro_after", "microplastic impact, breaks: after_force, short-range contact");
+}
+
 // A checkpoint written by a flat run is the CPU run's (the same bytes), and a restart from
 // it with backend flat ends where the uninterrupted CPU run ends.
 void expect_checkpoint_and_restart(const std::string& deck, const std::string& name, double coarsen) {
@@ -720,8 +739,8 @@ void expect_refused(const std::string& deck, const std::string& why) {
 }
 
 TEST(Backend, FlatRefusesWhatItDoesNotCover) {
-  expect_refused(impact_deck("{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.001}"),
-                 "model microplastic (materials.steel.model), which has no flat rows");
+  expect_refused(impact_deck("{model: pals, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3}"),
+                 "model pals (materials.steel.model), which has no flat rows");
   // The ordinary models' rows take one material.
   std::string two = impact_deck(kEps);
   two.replace(two.find("  steel: "), 9, "  soft: " + kLps + "\n  steel: ");
@@ -748,7 +767,7 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
   // solver.backend in the deck: the refusal names its line and column.
   const fs::path dir = scratch("deck_key");
   const fs::path file = dir / "keyed.yaml";
-  const std::string after = "{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.001}";
+  const std::string after = "{model: pals, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3}";
   std::ofstream(file) << impact_deck(after, "", ", backend: flat");
   RunOptions o;
   o.quiet = true;
@@ -761,7 +780,7 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
     m = e.what();
   }
   EXPECT_NE(m.find("keyed.yaml:18:"), std::string::npos) << m;
-  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has model microplastic (materials.steel.model)"),
+  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has model pals (materials.steel.model)"),
             std::string::npos)
       << m;
   // A name that is none of the three: the deck's error, with the choices.

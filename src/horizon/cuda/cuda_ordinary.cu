@@ -65,6 +65,7 @@ const kernels::FlatOrdinary* upload_ordinary(const kernels::FlatOrdinary& h, uin
   d.dissipated_density = up(h.dissipated_density, n, o), d.theta_strain = up(h.theta_strain, n, o);
   for (int b = 0; b < kernels::kFlatBranches; ++b)
     d.back[b] = up(h.back[b], nb, o), d.theta_back[b] = up(h.theta_back[b], n, o);
+  d.sbar = up(h.sbar, nb, o);
   return up(&d, 1, o);
 }
 
@@ -77,6 +78,7 @@ void download_ordinary(const kernels::FlatOrdinary& h, const kernels::FlatOrdina
   down(h.flowed, d.flowed, n), down(h.yielded, d.yielded, n);
   down(h.dissipated_density, d.dissipated_density, n), down(h.theta_strain, d.theta_strain, n);
   for (int b = 0; b < kernels::kFlatBranches; ++b) down(h.back[b], d.back[b], nb), down(h.theta_back[b], d.theta_back[b], n);
+  down(h.sbar, d.sbar, nb);
 }
 
 void ordinary_pass(const kernels::FlatSystem& d, unsigned grid, int block) {

@@ -1,5 +1,5 @@
 #pragma once
-// The ordinary history models (elastic_plastic, viscoelastic) over flat arrays
+// The ordinary history models (elastic_plastic, viscoelastic, microplastic) over flat arrays
 // (kernels/flat_system.hpp FlatSystem::ordinary): the scalar general pass
 // (solver/forces_ordinary.cpp) as row functions, one thread a particle, that the flat
 // backend runs on the host's threads and the CUDA backend on the device.
@@ -7,7 +7,8 @@
 // A pass is three rows (flat_ordinary_forces): y = X + u with this pass's s0 (pack_row);
 // ordinary_row: the breaking sweep of row i (lanes::break_row: |Y|, breaking, the smallest
 // stretch, the dilatation sum), then the model's row (ElasticPlastic::force_row,
-// Viscoelastic::force_row: the force scalars q = t/|Y| and the ledger of the step), then
+// Viscoelastic::force_row, Microplastic::force_row: the force scalars q = t/|Y| and the
+// ledger of the step), then
 // the model's commit of the row (the explicit step commits after every pass: the history
 // is written in place, ord6's LedgerRows::in_place); ordinary_sum_row: f_i = sum_j V_j
 // (q_ij + q_ji) Y and the family contact (lanes::sum_row). Every sum is the AVX-512 lanes'
@@ -29,6 +30,7 @@
 #include "horizon/core/portable.hpp"
 #include "horizon/kernels/flat_system.hpp"
 #include "horizon/kernels/lanes.hpp"
+#include "horizon/kernels/microplastic.hpp"
 #include "horizon/kernels/ordinary.hpp"
 #include "horizon/kernels/unified.hpp"
 
@@ -37,7 +39,7 @@ namespace horizon::kernels {
 constexpr int kFlatBranches = 3;  // viscoelastic's Maxwell branches at most (kMaxViscousBranches)
 
 struct FlatOrdinary {
-  int model = 0;  // 1: elastic_plastic; 2: viscoelastic
+  int model = 0;  // 1: elastic_plastic; 2: viscoelastic; 3: microplastic
   int dim = 3;
   bool contact = false;  // the family's short-range contact (a kind's contact distance)
   // Per kind: omega and V_j (System::model.kind_rows' y and w).
@@ -82,6 +84,10 @@ struct FlatOrdinary {
   double bulk_elastic = 0, dilatation_shear = 0, lambda_inf = 1;
   double branch_lambda[kFlatBranches] = {}, decay[kFlatBranches] = {}, from_old[kFlatBranches] = {},
          from_new[kFlatBranches] = {};
+  // microplastic (material/models/microplastic.cpp): per bond the plastic stretch sbar
+  // (written in place); the micromodulus c and the yield stretch s_Y.
+  double* sbar = nullptr;
+  double micro_c = 0, yield_stretch = 0;
 };
 
 // The breaking sweep of row i (lanes::break_row): |Y| of every bond (into this pass's copy),
@@ -298,6 +304,54 @@ HORIZON_HD inline void ves_flat_row(const FlatSystem& s, const FlatOrdinary& o, 
   }
 }
 
+// microplastic's row (Microplastic::force_row with ordinary_lanes_body.inc micro_body,
+// kernels/microplastic.hpp): each bond's return map (sbar written in place where the bond
+// acts), t = omega (c/2)(s - sbar), W_i, the step's work with the rebuilt t_n, e_n, the
+// ledger's bookings, then the commit (Microplastic::commit: the ledger's loss).
+HORIZON_HD inline void micro_flat_row(const FlatSystem& s, const FlatOrdinary& o, uint64_t i) {
+  double W[kLanes] = {}, work[kLanes] = {};
+  double booked = 0;
+  bool inelastic = false;
+  const LedgerBonds ledger{nullptr, o.booked, o.booked, o.pending_set, o.pending_amount};
+  const int cur = *o.current;
+  const double* r_now = o.r[1 - cur];
+  const double* r_last = o.r[cur];
+  const double* q_last = o.q[cur];
+  double* q_now = o.q[1 - cur];
+  const double c = o.micro_c, yield = o.yield_stretch;
+  for_each_lane(s.offset[i], s.offset[i + 1], [&](uint64_t k, int l) {
+    const uint32_t kd = s.kind[k];
+    const Kind& kc = s.kinds[kd];
+    const double L = kc.length, vj = o.vj[kd];
+    const double r = r_now[k], e = r - L;
+    const uint8_t live = s.intact[k];
+    double t = 0.0;
+    if (live) {
+      const double stretch = e / L, sbar_old = o.sbar[k];
+      const double sbar = microplastic_return(stretch, sbar_old, yield);
+      o.sbar[k] = sbar;
+      if (sbar != sbar_old) inelastic = true;
+      const double plastic_free = stretch - sbar;
+      t = o.omega[kd] * 0.5 * c * plastic_free;  // microplastic_force_scalar
+      W[l] += 0.5 * t * plastic_free * L * vj;    // microplastic_bond_energy
+    }
+    const uint8_t was = o.booked[k];
+    // t_n rebuilt: q_n |Y_n|, or for a bond broken since the commit, the t_n the sweep left in q.
+    const double qo = q_last[k], ro = r_last[k];
+    const double of = bond_booked_now(live, was) ? qo : qo * ro;
+    work[l] += 0.5 * (of + t) * (e - (ro - L)) * vj;  // trapezoid_work
+    if (!live && of != 0.0) inelastic = true;         // it acted at the start of the step
+    if (bond_booked_now(live, was) || o.pending_set[k])
+      if (ledger_book_bond(ledger, k, live, was, qo, r, e, vj, booked)) inelastic = true;
+    q_now[k] = live && r > 0 ? t / r : 0.0;
+  });
+  const double Wi = lane_total(W);
+  const double loss = inelastic ? inelastic_loss(lane_total(work), Wi - o.stored[i], booked) : 0.0;
+  o.stored[i] = Wi;
+  s.energy[i] = Wi;
+  if (loss != 0) s.dissipated[i] += loss * s.volume[i];
+}
+
 // Pass 1 of row i: the breaking sweep, then the model's row and its commit.
 template <bool kAfter>
 HORIZON_HD inline void ordinary_row_of(const FlatSystem& s, uint64_t i) {
@@ -305,8 +359,10 @@ HORIZON_HD inline void ordinary_row_of(const FlatSystem& s, uint64_t i) {
   const double dilatation = ordinary_break_row<kAfter>(s, o, i);
   if (o.model == 1)
     ep_flat_row(s, o, i, dilatation);
-  else
+  else if (o.model == 2)
     ves_flat_row(s, o, i, dilatation);
+  else
+    micro_flat_row(s, o, i);
 }
 
 // Pass 2 of row i (lanes::sum_row): f_i = sum_j V_j (q_ij + q_ji) Y over the acting bonds,

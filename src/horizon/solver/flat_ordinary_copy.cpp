@@ -25,10 +25,12 @@ bool flat_ordinary_model(const System& s) { return state_of(s).kind != OrdinaryM
 std::string flat_ordinary_unsupported(const System& s) {
   const OrdinaryModelState o = state_of(s);
   if (o.kind == OrdinaryModelState::none) return "";
-  const char* name = o.kind == OrdinaryModelState::elastic_plastic ? "elastic_plastic" : "viscoelastic";
+  const char* name = o.kind == OrdinaryModelState::elastic_plastic ? "elastic_plastic"
+                     : o.kind == OrdinaryModelState::viscoelastic  ? "viscoelastic"
+                                                                   : "microplastic";
   if (s.models.size() != 1)
-    return std::string("model ") + name + " with other materials (the flat rows take one material of elastic_plastic "
-           "or viscoelastic)";
+    return std::string("model ") + name + " with other materials (the flat rows take one material of elastic_plastic, "
+           "viscoelastic or microplastic)";
   if (s.bonds.length_per_bond) return std::string("model ") + name + " on bonds without kinds (an irregular cloud)";
   return "";
 }
@@ -49,7 +51,7 @@ std::shared_ptr<FlatOrdinaryStorage> flat_ordinary_copy(const System& s, double 
   const std::size_t nb = B.size();
   auto c = std::make_shared<FlatOrdinaryStorage>();
   kernels::FlatOrdinary& v = c->view;
-  v.model = o.kind == OrdinaryModelState::elastic_plastic ? 1 : 2;
+  v.model = static_cast<int>(o.kind);  // (1, 2, 3: FlatOrdinary::model)
   v.dim = o.dim;
   v.contact = s.contact.acts_on_family();
   v.dev_factor = lps_deviatoric_factor(o.dim);
@@ -69,6 +71,9 @@ std::shared_ptr<FlatOrdinaryStorage> flat_ordinary_copy(const System& s, double 
     c->ep.assign(o.ep->committed(), o.ep->committed() + o.ep->size());
     c->eps_p = *o.eps_p, c->lambda = *o.lambda, c->theta = *o.theta, c->shear_factor = *o.shear_factor;
     c->flowed = *o.flowed, c->yielded = *o.yielded;
+  } else if (o.kind == OrdinaryModelState::microplastic) {
+    v.micro_c = o.micro_c, v.yield_stretch = o.yield_stretch;
+    c->sbar.assign(o.sbar->committed(), o.sbar->committed() + o.sbar->size());
   } else {
     v.bulk_elastic = o.bulk_elastic, v.dilatation_shear = o.dilatation_shear, v.lambda_inf = o.lambda_inf;
     v.branches = o.branches;
@@ -96,6 +101,7 @@ void FlatOrdinaryStorage::point() {
   v.shear_factor = p(shear_factor), v.flowed = p(flowed), v.yielded = p(yielded);
   v.dissipated_density = p(dissipated_density), v.theta_strain = p(theta_strain);
   for (int b = 0; b < kernels::kFlatBranches; ++b) v.back[b] = p(back[b]), v.theta_back[b] = p(theta_back[b]);
+  v.sbar = p(sbar);
 }
 
 void flat_ordinary_write_back(const FlatOrdinaryStorage& c, System& s) {
@@ -121,6 +127,8 @@ void flat_ordinary_write_back(const FlatOrdinaryStorage& c, System& s) {
     *o.eps_p = c.eps_p, *o.eps_p_trial = c.eps_p, *o.lambda = c.lambda, *o.lambda_trial = c.lambda;
     *o.theta = c.theta, *o.flowed = c.flowed, *o.yielded = c.yielded;
     *o.yield_flags_stale = false;
+  } else if (o.kind == OrdinaryModelState::microplastic) {
+    std::copy(c.sbar.begin(), c.sbar.end(), o.sbar->committed());
   } else {
     for (int b = 0; b < o.branches; ++b) {
       std::copy(c.back[b].begin(), c.back[b].end(), o.back[b]->committed());

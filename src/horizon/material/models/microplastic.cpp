@@ -5,6 +5,7 @@
 
 #include "horizon/kernels/microplastic.hpp"
 #include "horizon/material/models/history_ledger.hpp"
+#include "horizon/material/models/ordinary_flat.hpp"
 #include "horizon/material/models/ordinary_lanes.hpp"
 #include "horizon/material/models/ordinary_rows.hpp"
 #include "horizon/state/system.hpp"
@@ -195,6 +196,14 @@ class Microplastic final : public Model {
     sbar_.checkpoint(a, "sbar", "sbar_trial", ledger_.fresh);
     ledger_.checkpoint(a);
   }
+
+  // The flat backend's view of the state (material/models/ordinary_flat.hpp).
+  void flat_state(OrdinaryModelState& o) {
+    o.kind = OrdinaryModelState::microplastic;
+    o.dim = 3, o.ledger = &ledger_;
+    o.micro_c = c_, o.yield_stretch = yield_, o.sbar = &sbar_;
+  }
+
  private:
   void size_bonds(const Bonds& B) {
     if (sbar_.size() == B.size()) return;
@@ -210,6 +219,12 @@ class Microplastic final : public Model {
 };
 
 }  // namespace
+
+bool microplastic_state(Model& m, OrdinaryModelState& out) {
+  auto* p = dynamic_cast<Microplastic*>(&m);
+  if (p) p->flat_state(out);
+  return p != nullptr;
+}
 
 ModelEntry microplastic_model() {
   return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Microplastic>()); }};

@@ -1,5 +1,5 @@
 #pragma once
-// The state of an ordinary history model (elastic_plastic, viscoelastic) as the flat
+// The state of an ordinary history model (elastic_plastic, viscoelastic, microplastic) as the flat
 // backend copies it (solver/flat_ordinary_copy.hpp, kernels/flat_ordinary.hpp): the
 // model's constants and pointers to its own arrays, which the copy reads and the
 // write-back sets as the model's commit after a pass of its lanes leaves them.
@@ -14,7 +14,7 @@ namespace horizon {
 constexpr int kOrdinaryFlatBranches = 3;  // viscoelastic's kMaxViscousBranches
 
 struct OrdinaryModelState {
-  enum Kind { none = 0, elastic_plastic = 1, viscoelastic = 2 };
+  enum Kind { none = 0, elastic_plastic = 1, viscoelastic = 2, microplastic = 3 };
   Kind kind = none;
   int dim = 3;
   HistoryLedger* ledger = nullptr;
@@ -43,15 +43,19 @@ struct OrdinaryModelState {
   *theta_strain_trial = nullptr, *dissipated = nullptr;
   std::vector<double>*theta_back[kOrdinaryFlatBranches] = {}, *theta_back_trial[kOrdinaryFlatBranches] = {};
   BondHistory<double>* back[kOrdinaryFlatBranches] = {};
+  // microplastic: the micromodulus c, the yield stretch; per bond the plastic stretch.
+  double micro_c = 0, yield_stretch = 0;
+  BondHistory<double>* sbar = nullptr;
 };
 
 // The model's state when it is one of them (material/models/elastic_plastic.cpp,
-// viscoelastic.cpp); false otherwise.
+// viscoelastic.cpp, microplastic.cpp); false otherwise.
 bool elastic_plastic_state(Model& m, OrdinaryModelState& out);
 bool viscoelastic_state(Model& m, OrdinaryModelState& out);
+bool microplastic_state(Model& m, OrdinaryModelState& out);
 inline OrdinaryModelState ordinary_model_state(Model& m) {
   OrdinaryModelState o;
-  if (!elastic_plastic_state(m, o)) viscoelastic_state(m, o);
+  if (!elastic_plastic_state(m, o) && !viscoelastic_state(m, o)) microplastic_state(m, o);
   return o;
 }
 
