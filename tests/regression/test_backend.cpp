@@ -674,15 +674,15 @@ TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
   ASSERT_NE(bar.find(out), std::string::npos);
   bar.replace(bar.find(out), out.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 50}}");
   expect_checkpoint_and_restart(bar, "ck_tupek", 1);
-  // The ordinary models: the checkpoint holds their history (e^dp, the back extensions, the
+  // The ordinary models: the checkpoint holds their history (e^dp, the back extensions, sbar, the
   // ledger's flags and stored energy; the committed t and e rebuilt from |Y| and q). The
   // restart's first step is the CPU's (its ledger in arrays), then the flat rows.
   if (!lanes::wide()) return;  // (the CPU's ordinary rows sum in bond order here)
-  for (const std::string& material : {kEps, kVes}) {
-    std::string deck = material == kEps ? impact_deck(material, kOrdinaryLoads) : ordinary_impact_deck(material, kOrdinaryLoads);
+  for (const std::string& material : {kEps, kVes, kMicro}) {
+    std::string deck = material == kVes ? ordinary_impact_deck(material, kOrdinaryLoads) : impact_deck(material, kOrdinaryLoads);
     const std::string o = "output: {frames: 3, history_every: 7}";
     deck.replace(deck.find(o), o.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 20}}");
-    expect_checkpoint_and_restart(deck, material == kEps ? "ck_eps" : "ck_ves", 1);
+    expect_checkpoint_and_restart(deck, material == kEps ? "ck_eps" : material == kVes ? "ck_ves" : "ck_micro", 1);
   }
 }
 
