@@ -42,11 +42,12 @@ struct Lattice {
   std::vector<horizon::Vec3> y_old;
   std::vector<uint8_t> singular;
   std::vector<kernels::J2History> j2_committed, j2_trial;
-  // elastic_plastic or viscoelastic (make_ordinary_lattice; ord.model 0 otherwise): the
+  // elastic_plastic, viscoelastic or microplastic (make_ordinary_lattice, make_micro_lattice;
+  // ord.model 0 otherwise): the
   // arrays kernels::FlatOrdinary points to (view() points ord into them).
   kernels::FlatOrdinary ord;
   std::vector<double> o_omega, o_vj, o_r[2], o_q[2], o_pending_amount, o_stored, o_theta, o_ep, o_eps_p, o_lambda,
-      o_shear_factor, o_dissipated, o_back[kernels::kFlatBranches];
+      o_shear_factor, o_dissipated, o_back[kernels::kFlatBranches], o_sbar;
   std::vector<uint64_t> o_rev;
   std::vector<uint8_t> o_booked, o_pending_set, o_flowed, o_yielded, o_current{0};
   uint64_t n = 0;
@@ -94,6 +95,7 @@ struct Lattice {
       ord.eps_p = p(o_eps_p), ord.lambda = p(o_lambda), ord.shear_factor = p(o_shear_factor);
       ord.flowed = p(o_flowed), ord.yielded = p(o_yielded), ord.dissipated_density = p(o_dissipated);
       for (int b = 0; b < kernels::kFlatBranches; ++b) ord.back[b] = p(o_back[b]);
+      ord.sbar = p(o_sbar);
       s.ordinary = &ord;
     }
     return s;
@@ -290,6 +292,21 @@ inline Lattice make_ordinary_lattice(int nx, int ny, int nz, bool plastic, doubl
     }
     L.o_dissipated.assign(n, 0.0);
   }
+  return L;
+}
+
+// The same lattice as microplastic (kernels/flat_ordinary.hpp micro_flat_row; material/models/
+// microplastic.hpp): PMB's c = 18 K/(pi delta^4) (E = 200 GPa, nu = 1/4), yield stretch
+// 0.0005, omega = 1. At rest as after the initial pass.
+inline Lattice make_micro_lattice(int nx, int ny, int nz, double s0 = 0.004, double v0 = 60) {
+  Lattice L = make_ordinary_lattice(nx, ny, nz, false, s0, v0);
+  const double delta = 3e-3, E = 200e9, nu = 0.25, pi = 3.14159265358979323846;
+  const double K = E / (3 * (1 - 2 * nu));
+  kernels::FlatOrdinary& o = L.ord;
+  o.model = 3, o.branches = 0;
+  o.micro_c = 18 * K / (pi * std::pow(delta, 4)), o.yield_stretch = 0.0005;
+  for (int b = 0; b < kernels::kFlatBranches; ++b) L.o_back[b].clear();
+  L.o_sbar.assign(L.nbr.size(), 0.0);
   return L;
 }
 

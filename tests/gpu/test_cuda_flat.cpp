@@ -1,7 +1,7 @@
 // The CUDA backend (src/horizon/cuda/) against the host's portable rows (label gpu;
 // bench/gpu/device_check.sh runs it on the device machine): a striker breaking into a bar
 // of a cubic lattice, PMB, LPS, Tupek's nonlinear solid (its stable step too),
-// elastic_plastic and viscoelastic (kernels/flat_ordinary.hpp) and the correspondence
+// elastic_plastic, viscoelastic and microplastic (kernels/flat_ordinary.hpp) and the correspondence
 // model (J2, stabilised: lattice.hpp make_affine_lattice), without
 // and with loads (lattice.hpp add_loads: a clamped
 // end, a held velocity, a body force, and their work), 200 steps on the device (in two
@@ -34,8 +34,9 @@ bool compare(const std::string& model, bool loads) {
   const std::string label = model + (loads ? " with loads" : "");
   const char* name = label.c_str();
   const bool tupek = model.rfind("tupek", 0) == 0, affine = model == "correspondence";
-  const bool ordinary = model == "elastic_plastic" || model == "viscoelastic";
+  const bool ordinary = model == "elastic_plastic" || model == "viscoelastic" || model == "microplastic";
   Lattice host = tupek       ? horizon::test::make_tupek_lattice(24, 10, 10, model == "tupek_m05" ? 0.5 : 0.0)
+                 : model == "microplastic" ? horizon::test::make_micro_lattice(24, 10, 10)
                  : ordinary ? horizon::test::make_ordinary_lattice(24, 10, 10, model == "elastic_plastic")
                  : affine   ? horizon::test::make_affine_lattice(24, 10, 10)
                             : horizon::test::make_lattice(24, 10, 10, model == "lps");
@@ -89,8 +90,8 @@ bool compare(const std::string& model, bool loads) {
     if (!(dh > 0 && rel(dd, dh) <= 1e-9)) std::printf("%s: FAILED: the dissipation differs (or is 0)\n", name), ok = false;
   }
   if (ordinary) {  // the history (e^dp or the back extensions), q and the dissipation (plastic or viscous, and the bonds')
-    const std::vector<double>& hh = model == "elastic_plastic" ? host.o_ep : host.o_back[0];
-    const std::vector<double>& dh_ = model == "elastic_plastic" ? dev.o_ep : dev.o_back[0];
+    const std::vector<double>& hh = model == "elastic_plastic" ? host.o_ep : model == "microplastic" ? host.o_sbar : host.o_back[0];
+    const std::vector<double>& dh_ = model == "elastic_plastic" ? dev.o_ep : model == "microplastic" ? dev.o_sbar : dev.o_back[0];
     const bool same_history = std::memcmp(hh.data(), dh_.data(), hh.size() * sizeof(double)) == 0 &&
                               host.o_current == dev.o_current &&
                               std::memcmp(host.o_q[0].data(), dev.o_q[0].data(), host.o_q[0].size() * sizeof(double)) == 0 &&
@@ -124,7 +125,8 @@ int main() {
   const bool tupek = compare("tupek", false) && compare("tupek_m05", false) && compare("tupek", true);
   // The ordinary history models (kernels/flat_ordinary.hpp), without and with loads.
   const bool ordinary = compare("elastic_plastic", false) && compare("viscoelastic", false) &&
-                        compare("elastic_plastic", true) && compare("viscoelastic", true);
+                        compare("elastic_plastic", true) && compare("viscoelastic", true) &&
+                        compare("microplastic", false) && compare("microplastic", true);
   // The correspondence model (kernels/flat_affine.hpp rows: J2, stabilised), with loads too.
   const bool affine = compare("correspondence", false) && compare("correspondence", true);
   const bool ok = pmb && lps && loaded && tupek && ordinary && affine;
