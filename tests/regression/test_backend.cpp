@@ -540,6 +540,23 @@ TEST(Backend, MicroplasticFlatGivesTheCpuBits) {
                          "micro_after", "microplastic impact, breaks: after_force, short-range contact");
 }
 
+// pals (kernels/flat_ordinary.hpp pals_flat_row: kernels::pals_row in bond order, as the
+// CPU's Pals::force_row; the breaking sweep and the sum in the lanes): the impact that
+// breaks bonds, with loads that vary, with breaks: after_force and short-range contact.
+const std::string kPals = "{model: pals, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
+                          "damage: {critical_stretch: 0.002}}";
+
+TEST(Backend, PalsFlatGivesTheCpuBits) {
+  if (!lanes::wide()) GTEST_SKIP() << "the CPU's ordinary sweeps sum in bond order here (no AVX-512)";
+  const Output cpu = run(impact_deck(kPals), "pals_impact", "cpu", 1, 1);
+  EXPECT_GT(cpu.summary["damage"]["mean"].get<double>(), 0);
+  expect_same_on_threads(impact_deck(kPals), "pals_impact", "pals impact");
+  expect_same_on_threads(impact_deck(kPals, kOrdinaryLoads), "pals_loads",
+                         "pals impact, prescribed conditions and loads that vary");
+  expect_same_on_threads(impact_deck(after_force_with_contact(kPals), "contact: {short_range: {max_distance: 1.35}}\n"),
+                         "pals_after", "pals impact, breaks: after_force, short-range contact");
+}
+
 // A checkpoint written by a flat run is the CPU run's (the same bytes), and a restart from
 // it with backend flat ends where the uninterrupted CPU run ends.
 void expect_checkpoint_and_restart(const std::string& deck, const std::string& name, double coarsen) {
@@ -678,11 +695,11 @@ TEST(Backend, FlatCheckpointAndRestartGiveTheCpuBits) {
   // ledger's flags and stored energy; the committed t and e rebuilt from |Y| and q). The
   // restart's first step is the CPU's (its ledger in arrays), then the flat rows.
   if (!lanes::wide()) return;  // (the CPU's ordinary rows sum in bond order here)
-  for (const std::string& material : {kEps, kVes, kMicro}) {
+  for (const std::string& material : {kEps, kVes, kMicro, kPals}) {
     std::string deck = material == kVes ? ordinary_impact_deck(material, kOrdinaryLoads) : impact_deck(material, kOrdinaryLoads);
     const std::string o = "output: {frames: 3, history_every: 7}";
     deck.replace(deck.find(o), o.size(), "output: {frames: 3, history_every: 7, checkpoint: {every: 20}}");
-    expect_checkpoint_and_restart(deck, material == kEps ? "ck_eps" : material == kVes ? "ck_ves" : "ck_micro", 1);
+    expect_checkpoint_and_restart(deck, material == kEps ? "ck_eps" : material == kVes ? "ck_ves" : material == kMicro ? "ck_micro" : "ck_pals", 1);
   }
 }
 
@@ -739,8 +756,8 @@ void expect_refused(const std::string& deck, const std::string& why) {
 }
 
 TEST(Backend, FlatRefusesWhatItDoesNotCover) {
-  expect_refused(impact_deck("{model: pals, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3}"),
-                 "model pals (materials.steel.model), which has no flat rows");
+  expect_refused(impact_deck("{model: extended_correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3}"),
+                 "model extended_correspondence (materials.steel.model), which has no flat rows");
   // The ordinary models' rows take one material.
   std::string two = impact_deck(kEps);
   two.replace(two.find("  steel: "), 9, "  soft: " + kLps + "\n  steel: ");
@@ -767,7 +784,7 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
   // solver.backend in the deck: the refusal names its line and column.
   const fs::path dir = scratch("deck_key");
   const fs::path file = dir / "keyed.yaml";
-  const std::string after = "{model: pals, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3}";
+  const std::string after = "{model: extended_correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3}";
   std::ofstream(file) << impact_deck(after, "", ", backend: flat");
   RunOptions o;
   o.quiet = true;
@@ -780,7 +797,7 @@ TEST(Backend, DeckKeyIsReadAndPlaced) {
     m = e.what();
   }
   EXPECT_NE(m.find("keyed.yaml:18:"), std::string::npos) << m;
-  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has model pals (materials.steel.model)"),
+  EXPECT_NE(m.find(": solver.backend: flat cannot take this run: it has model extended_correspondence (materials.steel.model)"),
             std::string::npos)
       << m;
   // A name that is none of the three: the deck's error, with the choices.

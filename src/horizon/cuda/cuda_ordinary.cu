@@ -66,6 +66,7 @@ const kernels::FlatOrdinary* upload_ordinary(const kernels::FlatOrdinary& h, uin
   for (int b = 0; b < kernels::kFlatBranches; ++b)
     d.back[b] = up(h.back[b], nb, o), d.theta_back[b] = up(h.theta_back[b], n, o);
   d.sbar = up(h.sbar, nb, o);
+  d.pals_kinds = up(h.pals_kinds, nkinds, o), d.sigma = up(h.sigma, nb, o), d.tau = up(h.tau, nb, o);
   return up(&d, 1, o);
 }
 

@@ -83,7 +83,7 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
     for (const MaterialConfig& m : c.materials) {
       const ModelEntry* e = find_model(m.model);
       if (e && (e->traits.unified || e->traits.name == "nonlinear_solid" || e->traits.name == "elastic_plastic" ||
-                e->traits.name == "viscoelastic" || e->traits.name == "microplastic" ||
+                e->traits.name == "viscoelastic" || e->traits.name == "microplastic" || e->traits.name == "pals" ||
                 e->traits.name == "correspondence"))
         continue;
       why = fmt::format("model {} (materials.{}.model), which has no flat rows", e ? e->traits.name : m.model, m.name);
@@ -103,7 +103,8 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
     std::vector<std::string> flat;
     for (const ModelEntry& e : model_registry())
       if (e.traits.unified || e.traits.name == "nonlinear_solid" || e.traits.name == "elastic_plastic" ||
-          e.traits.name == "viscoelastic" || e.traits.name == "microplastic" || e.traits.name == "correspondence")
+          e.traits.name == "viscoelastic" || e.traits.name == "microplastic" || e.traits.name == "pals" ||
+          e.traits.name == "correspondence")
         flat.push_back(e.traits.name);
     throw Error(fmt::format("{} cannot take this run: it has {}; the flat and cuda backends take explicit runs of "
                             "{} (the adaptive step with nonlinear_solid and correspondence), initial conditions, force densities, prescribed "

@@ -31,6 +31,7 @@
 #include "horizon/kernels/flat_system.hpp"
 #include "horizon/kernels/lanes.hpp"
 #include "horizon/kernels/microplastic.hpp"
+#include "horizon/kernels/pals.hpp"
 #include "horizon/kernels/ordinary.hpp"
 #include "horizon/kernels/unified.hpp"
 
@@ -38,8 +39,13 @@ namespace horizon::kernels {
 
 constexpr int kFlatBranches = 3;  // viscoelastic's Maxwell branches at most (kMaxViscousBranches)
 
+// A kind as kernels::pals_row reads it (the host's BondKind's members of that name).
+struct FlatPalsKind {
+  double length, volume, fraction;
+};
+
 struct FlatOrdinary {
-  int model = 0;  // 1: elastic_plastic; 2: viscoelastic; 3: microplastic
+  int model = 0;  // 1: elastic_plastic; 2: viscoelastic; 3: microplastic; 4: pals
   int dim = 3;
   bool contact = false;  // the family's short-range contact (a kind's contact distance)
   // Per kind: omega and V_j (System::model.kind_rows' y and w).
@@ -88,6 +94,12 @@ struct FlatOrdinary {
   // (written in place); the micromodulus c and the yield stretch s_Y.
   double* sbar = nullptr;
   double micro_c = 0, yield_stretch = 0;
+  // pals (material/models/pals.cpp): per kind {|xi|, V, fraction} (kernels::pals_row's
+  // kind), per bond sigma and tau, kappa (mu above); theta per particle is its output.
+  const FlatPalsKind* pals_kinds = nullptr;
+  const double* sigma = nullptr;
+  const double* tau = nullptr;
+  double kappa = 0;
 };
 
 // The breaking sweep of row i (lanes::break_row): |Y| of every bond (into this pass's copy),
@@ -352,6 +364,18 @@ HORIZON_HD inline void micro_flat_row(const FlatSystem& s, const FlatOrdinary& o
   if (loss != 0) s.dissipated[i] += loss * s.volume[i];
 }
 
+// pals' row (Pals::force_row): kernels::pals_row in bond order on this pass's |Y| (PALS
+// keeps no history and no ledger: the breaking sweep books its broken bonds' energy).
+HORIZON_HD inline void pals_flat_row(const FlatSystem& s, const FlatOrdinary& o, uint64_t i) {
+  PalsRow<FlatPalsKind> a;
+  a.kinds = o.pals_kinds, a.kind = s.kind, a.intact = s.intact, a.r = o.r[1 - *o.current];
+  a.sigma = o.sigma, a.tau = o.tau, a.q = o.q[1 - *o.current];
+  a.kappa = o.kappa, a.mu = o.mu;
+  const PalsSums sums = pals_row(a, s.offset[i], s.offset[i + 1]);
+  o.theta[i] = sums.theta;
+  s.energy[i] = sums.W;
+}
+
 // Pass 1 of row i: the breaking sweep, then the model's row and its commit.
 template <bool kAfter>
 HORIZON_HD inline void ordinary_row_of(const FlatSystem& s, uint64_t i) {
@@ -361,8 +385,10 @@ HORIZON_HD inline void ordinary_row_of(const FlatSystem& s, uint64_t i) {
     ep_flat_row(s, o, i, dilatation);
   else if (o.model == 2)
     ves_flat_row(s, o, i, dilatation);
-  else
+  else if (o.model == 3)
     micro_flat_row(s, o, i);
+  else
+    pals_flat_row(s, o, i);
 }
 
 // Pass 2 of row i (lanes::sum_row): f_i = sum_j V_j (q_ij + q_ji) Y over the acting bonds,

@@ -15,7 +15,7 @@ std::string flat_unsupported(const System& s, const Loads& loads) {
     const std::string why = flat_affine_model(s) ? flat_affine_unsupported(s) : "no";
     if (why == "no")
       return "a model without flat rows (the unified models, nonlinear_solid, elastic_plastic, viscoelastic, "
-             "microplastic and correspondence have them)";
+             "microplastic, pals and correspondence have them)";
     if (!why.empty()) return why;
   }
   if (std::string why = flat_ordinary_unsupported(s); !why.empty()) return why;
@@ -157,7 +157,7 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
     c.theta.resize(c.n, 0);
     c.dim = N->dimension;
   }
-  c.ordinary = flat_ordinary_copy(s, dt);  // (null but for elastic_plastic, viscoelastic, microplastic)
+  c.ordinary = flat_ordinary_copy(s, dt);  // (null but for elastic_plastic, viscoelastic, microplastic, pals)
   if (flat_affine_model(s)) c.affine = flat_affine_copy(s);
   return c;
 }

@@ -27,10 +27,11 @@ std::string flat_ordinary_unsupported(const System& s) {
   if (o.kind == OrdinaryModelState::none) return "";
   const char* name = o.kind == OrdinaryModelState::elastic_plastic ? "elastic_plastic"
                      : o.kind == OrdinaryModelState::viscoelastic  ? "viscoelastic"
-                                                                   : "microplastic";
+                     : o.kind == OrdinaryModelState::microplastic  ? "microplastic"
+                                                                   : "pals";
   if (s.models.size() != 1)
     return std::string("model ") + name + " with other materials (the flat rows take one material of elastic_plastic, "
-           "viscoelastic or microplastic)";
+           "viscoelastic, microplastic or pals)";
   if (s.bonds.length_per_bond) return std::string("model ") + name + " on bonds without kinds (an irregular cloud)";
   return "";
 }
@@ -38,6 +39,9 @@ std::string flat_ordinary_unsupported(const System& s) {
 bool flat_ordinary_ready(const System& s) {
   const OrdinaryModelState o = state_of(s);
   if (o.kind == OrdinaryModelState::none) return true;
+  if (!o.ledger)  // pals: no ledger; the last pass a pass of the lanes (its |Y| and q kept)
+    return s.model.plain_scalar_pass == s.model.passes && s.model.deformed_length.size() == s.bonds.size() &&
+           s.model.force_scalar.size() == s.bonds.size();
   const HistoryLedger& L = *o.ledger;
   return !L.fresh && !L.in_place && !L.zero_committed && L.committed_plain && L.committed_pass == s.model.passes &&
          s.model.deformed_length.size() == s.bonds.size() && s.model.force_scalar.size() == s.bonds.size();
@@ -61,10 +65,12 @@ std::shared_ptr<FlatOrdinaryStorage> flat_ordinary_copy(const System& s, double 
   c->r[0].resize(nb, 1.0), c->q[0].resize(nb, 0.0);
   c->r[1].assign(nb, 0.0), c->q[1].assign(nb, 0.0);
   c->rev = reverse_bonds(B, false);
-  const HistoryLedger& L = *o.ledger;
-  c->booked.assign(L.booked.committed(), L.booked.committed() + L.booked.size());
-  c->pending_set = L.pending_set, c->pending_amount = L.pending_amount;
-  c->stored = L.stored;
+  if (o.ledger) {
+    const HistoryLedger& L = *o.ledger;
+    c->booked.assign(L.booked.committed(), L.booked.committed() + L.booked.size());
+    c->pending_set = L.pending_set, c->pending_amount = L.pending_amount;
+    c->stored = L.stored;
+  }
   if (o.kind == OrdinaryModelState::elastic_plastic) {
     v.bulk = o.bulk, v.yield = o.yield, v.hardening = o.hardening, v.yield_volume = o.yield_volume;
     v.plastic = o.plastic;
@@ -74,6 +80,10 @@ std::shared_ptr<FlatOrdinaryStorage> flat_ordinary_copy(const System& s, double 
   } else if (o.kind == OrdinaryModelState::microplastic) {
     v.micro_c = o.micro_c, v.yield_stretch = o.yield_stretch;
     c->sbar.assign(o.sbar->committed(), o.sbar->committed() + o.sbar->size());
+  } else if (o.kind == OrdinaryModelState::pals) {
+    v.kappa = o.kappa;
+    for (const BondKind& bk : B.kinds) c->pals_kinds.push_back({bk.length, bk.volume, bk.fraction});
+    c->sigma = *o.sigma, c->tau = *o.pals_tau, c->theta = *o.theta;
   } else {
     v.bulk_elastic = o.bulk_elastic, v.dilatation_shear = o.dilatation_shear, v.lambda_inf = o.lambda_inf;
     v.branches = o.branches;
@@ -102,6 +112,7 @@ void FlatOrdinaryStorage::point() {
   v.dissipated_density = p(dissipated_density), v.theta_strain = p(theta_strain);
   for (int b = 0; b < kernels::kFlatBranches; ++b) v.back[b] = p(back[b]), v.theta_back[b] = p(theta_back[b]);
   v.sbar = p(sbar);
+  v.pals_kinds = p(pals_kinds), v.sigma = p(sigma), v.tau = p(tau);
 }
 
 void flat_ordinary_write_back(const FlatOrdinaryStorage& c, System& s) {
@@ -110,6 +121,11 @@ void flat_ordinary_write_back(const FlatOrdinaryStorage& c, System& s) {
   auto& M = s.model;
   M.deformed_length = c.r[c.current[0]];  // the last pass's copy
   M.force_scalar = c.q[c.current[0]];
+  if (o.kind == OrdinaryModelState::pals) {  // no ledger, no history: theta, the pass's marks
+    *o.theta = c.theta;
+    M.plain_scalar_pass = M.passes;
+    return;
+  }
   // The ledger as HistoryLedger::commit_bonds leaves it after a pass of the lanes without a
   // thermal strain, written in place: t_n and e_n to be rebuilt from this |Y| and q.
   HistoryLedger& L = *o.ledger;

@@ -1,6 +1,6 @@
 #pragma once
 // The ordinary history models' part of a flat copy (kernels/flat_ordinary.hpp): what the
-// flat and CUDA backends copy of an elastic_plastic, viscoelastic or microplastic run and write back, so
+// flat and CUDA backends copy of an elastic_plastic, viscoelastic, microplastic or pals run and write back, so
 // that the model's state, its energy ledger and the checkpoints are as the CPU backend's
 // steps leave them.
 #include <cstdint>
@@ -18,14 +18,16 @@ namespace horizon {
 struct FlatOrdinaryStorage {
   kernels::FlatOrdinary view;
   std::vector<double> omega, vj, r[2], q[2], pending_amount, stored, theta, ep, eps_p, lambda, shear_factor,
-      dissipated_density, theta_strain, sbar;
+      dissipated_density, theta_strain, sbar, sigma, tau;
+  std::vector<kernels::FlatPalsKind> pals_kinds;
   std::vector<uint64_t> rev;
   std::vector<uint8_t> booked, pending_set, flowed, yielded, current{0};
   std::vector<double> back[kernels::kFlatBranches], theta_back[kernels::kFlatBranches];
   void point();
 };
 
-// Whether the run has an ordinary history model (elastic_plastic, viscoelastic, microplastic).
+// Whether the run has an ordinary model with flat rows (elastic_plastic, viscoelastic,
+// microplastic, pals).
 bool flat_ordinary_model(const System& s);
 // Why the flat rows cannot take this run of an ordinary model, or "": one material, kinds
 // with their lengths.

@@ -1,5 +1,5 @@
 #pragma once
-// The state of an ordinary history model (elastic_plastic, viscoelastic, microplastic) as the flat
+// The state of an ordinary model (elastic_plastic, viscoelastic, microplastic, pals) as the flat
 // backend copies it (solver/flat_ordinary_copy.hpp, kernels/flat_ordinary.hpp): the
 // model's constants and pointers to its own arrays, which the copy reads and the
 // write-back sets as the model's commit after a pass of its lanes leaves them.
@@ -14,7 +14,7 @@ namespace horizon {
 constexpr int kOrdinaryFlatBranches = 3;  // viscoelastic's kMaxViscousBranches
 
 struct OrdinaryModelState {
-  enum Kind { none = 0, elastic_plastic = 1, viscoelastic = 2, microplastic = 3 };
+  enum Kind { none = 0, elastic_plastic = 1, viscoelastic = 2, microplastic = 3, pals = 4 };
   Kind kind = none;
   int dim = 3;
   HistoryLedger* ledger = nullptr;
@@ -46,16 +46,21 @@ struct OrdinaryModelState {
   // microplastic: the micromodulus c, the yield stretch; per bond the plastic stretch.
   double micro_c = 0, yield_stretch = 0;
   BondHistory<double>* sbar = nullptr;
+  // pals: kappa (mu above); per bond sigma and tau (pals_tau); per particle theta (`theta` above). No
+  // ledger (ledger stays null).
+  double kappa = 0;
+  const std::vector<double>*sigma = nullptr, *pals_tau = nullptr;
 };
 
 // The model's state when it is one of them (material/models/elastic_plastic.cpp,
-// viscoelastic.cpp, microplastic.cpp); false otherwise.
+// viscoelastic.cpp, microplastic.cpp, pals.cpp); false otherwise.
 bool elastic_plastic_state(Model& m, OrdinaryModelState& out);
 bool viscoelastic_state(Model& m, OrdinaryModelState& out);
 bool microplastic_state(Model& m, OrdinaryModelState& out);
+bool pals_state(Model& m, OrdinaryModelState& out);
 inline OrdinaryModelState ordinary_model_state(Model& m) {
   OrdinaryModelState o;
-  if (!elastic_plastic_state(m, o) && !viscoelastic_state(m, o)) microplastic_state(m, o);
+  if (!elastic_plastic_state(m, o) && !viscoelastic_state(m, o) && !microplastic_state(m, o)) pals_state(m, o);
   return o;
 }
 

@@ -6,6 +6,7 @@
 
 #include "horizon/core/error.hpp"
 #include "horizon/kernels/pals.hpp"
+#include "horizon/material/models/ordinary_flat.hpp"
 #include "horizon/material/influence.hpp"
 #include "horizon/state/system.hpp"
 
@@ -81,6 +82,11 @@ class Pals final : public Model {
   // The scalar pass's row: force_state's sums in its order on the pass's |Y| (the same
   // bits), q = t/|Y| per bond.
   void force_row(const RowPass& pass, std::size_t i, double dilatation_sum) override;
+  // The flat backend's view of the state (material/models/ordinary_flat.hpp).
+  void flat_state(OrdinaryModelState& o) {
+    o.kind = OrdinaryModelState::pals;
+    o.dim = 3, o.kappa = kappa_, o.mu = mu_, o.sigma = &sigma_, o.pals_tau = &tau_, o.theta = &theta_;
+  }
   void fields(const System& s, std::vector<ModelField>& out) const override {
     (void)s;
     // Horizon's sigma and tau carry no normalisation of omega: 1, Peridigm's value for One.
@@ -220,6 +226,12 @@ void Pals::force_row(const RowPass& pass, std::size_t i, double dilatation_sum) 
 }
 
 }  // namespace
+
+bool pals_state(Model& m, OrdinaryModelState& out) {
+  auto* p = dynamic_cast<Pals*>(&m);
+  if (p) p->flat_state(out);
+  return p != nullptr;
+}
 
 ModelEntry pals_model() {
   return {traits(), [] { return std::unique_ptr<Model>(std::make_unique<Pals>()); }};
