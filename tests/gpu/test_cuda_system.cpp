@@ -1,7 +1,7 @@
 // The CUDA backend against the CPU backend on a deck (label gpu; built with
 // -DHORIZON_CUDA=ON in a whole build, which has the library): a striker breaking into a bar
 // (tests/verification/test_portable_kernels.cpp's deck), PMB, LPS, elastic_plastic,
-// viscoelastic and microplastic (and a bar of the nonlinear solid pulled apart), 200 steps of the
+// viscoelastic, microplastic and pals (and a bar of the nonlinear solid pulled apart), 200 steps of the
 // explicit solver on the host (its fast loops: the CPU backend's step) and of the flat copy
 // on the device (solver/flat_copy.hpp, cuda/cuda_backend.hpp). Final mean damage and
 // kinetic energy within 1e-9 relative (issue 30); the device's rows sum in the fast loops'
@@ -122,7 +122,9 @@ int main() {
                                            "poissons_ratio: 0.3, lambda_1: 0.4, tau_1: 2.0e-7, damage: {critical_stretch: 0.002}}");
   const bool micro = compare("microplastic", "{model: microplastic, density: 7850, youngs_modulus: 200.0e9, "
                                             "yield_stretch: 0.0005, damage: {critical_stretch: 0.002}}");
-  const bool ok = pmb && lps && tupek && eps && ves && micro;
+  const bool pals = compare("pals", "{model: pals, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
+                                    "damage: {critical_stretch: 0.002}}");
+  const bool ok = pmb && lps && tupek && eps && ves && micro && pals;
   std::printf("%s\n", ok ? "PASSED" : "FAILED");
   return ok ? 0 : 1;
 }
