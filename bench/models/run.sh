@@ -35,7 +35,7 @@ model_lines() {
     microplastic) echo "    youngs_modulus: 200.0e9
     yield_stretch: 0.004
     damage: {critical_stretch: 0.01}" ;;
-    lps | correspondence) echo "    youngs_modulus: 200.0e9
+    lps | correspondence | pals) echo "    youngs_modulus: 200.0e9
     poissons_ratio: 0.25
     damage: {critical_stretch: 0.01}" ;;
     elastic_plastic) echo "    youngs_modulus: 200.0e9
