@@ -47,7 +47,8 @@ struct Lattice {
   // arrays kernels::FlatOrdinary points to (view() points ord into them).
   kernels::FlatOrdinary ord;
   std::vector<double> o_omega, o_vj, o_r[2], o_q[2], o_pending_amount, o_stored, o_theta, o_ep, o_eps_p, o_lambda,
-      o_shear_factor, o_dissipated, o_back[kernels::kFlatBranches], o_sbar;
+      o_shear_factor, o_dissipated, o_back[kernels::kFlatBranches], o_sbar, o_sigma, o_tau;
+  std::vector<kernels::FlatPalsKind> o_pals_kinds;
   std::vector<uint64_t> o_rev;
   std::vector<uint8_t> o_booked, o_pending_set, o_flowed, o_yielded, o_current{0};
   uint64_t n = 0;
@@ -95,7 +96,7 @@ struct Lattice {
       ord.eps_p = p(o_eps_p), ord.lambda = p(o_lambda), ord.shear_factor = p(o_shear_factor);
       ord.flowed = p(o_flowed), ord.yielded = p(o_yielded), ord.dissipated_density = p(o_dissipated);
       for (int b = 0; b < kernels::kFlatBranches; ++b) ord.back[b] = p(o_back[b]);
-      ord.sbar = p(o_sbar);
+      ord.sbar = p(o_sbar), ord.sigma = p(o_sigma), ord.tau = p(o_tau), ord.pals_kinds = p(o_pals_kinds);
       s.ordinary = &ord;
     }
     return s;
@@ -307,6 +308,28 @@ inline Lattice make_micro_lattice(int nx, int ny, int nz, double s0 = 0.004, dou
   o.micro_c = 18 * K / (pi * std::pow(delta, 4)), o.yield_stretch = 0.0005;
   for (int b = 0; b < kernels::kFlatBranches; ++b) L.o_back[b].clear();
   L.o_sbar.assign(L.nbr.size(), 0.0);
+  return L;
+}
+
+// The same lattice as PALS (kernels/flat_ordinary.hpp pals_flat_row, kernels/pals.hpp):
+// kappa = K, mu of E = 200 GPa, nu = 1/4; sigma and tau of row i the LPS-like 3/m_i and
+// 7.5/m_i (m_i = sum |xi|^2 V_j: t = kappa theta sigma |xi| + 2 mu tau e^d - ... is then
+// LPS's force state; not PALS's Lagrange multipliers, which the device test does not need:
+// it compares the device with the host on the same arrays). At rest as after the initial pass.
+inline Lattice make_pals_lattice(int nx, int ny, int nz, double s0 = 0.004, double v0 = 60) {
+  Lattice L = make_ordinary_lattice(nx, ny, nz, false, s0, v0);
+  const double E = 200e9, nu = 0.25, V = 1e-9;
+  kernels::FlatOrdinary& o = L.ord;
+  o.model = 4, o.branches = 0;
+  o.kappa = E / (3 * (1 - 2 * nu)), o.mu = E / (2 * (1 + nu));
+  for (int b = 0; b < kernels::kFlatBranches; ++b) L.o_back[b].clear();
+  for (const kernels::Kind& k : L.kinds) L.o_pals_kinds.push_back({k.length, V, 1.0});
+  L.o_sigma.assign(L.nbr.size(), 0.0), L.o_tau.assign(L.nbr.size(), 0.0);
+  for (uint64_t i = 0; i < L.n; ++i) {
+    double m = 0;
+    for (uint64_t k = L.offset[i]; k < L.offset[i + 1]; ++k) m += L.kinds[L.kind[k]].length * L.kinds[L.kind[k]].length * V;
+    for (uint64_t k = L.offset[i]; k < L.offset[i + 1]; ++k) L.o_sigma[k] = 3.0 / m, L.o_tau[k] = 7.5 / m;
+  }
   return L;
 }
 

@@ -1,7 +1,7 @@
 // The CUDA backend (src/horizon/cuda/) against the host's portable rows (label gpu;
 // bench/gpu/device_check.sh runs it on the device machine): a striker breaking into a bar
 // of a cubic lattice, PMB, LPS, Tupek's nonlinear solid (its stable step too),
-// elastic_plastic, viscoelastic and microplastic (kernels/flat_ordinary.hpp) and the correspondence
+// elastic_plastic, viscoelastic, microplastic and pals (kernels/flat_ordinary.hpp) and the correspondence
 // model (J2, stabilised: lattice.hpp make_affine_lattice), without
 // and with loads (lattice.hpp add_loads: a clamped
 // end, a held velocity, a body force, and their work), 200 steps on the device (in two
@@ -34,9 +34,11 @@ bool compare(const std::string& model, bool loads) {
   const std::string label = model + (loads ? " with loads" : "");
   const char* name = label.c_str();
   const bool tupek = model.rfind("tupek", 0) == 0, affine = model == "correspondence";
-  const bool ordinary = model == "elastic_plastic" || model == "viscoelastic" || model == "microplastic";
+  const bool ordinary =
+      model == "elastic_plastic" || model == "viscoelastic" || model == "microplastic" || model == "pals";
   Lattice host = tupek       ? horizon::test::make_tupek_lattice(24, 10, 10, model == "tupek_m05" ? 0.5 : 0.0)
                  : model == "microplastic" ? horizon::test::make_micro_lattice(24, 10, 10)
+                 : model == "pals"         ? horizon::test::make_pals_lattice(24, 10, 10)
                  : ordinary ? horizon::test::make_ordinary_lattice(24, 10, 10, model == "elastic_plastic")
                  : affine   ? horizon::test::make_affine_lattice(24, 10, 10)
                             : horizon::test::make_lattice(24, 10, 10, model == "lps");
@@ -126,7 +128,8 @@ int main() {
   // The ordinary history models (kernels/flat_ordinary.hpp), without and with loads.
   const bool ordinary = compare("elastic_plastic", false) && compare("viscoelastic", false) &&
                         compare("elastic_plastic", true) && compare("viscoelastic", true) &&
-                        compare("microplastic", false) && compare("microplastic", true);
+                        compare("microplastic", false) && compare("microplastic", true) && compare("pals", false) &&
+                        compare("pals", true);
   // The correspondence model (kernels/flat_affine.hpp rows: J2, stabilised), with loads too.
   const bool affine = compare("correspondence", false) && compare("correspondence", true);
   const bool ok = pmb && lps && loaded && tupek && ordinary && affine;
