@@ -479,8 +479,10 @@ std::string after_force_with_contact(std::string material) {
 }
 
 // elastic_plastic at the impact's 40 m/s: it yields (the striker's end) and breaks bonds.
-// (At 100 m/s its dissipated energy turns negative on the CPU as on the flat rows: the
-// bonds broken in tension after flowing release more than the trapezoidal work booked.)
+// (At 100 m/s its dissipated energy turns negative on the CPU as on the flat rows: bonds
+// that reached the critical stretch by plastic flow break in tension at particles in
+// compression, and leaving theta they raise the stored energy more than they held; a
+// property of the model, docs/models/elastic_plastic.md "Energy, damage".)
 TEST(Backend, ElasticPlasticFlatGivesTheCpuBits) {
   if (!lanes::wide()) GTEST_SKIP() << "the CPU's ordinary rows sum in bond order here (no AVX-512)";
   expect_same_on_threads(impact_deck(kEps), "eps_impact", "elastic_plastic impact");

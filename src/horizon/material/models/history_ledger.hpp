@@ -17,6 +17,10 @@
 // their W is quadratic in e and their history, and t is its gradient. A broken bond that
 // held plastic or back extension released less than (1/2) t e; the difference comes back
 // through W here.
+// Summed over i (with the bookings) this is the step's work less the change of W, whatever
+// the booking: the energy W really loses when a bond leaves the dilatation sum, which in
+// the elastic-plastic model can be negative (a tensile bond broken at a compressed
+// particle raises k' theta^2/2; docs/models/elastic_plastic.md "Energy, damage").
 #include <cmath>
 #include <cstdint>
 #include <string>
