@@ -583,6 +583,67 @@ void expect_checkpoint_and_restart(const std::string& deck, const std::string& n
   fs::remove_all(dir);
 }
 
+// The other models on an irregular cloud (issue 30): setup_model gives every model but pmb
+// and lps kinds with their lengths (solver/build.cpp kinds_need_lengths, expand_kinds), as
+// the CPU's passes read them, and the flat rows read the same kinds: the jittered block of
+// IrregularCloudFlatGivesTheCpuBits (with its short-range contact) in steel, stretched until
+// bonds break (nonlinear_solid and correspondence also with the adaptive step), cpu and
+// flat on 1 and 2 threads, the same bytes. elastic_plastic and viscoelastic ask for the
+// CPU's eight lanes (AVX-512), as their impacts below.
+const std::string kCloudTupek = "{model: nonlinear_solid, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
+                                "damage: {law: energy, fracture_energy: 200.0}}";
+
+// The cloud deck with the adaptive step, a new step every 3 (nonlinear_solid, correspondence).
+std::string adaptive(std::string deck) {
+  const std::string fixed = "end_time: 1.0e-6, time_step: 5.0e-8}";
+  deck.replace(deck.find(fixed), fixed.size(),
+               "end_time: 1.0e-6, adaptive_time_step: true, adaptive_every: 3, safety_factor: 0.5}");
+  return deck;
+}
+
+TEST(Backend, NonlinearSolidOnAnIrregularCloudFlatGivesTheCpuBits) {
+  expect_same_on_threads(cloud_deck(kCloudTupek), "cloud_tupek", "nonlinear_solid cloud");
+  expect_same_on_threads(adaptive(cloud_deck(kCloudTupek)), "cloud_tupek_adaptive",
+                         "nonlinear_solid cloud, adaptive step");
+}
+
+TEST(Backend, ElasticPlasticOnAnIrregularCloudFlatGivesTheCpuBits) {
+  if (!lanes::wide()) GTEST_SKIP() << "the CPU's ordinary rows sum in bond order here (no AVX-512)";
+  expect_same_on_threads(cloud_deck("{model: elastic_plastic, density: 7850, youngs_modulus: 200.0e9, "
+                                    "poissons_ratio: 0.3, yield_stress: 150.0e6, hardening_modulus: 2.0e9, "
+                                    "damage: {critical_stretch: 0.01}}"),
+                         "cloud_eps", "elastic_plastic cloud");
+}
+
+TEST(Backend, ViscoelasticOnAnIrregularCloudFlatGivesTheCpuBits) {
+  if (!lanes::wide()) GTEST_SKIP() << "the CPU's ordinary rows sum in bond order here (no AVX-512)";
+  expect_same_on_threads(cloud_deck("{model: viscoelastic, density: 7850, youngs_modulus: 200.0e9, "
+                                    "poissons_ratio: 0.3, lambda_1: 0.4, tau_1: 2.0e-7, lambda_2: 0.3, "
+                                    "tau_2: 1.0e-6, damage: {critical_stretch: 0.003, breaks: after_force}}"),
+                         "cloud_ves", "viscoelastic cloud, breaks: after_force");
+}
+
+TEST(Backend, MicroplasticAndPalsOnAnIrregularCloudFlatGiveTheCpuBits) {
+  if (!lanes::wide()) GTEST_SKIP() << "the CPU's ordinary rows sum in bond order here (no AVX-512)";
+  expect_same_on_threads(cloud_deck("{model: microplastic, density: 7850, youngs_modulus: 200.0e9, "
+                                    "yield_stretch: 0.0005, damage: {critical_stretch: 0.002}}"),
+                         "cloud_micro", "microplastic cloud");
+  expect_same_on_threads(cloud_deck("{model: pals, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, "
+                                    "damage: {critical_stretch: 0.002, breaks: after_force}}"),
+                         "cloud_pals", "pals cloud, breaks: after_force");
+}
+
+TEST(Backend, CorrespondenceOnAnIrregularCloudFlatGivesTheCpuBits) {
+  const std::string steel = "{model: correspondence, density: 7850, youngs_modulus: 200.0e9, poissons_ratio: 0.3, ";
+  expect_same_on_threads(cloud_deck(steel + "stabilization: 0.5, damage: {critical_stretch: 0.002}}"), "cloud_corr",
+                         "correspondence cloud, linear elastic, stabilised");
+  expect_same_on_threads(cloud_deck(steel + "stress_law: j2, yield_stress: 4.0e8, hardening_modulus: 2.0e9, "
+                                            "stabilization: 0.5, damage: {critical_stretch: 0.002}}"),
+                         "cloud_corr_j2", "correspondence cloud, j2");
+  expect_same_on_threads(adaptive(cloud_deck(steel + "stabilization: 0.5, damage: {critical_stretch: 0.002}}")),
+                         "cloud_corr_adaptive", "correspondence cloud, adaptive step");
+}
+
 // The correspondence model (kernels/flat_affine.hpp: forces_affine.cpp's breaking sweep and
 // pair sum, Correspondence::affine_row's law and energy, its commit, over the flat arrays):
 // the striker on the bar, bonds breaking, for the linear elastic law stabilised, J2

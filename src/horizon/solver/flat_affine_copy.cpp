@@ -67,7 +67,6 @@ std::string flat_affine_unsupported(const System& s) {
     rows += c.particles->size();
   }
   if (rows != s.particles.size()) return "correspondence over some of the particles";
-  if (s.bonds.length_per_bond) return "bonds without kinds (an irregular cloud)";
   if (!affine_general_pass(s)) return "correspondence outside its affine pass (forces_affine.cpp)";
   return "";
 }

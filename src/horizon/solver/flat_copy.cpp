@@ -32,7 +32,13 @@ std::string flat_unsupported(const System& s, const Loads& loads) {
     return "short-range contact with friction (contact.short_range.friction)";
   if (s.decomposition) return "a run over several ranks";
   if (s.fe_coupling) return "finite-element regions";
-  if (s.bonds.length_per_bond && s.models.owner()) return "bonds without kinds (an irregular cloud)";
+  // An irregular cloud: the pmb and lps rows finish each bond from its own |xi|
+  // (kernels::flat_kind); every other model reads kinds with their lengths, which
+  // setup_model gives it on a cloud (solver/build.cpp kinds_need_lengths, expand_kinds),
+  // as the CPU's passes read them. A System that kept bonds without kinds for such a model
+  // (built in code, not by a deck) is refused rather than read with lengths of 0.
+  if (s.bonds.length_per_bond && !s.models.all_unified())
+    return "bonds without kinds (an irregular cloud) for a model other than pmb and lps";
   if (s.model.kind.size() != s.bonds.kinds.size()) return "no force pass yet";
   return "";
 }

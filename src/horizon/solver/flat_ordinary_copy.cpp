@@ -32,7 +32,6 @@ std::string flat_ordinary_unsupported(const System& s) {
   if (s.models.size() != 1)
     return std::string("model ") + name + " with other materials (the flat rows take one material of elastic_plastic, "
            "viscoelastic, microplastic or pals)";
-  if (s.bonds.length_per_bond) return std::string("model ") + name + " on bonds without kinds (an irregular cloud)";
   return "";
 }
 
