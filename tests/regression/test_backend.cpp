@@ -403,6 +403,26 @@ void expect_same_on_threads(const std::string& deck, const std::string& name, co
   EXPECT_EQ(cpu2.summary["state_crc32"], cpu.summary["state_crc32"]) << what << ": cpu on 2 threads";
 }
 
+// solver.verlet: peridigm (the Peridigm importer's step, issue 30): Peridigm's kicks, the
+// force pass on y = (X + u_n) + dt v(n+1/2) (FlatSystem::positions), prescribed
+// displacements moved by their increments (a clamp held at 0, whose increment is 0, and
+// one that varies) and keeping the second half kick. PMB and LPS, 1 and 2 threads.
+TEST(Backend, PeridigmVerletFlatGivesTheCpuBits) {
+  const std::string held =
+      "loads:\n  - {region: end, displacement: [0, null, 0]}\n  - {region: striker, velocity: [null, 3, null]}\n"
+      "  - {region: end, traction: [0, 2.0e8, 0]}\n";
+  const std::string varying =
+      "loads:\n  - {region: end, displacement: [\"-2.0*t*(1 + 100*y)\", null, 0]}\n"
+      "  - {region: striker, velocity: [null, \"6.5*cos(1.0e6*t)\", null]}\n";
+  expect_same_on_threads(impact_deck(kPmb, varying, ", verlet: peridigm"), "peridigm_varying",
+                         "pmb impact, verlet: peridigm, loads that vary");
+  expect_same_on_threads(impact_deck(kLps, held, ", verlet: peridigm"), "peridigm_held",
+                         "lps impact, verlet: peridigm, loads held");
+  // The step is Peridigm's: not the bits of verlet: horizon.
+  EXPECT_NE(run(impact_deck(kPmb, held, ", verlet: peridigm"), "peridigm_vs", "cpu").summary["state_crc32"],
+            run(impact_deck(kPmb, held), "peridigm_vs", "cpu").summary["state_crc32"]);
+}
+
 TEST(Backend, NonlinearSolidFlatGivesTheCpuBits) {
   expect_same_on_threads(pulled_bar_deck(""), "tupek_pulled", "nonlinear_solid bar pulled apart");
   const std::string loads =
@@ -773,6 +793,9 @@ void expect_refused(const std::string& deck, const std::string& why) {
 }
 
 TEST(Backend, FlatRefusesWhatItDoesNotCover) {
+  // solver.verlet: peridigm: only the unified models' pack row reads the step's positions.
+  expect_refused(impact_deck(kEps, "", ", verlet: peridigm"),
+                 "solver.verlet: peridigm with a model other than the unified ones (pmb, lps, ...)");
   expect_refused(impact_deck("{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.001}"),
                  "model microplastic (materials.steel.model), which has no flat rows");
   // The ordinary models' rows take one material.
