@@ -61,11 +61,15 @@ struct Output {
 };
 
 // Runs deck text with a backend; returns what it wrote.
+// With `file`, that deck (a file beside its data files; `deck` unused).
 Output run(const std::string& deck, const std::string& name, const std::string& backend, double coarsen = 1,
-           int threads = 0) {
+           int threads = 0, const fs::path& deck_file = {}) {
   const fs::path dir = scratch(name + "_" + backend);
-  const fs::path file = dir / (name + ".yaml");
-  std::ofstream(file) << deck;
+  fs::path file = deck_file;
+  if (file.empty()) {
+    file = dir / (name + ".yaml");
+    std::ofstream(file) << deck;
+  }
   RunOptions o;
   o.quiet = true;
   o.handle_signals = false;
@@ -418,6 +422,12 @@ TEST(Backend, PeridigmVerletFlatGivesTheCpuBits) {
                          "pmb impact, verlet: peridigm, loads that vary");
   expect_same_on_threads(impact_deck(kLps, held, ", verlet: peridigm"), "peridigm_held",
                          "lps impact, verlet: peridigm, loads held");
+  // A Peridigm deck as the importer reads it (solver.verlet: peridigm, prescribed
+  // displacements at both ends): every output file the same bytes.
+  const fs::path bar = fs::path(HORIZON_SOURCE_DIR) / "tests" / "peridigm" / "tension_bar_bond_based.yaml";
+  const Output bar_cpu = run("", "peridigm_bar", "cpu", 1, 0, bar);
+  EXPECT_NE(bar_cpu.frames.count("tension_bar_bond_based.e"), 0u);
+  expect_same(run("", "peridigm_bar", "flat", 1, 0, bar), bar_cpu, "tests/peridigm/tension_bar_bond_based");
   // The step is Peridigm's: not the bits of verlet: horizon.
   EXPECT_NE(run(impact_deck(kPmb, held, ", verlet: peridigm"), "peridigm_vs", "cpu").summary["state_crc32"],
             run(impact_deck(kPmb, held), "peridigm_vs", "cpu").summary["state_crc32"]);
