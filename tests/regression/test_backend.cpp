@@ -658,6 +658,25 @@ TEST(Backend, CorrespondenceFlatGivesTheCpuBits) {
 // force, short-range contact between family pairs and beyond, prescribed conditions, two
 // correspondence materials (with the adaptive step too), and a checkpoint (the models' committed and trial histories,
 // records, positions) with its restart.
+// solver.verlet: peridigm with the other models that have flat rows: elastic_plastic and
+// viscoelastic (their pack_row reads FlatSystem::positions, as pack_positions reads
+// System::positions), correspondence and the nonlinear solid (which packs X + u itself on
+// the CPU, as tupek_pack_row does), each with Peridigm's kicks and increments; and each
+// not the bits of verlet: horizon.
+TEST(Backend, PeridigmVerletOtherModelsFlatGiveTheCpuBits) {
+  auto pv = [](std::string d) {
+    const std::string k = "energy_balance_warning: 0.5";
+    return d.replace(d.find(k), k.size(), k + ", verlet: peridigm");
+  };
+  expect_same_on_threads(pv(impact_deck(kEps, kOrdinaryLoads)), "xp_eps", "eps peridigm");
+  expect_same_on_threads(pv(ordinary_impact_deck(kVes, kOrdinaryLoads)), "xp_ves", "ves peridigm");
+  expect_same_on_threads(pv(impact_deck(correspondence("stabilization: 0.5, "), kOrdinaryLoads)), "xp_corr", "corr peridigm");
+  expect_same_on_threads(pv(pulled_bar_deck("")), "xp_tupek", "tupek peridigm");
+  for (const std::string& d : {impact_deck(kEps, kOrdinaryLoads), ordinary_impact_deck(kVes, kOrdinaryLoads),
+                               impact_deck(correspondence("stabilization: 0.5, "), kOrdinaryLoads), pulled_bar_deck("")})
+    EXPECT_NE(run(pv(d), "xp_vs", "cpu").summary["state_crc32"], run(d, "xp_vs", "cpu").summary["state_crc32"]);
+}
+
 TEST(Backend, CorrespondenceOptionsFlatGiveTheCpuBits) {
   const std::string plate = R"yaml(dimension: 2
 plane: strain
@@ -803,9 +822,6 @@ void expect_refused(const std::string& deck, const std::string& why) {
 }
 
 TEST(Backend, FlatRefusesWhatItDoesNotCover) {
-  // solver.verlet: peridigm: only the unified models' pack row reads the step's positions.
-  expect_refused(impact_deck(kEps, "", ", verlet: peridigm"),
-                 "solver.verlet: peridigm with a model other than the unified ones (pmb, lps, ...)");
   expect_refused(impact_deck("{model: microplastic, density: 7850, youngs_modulus: 200.0e9, yield_stretch: 0.001}"),
                  "model microplastic (materials.steel.model), which has no flat rows");
   // The ordinary models' rows take one material.

@@ -95,10 +95,6 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
   // (FlatBackend::stable_time_step).
   if (why.empty() && c.solver.adaptive_time_step && !nonlinear_state(s) && !flat_affine_model(s))
     why = "solver.adaptive_time_step with a model other than nonlinear_solid or correspondence";
-  // solver.verlet: peridigm: the unified models' pack row reads the step's positions
-  // (kernels/flat_system.hpp pack_row); the other models' flat rows pack X + u.
-  if (why.empty() && c.solver.peridigm_verlet && (s.models.owner() || !s.models.all_unified()))
-    why = "solver.verlet: peridigm with a model other than the unified ones (pmb, lps, ...)";
   if (!why.empty()) {
     // The models the flat rows run: the registry's unified ones (ModelTraits::unified),
     // the nonlinear solid (kernels/tupek.hpp) and correspondence (kernels/flat_affine.hpp).
