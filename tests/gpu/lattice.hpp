@@ -54,6 +54,9 @@ struct Lattice {
   uint64_t n = 0;
   bool lps = false;
   double dt = 0;
+  // solver.verlet: peridigm (set_peridigm; off otherwise): FlatSystem::peridigm's arrays.
+  bool peridigm = false;
+  std::vector<double> positions, fixed_v, fixed_rate;
 
   kernels::FlatSystem view() {
     kernels::FlatSystem s;
@@ -71,6 +74,10 @@ struct Lattice {
     s.ntracked = tracked.size(), s.tracked = tracked.data(), s.u_before = u_before.data(), s.v_before = v_before.data();
     s.has_forces = has_forces, s.nentries = entry_slot.size(), s.entry_slot = entry_slot.data();
     s.entry_mask = entry_mask.data(), s.entry_reaction = entry_reaction.data(), s.ledger = ledger.data();
+    if (peridigm) {
+      s.peridigm = true, s.positions = positions.data();
+      if (!fixed.empty()) s.fixed_v = fixed_v.data(), s.fixed_rate = fixed_rate.data();
+    }
     if (tupek) {
       s.tupek = true, s.eps = eps.data(), s.seth_m = seth_m.data(), s.lambda_bar = lambda_bar.data();
       s.mu_bar = mu_bar.data(), s.beta = beta.data(), s.compression_only = compression_only.data();
@@ -353,6 +360,15 @@ inline void add_loads(Lattice& L, int nx, double b) {
   for (uint32_t i : firsts) L.entry_slot.push_back(slot[i]), L.entry_mask.push_back(2u);
   L.entry_reaction.assign(3 * L.entry_slot.size(), 0.0);
   L.u_before.assign(3 * L.tracked.size(), 0.0), L.v_before.assign(3 * L.tracked.size(), 0.0);
+}
+
+// Peridigm's step (FlatSystem::peridigm) after add_loads or without loads: the clamp's
+// increment 0 every step, so its velocity is (0 - u)/dt (Loads::prescribe_increments with
+// t1 - t0 = dt: the values need no stepper).
+inline void set_peridigm(Lattice& L) {
+  L.peridigm = true;
+  L.positions.assign(3 * L.n, 0.0);
+  if (!L.fixed.empty()) L.fixed_v.assign(3 * L.n, 0.0), L.fixed_rate.assign(3 * L.n, 1.0 / L.dt);
 }
 
 }  // namespace horizon::test

@@ -30,8 +30,8 @@ double rel(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 
 // model: "pmb", "lps", or "tupek" (the nonlinear solid with the log strain, m = 0) and
 // "tupek_m05" (m = 1/2: the strain is sqrt(c) - 1, no log or expm1 whose device and host
 // libraries may round differently).
-bool compare(const std::string& model, bool loads) {
-  const std::string label = model + (loads ? " with loads" : "");
+bool compare(const std::string& model, bool loads, bool peridigm = false) {
+  const std::string label = model + (loads ? " with loads" : "") + (peridigm ? ", verlet: peridigm" : "");
   const char* name = label.c_str();
   const bool tupek = model.rfind("tupek", 0) == 0, affine = model == "correspondence";
   const bool ordinary =
@@ -43,6 +43,7 @@ bool compare(const std::string& model, bool loads) {
                  : affine   ? horizon::test::make_affine_lattice(24, 10, 10)
                             : horizon::test::make_lattice(24, 10, 10, model == "lps");
   if (loads) horizon::test::add_loads(host, 24, 1e9);
+  if (peridigm) horizon::test::set_peridigm(host);
   Lattice dev = host;
   const horizon::kernels::FlatSystem hv = host.view(), dv = dev.view();
   const uint64_t broken = horizon::kernels::advance_flat(hv, 200);
@@ -132,7 +133,9 @@ int main() {
                         compare("pals", true);
   // The correspondence model (kernels/flat_affine.hpp rows: J2, stabilised), with loads too.
   const bool affine = compare("correspondence", false) && compare("correspondence", true);
-  const bool ok = pmb && lps && loaded && tupek && ordinary && affine;
+  // solver.verlet: peridigm (Peridigm's kicks, the positions apart from u, the clamp's increments).
+  const bool peridigm = compare("pmb", true, true) && compare("lps", true, true) && compare("elastic_plastic", true, true);
+  const bool ok = pmb && lps && loaded && tupek && ordinary && affine && peridigm;
   std::printf("%s\n", ok ? "PASSED" : "FAILED");
   return ok ? 0 : 1;
 }

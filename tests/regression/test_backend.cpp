@@ -61,11 +61,15 @@ struct Output {
 };
 
 // Runs deck text with a backend; returns what it wrote.
+// With `file`, that deck (a file beside its data files; `deck` unused).
 Output run(const std::string& deck, const std::string& name, const std::string& backend, double coarsen = 1,
-           int threads = 0) {
+           int threads = 0, const fs::path& deck_file = {}) {
   const fs::path dir = scratch(name + "_" + backend);
-  const fs::path file = dir / (name + ".yaml");
-  std::ofstream(file) << deck;
+  fs::path file = deck_file;
+  if (file.empty()) {
+    file = dir / (name + ".yaml");
+    std::ofstream(file) << deck;
+  }
   RunOptions o;
   o.quiet = true;
   o.handle_signals = false;
@@ -403,6 +407,32 @@ void expect_same_on_threads(const std::string& deck, const std::string& name, co
   EXPECT_EQ(cpu2.summary["state_crc32"], cpu.summary["state_crc32"]) << what << ": cpu on 2 threads";
 }
 
+// solver.verlet: peridigm (the Peridigm importer's step, issue 30): Peridigm's kicks, the
+// force pass on y = (X + u_n) + dt v(n+1/2) (FlatSystem::positions), prescribed
+// displacements moved by their increments (a clamp held at 0, whose increment is 0, and
+// one that varies) and keeping the second half kick. PMB and LPS, 1 and 2 threads.
+TEST(Backend, PeridigmVerletFlatGivesTheCpuBits) {
+  const std::string held =
+      "loads:\n  - {region: end, displacement: [0, null, 0]}\n  - {region: striker, velocity: [null, 3, null]}\n"
+      "  - {region: end, traction: [0, 2.0e8, 0]}\n";
+  const std::string varying =
+      "loads:\n  - {region: end, displacement: [\"-2.0*t*(1 + 100*y)\", null, 0]}\n"
+      "  - {region: striker, velocity: [null, \"6.5*cos(1.0e6*t)\", null]}\n";
+  expect_same_on_threads(impact_deck(kPmb, varying, ", verlet: peridigm"), "peridigm_varying",
+                         "pmb impact, verlet: peridigm, loads that vary");
+  expect_same_on_threads(impact_deck(kLps, held, ", verlet: peridigm"), "peridigm_held",
+                         "lps impact, verlet: peridigm, loads held");
+  // A Peridigm deck as the importer reads it (solver.verlet: peridigm, prescribed
+  // displacements at both ends): every output file the same bytes.
+  const fs::path bar = fs::path(HORIZON_SOURCE_DIR) / "tests" / "peridigm" / "tension_bar_bond_based.yaml";
+  const Output bar_cpu = run("", "peridigm_bar", "cpu", 1, 0, bar);
+  EXPECT_NE(bar_cpu.frames.count("tension_bar_bond_based.e"), 0u);
+  expect_same(run("", "peridigm_bar", "flat", 1, 0, bar), bar_cpu, "tests/peridigm/tension_bar_bond_based");
+  // The step is Peridigm's: not the bits of verlet: horizon.
+  EXPECT_NE(run(impact_deck(kPmb, held, ", verlet: peridigm"), "peridigm_vs", "cpu").summary["state_crc32"],
+            run(impact_deck(kPmb, held), "peridigm_vs", "cpu").summary["state_crc32"]);
+}
+
 TEST(Backend, NonlinearSolidFlatGivesTheCpuBits) {
   expect_same_on_threads(pulled_bar_deck(""), "tupek_pulled", "nonlinear_solid bar pulled apart");
   const std::string loads =
@@ -674,6 +704,25 @@ TEST(Backend, CorrespondenceFlatGivesTheCpuBits) {
 // force, short-range contact between family pairs and beyond, prescribed conditions, two
 // correspondence materials (with the adaptive step too), and a checkpoint (the models' committed and trial histories,
 // records, positions) with its restart.
+// solver.verlet: peridigm with the other models that have flat rows: elastic_plastic and
+// viscoelastic (their pack_row reads FlatSystem::positions, as pack_positions reads
+// System::positions), correspondence and the nonlinear solid (which packs X + u itself on
+// the CPU, as tupek_pack_row does), each with Peridigm's kicks and increments; and each
+// not the bits of verlet: horizon.
+TEST(Backend, PeridigmVerletOtherModelsFlatGiveTheCpuBits) {
+  auto pv = [](std::string d) {
+    const std::string k = "energy_balance_warning: 0.5";
+    return d.replace(d.find(k), k.size(), k + ", verlet: peridigm");
+  };
+  expect_same_on_threads(pv(impact_deck(kEps, kOrdinaryLoads)), "xp_eps", "eps peridigm");
+  expect_same_on_threads(pv(ordinary_impact_deck(kVes, kOrdinaryLoads)), "xp_ves", "ves peridigm");
+  expect_same_on_threads(pv(impact_deck(correspondence("stabilization: 0.5, "), kOrdinaryLoads)), "xp_corr", "corr peridigm");
+  expect_same_on_threads(pv(pulled_bar_deck("")), "xp_tupek", "tupek peridigm");
+  for (const std::string& d : {impact_deck(kEps, kOrdinaryLoads), ordinary_impact_deck(kVes, kOrdinaryLoads),
+                               impact_deck(correspondence("stabilization: 0.5, "), kOrdinaryLoads), pulled_bar_deck("")})
+    EXPECT_NE(run(pv(d), "xp_vs", "cpu").summary["state_crc32"], run(d, "xp_vs", "cpu").summary["state_crc32"]);
+}
+
 TEST(Backend, CorrespondenceOptionsFlatGiveTheCpuBits) {
   const std::string plate = R"yaml(dimension: 2
 plane: strain

@@ -215,6 +215,8 @@ FlatRun::FlatRun(const FlatSystem& h) : impl_(new Impl) {
   d.fixed_value = upload(h.fixed_value, h.fixed_value ? 3 * n : 0, o);
   d.fixed_mid = upload(h.fixed_mid, h.fixed_mid ? 3 * n : 0, o);
   d.fixed_v = upload(h.fixed_v, h.fixed_v ? 3 * n : 0, o);
+  d.fixed_rate = upload(h.fixed_rate, h.fixed_rate ? 3 * n : 0, o);  // solver.verlet: peridigm
+  d.positions = upload(h.positions, h.positions ? 3 * n : 0, o);
   d.b_next = upload(h.b_next, h.b_next ? 3 * n : 0, o);
   d.b_before = upload(h.b_before, h.b_before ? 3 * h.ntracked : 0, o);
   d.tracked = upload(h.tracked, h.ntracked, o);
@@ -296,6 +298,7 @@ void FlatRun::advance(int64_t steps, void (*after_forces)(void*), void* ctx, voi
       up(d.fixed_value, m.h.fixed_value, 3 * d.n);
       up(d.fixed_mid, m.h.fixed_mid, 3 * d.n);
       up(d.fixed_v, m.h.fixed_v, 3 * d.n);
+      up(d.fixed_rate, m.h.fixed_rate, 3 * d.n);
       up(d.b_next, m.h.b_next, 3 * d.n);
       if (d.critical_stretch_varies) up(const_cast<double*>(d.critical_stretch), m.h.critical_stretch, d.n);
     }
@@ -389,6 +392,7 @@ void FlatRun::download(const FlatSystem& h) const {
   download_array(h.u, d.u, 3 * n);
   download_array(h.v, d.v, 3 * n);
   download_array(h.f, d.f, 3 * n);
+  if (h.positions) download_array(h.positions, d.positions, 3 * n);
   download_array(h.intact, d.intact, nb);
   download_array(h.damage, d.damage, n);
   download_array(h.energy, d.energy, n);

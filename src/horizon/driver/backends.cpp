@@ -96,7 +96,6 @@ void check_backend(const Config& c, const System& s, const Loads& loads) {
   // (FlatBackend::stable_time_step).
   if (why.empty() && c.solver.adaptive_time_step && !nonlinear_state(s) && !flat_affine_model(s))
     why = "solver.adaptive_time_step with a model other than nonlinear_solid or correspondence";
-  if (why.empty() && c.solver.peridigm_verlet) why = "solver.verlet: peridigm (Peridigm's rounding of the step)";
   if (!why.empty()) {
     // The models the flat rows run: the registry's unified ones (ModelTraits::unified),
     // the nonlinear solid (kernels/tupek.hpp) and correspondence (kernels/flat_affine.hpp).

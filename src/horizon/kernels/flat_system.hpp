@@ -102,6 +102,16 @@ struct FlatSystem {
   double* fixed_mid = nullptr;           // 3n
   double* fixed_v = nullptr;             // 3n
   double* b_next = nullptr;              // 3n
+  // solver.verlet: peridigm (ExplicitSolver::set_peridigm_verlet): the kicks round as
+  // kernels::peridigm_kick (no damping), the prescribed displacements move by their
+  // increments over the step (Loads::prescribe_increments: v = (g(t1) - g(t0)) r, or
+  // (g(t1) - u) r where the increment is 0, r = 1/(t1 - t0); fixed_v holds the increment,
+  // fixed_rate r, set by the stepper before each step), the positions the force pass reads
+  // are y = (X + u) + dt v(n+1/2) apart from u (System::positions), and the prescribed
+  // displacements' components keep the second half kick.
+  bool peridigm = false;
+  double* fixed_rate = nullptr;          // 3n, with peridigm and prescribed displacements
+  double* positions = nullptr;           // 3n, with peridigm
   double* b_before = nullptr;            // 3 ntracked: b at the start of the step (its work)
   uint64_t ntracked = 0;                 // the particles loaded (b != 0) or constrained, in index order
   const uint32_t* tracked = nullptr;
@@ -179,6 +189,11 @@ HORIZON_HD inline Kind flat_kind(const FlatSystem& s, uint64_t k) {
 // Stage 1 of a pass: y = X + u and this pass's s0 (solver/forces.cpp pack_positions).
 HORIZON_HD inline void pack_row(const FlatSystem& s, uint64_t i) {
   double* y = s.y4 + 4 * i;
+  if (s.positions) {  // solver.verlet: peridigm (solver/forces.cpp pack_positions)
+    y[0] = s.positions[3 * i], y[1] = s.positions[3 * i + 1], y[2] = s.positions[3 * i + 2];
+    y[3] = critical_stretch_now(s.critical_stretch[i], s.alpha[i], s.min_stretch[i], s.no_fail[i] != 0);
+    return;
+  }
   y[0] = s.X[3 * i] + s.u[3 * i];
   y[1] = s.X[3 * i + 1] + s.u[3 * i + 1];
   y[2] = s.X[3 * i + 2] + s.u[3 * i + 2];
@@ -437,15 +452,31 @@ HORIZON_HD inline void kick_drift_row(const FlatSystem& s, uint64_t i) {
   if (s.damped) s.speed2_before[i] = free_speed2(s, i);
   for (int c = 0; c < 3; ++c) {
     const uint64_t q = 3 * i + c;
-    s.v[q] = half_kick(s.v[q], s.f[q], s.b[q], inv_rho, s.damping, half);
+    s.v[q] = s.peridigm ? peridigm_kick(s.v[q], s.f[q], s.b[q], s.density[i], half)
+                        : half_kick(s.v[q], s.f[q], s.b[q], inv_rho, s.damping, half);
   }
   if (fixed) {
     const double* mid = s.fixed_mid ? s.fixed_mid : s.fixed_value;
     for (int c = 0; c < 3; ++c)
       if ((fixed >> c) & 1u) s.v[3 * i + c] = mid[3 * i + c];
   }
+  if (s.peridigm) {
+    if (fixed)  // Loads::prescribe_increments
+      for (int c = 0; c < 3; ++c) {
+        const uint64_t q = 3 * i + c;
+        if ((fixed >> (3 + c)) & 1u) {
+          const double step = s.fixed_v[q];
+          s.v[q] = (step == 0.0 ? s.fixed_value[q] - s.u[q] : step) * s.fixed_rate[q];
+        }
+      }
+    for (int c = 0; c < 3; ++c) {  // ExplicitSolver::step: y = (X + u_n) + dt v(n+1/2)
+      const uint64_t q = 3 * i + c;
+      s.positions[q] = (s.X[q] + s.u[q]) + s.dt * s.v[q];
+    }
+  }
   for (int c = 0; c < 3; ++c) s.u[3 * i + c] = drift(s.u[3 * i + c], s.v[3 * i + c], s.dt);
-  if (fixed) constrain_row(s, i, fixed);
+  // (peridigm: the displacements are not set to g(t1); the velocities are)
+  if (fixed) constrain_row(s, i, s.peridigm ? fixed & 7u : fixed);
   if (s.b_next)  // Loads::apply_forces at the step's end
     for (int c = 0; c < 3; ++c) s.b[3 * i + c] = s.b_next[3 * i + c];
 }
@@ -456,14 +487,16 @@ HORIZON_HD inline void kick_row(const FlatSystem& s, uint64_t i) {
   const double half = 0.5 * s.dt, damp = 1.0 / (1.0 + s.damping * half), h = half / s.density[i];
   for (int c = 0; c < 3; ++c) {
     const uint64_t q = 3 * i + c;
-    s.v[q] = second_half_kick(s.v[q], s.f[q], s.b[q], h, damp);
+    s.v[q] = s.peridigm ? peridigm_kick(s.v[q], s.f[q], s.b[q], s.density[i], half)
+                        : second_half_kick(s.v[q], s.f[q], s.b[q], h, damp);
   }
   if (s.nonfinite) {
     const double* u = s.u + 3 * i;
     const double* v = s.v + 3 * i;
     if (!finite(v[0] + v[1] + v[2] + u[0] + u[1] + u[2])) s.nonfinite[0] = 1;
   }
-  if (const unsigned fixed = s.fixed ? s.fixed[i] : 0u) constrain_row(s, i, fixed);
+  // Peridigm's prescribed displacements keep the second half kick (apply_constraints(..., false)).
+  if (const unsigned fixed = s.fixed ? s.fixed[i] : 0u) constrain_row(s, i, s.peridigm ? fixed & 7u : fixed);
   // The energy damping removed over the step (solver/explicit.cpp: the implicit half step
   // on v(n+1) and v(n), the constrained components left out).
   if (s.damped)

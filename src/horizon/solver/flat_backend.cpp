@@ -90,6 +90,11 @@ void FlatBackend::prepare_step(int64_t k) {
           if (velocity) {
             storage_.fixed_mid[q] = g(t0 + half, x.x, x.y, x.z);
             storage_.fixed_value[q] = g(t1, x.x, x.y, x.z);
+          } else if (storage_.peridigm) {  // Loads::prescribe_increments(s, t1, t0)
+            const double now = g(t1, x.x, x.y, x.z);
+            storage_.fixed_v[q] = now - g(t0, x.x, x.y, x.z);
+            storage_.fixed_rate[q] = 1.0 / (t1 - t0);
+            storage_.fixed_value[q] = now;
           } else {
             const double now = g(t1, x.x, x.y, x.z);
             storage_.fixed_v[q] = dt > 0 ? (now - g(t1 - dt, x.x, x.y, x.z)) / dt : 0.0;
@@ -130,7 +135,8 @@ void FlatBackend::copy_from_system() {
   // from the b of the System's state (the last copy_fields).
   if (!b_at_copy_.empty()) s_.particles.b = b_at_copy_;
   storage_steps_ = copied_at_ = system_steps_;
-  storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_);
+  storage_ = flat_copy(s_, solver_.dt(), solver_.damping(), solver_.ledger().external_work, &loads_,
+                       solver_.peridigm_verlet());
   view_ = storage_.view();
   intact_at_copy_ = intact_bonds(storage_);
   broken_at_copy_ = s_.broken;

@@ -54,7 +54,8 @@ void unflat3(const std::vector<double>& a, std::vector<Vec3>& out) {
 }
 }  // namespace
 
-FlatStorage flat_copy(const System& s, double dt, double damping, double external_work, const Loads* loads) {
+FlatStorage flat_copy(const System& s, double dt, double damping, double external_work, const Loads* loads,
+                      bool peridigm) {
   const auto& P = s.particles;
   const auto& B = s.bonds;
   const auto& M = s.model;
@@ -144,6 +145,15 @@ FlatStorage flat_copy(const System& s, double dt, double damping, double externa
   c.v_before.assign(3 * c.tracked.size(), 0);
   c.ledger = {external_work};
   if (damping > 0) c.damped.assign(c.n, 0), c.speed2_before.assign(c.n, 0);
+  if (peridigm) {
+    // The displacements' increments and rates are the step's (prepare_step, every step).
+    c.peridigm = true;
+    c.positions.assign(3 * c.n, 0);
+    if (loads)
+      for (const AppliedLoad& L : loads->loads())
+        if (L.kind == LoadKind::displacement && !L.particles.empty()) c.vary_constraints = true;
+    if (c.vary_constraints) c.fixed_rate.assign(3 * c.n, 0);
+  }
   if (c.vary_constraints) c.fixed_mid = c.fixed_value, c.fixed_v.assign(3 * c.n, 0);
   if (c.vary_forces) c.b_next = c.b, c.b_before.assign(3 * c.tracked.size(), 0);
   c.vary_critical_stretch = !s.critical_stretch_schedules.empty();
@@ -191,6 +201,7 @@ kernels::FlatSystem FlatStorage::view() {
   auto or_null = [](std::vector<double>& a) { return a.empty() ? nullptr : a.data(); };
   s.fixed_mid = or_null(fixed_mid), s.fixed_v = or_null(fixed_v), s.b_next = or_null(b_next);
   s.b_before = or_null(b_before);
+  s.peridigm = peridigm, s.positions = or_null(positions), s.fixed_rate = or_null(fixed_rate);
   s.nonfinite = nonfinite.data();
   s.tupek = tupek, s.tupek_exponent_two = tupek_exponent_two, s.tupek_contact = tupek_contact;
   s.eps = or_null(eps), s.seth_m = or_null(seth_m), s.lambda_bar = or_null(lambda_bar), s.mu_bar = or_null(mu_bar);
@@ -209,6 +220,10 @@ void flat_write_back(const FlatStorage& c, System& s, bool energy) {
   unflat3(c.u, P.u);
   unflat3(c.v, P.v);
   unflat3(c.f, P.f);
+  if (c.peridigm) {  // the positions of the last pass (System::positions)
+    s.positions.resize(P.size());
+    unflat3(c.positions, s.positions);
+  }
   P.damage = c.damage;
   if (energy) P.energy = c.energy;
   s.bonds.intact = c.intact;

@@ -48,6 +48,10 @@ struct FlatStorage {
   std::vector<uint8_t> nonfinite{0};
   // Loads whose values vary in time or space (the stepper evaluates them before each step).
   std::vector<double> fixed_mid, fixed_v, b_next, b_before;
+  // solver.verlet: peridigm (kernels::FlatSystem::peridigm): the positions the force pass
+  // reads, and each prescribed displacement's 1/(t1 - t0) (set before each step).
+  bool peridigm = false;
+  std::vector<double> positions, fixed_rate;
   bool vary_constraints = false, vary_forces = false;
   bool vary_critical_stretch = false;  // System::critical_stretch_schedules (set before each step)
   std::vector<uint32_t> tracked, entry_slot, entry_load, entry_index;
@@ -69,9 +73,10 @@ struct FlatStorage {
 
 // Copies s (after ExplicitSolver::initialize or any step: forces, damage and the smallest
 // stretches are those of the last pass) with the step dt and the damping; the ledger's
-// external work starts at external_work; with `loads`, their constraints and work.
+// external work starts at external_work; with `loads`, their constraints and work; with
+// `peridigm`, the step of solver.verlet: peridigm (ExplicitSolver::set_peridigm_verlet).
 FlatStorage flat_copy(const System& s, double dt, double damping, double external_work = 0,
-                      const Loads* loads = nullptr);
+                      const Loads* loads = nullptr, bool peridigm = false);
 
 // The loads' reactions at the copy's last step, as Loads::update_reactions leaves them
 // (each constraint's reaction_old and reaction; the force loads' are constants).
