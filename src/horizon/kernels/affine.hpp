@@ -297,17 +297,22 @@ struct AffineRow {
   double F[9];           // the deformation gradient (I when refused)
 };
 
+// The start of a law row: K^-1 and F from the sums (gradient_finish) into out; a refused
+// shape tensor leaves out.carries false and the record zero.
+HORIZON_HD inline bool law_row_gradient(const double* sums, int d, double tolerance, double* Kinv, AffineRow& out,
+                                        double* rec) {
+  out.carries = gradient_finish(sums, sums + 9, d, tolerance, Kinv, out.F);
+  if (!out.carries) affine_record(nullptr, nullptr, 0.0, rec);
+  return out.carries;
+}
+
 // Row i of the linear elastic law from its sums (K then N, GradientSums) to its record:
 // gradient_finish, the law, the von Mises stress, the record {P K^-1 - G F, G}.
 HORIZON_HD inline AffineRow linear_elastic_row(const double* sums, int d, double tolerance, double lambda, double mu,
                                                double G, double* rec) {
   AffineRow out;
   double Kinv[9];
-  out.carries = gradient_finish(sums, sums + 9, d, tolerance, Kinv, out.F);
-  if (!out.carries) {
-    affine_record(nullptr, nullptr, 0.0, rec);
-    return out;
-  }
+  if (!law_row_gradient(sums, d, tolerance, Kinv, out, rec)) return out;
   double sigma[9];
   linear_elastic_stress(lambda, mu, out.F, sigma, out.W);
   out.von_mises = von_mises(sigma);

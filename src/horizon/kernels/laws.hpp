@@ -160,11 +160,7 @@ HORIZON_HD inline AffineRow law_row(const double* sums, int d, double tolerance,
   if (c.law == kLinearElasticLaw) return linear_elastic_row(sums, d, tolerance, c.lambda, c.mu, G, rec);
   AffineRow out;
   double Kinv[9];
-  out.carries = gradient_finish(sums, sums + 9, d, tolerance, Kinv, out.F);
-  if (!out.carries) {
-    affine_record(nullptr, nullptr, 0.0, rec);
-    return out;
-  }
+  if (!law_row_gradient(sums, d, tolerance, Kinv, out, rec)) return out;
   LawStress r;
   if (c.law == kNeoHookeanLaw)
     neo_hookean_stress(c.mu, c.kappa, out.F, r);

@@ -147,11 +147,7 @@ HORIZON_HD inline AffineRow law_point_row(const double* sums, int d, double tole
   work = 0;
   AffineRow out;
   double Kinv[9];
-  out.carries = gradient_finish(sums, sums + 9, d, tolerance, Kinv, out.F);
-  if (!out.carries) {
-    affine_record(nullptr, nullptr, 0.0, rec);
-    return out;
-  }
+  if (!law_row_gradient(sums, d, tolerance, Kinv, out, rec)) return out;
   LawStress r;
   law_point(c, d, plane_stress, 0.0, committed, out.F, lambda3, trial, work, r);
   law_row_finish(r, Kinv, G, out, rec);
